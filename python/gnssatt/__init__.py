@@ -1,0 +1,22 @@
+"""gnssatt: attitude determination from GNSS signals and complementary sensors.
+
+Every attitude estimator returns a result whose ``.rotation`` is a :class:`scipy.spatial.transform.Rotation`
+mapping body-frame vectors into the reference frame in which the lines of sight or reference vectors were
+given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
+"""
+
+from gnssatt import errors
+from gnssatt._core import __version__
+from gnssatt.errors import ConvergenceError, DegenerateGeometryError, GnssattError, InvalidInputError
+from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
+
+__all__ = [
+    "ConvergenceError",
+    "DegenerateGeometryError",
+    "GnssattError",
+    "InvalidInputError",
+    "MatrixAttitudeResult",
+    "__version__",
+    "errors",
+    "matrix_attitude",
+]

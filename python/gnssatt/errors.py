@@ -1,0 +1,25 @@
+"""Exception classes of gnssatt.
+
+Every error raised on user input is an :class:`InvalidInputError`, which is also a :class:`ValueError`, so
+``except ValueError`` keeps working. Messages say what was expected and what was given.
+"""
+
+from __future__ import annotations
+
+__all__ = ["ConvergenceError", "DegenerateGeometryError", "GnssattError", "InvalidInputError"]
+
+
+class GnssattError(Exception):
+    """Base class of every exception raised by gnssatt."""
+
+
+class InvalidInputError(GnssattError, ValueError):
+    """An argument has the wrong shape, a non-finite value, or is out of range."""
+
+
+class DegenerateGeometryError(InvalidInputError):
+    """The geometry (baselines, lines of sight, reference vectors) does not fix the answer."""
+
+
+class ConvergenceError(GnssattError):
+    """An iterative method did not converge."""

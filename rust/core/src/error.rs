@@ -1,0 +1,56 @@
+//! The one error type of the core. Variants carry the numbers that explain them, so that the binding
+//! layer can turn them into Python exceptions with expected-versus-actual messages.
+
+/// Errors raised by the numerical core on user input or geometry; the core never panics on user input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// An argument has the wrong shape, e.g. `expected baselines of shape (m, 3), got (2,)`.
+    #[error("expected {name} of shape {expected}, got {actual}")]
+    Shape {
+        name: &'static str,
+        expected: String,
+        actual: String,
+    },
+    /// An argument holds NaN or infinity.
+    #[error("{name} contains a non-finite value at index {index}")]
+    NonFinite { name: &'static str, index: usize },
+    /// An argument is finite but outside its valid range.
+    #[error("{name} is out of range: {detail}")]
+    OutOfRange { name: &'static str, detail: String },
+    /// The geometry does not determine the answer: a singular or near-singular matrix.
+    #[error("{what}: the {matrix} has condition number {condition:.3e}")]
+    DegenerateGeometry {
+        what: String,
+        matrix: &'static str,
+        condition: f64,
+    },
+    /// An iterative method did not converge.
+    #[error("{what} did not converge after {iterations} iterations")]
+    Convergence {
+        what: &'static str,
+        iterations: usize,
+    },
+}
+
+/// Result alias used throughout the core.
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    pub(crate) fn out_of_range(name: &'static str, detail: impl Into<String>) -> Self {
+        Error::OutOfRange {
+            name,
+            detail: detail.into(),
+        }
+    }
+}
+
+/// Checks that every value is finite, naming the argument and the flat index of the first bad value.
+pub fn ensure_finite<'a>(
+    name: &'static str,
+    values: impl IntoIterator<Item = &'a f64>,
+) -> Result<()> {
+    match values.into_iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(Error::NonFinite { name, index }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,13 @@
+//! Numerical core of **gnssatt**: attitude determination from GNSS signals and complementary sensors.
+//!
+//! This crate has no Python dependency: `cargo test` and `cargo bench` exercise it directly, and the
+//! `gnssatt-py` crate is a thin binding layer over it. Conventions (frames, rotation direction, Euler
+//! sequences, quaternion order, units) are those of `docs/conventions.md`; every angle here is in radians
+//! and every length in metres.
+
+pub mod error;
+pub mod matrix_method;
+pub mod rotation;
+pub mod wahba;
+
+pub use error::{Error, Result};

@@ -1,0 +1,212 @@
+//! Matrix least-squares attitude from antenna range differences.
+//! Ryzhkov & Oliinyk, "Determining a satellite's attitude from GPS information" (seed 000):
+//! `R = B^T A S` (2), with `B` the body-frame baselines (3 x m), `S` the reference-frame lines of sight
+//! (3 x n) and `A` the reference-to-body rotation.
+
+use nalgebra::{DMatrix, Matrix3, Matrix3xX, SymmetricEigen, Vector3};
+
+use crate::error::{ensure_finite, Error, Result};
+use crate::wahba;
+
+/// Which formula turns range differences into an attitude matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Eq. (3), `A = G^-1 B R S^T N^-1`: exact without noise, not orthogonal with it. Needs `G = B B^T`
+    /// and `N = S S^T` invertible (>= 3 non-coplanar baselines and lines of sight).
+    ClosedForm,
+    /// Eq. (16), `A = Q^T (sqrt(Q Q^T))^-1`, `Q = S K^T`, `K = G^-1 B R`: the orthogonal matrix
+    /// minimising (5). Same invertibility needs as eq. (3); can be a reflection, which is reported.
+    Paper,
+    /// The proper rotation solving the same Wahba problem by SVD. With a non-coplanar array it minimises
+    /// (5) and equals eq. (16) whenever that is a rotation; with a coplanar array (three antennas) it
+    /// estimates the baselines in the reference frame, `C = N^-1 S R^T`, and matches them to `B`.
+    Svd,
+}
+
+/// The attitude found, and how well it explains the range differences.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// Proper rotation, body -> reference (`A^T`).
+    pub dcm_ref_from_body: Matrix3<f64>,
+    /// The method's own reference -> body matrix `A` before any orthogonalisation (eq. (3) is not a
+    /// rotation with noisy data).
+    pub raw_body_from_ref: Matrix3<f64>,
+    /// Root mean square of `R - B^T A S` over all m x n range differences, metres.
+    pub residual_rms_m: f64,
+}
+
+/// Condition number above which `G` or `N` is treated as singular.
+pub const MAX_CONDITION: f64 = 1e10;
+/// Allowed deviation of a line of sight's norm from 1.
+pub const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// Solves (2) for the attitude.
+///
+/// # Arguments
+/// * `baselines_m` - antenna positions relative to the reference antenna, body frame, metres (m >= 2).
+/// * `los` - unit lines of sight to the satellites, reference frame (n >= 2).
+/// * `range_diffs_m` - m x n range differences `b_i . (A s_j)`, metres.
+///
+/// # Errors
+/// [`Error::Shape`], [`Error::NonFinite`], [`Error::OutOfRange`] for bad input;
+/// [`Error::DegenerateGeometry`] naming the singular matrix and its condition number.
+pub fn solve(
+    baselines_m: &[Vector3<f64>],
+    los: &[Vector3<f64>],
+    range_diffs_m: &DMatrix<f64>,
+    method: Method,
+) -> Result<Solution> {
+    let (m, n) = (baselines_m.len(), los.len());
+    validate(baselines_m, los, range_diffs_m)?;
+    let b = Matrix3xX::from_columns(baselines_m);
+    let s = Matrix3xX::from_columns(los);
+    let r = range_diffs_m;
+    let g = &b * b.transpose();
+    let nn = &s * s.transpose();
+    let (g_cond, g_cond2) = conditions(&g);
+    let (n_cond, n_cond2) = conditions(&nn);
+    let need = |cond: f64, matrix: &'static str, what: &str| -> Result<()> {
+        if cond > MAX_CONDITION {
+            return Err(Error::DegenerateGeometry {
+                what: what.into(),
+                matrix,
+                condition: cond,
+            });
+        }
+        Ok(())
+    };
+    let invert = |x: &Matrix3<f64>| x.try_inverse().expect("condition checked");
+
+    let raw = match method {
+        Method::ClosedForm | Method::Paper => {
+            let why = format!("{method:?} needs {{}} (got {m} baselines, {n} lines of sight)");
+            need(
+                g_cond,
+                "baseline matrix G = B B^T",
+                &why.replace("{}", "3 non-coplanar baselines"),
+            )?;
+            need(
+                n_cond,
+                "line-of-sight matrix N = S S^T",
+                &why.replace("{}", "3 non-coplanar lines of sight"),
+            )?;
+            let k = invert(&g) * &b * r;
+            if method == Method::ClosedForm {
+                k * s.transpose() * invert(&nn)
+            } else {
+                let q = &s * k.transpose();
+                let qqt = q * q.transpose();
+                let eig = SymmetricEigen::new(qqt);
+                let cond = eig.eigenvalues.max() / eig.eigenvalues.min();
+                need(
+                    cond.sqrt(),
+                    "matrix Q = S K^T",
+                    "eq. (16) needs an invertible Q",
+                )?;
+                let inv_sqrt = eig.eigenvectors
+                    * Matrix3::from_diagonal(&eig.eigenvalues.map(|l| 1.0 / l.sqrt()))
+                    * eig.eigenvectors.transpose();
+                let a = q.transpose() * inv_sqrt;
+                if a.determinant() < 0.0 {
+                    return Err(Error::DegenerateGeometry {
+                        what: "eq. (16) returned a reflection (det = -1); use the SVD method"
+                            .into(),
+                        matrix: "matrix Q = S K^T",
+                        condition: cond.sqrt(),
+                    });
+                }
+                a
+            }
+        }
+        Method::Svd => {
+            // Both profile matrices equal (PSD) x A or A x (PSD) without noise, so the proper polar
+            // factor is A itself; which side is inverted depends on which side has full rank.
+            let h = if g_cond <= MAX_CONDITION && n_cond2 <= MAX_CONDITION {
+                invert(&g) * &b * r * s.transpose()
+            } else if g_cond2 <= MAX_CONDITION && n_cond <= MAX_CONDITION {
+                &b * r * s.transpose() * invert(&nn)
+            } else {
+                let (matrix, condition) = if g_cond2 > MAX_CONDITION {
+                    ("baseline matrix G = B B^T", g_cond2)
+                } else {
+                    ("line-of-sight matrix N = S S^T", n_cond)
+                };
+                return Err(Error::DegenerateGeometry {
+                    what: format!(
+                        "the attitude is not fixed: need 3 non-coplanar baselines and 2 non-parallel \
+                         lines of sight, or 2 non-parallel baselines and 3 non-coplanar lines of sight \
+                         (got {m} baselines, {n} lines of sight)"
+                    ),
+                    matrix,
+                    condition,
+                });
+            };
+            wahba::svd::solve(&h)?
+        }
+    };
+    let rotation = match method {
+        Method::ClosedForm => wahba::svd::solve(&raw)?,
+        _ => raw,
+    };
+    let resid = r - b.transpose() * rotation * &s;
+    Ok(Solution {
+        dcm_ref_from_body: rotation.transpose(),
+        raw_body_from_ref: raw,
+        residual_rms_m: resid.norm() / ((m * n) as f64).sqrt(),
+    })
+}
+
+fn validate(baselines: &[Vector3<f64>], los: &[Vector3<f64>], r: &DMatrix<f64>) -> Result<()> {
+    let (m, n) = (baselines.len(), los.len());
+    if m < 2 {
+        return Err(Error::Shape {
+            name: "baselines",
+            expected: "(m, 3) with m >= 2".into(),
+            actual: format!("({m}, 3)"),
+        });
+    }
+    if n < 2 {
+        return Err(Error::Shape {
+            name: "los",
+            expected: "(n, 3) with n >= 2".into(),
+            actual: format!("({n}, 3)"),
+        });
+    }
+    if r.shape() != (m, n) {
+        return Err(Error::Shape {
+            name: "range_diffs",
+            expected: format!("({m}, {n}) = (baselines, lines of sight)"),
+            actual: format!("{:?}", r.shape()),
+        });
+    }
+    ensure_finite("baselines", baselines.iter().flat_map(|v| v.iter()))?;
+    ensure_finite("los", los.iter().flat_map(|v| v.iter()))?;
+    ensure_finite("range_diffs", r.iter())?;
+    if let Some((i, v)) = los
+        .iter()
+        .enumerate()
+        .find(|(_, v)| (v.norm() - 1.0).abs() > UNIT_TOLERANCE)
+    {
+        return Err(Error::out_of_range(
+            "los",
+            format!("expected unit vectors, row {i} has norm {:.9}", v.norm()),
+        ));
+    }
+    if let Some(i) = baselines.iter().position(|v| v.norm() == 0.0) {
+        return Err(Error::out_of_range(
+            "baselines",
+            format!("baseline {i} has zero length"),
+        ));
+    }
+    Ok(())
+}
+
+/// `(s1/s3, s1/s2)` of a symmetric positive semi-definite matrix: full-rank and rank->=2 conditions.
+fn conditions(x: &Matrix3<f64>) -> (f64, f64) {
+    let mut e = SymmetricEigen::new(*x).eigenvalues.map(|l| l.max(0.0));
+    e.as_mut_slice().sort_by(|a, b| b.total_cmp(a));
+    (e[0] / e[2], e[0] / e[1])
+}
+
+#[cfg(test)]
+mod tests;

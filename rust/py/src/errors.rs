@@ -1,0 +1,45 @@
+//! Maps core errors onto the exception classes defined in Python by `gnssatt.errors`, so that the
+//! hierarchy (and its `ValueError` base) lives in one place.
+
+use gnssatt_core::Error;
+use pyo3::prelude::*;
+use pyo3::types::PyType;
+
+/// Conversion of core results into Python results; the trait keeps pyo3 out of the core crate.
+pub trait IntoPyResult<T> {
+    fn into_py_result(self, py: Python<'_>) -> PyResult<T>;
+}
+
+impl<T> IntoPyResult<T> for Result<T, Error> {
+    fn into_py_result(self, py: Python<'_>) -> PyResult<T> {
+        self.map_err(|e| to_py_err(py, &e))
+    }
+}
+
+pub fn to_py_err(py: Python<'_>, e: &Error) -> PyErr {
+    let class = match e {
+        Error::DegenerateGeometry { .. } => "DegenerateGeometryError",
+        Error::Convergence { .. } => "ConvergenceError",
+        Error::Shape { .. } | Error::NonFinite { .. } | Error::OutOfRange { .. } => {
+            "InvalidInputError"
+        }
+    };
+    match exception_class(py, class) {
+        Ok(cls) => PyErr::from_type(cls, e.to_string()),
+        Err(err) => err,
+    }
+}
+
+pub fn invalid_input(py: Python<'_>, message: String) -> PyErr {
+    match exception_class(py, "InvalidInputError") {
+        Ok(cls) => PyErr::from_type(cls, message),
+        Err(err) => err,
+    }
+}
+
+fn exception_class<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyType>> {
+    Ok(py
+        .import("gnssatt.errors")?
+        .getattr(name)?
+        .cast_into::<PyType>()?)
+}

@@ -1,0 +1,17 @@
+//! Python bindings of gnssatt-core, exposed as `gnssatt._core`. Bindings only: every function checks its
+//! numpy inputs (`convert`), releases the GIL around the numerics, and maps core errors (`errors`).
+
+use pyo3::prelude::*;
+
+mod convert;
+mod errors;
+mod matrix_method;
+mod rotation;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    rotation::register(m)?;
+    matrix_method::register(m)?;
+    Ok(())
+}
