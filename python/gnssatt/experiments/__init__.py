@@ -1,0 +1,57 @@
+"""Reproductions of the source papers' experiments, run by ``gnssatt reproduce``.
+
+Each experiment module defines ``EXPERIMENT``, an :class:`Experiment`; its ``run`` writes
+``DIR/<name>.json`` (see :func:`gnssatt.experiments.report.write_report`) and its plots, prints a table, and
+returns the JSON document.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+__all__ = ["EXPERIMENTS", "Experiment", "RunExperiment", "get"]
+
+
+class RunExperiment(Protocol):
+    def __call__(
+        self, *, runs: int, seed: int, out: Path, executor: Executor | None, progress: bool
+    ) -> dict[str, Any]: ...
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One paper experiment: ``runs`` Monte Carlo trials by default, ``quick_runs`` under ``--all``."""
+
+    name: str
+    summary: str
+    run: RunExperiment | Callable[..., dict[str, Any]]
+    default_runs: int
+    quick_runs: int
+
+
+# Module names under gnssatt.experiments, in the order `--list` shows them.
+_MODULES = ("matrix_method",)
+
+
+def _load() -> dict[str, Experiment]:
+    found = {}
+    for module in _MODULES:
+        exp: Experiment = importlib.import_module(f"gnssatt.experiments.{module}").EXPERIMENT
+        found[exp.name] = exp
+    return found
+
+
+EXPERIMENTS: dict[str, Experiment] = _load()
+
+
+def get(name: str) -> Experiment:
+    """The experiment called ``name``; :class:`KeyError` listing the known names otherwise."""
+    try:
+        return EXPERIMENTS[name]
+    except KeyError:
+        raise KeyError(f"unknown experiment {name!r}; known: {', '.join(EXPERIMENTS)}") from None
