@@ -14,7 +14,7 @@ from gnssatt._arrays import float_array
 
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
 
-Method = Literal["svd", "closed_form", "paper"]
+Method = Literal["svd", "ml", "closed_form", "paper"]
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,11 @@ def matrix_attitude(
     method
         ``"svd"`` (default): the proper rotation solving the least-squares problem (5) by SVD; handles
         coplanar arrays (three antennas) given 3 non-coplanar lines of sight, and equals eq. (16) whenever
-        that is a rotation. ``"closed_form"``: eq. (3), exact without noise (its ``rotation`` is the
+        that is a rotation. ``"ml"``: minimises the paper's least-squares loss (4) itself by Gauss-Newton
+        on SO(3), started from ``"svd"``: the maximum-likelihood attitude for independent Gaussian errors,
+        which reaches the Cramer-Rao bound where ``"svd"`` does not (about half the median error with
+        three antennas and three satellites). ``"closed_form"``: eq. (3), exact without noise (its
+        ``rotation`` is the
         nearest rotation to the non-orthogonal raw matrix). ``"paper"``: eq. (16). The last two need
         3 non-coplanar baselines and 3 non-coplanar lines of sight.
 
@@ -74,6 +78,8 @@ def matrix_attitude(
     DegenerateGeometryError
         The geometry does not fix the attitude, or the chosen formula's matrix is singular; the message
         names the matrix and its condition number.
+    ConvergenceError
+        ``"ml"`` did not converge (not seen in testing; it would point at a defect).
     """
     b = float_array("baselines", baselines, ndim=2, shape="(m, 3)")
     s = float_array("los", los, ndim=2, shape="(n, 3)")

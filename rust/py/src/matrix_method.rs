@@ -20,12 +20,13 @@ fn matrix_attitude<'py>(
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, f64)> {
     let method = match method {
         "svd" => Method::Svd,
+        "ml" => Method::MaxLikelihood,
         "closed_form" => Method::ClosedForm,
         "paper" => Method::Paper,
         other => {
             return Err(invalid_input(
                 py,
-                format!("expected method 'svd', 'closed_form' or 'paper', got {other:?}"),
+                format!("expected method 'svd', 'ml', 'closed_form' or 'paper', got {other:?}"),
             ))
         }
     };

@@ -21,6 +21,11 @@ pub enum Method {
     /// (5) and equals eq. (16) whenever that is a rotation; with a coplanar array (three antennas) it
     /// estimates the baselines in the reference frame, `C = N^-1 S R^T`, and matches them to `B`.
     Svd,
+    /// Minimises the least-squares loss (4) itself over proper rotations by Gauss-Newton on SO(3),
+    /// started from [`Method::Svd`]: the maximum-likelihood attitude for independent Gaussian range-
+    /// difference errors, which reaches the Cramer-Rao bound where [`Method::Svd`] (minimising the
+    /// re-weighted loss (5)) does not.
+    MaxLikelihood,
 }
 
 /// The attitude found, and how well it explains the range differences.
@@ -118,7 +123,7 @@ pub fn solve(
                 a
             }
         }
-        Method::Svd => {
+        Method::Svd | Method::MaxLikelihood => {
             // Both profile matrices equal (PSD) x A or A x (PSD) without noise, so the proper polar
             // factor is A itself; which side is inverted depends on which side has full rank.
             let h = if g_cond <= MAX_CONDITION && n_cond2 <= MAX_CONDITION {
@@ -141,7 +146,12 @@ pub fn solve(
                     condition,
                 });
             };
-            wahba::svd::solve(&h)?
+            let a = wahba::svd::solve(&h)?;
+            if method == Method::MaxLikelihood {
+                minimise_loss(&b, &s, r, a)?
+            } else {
+                a
+            }
         }
     };
     let rotation = match method {
@@ -153,6 +163,65 @@ pub fn solve(
         dcm_ref_from_body: rotation.transpose(),
         raw_body_from_ref: raw,
         residual_rms_m: resid.norm() / ((m * n) as f64).sqrt(),
+    })
+}
+
+/// Most Gauss-Newton iterations of [`Method::MaxLikelihood`].
+pub const MAX_ITERATIONS: usize = 200;
+
+/// Gauss-Newton on SO(3) for loss (4), `sum_ij (r_ij - b_i . A s_j)^2`, from `a0` (reference -> body).
+/// The correction is a small rotation `delta` of the body -> reference matrix `M = A^T`,
+/// `M <- exp([delta]x) M`, whose gradient for range difference ij is `(M b_i) x s_j`. Steps that raise
+/// the loss are halved, so the loss never increases.
+fn minimise_loss(
+    b: &Matrix3xX<f64>,
+    s: &Matrix3xX<f64>,
+    r: &DMatrix<f64>,
+    a0: Matrix3<f64>,
+) -> Result<Matrix3<f64>> {
+    let loss = |m: &Matrix3<f64>| (r - b.transpose() * m.transpose() * s).norm_squared();
+    let mut m = a0.transpose();
+    let mut current = loss(&m);
+    for _ in 0..MAX_ITERATIONS {
+        let (mut info, mut grad) = (Matrix3::zeros(), Vector3::zeros());
+        let mb = m * b;
+        for (i, c) in mb.column_iter().enumerate() {
+            for (j, sj) in s.column_iter().enumerate() {
+                let g = c.cross(&sj);
+                info += g * g.transpose();
+                grad += g * (r[(i, j)] - c.dot(&sj));
+            }
+        }
+        let Some(delta) = info.cholesky().map(|ch| ch.solve(&grad)) else {
+            return Err(Error::DegenerateGeometry {
+                what: "the range differences do not fix the attitude".into(),
+                matrix: "Fisher information of the rotation",
+                condition: f64::INFINITY,
+            });
+        };
+        // 1e-10 rad is far below any attitude accuracy; Gauss-Newton converges only linearly on
+        // large-residual problems, so asking for rounding-level steps would cost many iterations.
+        if delta.norm() < 1e-10 {
+            return Ok(m.transpose());
+        }
+        let mut step = 1.0;
+        loop {
+            let trial = nalgebra::Rotation3::new(delta * step).into_inner() * m;
+            let value = loss(&trial);
+            if value <= current {
+                (m, current) = (trial, value);
+                break;
+            }
+            step *= 0.5;
+            if step < 1e-6 {
+                // No descent left along the Gauss-Newton direction: a minimum to rounding.
+                return Ok(m.transpose());
+            }
+        }
+    }
+    Err(Error::Convergence {
+        what: "Gauss-Newton minimisation of the range-difference loss",
+        iterations: MAX_ITERATIONS,
     })
 }
 

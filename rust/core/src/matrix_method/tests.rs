@@ -37,7 +37,12 @@ fn sats() -> Vec<Vector3<f64>> {
 fn every_method_is_exact_without_noise() {
     let truth = ZYX.to_dcm([2.0, 0.3, -0.5]);
     let r = scenario(&tetra(), &sats(), &truth);
-    for method in [Method::ClosedForm, Method::Paper, Method::Svd] {
+    for method in [
+        Method::ClosedForm,
+        Method::Paper,
+        Method::Svd,
+        Method::MaxLikelihood,
+    ] {
         let sol = solve(&tetra(), &sats(), &r, method).unwrap();
         assert!((sol.dcm_ref_from_body - truth).norm() < 1e-12, "{method:?}");
         assert!(sol.residual_rms_m < 1e-12);

@@ -1,0 +1,21 @@
+# Type stubs of the native module gnssatt._core (rust/py). Keep in step with rust/py/src/*.rs:
+# tests/test_stubs.py checks that every native function is declared here.
+import numpy as np
+from numpy.typing import NDArray
+
+__version__: str
+
+# rotation.rs
+def euler_to_dcm(seq: str, angles_rad: tuple[float, float, float]) -> NDArray[np.float64]: ...
+def dcm_to_euler(seq: str, dcm: NDArray[np.float64]) -> tuple[float, float, float]: ...
+def quat_to_dcm(quat: tuple[float, float, float, float]) -> NDArray[np.float64]: ...
+def dcm_to_quat(dcm: NDArray[np.float64]) -> tuple[float, float, float, float]: ...
+def nearest_rotation(matrix: NDArray[np.float64]) -> NDArray[np.float64]: ...
+
+# matrix_method.rs
+def matrix_attitude(
+    baselines: NDArray[np.float64],
+    los: NDArray[np.float64],
+    range_diffs: NDArray[np.float64],
+    method: str = "svd",
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float]: ...

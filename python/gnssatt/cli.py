@@ -1,0 +1,57 @@
+"""The ``gnssatt`` command: ``gnssatt reproduce ...`` runs the source papers' experiments."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+__all__ = ["main"]
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from gnssatt.experiments import EXPERIMENTS, get
+
+    if args.list:
+        width = max(map(len, EXPERIMENTS))
+        for exp in EXPERIMENTS.values():
+            print(f"{exp.name.ljust(width)}  {exp.summary}  (default runs {exp.default_runs})")
+        return 0
+    if args.all == bool(args.names):
+        print("gnssatt reproduce: give experiment names, --all, or --list", file=sys.stderr)
+        return 2
+    try:
+        chosen = list(EXPERIMENTS.values()) if args.all else [get(n) for n in args.names]
+    except KeyError as exc:
+        print(f"gnssatt reproduce: {exc.args[0]}", file=sys.stderr)
+        return 2
+    for exp in chosen:
+        runs = args.runs or (exp.quick_runs if args.all else exp.default_runs)
+        t0 = time.perf_counter()
+        print(f"\n=== {exp.name}: {runs} runs, seed {args.seed}")
+        exp.run(runs=runs, seed=args.seed, out=args.out, executor=None, progress=not args.no_progress)
+        print(f"({time.perf_counter() - t0:.1f} s; outputs in {args.out})")
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="gnssatt", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    rep = sub.add_parser("reproduce", help="run the source papers' experiments")
+    rep.add_argument("names", nargs="*", help="experiment names (see --list)")
+    rep.add_argument("--list", action="store_true", help="list the experiments")
+    rep.add_argument("--all", action="store_true", help="run every experiment with quick defaults")
+    rep.add_argument("--runs", type=int, default=None, help="Monte Carlo runs (default: per experiment)")
+    rep.add_argument("--seed", type=int, default=2026, help="root random seed (default 2026)")
+    rep.add_argument("--out", type=Path, default=Path("out"), help="output folder (default ./out)")
+    rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
+    args = parser.parse_args(argv)
+    if args.runs is not None and args.runs < 1:
+        parser.error("--runs must be >= 1")
+    return _reproduce(args)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

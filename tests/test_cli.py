@@ -1,0 +1,51 @@
+"""`gnssatt reproduce`: listing, running one experiment, the common JSON shape, and usage errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from gnssatt.cli import main
+from gnssatt.experiments import EXPERIMENTS
+
+
+def test_list(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["reproduce", "--list"]) == 0
+    out = capsys.readouterr().out
+    for name in EXPERIMENTS:
+        assert name in out
+
+
+def test_matrix_method_writes_json_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert (
+        main(
+            [
+                "reproduce",
+                "matrix-method",
+                "--runs",
+                "60",
+                "--seed",
+                "7",
+                "--out",
+                str(tmp_path),
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
+    doc = json.loads((tmp_path / "matrix-method.json").read_text())
+    assert set(doc) == {"experiment", "paper", "measured", "runs", "seed"}
+    assert doc["experiment"] == "matrix-method" and doc["runs"] == 60 and doc["seed"] == 7
+    assert doc["paper"]["heading_mean_abs_error_deg"] == 0.282
+    assert all(k.endswith(("_deg", "_fraction")) for k in doc["measured"])
+    assert (tmp_path / "matrix-method-geometry.png").stat().st_size > 10_000
+    assert "heading_mean_abs_error_deg" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv", [["reproduce"], ["reproduce", "no-such-thing"], ["reproduce", "--all", "matrix-method"]]
+)
+def test_usage_errors(argv: list[str]) -> None:
+    assert main(argv) == 2
