@@ -11,9 +11,20 @@ from gnssatt._arrays import float_array
 from gnssatt.errors import InvalidInputError
 
 
+def checked_array(name: str, value: Any, *, ndim: tuple[int, ...], shape: str) -> NDArray[np.float64]:
+    """Like :func:`gnssatt._arrays.float_array`, but 0-d input stays 0-d."""
+    allowed = (*ndim, 1) if 0 in ndim else ndim
+    arr = float_array(name, value, ndim=allowed, shape=shape)
+    if np.ndim(value) == 0:
+        return arr.reshape(())
+    if arr.ndim not in ndim:
+        raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+    return arr
+
+
 def time_array(t: Any) -> NDArray[np.float64]:
     """``t`` (seconds from the scenario epoch) as a float64 array of shape () or (n_t,)."""
-    return float_array("t", t, ndim=(0, 1), shape="() or (n_t,)")
+    return checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)")
 
 
 def scalar(name: str, value: Any, *, minimum: float | None = None, strict: bool = False) -> float:

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import float_array
-from gnssatt.sim._util import matvec, rot_z, time_array
+from gnssatt.sim._util import checked_array, matvec, rot_z, time_array
 from gnssatt.sim.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 
 __all__ = [
@@ -105,9 +105,9 @@ def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike
     ``N = a / sqrt(1 - e^2 sin^2 lat)``, ``x = (N + h) cos lat cos lon``, ``y = (N + h) cos lat sin lon``,
     ``z = (N (1 - e^2) + h) sin lat``.
     """
-    lat = np.radians(float_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
-    lon = np.radians(float_array("lon_deg", lon_deg, ndim=(0, 1), shape="() or (n,)"))
-    h = float_array("height_m", height_m, ndim=(0, 1), shape="() or (n,)")
+    lat = np.radians(checked_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
+    lon = np.radians(checked_array("lon_deg", lon_deg, ndim=(0, 1), shape="() or (n,)"))
+    h = checked_array("height_m", height_m, ndim=(0, 1), shape="() or (n,)")
     n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
     return np.stack(
         np.broadcast_arrays(

@@ -15,9 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import float_array
 from gnssatt.errors import ConvergenceError, InvalidInputError
-from gnssatt.sim._util import matvec, readonly, rot_x, rot_z, time_array
+from gnssatt.sim._util import checked_array, matvec, readonly, rot_x, rot_z, time_array
 from gnssatt.sim.constants import GM_M3_S2
 
 __all__ = ["KeplerOrbits", "solve_kepler"]
@@ -50,8 +49,8 @@ def solve_kepler(
     ConvergenceError
         Newton's method did not reach ``tol`` within ``max_iter`` iterations.
     """
-    m = float_array("mean_anomaly_rad", mean_anomaly_rad, ndim=(0, 1, 2, 3), shape="(...)")
-    e = float_array("eccentricity", eccentricity, ndim=(0, 1, 2, 3), shape="(...)")
+    m = checked_array("mean_anomaly_rad", mean_anomaly_rad, ndim=(0, 1, 2, 3), shape="(...)")
+    e = checked_array("eccentricity", eccentricity, ndim=(0, 1, 2, 3), shape="(...)")
     if np.any((e < 0) | (e >= 1)):
         raise InvalidInputError(f"expected eccentricity in [0, 1), got values in [{e.min()}, {e.max()}]")
     m_red = np.remainder(m + np.pi, 2 * np.pi) - np.pi  # in [-pi, pi)
@@ -94,8 +93,8 @@ class KeplerOrbits:
 
     def __post_init__(self) -> None:
         names = ("semi_major_axis_m", "eccentricity", "inclination_rad", "raan_rad", "arg_perigee_rad")
-        arrays = [float_array(k, getattr(self, k), ndim=(0, 1), shape="(n,)") for k in names]
-        arrays.append(float_array("mean_anomaly_rad", self.mean_anomaly_rad, ndim=(0, 1), shape="(n,)"))
+        arrays = [checked_array(k, getattr(self, k), ndim=(0, 1), shape="(n,)") for k in names]
+        arrays.append(checked_array("mean_anomaly_rad", self.mean_anomaly_rad, ndim=(0, 1), shape="(n,)"))
         try:
             arrays = [
                 np.ascontiguousarray(a) for a in np.broadcast_arrays(*[np.atleast_1d(a) for a in arrays])
