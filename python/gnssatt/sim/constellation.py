@@ -120,7 +120,10 @@ class Constellation:
             )
         if len(set(self.ids)) != n:
             raise InvalidInputError(f"expected unique satellite ids, got {list(self.ids)}")
-        for band, f in self.frequencies_hz.items():
+        freqs = {band: np.array(f, dtype=np.float64) for band, f in self.frequencies_hz.items()}
+        object.__setattr__(self, "frequencies_hz", freqs)
+        object.__setattr__(self, "glonass_channels", np.array(self.glonass_channels, dtype=np.int64))
+        for band, f in freqs.items():
             if np.shape(f) != (n,):
                 raise InvalidInputError(
                     f"expected frequencies_hz[{band!r}] of shape ({n},), got {np.shape(f)}"

@@ -62,6 +62,8 @@ class Geometry:
     satellites_eci_m: NDArray[np.float64]
 
     def __post_init__(self) -> None:
+        for name in ("los", "range_m", "range_rate_mps", "t", "receiver_eci_m", "satellites_eci_m"):
+            object.__setattr__(self, name, np.array(getattr(self, name), dtype=np.float64))
         readonly(self.los, self.range_m, self.range_rate_mps, self.t)
         readonly(self.receiver_eci_m, self.satellites_eci_m)
 

@@ -96,9 +96,7 @@ class KeplerOrbits:
         arrays = [checked_array(k, getattr(self, k), ndim=(0, 1), shape="(n,)") for k in names]
         arrays.append(checked_array("mean_anomaly_rad", self.mean_anomaly_rad, ndim=(0, 1), shape="(n,)"))
         try:
-            arrays = [
-                np.ascontiguousarray(a) for a in np.broadcast_arrays(*[np.atleast_1d(a) for a in arrays])
-            ]
+            arrays = [np.array(a) for a in np.broadcast_arrays(*[np.atleast_1d(a) for a in arrays])]
         except ValueError as exc:
             shapes = [np.shape(getattr(self, k)) for k in (*names, "mean_anomaly_rad")]
             raise InvalidInputError(

@@ -246,8 +246,9 @@ def simulate_array(
     ant = float_array("antennas_body_m", antennas_body_m, ndim=2, shape="(n_ant, 3)")
     if ant.shape[1] != 3 or ant.shape[0] < 1:
         raise InvalidInputError(f"expected antennas_body_m of shape (n_ant, 3), got {ant.shape}")
+    ant = ant.copy()  # the result holds read-only copies, never the caller's arrays
     n_ant = ant.shape[0]
-    lam = float_array("wavelengths_m", wavelengths_m, ndim=1, shape="(n_sat,)")
+    lam = float_array("wavelengths_m", wavelengths_m, ndim=1, shape="(n_sat,)").copy()
     if lam.shape != (n_sat,):
         raise InvalidInputError(f"expected wavelengths_m of shape ({n_sat},) (n_sat), got {lam.shape}")
     if np.any(lam <= 0):
