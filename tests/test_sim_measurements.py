@@ -220,3 +220,14 @@ def test_input_errors_have_helpful_messages() -> None:
         sim.simulate_array(geom, att, ant, lam, rng, cn0_dbhz=45.0, integration_time_s=0.0)
     with pytest.raises(InvalidInputError, match="correlator"):
         sim.simulate_array(geom, att, ant, lam, rng).phase_diffs(source="correlator")
+
+
+def test_range_differences_feed_the_matrix_method() -> None:
+    """Noise-free simulated range differences give back the true attitude through gnssatt.matrix_attitude."""
+    from gnssatt import matrix_attitude
+
+    geom, att, ant, rng = static_case(seed=3, n_sat=5)
+    meas = sim.simulate_array(geom, att, ant, np.full(5, LAM), rng)
+    range_diffs = meas.range_m[0] - meas.range_m[1:]  # b_i . (A s_j), A = reference -> body
+    result = matrix_attitude(ant[1:], geom.los, range_diffs)
+    assert (result.rotation * att.inv()).magnitude() < 1e-9

@@ -64,7 +64,7 @@ def wrap_rad(x: NDArray[np.float64]) -> NDArray[np.float64]:
     return (np.asarray(x) + np.pi) % (2.0 * np.pi) - np.pi
 
 
-def readonly(*arrays: NDArray[Any]) -> None:
+def readonly(*arrays: NDArray[Any] | None) -> None:
     """Mark arrays read-only (results held by frozen dataclasses)."""
     for a in arrays:
         if isinstance(a, np.ndarray):

@@ -94,9 +94,9 @@ def glonass_frequency_hz(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
     """
     ch = _channels(k)
     if band == "L1":
-        return GLONASS_L1_BASE_HZ + ch * GLONASS_L1_STEP_HZ
+        return np.asarray(GLONASS_L1_BASE_HZ + ch * GLONASS_L1_STEP_HZ, dtype=np.float64)
     if band == "L2":
-        return GLONASS_L2_BASE_HZ + ch * GLONASS_L2_STEP_HZ
+        return np.asarray(GLONASS_L2_BASE_HZ + ch * GLONASS_L2_STEP_HZ, dtype=np.float64)
     raise InvalidInputError(f"expected band 'L1' or 'L2', got {band!r}")
 
 

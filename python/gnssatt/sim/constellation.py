@@ -139,18 +139,17 @@ class Constellation:
         if not isinstance(other, Constellation):
             return NotImplemented
         o1, o2 = self.orbits, other.orbits
+
+        def cat(name: str) -> NDArray[np.float64]:
+            return np.concatenate([getattr(o1, name), getattr(o2, name)])
+
         orbits = KeplerOrbits(
-            *(
-                np.concatenate([getattr(o1, k), getattr(o2, k)])
-                for k in (
-                    "semi_major_axis_m",
-                    "eccentricity",
-                    "inclination_rad",
-                    "raan_rad",
-                    "arg_perigee_rad",
-                    "mean_anomaly_rad",
-                )
-            ),
+            cat("semi_major_axis_m"),
+            cat("eccentricity"),
+            cat("inclination_rad"),
+            cat("raan_rad"),
+            cat("arg_perigee_rad"),
+            cat("mean_anomaly_rad"),
             gm_m3_s2=o1.gm_m3_s2,
         )
         bands = [b for b in self.frequencies_hz if b in other.frequencies_hz]

@@ -122,7 +122,9 @@ class KeplerOrbits:
     ) -> KeplerOrbits:
         """Circular orbits (e = 0, argument of perigee 0) from the argument of latitude at ``t = 0``."""
         u = np.atleast_1d(np.asarray(arg_latitude_rad, dtype=np.float64))
-        return cls(semi_major_axis_m, np.zeros_like(u), inclination_rad, raan_rad, np.zeros_like(u), u)
+        args = (semi_major_axis_m, inclination_rad, raan_rad)
+        a, inc, raan = (np.asarray(x, dtype=np.float64) for x in args)
+        return cls(a, np.zeros_like(u), inc, raan, np.zeros_like(u), u)
 
     def __len__(self) -> int:
         return int(self.semi_major_axis_m.shape[0])
