@@ -1,0 +1,71 @@
+"""Small shared helpers of :mod:`gnssatt.sim`: time intake, batched matrix products, phase wrapping."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+
+
+def checked_array(name: str, value: Any, *, ndim: tuple[int, ...], shape: str) -> NDArray[np.float64]:
+    """Like :func:`gnssatt._arrays.float_array`, but 0-d input stays 0-d."""
+    allowed = (*ndim, 1) if 0 in ndim else ndim
+    arr = float_array(name, value, ndim=allowed, shape=shape)
+    if np.ndim(value) == 0:
+        return arr.reshape(())
+    if arr.ndim not in ndim:
+        raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+    return arr
+
+
+def time_array(t: Any) -> NDArray[np.float64]:
+    """``t`` (seconds from the scenario epoch) as a float64 array of shape () or (n_t,)."""
+    return checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)")
+
+
+def scalar(name: str, value: Any, *, minimum: float | None = None, strict: bool = False) -> float:
+    """``value`` as a finite Python float, optionally bounded below (``> minimum`` if ``strict``)."""
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise TypeError(f"expected {name} as a real number, got {type(value).__name__}")
+    x = float(value)
+    if not np.isfinite(x):
+        raise InvalidInputError(f"expected a finite {name}, got {x}")
+    if minimum is not None and (x <= minimum if strict else x < minimum):
+        op = ">" if strict else ">="
+        raise InvalidInputError(f"expected {name} {op} {minimum}, got {x}")
+    return x
+
+
+def matvec(m: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``m @ v`` over the last axes with broadcasting: m (..., 3, 3), v (..., 3) -> (..., 3)."""
+    return np.einsum("...ij,...j->...i", m, v)
+
+
+def rot_x(angle: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """Active rotation matrices about x by ``angle`` (rad), shape (..., 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2)
+
+
+def rot_z(angle: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """Active rotation matrices about z by ``angle`` (rad), shape (..., 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
+
+
+def wrap_rad(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Angles wrapped to [-pi, pi)."""
+    return (np.asarray(x) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def readonly(*arrays: NDArray[Any] | None) -> None:
+    """Mark arrays read-only (results held by frozen dataclasses)."""
+    for a in arrays:
+        if isinstance(a, np.ndarray):
+            a.flags.writeable = False

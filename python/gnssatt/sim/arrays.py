@@ -1,0 +1,87 @@
+"""Antenna-array layouts and random attitudes / lines of sight for Monte Carlo scenarios.
+
+Conventions of :mod:`gnssatt.sim`: SI units and radians inside (arguments in degrees end in ``_deg``);
+antenna positions in the body frame relative to the vehicle's reference point, metres; attitudes are scipy
+``Rotation`` objects mapping body -> reference frame.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import scalar
+
+__all__ = ["equilateral_triangle", "random_attitude", "random_los"]
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "xy") -> NDArray[np.float64]:
+    """Three antennas on an equilateral triangle, antenna 0 at the body origin (the reference point).
+
+    Parameters
+    ----------
+    side_m
+        Side length, m (seed 000: 1 m; seed 001: 0.71 m).
+    plane
+        Body plane ``"<a><b>"`` holding the triangle: antenna 1 at ``side * e_a`` (with the default
+        ``"xy"``, on the body X axis, forward), antenna 2 at ``side * (e_a / 2 + sqrt(3) / 2 e_b)``.
+        For the seed-001 axes (X forward, Y up, Z right wing) a horizontal array is ``plane="xz"``,
+        with antenna 2 to the right of the nose line.
+
+    Returns
+    -------
+    (3, 3) antenna positions, body frame, m; row i is antenna i.
+    """
+    s = scalar("side_m", side_m, minimum=0.0, strict=True)
+    if plane not in ("xy", "xz", "yz"):
+        raise InvalidInputError(f"expected plane 'xy', 'xz' or 'yz', got {plane!r}")
+    a, b = _AXES[plane[0]], _AXES[plane[1]]
+    out = np.zeros((3, 3))
+    out[1, a] = s
+    out[2, a] = s / 2.0
+    out[2, b] = s * np.sqrt(3.0) / 2.0
+    return out
+
+
+def random_attitude(rng: np.random.Generator, n: int | None = None) -> Rotation:
+    """Attitude(s) drawn uniformly over SO(3) from ``rng`` (one ``Rotation``, or ``n`` stacked)."""
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"expected rng as a numpy.random.Generator, got {type(rng).__name__}")
+    return Rotation.random(n, random_state=rng)
+
+
+def random_los(
+    rng: np.random.Generator, n_sat: int, *, min_elevation_deg: float = 0.0
+) -> NDArray[np.float64]:
+    """Unit lines of sight uniform over the spherical cap above ``min_elevation_deg`` (z is up).
+
+    Parameters
+    ----------
+    rng
+        Source of randomness.
+    n_sat
+        Number of directions, >= 1.
+    min_elevation_deg
+        Lowest elevation, degrees, in [-90, 90).
+
+    Returns
+    -------
+    (n_sat, 3) unit vectors in a local-level frame (ENU or orbital).
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"expected rng as a numpy.random.Generator, got {type(rng).__name__}")
+    if isinstance(n_sat, bool) or not isinstance(n_sat, int | np.integer) or n_sat < 1:
+        raise InvalidInputError(f"expected n_sat as an integer >= 1, got {n_sat!r}")
+    el = scalar("min_elevation_deg", min_elevation_deg)
+    if not -90.0 <= el < 90.0:
+        raise InvalidInputError(f"expected min_elevation_deg in [-90, 90), got {el}")
+    z = rng.uniform(np.sin(np.radians(el)), 1.0, size=n_sat)
+    az = rng.uniform(0.0, 2.0 * np.pi, size=n_sat)
+    c = np.sqrt(1.0 - z**2)
+    return np.stack([c * np.sin(az), c * np.cos(az), z], axis=-1)

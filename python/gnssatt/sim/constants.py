@@ -1,0 +1,105 @@
+"""Physical and signal constants of the scenario simulator.
+
+Conventions of :mod:`gnssatt.sim`: SI units (m, s, Hz) and radians inside; arguments in degrees carry
+``_deg`` in their name.
+
+Sources: WGS-84 (NIMA TR8350.2, 3rd ed.): ``a``, ``1/f``, ``GM``, ``omega_E``; IS-GPS-200 for the GPS
+carriers (10.23 MHz x 154 and x 120) and the speed of light; GLONASS ICD (ed. 5.1, 2008) for the FDMA plan
+``f_L1 = 1602 MHz + k 0.5625 MHz``, ``f_L2 = 1246 MHz + k 0.4375 MHz``, channel ``k`` in -7..+6.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gnssatt.errors import InvalidInputError
+
+__all__ = [
+    "GLONASS_CHANNELS",
+    "GLONASS_L1_BASE_HZ",
+    "GLONASS_L1_STEP_HZ",
+    "GLONASS_L2_BASE_HZ",
+    "GLONASS_L2_STEP_HZ",
+    "GM_M3_S2",
+    "GPS_L1_HZ",
+    "GPS_L1_WAVELENGTH_M",
+    "GPS_L2_HZ",
+    "GPS_L2_WAVELENGTH_M",
+    "OMEGA_E_RAD_S",
+    "SPEED_OF_LIGHT_M_S",
+    "WGS84_A_M",
+    "WGS84_B_M",
+    "WGS84_E2",
+    "WGS84_F",
+    "glonass_frequency_hz",
+    "glonass_wavelength_m",
+]
+
+#: WGS-84 semi-major axis, m.
+WGS84_A_M = 6378137.0
+#: WGS-84 flattening.
+WGS84_F = 1.0 / 298.257223563
+#: WGS-84 semi-minor axis, m.
+WGS84_B_M = WGS84_A_M * (1.0 - WGS84_F)
+#: WGS-84 first eccentricity squared.
+WGS84_E2 = WGS84_F * (2.0 - WGS84_F)
+#: Earth's gravitational parameter (WGS-84, including the atmosphere), m^3/s^2.
+GM_M3_S2 = 3.986004418e14
+#: Earth's rotation rate (WGS-84), rad/s.
+OMEGA_E_RAD_S = 7.2921151467e-5
+#: Speed of light in vacuum, m/s.
+SPEED_OF_LIGHT_M_S = 299792458.0
+
+#: GPS L1 carrier, Hz (154 x 10.23 MHz).
+GPS_L1_HZ = 1575.42e6
+#: GPS L2 carrier, Hz (120 x 10.23 MHz).
+GPS_L2_HZ = 1227.60e6
+#: GPS L1 wavelength, m (about 0.1903 m).
+GPS_L1_WAVELENGTH_M = SPEED_OF_LIGHT_M_S / GPS_L1_HZ
+#: GPS L2 wavelength, m (about 0.2442 m).
+GPS_L2_WAVELENGTH_M = SPEED_OF_LIGHT_M_S / GPS_L2_HZ
+
+#: GLONASS FDMA channel numbers in use since 2005.
+GLONASS_CHANNELS = tuple(range(-7, 7))
+GLONASS_L1_BASE_HZ = 1602.0e6
+GLONASS_L1_STEP_HZ = 0.5625e6
+GLONASS_L2_BASE_HZ = 1246.0e6
+GLONASS_L2_STEP_HZ = 0.4375e6
+
+
+def _channels(k: ArrayLike) -> NDArray[np.int64]:
+    arr = np.asarray(k)
+    if arr.dtype.kind not in "iu" and not (arr.dtype.kind == "f" and np.all(arr == np.round(arr))):
+        raise TypeError(f"expected integer GLONASS channel numbers, got dtype {arr.dtype}")
+    arr = arr.astype(np.int64)
+    if np.any((arr < -7) | (arr > 6)):
+        raise InvalidInputError(f"expected GLONASS channel numbers in -7..6, got {np.unique(arr).tolist()}")
+    return arr
+
+
+def glonass_frequency_hz(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
+    """GLONASS FDMA carrier frequency of channel ``k``.
+
+    Parameters
+    ----------
+    k
+        Channel number(s), integers in -7..6, any shape.
+    band
+        ``"L1"`` (1602 MHz + 0.5625 MHz k) or ``"L2"`` (1246 MHz + 0.4375 MHz k).
+
+    Returns
+    -------
+    Frequencies in Hz, same shape as ``k``.
+    """
+    ch = _channels(k)
+    if band == "L1":
+        return np.asarray(GLONASS_L1_BASE_HZ + ch * GLONASS_L1_STEP_HZ, dtype=np.float64)
+    if band == "L2":
+        return np.asarray(GLONASS_L2_BASE_HZ + ch * GLONASS_L2_STEP_HZ, dtype=np.float64)
+    raise InvalidInputError(f"expected band 'L1' or 'L2', got {band!r}")
+
+
+def glonass_wavelength_m(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
+    """GLONASS carrier wavelength of channel ``k`` in metres (``c / glonass_frequency_hz(k, band)``)."""
+    return SPEED_OF_LIGHT_M_S / glonass_frequency_hz(k, band)

@@ -1,0 +1,312 @@
+"""GNSS constellations: nominal GPS and GLONASS, Walker patterns, satellite states at any time.
+
+Conventions of :mod:`gnssatt.sim`: SI units and radians inside (arguments in degrees end in ``_deg``);
+``t`` in seconds from the scenario epoch; ECI/ECEF as in :mod:`gnssatt.sim.frames` (ECEF = ECI rotated by
+``theta0 + OMEGA_E t``). Orbits are two-body Keplerian (:class:`~gnssatt.sim.kepler.KeplerOrbits`), so the
+nominal constellations keep their geometry but drift from the real ones over days (no J2 node regression).
+
+Sources of the nominal elements
+-------------------------------
+GPS (:func:`gps_nominal`): the 24 baseline slots, RAAN and argument of latitude at the defined epoch
+(0000Z 1 July 1993, Greenwich hour angle 18h 36m 14.4s, FK5/J2000), from the GPS SPS Performance Standard,
+3rd edition (October 2001), Table 3-1 "Reference Orbit Slot Assignments as of the Defined Epoch"; the later
+editions (2008, 2020 Table 3.2-1) keep these baseline slots. The 2001 table was read here in a secondary
+transcription (also printed as Table 3.1 in Kaplan & Hegarty, *Understanding GPS*, 2nd ed.; the two copies
+differ for D3, 35.156 deg versus 35.136 deg; 35.156 deg is used). The 2020 edition itself could not be
+consulted, so its expandable-slot variants (B1F/B1A, D2F/D2A, F2F/F2A) are not built in; pass extra
+satellites through ``extra_slots_deg``. Inclination 55 deg, semi-major axis 26,559.7 km, eccentricity 0
+(nominal values of the same table). To put the Earth where it was at that epoch use
+``theta0_rad = GPS_SLOT_EPOCH_GHA_RAD``.
+
+GLONASS (:func:`glonass_nominal`): GLONASS ICD (edition 5.1, 2008), section 3.5: 24 satellites in 3 planes
+120 deg apart in RAAN, 8 per plane 45 deg apart in argument of latitude, planes shifted by 15 deg in
+argument of latitude, inclination 64.8 deg, semi-major axis 25,510 km (draconic period 11 h 15 min 44 s);
+slots 1-8 in plane 1, 9-16 in plane 2, 17-24 in plane 3. Assumed here (the ICD fixes spacings, not the
+absolute phase or the numbering direction): RAAN of plane p is ``raan0 + 120 (p - 1)`` deg and slot
+``s = 8 (p - 1) + j`` (j = 1..8) has argument of latitude ``u0 + 45 (j - 1) + 15 (p - 1)`` deg at ``t = 0``.
+Frequency channels per slot: the long-standing published assignment (e.g. IAC / UNB "GLONASS
+Constellation Status" tables; slots 10, 12, 13, 15, 19, 20 with channels -7, -1, -2, 0, 3, 2 checked there)
+``1:1 2:-4 3:5 4:6 5:1 6:-4 7:5 8:6 9:-2 10:-7 11:0 12:-1 13:-2 14:-7 15:0 16:-1 17:4 18:-3 19:3 20:2
+21:4 22:-3 23:3 24:2``; antipodal satellites (slots j and j + 4 of one plane) share a channel.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import readonly, scalar
+from gnssatt.sim.constants import (
+    GPS_L1_HZ,
+    GPS_L2_HZ,
+    SPEED_OF_LIGHT_M_S,
+    glonass_frequency_hz,
+)
+from gnssatt.sim.frames import eci_to_ecef
+from gnssatt.sim.kepler import KeplerOrbits
+
+__all__ = [
+    "GLONASS_SLOT_CHANNELS",
+    "GPS_BASELINE_SLOTS",
+    "GPS_SLOT_EPOCH_GHA_RAD",
+    "Constellation",
+    "glonass_nominal",
+    "gps_nominal",
+    "walker",
+]
+
+#: GPS baseline 24-slot constellation: slot -> (RAAN deg, argument of latitude deg) at 0000Z 1 July 1993
+#: (GPS SPS Performance Standard 2001, Table 3-1).
+GPS_BASELINE_SLOTS: dict[str, tuple[float, float]] = {
+    "A1": (272.847, 268.126), "A2": (272.847, 161.786), "A3": (272.847, 11.676), "A4": (272.847, 41.806),
+    "B1": (332.847, 80.956), "B2": (332.847, 173.336), "B3": (332.847, 309.976), "B4": (332.847, 204.376),
+    "C1": (32.847, 111.876), "C2": (32.847, 11.796), "C3": (32.847, 339.666), "C4": (32.847, 241.556),
+    "D1": (92.847, 135.226), "D2": (92.847, 265.446), "D3": (92.847, 35.156), "D4": (92.847, 167.356),
+    "E1": (152.847, 197.046), "E2": (152.847, 302.596), "E3": (152.847, 66.066), "E4": (152.847, 333.686),
+    "F1": (212.847, 238.886), "F2": (212.847, 345.226), "F3": (212.847, 105.206), "F4": (212.847, 135.346),
+}  # fmt: skip
+
+#: Greenwich hour angle at the GPS slot epoch (18h 36m 14.4s), rad.
+GPS_SLOT_EPOCH_GHA_RAD = float(np.radians((18 + 36 / 60 + 14.4 / 3600) * 15.0))
+
+#: GLONASS orbital slot (1..24) -> FDMA channel number.
+GLONASS_SLOT_CHANNELS: dict[int, int] = {
+    1: 1, 2: -4, 3: 5, 4: 6, 5: 1, 6: -4, 7: 5, 8: 6,
+    9: -2, 10: -7, 11: 0, 12: -1, 13: -2, 14: -7, 15: 0, 16: -1,
+    17: 4, 18: -3, 19: 3, 20: 2, 21: 4, 22: -3, 23: 3, 24: 2,
+}  # fmt: skip
+
+_GPS_A_M = 26_559_700.0
+_GPS_INC_DEG = 55.0
+_GLO_A_M = 25_510_000.0
+_GLO_INC_DEG = 64.8
+
+
+@dataclass(frozen=True)
+class Constellation:
+    """Satellites with their orbits and carrier frequencies.
+
+    Attributes
+    ----------
+    ids
+        Satellite identifiers, RINEX style: ``"G01"``.. for GPS, ``"R01"``.. for GLONASS.
+    orbits
+        Keplerian orbits of the satellites, in the order of ``ids``.
+    frequencies_hz
+        Carrier frequency per satellite and band, Hz; keys are band names (``"L1"``, ``"L2"``), values
+        arrays of shape (n_sat,).
+    slots
+        Orbital slot names (GPS ``"A1"``, GLONASS ``"1"``..``"24"``) or ``""`` where none.
+    glonass_channels
+        (n_sat,) FDMA channel numbers; 0 for non-GLONASS satellites (see ``ids``).
+    """
+
+    ids: tuple[str, ...]
+    orbits: KeplerOrbits
+    frequencies_hz: dict[str, NDArray[np.float64]]
+    slots: tuple[str, ...]
+    glonass_channels: NDArray[np.int64]
+
+    def __post_init__(self) -> None:
+        n = len(self.orbits)
+        if len(self.ids) != n or len(self.slots) != n or np.shape(self.glonass_channels) != (n,):
+            raise InvalidInputError(
+                f"expected ids, slots and glonass_channels of length {n} (the number of orbits), got "
+                f"{len(self.ids)}, {len(self.slots)}, {np.shape(self.glonass_channels)}"
+            )
+        if len(set(self.ids)) != n:
+            raise InvalidInputError(f"expected unique satellite ids, got {list(self.ids)}")
+        freqs = {band: np.array(f, dtype=np.float64) for band, f in self.frequencies_hz.items()}
+        object.__setattr__(self, "frequencies_hz", freqs)
+        object.__setattr__(self, "glonass_channels", np.array(self.glonass_channels, dtype=np.int64))
+        for band, f in freqs.items():
+            if np.shape(f) != (n,):
+                raise InvalidInputError(
+                    f"expected frequencies_hz[{band!r}] of shape ({n},), got {np.shape(f)}"
+                )
+            readonly(f)
+        readonly(self.glonass_channels)
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    def __add__(self, other: Constellation) -> Constellation:
+        """Both constellations in one (e.g. GPS + GLONASS); only bands present in both are kept."""
+        if not isinstance(other, Constellation):
+            return NotImplemented
+        o1, o2 = self.orbits, other.orbits
+
+        def cat(name: str) -> NDArray[np.float64]:
+            return np.concatenate([getattr(o1, name), getattr(o2, name)])
+
+        orbits = KeplerOrbits(
+            cat("semi_major_axis_m"),
+            cat("eccentricity"),
+            cat("inclination_rad"),
+            cat("raan_rad"),
+            cat("arg_perigee_rad"),
+            cat("mean_anomaly_rad"),
+            gm_m3_s2=o1.gm_m3_s2,
+        )
+        bands = [b for b in self.frequencies_hz if b in other.frequencies_hz]
+        freqs = {b: np.concatenate([self.frequencies_hz[b], other.frequencies_hz[b]]) for b in bands}
+        return Constellation(
+            self.ids + other.ids,
+            orbits,
+            freqs,
+            self.slots + other.slots,
+            np.concatenate([self.glonass_channels, other.glonass_channels]),
+        )
+
+    def wavelengths_m(self, band: str = "L1") -> NDArray[np.float64]:
+        """(n_sat,) carrier wavelengths in metres for ``band``."""
+        if band not in self.frequencies_hz:
+            raise InvalidInputError(f"expected band in {sorted(self.frequencies_hz)}, got {band!r}")
+        return SPEED_OF_LIGHT_M_S / self.frequencies_hz[band]
+
+    def select(self, which: Sequence[str] | ArrayLike) -> Constellation:
+        """The satellites named in ``which`` (ids), or selected by an index array / boolean mask (n_sat,)."""
+        if isinstance(which, Sequence) and all(isinstance(w, str) for w in which) and len(which) > 0:
+            missing = [w for w in which if w not in self.ids]
+            if missing:
+                raise InvalidInputError(
+                    f"expected satellite ids from {list(self.ids)}, got unknown {missing}"
+                )
+            idx = np.array([self.ids.index(w) for w in which], dtype=np.int64)
+        else:
+            arr = np.asarray(which)
+            if arr.dtype == bool:
+                if arr.shape != (len(self),):
+                    raise InvalidInputError(
+                        f"expected a boolean mask of shape ({len(self)},), got {arr.shape}"
+                    )
+                idx = np.flatnonzero(arr)
+            elif arr.dtype.kind in "iu" or arr.size == 0:
+                idx = arr.astype(np.int64).reshape(-1)
+            else:
+                raise TypeError(f"expected satellite ids, indices or a boolean mask, got dtype {arr.dtype}")
+        return Constellation(
+            tuple(self.ids[i] for i in idx),
+            self.orbits.subset(idx),
+            {b: f[idx] for b, f in self.frequencies_hz.items()},
+            tuple(self.slots[i] for i in idx),
+            self.glonass_channels[idx],
+        )
+
+    def state_eci(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Positions (m) and velocities (m/s) in ECI: (n_sat, 3) for scalar ``t``, (n_t, n_sat, 3) else."""
+        return self.orbits.state_eci(t)
+
+    def state_ecef(
+        self, t: ArrayLike, theta0_rad: float = 0.0
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Positions (m) and velocities (m/s, relative to the rotating Earth) in ECEF; shapes as
+        :meth:`state_eci`."""
+        r, v = self.orbits.state_eci(t)
+        return eci_to_ecef(r, v, t, theta0_rad)
+
+
+def _gps_ids(n: int, start: int = 1) -> tuple[str, ...]:
+    return tuple(f"G{i:02d}" for i in range(start, start + n))
+
+
+def gps_nominal(*, extra_slots_deg: Sequence[tuple[float, float]] = ()) -> Constellation:
+    """The nominal 24-slot GPS constellation (plus optional extra satellites), circular orbits.
+
+    Parameters
+    ----------
+    extra_slots_deg
+        Additional satellites as ``(RAAN, argument of latitude at t = 0)`` pairs in degrees, on the same
+        inclination and semi-major axis; they get ids ``G25``, ``G26``, ... and empty slot names.
+
+    Returns
+    -------
+    Constellation
+        ``G01``..``G24`` for slots A1..A4, B1..B4, ..., F1..F4 (module docstring for the source), with L1
+        and L2 frequencies.
+    """
+    pairs = list(GPS_BASELINE_SLOTS.values())
+    for k, p in enumerate(extra_slots_deg):
+        if len(p) != 2:
+            raise InvalidInputError(
+                f"expected extra_slots_deg[{k}] as (raan_deg, arg_latitude_deg), got {p!r}"
+            )
+        pairs.append((float(p[0]), float(p[1])))
+    raan, u = np.radians(np.array(pairs, dtype=np.float64)).T
+    n = len(pairs)
+    orbits = KeplerOrbits.circular(np.full(n, _GPS_A_M), np.full(n, np.radians(_GPS_INC_DEG)), raan, u)
+    slots = tuple(GPS_BASELINE_SLOTS) + ("",) * (n - 24)
+    freqs = {"L1": np.full(n, GPS_L1_HZ), "L2": np.full(n, GPS_L2_HZ)}
+    return Constellation(_gps_ids(n), orbits, freqs, slots, np.zeros(n, dtype=np.int64))
+
+
+def glonass_nominal(*, raan0_deg: float = 0.0, arg_latitude0_deg: float = 0.0) -> Constellation:
+    """The nominal 24-satellite GLONASS constellation, circular orbits, with FDMA channels per slot.
+
+    Parameters
+    ----------
+    raan0_deg
+        RAAN of plane 1 (slots 1-8) in ECI, degrees.
+    arg_latitude0_deg
+        Argument of latitude of slot 1 at ``t = 0``, degrees.
+
+    Returns
+    -------
+    Constellation
+        ``R01``..``R24`` for slots 1..24 with L1/L2 FDMA frequencies of their channels (module docstring).
+    """
+    raan0 = scalar("raan0_deg", raan0_deg)
+    u0 = scalar("arg_latitude0_deg", arg_latitude0_deg)
+    slot = np.arange(1, 25)
+    plane = (slot - 1) // 8
+    j = (slot - 1) % 8
+    raan = np.radians(raan0 + 120.0 * plane)
+    u = np.radians(u0 + 45.0 * j + 15.0 * plane)
+    orbits = KeplerOrbits.circular(np.full(24, _GLO_A_M), np.full(24, np.radians(_GLO_INC_DEG)), raan, u)
+    ch = np.array([GLONASS_SLOT_CHANNELS[int(s)] for s in slot], dtype=np.int64)
+    freqs = {"L1": glonass_frequency_hz(ch, "L1"), "L2": glonass_frequency_hz(ch, "L2")}
+    return Constellation(tuple(f"R{s:02d}" for s in slot), orbits, freqs, tuple(str(s) for s in slot), ch)
+
+
+def walker(
+    n_sat: int,
+    n_planes: int,
+    phasing: int,
+    *,
+    inclination_deg: float,
+    semi_major_axis_m: float,
+    prefix: str = "G",
+    frequency_hz: float = GPS_L1_HZ,
+    raan0_deg: float = 0.0,
+) -> Constellation:
+    """A Walker delta pattern ``i: n_sat / n_planes / phasing`` of circular orbits (single band ``"L1"``).
+
+    Plane p (0-based) has RAAN ``raan0 + 360 p / n_planes``; satellite j of plane p has argument of latitude
+    ``360 j / (n_sat / n_planes) + 360 phasing p / n_sat`` degrees at ``t = 0``.
+    """
+    for name, v in (("n_sat", n_sat), ("n_planes", n_planes), ("phasing", phasing)):
+        if isinstance(v, bool) or not isinstance(v, int | np.integer):
+            raise TypeError(f"expected {name} as an integer, got {type(v).__name__}")
+    if n_planes < 1 or n_sat < 1 or n_sat % n_planes:
+        raise InvalidInputError(
+            f"expected n_sat a positive multiple of n_planes >= 1, got {n_sat}/{n_planes}"
+        )
+    per = n_sat // n_planes
+    k = np.arange(n_sat)
+    p, j = k // per, k % per
+    raan = np.radians(scalar("raan0_deg", raan0_deg) + 360.0 * p / n_planes)
+    u = np.radians(360.0 * j / per + 360.0 * phasing * p / n_sat)
+    inc = np.radians(scalar("inclination_deg", inclination_deg))
+    a = scalar("semi_major_axis_m", semi_major_axis_m, minimum=0.0, strict=True)
+    orbits = KeplerOrbits.circular(np.full(n_sat, a), np.full(n_sat, inc), raan, u)
+    return Constellation(
+        tuple(f"{prefix}{i + 1:02d}" for i in k),
+        orbits,
+        {"L1": np.full(n_sat, float(frequency_hz))},
+        ("",) * n_sat,
+        np.zeros(n_sat, dtype=np.int64),
+    )

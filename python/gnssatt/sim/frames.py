@@ -1,0 +1,149 @@
+"""Reference frames: geodetic WGS-84, ECEF, ECI and local East-North-Up.
+
+Conventions of :mod:`gnssatt.sim`
+---------------------------------
+- SI units and radians inside; public arguments in degrees carry ``_deg`` in their name.
+- ECI: a J2000-like inertial frame without precession, nutation or polar motion.
+- ECEF: ECI rotated about z by the Earth rotation angle ``theta(t) = theta0 + OMEGA_E t``
+  (``OMEGA_E = 7.2921151467e-5 rad/s``, ``theta0`` a parameter, default 0), so that
+  ``r_ecef = Rz(theta)^T r_eci``.
+- ENU: East, North, Up at a geodetic WGS-84 point (latitude, longitude); ``dcm_ecef_from_enu`` has the
+  E, N, U unit vectors (ECEF coordinates) as its columns.
+- Matrices are named ``dcm_<to>_from_<from>``: ``v_to = dcm_to_from_from @ v_from``.
+- ``t`` is in seconds from the scenario epoch; a scalar ``t`` gives unbatched results, an array of shape
+  (n_t,) puts a leading epoch axis on every output.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gnssatt._arrays import float_array
+from gnssatt.sim._util import checked_array, matvec, rot_z, time_array
+from gnssatt.sim.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
+
+__all__ = [
+    "dcm_ecef_from_eci",
+    "dcm_ecef_from_enu",
+    "dcm_eci_from_ecef",
+    "earth_rotation_angle",
+    "ecef_to_eci",
+    "ecef_to_geodetic",
+    "eci_to_ecef",
+    "geodetic_to_ecef",
+]
+
+
+def earth_rotation_angle(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
+    """Earth rotation angle ``theta0 + OMEGA_E t`` in radians (not wrapped), shape of ``t``."""
+    return float(theta0_rad) + OMEGA_E_RAD_S * time_array(t)
+
+
+def dcm_eci_from_ecef(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
+    """Rotation ECEF -> ECI at time ``t``: ``Rz(theta(t))``, shape (3, 3) or (n_t, 3, 3)."""
+    return rot_z(earth_rotation_angle(t, theta0_rad))
+
+
+def dcm_ecef_from_eci(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
+    """Rotation ECI -> ECEF at time ``t``: ``Rz(theta(t))^T``, shape (3, 3) or (n_t, 3, 3)."""
+    return np.swapaxes(dcm_eci_from_ecef(t, theta0_rad), -1, -2)
+
+
+def _omega_cross(r: NDArray[np.float64]) -> NDArray[np.float64]:
+    return OMEGA_E_RAD_S * np.stack([-r[..., 1], r[..., 0], np.zeros_like(r[..., 0])], axis=-1)
+
+
+def _batch_dcm(dcm: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+    # dcm (n_t, 3, 3) against v (n_t, ..., 3): insert axes so that n_t aligns with v's leading axis.
+    if dcm.ndim == 3:
+        dcm = dcm.reshape(dcm.shape[:1] + (1,) * (v.ndim - 2) + (3, 3))
+    return matvec(dcm, v)
+
+
+def eci_to_ecef(
+    r_eci: ArrayLike, v_eci: ArrayLike, t: ArrayLike, theta0_rad: float = 0.0
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Position and velocity from ECI to ECEF (rotating frame: ``v_ecef = R^T (v_eci - omega x r_eci)``).
+
+    Parameters
+    ----------
+    r_eci, v_eci
+        (..., 3) position (m) and velocity (m/s) in ECI; with an array ``t`` of shape (n_t,), the leading
+        axis must be the epoch axis (n_t, ..., 3).
+    t
+        Seconds from the epoch, () or (n_t,).
+    theta0_rad
+        Earth rotation angle at ``t = 0``.
+    """
+    r = float_array("r_eci", r_eci, ndim=(1, 2, 3), shape="(..., 3)")
+    v = float_array("v_eci", v_eci, ndim=(1, 2, 3), shape="(..., 3)")
+    m = dcm_ecef_from_eci(t, theta0_rad)
+    return _batch_dcm(m, r), _batch_dcm(m, v - _omega_cross(r))
+
+
+def ecef_to_eci(
+    r_ecef: ArrayLike, v_ecef: ArrayLike, t: ArrayLike, theta0_rad: float = 0.0
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Position and velocity from ECEF to ECI (``v_eci = R v_ecef + omega x r_eci``); shapes as
+    :func:`eci_to_ecef`."""
+    r = float_array("r_ecef", r_ecef, ndim=(1, 2, 3), shape="(..., 3)")
+    v = float_array("v_ecef", v_ecef, ndim=(1, 2, 3), shape="(..., 3)")
+    m = dcm_eci_from_ecef(t, theta0_rad)
+    if m.ndim == 3 and r.ndim == 1:
+        r = np.broadcast_to(r, (m.shape[0], 3))
+        v = np.broadcast_to(v, (m.shape[0], 3))
+    r_i = _batch_dcm(m, r)
+    return r_i, _batch_dcm(m, v) + _omega_cross(r_i)
+
+
+def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike) -> NDArray[np.float64]:
+    """ECEF position (m) of geodetic WGS-84 coordinates; inputs broadcast, output shape (..., 3).
+
+    ``N = a / sqrt(1 - e^2 sin^2 lat)``, ``x = (N + h) cos lat cos lon``, ``y = (N + h) cos lat sin lon``,
+    ``z = (N (1 - e^2) + h) sin lat``.
+    """
+    lat = np.radians(checked_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
+    lon = np.radians(checked_array("lon_deg", lon_deg, ndim=(0, 1), shape="() or (n,)"))
+    h = checked_array("height_m", height_m, ndim=(0, 1), shape="() or (n,)")
+    n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
+    return np.stack(
+        np.broadcast_arrays(
+            (n + h) * np.cos(lat) * np.cos(lon),
+            (n + h) * np.cos(lat) * np.sin(lon),
+            (n * (1.0 - WGS84_E2) + h) * np.sin(lat),
+        ),
+        axis=-1,
+    )
+
+
+def ecef_to_geodetic(r_ecef: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any]]:
+    """Geodetic WGS-84 latitude (deg), longitude (deg) and height (m) of ECEF positions (..., 3).
+
+    Fixed-point iteration on the latitude (converges to < 1e-12 rad within 10 iterations away from the
+    Earth's centre).
+    """
+    r = float_array("r_ecef", r_ecef, ndim=(1, 2), shape="(3,) or (n, 3)")
+    x, y, z = r[..., 0], r[..., 1], r[..., 2]
+    p = np.hypot(x, y)
+    lon = np.arctan2(y, x)
+    lat = np.arctan2(z, p * (1.0 - WGS84_E2))
+    for _ in range(10):
+        n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
+        h = np.where(np.abs(lat) < np.pi / 4, p / np.cos(lat) - n, z / np.sin(lat) - n * (1.0 - WGS84_E2))
+        lat = np.arctan2(z, p * (1.0 - WGS84_E2 * n / (n + h)))
+    n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
+    h = np.where(np.abs(lat) < np.pi / 4, p / np.cos(lat) - n, z / np.sin(lat) - n * (1.0 - WGS84_E2))
+    return np.degrees(lat), np.degrees(lon), h
+
+
+def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
+    """Rotation ENU -> ECEF at a geodetic point: columns are the E, N, U unit vectors, shape (3, 3)."""
+    lat, lon = np.radians(float(lat_deg)), np.radians(float(lon_deg))
+    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
+    east = [-so, co, 0.0]
+    north = [-sl * co, -sl * so, cl]
+    up = [cl * co, cl * so, sl]
+    return np.array([east, north, up]).T

@@ -1,0 +1,238 @@
+"""Receiver -> satellite geometry: unit lines of sight, ranges and range rates.
+
+Conventions of :mod:`gnssatt.sim`: SI units and radians inside; ``t`` in seconds from the scenario epoch.
+Lines of sight ``gamma_k`` are unit vectors from the receiver (its reference point) to satellite k, given in
+the receiver's reference frame (ENU on the ground, the orbital frame in orbit; see
+:mod:`gnssatt.sim.receivers`). Body-frame lines of sight use an attitude ``Rotation`` mapping body ->
+reference: ``gamma_body = attitude.inv().apply(gamma_ref)``.
+
+Ranges are instantaneous geometric distances (no light-time, Sagnac, clock or atmosphere terms); range rates
+are ``gamma . (v_sat - v_rx)`` with both velocities in ECI, the time derivative of that distance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import checked_array, readonly
+from gnssatt.sim.constellation import Constellation
+from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver
+
+__all__ = ["Geometry", "elevation_azimuth", "line_of_sight", "los_body"]
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Lines of sight from one receiver to n_sat satellites at one epoch or n_t epochs.
+
+    Attributes
+    ----------
+    los
+        (n_sat, 3) or (n_t, n_sat, 3) unit vectors receiver -> satellite in the reference frame ``frame``.
+    range_m
+        (n_sat,) or (n_t, n_sat) geometric ranges, m.
+    range_rate_mps
+        Same shape, time derivative of ``range_m``, m/s (negative while the satellite approaches).
+    frame
+        ``"enu"``, ``"orbital"`` or another label of the reference frame of ``los``.
+    ids
+        Satellite ids (length n_sat).
+    t
+        Epochs, s: shape () or (n_t,).
+    receiver_eci_m
+        (3,) or (n_t, 3) receiver position in ECI, m (NaN where unknown, e.g. from :meth:`from_los`).
+    satellites_eci_m
+        (n_sat, 3) or (n_t, n_sat, 3) satellite positions in ECI, m (NaN where unknown).
+    """
+
+    los: NDArray[np.float64]
+    range_m: NDArray[np.float64]
+    range_rate_mps: NDArray[np.float64]
+    frame: str
+    ids: tuple[str, ...]
+    t: NDArray[np.float64]
+    receiver_eci_m: NDArray[np.float64]
+    satellites_eci_m: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        for name in ("los", "range_m", "range_rate_mps", "t", "receiver_eci_m", "satellites_eci_m"):
+            object.__setattr__(self, name, np.array(getattr(self, name), dtype=np.float64))
+        readonly(self.los, self.range_m, self.range_rate_mps, self.t)
+        readonly(self.receiver_eci_m, self.satellites_eci_m)
+
+    @classmethod
+    def from_los(
+        cls,
+        los: ArrayLike,
+        range_m: ArrayLike = 2.0e7,
+        range_rate_mps: ArrayLike = 0.0,
+        *,
+        frame: str = "enu",
+        ids: tuple[str, ...] | None = None,
+    ) -> Geometry:
+        """Geometry from given lines of sight, without orbits (e.g. the static scenarios of seeds 000/001).
+
+        Parameters
+        ----------
+        los
+            (n_sat, 3) or (n_t, n_sat, 3) lines of sight in the reference frame; normalised here.
+        range_m, range_rate_mps
+            Ranges (m) and range rates (m/s), broadcast to the leading shape of ``los``.
+        frame
+            Label of the reference frame.
+        ids
+            Satellite ids; default ``"S01"``, ``"S02"``, ...
+        """
+        g = float_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
+        if g.shape[-1] != 3:
+            raise InvalidInputError(f"expected los of shape (n_sat, 3) or (n_t, n_sat, 3), got {g.shape}")
+        norm = np.linalg.norm(g, axis=-1, keepdims=True)
+        if np.any(norm < 1e-12):
+            raise InvalidInputError("expected non-zero lines of sight, got a zero vector")
+        g = g / norm
+        lead = g.shape[:-1]
+        n_sat = lead[-1]
+        try:
+            rho = np.broadcast_to(
+                checked_array("range_m", range_m, ndim=(0, 1, 2), shape=str(lead)), lead
+            ).copy()
+            rr = np.broadcast_to(
+                checked_array("range_rate_mps", range_rate_mps, ndim=(0, 1, 2), shape=str(lead)), lead
+            ).copy()
+        except ValueError as exc:
+            raise InvalidInputError(f"expected range_m and range_rate_mps broadcastable to {lead}") from exc
+        if ids is None:
+            ids = tuple(f"S{k + 1:02d}" for k in range(n_sat))
+        if len(ids) != n_sat:
+            raise InvalidInputError(f"expected {n_sat} ids, got {len(ids)}")
+        t = np.zeros(lead[:-1])
+        nan_rx = np.full((*lead[:-1], 3), np.nan)
+        nan_sat = np.full((*lead, 3), np.nan)
+        return cls(g, rho, rr, frame, tuple(ids), t, nan_rx, nan_sat)
+
+    @property
+    def n_sat(self) -> int:
+        """Number of satellites."""
+        return len(self.ids)
+
+    def los_body(self, attitude: Rotation) -> NDArray[np.float64]:
+        """Lines of sight in the body frame for a body -> reference ``attitude`` (see :func:`los_body`)."""
+        return los_body(self.los, attitude)
+
+    def elevation_azimuth(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Elevation and azimuth of each satellite, rad (see :func:`elevation_azimuth`; ENU frame only)."""
+        if self.frame != "enu":
+            raise InvalidInputError(f"expected a geometry in the 'enu' frame, got {self.frame!r}")
+        return elevation_azimuth(self.los)
+
+    def select(self, mask: ArrayLike) -> Geometry:
+        """The satellites where ``mask`` (n_sat,) is true, or given by an integer index array.
+
+        For several epochs the same satellites are kept at every epoch.
+        """
+        m = np.asarray(mask)
+        if m.dtype == bool:
+            if m.shape != (self.n_sat,):
+                raise InvalidInputError(f"expected a boolean mask of shape ({self.n_sat},), got {m.shape}")
+            idx = np.flatnonzero(m)
+        elif m.dtype.kind in "iu":
+            idx = m.reshape(-1)
+        else:
+            raise TypeError(f"expected a boolean mask or integer indices, got dtype {m.dtype}")
+        return replace(
+            self,
+            los=self.los[..., idx, :],
+            range_m=self.range_m[..., idx],
+            range_rate_mps=self.range_rate_mps[..., idx],
+            ids=tuple(self.ids[i] for i in idx),
+            satellites_eci_m=self.satellites_eci_m[..., idx, :],
+        )
+
+
+def _attitude_matrices(attitude: Any, n_t: int | None) -> NDArray[np.float64]:
+    if not isinstance(attitude, Rotation):
+        raise TypeError(f"expected attitude as a scipy Rotation, got {type(attitude).__name__}")
+    m = attitude.as_matrix()
+    if m.ndim == 3:
+        if n_t is None or m.shape[0] != n_t:
+            want = "a single Rotation" if n_t is None else f"a single Rotation or {n_t} rotations"
+            raise InvalidInputError(f"expected {want} (one per epoch), got {m.shape[0]} rotations")
+    return m
+
+
+def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
+    """Lines of sight in the body frame: ``R^T gamma`` for the body -> reference rotation ``R``.
+
+    Parameters
+    ----------
+    los
+        (n_sat, 3) or (n_t, n_sat, 3) unit vectors in the reference frame.
+    attitude
+        Body -> reference rotation: a single one, or n_t of them (one per epoch).
+
+    Returns
+    -------
+    Body-frame unit vectors, shape of ``los``.
+    """
+    g = float_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
+    m = _attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
+    if m.ndim == 3:
+        return np.einsum("tji,tkj->tki", m, g)
+    return g @ m
+
+
+def elevation_azimuth(los_enu: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Elevation above the local horizontal and azimuth (from North towards East, in [0, 2 pi)), rad.
+
+    Parameters
+    ----------
+    los_enu
+        (..., 3) unit lines of sight in ENU.
+    """
+    g = float_array("los_enu", los_enu, ndim=(1, 2, 3), shape="(..., 3)")
+    el = np.arcsin(np.clip(g[..., 2] / np.linalg.norm(g, axis=-1), -1.0, 1.0))
+    az = np.arctan2(g[..., 0], g[..., 1]) % (2.0 * np.pi)
+    return el, az
+
+
+def line_of_sight(
+    receiver: GroundReceiver | OrbitalReceiver, constellation: Constellation, t: ArrayLike
+) -> Geometry:
+    """Lines of sight, ranges and range rates from ``receiver`` to every satellite of ``constellation``.
+
+    Parameters
+    ----------
+    receiver
+        A :class:`~gnssatt.sim.receivers.GroundReceiver` (lines of sight in ENU) or
+        :class:`~gnssatt.sim.receivers.OrbitalReceiver` (orbital frame).
+    constellation
+        The satellites; no visibility test is applied here (see :mod:`gnssatt.sim.visibility`).
+    t
+        Seconds from the epoch, () or (n_t,).
+
+    Returns
+    -------
+    Geometry
+        Unbatched for a scalar ``t``, with a leading epoch axis for an array.
+    """
+    if not isinstance(receiver, GroundReceiver | OrbitalReceiver):
+        raise TypeError(f"expected a GroundReceiver or OrbitalReceiver, got {type(receiver).__name__}")
+    if not isinstance(constellation, Constellation):
+        raise TypeError(f"expected a Constellation, got {type(constellation).__name__}")
+    tt = np.asarray(checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)"))
+    r_s, v_s = constellation.state_eci(tt)
+    r_r, v_r = receiver.state_eci(tt)
+    d = r_s - r_r[..., None, :]
+    rho = np.linalg.norm(d, axis=-1)
+    g_eci = d / rho[..., None]
+    rate = np.sum(g_eci * (v_s - v_r[..., None, :]), axis=-1)
+    m = receiver.dcm_eci_from_reference(tt)  # (..., 3, 3) reference -> ECI
+    g_ref = np.einsum("...ji,...kj->...ki", m, g_eci)
+    return Geometry(g_ref, rho, rate, receiver.frame, constellation.ids, tt, r_r, r_s)

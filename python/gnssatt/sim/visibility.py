@@ -1,0 +1,106 @@
+"""Visibility masks: elevation mask, antenna cone about a body-frame boresight, Earth occlusion.
+
+Conventions of :mod:`gnssatt.sim`: SI units and radians inside, arguments in degrees end in ``_deg``.
+Every mask is a boolean array, true where the satellite is usable, with the leading shape of the lines of
+sight ((n_sat,) or (n_t, n_sat)); combine masks with ``&``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import scalar
+from gnssatt.sim.constants import WGS84_A_M
+from gnssatt.sim.geometry import los_body
+
+__all__ = ["antenna_cone_mask", "earth_occlusion_mask", "elevation_mask"]
+
+
+def elevation_mask(los_ref: ArrayLike, mask_deg: float = 0.0) -> NDArray[np.bool_]:
+    """True where the elevation above the local horizontal is at least ``mask_deg``.
+
+    Parameters
+    ----------
+    los_ref
+        (..., 3) unit lines of sight in a frame whose z axis is the local vertical (ENU or orbital).
+    mask_deg
+        Elevation mask, degrees, in [-90, 90].
+    """
+    g = float_array("los_ref", los_ref, ndim=(1, 2, 3), shape="(..., 3)")
+    m = scalar("mask_deg", mask_deg)
+    if abs(m) > 90:
+        raise InvalidInputError(f"expected mask_deg in [-90, 90], got {m}")
+    return g[..., 2] / np.linalg.norm(g, axis=-1) >= np.sin(np.radians(m))
+
+
+def antenna_cone_mask(
+    los_ref: ArrayLike,
+    attitude: Rotation,
+    boresight_body: ArrayLike = (0.0, 0.0, 1.0),
+    half_angle_deg: float = 90.0,
+) -> NDArray[np.bool_]:
+    """True where the satellite lies within ``half_angle_deg`` of the antenna boresight.
+
+    Parameters
+    ----------
+    los_ref
+        (n_sat, 3) or (n_t, n_sat, 3) unit lines of sight in the reference frame.
+    attitude
+        Body -> reference rotation (one, or one per epoch).
+    boresight_body
+        (3,) antenna boresight in the body frame (normalised here).
+    half_angle_deg
+        Cone half-angle, degrees, in (0, 180]; 90 is a hemispherical antenna (strictly above its horizon
+        plane counts; a satellite exactly in that plane is visible).
+    """
+    b = float_array("boresight_body", boresight_body, ndim=1, shape="(3,)")
+    if b.shape != (3,) or np.linalg.norm(b) < 1e-12:
+        raise InvalidInputError(f"expected a non-zero boresight_body of shape (3,), got {b.tolist()}")
+    h = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True)
+    if h > 180:
+        raise InvalidInputError(f"expected half_angle_deg in (0, 180], got {h}")
+    g_body = los_body(los_ref, attitude)
+    cos_angle = g_body @ (b / np.linalg.norm(b)) / np.linalg.norm(g_body, axis=-1)
+    return cos_angle >= np.cos(np.radians(h)) - 1e-12
+
+
+def earth_occlusion_mask(
+    receiver_m: ArrayLike, satellites_m: ArrayLike, *, atmosphere_m: float = 0.0, radius_m: float = WGS84_A_M
+) -> NDArray[np.bool_]:
+    """True where the segment receiver -> satellite misses the sphere of radius ``radius_m + atmosphere_m``.
+
+    The Earth is a sphere centred at the origin (default radius: the WGS-84 equatorial radius, which
+    slightly over-occludes near the poles). The segment's closest point to the centre is
+    ``r + s d`` with ``d = r_sat - r``, ``s = clip(-r . d / |d|^2, 0, 1)``.
+
+    Parameters
+    ----------
+    receiver_m
+        (3,) or (n_t, 3) receiver position, any Earth-centred frame (ECI or ECEF), m.
+    satellites_m
+        (n_sat, 3) or (n_t, n_sat, 3) satellite positions in the same frame, m.
+    atmosphere_m
+        Height of the grazing layer to exclude (e.g. 100e3 for tropo/ionospheric grazing), m, >= 0.
+    radius_m
+        Radius of the Earth sphere, m.
+    """
+    r = float_array("receiver_m", receiver_m, ndim=(1, 2), shape="(3,) or (n_t, 3)")
+    s = float_array("satellites_m", satellites_m, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
+    if r.shape[-1] != 3 or s.shape[-1] != 3 or r.ndim + 1 != s.ndim:
+        raise InvalidInputError(
+            f"expected receiver_m (3,) with satellites_m (n_sat, 3), or (n_t, 3) with (n_t, n_sat, 3), "
+            f"got {r.shape} and {s.shape}"
+        )
+    big_r = scalar("radius_m", radius_m, minimum=0.0, strict=True) + scalar(
+        "atmosphere_m", atmosphere_m, minimum=0.0
+    )
+    r = r[..., None, :]
+    d = s - r
+    dd = np.sum(d * d, axis=-1)
+    frac = np.clip(-np.sum(r * d, axis=-1) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    closest = r + frac[..., None] * d
+    return np.linalg.norm(closest, axis=-1) > big_r
