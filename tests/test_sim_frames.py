@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
+
 from gnssatt import sim
 from gnssatt.errors import InvalidInputError
 from gnssatt.sim.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_B_M, WGS84_E2
-from scipy.spatial.transform import Rotation
 
 A, B = WGS84_A_M, WGS84_B_M
 

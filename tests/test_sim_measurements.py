@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
+from scipy.stats import chi2
+
 from gnssatt import sim
 from gnssatt.errors import InvalidInputError
 from gnssatt.sim.constants import GPS_L1_WAVELENGTH_M, SPEED_OF_LIGHT_M_S
-from scipy.spatial.transform import Rotation
-from scipy.stats import chi2
 
 LAM = GPS_L1_WAVELENGTH_M
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
+
 from gnssatt import sim
 from gnssatt.errors import ConvergenceError, InvalidInputError
 from gnssatt.sim.constants import GM_M3_S2, GPS_L1_HZ, SPEED_OF_LIGHT_M_S
-from scipy.optimize import brentq
 
 
 def elements_from_state(r: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
+
 from gnssatt import sim
 from gnssatt.errors import InvalidInputError
 from gnssatt.sim.constants import WGS84_A_M
-from scipy.spatial.transform import Rotation
 
 
 def test_elevation_mask_overhead_and_below_horizon() -> None:

@@ -5,7 +5,7 @@ mapping body-frame vectors into the reference frame in which the lines of sight 
 given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 """
 
-from gnssatt import errors
+from gnssatt import errors, sim
 from gnssatt._core import __version__
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, GnssattError, InvalidInputError
 from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
@@ -19,4 +19,5 @@ __all__ = [
     "__version__",
     "errors",
     "matrix_attitude",
+    "sim",
 ]

@@ -25,6 +25,7 @@ from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 from gnssatt.geometry import attitude_dop
 from gnssatt.matrix_method import matrix_attitude
+from gnssatt.sim import equilateral_triangle, random_los
 
 NAME = "matrix-method"
 SIDE_M = 1.0
@@ -39,26 +40,12 @@ ANGLES = ("heading", "pitch", "roll")
 OUTLIER_BOUNDS = 5.0
 
 
-def triangle_baselines(side_m: float) -> np.ndarray:
-    """Baselines (2, 3) of an equilateral triangle in the body x-y plane, antenna 0 at the origin."""
-    return side_m * np.array([[1.0, 0.0, 0.0], [0.5, np.sqrt(3.0) / 2.0, 0.0]])
-
-
-def sky_directions(rng: np.random.Generator, n: int, mask_deg: float) -> np.ndarray:
-    """``n`` unit vectors uniform in solid angle over the sky above ``mask_deg`` elevation (z up)."""
-    sin_min = np.sin(np.radians(mask_deg))
-    z = rng.uniform(sin_min, 1.0, n)
-    az = rng.uniform(0.0, 2.0 * np.pi, n)
-    r = np.sqrt(1.0 - z**2)
-    return np.column_stack([r * np.cos(az), r * np.sin(az), z])
-
-
 def trial(rng: np.random.Generator, *, sigma_m: float = RANGE_DIFF_SIGMA_M) -> dict[str, float]:
     """One Monte Carlo trial: random 3-satellite geometry, noisy range differences, SVD matrix method."""
     truth = Rotation.from_euler("ZYX", TRUTH_DEG, degrees=True)
-    baselines = triangle_baselines(SIDE_M)
+    baselines = equilateral_triangle(SIDE_M)[1:]  # relative to antenna 0
     while True:
-        los = sky_directions(rng, N_SATELLITES, ELEVATION_MASK_DEG)
+        los = random_los(rng, N_SATELLITES, min_elevation_deg=ELEVATION_MASK_DEG)
         try:
             dop = attitude_dop(baselines, los, truth)
         except DegenerateGeometryError:
