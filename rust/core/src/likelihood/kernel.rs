@@ -19,13 +19,20 @@ pub(crate) const LANES: usize = 16;
 /// the call, an extra error of at most `|x| * 2^-22` rad; so each exponential in `Z` is off by at most
 /// `SINCOS_ABS_ERROR + |x| * 2^-22`, and `Z` by at most that times the number of terms (about `2e-6 * Z`
 /// for the 0.71 m array at L1, `|x| < 25` rad).
-pub const SINCOS_ABS_ERROR: f32 = 3e-7;
+pub const SINCOS_ABS_ERROR: f32 = 1e-6;
 
-const FRAC_2_PI: f32 = std::f32::consts::FRAC_2_PI;
-const MAGIC: f32 = 12_582_912.0; // 1.5 * 2^23: adding it rounds to an integer held in the low mantissa bits
-const P1: f32 = 1.570_312_5; // pi/2 in three parts (Cody-Waite), P1 exact with 8 bits
-const P2: f32 = 4.837_513e-4;
-const P3: f32 = 7.549_79e-8;
+const FRAC_1_2PI: f32 = 0.159_154_94;
+const MAGIC: f32 = 12_582_912.0; // 1.5 * 2^23: adding it rounds to an integer
+const P1: f32 = 6.281_25; // 2 pi in three parts (Cody-Waite), P1 exact with 9 bits
+const P2: f32 = 1.935_307_2e-3;
+const P3: f32 = 1.025_313_2e-11;
+// Minimax (Lawson) fits on [-pi, pi]: cos of degree 12 and sin of degree 11, max error 4e-7 in f32.
+const C: [f32; 7] = [
+    1.0, -0.499_999_9, 4.166_649e-2, -1.388_780_8e-3, 2.476_996_6e-5, -2.707_977_6e-7, 1.724_760_8e-9,
+];
+const S: [f32; 6] = [
+    0.999_999_6, -0.166_665_53, 8.332_408e-3, -1.980_874e-4, 2.699_822_8e-6, -2.036_623_1e-8,
+];
 
 #[inline(always)]
 fn fma<const F: bool>(a: f32, b: f32, c: f32) -> f32 {
@@ -36,33 +43,22 @@ fn fma<const F: bool>(a: f32, b: f32, c: f32) -> f32 {
     }
 }
 
-/// Sine and cosine of one f32, branch-free (quadrant by integer bits, cephes minimax polynomials on
-/// [-pi/4, pi/4]); the lane body of the kernel.
+/// Sine and cosine of one f32, branch-free: one reduction to [-pi, pi] (round to the nearest turn) and
+/// two polynomials, 18 arithmetic operations; the lane body of the kernel.
 #[inline(always)]
 fn sincos_lane<const F: bool>(x: f32) -> (f32, f32) {
-    let t = fma::<F>(x, FRAC_2_PI, MAGIC);
-    let n = t.to_bits();
-    let q = t - MAGIC;
+    let q = fma::<F>(x, FRAC_1_2PI, MAGIC) - MAGIC;
     let r = fma::<F>(-q, P3, fma::<F>(-q, P2, fma::<F>(-q, P1, x)));
     let r2 = r * r;
-    let ps = fma::<F>(
-        fma::<F>(fma::<F>(-1.951_529_6e-4, r2, 8.332_161e-3), r2, -1.666_665_5e-1),
-        r2 * r,
-        r,
-    );
-    let pc = fma::<F>(
-        fma::<F>(fma::<F>(2.443_315_7e-5, r2, -1.388_731_6e-3), r2, 4.166_664_6e-2),
-        r2 * r2,
-        fma::<F>(-0.5, r2, 1.0),
-    );
-    let swap = 0u32.wrapping_sub(n & 1);
-    let (sb, cb) = (ps.to_bits(), pc.to_bits());
-    let sv = (sb & !swap) | (cb & swap);
-    let cv = (cb & !swap) | (sb & swap);
-    (
-        f32::from_bits(sv ^ ((n & 2) << 30)),
-        f32::from_bits(cv ^ ((n.wrapping_add(1) & 2) << 30)),
-    )
+    let mut c = C[6];
+    for &k in C[..6].iter().rev() {
+        c = fma::<F>(c, r2, k);
+    }
+    let mut s = S[5];
+    for &k in S[..5].iter().rev() {
+        s = fma::<F>(s, r2, k);
+    }
+    (s * r, c)
 }
 
 /// Sine and cosine of `x` with the kernel's polynomial (error bound [`SINCOS_ABS_ERROR`]).
