@@ -25,7 +25,8 @@
 //!   baseline); each (epoch, satellite) pair is then one more term. Works on wrapped phases.
 //! - [`Statistic::Mean`]: eqs. (10)-(14) as written, per epoch: `Z = sum_k |1 + sum_i exp(j[dphi_ik +
 //!   dg_k . R r_i])|` with the satellite-mean of the (wrapped) phase differences and of `g_k` removed.
-//!   The mean of wrapped phases leaves a per-antenna offset `2 pi (sum of integers) / M`, so this
+//!   The phases enter the mean as given (eq. (13)'s `[.]mod 2 pi` is what a receiver outputs); the
+//!   mean of wrapped phases leaves a per-antenna offset `2 pi (sum of integers) / M`, so this
 //!   statistic peaks in the wrong place unless the integer cycles are already consistent.
 //! - [`Statistic::DoubleDifference`]: eqs. (17)-(18), differences against the highest-elevation
 //!   satellite of each epoch; immune to wrapping.

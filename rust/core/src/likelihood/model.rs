@@ -206,7 +206,7 @@ impl Model {
                 Statistic::Mean => (
                     e.phase_diffs
                         .iter()
-                        .map(|r| r.iter().map(|&p| p.rem_euclid(TAU)).sum::<f64>() / m as f64)
+                        .map(|r| r.iter().sum::<f64>() / m as f64)
                         .collect(),
                     g.iter().sum::<Vector3<f64>>() / m as f64,
                 ),
@@ -219,14 +219,7 @@ impl Model {
             };
             for k in 0..m {
                 let d = (0..nb)
-                    .map(|i| {
-                        let p = if statistic == Statistic::Mean {
-                            e.phase_diffs[i][k].rem_euclid(TAU)
-                        } else {
-                            e.phase_diffs[i][k]
-                        };
-                        wrap(p - phase_ref[i])
-                    })
+                    .map(|i| wrap(e.phase_diffs[i][k] - phase_ref[i]))
                     .collect();
                 terms.push((d, g[k] - g_ref));
             }
