@@ -82,13 +82,22 @@ fn wrap2pi(x: f64) -> f64 {
     x.rem_euclid(TAU)
 }
 
-/// Upper bound of `|sum_j exp(j x_j')|` over `|x_j' - x_j| <= delta_j` (module docs).
-pub(crate) fn modulus_bound(xs: &[f64], deltas: &[f64], scratch: &mut Vec<f64>) -> f64 {
+/// Upper bound of `|sum_j exp(j x_j')|` over `|x_j' - x_j| <= delta_j` (module docs). `scratch` holds
+/// the breakpoints, `members` per member `(x, delta, cos(x - delta), sin(x - delta), cos(x + delta),
+/// sin(x + delta))`.
+pub(crate) fn modulus_bound(
+    xs: &[f64],
+    deltas: &[f64],
+    scratch: &mut Vec<f64>,
+    members: &mut Vec<[f64; 6]>,
+) -> f64 {
     let n = xs.len() as f64;
     let (mut s, mut c, mut tri) = (0.0, 0.0, 0.0);
     let mut always = 0.0;
     scratch.clear();
+    members.clear();
     for (&x, &d) in xs.iter().zip(deltas) {
+        let x = x.rem_euclid(TAU);
         let (sx, cx) = x.sin_cos();
         s += sx;
         c += cx;
@@ -96,11 +105,14 @@ pub(crate) fn modulus_bound(xs: &[f64], deltas: &[f64], scratch: &mut Vec<f64>) 
         if d >= PI {
             always += 1.0;
         } else {
+            let (sm, cm) = (x - d).sin_cos();
+            let (sp, cp) = (x + d).sin_cos();
+            members.push([x, d, cm, sm, cp, sp]);
             scratch.extend([wrap2pi(x - d), wrap2pi(x + d), wrap2pi(x + PI)]);
         }
     }
     let triangle = s.hypot(c) + tri;
-    if scratch.is_empty() {
+    if scratch.is_empty() || triangle <= always + 1e-12 {
         return n.min(triangle);
     }
     scratch.sort_by(f64::total_cmp);
@@ -110,18 +122,25 @@ pub(crate) fn modulus_bound(xs: &[f64], deltas: &[f64], scratch: &mut Vec<f64>) 
         let (a0, a1) = (scratch[b], if b + 1 < nb { scratch[b + 1] } else { scratch[0] + TAU });
         let w = 0.5 * (a0 + a1);
         let (mut p, mut cs, mut sn) = (always, 0.0, 0.0);
-        for (&x, &d) in xs.iter().zip(deltas) {
-            if d >= PI {
-                continue;
+        for m in members.iter() {
+            // x - w in (-pi, pi]: both are in [0, 2 pi + pi).
+            let mut a = m[0] - w;
+            if a > PI {
+                a -= TAU;
+            } else if a <= -PI {
+                a += TAU;
             }
-            let a = (x - w + PI).rem_euclid(TAU) - PI;
-            if a.abs() <= d {
+            if a <= -PI {
+                a += TAU;
+            }
+            if a.abs() <= m[1] {
                 p += 1.0;
+            } else if a > 0.0 {
+                cs += m[2];
+                sn += m[3];
             } else {
-                let phase = if a > 0.0 { x - d } else { x + d };
-                let (sp, cp) = phase.sin_cos();
-                cs += cp;
-                sn += sp;
+                cs += m[4];
+                sn += m[5];
             }
         }
         sweep = sweep.max(p + cs.hypot(sn));
@@ -136,6 +155,7 @@ struct Bounder<'a> {
     xs: Vec<f64>,
     ds: Vec<f64>,
     scratch: Vec<f64>,
+    members: Vec<[f64; 6]>,
 }
 
 impl Bounder<'_> {
@@ -183,8 +203,11 @@ impl Bounder<'_> {
             Grouping::PerBaseline => {
                 for i in 0..nb {
                     let (x, d) = (&self.xs[i * nt..(i + 1) * nt], &self.ds[i * nt..(i + 1) * nt]);
-                    bound += modulus_bound(x, d, &mut self.scratch);
-                    let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| (s + x.sin(), c + x.cos()));
+                    bound += modulus_bound(x, d, &mut self.scratch, &mut self.members);
+                    let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| {
+                        let (sx, cx) = x.sin_cos();
+                        (s + sx, c + cx)
+                    });
                     zc += s.hypot(cc);
                 }
             }
@@ -196,8 +219,11 @@ impl Bounder<'_> {
                         x[i + 1] = self.xs[i * nt + k];
                         d[i + 1] = self.ds[i * nt + k];
                     }
-                    bound += modulus_bound(&x, &d, &mut self.scratch);
-                    let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| (s + x.sin(), c + x.cos()));
+                    bound += modulus_bound(&x, &d, &mut self.scratch, &mut self.members);
+                    let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| {
+                        let (sx, cx) = x.sin_cos();
+                        (s + sx, c + cx)
+                    });
                     zc += s.hypot(cc);
                 }
             }
@@ -232,7 +258,7 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
     let (groups, members) = model.groups();
     let n_exp = (groups * members) as f64;
     let margin = n_exp * (1e-5 + 1e-6 * xmax);
-    let mut b = Bounder { model, grid, margin, xs: vec![], ds: vec![], scratch: vec![] };
+    let mut b = Bounder { model, grid, margin, xs: vec![], ds: vec![], scratch: vec![], members: vec![] };
     let mut stats = BnbStats::default();
     let mut lower = f64::NEG_INFINITY;
     let mut best = (f32::NEG_INFINITY, usize::MAX);
