@@ -19,7 +19,9 @@ def float_array(name: str, value: Any, *, ndim: int | tuple[int, ...], shape: st
     try:
         arr = np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"expected {name} as a numeric array of shape {shape}, got {type(value).__name__}") from exc
+        raise TypeError(
+            f"expected {name} as a numeric array of shape {shape}, got {type(value).__name__}"
+        ) from exc
     allowed = (ndim,) if isinstance(ndim, int) else ndim
     if arr.ndim not in allowed:
         raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")

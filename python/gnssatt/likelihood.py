@@ -21,10 +21,10 @@ satellite ``k``, RINEX sign (an antenna displaced by ``d`` towards the satellite
 
 Statistics
 ----------
-``"ambiguity_function"`` (default): ``Z = sum_i |sum_k exp(j[phase_diff_ik + 2 pi / lambda_k los_k . R r_i])|``,
-the oscillator phases maximised out per baseline; works on wrapped phases. With several epochs of a static
-platform the oscillator phases are taken as constant over the batch (one nuisance phase per baseline), so
-the epochs are summed inside the modulus; if the receivers' oscillators drift between epochs, pass the
+``"ambiguity_function"`` (default):
+``Z = sum_i |sum_k exp(j[phase_diff_ik + 2 pi / lambda_k los_k . R r_i])|``, the oscillator phases
+maximised out per baseline; works on wrapped phases. With several epochs of a static platform the
+oscillator phases are taken as constant over the batch (one nuisance phase per baseline), so the epochs are summed inside the modulus; if the receivers' oscillators drift between epochs, pass the
 epochs one at a time. ``"mean"``: eqs. (10)-(14) as written; the satellite-mean of *wrapped* phases leaves a
 per-antenna offset ``2 pi (sum of integers) / M`` and the peak moves (tens of degrees): it works only on
 phases whose integer cycles are already consistent. ``"double_difference"``: eqs. (17)-(18) against the
@@ -174,7 +174,12 @@ class LikelihoodGrid:
 
 
 def _intake(
-    phase_diffs: ArrayLike, los: ArrayLike, baselines: ArrayLike, wavelength: ArrayLike, *, n_baselines: int | None
+    phase_diffs: ArrayLike,
+    los: ArrayLike,
+    baselines: ArrayLike,
+    wavelength: ArrayLike,
+    *,
+    n_baselines: int | None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     p = float_array("phase_diffs", phase_diffs, ndim=(2, 3), shape="(m, M) or (epochs, m, M)")
     if p.ndim == 2:
@@ -205,7 +210,9 @@ def _window(window_deg: ArrayLike | AttitudePrior | None) -> list[list[float]] |
         window_deg = window_deg.window_deg
     w = float_array("window_deg", window_deg, ndim=2, shape="(3, 2)")
     if w.shape != (3, 2):
-        raise InvalidInputError(f"expected window_deg of shape (3, 2) ([lo, hi] of psi, theta, phi), got {w.shape}")
+        raise InvalidInputError(
+            f"expected window_deg of shape (3, 2) ([lo, hi] of psi, theta, phi), got {w.shape}"
+        )
     return [[float(v) for v in row] for row in np.radians(w)]
 
 

@@ -21,7 +21,11 @@ fn model(
     statistic: &str,
 ) -> PyResult<Model> {
     let b = vectors(py, "baselines", baselines)?;
-    let (p, s, w) = (phase_diffs.as_array(), los.as_array(), wavelengths.as_array());
+    let (p, s, w) = (
+        phase_diffs.as_array(),
+        los.as_array(),
+        wavelengths.as_array(),
+    );
     let (ne, nb, m) = p.dim();
     if s.dim() != (ne, m, 3) || w.dim() != (ne, m) || nb != b.len() {
         return Err(invalid_input(
@@ -38,7 +42,9 @@ fn model(
     }
     let epochs: Vec<Epoch> = (0..ne)
         .map(|e| Epoch {
-            phase_diffs: (0..nb).map(|i| (0..m).map(|k| p[[e, i, k]]).collect()).collect(),
+            phase_diffs: (0..nb)
+                .map(|i| (0..m).map(|k| p[[e, i, k]]).collect())
+                .collect(),
             los_enu: (0..m)
                 .map(|k| Vector3::new(s[[e, k, 0]], s[[e, k, 1]], s[[e, k, 2]]))
                 .collect(),
@@ -62,7 +68,11 @@ fn grid(
         (None, false) => Grid::full(step),
         (Some(w), true) => Grid::two_dimensional(step).and_then(|g| {
             let win = Grid::window(step, [(w[0][0], w[0][1]), (w[1][0], w[1][1]), (-1.0, 1.0)])?;
-            Ok(Grid { psi: win.psi, theta: win.theta, ..g })
+            Ok(Grid {
+                psi: win.psi,
+                theta: win.theta,
+                ..g
+            })
         }),
         (None, true) => Grid::two_dimensional(step),
     }
@@ -114,6 +124,7 @@ fn ml_search(
 /// Branch-and-bound work counters: (boxes_bounded, leaf_cells, grid_cells).
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad))]
+#[allow(clippy::too_many_arguments)]
 fn bnb_stats(
     py: Python<'_>,
     phase_diffs: PyReadonlyArray3<'_, f64>,
@@ -158,9 +169,17 @@ fn likelihood_grid<'py>(
     let z = Array3::from_shape_vec((g.theta.len, g.phi.len, g.psi.len), z)
         .map_err(|e| invalid_input(py, e.to_string()))?;
     let axis = |a: &gnssatt_core::likelihood::Axis| {
-        (0..a.len as i64).map(|j| a.angle(j)).collect::<Vec<_>>().into_pyarray(py)
+        (0..a.len as i64)
+            .map(|j| a.angle(j))
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
     };
-    Ok((z.into_pyarray(py), axis(&g.psi), axis(&g.theta), axis(&g.phi)))
+    Ok((
+        z.into_pyarray(py),
+        axis(&g.psi),
+        axis(&g.theta),
+        axis(&g.phi),
+    ))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

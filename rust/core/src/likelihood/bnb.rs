@@ -119,7 +119,14 @@ pub(crate) fn modulus_bound(
     let nb = scratch.len();
     let mut sweep: f64 = 0.0;
     for b in 0..nb {
-        let (a0, a1) = (scratch[b], if b + 1 < nb { scratch[b + 1] } else { scratch[0] + TAU });
+        let (a0, a1) = (
+            scratch[b],
+            if b + 1 < nb {
+                scratch[b + 1]
+            } else {
+                scratch[0] + TAU
+            },
+        );
         let w = 0.5 * (a0 + a1);
         let (mut p, mut cs, mut sn) = (always, 0.0, 0.0);
         for m in members.iter() {
@@ -176,7 +183,12 @@ impl Bounder<'_> {
             elementary(RotAxis::Z, theta),
             elementary(RotAxis::X, phi),
         );
-        let mats = [ry * rz * rx, dy(psi) * rz * rx, ry * dz(theta) * rx, ry * rz * dx(phi)];
+        let mats = [
+            ry * rz * rx,
+            dy(psi) * rz * rx,
+            ry * dz(theta) * rx,
+            ry * rz * dx(phi),
+        ];
         let hs = h.iter().sum::<f64>();
         let m = self.model;
         let (nb, nt) = (m.n_baselines(), m.n_terms());
@@ -202,7 +214,10 @@ impl Bounder<'_> {
         match m.grouping {
             Grouping::PerBaseline => {
                 for i in 0..nb {
-                    let (x, d) = (&self.xs[i * nt..(i + 1) * nt], &self.ds[i * nt..(i + 1) * nt]);
+                    let (x, d) = (
+                        &self.xs[i * nt..(i + 1) * nt],
+                        &self.ds[i * nt..(i + 1) * nt],
+                    );
                     bound += modulus_bound(x, d, &mut self.scratch, &mut self.members);
                     let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| {
                         let (sx, cx) = x.sin_cos();
@@ -249,16 +264,20 @@ impl Bounder<'_> {
 pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats)> {
     check_step(model, grid)?;
     let xmax = PI
-        + model
-            .baselines
-            .iter()
-            .map(|r| r.norm())
-            .fold(0.0, f64::max)
+        + model.baselines.iter().map(|r| r.norm()).fold(0.0, f64::max)
             * model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
     let (groups, members) = model.groups();
     let n_exp = (groups * members) as f64;
     let margin = n_exp * (1e-5 + 1e-6 * xmax);
-    let mut b = Bounder { model, grid, margin, xs: vec![], ds: vec![], scratch: vec![], members: vec![] };
+    let mut b = Bounder {
+        model,
+        grid,
+        margin,
+        xs: vec![],
+        ds: vec![],
+        scratch: vec![],
+        members: vec![],
+    };
     let mut stats = BnbStats::default();
     let mut lower = f64::NEG_INFINITY;
     let mut best = (f32::NEG_INFINITY, usize::MAX);
@@ -267,7 +286,12 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
     let (bound, zc, split) = b.bound([0; 3], root_hi);
     stats.boxes_bounded += 1;
     lower = lower.max(zc - margin);
-    heap.push(Cube { lo: [0; 3], hi: root_hi, bound, split });
+    heap.push(Cube {
+        lo: [0; 3],
+        hi: root_hi,
+        bound,
+        split,
+    });
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
     let mut coef = RowCoef::new(model);
     let mut buf = Vec::new();
@@ -309,7 +333,12 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
             stats.boxes_bounded += 1;
             lower = lower.max(zc - margin);
             if bound >= lower {
-                heap.push(Cube { lo, hi, bound, split });
+                heap.push(Cube {
+                    lo,
+                    hi,
+                    bound,
+                    split,
+                });
             }
         }
     }

@@ -91,14 +91,35 @@ impl Grid {
         if cells > 2f64.powi(31) {
             return Err(Error::out_of_range(
                 "step_deg",
-                format!("a step of {:.4} deg gives {cells:.3e} cells, over 2^31", step_rad.to_degrees()),
+                format!(
+                    "a step of {:.4} deg gives {cells:.3e} cells, over 2^31",
+                    step_rad.to_degrees()
+                ),
             ));
         }
         let step = TAU / n as f64;
         Ok(Grid {
-            psi: Axis { origin: 0.0, step, first: 0, len: n, period: Some(n) },
-            theta: Axis { origin: -FRAC_PI_2, step, first: 0, len: n / 2 + 1, period: None },
-            phi: Axis { origin: -PI, step, first: 0, len: n, period: Some(n) },
+            psi: Axis {
+                origin: 0.0,
+                step,
+                first: 0,
+                len: n,
+                period: Some(n),
+            },
+            theta: Axis {
+                origin: -FRAC_PI_2,
+                step,
+                first: 0,
+                len: n / 2 + 1,
+                period: None,
+            },
+            phi: Axis {
+                origin: -PI,
+                step,
+                first: 0,
+                len: n,
+                period: Some(n),
+            },
         })
     }
 
@@ -123,7 +144,13 @@ impl Grid {
     pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
         let g = Grid::full(step_rad)?;
         Ok(Grid {
-            phi: Axis { origin: 0.0, step: g.phi.step, first: 0, len: 1, period: None },
+            phi: Axis {
+                origin: 0.0,
+                step: g.phi.step,
+                first: 0,
+                len: 1,
+                period: None,
+            },
             ..g
         })
     }
@@ -152,6 +179,10 @@ impl Grid {
 
     /// Angles (psi, theta, phi) of cell `(p, t, f)`, radians; indices may leave the grid (lattice).
     pub fn angles(&self, idx: [i64; 3]) -> [f64; 3] {
-        [self.psi.angle(idx[0]), self.theta.angle(idx[1]), self.phi.angle(idx[2])]
+        [
+            self.psi.angle(idx[0]),
+            self.theta.angle(idx[1]),
+            self.phi.angle(idx[2]),
+        ]
     }
 }

@@ -28,10 +28,21 @@ const P2: f32 = 1.935_307_2e-3;
 const P3: f32 = 1.025_313_2e-11;
 // Minimax (Lawson) fits on [-pi, pi]: cos of degree 12 and sin of degree 11, max error 4e-7 in f32.
 const C: [f32; 7] = [
-    1.0, -0.499_999_9, 4.166_649e-2, -1.388_780_8e-3, 2.476_996_6e-5, -2.707_977_6e-7, 1.724_760_8e-9,
+    1.0,
+    -0.499_999_9,
+    4.166_649e-2,
+    -1.388_780_8e-3,
+    2.476_996_6e-5,
+    -2.707_977_6e-7,
+    1.724_760_8e-9,
 ];
 const S: [f32; 6] = [
-    0.999_999_6, -0.166_665_53, 8.332_408e-3, -1.980_874e-4, 2.699_822_8e-6, -2.036_623_1e-8,
+    0.999_999_6,
+    -0.166_665_53,
+    8.332_408e-3,
+    -1.980_874e-4,
+    2.699_822_8e-6,
+    -2.036_623_1e-8,
 ];
 
 #[inline(always)]
@@ -84,7 +95,13 @@ impl RowCoef {
             super::model::Grouping::PerBaseline => 0.0,
             super::model::Grouping::PerSatellite => 1.0,
         };
-        RowCoef { a: vec![0.0; n], b: vec![0.0; n], c: vec![0.0; n], members, c0 }
+        RowCoef {
+            a: vec![0.0; n],
+            b: vec![0.0; n],
+            c: vec![0.0; n],
+            members,
+            c0,
+        }
     }
 
     /// Fills the coefficients for pitch `theta` and roll `phi` (radians).
@@ -95,7 +112,11 @@ impl RowCoef {
         for (i, r) in model.baselines.iter().enumerate() {
             let w = m * r;
             for (k, g) in model.g.iter().enumerate() {
-                let idx = if per_baseline { i * nt + k } else { k * model.n_baselines() + i };
+                let idx = if per_baseline {
+                    i * nt + k
+                } else {
+                    k * model.n_baselines() + i
+                };
                 self.a[idx] = (model.d[i * nt + k] + g.y * w.y) as f32;
                 self.b[idx] = (g.x * w.x + g.z * w.z) as f32;
                 self.c[idx] = (g.x * w.z - g.z * w.x) as f32;
@@ -108,7 +129,11 @@ impl RowCoef {
 fn chunk<const F: bool>(k: &RowCoef, cp: &[f32; LANES], sp: &[f32; LANES], z: &mut [f32; LANES]) {
     *z = [0.0; LANES];
     let per = k.members;
-    for ((ag, bg), cg) in k.a.chunks_exact(per).zip(k.b.chunks_exact(per)).zip(k.c.chunks_exact(per)) {
+    for ((ag, bg), cg) in
+        k.a.chunks_exact(per)
+            .zip(k.b.chunks_exact(per))
+            .zip(k.c.chunks_exact(per))
+    {
         let mut re = [k.c0; LANES];
         let mut im = [0.0f32; LANES];
         for ((&a, &b), &c) in ag.iter().zip(bg).zip(cg) {
@@ -128,7 +153,11 @@ fn chunk<const F: bool>(k: &RowCoef, cp: &[f32; LANES], sp: &[f32; LANES], z: &m
 #[inline(always)]
 fn row<const F: bool>(k: &RowCoef, cps: &[f32], sps: &[f32], out: &mut [f32]) {
     let mut z = [0.0f32; LANES];
-    for ((cp, sp), o) in cps.chunks_exact(LANES).zip(sps.chunks_exact(LANES)).zip(out.chunks_mut(LANES)) {
+    for ((cp, sp), o) in cps
+        .chunks_exact(LANES)
+        .zip(sps.chunks_exact(LANES))
+        .zip(out.chunks_mut(LANES))
+    {
         let cp: &[f32; LANES] = cp.try_into().expect("chunks_exact");
         let sp: &[f32; LANES] = sp.try_into().expect("chunks_exact");
         chunk::<F>(k, cp, sp, &mut z);
@@ -146,7 +175,9 @@ unsafe fn row_avx2(k: &RowCoef, cps: &[f32], sps: &[f32], out: &mut [f32]) {
 /// `out` (`out.len() <= cps.len()`). Uses AVX2+FMA when the CPU has them (the same code path for every
 /// call, so a cell evaluated alone equals the same cell in a full pass bit for bit).
 pub(crate) fn eval_row(k: &RowCoef, cps: &[f32], sps: &[f32], out: &mut [f32]) {
-    debug_assert!(cps.len() % LANES == 0 && sps.len() == cps.len() && out.len() <= cps.len());
+    debug_assert!(
+        cps.len().is_multiple_of(LANES) && sps.len() == cps.len() && out.len() <= cps.len()
+    );
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
@@ -158,7 +189,8 @@ pub(crate) fn eval_row(k: &RowCoef, cps: &[f32], sps: &[f32], out: &mut [f32]) {
 
 /// Cosines and sines of heading angles as padded f32 tables for [`eval_row`].
 pub(crate) fn heading_tables(angles: impl Iterator<Item = f64>) -> (Vec<f32>, Vec<f32>) {
-    let (mut c, mut s): (Vec<f32>, Vec<f32>) = angles.map(|a| (a.cos() as f32, a.sin() as f32)).unzip();
+    let (mut c, mut s): (Vec<f32>, Vec<f32>) =
+        angles.map(|a| (a.cos() as f32, a.sin() as f32)).unzip();
     let n = c.len().div_ceil(LANES) * LANES;
     c.resize(n, 1.0);
     s.resize(n, 0.0);

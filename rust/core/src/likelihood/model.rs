@@ -181,7 +181,10 @@ impl Model {
             if let Some(k) = e.wavelengths.iter().position(|&w| w <= 0.0) {
                 return Err(Error::out_of_range(
                     "wavelength",
-                    format!("expected positive wavelengths, got {} at {k}", e.wavelengths[k]),
+                    format!(
+                        "expected positive wavelengths, got {} at {k}",
+                        e.wavelengths[k]
+                    ),
                 ));
             }
             if let Some(k) = e.los_enu.iter().position(|v| (v.norm() - 1.0).abs() > 1e-3) {
@@ -217,11 +220,11 @@ impl Model {
                     (e.phase_diffs.iter().map(|r| r[top]).collect(), g[top])
                 }
             };
-            for k in 0..m {
+            for (k, gk) in g.iter().enumerate() {
                 let d = (0..nb)
                     .map(|i| wrap(e.phase_diffs[i][k] - phase_ref[i]))
                     .collect();
-                terms.push((d, g[k] - g_ref));
+                terms.push((d, gk - g_ref));
             }
         }
         let n = terms.len();

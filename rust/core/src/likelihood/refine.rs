@@ -98,5 +98,10 @@ pub fn estimate(model: &Model, grid: &Grid, search: Search, refine_max: bool) ->
     } else {
         grid_angles_rad
     };
-    Ok(Estimate { angles_rad, grid_max: gm, grid_angles_rad, step_rad: grid.step() })
+    Ok(Estimate {
+        angles_rad,
+        grid_max: gm,
+        grid_angles_rad,
+        step_rad: grid.step(),
+    })
 }

@@ -58,16 +58,14 @@ pub fn evaluate_grid(model: &Model, grid: &Grid) -> Result<Vec<f32>> {
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
     let np = grid.psi.len;
     let mut z = vec![0.0f32; grid.len()];
-    z.par_chunks_mut(np)
-        .enumerate()
-        .for_each_init(
-            || RowCoef::new(model),
-            |coef, (r, out)| {
-                let (t, f) = (r / grid.phi.len, r % grid.phi.len);
-                coef.fill(model, grid.theta.angle(t as i64), grid.phi.angle(f as i64));
-                eval_row(coef, &cps, &sps, out);
-            },
-        );
+    z.par_chunks_mut(np).enumerate().for_each_init(
+        || RowCoef::new(model),
+        |coef, (r, out)| {
+            let (t, f) = (r / grid.phi.len, r % grid.phi.len);
+            coef.fill(model, grid.theta.angle(t as i64), grid.phi.angle(f as i64));
+            eval_row(coef, &cps, &sps, out);
+        },
+    );
     Ok(z)
 }
 

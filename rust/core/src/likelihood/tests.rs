@@ -8,7 +8,10 @@ use crate::Error;
 const L1: f64 = 0.190_293_672_798_364_9;
 
 fn triangle(l: f64) -> Vec<Vector3<f64>> {
-    vec![Vector3::new(l, 0.0, 0.0), Vector3::new(l / 2.0, 0.0, l * 3f64.sqrt() / 2.0)]
+    vec![
+        Vector3::new(l, 0.0, 0.0),
+        Vector3::new(l / 2.0, 0.0, l * 3f64.sqrt() / 2.0),
+    ]
 }
 
 fn sky(rng: &mut ChaCha8Rng, m: usize) -> Vec<Vector3<f64>> {
@@ -45,7 +48,11 @@ fn epoch(
                 .collect()
         })
         .collect();
-    Epoch { phase_diffs, los_enu: los.to_vec(), wavelengths: lambdas.to_vec() }
+    Epoch {
+        phase_diffs,
+        los_enu: los.to_vec(),
+        wavelengths: lambdas.to_vec(),
+    }
 }
 
 #[test]
@@ -55,7 +62,9 @@ fn sincos_error_is_bounded() {
         let x = (j as f32 - 500_000.0) * 0.01;
         let (s, c) = sincos_f32(x);
         let xd = x as f64;
-        worst = worst.max((s as f64 - xd.sin()).abs()).max((c as f64 - xd.cos()).abs());
+        worst = worst
+            .max((s as f64 - xd.sin()).abs())
+            .max((c as f64 - xd.cos()).abs());
     }
     assert!(worst <= SINCOS_ABS_ERROR as f64, "worst {worst:e}");
 }
@@ -84,11 +93,7 @@ fn kernel_matches_f64_and_recovers_attitude() {
         let truth = [1.0, 0.2, -0.4];
         let e = epoch(&mut rng, &b, &los, &[L1; 8], truth, 0.0);
         let model = Model::new(&b, &[e], stat).unwrap();
-        let grid = Grid::window(
-            3f64.to_radians(),
-            [(0.8, 1.2), (0.0, 0.4), (-0.6, -0.2)],
-        )
-        .unwrap();
+        let grid = Grid::window(3f64.to_radians(), [(0.8, 1.2), (0.0, 0.4), (-0.6, -0.2)]).unwrap();
         let z = evaluate_grid(&model, &grid).unwrap();
         for (idx, &zk) in z.iter().enumerate() {
             let c = grid.unflatten(idx).map(|i| i as i64);
@@ -97,8 +102,8 @@ fn kernel_matches_f64_and_recovers_attitude() {
             assert!((zk as f64 - zr).abs() <= 1e-5 * zr.max(1.0), "{zk} vs {zr}");
         }
         let est = estimate(&model, &grid, Search::Exhaustive, true).unwrap();
-        for a in 0..3 {
-            assert!((est.angles_rad[a] - truth[a]).abs() < 0.01, "{stat:?} {:?}", est.angles_rad);
+        for (a, t) in est.angles_rad.iter().zip(truth) {
+            assert!((a - t).abs() < 0.01, "{stat:?} {:?}", est.angles_rad);
         }
     }
 }
@@ -110,13 +115,25 @@ fn branch_and_bound_equals_exhaustive() {
         let b = if trial % 2 == 0 {
             triangle(0.71)
         } else {
-            vec![Vector3::new(0.5, 0.1, 0.0), Vector3::new(0.0, 0.05, 0.4), Vector3::new(0.3, 0.0, 0.3)]
+            vec![
+                Vector3::new(0.5, 0.1, 0.0),
+                Vector3::new(0.0, 0.05, 0.4),
+                Vector3::new(0.3, 0.0, 0.3),
+            ]
         };
         let m = 4 + trial % 6;
         let los = sky(&mut rng, m);
-        let truth = [rng.random_range(-3.0..3.0), rng.random_range(-1.4..1.4), rng.random_range(-3.0..3.0)];
+        let truth = [
+            rng.random_range(-3.0..3.0),
+            rng.random_range(-1.4..1.4),
+            rng.random_range(-3.0..3.0),
+        ];
         let e = epoch(&mut rng, &b, &los, &vec![L1; m], truth, 0.3);
-        let stat = [Statistic::AmbiguityFunction, Statistic::DoubleDifference, Statistic::Mean][trial % 3];
+        let stat = [
+            Statistic::AmbiguityFunction,
+            Statistic::DoubleDifference,
+            Statistic::Mean,
+        ][trial % 3];
         let model = Model::new(&b, &[e], stat).unwrap();
         let grid = Grid::full(6f64.to_radians()).unwrap();
         let ex = exhaustive_max(&model, &grid).unwrap();
@@ -131,7 +148,9 @@ fn bad_input_is_rejected() {
     let b = triangle(0.71);
     let los = sky(&mut rng, 6);
     let e = epoch(&mut rng, &b, &los, &[L1; 6], [0.0; 3], 0.0);
-    let ok = |b: &[Vector3<f64>], e: &Epoch| Model::new(b, std::slice::from_ref(e), Statistic::AmbiguityFunction);
+    let ok = |b: &[Vector3<f64>], e: &Epoch| {
+        Model::new(b, std::slice::from_ref(e), Statistic::AmbiguityFunction)
+    };
     assert!(ok(&b, &e).is_ok());
     let mut bad = e.clone();
     bad.phase_diffs[0][1] = f64::NAN;
@@ -145,7 +164,10 @@ fn bad_input_is_rejected() {
     bad.phase_diffs.iter_mut().for_each(|r| r.truncate(2));
     assert!(matches!(ok(&b, &bad), Err(Error::OutOfRange { .. })));
     let col = vec![Vector3::new(1.0, 0.0, 0.0), Vector3::new(2.0, 0.0, 0.0)];
-    assert!(matches!(ok(&col, &e), Err(Error::DegenerateGeometry { .. })));
+    assert!(matches!(
+        ok(&col, &e),
+        Err(Error::DegenerateGeometry { .. })
+    ));
     let zero = vec![Vector3::new(1.0, 0.0, 0.0), Vector3::zeros()];
     assert!(matches!(ok(&zero, &e), Err(Error::OutOfRange { .. })));
     let model = ok(&b, &e).unwrap();
