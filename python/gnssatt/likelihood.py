@@ -21,14 +21,14 @@ satellite ``k``, RINEX sign (an antenna displaced by ``d`` towards the satellite
 
 Statistics
 ----------
-``"ambiguity_function"`` (default):
-``Z = sum_i |sum_k exp(j[phase_diff_ik + 2 pi / lambda_k los_k . R r_i])|``, the oscillator phases
-maximised out per baseline; works on wrapped phases. With several epochs of a static platform the
-oscillator phases are taken as constant over the batch (one nuisance phase per baseline), so the epochs are summed inside the modulus; if the receivers' oscillators drift between epochs, pass the
-epochs one at a time. ``"mean"``: eqs. (10)-(14) as written; the satellite-mean of *wrapped* phases leaves a
-per-antenna offset ``2 pi (sum of integers) / M`` and the peak moves (tens of degrees): it works only on
-phases whose integer cycles are already consistent. ``"double_difference"``: eqs. (17)-(18) against the
-highest-elevation satellite of each epoch; immune to wrapping, about 1.8 times the variance of the
+``"ambiguity_function"`` (default): ``Z = sum_i |sum_k exp(j[phase_diff_ik + 2 pi / lambda_k los_k . R
+r_i])|``, the oscillator phases maximised out per baseline; works on wrapped phases. With several epochs of
+a static platform the oscillator phases are taken as constant over the batch (one nuisance phase per
+baseline), so the epochs are summed inside the modulus; if the receivers' oscillators drift between epochs,
+pass the epochs one at a time. ``"mean"``: eqs. (10)-(14) as written; the satellite-mean of *wrapped* phases
+leaves a per-antenna offset ``2 pi (sum of integers) / M`` and the peak moves (tens of degrees): it works
+only on phases whose integer cycles are already consistent. ``"double_difference"``: eqs. (17)-(18) against
+the highest-elevation satellite of each epoch; immune to wrapping, about 1.8 times the variance of the
 ambiguity function for M = 8.
 """
 
