@@ -8,16 +8,34 @@ given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 from gnssatt import errors, sim
 from gnssatt._core import __version__
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, GnssattError, InvalidInputError
+from gnssatt.likelihood import (
+    AttitudePrior,
+    BaselineDirection,
+    LikelihoodAttitude,
+    LikelihoodGrid,
+    likelihood_grid,
+    ml_attitude,
+    ml_baseline,
+    prior_from_velocity,
+)
 from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
 
 __all__ = [
+    "AttitudePrior",
+    "BaselineDirection",
     "ConvergenceError",
     "DegenerateGeometryError",
     "GnssattError",
     "InvalidInputError",
+    "LikelihoodAttitude",
+    "LikelihoodGrid",
     "MatrixAttitudeResult",
     "__version__",
     "errors",
+    "likelihood_grid",
     "matrix_attitude",
+    "ml_attitude",
+    "ml_baseline",
+    "prior_from_velocity",
     "sim",
 ]

@@ -1,14 +1,18 @@
-# Type stubs of the native module gnssatt._core (rust/py). Keep in step with rust/py/src/*.rs:
-# tests/test_stubs.py checks that every native function is declared here.
+"""Type stubs of the compiled extension ``gnssatt._core`` (rust/py/src); tests/test_stubs.py checks that
+every native function is declared here.
+
+Angles in radians, lengths in metres.
+"""
+
 import numpy as np
 from numpy.typing import NDArray
 
 __version__: str
 
 # rotation.rs
-def euler_to_dcm(seq: str, angles_rad: tuple[float, float, float]) -> NDArray[np.float64]: ...
+def euler_to_dcm(seq: str, angles_rad: tuple[float, float, float] | list[float]) -> NDArray[np.float64]: ...
 def dcm_to_euler(seq: str, dcm: NDArray[np.float64]) -> tuple[float, float, float]: ...
-def quat_to_dcm(quat: tuple[float, float, float, float]) -> NDArray[np.float64]: ...
+def quat_to_dcm(quat: tuple[float, float, float, float] | list[float]) -> NDArray[np.float64]: ...
 def dcm_to_quat(dcm: NDArray[np.float64]) -> tuple[float, float, float, float]: ...
 def nearest_rotation(matrix: NDArray[np.float64]) -> NDArray[np.float64]: ...
 
@@ -19,3 +23,38 @@ def matrix_attitude(
     range_diffs: NDArray[np.float64],
     method: str = "svd",
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], float]: ...
+
+# likelihood.rs: phase_diffs (E, m, M), los (E, M, 3) ENU, wavelengths (E, M), baselines (m, 3) body.
+def ml_search(
+    phase_diffs: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baselines: NDArray[np.float64],
+    statistic: str,
+    step_rad: float | None,
+    window_rad: list[list[float]] | None,
+    search: str,
+    refine: bool,
+    two_dimensional: bool,
+) -> tuple[
+    tuple[float, float, float], tuple[float, float, float], float, int, float, tuple[int, int, int]
+]: ...
+def bnb_stats(
+    phase_diffs: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baselines: NDArray[np.float64],
+    statistic: str,
+    step_rad: float | None,
+    window_rad: list[list[float]] | None,
+) -> tuple[int, int, int]: ...
+def likelihood_grid(
+    phase_diffs: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baselines: NDArray[np.float64],
+    statistic: str,
+    step_rad: float | None,
+    window_rad: list[list[float]] | None,
+    two_dimensional: bool,
+) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...

@@ -1,0 +1,188 @@
+//! The grid of Euler angles `(psi_p, theta_r, phi_q)`: one lattice of step `Delta` over the attitude domain
+//! (psi in [0, 2 pi), theta in [-pi/2, pi/2], phi in [-pi, pi)), optionally restricted to a window.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use crate::error::{Error, Result};
+
+/// One axis: nodes `origin + (first + j) * step` for `j in 0..len`; `period` nodes make a full turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axis {
+    /// Angle of global node 0, radians.
+    pub origin: f64,
+    /// Node spacing, radians.
+    pub step: f64,
+    /// Global index of the first node (may be negative in a window that wraps through zero).
+    pub first: i64,
+    /// Number of nodes.
+    pub len: usize,
+    /// Nodes per full turn for periodic axes (heading and roll).
+    pub period: Option<usize>,
+}
+
+impl Axis {
+    /// Angle of node `j` (`j` may run past either end: it is a lattice), radians.
+    pub fn angle(&self, j: i64) -> f64 {
+        self.origin + (self.first + j) as f64 * self.step
+    }
+
+    fn window(self, name: &'static str, lo: f64, hi: f64) -> Result<Axis> {
+        if !(lo.is_finite() && hi.is_finite()) || hi < lo {
+            return Err(Error::out_of_range(
+                name,
+                format!("expected a window lo <= hi, got [{lo}, {hi}] rad"),
+            ));
+        }
+        let a = ((lo - self.origin) / self.step - 1e-9).ceil() as i64;
+        let b = ((hi - self.origin) / self.step + 1e-9).floor() as i64;
+        let (a, b) = match self.period {
+            Some(p) if b - a + 1 >= p as i64 => (0, p as i64 - 1),
+            Some(_) => (a, b),
+            None => (a.max(self.first), b.min(self.first + self.len as i64 - 1)),
+        };
+        if b < a {
+            return Err(Error::out_of_range(
+                name,
+                format!(
+                    "the window [{:.4}, {:.4}] deg holds no grid node (step {:.4} deg)",
+                    lo.to_degrees(),
+                    hi.to_degrees(),
+                    self.step.to_degrees()
+                ),
+            ));
+        }
+        Ok(Axis {
+            first: a,
+            len: (b - a + 1) as usize,
+            ..self
+        })
+    }
+}
+
+/// A grid over `(psi, theta, phi)`; cell `(p, t, f)` has flat index `(t * n_phi + f) * n_psi + p`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    /// Heading axis.
+    pub psi: Axis,
+    /// Pitch axis.
+    pub theta: Axis,
+    /// Roll axis.
+    pub phi: Axis,
+}
+
+impl Grid {
+    /// The whole attitude domain with step at most `step_rad`: `n = 2 ceil(pi / step_rad)` nodes per turn,
+    /// actual step `2 pi / n`, `n/2 + 1` pitch nodes from -pi/2 to pi/2.
+    ///
+    /// # Arguments
+    /// * `step_rad` - requested step, radians, positive.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a non-positive, non-finite or absurdly fine step (over 2^31 cells).
+    pub fn full(step_rad: f64) -> Result<Grid> {
+        if !(step_rad.is_finite() && step_rad > 0.0) {
+            return Err(Error::out_of_range(
+                "step_deg",
+                format!("expected a positive step, got {step_rad} rad"),
+            ));
+        }
+        let n = 2 * (PI / step_rad).ceil() as usize;
+        let cells = (n as f64) * (n as f64) * (n as f64 / 2.0 + 1.0);
+        if cells > 2f64.powi(31) {
+            return Err(Error::out_of_range(
+                "step_deg",
+                format!(
+                    "a step of {:.4} deg gives {cells:.3e} cells, over 2^31",
+                    step_rad.to_degrees()
+                ),
+            ));
+        }
+        let step = TAU / n as f64;
+        Ok(Grid {
+            psi: Axis {
+                origin: 0.0,
+                step,
+                first: 0,
+                len: n,
+                period: Some(n),
+            },
+            theta: Axis {
+                origin: -FRAC_PI_2,
+                step,
+                first: 0,
+                len: n / 2 + 1,
+                period: None,
+            },
+            phi: Axis {
+                origin: -PI,
+                step,
+                first: 0,
+                len: n,
+                period: Some(n),
+            },
+        })
+    }
+
+    /// The nodes of [`Grid::full`] inside `[lo, hi]` ranges (radians) of psi, theta and phi; a periodic
+    /// range wider than a turn is the whole axis, pitch is clipped to [-pi/2, pi/2].
+    ///
+    /// # Errors
+    /// As [`Grid::full`], and [`Error::OutOfRange`] for an inverted window or one with no node.
+    pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
+        let g = Grid::full(step_rad)?;
+        Ok(Grid {
+            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
+            phi: g.phi.window("window phi", ranges[2].0, ranges[2].1)?,
+        })
+    }
+
+    /// The single-baseline grid: heading and pitch (elevation) of the baseline, roll fixed at zero.
+    ///
+    /// # Errors
+    /// As [`Grid::full`].
+    pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
+        let g = Grid::full(step_rad)?;
+        Ok(Grid {
+            phi: Axis {
+                origin: 0.0,
+                step: g.phi.step,
+                first: 0,
+                len: 1,
+                period: None,
+            },
+            ..g
+        })
+    }
+
+    /// Grid step, radians.
+    pub fn step(&self) -> f64 {
+        self.psi.step
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.psi.len * self.theta.len * self.phi.len
+    }
+
+    /// Whether the grid has no cell (never true for a constructed grid).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Cell indices `(p, t, f)` of a flat index.
+    pub fn unflatten(&self, idx: usize) -> [usize; 3] {
+        let p = idx % self.psi.len;
+        let rest = idx / self.psi.len;
+        [p, rest / self.phi.len, rest % self.phi.len]
+    }
+
+    /// Angles (psi, theta, phi) of cell `(p, t, f)`, radians; indices may leave the grid (lattice).
+    pub fn angles(&self, idx: [i64; 3]) -> [f64; 3] {
+        [
+            self.psi.angle(idx[0]),
+            self.theta.angle(idx[1]),
+            self.phi.angle(idx[2]),
+        ]
+    }
+}

@@ -1,0 +1,176 @@
+use nalgebra::Vector3;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::*;
+use crate::Error;
+
+const L1: f64 = 0.190_293_672_798_364_9;
+
+fn triangle(l: f64) -> Vec<Vector3<f64>> {
+    vec![
+        Vector3::new(l, 0.0, 0.0),
+        Vector3::new(l / 2.0, 0.0, l * 3f64.sqrt() / 2.0),
+    ]
+}
+
+fn sky(rng: &mut ChaCha8Rng, m: usize) -> Vec<Vector3<f64>> {
+    (0..m)
+        .map(|_| {
+            let az: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let el: f64 = rng.random_range(0.2..1.5);
+            Vector3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin())
+        })
+        .collect()
+}
+
+/// Wrapped noise-free phases (plus random oscillator phase per baseline) at attitude `angles`.
+fn epoch(
+    rng: &mut ChaCha8Rng,
+    baselines: &[Vector3<f64>],
+    los: &[Vector3<f64>],
+    lambdas: &[f64],
+    angles: [f64; 3],
+    noise: f64,
+) -> Epoch {
+    let r = dcm_enu_from_body(angles[0], angles[1], angles[2]);
+    let phase_diffs = baselines
+        .iter()
+        .map(|b| {
+            let osc: f64 = rng.random_range(-3.0..3.0);
+            los.iter()
+                .zip(lambdas)
+                .map(|(s, l)| {
+                    let n: f64 = rng.random_range(-1.0..1.0) * noise * 3f64.sqrt();
+                    (-std::f64::consts::TAU / l * s.dot(&(r * b)) + osc + n)
+                        .rem_euclid(std::f64::consts::TAU)
+                })
+                .collect()
+        })
+        .collect();
+    Epoch {
+        phase_diffs,
+        los_enu: los.to_vec(),
+        wavelengths: lambdas.to_vec(),
+    }
+}
+
+#[test]
+fn sincos_error_is_bounded() {
+    let mut worst = 0.0f64;
+    for j in 0..1_000_000 {
+        let x = (j as f32 - 500_000.0) * 0.01;
+        let (s, c) = sincos_f32(x);
+        let xd = x as f64;
+        worst = worst
+            .max((s as f64 - xd.sin()).abs())
+            .max((c as f64 - xd.cos()).abs());
+    }
+    assert!(worst <= SINCOS_ABS_ERROR as f64, "worst {worst:e}");
+}
+
+#[test]
+fn enu_matrix_matches_eq5() {
+    // Eq. (5): first column of R^T is (cos psi cos theta, sin theta, -sin psi cos theta) in (N, U, E).
+    let (psi, theta, phi) = (0.3, -0.2, 0.9);
+    let m = dcm_normal_from_body(psi, theta, phi);
+    assert!((m[(0, 0)] - psi.cos() * theta.cos()).abs() < 1e-15);
+    assert!((m[(1, 0)] - theta.sin()).abs() < 1e-15);
+    assert!((m[(2, 0)] + psi.sin() * theta.cos()).abs() < 1e-15);
+    assert!((m[(1, 1)] - phi.cos() * theta.cos()).abs() < 1e-15);
+    assert!((m[(1, 2)] + theta.cos() * phi.sin()).abs() < 1e-15);
+    // Positive psi turns the nose west.
+    let e = dcm_enu_from_body(0.5, 0.0, 0.0) * Vector3::x();
+    assert!(e.x < 0.0 && e.y > 0.0);
+}
+
+#[test]
+fn kernel_matches_f64_and_recovers_attitude() {
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let b = triangle(0.71);
+    for stat in [Statistic::AmbiguityFunction, Statistic::DoubleDifference] {
+        let los = sky(&mut rng, 8);
+        let truth = [1.0, 0.2, -0.4];
+        let e = epoch(&mut rng, &b, &los, &[L1; 8], truth, 0.0);
+        let model = Model::new(&b, &[e], stat).unwrap();
+        let grid = Grid::window(3f64.to_radians(), [(0.8, 1.2), (0.0, 0.4), (-0.6, -0.2)]).unwrap();
+        let z = evaluate_grid(&model, &grid).unwrap();
+        for (idx, &zk) in z.iter().enumerate() {
+            let c = grid.unflatten(idx).map(|i| i as i64);
+            let [p, t, f] = grid.angles(c);
+            let zr = model.z_f64(p, t, f);
+            assert!((zk as f64 - zr).abs() <= 1e-5 * zr.max(1.0), "{zk} vs {zr}");
+        }
+        let est = estimate(&model, &grid, Search::Exhaustive, true).unwrap();
+        for (a, t) in est.angles_rad.iter().zip(truth) {
+            assert!((a - t).abs() < 0.01, "{stat:?} {:?}", est.angles_rad);
+        }
+    }
+}
+
+#[test]
+fn branch_and_bound_equals_exhaustive() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    for trial in 0..30 {
+        let b = if trial % 2 == 0 {
+            triangle(0.71)
+        } else {
+            vec![
+                Vector3::new(0.5, 0.1, 0.0),
+                Vector3::new(0.0, 0.05, 0.4),
+                Vector3::new(0.3, 0.0, 0.3),
+            ]
+        };
+        let m = 4 + trial % 6;
+        let los = sky(&mut rng, m);
+        let truth = [
+            rng.random_range(-3.0..3.0),
+            rng.random_range(-1.4..1.4),
+            rng.random_range(-3.0..3.0),
+        ];
+        let e = epoch(&mut rng, &b, &los, &vec![L1; m], truth, 0.3);
+        let stat = [
+            Statistic::AmbiguityFunction,
+            Statistic::DoubleDifference,
+            Statistic::Mean,
+        ][trial % 3];
+        let model = Model::new(&b, &[e], stat).unwrap();
+        let grid = Grid::full(6f64.to_radians()).unwrap();
+        let ex = exhaustive_max(&model, &grid).unwrap();
+        let (bb, _) = branch_and_bound(&model, &grid).unwrap();
+        assert_eq!((ex.index, ex.z), (bb.index, bb.z), "trial {trial}");
+    }
+}
+
+#[test]
+fn bad_input_is_rejected() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let b = triangle(0.71);
+    let los = sky(&mut rng, 6);
+    let e = epoch(&mut rng, &b, &los, &[L1; 6], [0.0; 3], 0.0);
+    let ok = |b: &[Vector3<f64>], e: &Epoch| {
+        Model::new(b, std::slice::from_ref(e), Statistic::AmbiguityFunction)
+    };
+    assert!(ok(&b, &e).is_ok());
+    let mut bad = e.clone();
+    bad.phase_diffs[0][1] = f64::NAN;
+    assert!(matches!(ok(&b, &bad), Err(Error::NonFinite { .. })));
+    let mut bad = e.clone();
+    bad.wavelengths[2] = 0.0;
+    assert!(matches!(ok(&b, &bad), Err(Error::OutOfRange { .. })));
+    let mut bad = e.clone();
+    bad.los_enu.truncate(2);
+    bad.wavelengths.truncate(2);
+    bad.phase_diffs.iter_mut().for_each(|r| r.truncate(2));
+    assert!(matches!(ok(&b, &bad), Err(Error::OutOfRange { .. })));
+    let col = vec![Vector3::new(1.0, 0.0, 0.0), Vector3::new(2.0, 0.0, 0.0)];
+    assert!(matches!(
+        ok(&col, &e),
+        Err(Error::DegenerateGeometry { .. })
+    ));
+    let zero = vec![Vector3::new(1.0, 0.0, 0.0), Vector3::zeros()];
+    assert!(matches!(ok(&zero, &e), Err(Error::OutOfRange { .. })));
+    let model = ok(&b, &e).unwrap();
+    assert!(exhaustive_max(&model, &Grid::full(20f64.to_radians()).unwrap()).is_err());
+    assert!(Grid::window(0.02, [(0.1, 0.105), (0.0, 0.1), (0.0, 0.1)]).is_err());
+}
