@@ -7,6 +7,16 @@ given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 
 from gnssatt import errors
 from gnssatt._core import __version__
+from gnssatt.ambiguity import (
+    PartialFixResult,
+    RatioTestResult,
+    bootstrap_success_rate,
+    lambda_decorrelate,
+    lambda_ils,
+    partial_fix,
+    ratio_test,
+    ratio_threshold_fixed_failure_rate,
+)
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, GnssattError, InvalidInputError
 from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
 
@@ -16,7 +26,15 @@ __all__ = [
     "GnssattError",
     "InvalidInputError",
     "MatrixAttitudeResult",
+    "PartialFixResult",
+    "RatioTestResult",
     "__version__",
+    "bootstrap_success_rate",
     "errors",
+    "lambda_decorrelate",
+    "lambda_ils",
     "matrix_attitude",
+    "partial_fix",
+    "ratio_test",
+    "ratio_threshold_fixed_failure_rate",
 ]

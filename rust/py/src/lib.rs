@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 
 mod convert;
 mod errors;
+mod lambda;
 mod matrix_method;
 mod rotation;
 
@@ -13,5 +14,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     rotation::register(m)?;
     matrix_method::register(m)?;
+    lambda::register(m)?;
     Ok(())
 }
