@@ -3,7 +3,7 @@
 //! decreasing as the swap rule of LAMBDA allows, which makes the search tree narrow.
 //! Teunissen (1995), J. Geodesy 70:65-82; integer Gauss transformations and permutations as in
 //! de Jonge & Tiberius (1996), LGR-12, section 3.4, with the symmetric pivoting and deferred size
-//! reduction of Chang, Yang & Zhou (2005), "MLAMBDA", J. Geodesy 79:552-565, section 3.
+//! reduction of Chang, Yang & Zhou (2005), "MLAMBDA", J. Geodesy 79:552-565, section 3.2.
 
 use nalgebra::DMatrix;
 
@@ -50,26 +50,32 @@ pub fn reduce_factor(factor: Ltdl) -> Reduction {
         },
     };
     if n >= 2 {
-        // k walks from the second-to-last column towards the first; `reduced_from` marks the columns
-        // whose entries below the diagonal are already size-reduced (a swap at k only disturbs <= k+1).
+        // Symmetric pivoting (MLAMBDA): k walks from the second-to-last column towards the first; only
+        // the subdiagonal entry that decides a swap is reduced in the loop, and only when column k may
+        // have changed since it was last reduced (k <= `touched`). A swap at k changes the subdiagonal
+        // entries of columns k and k+1 (it exchanges L[k+2, k] and L[k+2, k+1]), so touched = k+1.
         let mut k = n - 2;
-        let mut reduced_from = n - 2;
+        let mut touched = n - 2;
         loop {
-            if k <= reduced_from {
-                for i in (k + 1)..n {
-                    gauss(&mut l, &mut r, i, k);
-                }
+            if k <= touched {
+                gauss(&mut l, &mut r, k + 1, k);
             }
             let lk = l[(k + 1, k)];
             let delta = d[k] + lk * lk * d[k + 1];
             if delta < d[k + 1] * (1.0 - SWAP_TOLERANCE) {
                 swap(&mut l, &mut d, &mut r, k, delta);
-                reduced_from = k;
+                touched = (k + 1).min(n - 2);
                 k = n - 2;
             } else if k == 0 {
                 break;
             } else {
                 k -= 1;
+            }
+        }
+        // Deferred size reduction of the whole of L (it changes no d, so no swap becomes admissible).
+        for j in (0..n - 1).rev() {
+            for i in (j + 1)..n {
+                gauss(&mut l, &mut r, i, j);
             }
         }
     }
