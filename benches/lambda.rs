@@ -45,8 +45,10 @@ fn record_nodes() {
         );
         writeln!(csv, "{n},{mean:.1},{max},{ps:.6}").unwrap();
     }
-    let _ = std::fs::create_dir_all("target/criterion")
-        .and_then(|_| std::fs::write("target/criterion/lambda_nodes.csv", csv));
+    // Benches run in the package folder; the workspace target folder is two levels up.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/criterion");
+    let _ = std::fs::create_dir_all(&dir)
+        .and_then(|_| std::fs::write(dir.join("lambda_nodes.csv"), csv));
 }
 
 fn bench(c: &mut Criterion) {
