@@ -7,6 +7,16 @@ given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 
 from gnssatt import errors, sim
 from gnssatt._core import __version__
+from gnssatt.ambiguity import (
+    PartialFixResult,
+    RatioTestResult,
+    bootstrap_success_rate,
+    lambda_decorrelate,
+    lambda_ils,
+    partial_fix,
+    ratio_test,
+    ratio_threshold_fixed_failure_rate,
+)
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, GnssattError, InvalidInputError
 from gnssatt.likelihood import (
     AttitudePrior,
@@ -30,12 +40,20 @@ __all__ = [
     "LikelihoodAttitude",
     "LikelihoodGrid",
     "MatrixAttitudeResult",
+    "PartialFixResult",
+    "RatioTestResult",
     "__version__",
+    "bootstrap_success_rate",
     "errors",
+    "lambda_decorrelate",
+    "lambda_ils",
     "likelihood_grid",
     "matrix_attitude",
     "ml_attitude",
     "ml_baseline",
+    "partial_fix",
     "prior_from_velocity",
+    "ratio_test",
+    "ratio_threshold_fixed_failure_rate",
     "sim",
 ]

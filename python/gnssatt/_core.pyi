@@ -58,3 +58,39 @@ def likelihood_grid(
     window_rad: list[list[float]] | None,
     two_dimensional: bool,
 ) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+
+# lambda.rs: integer least squares (LAMBDA / MLAMBDA), validation, partial fixing.
+def lambda_ils(
+    float_ambiguities: NDArray[np.float64], covariance: NDArray[np.float64], candidates: int = 2
+) -> tuple[NDArray[np.int64], NDArray[np.float64], int]: ...
+def lambda_decorrelate(
+    covariance: NDArray[np.float64],
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]: ...
+def lambda_bootstrap_success_rate(covariance: NDArray[np.float64]) -> float: ...
+def lambda_ffrt_threshold(covariance: NDArray[np.float64], failure_rate: float, samples: int, seed: int) -> float: ...
+def lambda_ratio_test(
+    float_ambiguities: NDArray[np.float64],
+    covariance: NDArray[np.float64],
+    threshold: float | None,
+    failure_rate: float | None,
+    samples: int,
+    seed: int,
+) -> tuple[bool, float, float, NDArray[np.int64], NDArray[np.float64]]: ...
+def lambda_partial_fix(
+    float_ambiguities: NDArray[np.float64],
+    covariance: NDArray[np.float64],
+    threshold: float | None,
+    failure_rate: float | None,
+    samples: int,
+    seed: int,
+    min_success_rate: float,
+) -> tuple[
+    int,
+    NDArray[np.int64],
+    NDArray[np.int64],
+    float,
+    float,
+    float,
+    NDArray[np.float64],
+    NDArray[np.float64],
+]: ...

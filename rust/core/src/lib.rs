@@ -6,6 +6,7 @@
 //! and every length in metres.
 
 pub mod error;
+pub mod lambda;
 pub mod likelihood;
 pub mod matrix_method;
 pub mod rotation;

@@ -2,9 +2,9 @@
 //! checked here with expected-versus-actual messages. numpy is row-major, nalgebra column-major: every
 //! conversion goes element by element through explicit indices.
 
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use numpy::ndarray::ArrayView2;
-use numpy::{PyArray2, PyReadonlyArray2, ToPyArray};
+use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
 use pyo3::prelude::*;
 
 use crate::errors::invalid_input;
@@ -65,6 +65,22 @@ pub fn dmatrix(
     let a = a.as_array();
     check_finite(py, name, &a)?;
     Ok(DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[[i, j]]))
+}
+
+/// A 1-D array as a dynamic vector.
+pub fn dvector(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray1<'_, f64>,
+) -> PyResult<DVector<f64>> {
+    let a = a.as_array();
+    if let Some((i, _)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(invalid_input(
+            py,
+            format!("{name} contains a non-finite value at [{i}]"),
+        ));
+    }
+    Ok(DVector::from_iterator(a.len(), a.iter().copied()))
 }
 
 /// A matrix as a new (3, 3) numpy array.

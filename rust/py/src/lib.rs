@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 
 mod convert;
 mod errors;
+mod lambda;
 mod likelihood;
 mod matrix_method;
 mod rotation;
@@ -15,5 +16,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     rotation::register(m)?;
     matrix_method::register(m)?;
     likelihood::register(m)?;
+    lambda::register(m)?;
     Ok(())
 }

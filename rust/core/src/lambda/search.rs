@@ -1,0 +1,230 @@
+//! Exact integer least-squares search for the `m` best integer vectors: depth-first over the conditional
+//! estimates, last ambiguity first, with Schnorr-Euchner enumeration (values in order of distance from
+//! the conditional estimate) and an ellipsoid that shrinks to the m-th best norm found so far.
+//! Chang, Yang & Zhou (2005), "MLAMBDA", J. Geodesy 79:552-565, section 4; de Jonge & Tiberius (1996),
+//! LGR-12, section 4.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::ldl::Ltdl;
+use crate::error::{Error, Result};
+
+/// Default cap on the nodes one search may visit (see [`search`]).
+pub const DEFAULT_MAX_NODES: u64 = 200_000_000;
+
+/// The best integer vectors of one search, in the space where it ran.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidates {
+    /// Integer vectors (stored as `f64`), one per column (n x m), best first.
+    pub z: DMatrix<f64>,
+    /// `(zhat - z)^T Q^-1 (zhat - z)` of each column, ascending.
+    pub squared_norms: Vec<f64>,
+    /// Nodes visited: integer values tried at any level of the tree, i.e. partial norms evaluated.
+    pub nodes_visited: u64,
+}
+
+/// Finds the `m` integer vectors closest to `zhat` in the metric of `Q = L^T D L`.
+///
+/// # Arguments
+/// * `factor` - `L` and `d` of the (preferably decorrelated) covariance, cycles^2.
+/// * `zhat` - the float ambiguities in the same space, cycles.
+/// * `m` - number of candidates, >= 1.
+/// * `max_nodes` - give up after visiting this many nodes.
+///
+/// # Errors
+/// [`Error::Shape`] when `zhat` does not match `factor`, [`Error::OutOfRange`] for `m = 0`,
+/// [`Error::Convergence`] when the node cap is reached (a badly conditioned, undecorrelated problem).
+pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> Result<Candidates> {
+    let Ltdl { l, d } = factor;
+    let n = d.len();
+    if zhat.len() != n || l.shape() != (n, n) {
+        return Err(Error::Shape {
+            name: "float ambiguities",
+            expected: format!("({n},)"),
+            actual: format!("({},)", zhat.len()),
+        });
+    }
+    if m == 0 {
+        return Err(Error::out_of_range(
+            "candidates",
+            "expected at least 1, got 0",
+        ));
+    }
+    // acc[(k, j)], j <= k: sum over i > k of (z_i - zb_i) L_ij, so that zb_k = zhat_k + acc[(k, k)].
+    let mut acc = DMatrix::<f64>::zeros(n, n);
+    let mut dist = vec![0.0; n];
+    let mut zb = vec![0.0; n];
+    let mut z = vec![0.0; n];
+    let mut step = vec![0.0; n];
+    let mut best: Vec<(f64, Vec<f64>)> = Vec::with_capacity(m);
+    let mut worst = 0usize; // index in `best` of the largest norm kept
+    let mut radius = f64::INFINITY;
+    let mut nodes = 0u64;
+
+    let start = |k: usize, zb: &mut [f64], z: &mut [f64], step: &mut [f64], value: f64| -> f64 {
+        zb[k] = value;
+        z[k] = value.round();
+        let y = value - z[k];
+        step[k] = if y <= 0.0 { -1.0 } else { 1.0 };
+        y
+    };
+    let next = |k: usize, zb: &[f64], z: &mut [f64], step: &mut [f64]| -> f64 {
+        z[k] += step[k];
+        step[k] = -step[k] - step[k].signum();
+        zb[k] - z[k]
+    };
+
+    let mut k = n - 1;
+    let mut y = start(k, &mut zb, &mut z, &mut step, zhat[k]);
+    loop {
+        nodes += 1;
+        if nodes > max_nodes {
+            return Err(Error::Convergence {
+                what: "integer least-squares search (node cap reached)",
+                iterations: max_nodes as usize,
+            });
+        }
+        let newdist = dist[k] + y * y / d[k];
+        if newdist < radius {
+            if k > 0 {
+                let e = z[k] - zb[k];
+                for j in 0..k {
+                    acc[(k - 1, j)] = acc[(k, j)] + e * l[(k, j)];
+                }
+                k -= 1;
+                dist[k] = newdist;
+                let value = zhat[k] + acc[(k, k)];
+                y = start(k, &mut zb, &mut z, &mut step, value);
+            } else {
+                if best.len() < m {
+                    best.push((newdist, z.clone()));
+                    if best.len() == m {
+                        worst = argmax(&best);
+                        radius = best[worst].0;
+                    }
+                } else {
+                    best[worst] = (newdist, z.clone());
+                    worst = argmax(&best);
+                    radius = best[worst].0;
+                }
+                y = next(0, &zb, &mut z, &mut step);
+            }
+        } else {
+            if k == n - 1 {
+                break;
+            }
+            k += 1;
+            y = next(k, &zb, &mut z, &mut step);
+        }
+    }
+    best.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = DMatrix::zeros(n, m);
+    for (c, (_, v)) in best.iter().enumerate() {
+        out.set_column(c, &DVector::from_column_slice(v));
+    }
+    Ok(Candidates {
+        z: out,
+        squared_norms: best.iter().map(|b| b.0).collect(),
+        nodes_visited: nodes,
+    })
+}
+
+fn argmax(best: &[(f64, Vec<f64>)]) -> usize {
+    (0..best.len())
+        .max_by(|&a, &b| best[a].0.total_cmp(&best[b].0))
+        .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lambda::ldl::ltdl;
+    use crate::lambda::test_support::{random_covariance, Lcg};
+
+    fn norm(q_inv: &DMatrix<f64>, a: &DVector<f64>, z: &[f64]) -> f64 {
+        let r = a - DVector::from_column_slice(z);
+        (r.transpose() * q_inv * &r)[0]
+    }
+
+    /// Every integer vector in a box that holds the m best, sorted by norm.
+    fn brute_force(q: &DMatrix<f64>, a: &DVector<f64>, m: usize) -> Vec<f64> {
+        let n = a.len();
+        let q_inv = q.clone().try_inverse().unwrap();
+        // The rounded vector and its unit neighbours give an upper bound chi2 on the m-th best norm;
+        // the ellipsoid of that size lies in the box |a_i - z_i| <= sqrt(chi2 Q_ii).
+        let r: Vec<f64> = a.iter().map(|v| v.round()).collect();
+        let mut seeds = vec![norm(&q_inv, a, &r)];
+        for i in 0..n {
+            for s in [-1.0, 1.0] {
+                let mut v = r.clone();
+                v[i] += s;
+                seeds.push(norm(&q_inv, a, &v));
+            }
+        }
+        seeds.sort_by(f64::total_cmp);
+        let chi2 = seeds[m - 1];
+        let lo: Vec<i64> = (0..n)
+            .map(|i| (a[i] - (chi2 * q[(i, i)]).sqrt()).floor() as i64)
+            .collect();
+        let hi: Vec<i64> = (0..n)
+            .map(|i| (a[i] + (chi2 * q[(i, i)]).sqrt()).ceil() as i64)
+            .collect();
+        let mut norms = Vec::new();
+        let mut cur = lo.clone();
+        loop {
+            let v: Vec<f64> = cur.iter().map(|&c| c as f64).collect();
+            norms.push(norm(&q_inv, a, &v));
+            let mut i = 0;
+            while i < n {
+                cur[i] += 1;
+                if cur[i] <= hi[i] {
+                    break;
+                }
+                cur[i] = lo[i];
+                i += 1;
+            }
+            if i == n {
+                break;
+            }
+        }
+        norms.sort_by(f64::total_cmp);
+        norms.truncate(m);
+        norms
+    }
+
+    #[test]
+    fn matches_brute_force_without_decorrelation() {
+        let mut rng = Lcg(11);
+        for n in 1..=4 {
+            for _ in 0..30 {
+                let q = random_covariance(&mut rng, n, 0.05);
+                let a = DVector::from_fn(n, |_, _| 10.0 * rng.uniform() - 5.0);
+                let f = ltdl(&q).unwrap();
+                let got = search(&f, &a, 3, DEFAULT_MAX_NODES).unwrap();
+                let want = brute_force(&q, &a, 3);
+                let q_inv = q.clone().try_inverse().unwrap();
+                for (c, w) in want.iter().enumerate() {
+                    let zc: Vec<f64> = got.z.column(c).iter().copied().collect();
+                    assert!((norm(&q_inv, &a, &zc) - got.squared_norms[c]).abs() < 1e-8);
+                    assert!((got.squared_norms[c] - w).abs() < 1e-8 * (1.0 + w));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rejects_zero_candidates_and_caps_nodes() {
+        let f = ltdl(&DMatrix::identity(2, 2)).unwrap();
+        let a = DVector::from_vec(vec![0.2, 0.4]);
+        assert!(matches!(
+            search(&f, &a, 0, 10),
+            Err(Error::OutOfRange { .. })
+        ));
+        assert!(matches!(
+            search(&f, &a, 50, 10),
+            Err(Error::Convergence { .. })
+        ));
+        let b = DVector::from_vec(vec![0.2]);
+        assert!(matches!(search(&f, &b, 1, 10), Err(Error::Shape { .. })));
+    }
+}
