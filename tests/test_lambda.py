@@ -5,14 +5,15 @@ from __future__ import annotations
 
 import itertools
 
-import gnssatt
 import numpy as np
 import pytest
-from gnssatt import InvalidInputError
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from scipy.stats import norm
+
+import gnssatt
+from gnssatt import InvalidInputError
 
 # ---------------------------------------------------------------- independent references
 

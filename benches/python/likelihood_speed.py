@@ -16,8 +16,9 @@ import sys
 import time
 from pathlib import Path
 
-import gnssatt
 import numpy as np
+
+import gnssatt
 from gnssatt import _core
 from gnssatt.likelihood import rotation_from_euler
 
