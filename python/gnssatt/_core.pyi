@@ -34,7 +34,7 @@ def ml_search(
     step_rad: float | None,
     window_rad: list[list[float]] | None,
     search: str,
-    refine: bool,
+    refine: str,
     two_dimensional: bool,
 ) -> tuple[
     tuple[float, float, float], tuple[float, float, float], float, int, float, tuple[int, int, int]

@@ -58,6 +58,7 @@ __all__ = [
 
 StatisticName = Literal["ambiguity_function", "mean", "double_difference"]
 SearchName = Literal["exhaustive", "branch_and_bound"]
+RefineName = bool | Literal["parabolic", "newton"]
 
 #: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U).
 ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
@@ -225,6 +226,16 @@ def _step(step_deg: float | None) -> float | None:
     return float(np.radians(step))
 
 
+def _refine(refine: RefineName) -> str:
+    if refine is True:
+        return "newton"
+    if refine is False:
+        return "none"
+    if refine in ("parabolic", "newton"):
+        return refine
+    raise InvalidInputError(f"expected refine True, False, 'parabolic' or 'newton', got {refine!r}")
+
+
 def ml_attitude(
     phase_diffs: ArrayLike,
     los: ArrayLike,
@@ -235,7 +246,7 @@ def ml_attitude(
     step_deg: float | None = None,
     window_deg: ArrayLike | AttitudePrior | None = None,
     search: SearchName = "exhaustive",
-    refine: bool = True,
+    refine: RefineName = True,
 ) -> LikelihoodAttitude:
     """Maximum-likelihood attitude over a grid of Euler angles (seed 001).
 
@@ -262,7 +273,11 @@ def ml_attitude(
     search
         ``"exhaustive"`` (parallel) or ``"branch_and_bound"`` (sequential, exact: the same grid maximum).
     refine
-        Apply the parabolic interpolation (16) with wrap-around in heading and roll.
+        ``True`` or ``"newton"`` (default): the parabolic interpolation (16), then Newton's method on the
+        statistic (float64, full Hessian, trust region of one grid step), i.e. the continuous maximum of
+        ``Z``. ``"parabolic"``: eq. (16) alone, one parabola per axis with wrap-around in heading and roll;
+        because the axes of eq. (5) are coupled it leaves errors of a fraction of a step even without
+        noise. ``False``: the grid node.
 
     Raises
     ------
@@ -274,7 +289,7 @@ def ml_attitude(
     """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=2)
     angles, grid_angles, z, cells, step, _ = _core.ml_search(
-        p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, refine, False
+        p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, _refine(refine), False
     )
     euler = np.degrees(angles)
     return LikelihoodAttitude(
@@ -320,7 +335,7 @@ def ml_baseline(
     statistic: StatisticName = "ambiguity_function",
     step_deg: float | None = None,
     window_deg: ArrayLike | None = None,
-    refine: bool = True,
+    refine: RefineName = True,
 ) -> BaselineDirection:
     """Heading and elevation of one baseline (two antennas) over a 2-D grid.
 
@@ -349,7 +364,7 @@ def ml_baseline(
             raise InvalidInputError(f"expected window_deg of shape (2, 2), got {w2.shape}")
         win = [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
     angles, _, z, cells, step, _ = _core.ml_search(
-        p, s, w, b, statistic, _step(step_deg), win, "exhaustive", refine, True
+        p, s, w, b, statistic, _step(step_deg), win, "exhaustive", _refine(refine), True
     )
     psi, theta = angles[0], angles[1]
     direction = np.array([-np.sin(psi) * np.cos(theta), np.cos(psi) * np.cos(theta), np.sin(theta)])

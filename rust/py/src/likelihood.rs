@@ -2,7 +2,7 @@
 //! broadcasts inputs to (epochs, m, M) phases, (epochs, M, 3) lines of sight and (epochs, M) wavelengths.
 
 use gnssatt_core::likelihood::{
-    branch_and_bound, estimate, evaluate_grid, Epoch, Grid, Model, Search, Statistic,
+    branch_and_bound, estimate, evaluate_grid, Epoch, Grid, Model, Refine, Search, Statistic,
 };
 use nalgebra::Vector3;
 use numpy::ndarray::Array3;
@@ -93,9 +93,20 @@ fn ml_search(
     step_rad: Option<f64>,
     window_rad: Option<[[f64; 2]; 3]>,
     search: &str,
-    refine: bool,
+    refine: &str,
     two_dimensional: bool,
 ) -> PyResult<([f64; 3], [f64; 3], f64, u64, f64, [usize; 3])> {
+    let refine = match refine {
+        "none" => Refine::None,
+        "parabolic" => Refine::Parabolic,
+        "newton" => Refine::Newton,
+        other => {
+            return Err(invalid_input(
+                py,
+                format!("expected refine 'none', 'parabolic' or 'newton', got {other:?}"),
+            ))
+        }
+    };
     let search = match search {
         "exhaustive" => Search::Exhaustive,
         "branch_and_bound" => Search::BranchAndBound,

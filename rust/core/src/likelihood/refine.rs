@@ -1,13 +1,17 @@
-//! The estimate: grid maximum by the chosen search, then the three-point parabolic refinement (16).
+//! The estimate: grid maximum by the chosen search, then the three-point parabolic refinement (16) and,
+//! by default, a Newton polish of the continuous maximum of `Z`.
 
 use std::f64::consts::{PI, TAU};
+
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
 use crate::error::Result;
 
 use super::bnb::branch_and_bound;
 use super::grid::Grid;
-use super::model::Model;
+use super::model::{dcm_normal_from_body, Model};
 use super::search::{evaluate_cells, exhaustive_max, GridMax};
+use crate::rotation::euler::YZX;
 
 /// How the grid maximum is found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -17,6 +21,21 @@ pub enum Search {
     /// Best-first branch-and-bound with a proven upper bound of `Z` over boxes of cells: the same grid
     /// maximum from far fewer cells.
     BranchAndBound,
+}
+
+/// How the grid maximum is refined between grid nodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refine {
+    /// The grid node itself.
+    None,
+    /// Eq. (16): one three-point parabola per axis. The axes of eq. (5) are coupled (the peak of `Z` is
+    /// an ellipsoid tilted in (psi, theta, phi)), so per-axis parabolas leave errors of a fraction of a
+    /// step even without noise.
+    Parabolic,
+    /// Eq. (16), then Newton's method on the f64 statistic over the grid's axes with the full Hessian
+    /// (finite differences), inside a trust region of one grid step: the continuous maximum of `Z`,
+    /// i.e. the maximum-likelihood estimate itself.
+    Newton,
 }
 
 /// An attitude estimate.
@@ -45,7 +64,7 @@ fn wrap_pi(x: f64) -> f64 {
 /// in heading and roll; along pitch the refinement is skipped at +-90 deg. The offset is clamped to half a
 /// step (and dropped where the three points are not concave). Returns refined angles (radians) and the
 /// number of extra cells evaluated.
-pub fn refine(model: &Model, grid: &Grid, gm: &GridMax) -> ([f64; 3], u64) {
+pub fn parabolic(model: &Model, grid: &Grid, gm: &GridMax) -> ([f64; 3], u64) {
     let c = gm.index.map(|i| i as i64);
     let mut angles = grid.angles(c);
     let axes = [grid.psi, grid.theta, grid.phi];
@@ -74,29 +93,117 @@ pub fn refine(model: &Model, grid: &Grid, gm: &GridMax) -> ([f64; 3], u64) {
     ([wrap_pi(angles[0]), angles[1], wrap_pi(angles[2])], cells)
 }
 
-/// Grid maximum by `search`, refined by eq. (16) when `refine_max`.
+/// Finite-difference steps (rad) for the gradient and the Hessian of `Z`: far below the main lobe
+/// (`lambda / L`, about 15 deg for the paper's array) and far above f64 rounding of `Z`.
+const GRAD_STEP: f64 = 1e-6;
+const HESS_STEP: f64 = 1e-4;
+
+/// Newton's method for the local maximum of the f64 statistic from `start` (radians), over the axes the
+/// grid searches (a 2-D grid keeps its fixed angle). Directions of non-negative curvature (an unobservable
+/// rotation, gimbal lock) are left alone; every accepted step raises `Z`; the result stays within two grid
+/// steps of `start` or `start` is returned. Returns the angles and the number of `Z` evaluations.
+pub fn polish(model: &Model, grid: &Grid, start: [f64; 3]) -> ([f64; 3], u64) {
+    let active: Vec<usize> = [grid.psi, grid.theta, grid.phi]
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| a.len > 1)
+        .map(|(i, _)| i)
+        .collect();
+    let step = grid.step();
+    let mut evals = 0u64;
+    let mut z = |a: [f64; 3]| {
+        evals += 1;
+        model.z_f64(a[0], a[1], a[2])
+    };
+    let shifted = |a: [f64; 3], d: &[(usize, f64)]| {
+        let mut b = a;
+        for &(i, h) in d {
+            b[i] += h;
+        }
+        b
+    };
+    let mut a = start;
+    let mut za = z(a);
+    for _ in 0..30 {
+        let (mut g, mut h) = (Vector3::zeros(), Matrix3::from_diagonal_element(-1.0));
+        for &i in &active {
+            g[i] = (z(shifted(a, &[(i, GRAD_STEP)])) - z(shifted(a, &[(i, -GRAD_STEP)])))
+                / (2.0 * GRAD_STEP);
+            for &j in active.iter().filter(|&&j| j >= i) {
+                let e = HESS_STEP;
+                let v = (z(shifted(a, &[(i, e), (j, e)]))
+                    - z(shifted(a, &[(i, e), (j, -e)]))
+                    - z(shifted(a, &[(i, -e), (j, e)]))
+                    + z(shifted(a, &[(i, -e), (j, -e)])))
+                    / (4.0 * e * e);
+                (h[(i, j)], h[(j, i)]) = (v, v);
+            }
+        }
+        let eig = SymmetricEigen::new(h);
+        let scale = eig.eigenvalues.amax();
+        let mut d = Vector3::zeros();
+        for (k, &l) in eig.eigenvalues.iter().enumerate() {
+            if l < -1e-9 * scale {
+                let v = eig.eigenvectors.column(k);
+                d -= v * (v.dot(&g) / l);
+            }
+        }
+        if d.norm() > step {
+            d *= step / d.norm();
+        }
+        let mut accepted = false;
+        for _ in 0..20 {
+            let b = [a[0] + d[0], a[1] + d[1], a[2] + d[2]];
+            let zb = z(b);
+            if zb >= za {
+                (a, za, accepted) = (b, zb, true);
+                break;
+            }
+            d *= 0.5;
+        }
+        if !accepted || d.norm() < 1e-10 {
+            break;
+        }
+    }
+    let moved = (0..3)
+        .map(|i| wrap_pi(a[i] - start[i]).abs())
+        .fold(0.0, f64::max);
+    if moved > 2.0 * step {
+        return (start, evals);
+    }
+    // Back through the matrix so that pitch stays in [-90, 90] deg and the others in (-180, 180].
+    let e = YZX.from_dcm(&dcm_normal_from_body(a[0], a[1], a[2]));
+    ([wrap_pi(e[0]), e[1], wrap_pi(e[2])], evals)
+}
+
+/// Grid maximum by `search`, refined as `refine` says.
 ///
 /// # Arguments
 /// * `model` - preprocessed measurements and statistic.
 /// * `grid` - the cells (radians); its step must not exceed [`Model::max_step`].
 /// * `search` - exhaustive or branch-and-bound (same grid maximum).
-/// * `refine_max` - apply eq. (16).
+/// * `refine` - none, eq. (16), or eq. (16) then Newton.
 ///
 /// # Errors
 /// [`crate::Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
-pub fn estimate(model: &Model, grid: &Grid, search: Search, refine_max: bool) -> Result<Estimate> {
+pub fn estimate(model: &Model, grid: &Grid, search: Search, refine: Refine) -> Result<Estimate> {
     let mut gm = match search {
         Search::Exhaustive => exhaustive_max(model, grid)?,
         Search::BranchAndBound => branch_and_bound(model, grid)?.0,
     };
     let g = grid.angles(gm.index.map(|i| i as i64));
     let grid_angles_rad = [wrap_pi(g[0]), g[1], wrap_pi(g[2])];
-    let angles_rad = if refine_max {
-        let (a, extra) = refine(model, grid, &gm);
-        gm.cells_evaluated += extra;
-        a
-    } else {
-        grid_angles_rad
+    let angles_rad = match refine {
+        Refine::None => grid_angles_rad,
+        Refine::Parabolic | Refine::Newton => {
+            let (a, extra) = parabolic(model, grid, &gm);
+            gm.cells_evaluated += extra;
+            if refine == Refine::Newton {
+                polish(model, grid, a).0
+            } else {
+                a
+            }
+        }
     };
     Ok(Estimate {
         angles_rad,

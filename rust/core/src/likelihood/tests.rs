@@ -101,9 +101,9 @@ fn kernel_matches_f64_and_recovers_attitude() {
             let zr = model.z_f64(p, t, f);
             assert!((zk as f64 - zr).abs() <= 1e-5 * zr.max(1.0), "{zk} vs {zr}");
         }
-        let est = estimate(&model, &grid, Search::Exhaustive, true).unwrap();
+        let est = estimate(&model, &grid, Search::Exhaustive, Refine::Newton).unwrap();
         for (a, t) in est.angles_rad.iter().zip(truth) {
-            assert!((a - t).abs() < 0.01, "{stat:?} {:?}", est.angles_rad);
+            assert!((a - t).abs() < 1e-7, "{stat:?} {:?}", est.angles_rad);
         }
     }
 }
