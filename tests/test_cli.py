@@ -49,3 +49,11 @@ def test_matrix_method_writes_json_and_plot(tmp_path: Path, capsys: pytest.Captu
 )
 def test_usage_errors(argv: list[str]) -> None:
     assert main(argv) == 2
+
+
+def test_ml_grid_writes_json_and_sections(tmp_path: Path) -> None:
+    assert main(["reproduce", "ml-grid", "--runs", "3", "--out", str(tmp_path), "--no-progress"]) == 0
+    doc = json.loads((tmp_path / "ml-grid.json").read_text())
+    assert doc["paper"]["variance_ratio_dd_over_optimal"] == 2.0
+    assert doc["measured"]["sigma0p05rad_af_heading_rms_deg"] < 1.0
+    assert (tmp_path / "ml-grid-sections.png").stat().st_size > 10_000

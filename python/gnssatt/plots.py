@@ -5,11 +5,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["error_vs_geometry"]
+if TYPE_CHECKING:
+    from gnssatt.likelihood import LikelihoodGrid
+
+__all__ = ["error_vs_geometry", "likelihood_sections"]
 
 
 def _pyplot():  # type: ignore[no-untyped-def]
@@ -48,6 +52,44 @@ def error_vs_geometry(
     )
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) -> Path:
+    """Seed 001 figures 1-2: Z over (pitch, roll) at the grid heading nearest the truth, and over
+    (heading, pitch) at the grid roll nearest the truth; the truth marked; saved as PNG."""
+    plt = _pyplot()
+    psi, theta, phi = (float(v) for v in np.asarray(truth_deg, dtype=float))
+    i = int(np.argmin(np.abs((grid.psi_deg - psi + 180.0) % 360.0 - 180.0)))
+    q = int(np.argmin(np.abs((grid.phi_deg - phi + 180.0) % 360.0 - 180.0)))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), dpi=110)
+    panels = (
+        (
+            grid.z[i, :, :],
+            grid.phi_deg,
+            grid.theta_deg,
+            "roll phi (deg)",
+            (phi, theta),
+            f"Z at heading psi = {grid.psi_deg[i]:.1f} deg (true {psi:.1f})",
+        ),
+        (
+            grid.z[:, :, q].T,
+            grid.psi_deg,
+            grid.theta_deg,
+            "heading psi (deg)",
+            (psi, theta),
+            f"Z at roll phi = {grid.phi_deg[q]:.1f} deg (true {phi:.1f})",
+        ),
+    )
+    for ax, (z, x, y, xlabel, mark, title) in zip(axes, panels, strict=True):
+        im = ax.pcolormesh(x, y, z, shading="auto", cmap="viridis")
+        ax.plot(*mark, "r+", ms=14, mew=2, label="truth")
+        ax.set(xlabel=xlabel, ylabel="pitch theta (deg)", title=title)
+        ax.legend(loc="lower right")
+        fig.colorbar(im, ax=ax, label="Z")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

@@ -35,7 +35,7 @@ class Experiment:
 
 
 # Module names under gnssatt.experiments, in the order `--list` shows them.
-_MODULES = ("matrix_method",)
+_MODULES = ("matrix_method", "ml_grid")
 
 
 def _load() -> dict[str, Experiment]:
