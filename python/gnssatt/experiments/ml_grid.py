@@ -95,13 +95,13 @@ def _summarise(rows: list[dict[str, float]], sigma: float, measured: dict[str, A
         for a in ANGLES:
             e = np.array([r[f"{stat}_{a}"] for r in rows])[normal]
             errors[f"{stat}_{a}"] = e
-            measured[f"{tag}_{stat}_{a}_rms_deg"] = float(np.sqrt(np.mean(e**2)))
+            measured[f"{tag}_{stat}_{a}_rms_deg"] = float(np.sqrt(np.mean(e**2))) if e.size else None
     # Dispersion ratio double difference / optimal, pooled over the three angles, on trials normal for both.
     for ref in ("af", "mean_oracle"):
         both = np.array([r["dd_total"] < ANOMALY_DEG and r[f"{ref}_total"] < ANOMALY_DEG for r in rows])
         num = sum(np.sum(np.array([r[f"dd_{a}"] for r in rows])[both] ** 2) for a in ANGLES)
         den = sum(np.sum(np.array([r[f"{ref}_{a}"] for r in rows])[both] ** 2) for a in ANGLES)
-        measured[f"{tag}_variance_ratio_dd_over_{ref}"] = float(num / den)
+        measured[f"{tag}_variance_ratio_dd_over_{ref}"] = float(num / den) if den > 0 else None
     return errors
 
 
