@@ -11,9 +11,7 @@ import pytest
 from gnssatt.errors import RinexError
 from gnssatt.rinex import read_nav, read_obs, single_point_positions
 
-DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "rtklib_geonet_0759_3040"
-if not DATA.is_dir():
-    DATA = Path("/work/shared/data/rtklib_geonet_0759_3040")
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "rtklib_geonet_0759_3040"
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
 
 
