@@ -58,3 +58,21 @@ def test_no_common_epochs_or_satellites(geonet) -> None:  # type: ignore[no-unty
         align_receivers([a, b], nav, systems="E")
     with pytest.raises(RinexError, match="two or more"):
         align_receivers([a], nav)
+
+
+@needs_data
+def test_geonet_cli_baseline_direction(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from gnssatt.cli import main
+
+    out = tmp_path / "geonet.csv"
+    argv = ["attitude", "--obs", str(DATA / "07590920.05o"), "--obs", str(DATA / "30400920.05o")]
+    assert main([*argv, "--nav", str(DATA / "07590920.05n"), "--out", str(out)]) == 0
+    lines = out.read_text().splitlines()
+    assert lines[0] == "time_gpst,azimuth_deg,elevation_deg,method,fixed,satellites"
+    assert len(lines) == 121 and lines[1].startswith("2005-04-02T00:00:00.000,")
+    assert ",lambda,1," in lines[1]
+    az = np.array([float(r.split(",")[1]) for r in lines[1:]])
+    el = np.array([float(r.split(",")[2]) for r in lines[1:]])
+    # header baseline in ENU at 0759: azimuth 163.3838 deg, elevation 0.0820 deg (3 m / 3.3 km ~ 0.05 deg)
+    assert np.all(np.abs(az - 163.3838) < 0.05) and np.all(np.abs(el - 0.0820) < 0.05)
+    assert "fix rate: 1.000" in capsys.readouterr().out
