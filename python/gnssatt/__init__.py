@@ -5,7 +5,7 @@ mapping body-frame vectors into the reference frame in which the lines of sight 
 given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 """
 
-from gnssatt import errors, sim
+from gnssatt import errors, rinex, sim
 from gnssatt._core import __version__
 from gnssatt.ambiguity import (
     PartialFixResult,
@@ -55,5 +55,6 @@ __all__ = [
     "prior_from_velocity",
     "ratio_test",
     "ratio_threshold_fixed_failure_rate",
+    "rinex",
     "sim",
 ]

@@ -1,4 +1,5 @@
-"""The ``gnssatt`` command: ``gnssatt reproduce ...`` runs the source papers' experiments."""
+"""The ``gnssatt`` command: ``gnssatt reproduce ...`` runs the source papers' experiments;
+``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform."""
 
 from __future__ import annotations
 
@@ -36,6 +37,40 @@ def _reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def _attitude(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from gnssatt.errors import GnssattError
+    from gnssatt.plots import attitude_series
+    from gnssatt.rinex.attitude import attitude_from_rinex
+
+    try:
+        baselines = None
+        if args.baselines is not None:
+            try:
+                baselines = np.atleast_2d(np.loadtxt(args.baselines, ndmin=2))
+            except (OSError, ValueError) as exc:
+                print(f"gnssatt attitude: {args.baselines}: cannot read baselines: {exc}", file=sys.stderr)
+                return 2
+        series = attitude_from_rinex(
+            args.obs,
+            args.nav,
+            baselines,
+            method=args.method,
+            systems=args.systems,
+            elevation_mask_deg=args.elevation_mask,
+        )
+    except GnssattError as exc:
+        print(f"gnssatt attitude: {exc}", file=sys.stderr)
+        return 2
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    series.to_csv(args.out)
+    png = attitude_series(series, args.out.with_suffix(".png"))
+    print(series.summary())
+    print(f"wrote {args.out} and {png}")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="gnssatt", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -47,7 +82,30 @@ def main(argv: Sequence[str] | None = None) -> int:
     rep.add_argument("--seed", type=int, default=2026, help="root random seed (default 2026)")
     rep.add_argument("--out", type=Path, default=Path("out"), help="output folder (default ./out)")
     rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
+    att = sub.add_parser("attitude", help="attitude or baseline direction from RINEX files")
+    att.add_argument(
+        "--obs",
+        action="append",
+        required=True,
+        type=Path,
+        help="observation file, once per antenna; the first is the reference",
+    )
+    att.add_argument("--nav", action="append", required=True, type=Path, help="navigation file(s)")
+    att.add_argument(
+        "--baselines",
+        type=Path,
+        default=None,
+        help="text file of (n_ant - 1) rows 'x y z' (body frame, m); omit for two antennas",
+    )
+    att.add_argument(
+        "--out", type=Path, default=Path("results.csv"), help="CSV output (plot: same name .png)"
+    )
+    att.add_argument("--method", choices=("auto", "ml", "lambda"), default="auto")
+    att.add_argument("--systems", default="G", help="satellite systems to use (default G)")
+    att.add_argument("--elevation-mask", type=float, default=10.0, help="degrees (default 10)")
     args = parser.parse_args(argv)
+    if args.command == "attitude":
+        return _attitude(args)
     if args.runs is not None and args.runs < 1:
         parser.error("--runs must be >= 1")
     return _reproduce(args)

@@ -6,7 +6,13 @@ Every error raised on user input is an :class:`InvalidInputError`, which is also
 
 from __future__ import annotations
 
-__all__ = ["ConvergenceError", "DegenerateGeometryError", "GnssattError", "InvalidInputError"]
+__all__ = [
+    "ConvergenceError",
+    "DegenerateGeometryError",
+    "GnssattError",
+    "InvalidInputError",
+    "RinexError",
+]
 
 
 class GnssattError(Exception):
@@ -23,3 +29,21 @@ class DegenerateGeometryError(InvalidInputError):
 
 class ConvergenceError(GnssattError):
     """An iterative method did not converge."""
+
+
+class RinexError(InvalidInputError):
+    """A RINEX file cannot be read, or two files have nothing in common (no common epochs or satellites).
+
+    Attributes
+    ----------
+    path
+        The file, as given.
+    line
+        1-based line number where reading stopped, or None where the problem is not on one line.
+    """
+
+    def __init__(self, path: object, line: int | None, message: str) -> None:
+        self.path = str(path)
+        self.line = line
+        where = f"{self.path}, line {line}" if line is not None else self.path
+        super().__init__(f"{where}: {message}")

@@ -12,8 +12,9 @@ from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
     from gnssatt.likelihood import LikelihoodGrid
+    from gnssatt.rinex.attitude import AttitudeSeries
 
-__all__ = ["error_vs_geometry", "likelihood_sections"]
+__all__ = ["attitude_series", "error_vs_geometry", "likelihood_sections"]
 
 
 def _pyplot():  # type: ignore[no-untyped-def]
@@ -92,5 +93,23 @@ def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) 
         fig.colorbar(im, ax=ax, label="Z")
     fig.tight_layout()
     fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def attitude_series(series: AttitudeSeries, path: Path) -> Path:
+    """Time series of the angles of :func:`gnssatt.rinex.attitude.attitude_from_rinex` (one panel each)."""
+    plt = _pyplot()
+    names = series.angle_names
+    minutes = (series.time - series.time[0]).astype("timedelta64[ms]").astype(np.float64) / 60_000.0
+    fig, axes = plt.subplots(len(names), 1, figsize=(8, 2.2 * len(names)), sharex=True, squeeze=False)
+    for ax, j in zip(axes[:, 0], range(len(names)), strict=True):
+        ax.plot(minutes, series.angles_deg[:, j], ".", ms=3)
+        ax.set_ylabel(names[j])
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel(f"minutes from {np.datetime_as_string(series.time[0], unit='s')} GPST")
+    fig.suptitle(f"{series.mode} mode, method {', '.join(sorted(set(series.method)))}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
     plt.close(fig)
     return path

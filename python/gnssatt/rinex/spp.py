@@ -1,0 +1,166 @@
+"""Single-point positioning from pseudoranges: each receiver's position and clock, epoch by epoch.
+
+Model: ``P_k = |r_k(t_tx) - x| + c (dt_r - dt_k) + T_k + e``, satellite positions at transmission in the
+ECEF frame of reception (:func:`gnssatt.rinex.ephemeris.transmit_states`), one receiver clock per
+satellite system (inter-system biases absorbed), troposphere ``2.3 m exp(-h / 8.5 km) / sin(el)``.
+Ionosphere: removed by the L1/L2 (band 1 / band 2) ionosphere-free combination where both codes exist,
+otherwise left in (metres; the position is used only for lines of sight and clocks). Single-frequency
+code: the broadcast group delay is applied (``dt_k - T_GD``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gnssatt.errors import RinexError
+from gnssatt.rinex.ephemeris import C, transmit_states
+from gnssatt.rinex.nav import RinexNav, gps_ns
+from gnssatt.rinex.obs import RinexObs
+from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
+
+__all__ = ["PointSolution", "code_observations", "elevation_azimuth_ecef", "single_point_positions"]
+
+_F1 = {"G": 1575.42e6, "J": 1575.42e6, "E": 1575.42e6, "C": 1561.098e6}
+_F2 = {"G": 1227.60e6, "J": 1227.60e6, "E": 1176.45e6, "C": 1207.14e6}
+_BAND2 = {"G": 2, "J": 2, "E": 5, "C": 7, "R": 2}
+
+
+@dataclass(frozen=True)
+class PointSolution:
+    """Per-epoch single-point solutions.
+
+    Attributes
+    ----------
+    time
+        (n_epochs,) epoch labels of the file, ``datetime64[ns]`` GPST.
+    position_ecef_m
+        (n_epochs, 3) receiver position, ECEF, m (NaN where unsolved).
+    clock_s
+        (n_epochs,) receiver clock offset of the first system present (GPS where present), s:
+        the true reception time is ``time - clock_s``.
+    n_sats
+        (n_epochs,) satellites used.
+    residual_rms_m
+        (n_epochs,) RMS of the pseudorange residuals, m.
+    """
+
+    time: NDArray[np.datetime64]
+    position_ecef_m: NDArray[np.float64]
+    clock_s: NDArray[np.float64]
+    n_sats: NDArray[np.int64]
+    residual_rms_m: NDArray[np.float64]
+
+    @property
+    def valid(self) -> NDArray[np.bool_]:
+        """(n_epochs,) epochs with a solution."""
+        return np.isfinite(self.clock_s)
+
+
+def elevation_azimuth_ecef(
+    receiver_ecef_m: NDArray[np.float64], sat_ecef_m: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Elevation (rad), azimuth (rad, clockwise from North) and unit ENU line of sight (n, 3) receiver ->
+    satellites."""
+    lat, lon, _ = ecef_to_geodetic(receiver_ecef_m)
+    d = sat_ecef_m - receiver_ecef_m
+    los = d / np.linalg.norm(d, axis=-1, keepdims=True)
+    enu = los @ dcm_ecef_from_enu(float(lat), float(lon))
+    return np.arcsin(np.clip(enu[:, 2], -1, 1)), np.arctan2(enu[:, 0], enu[:, 1]) % (2 * np.pi), enu
+
+
+def code_observations(obs: RinexObs) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """(n_epochs, n_sats) pseudoranges for positioning, m, and whether each is ionosphere-free."""
+    out = np.full(obs.data.shape[:2], np.nan)
+    iono_free = np.zeros(obs.data.shape[:2], dtype=bool)
+    for system in sorted({s[0] for s in obs.sats}):
+        cols = np.array([k for k, s in enumerate(obs.sats) if s[0] == system])
+        c1 = obs.code_for(system, "C", 1)
+        if c1 is None:
+            continue
+        p1 = obs.get(c1)[:, cols]
+        c2 = obs.code_for(system, "C", _BAND2.get(system, 2))
+        if c2 is not None and system in _F2:
+            p2 = obs.get(c2)[:, cols]
+            g = (_F1[system] / _F2[system]) ** 2
+            p_if = (g * p1 - p2) / (g - 1.0)
+            both = np.isfinite(p_if)
+            out[:, cols] = np.where(both, p_if, p1)
+            iono_free[:, cols] = both
+        else:
+            out[:, cols] = p1
+    return out, iono_free
+
+
+def single_point_positions(
+    obs: RinexObs, nav: RinexNav, *, elevation_mask_deg: float = 10.0, max_iter: int = 10
+) -> PointSolution:
+    """Position and clock of the receiver at every epoch from its pseudoranges (module docstring).
+
+    Raises
+    ------
+    RinexError
+        No epoch could be solved (fewer than 4 + systems - 1 satellites with ephemerides everywhere).
+    """
+    pr, iono_free = code_observations(obs)
+    t_ns = gps_ns(obs.time)
+    n_ep = len(obs.time)
+    pos_out = np.full((n_ep, 3), np.nan)
+    clk_out = np.full(n_ep, np.nan)
+    nsat_out = np.zeros(n_ep, dtype=np.int64)
+    rms_out = np.full(n_ep, np.nan)
+    x0 = obs.approx_position_m.copy() if np.linalg.norm(obs.approx_position_m) > 6e6 else np.zeros(3)
+    mask = np.radians(elevation_mask_deg)
+    for e in range(n_ep):
+        have = np.flatnonzero(np.isfinite(pr[e]))
+        sats = [obs.sats[k] for k in have]
+        if len(sats) < 4:
+            continue
+        p = pr[e, have]
+        sp, sclk, tgd, valid = transmit_states(nav, sats, int(t_ns[e]), x0, pseudorange_m=p)
+        if valid.sum() < 4:
+            continue
+        sp, sclk, tgd, p = sp[valid], sclk[valid], tgd[valid], p[valid]
+        sysc = np.array([s[0] for s in np.array(sats)[valid]])
+        sclk = np.where(iono_free[e, have][valid], sclk, sclk - tgd)
+        systems = sorted(set(sysc), key=lambda s: (s != "G", s))
+        x = np.concatenate([x0, np.zeros(len(systems))])
+        use = np.ones(len(p), dtype=bool)
+        for it in range(max_iter):
+            d = sp - x[:3]
+            rho = np.linalg.norm(d, axis=1)
+            if np.linalg.norm(x[:3]) > 6e6:
+                el, _, _ = elevation_azimuth_ecef(x[:3], sp)
+                _, _, h = ecef_to_geodetic(x[:3])
+                trop = 2.3 * np.exp(-max(float(h), 0.0) / 8500.0) / np.maximum(np.sin(el), 0.05)
+                use = el >= mask if it > 0 else np.ones(len(p), dtype=bool)
+            else:
+                trop = np.zeros(len(p))
+            clk_cols = np.array([systems.index(s) for s in sysc])
+            model = rho + x[3 + clk_cols] - C * sclk + trop
+            h_mat = np.zeros((len(p), 3 + len(systems)))
+            h_mat[:, :3] = -d / rho[:, None]
+            h_mat[np.arange(len(p)), 3 + clk_cols] = 1.0
+            a, b = h_mat[use], (p - model)[use]
+            if len(b) < 3 + len(systems):
+                x[:] = np.nan
+                break
+            dx = np.linalg.lstsq(a, b, rcond=None)[0]
+            x = x + dx
+            if np.linalg.norm(dx[:3]) < 1e-4:
+                break
+        if not np.all(np.isfinite(x)):
+            continue
+        res = (p - (np.linalg.norm(sp - x[:3], axis=1) + x[3 + clk_cols] - C * sclk + trop))[use]
+        pos_out[e] = x[:3]
+        clk_out[e] = x[3] / C
+        nsat_out[e] = int(use.sum())
+        rms_out[e] = float(np.sqrt(np.mean(res**2)))
+        x0 = x[:3].copy()
+    if not np.any(np.isfinite(clk_out)):
+        raise RinexError(
+            obs.path, None, "no epoch has 4 or more satellites with pseudoranges and ephemerides"
+        )
+    return PointSolution(obs.time, pos_out, clk_out, nsat_out, rms_out)

@@ -1,0 +1,105 @@
+"""RINEX reading, broadcast ephemerides and single-point positioning on the GEONET data (GSI GEONET,
+redistributed in RTKLIB's test data), plus clear errors on bad files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gnssatt.errors import RinexError
+from gnssatt.rinex import read_nav, read_obs, single_point_positions
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "rtklib_geonet_0759_3040"
+needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
+
+
+@needs_data
+def test_geonet_obs_header_and_first_epoch() -> None:
+    obs = read_obs(DATA / "07590920.05o")
+    assert obs.version == pytest.approx(2.10)
+    assert obs.marker_name == "0759"
+    np.testing.assert_allclose(obs.approx_position_m, [-3976219.5082, 3382372.5671, 3652512.9849])
+    assert obs.codes == ("L1", "C1", "L2", "P2")
+    assert obs.data.shape == (120, 11, 4)
+    assert str(obs.time[0]) == "2005-04-02T00:00:00.000000000"
+    assert str(obs.time[-1]) == "2005-04-02T00:59:30.005000000"
+    g03 = obs.sats.index("G03")
+    np.testing.assert_allclose(obs.data[0, g03], [55923622.160, 24767686.375, 43647388.242, 24767684.822])
+    assert obs.lli[0, g03, 2] == 4  # "43647388.2424": LLI 4 (anti-spoofing) on L2
+    assert obs.code_for("G", "C", 1) == "C1" and obs.code_for("G", "C", 2) == "P2"
+    assert np.isnan(obs.data[0, obs.sats.index("G01")]).all()  # G01 rises later
+
+
+@needs_data
+def test_geonet_nav_records() -> None:
+    nav = read_nav(DATA / "07590920.05n")
+    k = nav.kepler
+    first = int(np.flatnonzero(k.sats == "G01")[0])
+    assert k.fields["sqrt_a"][first] == pytest.approx(5153.63647842)
+    # toe 525600 s of week 1316 = 2005-04-02 02:00 GPST (the record's toc)
+    assert k.toe_ns[first] == k.toc_ns[first]
+    np.testing.assert_allclose(nav.iono_alpha, [1.1180e-08, 1.4900e-08, -5.9600e-08, -5.9600e-08])
+
+
+@needs_data
+@pytest.mark.parametrize("station", ["0759", "3040"])
+def test_geonet_single_point_position_matches_header(station: str) -> None:
+    obs = read_obs(DATA / f"{station}0920.05o")
+    nav = read_nav(DATA / f"{station}0920.05n")
+    sol = single_point_positions(obs, nav)
+    assert sol.valid.all()
+    err = np.linalg.norm(sol.position_ecef_m - obs.approx_position_m, axis=1)
+    assert np.median(err) < 10.0  # ionosphere-free code; header good to a few metres
+    assert np.median(sol.residual_rms_m) < 3.0
+    # the receivers' clocks differ (0759 drifts to ~ +4.7 ms, its last label is 00:59:30.005)
+    assert abs(sol.clock_s[-1]) > 1e-3
+
+
+def _write(tmp_path: Path, name: str, text: str) -> Path:
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+@needs_data
+def test_truncated_obs_names_file_and_line(tmp_path: Path) -> None:
+    lines = (DATA / "07590920.05o").read_text().splitlines()
+    bad = _write(tmp_path, "trunc.05o", "\n".join(lines[:22]) + "\n")
+    with pytest.raises(RinexError, match=r"trunc\.05o, line \d+: file truncated") as info:
+        read_obs(bad)
+    assert info.value.line is not None
+
+
+@needs_data
+def test_unknown_version_and_missing_header_lines(tmp_path: Path) -> None:
+    text = (DATA / "07590920.05o").read_text()
+    bad = _write(
+        tmp_path,
+        "v9.05o",
+        text.replace("     2.10           OBSERVATION", "     9.10           OBSERVATION", 1),
+    )
+    with pytest.raises(RinexError, match=r"v9\.05o, line 1: unknown RINEX version 9\.1"):
+        read_obs(bad)
+    no_types = "\n".join(ln for ln in text.splitlines() if "TYPES OF OBSERV" not in ln)
+    with pytest.raises(RinexError, match=r"missing header line '# / TYPES OF OBSERV'"):
+        read_obs(_write(tmp_path, "notypes.05o", no_types))
+    no_end = "\n".join(text.splitlines()[:10])
+    with pytest.raises(RinexError, match=r"missing header line 'END OF HEADER'"):
+        read_obs(_write(tmp_path, "noend.05o", no_end))
+    garbled = text.replace("  55923622.160  ", "  5592x622.160  ", 1)
+    with pytest.raises(RinexError, match=r"garbled\.05o, line 19: expected a number"):
+        read_obs(_write(tmp_path, "garbled.05o", garbled))
+    with pytest.raises(RinexError, match="cannot open"):
+        read_obs(tmp_path / "absent.05o")
+    with pytest.raises(RinexError, match="expected an observation file"):
+        read_obs(DATA / "07590920.05n")
+
+
+@needs_data
+def test_truncated_nav(tmp_path: Path) -> None:
+    lines = (DATA / "07590920.05n").read_text().splitlines()
+    bad = _write(tmp_path, "trunc.05n", "\n".join(lines[:16]) + "\n")
+    with pytest.raises(RinexError, match=r"trunc\.05n, line 16: file truncated inside the record"):
+        read_nav(bad)
