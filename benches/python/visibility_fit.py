@@ -99,12 +99,11 @@ def main() -> None:
     print(f"batch objective, 90 states x 1501 epochs: Rust {t_rust * 1e3:.1f} ms, numpy {t_np * 1e3:.0f} ms,")
     print(f"  ratio {t_np / t_rust:.0f}x; max relative difference {agree:.1e}")
 
-    from concurrent.futures import ProcessPoolExecutor
-
+    # The driver's default pool uses the spawn start method: a forked worker would inherit rayon's threads
+    # (already started above) and deadlock.
     n = args.trials
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(max_workers=os.cpu_count()) as ex:
-        montecarlo.run(vr.trial, n, seed=1, executor=ex, progress=False)
+    montecarlo.run(vr.trial, n, seed=1, progress=False)
     dt = time.perf_counter() - t0
     print(
         f"study: {n} trials in {dt:.1f} s on {os.cpu_count()} cores -> 400 trials extrapolated to "
