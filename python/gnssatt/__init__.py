@@ -5,7 +5,7 @@ mapping body-frame vectors into the reference frame in which the lines of sight 
 given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 """
 
-from gnssatt import errors, rinex, sim
+from gnssatt import errors, rinex, sim, tumble
 from gnssatt._core import __version__
 from gnssatt.ambiguity import (
     PartialFixResult,
@@ -29,6 +29,8 @@ from gnssatt.likelihood import (
     prior_from_velocity,
 )
 from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
+from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
+from gnssatt.visibility import visibility_axis
 
 __all__ = [
     "AttitudePrior",
@@ -42,9 +44,12 @@ __all__ = [
     "MatrixAttitudeResult",
     "PartialFixResult",
     "RatioTestResult",
+    "RotationFit",
+    "TumbleModel",
     "__version__",
     "bootstrap_success_rate",
     "errors",
+    "fit_rotation",
     "lambda_decorrelate",
     "lambda_ils",
     "likelihood_grid",
@@ -57,4 +62,6 @@ __all__ = [
     "ratio_threshold_fixed_failure_rate",
     "rinex",
     "sim",
+    "tumble",
+    "visibility_axis",
 ]

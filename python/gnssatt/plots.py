@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from gnssatt.likelihood import LikelihoodGrid
     from gnssatt.rinex.attitude import AttitudeSeries
 
-__all__ = ["attitude_series", "error_vs_geometry", "likelihood_sections"]
+__all__ = ["attitude_series", "error_histograms", "error_vs_geometry", "likelihood_sections"]
 
 
 def _pyplot():  # type: ignore[no-untyped-def]
@@ -111,5 +111,21 @@ def attitude_series(series: AttitudeSeries, path: Path) -> Path:
     fig.suptitle(f"{series.mode} mode, method {', '.join(sorted(set(series.method)))}")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
+
+
+def error_histograms(errors: Mapping[str, ArrayLike], path: Path, *, title: str, unit: str) -> Path:
+    """One histogram (probability density) per error series, titled with its mean ``M`` and standard
+    deviation ``sigma``, like seed 004's figures 3 and 4; saved as PNG at ``path``."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, len(errors), figsize=(4 * len(errors), 3.6), dpi=120, squeeze=False)
+    for ax, (label, values) in zip(axes[0], errors.items(), strict=True):
+        v = np.asarray(values, dtype=float)
+        ax.hist(v, bins=30, density=True, color="C0", alpha=0.8)
+        ax.set(xlabel=f"error {label} ({unit})", ylabel="probability density")
+        ax.set_title(f"M = {np.mean(v):.3g}, sigma = {np.std(v):.3g}", fontsize=9)
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
     plt.close(fig)
     return path

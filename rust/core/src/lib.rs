@@ -5,6 +5,7 @@
 //! sequences, quaternion order, units) are those of `docs/conventions.md`; every angle here is in radians
 //! and every length in metres.
 
+pub mod dynamics;
 pub mod error;
 pub mod lambda;
 pub mod likelihood;

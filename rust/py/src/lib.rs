@@ -4,6 +4,7 @@
 use pyo3::prelude::*;
 
 mod convert;
+mod dynamics;
 mod errors;
 mod lambda;
 mod likelihood;
@@ -17,5 +18,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     matrix_method::register(m)?;
     likelihood::register(m)?;
     lambda::register(m)?;
+    dynamics::register(m)?;
     Ok(())
 }

@@ -1,0 +1,228 @@
+//! The right-hand side of Euler's equations (3) and the quaternion kinematics (4).
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::{ensure_finite, Error, Result};
+use crate::rotation::euler::YZY;
+
+/// Aerodynamic torque parameters: drag `F = -0.5 rho Cd S |V| V` applied at the centre of pressure.
+///
+/// The spacecraft moves along `+Y0` at `speed_m_s` through a still atmosphere; `area_m2` is held
+/// constant (the paper's projected area `S` is attitude dependent; a constant is the usual simplification).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aerodynamics {
+    /// Atmospheric density, kg/m^3 (about 5e-13 at 500 km, moderate solar activity).
+    pub density_kg_m3: f64,
+    /// Drag coefficient `Cx` (dimensionless, about 2.2 for a free-molecular flow).
+    pub drag_coefficient: f64,
+    /// Reference area `S`, m^2.
+    pub area_m2: f64,
+    /// Vector from the centre of mass to the centre of pressure in body axes, m.
+    pub cp_offset_m: [f64; 3],
+    /// Orbital speed, m/s.
+    pub speed_m_s: f64,
+}
+
+impl Aerodynamics {
+    /// No aerodynamic torque.
+    pub const NONE: Aerodynamics = Aerodynamics {
+        density_kg_m3: 0.0,
+        drag_coefficient: 0.0,
+        area_m2: 0.0,
+        cp_offset_m: [0.0; 3],
+        speed_m_s: 0.0,
+    };
+}
+
+/// Parameters of eqs. (3)-(4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TumbleModel {
+    /// Principal moments of inertia `(Ix, Iy, Iz)`, kg m^2. The gravity-gradient motion depends only on
+    /// the dimensionless ratios (e.g. `Ix/Iz`, `Iy/Iz`); the absolute scale matters for the aerodynamic
+    /// torque.
+    pub inertia_kg_m2: [f64; 3],
+    /// Orbital rate `w0`, rad/s; the gravity-gradient coefficient is `3 w0^2 = 3 mu / r^3`.
+    pub orbital_rate_rad_s: f64,
+    /// Whether the gravity-gradient torque acts (the orbital frame turns at `w0` either way).
+    pub gravity_gradient: bool,
+    /// Aerodynamic torque parameters.
+    pub aero: Aerodynamics,
+}
+
+/// Quaternion (scalar first, `dcm_orb0_from_body`) and absolute angular velocity (body axes, rad/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State {
+    pub q: [f64; 4],
+    pub omega: [f64; 3],
+}
+
+impl TumbleModel {
+    /// Checks every parameter.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`]; [`Error::OutOfRange`] for non-positive moments, moments that break the
+    /// triangle inequality, a negative rate, density, drag coefficient, area or speed.
+    pub fn validate(&self) -> Result<()> {
+        let a = &self.aero;
+        ensure_finite("inertia_kg_m2", self.inertia_kg_m2.iter())?;
+        ensure_finite(
+            "model parameters",
+            [
+                self.orbital_rate_rad_s,
+                a.density_kg_m3,
+                a.drag_coefficient,
+                a.area_m2,
+                a.speed_m_s,
+            ]
+            .iter()
+            .chain(a.cp_offset_m.iter()),
+        )?;
+        let [ix, iy, iz] = self.inertia_kg_m2;
+        if ix <= 0.0 || iy <= 0.0 || iz <= 0.0 {
+            return Err(Error::out_of_range(
+                "inertia_kg_m2",
+                format!("expected positive principal moments, got ({ix}, {iy}, {iz})"),
+            ));
+        }
+        let tol = 1e-12 * (ix + iy + iz);
+        if ix + iy < iz - tol || iy + iz < ix - tol || iz + ix < iy - tol {
+            return Err(Error::out_of_range(
+                "inertia_kg_m2",
+                format!("principal moments ({ix}, {iy}, {iz}) violate the triangle inequality"),
+            ));
+        }
+        for (name, v) in [
+            ("orbital_rate_rad_s", self.orbital_rate_rad_s),
+            ("density_kg_m3", a.density_kg_m3),
+            ("drag_coefficient", a.drag_coefficient),
+            ("area_m2", a.area_m2),
+            ("speed_m_s", a.speed_m_s),
+        ] {
+            if v < 0.0 {
+                return Err(Error::out_of_range(name, format!("expected >= 0, got {v}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Time derivative of `(q, omega)`.
+    #[inline]
+    pub fn derivative(&self, s: &State) -> State {
+        let [w, x, y, z] = s.q;
+        // Rows 0 and 1 of dcm_orb0_from_body: X0 (radial) and Y0 (velocity) in body axes.
+        let e_r = [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ];
+        let e_v = [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ];
+        // Z0 (orbit normal) in body axes: row 2.
+        let e_n = [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ];
+        let [ix, iy, iz] = self.inertia_kg_m2;
+        let [p, r_, t] = s.omega;
+        // Euler: I w' = (I w) x w + M.
+        let mut m = [(iy - iz) * r_ * t, (iz - ix) * t * p, (ix - iy) * p * r_];
+        if self.gravity_gradient {
+            let g = 3.0 * self.orbital_rate_rad_s * self.orbital_rate_rad_s;
+            // M = 3 w0^2 e x (I e).
+            m[0] += g * (iz - iy) * e_r[1] * e_r[2];
+            m[1] += g * (ix - iz) * e_r[2] * e_r[0];
+            m[2] += g * (iy - ix) * e_r[0] * e_r[1];
+        }
+        let a = &self.aero;
+        if a.density_kg_m3 > 0.0 {
+            // F = -k V_body with k = 0.5 rho Cd S |V|, V_body = |V| e_v; M = r x F.
+            let k =
+                0.5 * a.density_kg_m3 * a.drag_coefficient * a.area_m2 * a.speed_m_s * a.speed_m_s;
+            let f = [-k * e_v[0], -k * e_v[1], -k * e_v[2]];
+            let c = a.cp_offset_m;
+            m[0] += c[1] * f[2] - c[2] * f[1];
+            m[1] += c[2] * f[0] - c[0] * f[2];
+            m[2] += c[0] * f[1] - c[1] * f[0];
+        }
+        // Relative angular velocity: omega - w0 Z0 (body axes).
+        let w0 = self.orbital_rate_rad_s;
+        let u = [p - w0 * e_n[0], r_ - w0 * e_n[1], t - w0 * e_n[2]];
+        // q' = 0.5 q (x) (0, u).
+        let dq = [
+            0.5 * (-x * u[0] - y * u[1] - z * u[2]),
+            0.5 * (w * u[0] + y * u[2] - z * u[1]),
+            0.5 * (w * u[1] + z * u[0] - x * u[2]),
+            0.5 * (w * u[2] + x * u[1] - y * u[0]),
+        ];
+        State {
+            q: dq,
+            omega: [m[0] / ix, m[1] / iy, m[2] / iz],
+        }
+    }
+
+    /// Rotational kinetic energy `0.5 omega . I omega`, J (absolute rates).
+    pub fn kinetic_energy(&self, s: &State) -> f64 {
+        let i = self.inertia_kg_m2;
+        0.5 * (0..3).map(|k| i[k] * s.omega[k] * s.omega[k]).sum::<f64>()
+    }
+
+    /// Angular momentum `R I omega` in the paper's orbital axes, kg m^2/s.
+    pub fn angular_momentum_orb0(&self, s: &State) -> Vector3<f64> {
+        let i = self.inertia_kg_m2;
+        s.dcm_orb0_from_body()
+            * Vector3::new(i[0] * s.omega[0], i[1] * s.omega[1], i[2] * s.omega[2])
+    }
+}
+
+impl State {
+    /// State from the paper's angles (precession, attack, spin; intrinsic `YZY` in the paper's orbital
+    /// frame, rad) and the absolute angular velocity in body axes (rad/s).
+    pub fn from_angles(angles_rad: [f64; 3], omega_rad_s: [f64; 3]) -> State {
+        let m = YZY.to_dcm(angles_rad);
+        let [x, y, z, w] = crate::rotation::quaternion::from_dcm(&m);
+        State {
+            q: [w, x, y, z],
+            omega: omega_rad_s,
+        }
+    }
+
+    /// `dcm_orb0_from_body` (paper orbital axes).
+    pub fn dcm_orb0_from_body(&self) -> Matrix3<f64> {
+        let [w, x, y, z] = self.q;
+        Matrix3::new(
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        )
+    }
+
+    /// The antenna (body `Yc`) axis in the library's orbital frame (x along-track, y normal, z radial).
+    #[inline]
+    pub fn axis_orbital(&self) -> [f64; 3] {
+        let [w, x, y, z] = self.q;
+        let n2 = w * w + x * x + y * y + z * z;
+        // Column 1 of dcm_orb0_from_body = (X0, Y0, Z0) components; divide by |q|^2 to stay unit.
+        let c0 = 2.0 * (x * y - w * z) / n2;
+        let c1 = (w * w - x * x + y * y - z * z) / n2;
+        let c2 = 2.0 * (y * z + w * x) / n2;
+        [c1, c2, c0]
+    }
+
+    pub(crate) fn normalized(mut self) -> State {
+        let n = self.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for v in &mut self.q {
+            *v /= n;
+        }
+        self
+    }
+}

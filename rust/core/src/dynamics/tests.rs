@@ -1,0 +1,218 @@
+use super::*;
+use crate::Error;
+
+const MU: f64 = 3.986_004_418e14;
+
+fn w0_500km() -> f64 {
+    (MU / 6_878_137f64.powi(3)).sqrt()
+}
+
+fn model(inertia: [f64; 3], w0: f64, gg: bool) -> TumbleModel {
+    TumbleModel {
+        inertia_kg_m2: inertia,
+        orbital_rate_rad_s: w0,
+        gravity_gradient: gg,
+        aero: Aerodynamics::NONE,
+    }
+}
+
+fn times(n: usize, dt: f64) -> Vec<f64> {
+    (0..n).map(|k| k as f64 * dt).collect()
+}
+
+fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    d.clamp(-1.0, 1.0).acos()
+}
+
+fn tumbling_state() -> State {
+    let d = 3f64.to_radians();
+    State::from_angles([0.7, 1.1, -2.0], [0.6 * d, -0.5 * d, 0.55 * d])
+}
+
+/// Largest relative drift of energy and |L| (orbital axes, inertial when w0 = 0) over 1500 s.
+fn torque_free_drift(step: f64) -> (f64, f64) {
+    let m = model([0.035, 0.008, 0.03], 0.0, false);
+    let s0 = tumbling_state();
+    let out = propagate(&m, s0, &times(1501, 1.0), step).unwrap();
+    let (e0, l0) = (m.kinetic_energy(&s0), m.angular_momentum_orb0(&s0));
+    let de = out
+        .iter()
+        .map(|s| ((m.kinetic_energy(s) - e0) / e0).abs())
+        .fold(0.0, f64::max);
+    let dl = out
+        .iter()
+        .map(|s| (m.angular_momentum_orb0(s) - l0).norm() / l0.norm())
+        .fold(0.0, f64::max);
+    (de, dl)
+}
+
+#[test]
+fn torque_free_motion_conserves_energy_and_momentum_to_rk4_order() {
+    let (de1, dl1) = torque_free_drift(1.0);
+    let (de2, dl2) = torque_free_drift(0.5);
+    // |omega| h ~ 0.05 rad per step: RK4's O(h^4) global error gives ~1e-8 relative drift over 1500 s.
+    assert!(de1 < 1e-7 && dl1 < 1e-7, "drift {de1:e} {dl1:e}");
+    // Halving the step divides the error by 2^4 = 16 or more (order 4; the energy error here is nearer
+    // 2^5 because its leading term averages out over a tumble period).
+    assert!(
+        de1 / de2 > 12.0 && de1 / de2 < 40.0,
+        "energy ratio {}",
+        de1 / de2
+    );
+    assert!(
+        dl1 / dl2 > 12.0 && dl1 / dl2 < 40.0,
+        "momentum ratio {}",
+        dl1 / dl2
+    );
+}
+
+#[test]
+fn axis_with_one_second_step_matches_a_fine_step() {
+    let mut m = model([0.035, 0.008, 0.03], w0_500km(), true);
+    m.aero = paper_aero();
+    let t = times(151, 10.0);
+    let coarse = propagate_axes(&m, tumbling_state(), &t, 1.0).unwrap();
+    let fine = propagate_axes(&m, tumbling_state(), &t, 0.125).unwrap();
+    let worst = coarse
+        .iter()
+        .zip(&fine)
+        .map(|(a, b)| angle(*a, *b))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "axis error {worst:e} rad");
+}
+
+fn paper_aero() -> Aerodynamics {
+    Aerodynamics {
+        density_kg_m3: 5e-13,
+        drag_coefficient: 2.2,
+        area_m2: 0.03,
+        cp_offset_m: [0.002, -0.01, 0.001],
+        speed_m_s: 7612.6,
+    }
+}
+
+/// Largest angle (rad) between body axes and the paper's orbital axes over `orbits` orbits, starting
+/// near the orbital frame turning with it.
+fn max_libration(inertia: [f64; 3], orbits: f64) -> f64 {
+    let w0 = w0_500km();
+    let m = model(inertia, w0, true);
+    let s0 = State::from_angles([0.01, 0.01, 0.0], [0.01 * w0, -0.01 * w0, 1.01 * w0]);
+    let period = 2.0 * std::f64::consts::PI / w0;
+    let t = times((orbits * 100.0) as usize + 1, period / 100.0);
+    propagate(&m, s0, &t, 10.0)
+        .unwrap()
+        .iter()
+        .map(|s| 2.0 * s.q[0].abs().clamp(0.0, 1.0).acos())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn gravity_gradient_lagrange_equilibrium_is_stable() {
+    // Least inertia radial (Xc), greatest along the orbit normal (Zc): small librations stay small.
+    let worst = max_libration([1.0, 2.0, 3.0], 5.0);
+    assert!(worst < 0.05, "libration grew to {worst} rad");
+}
+
+#[test]
+fn gravity_gradient_pitch_instability_diverges() {
+    // Radial inertia above along-track inertia: negative pitch stiffness 3 w0^2 (Iy - Ix) / Iz.
+    let worst = max_libration([2.0, 1.0, 3.0], 5.0);
+    assert!(worst > 1.0, "libration stayed at {worst} rad");
+}
+
+#[test]
+fn aerodynamic_torque_is_cp_offset_cross_drag() {
+    let mut m = model([0.035, 0.008, 0.03], 0.0, false);
+    m.aero = paper_aero();
+    let s = State::from_angles([0.0; 3], [0.0; 3]);
+    let d = m.derivative(&s);
+    let a = paper_aero();
+    let k = 0.5 * a.density_kg_m3 * a.drag_coefficient * a.area_m2 * a.speed_m_s.powi(2);
+    // Body = orbital: velocity along +Yc, drag F = (0, -k, 0), M = r x F = (r_z k, 0, -r_x k).
+    let c = a.cp_offset_m;
+    let expect = [c[2] * k / 0.035, 0.0, -c[0] * k / 0.03];
+    for i in 0..3 {
+        assert!(
+            (d.omega[i] - expect[i]).abs() < 1e-18,
+            "{:?} {:?}",
+            d.omega,
+            expect
+        );
+    }
+}
+
+#[test]
+fn initial_axis_follows_the_yzy_angles() {
+    let (psi, alpha) = (0.4_f64, 1.2_f64);
+    let s = State::from_angles([psi, alpha, 2.5], [0.0; 3]);
+    let a = s.axis_orbital();
+    // R_y(psi) R_z(alpha) e_y = (-sin a cos p, cos a, sin a sin p) in (X0, Y0, Z0); library = (Y0, Z0, X0).
+    let expect = [
+        alpha.cos(),
+        alpha.sin() * psi.sin(),
+        -alpha.sin() * psi.cos(),
+    ];
+    for i in 0..3 {
+        assert!((a[i] - expect[i]).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn batch_matches_single_propagation_and_cost_vanishes_at_truth() {
+    let mut m = model([0.035, 0.008, 0.03], w0_500km(), true);
+    m.aero = paper_aero();
+    let t = times(31, 50.0);
+    let d = 1f64.to_radians();
+    let params = [
+        [0.7, 1.1, -2.0, 0.6 * d, -0.5 * d, 0.55 * d],
+        [3.0, 0.3, 1.0, -2.0 * d, 0.1 * d, 1.0 * d],
+    ];
+    let batch = propagate_axes_batch(&m, &params, &t, 1.0).unwrap();
+    for (b, axes) in params.iter().zip(&batch) {
+        let s = State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
+        assert_eq!(&propagate_axes(&m, s, &t, 1.0).unwrap(), axes);
+    }
+    let cost = axis_cost_batch(&m, &params, &t, &batch[0], 1.0).unwrap();
+    assert_eq!(cost[0], 0.0);
+    assert!(cost[1] > 1.0);
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let m = model([0.035, 0.008, 0.03], w0_500km(), true);
+    let s = tumbling_state();
+    assert!(matches!(
+        propagate(&m, s, &[0.0, 2.0, 1.0], 1.0),
+        Err(Error::OutOfRange { name: "times", .. })
+    ));
+    assert!(matches!(
+        propagate(&m, s, &[-1.0], 1.0),
+        Err(Error::OutOfRange { .. })
+    ));
+    assert!(matches!(
+        propagate(&m, s, &[1.0], 0.0),
+        Err(Error::OutOfRange { name: "step_s", .. })
+    ));
+    assert!(matches!(
+        propagate(&m, s, &[f64::NAN], 1.0),
+        Err(Error::NonFinite { .. })
+    ));
+    let bad = model([1.0, 1.0, 3.0], 0.001, true);
+    assert!(matches!(
+        propagate(&bad, s, &[1.0], 1.0),
+        Err(Error::OutOfRange {
+            name: "inertia_kg_m2",
+            ..
+        })
+    ));
+    let t = [0.0, 1.0];
+    assert!(matches!(
+        axis_cost_batch(&m, &[[0.0; 6]], &t, &[[1.0, 0.0, 0.0]], 1.0),
+        Err(Error::Shape { .. })
+    ));
+    assert!(matches!(
+        propagate_axes_batch(&m, &[[0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0]], &t, 1.0),
+        Err(Error::NonFinite { .. })
+    ));
+}

@@ -1,0 +1,192 @@
+//! Binding of the seed-004 rotational dynamics. The Python layer (`gnssatt.visibility`) packs the model
+//! parameters; `params` rows are `(psi, alpha, phi, wx, wy, wz)` (rad, rad/s), axes come back in the
+//! library's orbital frame (x along-track, y orbit normal, z radial).
+
+use gnssatt_core::dynamics::{
+    axis_cost_batch, propagate, propagate_axes_batch, Aerodynamics, State, TumbleModel,
+};
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+
+use crate::convert::{dvector, vectors};
+use crate::errors::{invalid_input, IntoPyResult};
+
+#[allow(clippy::too_many_arguments)]
+fn model(
+    inertia_kg_m2: [f64; 3],
+    orbital_rate_rad_s: f64,
+    gravity_gradient: bool,
+    density_kg_m3: f64,
+    drag_coefficient: f64,
+    area_m2: f64,
+    cp_offset_m: [f64; 3],
+    speed_m_s: f64,
+) -> TumbleModel {
+    TumbleModel {
+        inertia_kg_m2,
+        orbital_rate_rad_s,
+        gravity_gradient,
+        aero: Aerodynamics {
+            density_kg_m3,
+            drag_coefficient,
+            area_m2,
+            cp_offset_m,
+            speed_m_s,
+        },
+    }
+}
+
+fn param_rows(py: Python<'_>, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 6]>> {
+    let a = a.as_array();
+    if a.ncols() != 6 {
+        return Err(invalid_input(
+            py,
+            format!("expected params of shape (n, 6), got {:?}", a.shape()),
+        ));
+    }
+    Ok(a.rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
+        .collect())
+}
+
+/// Antenna axes (n, m, 3) of n initial states at m times.
+#[pyfunction]
+#[pyo3(signature = (params, times_s, *, inertia_kg_m2, orbital_rate_rad_s, gravity_gradient,
+    density_kg_m3, drag_coefficient, area_m2, cp_offset_m, speed_m_s, step_s))]
+#[allow(clippy::too_many_arguments)]
+fn tumble_axes<'py>(
+    py: Python<'py>,
+    params: PyReadonlyArray2<'_, f64>,
+    times_s: PyReadonlyArray1<'_, f64>,
+    inertia_kg_m2: [f64; 3],
+    orbital_rate_rad_s: f64,
+    gravity_gradient: bool,
+    density_kg_m3: f64,
+    drag_coefficient: f64,
+    area_m2: f64,
+    cp_offset_m: [f64; 3],
+    speed_m_s: f64,
+    step_s: f64,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let m = model(
+        inertia_kg_m2,
+        orbital_rate_rad_s,
+        gravity_gradient,
+        density_kg_m3,
+        drag_coefficient,
+        area_m2,
+        cp_offset_m,
+        speed_m_s,
+    );
+    let b = param_rows(py, &params)?;
+    let t: Vec<f64> = times_s.as_array().iter().copied().collect();
+    let axes = py
+        .detach(|| propagate_axes_batch(&m, &b, &t, step_s))
+        .into_py_result(py)?;
+    let out = Array3::from_shape_fn((b.len(), t.len(), 3), |(i, k, j)| axes[i][k][j]);
+    Ok(out.into_pyarray(py))
+}
+
+/// Objective (1) for each of n parameter rows against measured axes (m, 3).
+#[pyfunction]
+#[pyo3(signature = (params, times_s, measured, *, inertia_kg_m2, orbital_rate_rad_s,
+    gravity_gradient, density_kg_m3, drag_coefficient, area_m2, cp_offset_m, speed_m_s, step_s))]
+#[allow(clippy::too_many_arguments)]
+fn tumble_cost<'py>(
+    py: Python<'py>,
+    params: PyReadonlyArray2<'_, f64>,
+    times_s: PyReadonlyArray1<'_, f64>,
+    measured: PyReadonlyArray2<'_, f64>,
+    inertia_kg_m2: [f64; 3],
+    orbital_rate_rad_s: f64,
+    gravity_gradient: bool,
+    density_kg_m3: f64,
+    drag_coefficient: f64,
+    area_m2: f64,
+    cp_offset_m: [f64; 3],
+    speed_m_s: f64,
+    step_s: f64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let m = model(
+        inertia_kg_m2,
+        orbital_rate_rad_s,
+        gravity_gradient,
+        density_kg_m3,
+        drag_coefficient,
+        area_m2,
+        cp_offset_m,
+        speed_m_s,
+    );
+    let b = param_rows(py, &params)?;
+    let t: Vec<f64> = times_s.as_array().iter().copied().collect();
+    let meas: Vec<[f64; 3]> = vectors(py, "measured", &measured)?
+        .iter()
+        .map(|v| [v.x, v.y, v.z])
+        .collect();
+    let cost = py
+        .detach(|| axis_cost_batch(&m, &b, &t, &meas, step_s))
+        .into_py_result(py)?;
+    Ok(cost.into_pyarray(py))
+}
+
+/// Full states (m, 7) of one initial state: scalar-last quaternion of `dcm_orb0_from_body` (the paper's
+/// orbital axes X0 radial, Y0 along-track, Z0 normal) and the absolute angular velocity (body, rad/s).
+#[pyfunction]
+#[pyo3(signature = (param, times_s, *, inertia_kg_m2, orbital_rate_rad_s, gravity_gradient,
+    density_kg_m3, drag_coefficient, area_m2, cp_offset_m, speed_m_s, step_s))]
+#[allow(clippy::too_many_arguments)]
+fn tumble_states<'py>(
+    py: Python<'py>,
+    param: PyReadonlyArray1<'_, f64>,
+    times_s: PyReadonlyArray1<'_, f64>,
+    inertia_kg_m2: [f64; 3],
+    orbital_rate_rad_s: f64,
+    gravity_gradient: bool,
+    density_kg_m3: f64,
+    drag_coefficient: f64,
+    area_m2: f64,
+    cp_offset_m: [f64; 3],
+    speed_m_s: f64,
+    step_s: f64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let m = model(
+        inertia_kg_m2,
+        orbital_rate_rad_s,
+        gravity_gradient,
+        density_kg_m3,
+        drag_coefficient,
+        area_m2,
+        cp_offset_m,
+        speed_m_s,
+    );
+    let b = dvector(py, "param", &param)?;
+    if b.len() != 6 {
+        return Err(invalid_input(
+            py,
+            format!("expected param of shape (6,), got ({},)", b.len()),
+        ));
+    }
+    let s0 = State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
+    let t: Vec<f64> = times_s.as_array().iter().copied().collect();
+    let states = py
+        .detach(|| propagate(&m, s0, &t, step_s))
+        .into_py_result(py)?;
+    let out = Array2::from_shape_fn((t.len(), 7), |(k, j)| {
+        let s = &states[k];
+        match j {
+            0..=2 => s.q[j + 1],
+            3 => s.q[0],
+            _ => s.omega[j - 4],
+        }
+    });
+    Ok(out.into_pyarray(py))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(tumble_axes, m)?)?;
+    m.add_function(wrap_pyfunction!(tumble_cost, m)?)?;
+    m.add_function(wrap_pyfunction!(tumble_states, m)?)?;
+    Ok(())
+}
