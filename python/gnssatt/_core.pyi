@@ -4,6 +4,8 @@ every native function is declared here.
 Angles in radians, lengths in metres.
 """
 
+from typing import TypedDict
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -99,46 +101,37 @@ def lambda_partial_fix(
 
 # dynamics.rs: params (n, 6) = (psi, alpha, phi) rad (intrinsic YZY, paper orbital axes) and absolute body
 # rates rad/s; axes in the library orbital frame (x along-track, y normal, z radial).
+class TumbleModelArgs(TypedDict):
+    """Seed-004 model parameters, SI units (``gnssatt.tumble.TumbleModel._kwargs()``)."""
+
+    inertia_kg_m2: tuple[float, float, float]
+    orbital_rate_rad_s: float
+    gravity_gradient: bool
+    density_kg_m3: float
+    drag_coefficient: float
+    area_m2: float
+    cp_offset_m: tuple[float, float, float]
+    speed_m_s: float
+
 def tumble_axes(
     params: NDArray[np.float64],
     times_s: NDArray[np.float64],
+    model: TumbleModelArgs,
     *,
-    inertia_kg_m2: tuple[float, float, float],
-    orbital_rate_rad_s: float,
-    gravity_gradient: bool,
-    density_kg_m3: float,
-    drag_coefficient: float,
-    area_m2: float,
-    cp_offset_m: tuple[float, float, float],
-    speed_m_s: float,
     step_s: float,
 ) -> NDArray[np.float64]: ...
 def tumble_cost(
     params: NDArray[np.float64],
     times_s: NDArray[np.float64],
     measured: NDArray[np.float64],
+    model: TumbleModelArgs,
     *,
-    inertia_kg_m2: tuple[float, float, float],
-    orbital_rate_rad_s: float,
-    gravity_gradient: bool,
-    density_kg_m3: float,
-    drag_coefficient: float,
-    area_m2: float,
-    cp_offset_m: tuple[float, float, float],
-    speed_m_s: float,
     step_s: float,
 ) -> NDArray[np.float64]: ...
 def tumble_states(
     param: NDArray[np.float64],
     times_s: NDArray[np.float64],
+    model: TumbleModelArgs,
     *,
-    inertia_kg_m2: tuple[float, float, float],
-    orbital_rate_rad_s: float,
-    gravity_gradient: bool,
-    density_kg_m3: float,
-    drag_coefficient: float,
-    area_m2: float,
-    cp_offset_m: tuple[float, float, float],
-    speed_m_s: float,
     step_s: float,
 ) -> NDArray[np.float64]: ...

@@ -144,7 +144,7 @@ def propagate_axes(
     (n_t, 3) or (n, n_t, 3). The batch runs on rayon's pool (``RAYON_NUM_THREADS`` sets its size).
     """
     p = float_array("params", params, ndim=(1, 2), shape="(6,) or (n, 6)")
-    out = _core.tumble_axes(np.atleast_2d(p), _times(t), step_s=float(step_s), **_default(model)._kwargs())
+    out = _core.tumble_axes(np.atleast_2d(p), _times(t), _default(model)._kwargs(), step_s=float(step_s))
     return out[0] if p.ndim == 1 else out
 
 
@@ -159,7 +159,7 @@ def axis_cost(
     """Objective (1): ``sum_k |a(t_k; b) - a_meas_k|^2`` for each row ``b`` of ``params`` (n, 6) -> (n,)."""
     p = float_array("params", params, ndim=(1, 2), shape="(6,) or (n, 6)")
     m = float_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
-    out = _core.tumble_cost(np.atleast_2d(p), _times(t), m, step_s=float(step_s), **_default(model)._kwargs())
+    out = _core.tumble_cost(np.atleast_2d(p), _times(t), m, _default(model)._kwargs(), step_s=float(step_s))
     return out if p.ndim == 2 else out[:1]
 
 
@@ -191,7 +191,7 @@ def propagate(
     """Full state history of one initial state ``params`` (6,); see :func:`propagate_axes`."""
     p = float_array("params", params, ndim=1, shape="(6,)")
     tt = _times(t)
-    out = _core.tumble_states(p, tt, step_s=float(step_s), **_default(model)._kwargs())
+    out = _core.tumble_states(p, tt, _default(model)._kwargs(), step_s=float(step_s))
     rot = Rotation.from_matrix(DCM_ORBITAL_FROM_ORB0) * Rotation.from_quat(out[:, :4])
     return TumbleTrajectory(t=tt, rotation=rot, omega_rad_s=out[:, 4:], axis=rot.apply([0.0, 1.0, 0.0]))
 
@@ -271,7 +271,7 @@ class _Objective:
 
     def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         batch = np.ascontiguousarray(np.atleast_2d(x.T) if x.ndim == 2 else x[None, :])
-        cost = _core.tumble_cost(batch, self.t, self.measured, step_s=self.step_s, **self.kwargs)
+        cost = _core.tumble_cost(batch, self.t, self.measured, self.kwargs, step_s=self.step_s)
         self.nfev += len(batch)
         if x.ndim == 2 and batch.shape[0] > 1:
             if self.population is None or self.population.shape != cost.shape:

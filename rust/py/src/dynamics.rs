@@ -12,8 +12,10 @@ use pyo3::prelude::*;
 use crate::convert::{dvector, vectors};
 use crate::errors::{invalid_input, IntoPyResult};
 
-#[allow(clippy::too_many_arguments)]
-fn model(
+/// The model parameters, passed as one dict (`gnssatt.tumble.TumbleModel._kwargs()`), SI units.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct ModelArgs {
     inertia_kg_m2: [f64; 3],
     orbital_rate_rad_s: f64,
     gravity_gradient: bool,
@@ -22,18 +24,22 @@ fn model(
     area_m2: f64,
     cp_offset_m: [f64; 3],
     speed_m_s: f64,
-) -> TumbleModel {
-    TumbleModel {
-        inertia_kg_m2,
-        orbital_rate_rad_s,
-        gravity_gradient,
-        aero: Aerodynamics {
-            density_kg_m3,
-            drag_coefficient,
-            area_m2,
-            cp_offset_m,
-            speed_m_s,
-        },
+}
+
+impl From<ModelArgs> for TumbleModel {
+    fn from(a: ModelArgs) -> Self {
+        TumbleModel {
+            inertia_kg_m2: a.inertia_kg_m2,
+            orbital_rate_rad_s: a.orbital_rate_rad_s,
+            gravity_gradient: a.gravity_gradient,
+            aero: Aerodynamics {
+                density_kg_m3: a.density_kg_m3,
+                drag_coefficient: a.drag_coefficient,
+                area_m2: a.area_m2,
+                cp_offset_m: a.cp_offset_m,
+                speed_m_s: a.speed_m_s,
+            },
+        }
     }
 }
 
@@ -53,33 +59,15 @@ fn param_rows(py: Python<'_>, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f6
 
 /// Antenna axes (n, m, 3) of n initial states at m times.
 #[pyfunction]
-#[pyo3(signature = (params, times_s, *, inertia_kg_m2, orbital_rate_rad_s, gravity_gradient,
-    density_kg_m3, drag_coefficient, area_m2, cp_offset_m, speed_m_s, step_s))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, times_s, model, *, step_s))]
 fn tumble_axes<'py>(
     py: Python<'py>,
     params: PyReadonlyArray2<'_, f64>,
     times_s: PyReadonlyArray1<'_, f64>,
-    inertia_kg_m2: [f64; 3],
-    orbital_rate_rad_s: f64,
-    gravity_gradient: bool,
-    density_kg_m3: f64,
-    drag_coefficient: f64,
-    area_m2: f64,
-    cp_offset_m: [f64; 3],
-    speed_m_s: f64,
+    model: ModelArgs,
     step_s: f64,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
-    let m = model(
-        inertia_kg_m2,
-        orbital_rate_rad_s,
-        gravity_gradient,
-        density_kg_m3,
-        drag_coefficient,
-        area_m2,
-        cp_offset_m,
-        speed_m_s,
-    );
+    let m = TumbleModel::from(model);
     let b = param_rows(py, &params)?;
     let t: Vec<f64> = times_s.as_array().iter().copied().collect();
     let axes = py
@@ -91,34 +79,16 @@ fn tumble_axes<'py>(
 
 /// Objective (1) for each of n parameter rows against measured axes (m, 3).
 #[pyfunction]
-#[pyo3(signature = (params, times_s, measured, *, inertia_kg_m2, orbital_rate_rad_s,
-    gravity_gradient, density_kg_m3, drag_coefficient, area_m2, cp_offset_m, speed_m_s, step_s))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, times_s, measured, model, *, step_s))]
 fn tumble_cost<'py>(
     py: Python<'py>,
     params: PyReadonlyArray2<'_, f64>,
     times_s: PyReadonlyArray1<'_, f64>,
     measured: PyReadonlyArray2<'_, f64>,
-    inertia_kg_m2: [f64; 3],
-    orbital_rate_rad_s: f64,
-    gravity_gradient: bool,
-    density_kg_m3: f64,
-    drag_coefficient: f64,
-    area_m2: f64,
-    cp_offset_m: [f64; 3],
-    speed_m_s: f64,
+    model: ModelArgs,
     step_s: f64,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let m = model(
-        inertia_kg_m2,
-        orbital_rate_rad_s,
-        gravity_gradient,
-        density_kg_m3,
-        drag_coefficient,
-        area_m2,
-        cp_offset_m,
-        speed_m_s,
-    );
+    let m = TumbleModel::from(model);
     let b = param_rows(py, &params)?;
     let t: Vec<f64> = times_s.as_array().iter().copied().collect();
     let meas: Vec<[f64; 3]> = vectors(py, "measured", &measured)?
@@ -134,33 +104,15 @@ fn tumble_cost<'py>(
 /// Full states (m, 7) of one initial state: scalar-last quaternion of `dcm_orb0_from_body` (the paper's
 /// orbital axes X0 radial, Y0 along-track, Z0 normal) and the absolute angular velocity (body, rad/s).
 #[pyfunction]
-#[pyo3(signature = (param, times_s, *, inertia_kg_m2, orbital_rate_rad_s, gravity_gradient,
-    density_kg_m3, drag_coefficient, area_m2, cp_offset_m, speed_m_s, step_s))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (param, times_s, model, *, step_s))]
 fn tumble_states<'py>(
     py: Python<'py>,
     param: PyReadonlyArray1<'_, f64>,
     times_s: PyReadonlyArray1<'_, f64>,
-    inertia_kg_m2: [f64; 3],
-    orbital_rate_rad_s: f64,
-    gravity_gradient: bool,
-    density_kg_m3: f64,
-    drag_coefficient: f64,
-    area_m2: f64,
-    cp_offset_m: [f64; 3],
-    speed_m_s: f64,
+    model: ModelArgs,
     step_s: f64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let m = model(
-        inertia_kg_m2,
-        orbital_rate_rad_s,
-        gravity_gradient,
-        density_kg_m3,
-        drag_coefficient,
-        area_m2,
-        cp_offset_m,
-        speed_m_s,
-    );
+    let m = TumbleModel::from(model);
     let b = dvector(py, "param", &param)?;
     if b.len() != 6 {
         return Err(invalid_input(
