@@ -6,6 +6,7 @@
 //! and every length in metres.
 
 pub mod error;
+pub mod magnetometer;
 pub mod matrix_method;
 pub mod rotation;
 pub mod wahba;
