@@ -23,9 +23,9 @@ fn random_unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
 
 fn random_rotation(rng: &mut ChaCha8Rng) -> Matrix3<f64> {
     ZYX.to_dcm([
-        rng.random_range(-3.14..3.14),
+        rng.random_range(-3.0..3.0),
         rng.random_range(-1.5..1.5),
-        rng.random_range(-3.14..3.14),
+        rng.random_range(-3.0..3.0),
     ])
 }
 
