@@ -6,7 +6,14 @@ Every error raised on user input is an :class:`InvalidInputError`, which is also
 
 from __future__ import annotations
 
-__all__ = ["ConvergenceError", "DegenerateGeometryError", "GnssattError", "InvalidInputError"]
+__all__ = [
+    "ConvergenceError",
+    "DegenerateGeometryError",
+    "GnssattError",
+    "GnssattWarning",
+    "InvalidInputError",
+    "NearDegenerateWarning",
+]
 
 
 class GnssattError(Exception):
@@ -23,3 +30,12 @@ class DegenerateGeometryError(InvalidInputError):
 
 class ConvergenceError(GnssattError):
     """An iterative method did not converge."""
+
+
+class GnssattWarning(UserWarning):
+    """Base class of every warning issued by gnssatt."""
+
+
+class NearDegenerateWarning(GnssattWarning):
+    """The geometry nearly fails to fix the answer (nearly parallel vectors, a nearly vanishing divisor):
+    the result is computed, but its errors are amplified by about the reciprocal of the quantity named."""

@@ -7,11 +7,13 @@ mod convert;
 mod errors;
 mod matrix_method;
 mod rotation;
+mod wahba;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     rotation::register(m)?;
     matrix_method::register(m)?;
+    wahba::register(m)?;
     Ok(())
 }
