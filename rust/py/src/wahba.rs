@@ -71,7 +71,11 @@ fn triad_batch_py<'py>(
         .collect();
     let sb: Vec<f64> = sols.iter().map(|s| s.sin_angle_body).collect();
     let sr: Vec<f64> = sols.iter().map(|s| s.sin_angle_ref).collect();
-    Ok((quats_to_numpy(py, &quats), sb.to_pyarray(py), sr.to_pyarray(py)))
+    Ok((
+        quats_to_numpy(py, &quats),
+        sb.to_pyarray(py),
+        sr.to_pyarray(py),
+    ))
 }
 
 /// Eq. (3) of seed 002 per epoch: b_body, b_orbital (epochs, 3); pitch_rad, roll_rad (epochs,).

@@ -43,7 +43,7 @@ fn lambda_max(s: &Matrix3<f64>, z: &Vector3<f64>, sigma: f64, lambda0: f64) -> R
         }
         let step = f / df;
         lambda -= step;
-        if step.abs() <= 1e-15 * lambda0.abs().max(f64::MIN_POSITIVE) {
+        if step.abs() <= 1e-12 * lambda0.abs().max(f64::MIN_POSITIVE) {
             return Ok(lambda);
         }
     }
@@ -56,12 +56,24 @@ fn lambda_max(s: &Matrix3<f64>, z: &Vector3<f64>, sigma: f64, lambda0: f64) -> R
 /// Shuster quaternion `[adj(M) z, det M]` (normalised), `M = (lambda + sigma) I - S`.
 fn quaternion(b: &Matrix3<f64>, lambda0: f64) -> Result<[f64; 4]> {
     let (s, z, sigma) = k_matrix(b);
-    let lambda = lambda_max(&s, &z, sigma, lambda0)?;
-    let m = Matrix3::identity() * (lambda + sigma) - s;
-    let x = adjugate(&m) * z;
-    let q = [x[0], x[1], x[2], m.determinant()];
-    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    Ok(q.map(|v| v / n))
+    let mut lambda = lambda_max(&s, &z, sigma, lambda0)?;
+    let mut q = [0.0; 4];
+    // The quartic loses accuracy when the weights span many decades; two Rayleigh-quotient updates
+    // lambda = q^T K q (second-order accurate in the quaternion) restore it at negligible cost.
+    for pass in 0..3 {
+        let m = Matrix3::identity() * (lambda + sigma) - s;
+        let x = adjugate(&m) * z;
+        let v = [x[0], x[1], x[2], m.determinant()];
+        let n = v.iter().map(|v| v * v).sum::<f64>().sqrt();
+        q = v.map(|v| v / n);
+        if pass < 2 {
+            let e = Vector3::new(q[0], q[1], q[2]);
+            lambda = e.dot(&(s * e)) - sigma * e.norm_squared()
+                + 2.0 * q[3] * z.dot(&e)
+                + sigma * q[3] * q[3];
+        }
+    }
+    Ok(q)
 }
 
 /// Body -> reference rotation maximising Wahba's gain for Shuster's profile matrix `b`

@@ -133,3 +133,19 @@ fn batch_names_the_failing_epoch() {
         Err(Error::Shape { .. })
     ));
 }
+
+#[test]
+fn widely_spread_weights_keep_full_accuracy() {
+    // With w1 / w2 = 1e8 Wahba's optimum is within ~1e-8 rad of TRIAD (first pair exact).
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for _ in 0..50 {
+        let a = random_rotation(&mut rng);
+        let (b1, b2) = (random_unit(&mut rng), random_unit(&mut rng));
+        let (r1, r2) = (a * b1, a * b2 + 0.1 * random_unit(&mut rng));
+        let t = triad(&b1, &b2, &r1, &r2).unwrap().dcm_ref_from_body;
+        for m in METHODS {
+            let s = solve(&[b1, b2], &[r1, r2], &[1e8, 1.0], m).unwrap();
+            assert!((s.dcm_ref_from_body - t).norm() < 1e-6, "{m:?}");
+        }
+    }
+}
