@@ -137,7 +137,7 @@ def test_triad_identities(rng: np.random.Generator) -> None:
     exact = gnssatt.triad(b1, b2, r1, truth.apply(b2))
     assert np.max(angle(exact.rotation, truth)) < 1e-12
     k = 3
-    for method in METHODS:  # a 1e8 weight ratio: nalgebra's bare SVD was 0.03 rad off here
+    for method in ("svd", "davenport"):  # 1e8 weight ratio: nalgebra's bare SVD was 0.03 rad off here
         with pytest.warns(NearDegenerateWarning):
             lim = gnssatt.wahba(np.stack([b1[k], b2[k]]), np.stack([r1[k], r2[k]]), [1e8, 1.0], method=method)
         assert angle(lim.rotation, est.rotation[k]) < 1e-6
@@ -151,7 +151,7 @@ def test_degenerate_and_bad_input() -> None:
         gnssatt.triad(z, -3 * z, x, y)
     with pytest.raises(DegenerateGeometryError, match="b2 is zero"):
         gnssatt.triad(z, np.zeros(3), x, y)
-    with pytest.raises(DegenerateGeometryError, match="epoch 1: .*r1 and r2 are parallel"):
+    with pytest.raises(DegenerateGeometryError, match=r"epoch 1: .*r1 and r2 are parallel"):
         gnssatt.triad([z, z], [x, x], [x, x], [y, x])
     with pytest.raises(DegenerateGeometryError, match="all parallel"):
         gnssatt.wahba([z, 2 * z], [x, x])

@@ -158,7 +158,9 @@ def wahba(
     method
         ``"svd"`` (Markley 1988, determinant fixed so the result is never a reflection),
         ``"davenport"`` (q-method, 4x4 symmetric eigenproblem) or ``"quest"`` (Shuster & Oh 1981, with
-        sequential rotations near 180 deg). All three give the same optimum to rounding.
+        sequential rotations near 180 deg). All three give the same optimum to rounding, except that QUEST's
+        characteristic quartic fails when the weights span more than about 1e6 (use ``"svd"`` or
+        ``"davenport"`` there).
 
     Returns
     -------

@@ -20,6 +20,18 @@ pub fn k_matrix(b: &Matrix3<f64>) -> (Matrix3<f64>, Vector3<f64>, f64) {
     (s, z, sigma)
 }
 
+/// The 4x4 `K` itself, for quaternions `[q1, q2, q3, q4]` (scalar last).
+pub fn k4(b: &Matrix3<f64>) -> Matrix4<f64> {
+    let (s, z, sigma) = k_matrix(b);
+    let mut k = Matrix4::zeros();
+    k.fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&(s - Matrix3::identity() * sigma));
+    k.fixed_view_mut::<3, 1>(0, 3).copy_from(&z);
+    k.fixed_view_mut::<1, 3>(3, 0).copy_from(&z.transpose());
+    k[(3, 3)] = sigma;
+    k
+}
+
 /// Body -> reference rotation maximising Wahba's gain for Shuster's profile matrix `b`
 /// (`sum_i w_i b_i r_i^T`, body x reference).
 ///
@@ -28,13 +40,7 @@ pub fn k_matrix(b: &Matrix3<f64>) -> (Matrix3<f64>, Vector3<f64>, f64) {
 /// the caller ([`crate::wahba::solve`]) through the information matrix.
 pub fn solve(b: &Matrix3<f64>) -> Result<Matrix3<f64>> {
     ensure_finite("attitude profile matrix", b.iter())?;
-    let (s, z, sigma) = k_matrix(b);
-    let mut k = Matrix4::zeros();
-    k.fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&(s - Matrix3::identity() * sigma));
-    k.fixed_view_mut::<3, 1>(0, 3).copy_from(&z);
-    k.fixed_view_mut::<1, 3>(3, 0).copy_from(&z.transpose());
-    k[(3, 3)] = sigma;
+    let k = k4(b);
     let eig = SymmetricEigen::new(k);
     let top = eig.eigenvalues.imax();
     let q = eig.eigenvectors.column(top);

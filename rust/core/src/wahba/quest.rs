@@ -1,6 +1,11 @@
 //! QUEST (QUaternion ESTimator): the largest eigenvalue of Davenport's K by Newton's method on its
 //! characteristic equation, then the quaternion from the adjugate of `(lambda + sigma) I - S`; the method
 //! of sequential rotations handles attitudes near 180 deg. Shuster & Oh, J. Guid. Control 4 (1981) 70.
+//!
+//! Limitation: the characteristic quartic cannot resolve `lambda_max` better than about
+//! `eps lambda0^2 / gap`, so when the weights span more than about 1e6 (e.g. 1e8 : 1) QUEST can return
+//! a wrong eigenvector (seen: errors up to 180 deg). Use the SVD or Davenport solvers there; the
+//! Python layer warns through the information ratio in such geometry.
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -61,7 +61,7 @@ fn polish(h: &Matrix3<f64>, mut r: Matrix3<f64>) -> Matrix3<f64> {
         let hess = Matrix3::identity() * sym.trace() - sym;
         let Some(chol) = hess.cholesky() else { break };
         let phi = chol.solve(&g);
-        if !(phi.norm() > 1e-17) {
+        if phi.norm().is_nan() || phi.norm() <= 1e-17 {
             break;
         }
         r *= Rotation3::new(phi).into_inner();
