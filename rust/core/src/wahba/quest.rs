@@ -39,6 +39,7 @@ fn lambda_max(s: &Matrix3<f64>, z: &Vector3<f64>, sigma: f64, lambda0: f64) -> R
     let c = s.determinant() + z.dot(&(s * z));
     let d = z.dot(&(s * (s * z)));
     let mut lambda = lambda0;
+    let mut previous = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
         let l2 = lambda * lambda;
         let f = l2 * l2 - (a + b) * l2 - c * lambda + (a * b + c * sigma - d);
@@ -48,9 +49,11 @@ fn lambda_max(s: &Matrix3<f64>, z: &Vector3<f64>, sigma: f64, lambda0: f64) -> R
         }
         let step = f / df;
         lambda -= step;
-        if step.abs() <= 1e-12 * lambda0.abs().max(f64::MIN_POSITIVE) {
+        // Converged, or stalled at the rounding level of the quartic (steps stop shrinking).
+        if step.abs() <= 1e-12 * lambda0.abs().max(f64::MIN_POSITIVE) || step.abs() >= previous {
             return Ok(lambda);
         }
+        previous = step.abs();
     }
     Err(Error::Convergence {
         what: "QUEST Newton iteration for the largest eigenvalue",
