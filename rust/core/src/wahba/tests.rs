@@ -144,12 +144,8 @@ fn widely_spread_weights_keep_full_accuracy() {
         let (b1, b2) = (random_unit(&mut rng), random_unit(&mut rng));
         let (r1, r2) = (a * b1, a * b2 + 0.1 * random_unit(&mut rng));
         let t = triad(&b1, &b2, &r1, &r2).unwrap().dcm_ref_from_body;
-        for (m, w) in [
-            (Method::Svd, 1e8),
-            (Method::Davenport, 1e8),
-            (Method::Quest, 1e5),
-        ] {
-            let s = solve(&[b1, b2], &[r1, r2], &[w, 1.0], m).unwrap();
+        for m in [Method::Svd, Method::Davenport] {
+            let s = solve(&[b1, b2], &[r1, r2], &[1e8, 1.0], m).unwrap();
             let e = (s.dcm_ref_from_body - t).norm();
             assert!(e < 1e-6, "{m:?} {e:e}");
         }
