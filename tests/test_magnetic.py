@@ -96,7 +96,8 @@ def test_matches_ppigrf_at_degree_one() -> None:
         be, bn, bu = (
             np.asarray(x)[0] for x in ppigrf.igrf(lon, lat, h / 1e3, magnetic._datetime(year), max_degree=1)
         )
-        np.testing.assert_allclose(ours, np.stack([bn, be, -bu], -1), atol=0.05)  # nT
+        # ppigrf interpolates in datetime and converts geodetic coordinates its own way: ~1e-5 relative.
+        np.testing.assert_allclose(ours, np.stack([bn, be, -bu], -1), rtol=1e-5, atol=0.05)  # nT
         pos = magnetic.geodetic_to_ecef(lat, lon, h)
         np.testing.assert_allclose(
             magnetic.igrf_field_ecef(pos, year, max_degree=1),
