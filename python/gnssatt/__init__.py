@@ -5,7 +5,7 @@ mapping body-frame vectors into the reference frame in which the lines of sight 
 given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 """
 
-from gnssatt import errors, rinex, sim, tumble
+from gnssatt import errors, magnetic, rinex, sim, tumble
 from gnssatt._core import __version__
 from gnssatt.ambiguity import (
     PartialFixResult,
@@ -17,7 +17,14 @@ from gnssatt.ambiguity import (
     ratio_test,
     ratio_threshold_fixed_failure_rate,
 )
-from gnssatt.errors import ConvergenceError, DegenerateGeometryError, GnssattError, InvalidInputError
+from gnssatt.errors import (
+    ConvergenceError,
+    DegenerateGeometryError,
+    GnssattError,
+    GnssattWarning,
+    InvalidInputError,
+    NearDegenerateWarning,
+)
 from gnssatt.likelihood import (
     AttitudePrior,
     BaselineDirection,
@@ -28,8 +35,10 @@ from gnssatt.likelihood import (
     ml_baseline,
     prior_from_velocity,
 )
+from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
 from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
 from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
+from gnssatt.vector_attitude import TriadResult, WahbaResult, triad, wahba
 from gnssatt.visibility import visibility_axis
 
 __all__ = [
@@ -38,14 +47,19 @@ __all__ = [
     "ConvergenceError",
     "DegenerateGeometryError",
     "GnssattError",
+    "GnssattWarning",
     "InvalidInputError",
     "LikelihoodAttitude",
     "LikelihoodGrid",
     "MatrixAttitudeResult",
+    "NearDegenerateWarning",
     "PartialFixResult",
     "RatioTestResult",
     "RotationFit",
+    "TriadResult",
     "TumbleModel",
+    "WahbaResult",
+    "YawResult",
     "__version__",
     "bootstrap_success_rate",
     "errors",
@@ -53,6 +67,7 @@ __all__ = [
     "lambda_decorrelate",
     "lambda_ils",
     "likelihood_grid",
+    "magnetic",
     "matrix_attitude",
     "ml_attitude",
     "ml_baseline",
@@ -62,6 +77,9 @@ __all__ = [
     "ratio_threshold_fixed_failure_rate",
     "rinex",
     "sim",
+    "triad",
     "tumble",
     "visibility_axis",
+    "wahba",
+    "yaw_from_magnetometer",
 ]

@@ -135,3 +135,21 @@ def tumble_states(
     *,
     step_s: float,
 ) -> NDArray[np.float64]: ...
+
+# wahba.rs (epochs flattened by gnssatt.vector_attitude / gnssatt.magnetometer)
+def wahba_batch(
+    body: NDArray[np.float64],
+    reference: NDArray[np.float64],
+    weights: NDArray[np.float64],
+    pairs: int,
+    method: str = "svd",
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+def triad_batch(
+    b1: NDArray[np.float64], b2: NDArray[np.float64], r1: NDArray[np.float64], r2: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+def yaw_batch(
+    b_body: NDArray[np.float64],
+    b_orbital: NDArray[np.float64],
+    pitch_rad: NDArray[np.float64],
+    roll_rad: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...

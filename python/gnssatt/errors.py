@@ -10,7 +10,9 @@ __all__ = [
     "ConvergenceError",
     "DegenerateGeometryError",
     "GnssattError",
+    "GnssattWarning",
     "InvalidInputError",
+    "NearDegenerateWarning",
     "RinexError",
 ]
 
@@ -47,3 +49,12 @@ class RinexError(InvalidInputError):
         self.line = line
         where = f"{self.path}, line {line}" if line is not None else self.path
         super().__init__(f"{where}: {message}")
+
+
+class GnssattWarning(UserWarning):
+    """Base class of every warning issued by gnssatt."""
+
+
+class NearDegenerateWarning(GnssattWarning):
+    """The geometry nearly fails to fix the answer (nearly parallel vectors, a nearly vanishing divisor):
+    the result is computed, but its errors are amplified by about the reciprocal of the quantity named."""

@@ -24,6 +24,15 @@ pub enum Error {
         matrix: &'static str,
         condition: f64,
     },
+    /// A scalar that the answer divides by is zero or too small, e.g. `cos(pitch)` or the sine of the
+    /// angle between two TRIAD vectors; `quantity` names it, `value` is what it was.
+    #[error("{what}: {quantity} is {value:.3e}, needs to exceed {limit:.1e}")]
+    Degenerate {
+        what: String,
+        quantity: &'static str,
+        value: f64,
+        limit: f64,
+    },
     /// An iterative method did not converge.
     #[error("{what} did not converge after {iterations} iterations")]
     Convergence {
@@ -36,6 +45,37 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// The same error, said to have happened at epoch `k` of a batch.
+    pub fn at_epoch(self, k: usize) -> Self {
+        match self {
+            Error::DegenerateGeometry {
+                what,
+                matrix,
+                condition,
+            } => Error::DegenerateGeometry {
+                what: format!("epoch {k}: {what}"),
+                matrix,
+                condition,
+            },
+            Error::Degenerate {
+                what,
+                quantity,
+                value,
+                limit,
+            } => Error::Degenerate {
+                what: format!("epoch {k}: {what}"),
+                quantity,
+                value,
+                limit,
+            },
+            Error::OutOfRange { name, detail } => Error::OutOfRange {
+                name,
+                detail: format!("epoch {k}: {detail}"),
+            },
+            other => other,
+        }
+    }
+
     pub(crate) fn out_of_range(name: &'static str, detail: impl Into<String>) -> Self {
         Error::OutOfRange {
             name,

@@ -9,6 +9,7 @@ pub mod dynamics;
 pub mod error;
 pub mod lambda;
 pub mod likelihood;
+pub mod magnetometer;
 pub mod matrix_method;
 pub mod rotation;
 pub mod wahba;

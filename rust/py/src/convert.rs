@@ -4,7 +4,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use numpy::ndarray::ArrayView2;
-use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use numpy::{PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
 use pyo3::prelude::*;
 
 use crate::errors::invalid_input;
@@ -86,4 +86,40 @@ pub fn dvector(
 /// A matrix as a new (3, 3) numpy array.
 pub fn to_numpy<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f64>> {
     numpy::ndarray::Array2::from_shape_fn((3, 3), |(i, j)| m[(i, j)]).to_pyarray(py)
+}
+
+/// A 1-D array as a vector of finite values.
+pub fn values(py: Python<'_>, name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vec<f64>> {
+    let a = a.as_array();
+    if let Some((i, _)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(invalid_input(
+            py,
+            format!("{name} contains a non-finite value at [{i}]"),
+        ));
+    }
+    Ok(a.to_vec())
+}
+
+/// `n` row-major 3x3 matrices as a new (n, 3, 3) numpy array.
+pub fn matrices_to_numpy<'py>(
+    py: Python<'py>,
+    m: impl ExactSizeIterator<Item = Matrix3<f64>>,
+) -> Bound<'py, PyArray3<f64>> {
+    let n = m.len();
+    let mut flat = Vec::with_capacity(9 * n);
+    for m in m {
+        for i in 0..3 {
+            for j in 0..3 {
+                flat.push(m[(i, j)]);
+            }
+        }
+    }
+    numpy::ndarray::Array3::from_shape_vec((n, 3, 3), flat)
+        .expect("length is 9 n")
+        .to_pyarray(py)
+}
+
+/// `n` quaternions `[x, y, z, w]` as a new (n, 4) numpy array.
+pub fn quats_to_numpy<'py>(py: Python<'py>, q: &[[f64; 4]]) -> Bound<'py, PyArray2<f64>> {
+    numpy::ndarray::Array2::from_shape_fn((q.len(), 4), |(i, j)| q[i][j]).to_pyarray(py)
 }

@@ -18,7 +18,7 @@ impl<T> IntoPyResult<T> for Result<T, Error> {
 
 pub fn to_py_err(py: Python<'_>, e: &Error) -> PyErr {
     let class = match e {
-        Error::DegenerateGeometry { .. } => "DegenerateGeometryError",
+        Error::DegenerateGeometry { .. } | Error::Degenerate { .. } => "DegenerateGeometryError",
         Error::Convergence { .. } => "ConvergenceError",
         Error::Shape { .. } | Error::NonFinite { .. } | Error::OutOfRange { .. } => {
             "InvalidInputError"

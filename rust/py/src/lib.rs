@@ -10,6 +10,7 @@ mod lambda;
 mod likelihood;
 mod matrix_method;
 mod rotation;
+mod wahba;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -19,5 +20,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     likelihood::register(m)?;
     lambda::register(m)?;
     dynamics::register(m)?;
+    wahba::register(m)?;
     Ok(())
 }

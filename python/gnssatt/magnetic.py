@@ -1,0 +1,245 @@
+"""Geomagnetic field models for attitude determination (numpy).
+
+* :func:`dipole_orbital`: the axial dipole in the orbital frame of a circular orbit, eq. (2) of seed 002.
+* :func:`dipole_field_ecef`, :func:`dipole_field_eci`, :func:`dipole_field_ned`: the centred *tilted*
+  dipole of the IGRF-14 degree-1 Gauss coefficients (with their secular variation).
+* :func:`igrf_field_ecef`: the full IGRF-14 (degree 13) through the optional package ``ppigrf``
+  (``pip install gnssatt[igrf]``), for judging how far the dipole is from the real field.
+
+Units: tesla, metres, radians unless a name ends in ``_deg``. Frames: docs/conventions.md (orbital frame
+x along-track, y orbit normal, z radial).
+
+IGRF-14 degree-1 coefficients (nT) used here, read from the coefficient file ``IGRF14.shc`` distributed with
+ppigrf 2.1.0, which gives the IAGA V-MOD release (Alken et al., IGRF-14, doi:10.5281/zenodo.14012302):
+
+=========  =========  ========  ========
+epoch      g10        g11       h11
+=========  =========  ========  ========
+2015.0     -29441.46  -1501.77  4795.99
+2020.0     -29403.41  -1451.37  4653.35
+2025.0     -29350.0   -1410.3   4545.5
+SV 2025-30 +12.6/yr   +10.0/yr  -21.5/yr
+=========  =========  ========  ========
+
+(The 2025-2030 secular variation is the file's 2030 column minus its 2025 column over 5 years.) These are
+not checked here against the NOAA/BGS coefficient table itself; a test compares the dipole with ppigrf at
+degree 1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+
+__all__ = [
+    "EARTH_DIPOLE_T_M3",
+    "IGRF_REFERENCE_RADIUS_M",
+    "dcm_ned_from_ecef",
+    "dipole_coefficients",
+    "dipole_field_ecef",
+    "dipole_field_eci",
+    "dipole_field_ned",
+    "dipole_orbital",
+    "geodetic_to_ecef",
+    "igrf_field_ecef",
+]
+
+#: IGRF reference radius a (m).
+IGRF_REFERENCE_RADIUS_M = 6_371_200.0
+#: WGS-84 semi-major axis (m) and flattening.
+WGS84_A_M = 6_378_137.0
+WGS84_F = 1.0 / 298.257223563
+_E2 = WGS84_F * (2.0 - WGS84_F)
+
+# Degree-1 Gauss coefficients (g10, g11, h11) in nT at the IGRF-14 epochs, and the 2025-2030 SV in nT/yr.
+_EPOCHS = np.array([2015.0, 2020.0, 2025.0])
+_GAUSS_NT = np.array(
+    [[-29441.46, -1501.77, 4795.99], [-29403.41, -1451.37, 4653.35], [-29350.0, -1410.3, 4545.5]]
+)
+_SV_NT_PER_YEAR = np.array([12.6, 10.0, -21.5])
+_LAST_YEAR = 2030.0
+
+#: Earth's dipole strength ``M_E = mu0 m / (4 pi) = a^3 sqrt(g10^2 + g11^2 + h11^2)`` at 2025.0 from the
+#: IGRF-14 coefficients above, in T m^3 (about 7.70e15; the dipole moment m is 7.70e22 A m^2). This is the
+#: ``M_E`` of eq. (2): ``|B| = M_E / r^3`` on the magnetic equator.
+EARTH_DIPOLE_T_M3 = float(IGRF_REFERENCE_RADIUS_M**3 * np.linalg.norm(_GAUSS_NT[2]) * 1e-9)
+
+
+def dipole_orbital(
+    u: ArrayLike, inclination: float, radius: ArrayLike, *, strength: float = EARTH_DIPOLE_T_M3
+) -> NDArray[np.float64]:
+    """Axial dipole field in the orbital frame of a circular orbit, eq. (2) of seed 002.
+
+    ``a_orb = (M_E / r^3) [cos u sin i, cos i, -2 sin u sin i]`` for the dipole ``-M_E z_eci`` (north
+    geomagnetic pole at the geographic north pole), axes x along-track, y orbit normal (``r x v``),
+    z radial (zenith). Derived from ``B = (3 (m . r_hat) r_hat - m) / r^3`` in ``tests/test_magnetic.py``.
+
+    Parameters
+    ----------
+    u
+        Argument of latitude, radians; any shape.
+    inclination
+        Orbit inclination i, radians.
+    radius
+        Orbit radius r from the Earth's centre, metres; broadcast against ``u``.
+    strength
+        ``M_E`` in T m^3 (:data:`EARTH_DIPOLE_T_M3` by default).
+
+    Returns
+    -------
+    ndarray
+        (..., 3) field in tesla, ``...`` the broadcast shape of ``u`` and ``radius``.
+    """
+    u = np.asarray(u, dtype=float)
+    r = np.asarray(radius, dtype=float)
+    if np.any(r <= 0.0):
+        raise InvalidInputError(f"expected a positive radius, got minimum {np.min(r)}")
+    si, ci = np.sin(inclination), np.cos(inclination)
+    scale = strength / r**3
+    u, scale = np.broadcast_arrays(u, scale)
+    return scale[..., None] * np.stack([np.cos(u) * si, np.full_like(u, ci), -2.0 * np.sin(u) * si], axis=-1)
+
+
+def dipole_coefficients(decimal_year: float) -> NDArray[np.float64]:
+    """IGRF-14 ``(g10, g11, h11)`` in nT at ``decimal_year`` (2015.0 to 2030.0): linear between the
+    5-yearly models, the secular variation after 2025.0."""
+    t = float(decimal_year)
+    if not _EPOCHS[0] <= t <= _LAST_YEAR:
+        raise InvalidInputError(f"expected a decimal year in [2015.0, 2030.0] (IGRF-14), got {t}")
+    if t >= _EPOCHS[-1]:
+        return _GAUSS_NT[-1] + (t - _EPOCHS[-1]) * _SV_NT_PER_YEAR
+    return np.array([np.interp(t, _EPOCHS, _GAUSS_NT[:, k]) for k in range(3)])
+
+
+def geodetic_to_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike) -> NDArray:
+    """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres."""
+    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
+    h = np.asarray(height_m, dtype=float)
+    n = WGS84_A_M / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
+    return np.stack(
+        [
+            (n + h) * np.cos(lat) * np.cos(lon),
+            (n + h) * np.cos(lat) * np.sin(lon),
+            (n * (1.0 - _E2) + h) * np.sin(lat),
+        ],
+        axis=-1,
+    )
+
+
+def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
+    """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point."""
+    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
+    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
+    zero = np.zeros_like(sl * so)
+    rows = [
+        np.stack([-sl * co, -sl * so, cl + zero], axis=-1),
+        np.stack([-so + zero, co + zero, zero], axis=-1),
+        np.stack([-cl * co, -cl * so, -sl + zero], axis=-1),
+    ]
+    return np.stack(rows, axis=-2)
+
+
+def dipole_field_ecef(position_ecef_m: ArrayLike, decimal_year: float) -> NDArray[np.float64]:
+    """Centred tilted dipole of IGRF-14 degree 1 at ECEF positions, ECEF components, tesla.
+
+    The degree-1 potential ``V = a^3 (g . r) / r^3`` with ``g = [g11, h11, g10]`` is that of a dipole,
+    ``B = -grad V = a^3 (3 (g . r_hat) r_hat - g) / r^3``.
+
+    Parameters
+    ----------
+    position_ecef_m
+        (..., 3) positions in metres (not the origin).
+    decimal_year
+        Epoch, 2015.0 to 2030.0.
+    """
+    r = float_array("position_ecef_m", position_ecef_m, ndim=(1, 2, 3), shape="(..., 3)")
+    if r.shape[-1] != 3:
+        raise InvalidInputError(f"expected position_ecef_m of shape (..., 3), got {r.shape}")
+    g10, g11, h11 = dipole_coefficients(decimal_year) * 1e-9
+    g = np.array([g11, h11, g10])
+    norm = np.linalg.norm(r, axis=-1, keepdims=True)
+    if np.any(norm == 0.0):
+        raise InvalidInputError("position_ecef_m contains the Earth's centre, where the dipole is singular")
+    rh = r / norm
+    return IGRF_REFERENCE_RADIUS_M**3 * (3.0 * (rh @ g)[..., None] * rh - g) / norm**3
+
+
+def dipole_field_eci(
+    position_eci_m: ArrayLike, decimal_year: float, earth_rotation_angle_rad: ArrayLike
+) -> NDArray[np.float64]:
+    """:func:`dipole_field_ecef` for ECI positions: ECEF is ECI turned about z by the Earth rotation angle
+    (docs/conventions.md), so ``B_eci = R_z(theta) B_ecef(R_z(-theta) r_eci)``. Tesla, (..., 3)."""
+    r = np.asarray(position_eci_m, dtype=float)
+    th = np.asarray(earth_rotation_angle_rad, dtype=float)
+    c, s = np.cos(th), np.sin(th)
+    r_ecef = np.stack([c * r[..., 0] + s * r[..., 1], -s * r[..., 0] + c * r[..., 1], r[..., 2]], axis=-1)
+    b = dipole_field_ecef(r_ecef, decimal_year)
+    return np.stack([c * b[..., 0] - s * b[..., 1], s * b[..., 0] + c * b[..., 1], b[..., 2]], axis=-1)
+
+
+def dipole_field_ned(
+    latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike, decimal_year: float
+) -> NDArray[np.float64]:
+    """Centred tilted dipole of IGRF-14 degree 1 in geodetic north-east-down, tesla.
+
+    Parameters
+    ----------
+    latitude_deg, longitude_deg
+        WGS-84 geodetic latitude and longitude, degrees (broadcast together).
+    height_m
+        Height above the WGS-84 ellipsoid, metres.
+    decimal_year
+        Epoch, 2015.0 to 2030.0.
+
+    Returns
+    -------
+    ndarray
+        (..., 3) ``[north, east, down]`` in tesla.
+    """
+    b = dipole_field_ecef(geodetic_to_ecef(latitude_deg, longitude_deg, height_m), decimal_year)
+    return np.einsum("...ij,...j->...i", dcm_ned_from_ecef(latitude_deg, longitude_deg), b)
+
+
+def _datetime(decimal_year: float):  # type: ignore[no-untyped-def]
+    import datetime
+
+    year = int(decimal_year)
+    days = 366 if (year % 4 == 0 and year % 100 != 0) or year % 400 == 0 else 365
+    return datetime.datetime(year, 1, 1) + datetime.timedelta(days=(decimal_year - year) * days)
+
+
+def igrf_field_ecef(
+    position_ecef_m: ArrayLike, decimal_year: float, *, max_degree: int = 13
+) -> NDArray[np.float64]:
+    """Full IGRF-14 (to ``max_degree``) at ECEF positions, ECEF components, tesla, through ``ppigrf``.
+
+    Needs the optional dependency ``ppigrf`` (``pip install gnssatt[igrf]``), which carries the IGRF-14
+    coefficient file and works offline.
+
+    Raises
+    ------
+    ImportError
+        ppigrf is not installed.
+    """
+    try:
+        import ppigrf
+    except ImportError as exc:
+        raise ImportError(
+            "igrf_field_ecef needs the optional package ppigrf: pip install gnssatt[igrf]"
+        ) from exc
+    r = np.asarray(position_ecef_m, dtype=float)
+    rn = np.linalg.norm(r, axis=-1)
+    colat = np.degrees(np.arccos(r[..., 2] / rn))
+    lon = np.degrees(np.arctan2(r[..., 1], r[..., 0]))
+    br, bth, bph = (
+        np.asarray(c)[0]
+        for c in ppigrf.igrf_gc(rn / 1e3, colat, lon, _datetime(decimal_year), max_degree=max_degree)
+    )
+    th, ph = np.radians(colat), np.radians(lon)
+    e_r = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)
+    e_th = np.stack([np.cos(th) * np.cos(ph), np.cos(th) * np.sin(ph), -np.sin(th)], axis=-1)
+    e_ph = np.stack([-np.sin(ph), np.cos(ph), np.zeros_like(ph)], axis=-1)
+    return 1e-9 * (br[..., None] * e_r + bth[..., None] * e_th + bph[..., None] * e_ph)

@@ -1,0 +1,117 @@
+"""Yaw from a magnetometer when an Earth sensor gives pitch and roll: eq. (3) of Ryzhkov & Golembiovsky
+(seed 002), with the quadrant resolved by atan2 (the paper gives only ``sin psi``).
+
+Angles are those of docs/conventions.md, seed-002 row: ``Rotation.from_euler("ZYX", [psi, theta, phi])``
+maps body to orbital coordinates (eq. (1) writes its transpose with passive matrices).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt import _core
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+from gnssatt.vector_attitude import _vectors, _warn_small
+
+__all__ = ["YawResult", "yaw_from_magnetometer"]
+
+#: Warn when ``|cos(pitch)|`` is below this (eq. (3) divides by it).
+COS_PITCH_WARN = 1e-2
+#: Warn when ``sqrt(a_x0^2 + a_y0^2) / |a_orb|`` is below this (near-polar orbits at u = 90, 270 deg).
+HORIZONTAL_WARN = 1e-2
+
+
+@dataclass(frozen=True)
+class YawResult:
+    """Yaw from :func:`yaw_from_magnetometer`.
+
+    Attributes
+    ----------
+    yaw
+        psi in radians, (-pi, pi]; float or (epochs,).
+    rotation
+        Body -> orbital rotation ``ZYX(yaw, pitch, roll)`` with the given pitch and roll.
+    cos_pitch
+        ``|cos(theta)|``, which eq. (3) divides by.
+    horizontal_fraction
+        ``sqrt(a_x0^2 + a_y0^2) / |a_orb|``, the part of the reference field that fixes yaw; the yaw
+        error from magnetometer errors grows like its reciprocal.
+    """
+
+    yaw: float | NDArray[np.float64]
+    rotation: Rotation
+    cos_pitch: float | NDArray[np.float64]
+    horizontal_fraction: float | NDArray[np.float64]
+
+    @property
+    def yaw_deg(self) -> float | NDArray[np.float64]:
+        """Yaw in degrees."""
+        return np.degrees(self.yaw)
+
+
+def yaw_from_magnetometer(
+    b_body: ArrayLike, b_orbital: ArrayLike, pitch: ArrayLike, roll: ArrayLike, *, degrees: bool = False
+) -> YawResult:
+    """Yaw psi from the magnetometer reading, the model field in the orbital frame, pitch and roll (eq. 3).
+
+    ``psi = atan2(mu2 a_x0 + (mu1 / cos theta) a_y0, (mu1 / cos theta) a_x0 - mu2 a_y0)`` with
+    ``mu1 = a_x + a_z0 sin theta``, ``mu2 = a_z sin phi - a_y cos phi``; the first argument over
+    ``a_x0^2 + a_y0^2`` is the paper's ``sin psi``, the second its companion ``cos psi``. The field's scale
+    (``M_E / r^3``) cancels, but both fields must be in the same unit.
+
+    Parameters
+    ----------
+    b_body
+        (3,) or (epochs, 3) measured field ``[a_x, a_y, a_z]`` in body axes.
+    b_orbital
+        (3,) or (epochs, 3) model field ``[a_x0, a_y0, a_z0]`` in the orbital frame (x along-track,
+        y orbit normal, z radial), e.g. from :func:`gnssatt.magnetic.dipole_orbital`.
+    pitch, roll
+        theta and phi (scalars or (epochs,)), radians, or degrees with ``degrees=True``.
+    degrees
+        Whether pitch and roll are in degrees. ``yaw`` is always radians (``yaw_deg`` for degrees).
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes or non-finite values.
+    DegenerateGeometryError
+        ``cos(pitch)`` = 0, a vanishing horizontal field ``a_x0^2 + a_y0^2``, or a zero field; the message
+        names the quantity and the epoch.
+
+    Warns
+    -----
+    NearDegenerateWarning
+        ``|cos(pitch)|`` below :data:`COS_PITCH_WARN` or the horizontal fraction below
+        :data:`HORIZONTAL_WARN`.
+    """
+    bb = _vectors("b_body", b_body)
+    bo = _vectors("b_orbital", b_orbital)
+    p = float_array("pitch", pitch, ndim=(0, 1), shape="() or (epochs,)")
+    r = float_array("roll", roll, ndim=(0, 1), shape="() or (epochs,)")
+    # float_array makes scalars (1,): decide single-epoch output from the arguments themselves.
+    single = bb.ndim == 1 and bo.ndim == 1 and np.ndim(pitch) == 0 and np.ndim(roll) == 0
+    if degrees:
+        p, r = np.radians(p), np.radians(r)
+    try:
+        epochs = np.broadcast_shapes(bb.shape[:-1], bo.shape[:-1], p.shape, r.shape)
+    except ValueError:
+        raise InvalidInputError(
+            f"expected b_body, b_orbital (epochs, 3) and pitch, roll (epochs,) of one length, got "
+            f"{bb.shape}, {bo.shape}, {p.shape}, {r.shape}"
+        ) from None
+    n = epochs[0] if epochs else 1
+    vec = [np.ascontiguousarray(np.broadcast_to(v, (n, 3))) for v in (bb, bo)]
+    ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
+    yaw, cos_pitch, horizontal = _core.yaw_batch(*vec, *ang)
+    _warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
+    _warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
+    rotation = Rotation.from_euler("ZYX", np.column_stack([yaw, ang[0], ang[1]]))
+    if single:
+        return YawResult(float(yaw[0]), rotation[0], float(cos_pitch[0]), float(horizontal[0]))
+    return YawResult(yaw, rotation, cos_pitch, horizontal)

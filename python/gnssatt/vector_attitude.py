@@ -1,0 +1,208 @@
+"""Attitude from pairs of vectors measured in the body frame and known in a reference frame: TRIAD and
+Wahba's problem (SVD, Davenport's q-method, QUEST), batched over a leading epoch axis in the Rust core.
+
+Parallelism: batches run on rayon's global thread pool; set ``RAYON_NUM_THREADS`` before the first call
+to choose the thread count. References: Black, AIAA J. 2 (1964) 1350 (TRIAD); Wahba, SIAM Rev. 7 (1965)
+409; Markley, J. Astronaut. Sci. 36 (1988) 245 (SVD); Shuster & Oh, J. Guid. Control 4 (1981) 70 (QUEST);
+Shuster, J. Astronaut. Sci. 37 (1989) 79 (covariance).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt import _core
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError, NearDegenerateWarning
+
+__all__ = ["TriadResult", "WahbaResult", "triad", "wahba"]
+
+Method = Literal["svd", "davenport", "quest"]
+
+#: TRIAD warns when the sine of the angle between its two vectors (either frame) is below this.
+TRIAD_WARN_SIN = 1e-2
+#: Wahba warns when the information matrix's smallest/largest eigenvalue ratio is below this (for two
+#: vectors about the square of half the angle between them: 1e-4 is about 1.1 deg).
+WAHBA_WARN_RATIO = 1e-4
+
+
+def _warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
+    small = values < limit
+    if np.any(small):
+        k = int(np.argmin(values))
+        warnings.warn(
+            f"{what} is below {limit:g} at {int(small.sum())} epoch(s) (smallest {values[k]:.3e} at epoch "
+            f"{k}): errors are amplified by about its reciprocal",
+            NearDegenerateWarning,
+            stacklevel=3,
+        )
+
+
+def _vectors(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    arr = float_array(name, value, ndim=(1, 2), shape="(3,) or (epochs, 3)")
+    if arr.shape[-1] != 3:
+        raise InvalidInputError(f"expected {name} of shape (3,) or (epochs, 3), got {arr.shape}")
+    return arr
+
+
+@dataclass(frozen=True)
+class TriadResult:
+    """Attitude from :func:`triad`.
+
+    Attributes
+    ----------
+    rotation
+        Body -> reference rotation (a batch Rotation for batch input); maps ``b1`` exactly onto ``r1``.
+    sin_angle_body, sin_angle_ref
+        Sine of the angle between the two vectors in each frame (float, or (epochs,)); the error about
+        the axis normal to ``b1`` grows like its reciprocal.
+    """
+
+    rotation: Rotation
+    sin_angle_body: float | NDArray[np.float64]
+    sin_angle_ref: float | NDArray[np.float64]
+
+
+def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadResult:
+    """TRIAD attitude from two vector pairs; the first pair is matched exactly.
+
+    Parameters
+    ----------
+    b1, b2
+        (3,) or (epochs, 3) body-frame vectors, any length (normalised); ``b1`` should be the more
+        accurate one (it is matched exactly, ``b2`` only fixes the rotation about it).
+    r1, r2
+        The same directions in the reference frame, same shape.
+
+    Returns
+    -------
+    TriadResult
+        ``.rotation`` maps body to reference: ``rotation.apply(b1 / |b1|) == r1 / |r1|``.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes or non-finite values.
+    DegenerateGeometryError
+        A zero vector, or ``b1 || b2`` or ``r1 || r2`` (sine of the angle at most 1e-10); names the epoch.
+
+    Warns
+    -----
+    NearDegenerateWarning
+        The sine of the angle between the two vectors is below :data:`TRIAD_WARN_SIN`.
+    """
+    arrs = [_vectors(n, v) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
+    single = all(a.ndim == 1 for a in arrs)
+    try:
+        arrs = [np.ascontiguousarray(a) for a in np.broadcast_arrays(*(np.atleast_2d(a) for a in arrs))]
+    except ValueError:
+        raise InvalidInputError(
+            f"expected b1, b2, r1, r2 of one shape (epochs, 3), got {[a.shape for a in arrs]}"
+        ) from None
+    quat, sb, sr = _core.triad_batch(*arrs)
+    _warn_small(np.minimum(sb, sr), TRIAD_WARN_SIN, "the sine of the angle between the TRIAD vectors")
+    if single:
+        return TriadResult(Rotation.from_quat(quat[0]), float(sb[0]), float(sr[0]))
+    return TriadResult(Rotation.from_quat(quat), sb, sr)
+
+
+@dataclass(frozen=True)
+class WahbaResult:
+    """Attitude from :func:`wahba`.
+
+    Attributes
+    ----------
+    rotation
+        Body -> reference rotation (a batch Rotation for batch input).
+    covariance
+        (3, 3) or (epochs, 3, 3) covariance in rad^2 of the small rotation vector ``delta`` with
+        ``rotation = Rotation.from_rotvec(delta) * truth``, ``delta`` in the *reference* frame:
+        ``P = [sum_i w_i (I - r_i r_i^T)]^-1`` (Shuster 1989). It is the Cramer-Rao bound for body unit
+        vectors with isotropic errors of standard deviation ``sigma_i`` (rad) when ``weights = 1/sigma_i^2``;
+        with other weights multiply it by ``sigma^2 * w``. Body frame: ``R^T P R``.
+    information_ratio
+        Smallest over largest eigenvalue of ``sum_i w_i (I - r_i r_i^T)`` (1 / condition number).
+    loss
+        Wahba's loss ``(1/2) sum_i w_i |r_i - R b_i|^2`` at the estimate (unit vectors).
+    method
+        The solver used.
+    """
+
+    rotation: Rotation
+    covariance: NDArray[np.float64]
+    information_ratio: float | NDArray[np.float64]
+    loss: float | NDArray[np.float64]
+    method: Method
+
+
+def wahba(
+    body: ArrayLike, ref: ArrayLike, weights: ArrayLike | None = None, *, method: Method = "svd"
+) -> WahbaResult:
+    """Solve Wahba's problem: the rotation minimising ``sum_i w_i |r_i - R b_i|^2`` over unit vectors.
+
+    Parameters
+    ----------
+    body
+        (n, 3) body-frame vectors, or (epochs, n, 3) for a batch; any length (normalised); n >= 2.
+    ref
+        The same directions in the reference frame, same shape.
+    weights
+        (n,) or (epochs, n) non-negative weights; ``1 / sigma_i^2`` (rad^-2) makes ``covariance``
+        the Cramer-Rao bound. Default: all ones.
+    method
+        ``"svd"`` (Markley 1988, determinant fixed so the result is never a reflection),
+        ``"davenport"`` (q-method, 4x4 symmetric eigenproblem) or ``"quest"`` (Shuster & Oh 1981, with
+        sequential rotations near 180 deg). All three give the same optimum to rounding, except that QUEST's
+        characteristic quartic fails when the weights span more than about 1e6 (use ``"svd"`` or
+        ``"davenport"`` there).
+
+    Returns
+    -------
+    WahbaResult
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, negative weights, unknown method.
+    DegenerateGeometryError
+        A zero vector, or reference vectors all parallel; the message names the epoch.
+
+    Warns
+    -----
+    NearDegenerateWarning
+        ``information_ratio`` below :data:`WAHBA_WARN_RATIO`.
+    """
+    b = float_array("body", body, ndim=(2, 3), shape="(n, 3) or (epochs, n, 3)")
+    r = float_array("ref", ref, ndim=(2, 3), shape="(n, 3) or (epochs, n, 3)")
+    if b.shape != r.shape or b.shape[-1] != 3:
+        raise InvalidInputError(
+            f"expected body and ref of one shape (..., n, 3), got {b.shape} and {r.shape}"
+        )
+    single = b.ndim == 2
+    b3 = b[None] if single else b
+    epochs, n = b3.shape[:2]
+    if n < 2:
+        raise InvalidInputError(f"expected at least 2 vector pairs per epoch, got {n}")
+    if weights is None:
+        w = np.ones((epochs, n))
+    else:
+        w = float_array("weights", weights, ndim=(1, 2), shape="(n,) or (epochs, n)")
+        try:
+            w = np.ascontiguousarray(np.broadcast_to(w, (epochs, n)))
+        except ValueError:
+            raise InvalidInputError(
+                f"expected weights of shape ({n},) or ({epochs}, {n}), got {w.shape}"
+            ) from None
+    quat, cov, ratio, loss = _core.wahba_batch(
+        b3.reshape(-1, 3), np.ascontiguousarray(r.reshape(-1, 3)), w.reshape(-1), n, method
+    )
+    _warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")
+    if single:
+        return WahbaResult(Rotation.from_quat(quat[0]), cov[0], float(ratio[0]), float(loss[0]), method)
+    return WahbaResult(Rotation.from_quat(quat), cov, ratio, loss, method)
