@@ -14,7 +14,13 @@ if TYPE_CHECKING:
     from gnssatt.likelihood import LikelihoodGrid
     from gnssatt.rinex.attitude import AttitudeSeries
 
-__all__ = ["attitude_series", "error_histograms", "error_vs_geometry", "likelihood_sections"]
+__all__ = [
+    "attitude_series",
+    "error_histograms",
+    "error_vs_geometry",
+    "likelihood_sections",
+    "yaw_error_along_orbit",
+]
 
 
 def _pyplot():  # type: ignore[no-untyped-def]
@@ -125,6 +131,27 @@ def error_histograms(errors: Mapping[str, ArrayLike], path: Path, *, title: str,
         ax.set_title(f"M = {np.mean(v):.3g}, sigma = {np.std(v):.3g}", fontsize=9)
         ax.grid(True, alpha=0.3)
     fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def yaw_error_along_orbit(
+    u_deg: ArrayLike, curves: Mapping[float, Mapping[str, ArrayLike]], path: Path, *, title: str
+) -> Path:
+    """Yaw error against argument of latitude, one panel per inclination: TRIAD solid, eq. (3) dashed
+    (as the paper's figs. 2 and 3); saved as PNG at ``path``."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(len(curves), 1, figsize=(7, 2.8 * len(curves)), dpi=120, sharex=True)
+    for ax, (inc, err) in zip(np.atleast_1d(axes), curves.items(), strict=True):
+        ax.plot(u_deg, err["triad"], "k-", label="TRIAD (local vertical + field)")
+        ax.plot(u_deg, err["eq3"], "C3--", label="eq. (3)")
+        ax.set(ylabel="yaw error (deg)", title=f"inclination {inc:g} deg")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    np.atleast_1d(axes)[-1].set_xlabel("argument of latitude u (deg)")
+    fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
