@@ -16,6 +16,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "attitude_series",
+    "dipole_vs_igrf",
     "error_histograms",
     "error_vs_geometry",
     "likelihood_sections",
@@ -156,3 +157,58 @@ def yaw_error_along_orbit(
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+def dipole_vs_igrf(
+    path: Path, radius_m: float, inclination_deg: float, *, decimal_year: float = 2025.0
+) -> dict[str, float]:
+    """Angle and magnitude difference between the axial dipole of eq. (2), the tilted IGRF-14 dipole and
+    the full IGRF-14 (ppigrf) along one circular orbit (Earth rotating underneath, node at longitude 0);
+    PNG at ``path``. Raises ImportError without ppigrf. Returns the maxima in degrees and percent.
+
+    The tilted dipole equals ppigrf's degree-1 field (tests/test_magnetic.py); the differences shown are
+    the non-dipole field (largest over the South Atlantic Anomaly and near the dip equator)."""
+    from gnssatt import magnetic
+
+    plt = _pyplot()
+    u = np.radians(np.linspace(0.0, 360.0, 361))
+    inc = np.radians(inclination_deg)
+    period = 2 * np.pi * np.sqrt(radius_m**3 / 3.986004418e14)
+    era = 7.2921151467e-5 * period * u / (2 * np.pi)
+    r_eci = radius_m * np.stack([np.cos(u), np.sin(u) * np.cos(inc), np.sin(u) * np.sin(inc)], -1)
+    c, s = np.cos(era), np.sin(era)
+    r_ecef = np.stack(
+        [c * r_eci[:, 0] + s * r_eci[:, 1], -s * r_eci[:, 0] + c * r_eci[:, 1], r_eci[:, 2]], -1
+    )
+    full = magnetic.igrf_field_ecef(r_ecef, decimal_year)
+    tilted = magnetic.dipole_field_ecef(r_ecef, decimal_year)
+    m = np.array([0.0, 0.0, -magnetic.EARTH_DIPOLE_T_M3])
+    rh = r_ecef / radius_m
+    axial = (3 * (rh @ m)[:, None] * rh - m) / radius_m**3
+
+    def ang(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        cosang = np.sum(a * b, -1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(b, axis=-1)
+        return np.degrees(np.arccos(np.clip(cosang, -1, 1)))
+
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 5.5), dpi=120, sharex=True)
+    results = {}
+    for label, model in (("axial dipole (eq. 2)", axial), ("tilted IGRF-14 dipole", tilted)):
+        a = ang(model, full)
+        d = 100 * (np.linalg.norm(model, axis=-1) / np.linalg.norm(full, axis=-1) - 1)
+        ax1.plot(np.degrees(u), a, label=label)
+        ax2.plot(np.degrees(u), d, label=label)
+        key = "axial" if label.startswith("axial") else "tilted"
+        results[f"{key}_dipole_vs_igrf_max_angle_deg"] = float(np.max(a))
+        results[f"{key}_dipole_vs_igrf_max_magnitude_error_pct"] = float(np.max(np.abs(d)))
+    ax1.set(
+        ylabel="angle to full IGRF-14 (deg)",
+        title=f"{radius_m / 1e3 - 6378:.0f} km, i = {inclination_deg:g} deg",
+    )
+    ax2.set(xlabel="argument of latitude u (deg)", ylabel="|B| error vs IGRF-14 (%)")
+    for ax in (ax1, ax2):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return results

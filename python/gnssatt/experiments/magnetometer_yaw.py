@@ -92,6 +92,10 @@ def run(
             title=f"Seed 002 fig. {fig}: scale factor {SCALE} on magnetometer {channel}, "
             f"psi, theta, phi = {TRUTH_DEG} deg",
         )
+    try:
+        measured |= plots.dipole_vs_igrf(out / f"{NAME}-dipole-vs-igrf.png", RADIUS_M, INCLINATIONS_DEG[1])
+    except ImportError:
+        measured["dipole_vs_igrf_max_angle_deg"] = None  # ppigrf not installed (pip install gnssatt[igrf])
     doc = write_report(out, NAME, paper, measured, runs, seed)
     print(format_table(doc))
     return doc
