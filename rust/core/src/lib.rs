@@ -7,6 +7,7 @@
 
 pub mod dynamics;
 pub mod error;
+pub mod kalman;
 pub mod lambda;
 pub mod likelihood;
 pub mod magnetometer;
