@@ -69,3 +69,13 @@ def test_magnetometer_yaw_methods_agree(tmp_path: Path) -> None:
             gap = m[f"{channel}_scale_{tag}_max_triad_minus_eq3_deg"]
             assert gap < 0.1 * m[f"triad_{channel}_scale_{tag}_max_yaw_error_deg"]
     assert (tmp_path / "magnetometer-yaw-x-scale.png").stat().st_size > 10_000
+
+
+def test_orbit_filter_writes_json_and_plots(tmp_path: Path) -> None:
+    assert main(["reproduce", "orbit-filter", "--runs", "2", "--out", str(tmp_path), "--no-progress"]) == 0
+    doc = json.loads((tmp_path / "orbit-filter.json").read_text())
+    assert doc["runs"] == 2
+    for lab in ("loose_gps", "loose_gps_glonass", "tight_gps", "tight_gps_glonass"):
+        assert doc["measured"][f"{lab}_position_rms_m"] > 0
+    assert (tmp_path / "orbit-filter-errors.png").stat().st_size > 10_000
+    assert (tmp_path / "orbit-filter-nees.png").stat().st_size > 10_000

@@ -5,7 +5,7 @@ mapping body-frame vectors into the reference frame in which the lines of sight 
 given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
 """
 
-from gnssatt import errors, magnetic, rinex, sim, tumble
+from gnssatt import errors, magnetic, orbit, rinex, sim, tumble
 from gnssatt._core import __version__
 from gnssatt.ambiguity import (
     PartialFixResult,
@@ -71,6 +71,7 @@ __all__ = [
     "matrix_attitude",
     "ml_attitude",
     "ml_baseline",
+    "orbit",
     "partial_fix",
     "prior_from_velocity",
     "ratio_test",

@@ -153,3 +153,46 @@ def yaw_batch(
     pitch_rad: NDArray[np.float64],
     roll_rad: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+
+# orbit.rs: states (x, y, z, vx, vy, vz) Earth-fixed, m and m/s; model = gnssatt.orbit.GlonassModel._kwargs().
+def glonass_propagate(
+    state: NDArray[np.float64], duration_s: float, model: dict[str, object], *, step_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def glonass_ephemeris_states(
+    states: NDArray[np.float64],
+    lunisolar_m_s2: NDArray[np.float64],
+    dt_s: NDArray[np.float64],
+    model: dict[str, object],
+    *,
+    max_step_s: float,
+) -> NDArray[np.float64]: ...
+def circular_orbit_ecef(
+    elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def orbit_filter_loose(
+    times_s: NDArray[np.float64],
+    x0: NDArray[np.float64],
+    p0: NDArray[np.float64],
+    fix_position_m: NDArray[np.float64],
+    fix_velocity_m_s: NDArray[np.float64],
+    fix_covariance: NDArray[np.float64],
+    fix_valid: NDArray[np.bool_],
+    model: dict[str, object],
+    settings: dict[str, float],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...
+def orbit_filter_tight(
+    times_s: NDArray[np.float64],
+    x0: NDArray[np.float64],
+    p0: NDArray[np.float64],
+    sat_position_m: NDArray[np.float64],
+    sat_velocity_m_s: NDArray[np.float64],
+    pseudorange_m: NDArray[np.float64],
+    doppler_hz: NDArray[np.float64],
+    visible: NDArray[np.bool_],
+    wavelength_m: NDArray[np.float64],
+    system: NDArray[np.uint32],
+    code_sigma_m: float,
+    doppler_sigma_hz: float,
+    model: dict[str, object],
+    settings: dict[str, float],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...

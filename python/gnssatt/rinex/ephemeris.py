@@ -6,7 +6,8 @@
   ``F = -2 sqrt(mu) / c^2``); the group delay ``T_GD`` is returned apart (:func:`satellite_states`):
   a single-frequency L1 user subtracts it, the L1/L2 ionosphere-free combination does not.
 - GLONASS: ICD (ed. 5.1) A.3.1.2, fourth-order Runge-Kutta integration of the PZ-90 equations of motion
-  (central term, J2, centrifugal and Coriolis terms, the broadcast luni-solar acceleration) in 60 s steps;
+  (central term, J2, centrifugal and Coriolis terms, the broadcast luni-solar acceleration) in steps of
+  at most 60 s by the Rust propagator of :mod:`gnssatt.orbit`;
   clock ``dt_sv = -tau_n + gamma_n (t - t_b)``; PZ-90 taken as WGS-84 (decimetre level).
 - Positions are ECEF at the *transmission* time in the frame of that time; :func:`transmit_states` rotates
   them into the ECEF frame of the reception time (Sagnac) and iterates the light time.
@@ -20,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gnssatt import _core
 from gnssatt.rinex.nav import RinexNav
 
 __all__ = ["satellite_states", "transmit_states"]
@@ -101,36 +103,21 @@ def _kepler(
     return pos, clk, f["tgd"]
 
 
-def _glo_deriv(y: NDArray[np.float64], acc: NDArray[np.float64]) -> NDArray[np.float64]:
-    r = y[:, :3]
-    v = y[:, 3:]
-    r2 = np.sum(r * r, axis=1)
-    rn = np.sqrt(r2)
-    a = -_GLO_MU / rn**3
-    b = 1.5 * _GLO_J2 * _GLO_MU * _GLO_AE**2 / rn**5
-    z2 = 5.0 * r[:, 2] ** 2 / r2
-    w2 = _GLO_OMEGA**2
-    ax = (a - b * (1.0 - z2) + w2) * r[:, 0] + 2 * _GLO_OMEGA * v[:, 1] + acc[:, 0]
-    ay = (a - b * (1.0 - z2) + w2) * r[:, 1] - 2 * _GLO_OMEGA * v[:, 0] + acc[:, 1]
-    az = (a - b * (3.0 - z2)) * r[:, 2] + acc[:, 2]
-    return np.concatenate([v, np.stack([ax, ay, az], axis=1)], axis=1)
-
-
 def _glonass(
     nav: RinexNav, rows: NDArray[np.int64], t_ns: int, dt_s: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     g = nav.glonass
     tk = (t_ns - g.tb_ns[rows]).astype(np.float64) * 1e-9 + dt_s
     y = np.concatenate([g.position_m[rows], g.velocity_m_s[rows]], axis=1)
-    acc = g.acceleration_m_s2[rows]
-    n_steps = int(np.ceil(np.max(np.abs(tk)) / 60.0)) if len(tk) else 0
-    h = (tk / max(n_steps, 1))[:, None]
-    for _ in range(n_steps):
-        k1 = _glo_deriv(y, acc)
-        k2 = _glo_deriv(y + 0.5 * h * k1, acc)
-        k3 = _glo_deriv(y + 0.5 * h * k2, acc)
-        k4 = _glo_deriv(y + h * k3, acc)
-        y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+    acc = np.ascontiguousarray(g.acceleration_m_s2[rows], dtype=np.float64)
+    model = {
+        "gm_m3_s2": _GLO_MU,
+        "j2": _GLO_J2,
+        "equatorial_radius_m": _GLO_AE,
+        "omega_rad_s": _GLO_OMEGA,
+        "lunisolar_m_s2": [0.0, 0.0, 0.0],
+    }
+    y = _core.glonass_ephemeris_states(y, acc, tk, model, max_step_s=60.0)
     clk = g.clock_bias[rows] + g.gamma_n[rows] * tk
     return y[:, :3], clk, np.zeros(len(rows))
 

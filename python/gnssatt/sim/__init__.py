@@ -62,6 +62,7 @@ from gnssatt.sim.measurements import (
     wrap_rad,
 )
 from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver, Receiver
+from gnssatt.sim.spaceborne import SpaceborneMeasurements, simulate_spaceborne
 from gnssatt.sim.visibility import antenna_cone_mask, earth_occlusion_mask, elevation_mask
 
 __all__ = [
@@ -75,6 +76,7 @@ __all__ = [
     "KeplerOrbits",
     "OrbitalReceiver",
     "Receiver",
+    "SpaceborneMeasurements",
     "antenna_cone_mask",
     "constants",
     "correlator_amplitude",
@@ -98,6 +100,7 @@ __all__ = [
     "random_attitude",
     "random_los",
     "simulate_array",
+    "simulate_spaceborne",
     "solve_kepler",
     "walker",
     "wrap_rad",

@@ -12,6 +12,7 @@ pub mod lambda;
 pub mod likelihood;
 pub mod magnetometer;
 pub mod matrix_method;
+pub mod orbit;
 pub mod rotation;
 pub mod wahba;
 

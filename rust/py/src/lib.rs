@@ -9,6 +9,7 @@ mod errors;
 mod lambda;
 mod likelihood;
 mod matrix_method;
+mod orbit;
 mod rotation;
 mod wahba;
 
@@ -21,5 +22,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     lambda::register(m)?;
     dynamics::register(m)?;
     wahba::register(m)?;
+    orbit::register(m)?;
     Ok(())
 }

@@ -1,0 +1,307 @@
+"""Orbit models of seed 003: the GLONASS ICD Earth-fixed equations of motion (RK4, with the state-transition
+matrix), the circular Keplerian reference orbit, and TLE input through the ``sgp4`` package.
+
+Frames and units (``docs/conventions.md``, "Orbit determination"): states are ``(x, y, z, vx, vy, vz)`` in
+Earth-fixed axes (ECEF; the GLONASS ICD's PZ-90, taken equal to WGS-84 here), metres and metres per second,
+velocities relative to the rotating Earth. ``ECEF = Rz(theta) ECI`` with ``theta = theta0 + omega_E t``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gnssatt import _core
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import checked_array, scalar
+
+__all__ = [
+    "CircularOrbit",
+    "GlonassModel",
+    "PropagatedState",
+    "glonass_propagate",
+    "gmst_rad",
+    "teme_to_ecef",
+    "tle_states",
+]
+
+#: Earth rotation rate of the GLONASS CDMA ICD (2016) and WGS-84, rad/s.
+OMEGA_E_RAD_S = 7.2921151467e-5
+
+
+@dataclass(frozen=True)
+class GlonassModel:
+    """Constants of the GLONASS ICD model (PZ-90 values of the ICD, 2016 edition, appendix J).
+
+    Attributes
+    ----------
+    gm_m3_s2
+        Earth's gravitational parameter, m^3/s^2.
+    j2
+        Second zonal harmonic; 0 leaves only the central field.
+    equatorial_radius_m
+        Radius that scales J2, m.
+    omega_rad_s
+        Rotation rate of the Earth-fixed axes, rad/s; 0 turns the equations into inertial ones.
+    lunisolar_m_s2
+        (3,) constant perturbing acceleration in Earth-fixed axes (the broadcast luni-solar term), m/s^2.
+    """
+
+    gm_m3_s2: float = 398600.4418e9
+    j2: float = 1082625.75e-9
+    equatorial_radius_m: float = 6378136.0
+    omega_rad_s: float = OMEGA_E_RAD_S
+    lunisolar_m_s2: tuple[float, float, float] = field(default=(0.0, 0.0, 0.0))
+
+    def __post_init__(self) -> None:
+        for name in ("gm_m3_s2", "j2", "equatorial_radius_m", "omega_rad_s"):
+            object.__setattr__(self, name, scalar(name, getattr(self, name)))
+        acc = float_array("lunisolar_m_s2", self.lunisolar_m_s2, ndim=1, shape="(3,)")
+        if acc.shape != (3,):
+            raise InvalidInputError(f"expected lunisolar_m_s2 of shape (3,), got {acc.shape}")
+        object.__setattr__(self, "lunisolar_m_s2", tuple(float(a) for a in acc))
+        if self.gm_m3_s2 <= 0 or self.equatorial_radius_m <= 0:
+            raise InvalidInputError(
+                f"expected gm_m3_s2 > 0 and equatorial_radius_m > 0, got {self.gm_m3_s2}, "
+                f"{self.equatorial_radius_m}"
+            )
+
+    def _kwargs(self) -> dict[str, Any]:
+        return {
+            "gm_m3_s2": self.gm_m3_s2,
+            "j2": self.j2,
+            "equatorial_radius_m": self.equatorial_radius_m,
+            "omega_rad_s": self.omega_rad_s,
+            "lunisolar_m_s2": list(self.lunisolar_m_s2),
+        }
+
+
+@dataclass(frozen=True)
+class PropagatedState:
+    """State after :func:`glonass_propagate`.
+
+    Attributes
+    ----------
+    position_m, velocity_m_s
+        (3,) Earth-fixed position (m) and velocity relative to the rotating Earth (m/s).
+    stm
+        (6, 6) state-transition matrix ``d(r, v)(t + duration) / d(r, v)(t)`` from the variational equations.
+    """
+
+    position_m: NDArray[np.float64]
+    velocity_m_s: NDArray[np.float64]
+    stm: NDArray[np.float64]
+
+    @property
+    def state(self) -> NDArray[np.float64]:
+        """(6,) ``(position, velocity)``."""
+        return np.concatenate([self.position_m, self.velocity_m_s])
+
+
+def _vec3(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    v = float_array(name, value, ndim=1, shape="(3,)")
+    if v.shape != (3,):
+        raise InvalidInputError(f"expected {name} of shape (3,), got {v.shape}")
+    return v
+
+
+def glonass_propagate(
+    position_m: ArrayLike,
+    velocity_m_s: ArrayLike,
+    duration_s: float,
+    *,
+    step_s: float = 10.0,
+    lunisolar_m_s2: ArrayLike | None = None,
+    model: GlonassModel | None = None,
+) -> PropagatedState:
+    """Propagate a state forward with the GLONASS ICD equations of motion by 4th-order Runge-Kutta.
+
+    The Earth-fixed equations (GLONASS ICD ed. 5.1, 2008, A.3.1.2; CDMA ICD 2016, J.2): central gravity,
+    J2, centrifugal ``omega^2 (x, y)`` and Coriolis ``2 omega (vy, -vx)`` terms and a constant luni-solar
+    acceleration, integrated in ``ceil(duration / step)`` equal steps together with the variational
+    equations ``dPhi/dt = F(x) Phi``.
+
+    Parameters
+    ----------
+    position_m, velocity_m_s
+        (3,) Earth-fixed position (m) and velocity relative to the rotating Earth (m/s).
+    duration_s
+        Propagation time, s, >= 0. Only forward propagation: a negative duration is an error (to go
+        backwards, e.g. from a broadcast reference time, use :mod:`gnssatt.rinex`'s ephemeris functions).
+    step_s
+        Longest RK4 step, s, in (0, duration_s] (any positive step when ``duration_s`` is 0).
+    lunisolar_m_s2
+        (3,) constant acceleration in Earth-fixed axes, m/s^2; overrides ``model.lunisolar_m_s2``.
+    model
+        The constants (default :class:`GlonassModel`, the ICD's PZ-90 values).
+
+    Returns
+    -------
+    PropagatedState
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or wrongly shaped state, negative duration, step <= 0 or longer than the duration.
+    """
+    m = model if model is not None else GlonassModel()
+    if not isinstance(m, GlonassModel):
+        raise TypeError(f"expected model as a gnssatt.orbit.GlonassModel, got {type(m).__name__}")
+    if lunisolar_m_s2 is not None:
+        acc = _vec3("lunisolar_m_s2", lunisolar_m_s2)
+        m = GlonassModel(m.gm_m3_s2, m.j2, m.equatorial_radius_m, m.omega_rad_s, tuple(acc))
+    state = np.concatenate([_vec3("position_m", position_m), _vec3("velocity_m_s", velocity_m_s)])
+    d = scalar("duration_s", duration_s)
+    h = scalar("step_s", step_s)
+    x, phi = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
+    return PropagatedState(x[:3].copy(), x[3:].copy(), phi)
+
+
+@dataclass(frozen=True)
+class CircularOrbit:
+    """A circular Keplerian orbit (the seed's reference orbit), mapped orbital -> ECI -> ECEF.
+
+    Attributes
+    ----------
+    radius_m
+        Orbit radius, m.
+    inclination_rad, raan_rad
+        Inclination and right ascension of the ascending node in ECI, rad.
+    arg_latitude0_rad
+        Argument of latitude at ``t = 0``, rad.
+    gm_m3_s2
+        Gravitational parameter (default WGS-84), m^3/s^2.
+    """
+
+    radius_m: float
+    inclination_rad: float
+    raan_rad: float
+    arg_latitude0_rad: float
+    gm_m3_s2: float = 3.986004418e14
+
+    @property
+    def period_s(self) -> float:
+        """``2 pi sqrt(r^3 / GM)``, s."""
+        return float(2.0 * np.pi * np.sqrt(self.radius_m**3 / self.gm_m3_s2))
+
+    def state_ecef(
+        self, times_s: ArrayLike, *, theta0_rad: float = 0.0, omega_rad_s: float = OMEGA_E_RAD_S
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(n, 3) ECEF positions (m) and velocities relative to the Earth (m/s) at ``times_s`` (n,), s.
+
+        The orbital frame (x along-track, y orbit normal, z radial) is rotated into ECI by
+        ``Rz(raan) Rx(i) Rz(u)`` and ECI into ECEF by ``Rz(-(theta0 + omega t))``.
+        """
+        t = float_array("times_s", times_s, ndim=1, shape="(n,)")
+        elements = [
+            scalar(k, getattr(self, k))
+            for k in ("radius_m", "inclination_rad", "raan_rad", "arg_latitude0_rad", "gm_m3_s2")
+        ]
+        return _core.circular_orbit_ecef(
+            elements,
+            t,
+            theta0_rad=scalar("theta0_rad", theta0_rad),
+            omega_rad_s=scalar("omega_rad_s", omega_rad_s),
+        )
+
+
+def gmst_rad(jd_ut1: ArrayLike) -> NDArray[np.float64]:
+    """Greenwich mean sidereal time (IAU-82, Vallado's ``gstime``) of UT1 Julian dates, rad in [0, 2 pi)."""
+    jd = checked_array("jd_ut1", jd_ut1, ndim=(0, 1), shape="() or (n,)")
+    t = (jd - 2451545.0) / 36525.0
+    sec = 67310.54841 + (876600.0 * 3600.0 + 8640184.812866) * t + 0.093104 * t**2 - 6.2e-6 * t**3
+    return np.remainder(np.radians(sec / 240.0), 2.0 * np.pi)
+
+
+def teme_to_ecef(
+    r_teme_m: ArrayLike, v_teme_m_s: ArrayLike, jd_ut1: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """TEME (the SGP4 output frame) to Earth-fixed axes by the GMST rotation.
+
+    ``r = Rz(-gmst) r_teme``, ``v = Rz(-gmst) v_teme - omega_E x r``. Polar motion is neglected (the result is
+    the pseudo-Earth-fixed frame; polar motion moves a LEO position by up to about 15 m) and so is the
+    length-of-day change of ``omega_E``.
+
+    Parameters
+    ----------
+    r_teme_m, v_teme_m_s
+        (n, 3) or (3,) TEME position (m) and velocity (m/s).
+    jd_ut1
+        () or (n,) Julian dates in UT1.
+    """
+    r = float_array("r_teme_m", r_teme_m, ndim=(1, 2), shape="(n, 3)")
+    v = float_array("v_teme_m_s", v_teme_m_s, ndim=(1, 2), shape="(n, 3)")
+    if r.shape[-1] != 3 or v.shape != r.shape:
+        raise InvalidInputError(
+            f"expected r_teme_m and v_teme_m_s of one shape (n, 3), got {r.shape}, {v.shape}"
+        )
+    g = gmst_rad(jd_ut1)
+    c, s, z, o = np.cos(g), np.sin(g), np.zeros_like(g), np.ones_like(g)
+    ecef_from_teme = np.stack(
+        [np.stack([c, s, z], -1), np.stack([-s, c, z], -1), np.stack([z, z, o], -1)], -2
+    )
+    re = np.einsum("...ij,...j->...i", ecef_from_teme, r)
+    ve = np.einsum("...ij,...j->...i", ecef_from_teme, v)
+    return re, ve - np.cross([0.0, 0.0, OMEGA_E_RAD_S], re)
+
+
+def _julian_dates(times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    t = np.asarray(times)
+    if t.dtype.kind != "M":
+        raise TypeError(f"expected times as numpy datetime64 (UTC), got dtype {t.dtype}")
+    if np.any(np.isnat(t)):
+        raise InvalidInputError("times contains NaT")
+    ns = t.astype("datetime64[ns]").astype(np.int64)
+    days = ns // 86_400_000_000_000
+    frac = (ns - days * 86_400_000_000_000) / 86_400e9
+    return np.atleast_1d(2440587.5 + days.astype(np.float64)), np.atleast_1d(frac)
+
+
+def tle_states(
+    line1: str, line2: str, times: ArrayLike, *, dut1_s: float = 0.0
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Earth-fixed states of a satellite from its two-line elements (SGP4 through the ``sgp4`` package).
+
+    Parameters
+    ----------
+    line1, line2
+        The TLE lines.
+    times
+        (n,) or () numpy ``datetime64`` instants, UTC.
+    dut1_s
+        UT1 - UTC, s, for the Earth rotation (neglecting it, |dUT1| < 0.9 s, turns a LEO position by up to
+        about 0.4 km along the equator).
+
+    Returns
+    -------
+    position_m, velocity_m_s
+        (n, 3) Earth-fixed (pseudo-Earth-fixed: polar motion neglected, see :func:`teme_to_ecef`).
+
+    Raises
+    ------
+    ImportError
+        ``sgp4`` is not installed (``pip install gnssatt[tle]``).
+    InvalidInputError
+        Unparsable TLE, or SGP4 reports an error (e.g. decayed orbit) at some time.
+    """
+    try:
+        from sgp4.api import Satrec
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("tle_states needs the sgp4 package: pip install 'gnssatt[tle]'") from exc
+    if not isinstance(line1, str) or not isinstance(line2, str):
+        raise TypeError("expected the two TLE lines as str")
+    try:
+        sat = Satrec.twoline2rv(line1, line2)
+    except (ValueError, IndexError) as exc:
+        raise InvalidInputError(f"could not parse the TLE: {exc}") from exc
+    jd, fr = _julian_dates(times)
+    err, r_km, v_km_s = sat.sgp4_array(jd, fr)
+    if np.any(err != 0):
+        k = int(np.flatnonzero(err)[0])
+        raise InvalidInputError(f"SGP4 error code {int(err[k])} at time index {k} (see sgp4.api.SGP4_ERRORS)")
+    d = scalar("dut1_s", dut1_s) / 86400.0
+    return teme_to_ecef(r_km * 1e3, v_km_s * 1e3, jd + (fr + d))

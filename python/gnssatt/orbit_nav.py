@@ -1,0 +1,285 @@
+"""Orbit determination of a small satellite from its GNSS receiver (seed 003, chapter 1): the receiver's
+own least-squares position/velocity fix, and the Kalman filter (inner loop in Rust) whose prediction is the
+GLONASS ICD orbit model and whose corrections are either those fixes (loosely coupled) or between-satellite
+first differences of pseudoranges and Doppler (tightly coupled).
+
+State ``x = (x, y, z, vx, vy, vz)``: Earth-fixed axes, m and m/s (velocity relative to the rotating Earth).
+Process noise: white acceleration of power spectral density ``accel_psd_m2_s3`` per axis. Conventions in
+``docs/conventions.md`` ("Orbit determination").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gnssatt import _core
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+from gnssatt.orbit import GlonassModel, glonass_propagate
+from gnssatt.sim._util import scalar
+from gnssatt.sim.spaceborne import SpaceborneMeasurements
+
+__all__ = [
+    "OrbitFilterResult",
+    "ReceiverFixes",
+    "noisy_orbit",
+    "orbit_filter",
+    "receiver_fix",
+    "white_acceleration_noise",
+]
+
+
+def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.float64]:
+    """(6, 6) covariance over ``dt_s`` of white acceleration noise on a free particle:
+    ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``."""
+    q, dt = accel_psd_m2_s3, dt_s
+    i3 = np.eye(3)
+    return q * np.block([[dt**3 / 3 * i3, dt**2 / 2 * i3], [dt**2 / 2 * i3, dt * i3]])
+
+
+def noisy_orbit(
+    x0: ArrayLike,
+    times_s: ArrayLike,
+    rng: np.random.Generator,
+    *,
+    accel_psd_m2_s3: float,
+    step_s: float = 10.0,
+    model: GlonassModel | None = None,
+) -> NDArray[np.float64]:
+    """A true trajectory for simulations: the ICD model between epochs plus the state noise of white
+    acceleration (:func:`white_acceleration_noise`, the free-particle part of what the filter's Van Loan
+    discretisation gives; the gravity-gradient correction is ``(n dt)^2 ~ 1e-4`` of it for 10 s in LEO).
+
+    Returns (n_t, 6) states at ``times_s``; the first is ``x0``.
+    """
+    x = float_array("x0", x0, ndim=1, shape="(6,)")
+    t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
+    q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
+    out = np.empty((t.size, 6))
+    out[0] = x
+    for k in range(1, t.size):
+        dt = t[k] - t[k - 1]
+        p = glonass_propagate(out[k - 1, :3], out[k - 1, 3:], dt, step_s=min(step_s, dt), model=model)
+        out[k] = p.state + rng.multivariate_normal(np.zeros(6), white_acceleration_noise(q, dt))
+    return out
+
+
+@dataclass(frozen=True)
+class ReceiverFixes:
+    """The receiver's own single-epoch solutions.
+
+    Attributes
+    ----------
+    times_s
+        (n_t,) epochs.
+    position_m, velocity_m_s
+        (n_t, 3) ECEF fix (NaN where ``valid`` is false).
+    covariance
+        (n_t, 6, 6) covariance of ``(position, velocity)`` from the least-squares normal matrices (position
+        and velocity solved apart: no cross-covariance).
+    valid
+        (n_t,) a fix exists (>= 3 + number of systems satellites for the position, >= 4 for the velocity).
+    """
+
+    times_s: NDArray[np.float64]
+    position_m: NDArray[np.float64]
+    velocity_m_s: NDArray[np.float64]
+    covariance: NDArray[np.float64]
+    valid: NDArray[np.bool_]
+
+
+def _fix_epoch(
+    meas: SpaceborneMeasurements, k: int, start: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None:
+    vis = meas.visible[k]
+    systems = np.unique(meas.system[vis])
+    n = int(vis.sum())
+    if n < 3 + systems.size or n < 4:
+        return None
+    sp, sv = meas.sat_position_m[k, vis], meas.sat_velocity_m_s[k, vis]
+    pr = meas.pseudorange_m[k, vis]
+    cols = (meas.system[vis][:, None] == systems[None, :]).astype(float)  # one clock per system
+    x = np.concatenate([start, np.zeros(systems.size)])
+    for _ in range(10):
+        d = sp - x[:3]
+        rho = np.linalg.norm(d, axis=1)
+        a = np.hstack([-d / rho[:, None], cols])
+        dx = np.linalg.lstsq(a, pr - rho - cols @ x[3:], rcond=None)[0]
+        x += dx
+        if np.linalg.norm(dx[:3]) < 1e-4:
+            break
+    d = sp - x[:3]
+    u = d / np.linalg.norm(d, axis=1)[:, None]
+    cov_p = meas.code_sigma_m**2 * np.linalg.inv(a.T @ a)[:3, :3]
+    # Range rates -lambda D = u . (v_sat - v) + c drift: linear in (v, c drift).
+    lam = meas.wavelength_m[vis]
+    rate = -lam * meas.doppler_hz[k, vis]
+    b = np.hstack([-u, np.ones((n, 1))])
+    w = 1.0 / (lam * meas.doppler_sigma_hz) ** 2
+    nb = b.T @ (b * w[:, None])
+    y = np.linalg.solve(nb, b.T @ (w * (rate - np.sum(u * sv, axis=1))))
+    cov = np.zeros((6, 6))
+    cov[:3, :3] = cov_p
+    cov[3:, 3:] = np.linalg.inv(nb)[:3, :3]
+    return x[:3], y[:3], cov
+
+
+def receiver_fix(measurements: SpaceborneMeasurements) -> ReceiverFixes:
+    """Single-epoch least-squares fixes (Gauss-Newton for position + one clock per system, linear least
+    squares for velocity + clock drift from Doppler); none where too few satellites are tracked.
+    """
+    if not isinstance(measurements, SpaceborneMeasurements):
+        raise TypeError(f"expected SpaceborneMeasurements, got {type(measurements).__name__}")
+    m = measurements
+    n_t = m.times_s.size
+    pos = np.full((n_t, 3), np.nan)
+    vel = np.full((n_t, 3), np.nan)
+    cov = np.full((n_t, 6, 6), np.nan)
+    valid = np.zeros(n_t, dtype=bool)
+    start = np.zeros(3)
+    for k in range(n_t):
+        fix = _fix_epoch(m, k, start)
+        if fix is not None:
+            pos[k], vel[k], cov[k] = fix
+            valid[k] = True
+            start = pos[k]
+    return ReceiverFixes(m.times_s, pos, vel, cov, valid)
+
+
+@dataclass(frozen=True)
+class OrbitFilterResult:
+    """Filter output after each epoch's update.
+
+    Attributes
+    ----------
+    times_s
+        (n_t,) epochs.
+    states
+        (n_t, 6) estimates ``(r, v)``, ECEF, m and m/s.
+    covariances
+        (n_t, 6, 6) their covariances.
+    nis
+        (n_t,) normalised innovation squared of the epoch's update (NaN where no update).
+    nis_dof
+        (n_t,) its degrees of freedom (number of scalar measurements; 0 where no update).
+    coupling
+        ``"loose"`` or ``"tight"``.
+    """
+
+    times_s: NDArray[np.float64]
+    states: NDArray[np.float64]
+    covariances: NDArray[np.float64]
+    nis: NDArray[np.float64]
+    nis_dof: NDArray[np.int64]
+    coupling: str
+
+    def nees(self, truth: ArrayLike) -> NDArray[np.float64]:
+        """(n_t,) normalised estimation error squared ``e^T P^-1 e`` against true states (n_t, 6)."""
+        x = float_array("truth", truth, ndim=2, shape="(n_t, 6)")
+        if x.shape != self.states.shape:
+            raise InvalidInputError(f"expected truth of shape {self.states.shape}, got {x.shape}")
+        e = self.states - x
+        return np.einsum("ki,ki->k", e, np.linalg.solve(self.covariances, e[..., None])[..., 0])
+
+    def sigma(self) -> NDArray[np.float64]:
+        """(n_t, 6) standard deviations of the state."""
+        return np.sqrt(np.einsum("kii->ki", self.covariances))
+
+
+def orbit_filter(
+    data: SpaceborneMeasurements | ReceiverFixes,
+    x0: ArrayLike,
+    p0: ArrayLike,
+    *,
+    coupling: str = "tight",
+    accel_psd_m2_s3: float = 1e-8,
+    step_s: float = 10.0,
+    use_doppler: bool = True,
+    model: GlonassModel | None = None,
+) -> OrbitFilterResult:
+    """Run the orbit-determination Kalman filter (Rust inner loop) over all epochs.
+
+    Parameters
+    ----------
+    data
+        Pseudoranges and Doppler (:func:`gnssatt.sim.simulate_spaceborne` or the same layout from a real
+        receiver), or precomputed fixes (:func:`receiver_fix`, loosely coupled only). With measurements
+        and ``coupling="loose"`` the fixes are computed here.
+    x0, p0
+        (6,) initial state at ``times_s[0]`` and its (6, 6) covariance.
+    coupling
+        ``"tight"``: first differences, between tracked satellites of the same system, of pseudoranges and
+        of range rates ``-lambda_j D_j`` (the receiver clock bias, drift and inter-system bias cancel; the
+        differences' noise covariance ``D R D^T`` has the shared reference satellite's variance off the
+        diagonal). Updates need two tracked satellites of one system. ``"loose"``: the fixes with their
+        covariance; needs a fix.
+    accel_psd_m2_s3
+        Power spectral density of the white acceleration process noise per axis, m^2/s^3.
+    step_s
+        Longest RK4 step of the prediction, s.
+    use_doppler
+        Tightly coupled: include the Doppler differences.
+    model
+        Prediction model (default: ICD PZ-90 constants, J2, no luni-solar term).
+
+    Raises
+    ------
+    InvalidInputError
+        Bad shapes or values, non-finite tracked measurements, non-increasing times, or no usable
+        measurement in any epoch.
+    """
+    m = model if model is not None else GlonassModel()
+    x = float_array("x0", x0, ndim=1, shape="(6,)")
+    p = float_array("p0", p0, ndim=2, shape="(6, 6)")
+    settings = {
+        "accel_psd_m2_s3": scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0),
+        "step_s": scalar("step_s", step_s, minimum=0.0, strict=True),
+    }
+    if coupling not in ("loose", "tight"):
+        raise InvalidInputError(f"expected coupling 'loose' or 'tight', got {coupling!r}")
+    if isinstance(data, ReceiverFixes):
+        if coupling != "loose":
+            raise InvalidInputError("receiver fixes can only drive the loosely coupled filter")
+        fixes = data
+    elif isinstance(data, SpaceborneMeasurements):
+        fixes = receiver_fix(data) if coupling == "loose" else None
+    else:
+        raise TypeError(f"expected SpaceborneMeasurements or ReceiverFixes, got {type(data).__name__}")
+    if fixes is not None:
+        t = fixes.times_s
+        out = _core.orbit_filter_loose(
+            t,
+            x,
+            p,
+            np.ascontiguousarray(fixes.position_m),
+            np.ascontiguousarray(fixes.velocity_m_s),
+            np.ascontiguousarray(fixes.covariance),
+            np.ascontiguousarray(fixes.valid, dtype=bool),
+            m._kwargs(),
+            settings,
+        )
+    else:
+        d = data
+        assert isinstance(d, SpaceborneMeasurements)
+        t = d.times_s
+        out = _core.orbit_filter_tight(
+            t,
+            x,
+            p,
+            np.ascontiguousarray(d.sat_position_m),
+            np.ascontiguousarray(d.sat_velocity_m_s),
+            np.ascontiguousarray(d.pseudorange_m),
+            np.ascontiguousarray(d.doppler_hz),
+            np.ascontiguousarray(d.visible, dtype=bool),
+            np.ascontiguousarray(d.wavelength_m),
+            np.ascontiguousarray(d.system, dtype=np.uint32),
+            float(d.code_sigma_m),
+            float(d.doppler_sigma_hz) if use_doppler else 0.0,
+            m._kwargs(),
+            settings,
+        )
+    states, covs, nis, dof = out
+    return OrbitFilterResult(np.asarray(t), states, covs, nis, dof.astype(np.int64), coupling)

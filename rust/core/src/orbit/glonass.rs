@@ -1,0 +1,291 @@
+//! The GLONASS ICD equations of motion in Earth-fixed (PZ-90) axes: central gravity, the J2 zonal term,
+//! centrifugal and Coriolis accelerations of the rotating frame and an optional constant luni-solar
+//! acceleration; fourth-order Runge-Kutta integration of the state and of its variational equations.
+//!
+//! Source: GLONASS ICD, edition 5.1 (2008), A.3.1.2, and the CDMA general description (2016), appendix J.2
+//! ("simplified algorithm"); constants of the 2016 edition.
+
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+
+use crate::error::{ensure_finite, Error, Result};
+
+/// PZ-90 constants and the constant perturbing acceleration of the ICD model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlonassModel {
+    /// Earth's gravitational parameter, m^3/s^2 (ICD: 398600.4418e9).
+    pub gm_m3_s2: f64,
+    /// Second zonal harmonic J2 (ICD: 1082625.75e-9); 0 for a central field.
+    pub j2: f64,
+    /// Equatorial radius that scales J2, m (ICD: 6378136).
+    pub equatorial_radius_m: f64,
+    /// Earth rotation rate of the Earth-fixed axes, rad/s (ICD 2016: 7.2921151467e-5); 0 for inertial axes.
+    pub omega_rad_s: f64,
+    /// Constant luni-solar (or any other) acceleration in Earth-fixed axes, m/s^2.
+    pub lunisolar_m_s2: [f64; 3],
+}
+
+impl Default for GlonassModel {
+    fn default() -> Self {
+        Self::pz90()
+    }
+}
+
+impl GlonassModel {
+    /// The ICD's PZ-90 constants without luni-solar acceleration.
+    pub const fn pz90() -> Self {
+        GlonassModel {
+            gm_m3_s2: 398_600.441_8e9,
+            j2: 1_082_625.75e-9,
+            equatorial_radius_m: 6_378_136.0,
+            omega_rad_s: 7.292_115_146_7e-5,
+            lunisolar_m_s2: [0.0; 3],
+        }
+    }
+
+    /// Checks that the constants are finite and `GM`, the radius are positive.
+    pub fn validate(&self) -> Result<()> {
+        ensure_finite(
+            "orbit model constants",
+            [
+                &self.gm_m3_s2,
+                &self.j2,
+                &self.equatorial_radius_m,
+                &self.omega_rad_s,
+            ],
+        )?;
+        ensure_finite("lunisolar_m_s2", &self.lunisolar_m_s2)?;
+        if self.gm_m3_s2 <= 0.0 || self.equatorial_radius_m <= 0.0 {
+            return Err(Error::out_of_range(
+                "orbit model constants",
+                format!(
+                    "expected GM > 0 and equatorial radius > 0, got {} m^3/s^2 and {} m",
+                    self.gm_m3_s2, self.equatorial_radius_m
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Acceleration (m/s^2, Earth-fixed axes) at position `r` (m) moving with velocity `v` (m/s) relative to
+    /// the rotating axes.
+    pub fn acceleration(&self, r: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
+        let r2 = r.norm_squared();
+        let rn = r2.sqrt();
+        let a = -self.gm_m3_s2 / (r2 * rn);
+        let b = 1.5 * self.j2 * self.gm_m3_s2 * self.equatorial_radius_m.powi(2) / (r2 * r2 * rn);
+        let z2 = 5.0 * r.z * r.z / r2;
+        let w = self.omega_rad_s;
+        let ls = &self.lunisolar_m_s2;
+        Vector3::new(
+            (a - b * (1.0 - z2) + w * w) * r.x + 2.0 * w * v.y + ls[0],
+            (a - b * (1.0 - z2) + w * w) * r.y - 2.0 * w * v.x + ls[1],
+            (a - b * (3.0 - z2)) * r.z + ls[2],
+        )
+    }
+
+    /// Jacobian `F = d(dx/dt)/dx` (6 x 6) of the state `x = (r, v)`: `[[0, I], [da/dr, da/dv]]`.
+    pub fn jacobian(&self, r: &Vector3<f64>) -> Matrix6<f64> {
+        let r2 = r.norm_squared();
+        let rn = r2.sqrt();
+        let (r5, r7, r9) = (r2 * r2 * rn, r2 * r2 * r2 * rn, r2 * r2 * r2 * r2 * rn);
+        let mu = self.gm_m3_s2;
+        // Central term: -mu/r^3 (I - 3 r r^T / r^2).
+        let mut dadr = (Matrix3::identity() - r * r.transpose() * (3.0 / r2)) * (-mu / (r2 * rn));
+        // J2 term a = -k (x g1, y g1, z g3) with g1 = r^-5 - 5 z^2 r^-7, g3 = 3 r^-5 - 5 z^2 r^-7.
+        let k = 1.5 * self.j2 * mu * self.equatorial_radius_m.powi(2);
+        let z = r.z;
+        let g1 = 1.0 / r5 - 5.0 * z * z / r7;
+        let g3 = 3.0 / r5 - 5.0 * z * z / r7;
+        let ez = Vector3::z();
+        let dg1 = r * (-5.0 / r7 + 35.0 * z * z / r9) - ez * (10.0 * z / r7);
+        let dg3 = r * (-15.0 / r7 + 35.0 * z * z / r9) - ez * (10.0 * z / r7);
+        for j in 0..3 {
+            dadr[(0, j)] -= k * (if j == 0 { g1 } else { 0.0 } + r.x * dg1[j]);
+            dadr[(1, j)] -= k * (if j == 1 { g1 } else { 0.0 } + r.y * dg1[j]);
+            dadr[(2, j)] -= k * (if j == 2 { g3 } else { 0.0 } + z * dg3[j]);
+        }
+        let w = self.omega_rad_s;
+        dadr[(0, 0)] += w * w;
+        dadr[(1, 1)] += w * w;
+        let mut f = Matrix6::zeros();
+        f.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&Matrix3::identity());
+        f.fixed_view_mut::<3, 3>(3, 0).copy_from(&dadr);
+        f[(3, 4)] = 2.0 * w;
+        f[(4, 3)] = -2.0 * w;
+        f
+    }
+
+    fn derivative(&self, x: &Vector6<f64>) -> Vector6<f64> {
+        let r = x.fixed_rows::<3>(0).into_owned();
+        let v = x.fixed_rows::<3>(3).into_owned();
+        let a = self.acceleration(&r, &v);
+        Vector6::new(v.x, v.y, v.z, a.x, a.y, a.z)
+    }
+
+    /// One RK4 step of length `h` (s, either sign).
+    pub fn rk4_step(&self, x: &Vector6<f64>, h: f64) -> Vector6<f64> {
+        let k1 = self.derivative(x);
+        let k2 = self.derivative(&(x + k1 * (0.5 * h)));
+        let k3 = self.derivative(&(x + k2 * (0.5 * h)));
+        let k4 = self.derivative(&(x + k3 * h));
+        x + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0)
+    }
+
+    /// One RK4 step of the state and of the variational equations `dPhi/dt = F(x(t)) Phi`, starting from
+    /// `Phi = I`: returns the new state and the state-transition matrix of the step.
+    pub fn rk4_step_with_stm(&self, x: &Vector6<f64>, h: f64) -> (Vector6<f64>, Matrix6<f64>) {
+        let f_at = |x: &Vector6<f64>| self.jacobian(&x.fixed_rows::<3>(0).into_owned());
+        let phi0 = Matrix6::<f64>::identity();
+        let k1 = self.derivative(x);
+        let p1 = f_at(x) * phi0;
+        let x2 = x + k1 * (0.5 * h);
+        let k2 = self.derivative(&x2);
+        let p2 = f_at(&x2) * (phi0 + p1 * (0.5 * h));
+        let x3 = x + k2 * (0.5 * h);
+        let k3 = self.derivative(&x3);
+        let p3 = f_at(&x3) * (phi0 + p2 * (0.5 * h));
+        let x4 = x + k3 * h;
+        let k4 = self.derivative(&x4);
+        let p4 = f_at(&x4) * (phi0 + p3 * h);
+        (
+            x + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0),
+            phi0 + (p1 + p2 * 2.0 + p3 * 2.0 + p4) * (h / 6.0),
+        )
+    }
+}
+
+/// Number of equal RK4 steps for `duration_s` with steps no longer than `step_s`, after checking both.
+fn steps_for(duration_s: f64, step_s: f64) -> Result<usize> {
+    ensure_finite("duration_s", [&duration_s])?;
+    ensure_finite("step_s", [&step_s])?;
+    if duration_s < 0.0 {
+        return Err(Error::out_of_range(
+            "duration_s",
+            format!("expected a duration >= 0 s (forward propagation), got {duration_s}"),
+        ));
+    }
+    if step_s <= 0.0 {
+        return Err(Error::out_of_range(
+            "step_s",
+            format!("expected a step > 0 s, got {step_s}"),
+        ));
+    }
+    if duration_s == 0.0 {
+        return Ok(0);
+    }
+    if step_s > duration_s {
+        return Err(Error::out_of_range(
+            "step_s",
+            format!("expected a step no longer than the duration {duration_s} s, got {step_s} s"),
+        ));
+    }
+    let n = (duration_s / step_s).ceil();
+    if n > 1e9 {
+        return Err(Error::out_of_range(
+            "step_s",
+            format!("{duration_s} s in steps of {step_s} s needs {n:.3e} steps (at most 1e9)"),
+        ));
+    }
+    Ok(n as usize)
+}
+
+fn checked_state(state: &[f64; 6]) -> Result<Vector6<f64>> {
+    ensure_finite("state", state)?;
+    let x = Vector6::from_column_slice(state);
+    let r = x.fixed_rows::<3>(0).norm();
+    if r < 1.0 {
+        return Err(Error::out_of_range(
+            "position_m",
+            format!("expected a position away from the Earth's centre, got |r| = {r} m"),
+        ));
+    }
+    Ok(x)
+}
+
+/// Propagates `state = (x, y, z, vx, vy, vz)` (m, m/s, Earth-fixed) forward by `duration_s` with
+/// `ceil(duration / step_s)` equal RK4 steps.
+///
+/// # Errors
+/// Non-finite state or model, negative duration, step <= 0 or longer than a non-zero duration.
+pub fn propagate(
+    model: &GlonassModel,
+    state: &[f64; 6],
+    duration_s: f64,
+    step_s: f64,
+) -> Result<[f64; 6]> {
+    model.validate()?;
+    let mut x = checked_state(state)?;
+    let n = steps_for(duration_s, step_s)?;
+    let h = if n > 0 { duration_s / n as f64 } else { 0.0 };
+    for _ in 0..n {
+        x = model.rk4_step(&x, h);
+    }
+    Ok(x.into())
+}
+
+/// As [`propagate`], also returning the 6 x 6 state-transition matrix `d x(t + duration) / d x(t)` (row-major
+/// rows) integrated from the variational equations.
+pub fn propagate_with_stm(
+    model: &GlonassModel,
+    state: &[f64; 6],
+    duration_s: f64,
+    step_s: f64,
+) -> Result<([f64; 6], Matrix6<f64>)> {
+    model.validate()?;
+    let mut x = checked_state(state)?;
+    let n = steps_for(duration_s, step_s)?;
+    let h = if n > 0 { duration_s / n as f64 } else { 0.0 };
+    let mut phi = Matrix6::identity();
+    for _ in 0..n {
+        let (xn, step_phi) = model.rk4_step_with_stm(&x, h);
+        x = xn;
+        phi = step_phi * phi;
+    }
+    Ok((x.into(), phi))
+}
+
+/// Broadcast-ephemeris evaluation: each state at its reference time `t_b` is moved by its own signed offset
+/// `dt_s[i]` (before or after `t_b`, as receivers evaluate GLONASS ephemerides), in equal RK4 steps no
+/// longer than `max_step_s`. `lunisolar_m_s2[i]` replaces the model's constant acceleration for state `i`.
+pub fn ephemeris_states(
+    model: &GlonassModel,
+    states: &[[f64; 6]],
+    lunisolar_m_s2: &[[f64; 3]],
+    dt_s: &[f64],
+    max_step_s: f64,
+) -> Result<Vec<[f64; 6]>> {
+    if lunisolar_m_s2.len() != states.len() || dt_s.len() != states.len() {
+        return Err(Error::Shape {
+            name: "lunisolar_m_s2 / dt_s",
+            expected: format!("({0}, 3) / ({0},)", states.len()),
+            actual: format!("({}, 3) / ({},)", lunisolar_m_s2.len(), dt_s.len()),
+        });
+    }
+    ensure_finite("max_step_s", [&max_step_s])?;
+    if max_step_s <= 0.0 {
+        return Err(Error::out_of_range(
+            "max_step_s",
+            format!("expected a step > 0 s, got {max_step_s}"),
+        ));
+    }
+    states
+        .iter()
+        .zip(lunisolar_m_s2)
+        .zip(dt_s)
+        .map(|((s, acc), &dt)| {
+            let m = GlonassModel {
+                lunisolar_m_s2: *acc,
+                ..*model
+            };
+            m.validate()?;
+            let mut x = checked_state(s)?;
+            let n = steps_for(dt.abs(), max_step_s.min(dt.abs().max(f64::MIN_POSITIVE)))?;
+            let h = if n > 0 { dt / n as f64 } else { 0.0 };
+            for _ in 0..n {
+                x = m.rk4_step(&x, h);
+            }
+            Ok(x.into())
+        })
+        .collect()
+}

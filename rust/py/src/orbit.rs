@@ -1,0 +1,352 @@
+//! Bindings of the seed-003 orbit models and orbit-determination filter (`gnssatt_core::orbit`). States
+//! are `(x, y, z, vx, vy, vz)` in Earth-fixed axes, m and m/s; `gnssatt.orbit` / `gnssatt.orbit_nav` hold the
+//! documented Python API.
+
+use gnssatt_core::orbit::{
+    ephemeris_states, propagate_with_stm, run_filter, CircularOrbit, Corrections, FilterConfig,
+    FilterOutput, Fixes, GlonassModel, Ranges,
+};
+use nalgebra::Matrix6;
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
+use pyo3::prelude::*;
+
+use crate::errors::{invalid_input, IntoPyResult};
+
+/// The ICD model constants, passed as one dict (`gnssatt.orbit.GlonassModel._kwargs()`), SI units.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct ModelArgs {
+    gm_m3_s2: f64,
+    j2: f64,
+    equatorial_radius_m: f64,
+    omega_rad_s: f64,
+    lunisolar_m_s2: [f64; 3],
+}
+
+impl From<ModelArgs> for GlonassModel {
+    fn from(a: ModelArgs) -> Self {
+        GlonassModel {
+            gm_m3_s2: a.gm_m3_s2,
+            j2: a.j2,
+            equatorial_radius_m: a.equatorial_radius_m,
+            omega_rad_s: a.omega_rad_s,
+            lunisolar_m_s2: a.lunisolar_m_s2,
+        }
+    }
+}
+
+fn shape_error(py: Python<'_>, name: &str, expected: String, actual: &[usize]) -> PyErr {
+    invalid_input(
+        py,
+        format!("expected {name} of shape {expected}, got {actual:?}"),
+    )
+}
+
+fn state6(py: Python<'_>, name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<[f64; 6]> {
+    let a = a.as_array();
+    if a.len() != 6 {
+        return Err(shape_error(py, name, "(6,)".into(), a.shape()));
+    }
+    Ok([a[0], a[1], a[2], a[3], a[4], a[5]])
+}
+
+fn matrix6(py: Python<'_>, name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Matrix6<f64>> {
+    let a = a.as_array();
+    if a.shape() != [6, 6] {
+        return Err(shape_error(py, name, "(6, 6)".into(), a.shape()));
+    }
+    Ok(Matrix6::from_fn(|i, j| a[[i, j]]))
+}
+
+fn rows3(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray2<'_, f64>,
+    n: usize,
+) -> PyResult<Vec<[f64; 3]>> {
+    let a = a.as_array();
+    if a.shape() != [n, 3] {
+        return Err(shape_error(py, name, format!("({n}, 3)"), a.shape()));
+    }
+    Ok(a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
+}
+
+fn to_numpy6(m: &Matrix6<f64>) -> Array2<f64> {
+    Array2::from_shape_fn((6, 6), |(i, j)| m[(i, j)])
+}
+
+type StateAndStm<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
+type PositionsVelocities<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// Propagated state (6,) and state-transition matrix (6, 6).
+#[pyfunction]
+#[pyo3(signature = (state, duration_s, model, *, step_s))]
+fn glonass_propagate<'py>(
+    py: Python<'py>,
+    state: PyReadonlyArray1<'_, f64>,
+    duration_s: f64,
+    model: ModelArgs,
+    step_s: f64,
+) -> PyResult<StateAndStm<'py>> {
+    let s = state6(py, "state", &state)?;
+    let m = GlonassModel::from(model);
+    let (x, phi) = py
+        .detach(|| propagate_with_stm(&m, &s, duration_s, step_s))
+        .into_py_result(py)?;
+    Ok((
+        Array1::from_vec(x.to_vec()).into_pyarray(py),
+        to_numpy6(&phi).into_pyarray(py),
+    ))
+}
+
+/// States (n, 6) moved by signed offsets `dt_s` (n,) from their reference times, each with its own
+/// luni-solar acceleration (n, 3).
+#[pyfunction]
+#[pyo3(signature = (states, lunisolar_m_s2, dt_s, model, *, max_step_s))]
+fn glonass_ephemeris_states<'py>(
+    py: Python<'py>,
+    states: PyReadonlyArray2<'_, f64>,
+    lunisolar_m_s2: PyReadonlyArray2<'_, f64>,
+    dt_s: PyReadonlyArray1<'_, f64>,
+    model: ModelArgs,
+    max_step_s: f64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let a = states.as_array();
+    if a.ncols() != 6 {
+        return Err(shape_error(py, "states", "(n, 6)".into(), a.shape()));
+    }
+    let n = a.nrows();
+    let s: Vec<[f64; 6]> = a
+        .rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
+        .collect();
+    let acc = rows3(py, "lunisolar_m_s2", &lunisolar_m_s2, n)?;
+    let dt = dt_s.as_array().to_vec();
+    let m = GlonassModel::from(model);
+    let out = py
+        .detach(|| ephemeris_states(&m, &s, &acc, &dt, max_step_s))
+        .into_py_result(py)?;
+    Ok(Array2::from_shape_fn((n, 6), |(i, j)| out[i][j]).into_pyarray(py))
+}
+
+/// ECEF positions (n, 3) and velocities (n, 3) of a circular orbit at times (n,).
+#[pyfunction]
+#[pyo3(signature = (elements, times_s, *, theta0_rad, omega_rad_s))]
+fn circular_orbit_ecef<'py>(
+    py: Python<'py>,
+    elements: [f64; 5],
+    times_s: PyReadonlyArray1<'_, f64>,
+    theta0_rad: f64,
+    omega_rad_s: f64,
+) -> PyResult<PositionsVelocities<'py>> {
+    let o = CircularOrbit {
+        radius_m: elements[0],
+        inclination_rad: elements[1],
+        raan_rad: elements[2],
+        arg_latitude0_rad: elements[3],
+        gm_m3_s2: elements[4],
+    };
+    o.validate().into_py_result(py)?;
+    if !(theta0_rad.is_finite() && omega_rad_s.is_finite()) {
+        return Err(invalid_input(
+            py,
+            format!("expected finite theta0_rad and omega_rad_s, got {theta0_rad}, {omega_rad_s}"),
+        ));
+    }
+    let t = times_s.as_array();
+    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
+        return Err(invalid_input(
+            py,
+            format!("times_s contains a non-finite value at [{i}]"),
+        ));
+    }
+    let states: Vec<_> = t
+        .iter()
+        .map(|&ti| o.state_ecef(ti, theta0_rad, omega_rad_s))
+        .collect();
+    let n = states.len();
+    Ok((
+        Array2::from_shape_fn((n, 3), |(i, j)| states[i].0[j]).into_pyarray(py),
+        Array2::from_shape_fn((n, 3), |(i, j)| states[i].1[j]).into_pyarray(py),
+    ))
+}
+
+/// Filter settings, passed as one dict by `gnssatt.orbit_nav`.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct FilterArgs {
+    accel_psd_m2_s3: f64,
+    step_s: f64,
+}
+
+type FilterArrays<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<u64>>,
+);
+
+fn output<'py>(py: Python<'py>, out: FilterOutput) -> FilterArrays<'py> {
+    let n = out.states.len();
+    (
+        Array2::from_shape_fn((n, 6), |(k, j)| out.states[k][j]).into_pyarray(py),
+        Array3::from_shape_fn((n, 6, 6), |(k, i, j)| out.covariances[k][(i, j)]).into_pyarray(py),
+        Array1::from_vec(out.nis).into_pyarray(py),
+        Array1::from_iter(out.dof.iter().map(|&d| d as u64)).into_pyarray(py),
+    )
+}
+
+fn config(settings: FilterArgs, model: ModelArgs) -> FilterConfig {
+    FilterConfig {
+        model: model.into(),
+        accel_psd_m2_s3: settings.accel_psd_m2_s3,
+        step_s: settings.step_s,
+    }
+}
+
+/// Loosely coupled run: fixes (n_t, 3) x2, their covariances (n_t, 6, 6) and validity (n_t,).
+#[pyfunction]
+#[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, model, settings))]
+#[allow(clippy::too_many_arguments)]
+fn orbit_filter_loose<'py>(
+    py: Python<'py>,
+    times_s: PyReadonlyArray1<'_, f64>,
+    x0: PyReadonlyArray1<'_, f64>,
+    p0: PyReadonlyArray2<'_, f64>,
+    fix_position_m: PyReadonlyArray2<'_, f64>,
+    fix_velocity_m_s: PyReadonlyArray2<'_, f64>,
+    fix_covariance: PyReadonlyArray3<'_, f64>,
+    fix_valid: PyReadonlyArray1<'_, bool>,
+    model: ModelArgs,
+    settings: FilterArgs,
+) -> PyResult<FilterArrays<'py>> {
+    let t = times_s.as_array().to_vec();
+    let n = t.len();
+    let x0 = state6(py, "x0", &x0)?;
+    let p0 = matrix6(py, "p0", &p0)?;
+    let pos = rows3(py, "fix_position_m", &fix_position_m, n)?;
+    let vel = rows3(py, "fix_velocity_m_s", &fix_velocity_m_s, n)?;
+    let c = fix_covariance.as_array();
+    if c.shape() != [n, 6, 6] {
+        return Err(shape_error(
+            py,
+            "fix_covariance",
+            format!("({n}, 6, 6)"),
+            c.shape(),
+        ));
+    }
+    let cov: Vec<Matrix6<f64>> = (0..n)
+        .map(|k| Matrix6::from_fn(|i, j| c[[k, i, j]]))
+        .collect();
+    let valid = fix_valid.as_array().to_vec();
+    let cfg = config(settings, model);
+    let fixes = Fixes {
+        position_m: &pos,
+        velocity_m_s: &vel,
+        covariance: &cov,
+        valid: &valid,
+    };
+    let out = py
+        .detach(|| run_filter(&cfg, &t, &x0, &p0, &Corrections::Loose(fixes)))
+        .into_py_result(py)?;
+    Ok(output(py, out))
+}
+
+fn flat3(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray3<'_, f64>,
+    n: usize,
+    m: usize,
+) -> PyResult<Vec<[f64; 3]>> {
+    let a = a.as_array();
+    if a.shape() != [n, m, 3] {
+        return Err(shape_error(py, name, format!("({n}, {m}, 3)"), a.shape()));
+    }
+    Ok((0..n * m)
+        .map(|i| {
+            let (k, j) = (i / m, i % m);
+            [a[[k, j, 0]], a[[k, j, 1]], a[[k, j, 2]]]
+        })
+        .collect())
+}
+
+fn flat2<T: numpy::Element + Copy>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray2<'_, T>,
+    n: usize,
+    m: usize,
+) -> PyResult<Vec<T>> {
+    let a = a.as_array();
+    if a.shape() != [n, m] {
+        return Err(shape_error(py, name, format!("({n}, {m})"), a.shape()));
+    }
+    Ok(a.iter().copied().collect())
+}
+
+/// Tightly coupled run: satellite states (n_t, n_sat, 3) x2, pseudoranges, Doppler and tracking (n_t,
+/// n_sat), wavelengths and systems (n_sat,), noise sigmas.
+#[pyfunction]
+#[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, code_sigma_m, doppler_sigma_hz, model, settings))]
+#[allow(clippy::too_many_arguments)]
+fn orbit_filter_tight<'py>(
+    py: Python<'py>,
+    times_s: PyReadonlyArray1<'_, f64>,
+    x0: PyReadonlyArray1<'_, f64>,
+    p0: PyReadonlyArray2<'_, f64>,
+    sat_position_m: PyReadonlyArray3<'_, f64>,
+    sat_velocity_m_s: PyReadonlyArray3<'_, f64>,
+    pseudorange_m: PyReadonlyArray2<'_, f64>,
+    doppler_hz: PyReadonlyArray2<'_, f64>,
+    visible: PyReadonlyArray2<'_, bool>,
+    wavelength_m: PyReadonlyArray1<'_, f64>,
+    system: PyReadonlyArray1<'_, u32>,
+    code_sigma_m: f64,
+    doppler_sigma_hz: f64,
+    model: ModelArgs,
+    settings: FilterArgs,
+) -> PyResult<FilterArrays<'py>> {
+    let t = times_s.as_array().to_vec();
+    let n = t.len();
+    let x0 = state6(py, "x0", &x0)?;
+    let p0 = matrix6(py, "p0", &p0)?;
+    let lam = wavelength_m.as_array().to_vec();
+    let m = lam.len();
+    let sys = system.as_array().to_vec();
+    let pos = flat3(py, "sat_position_m", &sat_position_m, n, m)?;
+    let vel = flat3(py, "sat_velocity_m_s", &sat_velocity_m_s, n, m)?;
+    let pr = flat2(py, "pseudorange_m", &pseudorange_m, n, m)?;
+    let dop = flat2(py, "doppler_hz", &doppler_hz, n, m)?;
+    let vis = flat2(py, "visible", &visible, n, m)?;
+    let cfg = config(settings, model);
+    let ranges = Ranges {
+        n_sat: m,
+        sat_position_m: &pos,
+        sat_velocity_m_s: &vel,
+        pseudorange_m: &pr,
+        doppler_hz: &dop,
+        visible: &vis,
+        wavelength_m: &lam,
+        system: &sys,
+        code_sigma_m,
+        doppler_sigma_hz,
+    };
+    let out = py
+        .detach(|| run_filter(&cfg, &t, &x0, &p0, &Corrections::Tight(ranges)))
+        .into_py_result(py)?;
+    Ok(output(py, out))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(glonass_propagate, m)?)?;
+    m.add_function(wrap_pyfunction!(glonass_ephemeris_states, m)?)?;
+    m.add_function(wrap_pyfunction!(circular_orbit_ecef, m)?)?;
+    m.add_function(wrap_pyfunction!(orbit_filter_loose, m)?)?;
+    m.add_function(wrap_pyfunction!(orbit_filter_tight, m)?)?;
+    Ok(())
+}
