@@ -60,7 +60,7 @@ def trial(rng: np.random.Generator) -> dict[str, float]:
     psi0 = rng.uniform(-180.0, 180.0)
     euler = np.stack([psi0 + 3.0 * k, 5.0 * np.sin(k / 3.0), 3.0 * np.cos(k / 4.0)], axis=1)
     truth = np.stack([(-euler[:, 0]) % 360.0, euler[:, 1], euler[:, 2]], axis=1)
-    start = float(rng.uniform(0.0, 86400.0))
+    start = float(rng.uniform(0.0, 3.5 * 3600.0))  # within the broadcast records' 4 h validity
     row: dict[str, float] = {}
     for n in N_SATS:
         with tempfile.TemporaryDirectory() as folder:
