@@ -45,13 +45,14 @@ sigma (an undetected slip) are dropped and the epoch is fixed afresh.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt.ambiguity import bootstrap_success_rate, lambda_ils, ratio_test
-from gnssatt.errors import InvalidInputError, RinexError
+from gnssatt.errors import InvalidInputError, NearDegenerateWarning, RinexError
 from gnssatt.rinex.align import Aligned
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 from gnssatt.vector_attitude import wahba
@@ -216,7 +217,9 @@ def _fix_constrained(
     da = (fl.a[None] - zc).reshape(len(zc), -1)
     norm_a = np.einsum("ci,ij,cj->c", da, qinv, da)
     if nb >= 2:
-        rot = wahba(np.broadcast_to(body, bc.shape), bc, lengths**2).rotation.as_matrix()
+        with warnings.catch_warnings():  # wrong candidates may be near-parallel: they score badly anyway
+            warnings.simplefilter("ignore", NearDegenerateWarning)
+            rot = wahba(np.broadcast_to(body, bc.shape), bc, lengths**2).rotation.as_matrix()
         fitted = np.einsum("cij,nj->cni", rot.reshape(-1, 3, 3), body)
     else:  # one baseline: only its length constrains (already screened)
         fitted = bc
