@@ -103,3 +103,10 @@ def test_truncated_nav(tmp_path: Path) -> None:
     bad = _write(tmp_path, "trunc.05n", "\n".join(lines[:16]) + "\n")
     with pytest.raises(RinexError, match=r"trunc\.05n, line 16: file truncated inside the record"):
         read_nav(bad)
+
+
+def test_rinex_error_pickles() -> None:
+    import pickle
+
+    err = pickle.loads(pickle.dumps(RinexError("a.05o", 7, "expected a number")))
+    assert isinstance(err, RinexError) and err.line == 7 and str(err) == "a.05o, line 7: expected a number"

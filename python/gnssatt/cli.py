@@ -57,6 +57,10 @@ def _attitude(args: argparse.Namespace) -> int:
             args.nav,
             baselines,
             method=args.method,
+            motion=args.motion,
+            continuity=args.continuity,
+            window_deg=args.window,
+            baseline_length_m=args.baseline_length,
             systems=args.systems,
             elevation_mask_deg=args.elevation_mask,
         )
@@ -100,7 +104,39 @@ def main(argv: Sequence[str] | None = None) -> int:
     att.add_argument(
         "--out", type=Path, default=Path("results.csv"), help="CSV output (plot: same name .png)"
     )
-    att.add_argument("--method", choices=("auto", "ml", "lambda"), default="auto")
+    att.add_argument(
+        "--method",
+        choices=("auto", "ml", "lambda"),
+        default="auto",
+        help="ml: ambiguity-function grid per epoch; lambda: LAMBDA-fixed double differences (attitude "
+        "mode: per epoch, constrained by the baselines); auto: lambda beyond 100 m, else ml",
+    )
+    att.add_argument(
+        "--motion",
+        choices=("static", "moving"),
+        default="static",
+        help="baseline mode with lambda: static fixes the session's ambiguities once, moving fixes each "
+        "epoch (attitude mode is always per epoch)",
+    )
+    att.add_argument(
+        "--continuity",
+        action="store_true",
+        help="per-epoch lambda: hold fixed ambiguities along arcs without cycle slips",
+    )
+    att.add_argument(
+        "--window",
+        type=float,
+        default=None,
+        metavar="DEG",
+        help="ml: search +/- DEG around the previous epoch's solution (default: the whole domain)",
+    )
+    att.add_argument(
+        "--baseline-length",
+        type=float,
+        default=None,
+        metavar="M",
+        help="ml in baseline mode: baseline length, m (default: from the lambda solution)",
+    )
     att.add_argument("--systems", default="G", help="satellite systems to use (default G)")
     att.add_argument("--elevation-mask", type=float, default=10.0, help="degrees (default 10)")
     args = parser.parse_args(argv)

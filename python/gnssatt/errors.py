@@ -47,8 +47,13 @@ class RinexError(InvalidInputError):
     def __init__(self, path: object, line: int | None, message: str) -> None:
         self.path = str(path)
         self.line = line
+        self.message = message
         where = f"{self.path}, line {line}" if line is not None else self.path
         super().__init__(f"{where}: {message}")
+
+    def __reduce__(self) -> tuple[type[RinexError], tuple[str, int | None, str]]:
+        # picklable with its three arguments, so that it crosses process pools (gnssatt.montecarlo)
+        return (type(self), (self.path, self.line, self.message))
 
 
 class GnssattWarning(UserWarning):

@@ -35,7 +35,14 @@ class Experiment:
 
 
 # Module names under gnssatt.experiments, in the order `--list` shows them.
-_MODULES = ("matrix_method", "ml_grid", "magnetometer_yaw", "visibility_rotation", "orbit_filter")
+_MODULES = (
+    "matrix_method",
+    "ml_grid",
+    "magnetometer_yaw",
+    "orbit_filter",
+    "visibility_rotation",
+    "recorded_methods",
+)
 
 
 def _load() -> dict[str, Experiment]:

@@ -78,6 +78,9 @@ class Aligned:
         (n_ep, n_sat, 3) unit lines of sight at the reference receiver, East-North-Up.
     elevation_rad
         (n_ep, n_sat) elevations at the reference receiver.
+    epoch_position_ecef_m
+        (n_rx, n_ep, 3) single-point position of each receiver at each epoch, ECEF, m (NaN where unsolved);
+        what a moving platform's processing uses instead of ``position_ecef_m``.
     """
 
     paths: tuple[str, ...]
@@ -93,6 +96,7 @@ class Aligned:
     range_rate_m_s: NDArray[np.float64]
     los_enu: NDArray[np.float64]
     elevation_rad: NDArray[np.float64]
+    epoch_position_ecef_m: NDArray[np.float64] | None = None
 
     @property
     def usable(self) -> NDArray[np.bool_]:
@@ -202,6 +206,7 @@ def align_receivers(
     slip = np.zeros((n_rx, n_ep, n_sat), dtype=bool)
     clock = np.zeros((n_rx, n_ep))
     pos = np.zeros((n_rx, 3))
+    traj = np.full((n_rx, n_ep, 3), np.nan)
     sat_pos = np.full((n_rx, n_ep, n_sat, 3), np.nan)
     for r, (o, sol, ix) in enumerate(zip(observations, sols, idx, strict=True)):
         cols = o.sat_index(sats)
@@ -231,6 +236,7 @@ def align_receivers(
         slip[r, 0] |= np.isfinite(phase[r, 0])
         clock[r] = sol.clock_s[ix]
         pos[r] = np.nanmean(sol.position_ecef_m[ix], axis=0)
+        traj[r] = sol.position_ecef_m[ix]
         t_ns = gps_ns(o.time)[ix]
         pr_all, _ = code_observations(o)
         for e in range(n_ep):
@@ -277,4 +283,5 @@ def align_receivers(
         range_rate_m_s=rate,
         los_enu=los_enu,
         elevation_rad=elev,
+        epoch_position_ecef_m=traj,
     )

@@ -5,12 +5,20 @@ of the vector from the first antenna to the second. Three or more antennas with 
 attitude mode, heading / pitch / roll of :func:`gnssatt.ml_attitude` (eq. (5) of seed 001, compass
 heading ``= -psi``).
 
-Methods: ``"ml"`` runs the ambiguity-function grid (:func:`gnssatt.ml_baseline` / :func:`gnssatt.ml_attitude`)
-on the wrapped single differences of each epoch, at one common instant (receiver clocks from the
-pseudoranges); it is meant for metre-scale arrays (the grid step is ``lambda / (10 L)``), not for
-kilometre baselines. ``"lambda"`` (baseline-direction mode) fixes the double-difference ambiguities of the
-whole static session with LAMBDA and reports each epoch's fixed baseline. ``"auto"``: ``"lambda"`` beyond
-100 m, else ``"ml"``.
+Methods (the ``method`` column says which produced each row):
+
+- ``"ml"``: the ambiguity-function grid (:func:`gnssatt.ml_baseline` / :func:`gnssatt.ml_attitude`) on the
+  wrapped single differences of each epoch, at one common instant (receiver clocks from the pseudoranges),
+  optionally windowed around the previous epoch's solution (``window_deg``); meant for metre-scale arrays
+  (the grid step is ``lambda / (10 L)``), not for kilometre baselines. ``fixed`` is always 0.
+- ``"lambda"``: LAMBDA-fixed double differences. Baseline-direction mode, ``motion="static"``: the
+  ambiguities of the whole session fixed once (:func:`~gnssatt.rinex.baseline.static_baseline`), each
+  epoch's baseline from them; ``motion="moving"``: every epoch fixed on its own, or with the integers held
+  along slip-free arcs (``continuity``). Attitude mode: every epoch's baselines fixed with the array
+  geometry as constraint, then Wahba's problem (:func:`gnssatt.wahba`, weights the squared baseline
+  lengths) gives the attitude (:func:`~gnssatt.rinex.epoch_lambda.epoch_lambda`). ``fixed`` is 1 where the
+  integers passed validation; otherwise the float baselines are reported.
+- ``"auto"``: ``"lambda"`` for baselines beyond 100 m (baseline-direction mode), else ``"ml"``.
 """
 
 from __future__ import annotations
@@ -23,17 +31,20 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
 
 from gnssatt.errors import InvalidInputError
-from gnssatt.likelihood import ml_attitude, ml_baseline
-from gnssatt.rinex.align import align_receivers
+from gnssatt.likelihood import euler_from_rotation, ml_attitude, ml_baseline
+from gnssatt.rinex.align import Aligned, align_receivers
 from gnssatt.rinex.baseline import epoch_baselines, static_baseline
+from gnssatt.rinex.epoch_lambda import epoch_lambda
 from gnssatt.rinex.nav import RinexNav, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
 
 __all__ = ["AttitudeSeries", "attitude_from_rinex"]
 
 MethodName = Literal["auto", "ml", "lambda"]
+MotionName = Literal["static", "moving"]
 
 
 @dataclass(frozen=True)
@@ -139,9 +150,14 @@ def attitude_from_rinex(
     baselines: ArrayLike | None = None,
     *,
     method: MethodName = "auto",
+    motion: MotionName = "static",
+    continuity: bool = False,
+    window_deg: float | None = None,
     systems: str = "G",
     elevation_mask_deg: float = 10.0,
     step_deg: float | None = None,
+    ratio_threshold: float = 3.0,
+    baseline_length_m: float | None = None,
 ) -> AttitudeSeries:
     """Attitude (with ``baselines``) or baseline direction (two antennas, none) at every common epoch.
 
@@ -156,61 +172,166 @@ def attitude_from_rinex(
         Z right wing), m; required with three or more antennas.
     method
         ``"auto"``, ``"ml"`` or ``"lambda"`` (module docstring).
+    motion
+        ``"static"``: in baseline-direction mode the LAMBDA ambiguities of the whole session are fixed
+        once (a static pair); ``"moving"``: every epoch is fixed on its own
+        (:func:`~gnssatt.rinex.epoch_lambda.epoch_lambda`). Attitude mode always fixes epoch by epoch.
+    continuity
+        Per-epoch LAMBDA: hold fixed integers along slip-free arcs instead of fixing every epoch afresh.
+    window_deg
+        ML grid: search only +/- this many degrees around the previous epoch's solution in every angle
+        (the whole domain where the previous epoch is unsolved); None searches the whole domain each epoch.
     systems
         Satellite systems: one carrier frequency per system pair is assumed by the grid (CDMA), default GPS.
     elevation_mask_deg, step_deg
         Elevation mask at the reference antenna; grid step (default: eq. (15)).
+    ratio_threshold
+        Acceptance threshold of the LAMBDA validation.
+    baseline_length_m
+        Baseline length for the ML grid in baseline-direction mode; default: from the static LAMBDA
+        solution (``motion="static"``) or the median length of the per-epoch fixed baselines.
 
     Raises
     ------
     RinexError
         Unreadable files, no common epochs or satellites.
     InvalidInputError
-        Baselines of the wrong shape; ``"lambda"`` asked in attitude mode (not implemented).
+        Baselines of the wrong shape, a non-positive window, unknown method or motion.
     """
+    if method not in ("auto", "ml", "lambda"):
+        raise InvalidInputError(f"expected method 'auto', 'ml' or 'lambda', got {method!r}")
+    if motion not in ("static", "moving"):
+        raise InvalidInputError(f"expected motion 'static' or 'moving', got {motion!r}")
+    if window_deg is not None and not (np.isfinite(window_deg) and window_deg > 0):
+        raise InvalidInputError(f"expected a positive window_deg, got {window_deg}")
     obs = [_as_obs(o) for o in observations]
     nv = _as_nav(nav)
+    b = None
+    if baselines is not None:
+        b = np.asarray(baselines, dtype=np.float64)
+        if b.ndim != 2 or b.shape != (len(obs) - 1, 3):
+            raise InvalidInputError(f"expected baselines of shape ({len(obs) - 1}, 3), got {b.shape}")
+        if b.shape[0] < 2:
+            raise InvalidInputError(
+                "attitude mode needs three or more antennas; for two, omit the baselines (baseline mode)"
+            )
+    elif len(obs) != 2:
+        raise InvalidInputError(f"expected baselines (m, 3) for {len(obs)} antennas, got none")
     al = align_receivers(obs, nv, systems=systems, elevation_mask_deg=elevation_mask_deg)
+    if b is None:
+        return _baseline_mode(
+            al, method, motion, continuity, window_deg, step_deg, ratio_threshold, baseline_length_m
+        )
+    return _attitude_mode(al, b, method, continuity, window_deg, step_deg, ratio_threshold)
+
+
+def _enu_angles(enu: NDArray[np.float64]) -> NDArray[np.float64]:
+    e, n, u = enu.T
+    return np.stack([np.degrees(np.arctan2(e, n)) % 360.0, np.degrees(np.arctan2(u, np.hypot(e, n)))], axis=1)
+
+
+def _baseline_mode(
+    al: Aligned,
+    method: MethodName,
+    motion: MotionName,
+    continuity: bool,
+    window_deg: float | None,
+    step_deg: float | None,
+    ratio_threshold: float,
+    baseline_length_m: float | None,
+) -> AttitudeSeries:
     n_ep = len(al.time)
     usable = al.usable
-    sd = al.single_differences_rad()
-    if baselines is None:
-        if len(obs) != 2:
-            raise InvalidInputError(f"expected baselines (m, 3) for {len(obs)} antennas, got none")
-        dd = static_baseline(al)
+    nsat = usable.sum(axis=1).astype(np.int64)
+    dd = None
+    eb = None
+    if motion == "static":
+        dd = static_baseline(al, ratio_threshold=ratio_threshold)
         length = float(np.linalg.norm(dd.baseline_ecef_m))
-        chosen = method if method != "auto" else ("lambda" if length > 100.0 else "ml")
-        angles = np.full((n_ep, 2), np.nan)
-        nsat = usable.sum(axis=1).astype(np.int64)
-        if chosen == "lambda":
-            eb = epoch_baselines(al, dd)
-            e, n, u = eb.baseline_enu_m.T
-            angles[:, 0] = np.degrees(np.arctan2(e, n)) % 360.0
-            angles[:, 1] = np.degrees(np.arctan2(u, np.hypot(e, n)))
-            nsat = eb.satellites
+    else:
+        eb = epoch_lambda(al, None, continuity=continuity, ratio_threshold=ratio_threshold)
+        lengths = np.linalg.norm(eb.baselines_enu_m[eb.fixed, 0], axis=1)
+        length = float(np.median(lengths)) if lengths.size else float("nan")
+    if baseline_length_m is not None:
+        length = float(baseline_length_m)
+    chosen = method if method != "auto" else ("lambda" if not (length <= 100.0) else "ml")
+    angles = np.full((n_ep, 2), np.nan)
+    if chosen == "lambda":
+        if dd is not None:
+            series = epoch_baselines(al, dd)
+            angles = _enu_angles(series.baseline_enu_m)
+            nsat = series.satellites
             fixed = np.full(n_ep, int(dd.fixed))
         else:
-            for k in range(n_ep):
-                m = usable[k]
-                if m.sum() < 3:
-                    continue
-                r = ml_baseline(sd[0, k, m], al.los_enu[k, m], length, al.wavelength_m[m], step_deg=step_deg)
-                angles[k] = [r.heading_deg, r.elevation_deg]
-            fixed = np.zeros(n_ep, dtype=np.int64)
-        return AttitudeSeries(al.time, "baseline", angles, np.full(n_ep, chosen), fixed, nsat, length)
-    b = np.asarray(baselines, dtype=np.float64)
-    if b.ndim != 2 or b.shape != (len(obs) - 1, 3):
-        raise InvalidInputError(f"expected baselines of shape ({len(obs) - 1}, 3), got {b.shape}")
-    if method == "lambda":
-        raise InvalidInputError("method 'lambda' is not implemented in attitude mode: use 'ml'")
-    angles = np.full((n_ep, 3), np.nan)
+            assert eb is not None
+            angles = _enu_angles(eb.baselines_enu_m[:, 0])
+            nsat = eb.satellites
+            fixed = eb.fixed.astype(np.int64)
+        return AttitudeSeries(al.time, "baseline", angles, np.full(n_ep, "lambda"), fixed, nsat, length)
+    if not (np.isfinite(length) and length > 0):
+        raise InvalidInputError(
+            "no baseline length for the ML grid: no epoch was fixed; give baseline_length_m"
+        )
+    sd = al.single_differences_rad()
+    prev: NDArray[np.float64] | None = None
     for k in range(n_ep):
         m = usable[k]
         if m.sum() < 3:
+            prev = None
             continue
-        r = ml_attitude(sd[:, k, m], al.los_enu[k, m], b, al.wavelength_m[m], step_deg=step_deg)
+        win = None
+        if window_deg is not None and prev is not None:
+            win = [
+                [-prev[0] - window_deg, -prev[0] + window_deg],
+                [prev[1] - window_deg, prev[1] + window_deg],
+            ]
+        r = ml_baseline(
+            sd[0, k, m], al.los_enu[k, m], length, al.wavelength_m[m], step_deg=step_deg, window_deg=win
+        )
+        angles[k] = [r.heading_deg, r.elevation_deg]
+        prev = angles[k]
+    fixed = np.zeros(n_ep, dtype=np.int64)
+    return AttitudeSeries(al.time, "baseline", angles, np.full(n_ep, "ml"), fixed, nsat, length)
+
+
+def _attitude_mode(
+    al: Aligned,
+    b: NDArray[np.float64],
+    method: MethodName,
+    continuity: bool,
+    window_deg: float | None,
+    step_deg: float | None,
+    ratio_threshold: float,
+) -> AttitudeSeries:
+    n_ep = len(al.time)
+    usable = al.usable
+    angles = np.full((n_ep, 3), np.nan)
+    if method == "lambda":
+        eb = epoch_lambda(al, b, continuity=continuity, ratio_threshold=ratio_threshold)
+        assert eb.rotation_enu_from_body is not None
+        for k in range(n_ep):
+            if np.all(np.isfinite(eb.rotation_enu_from_body[k])):
+                psi, theta, phi = euler_from_rotation(Rotation.from_matrix(eb.rotation_enu_from_body[k]))
+                angles[k] = [(-psi) % 360.0, theta, phi]
+        return AttitudeSeries(
+            al.time, "attitude", angles, np.full(n_ep, "lambda"), eb.fixed.astype(np.int64), eb.satellites
+        )
+    sd = al.single_differences_rad()
+    prev: NDArray[np.float64] | None = None
+    for k in range(n_ep):
+        m = usable[k]
+        if m.sum() < 3:
+            prev = None
+            continue
+        win = None
+        if window_deg is not None and prev is not None:
+            win = np.stack([prev - window_deg, prev + window_deg], axis=1)
+        r = ml_attitude(
+            sd[:, k, m], al.los_enu[k, m], b, al.wavelength_m[m], step_deg=step_deg, window_deg=win
+        )
         psi, theta, phi = r.euler_deg
         angles[k] = [(-psi) % 360.0, theta, phi]
+        prev = r.euler_deg
     return AttitudeSeries(
         al.time,
         "attitude",

@@ -145,13 +145,32 @@ def _int(path: str, lineno: int, text: str, what: str) -> int:
         raise RinexError(path, lineno, f"expected an integer for {what}, got {text.strip()!r}") from None
 
 
+_COMPRESSED_MAGIC = (b"\x1f\x8b", b"\x1f\x9d", b"PK\x03\x04", b"BZh")
+
+
 def _read_lines(path: str | PathLike[str]) -> tuple[str, list[str]]:
+    """Lines of a RINEX file; Hatanaka (``.crx``, ``.??d``) and gzip / Unix-compress / zip / bzip2 files are
+    decompressed with the optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``)."""
     p = str(path)
     try:
-        text = Path(p).read_text(encoding="ascii", errors="replace")
+        raw = Path(p).read_bytes()
     except OSError as exc:
         raise RinexError(p, None, f"cannot open: {exc.strerror}") from exc
-    return p, text.splitlines()
+    if raw.startswith(_COMPRESSED_MAGIC) or raw[60:80].startswith(b"CRINEX VERS"):
+        try:
+            import hatanaka
+        except ImportError:
+            raise RinexError(
+                p,
+                None,
+                "compressed (Hatanaka or gzip/Z/zip/bz2) file: install the optional 'hatanaka' package "
+                "(pip install gnssatt[hatanaka]) or decompress it first (crx2rnx)",
+            ) from None
+        try:
+            raw = hatanaka.decompress(raw)
+        except Exception as exc:  # the package raises ValueError and its own errors on corrupt input
+            raise RinexError(p, None, f"cannot decompress: {exc}") from exc
+    return p, raw.decode("ascii", errors="replace").splitlines()
 
 
 def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:

@@ -4,7 +4,9 @@ Model: ``P_k = |r_k(t_tx) - x| + c (dt_r - dt_k) + T_k + e``, satellite position
 ECEF frame of reception (:func:`gnssatt.rinex.ephemeris.transmit_states`), one receiver clock per
 satellite system (inter-system biases absorbed), troposphere ``2.3 m exp(-h / 8.5 km) / sin(el)``.
 Ionosphere: removed by the L1/L2 (band 1 / band 2) ionosphere-free combination where both codes exist,
-otherwise left in (metres; the position is used only for lines of sight and clocks). Single-frequency
+otherwise corrected with the broadcast Klobuchar model of the navigation header where it has one
+(:func:`~gnssatt.rinex.iono.klobuchar_delay_m`, scaled to each system's band-1 carrier; GLONASS on G1 of
+channel 0), else left in (metres; the position is used only for lines of sight and clocks). Single-frequency
 code: the broadcast group delay is applied (``dt_k - T_GD``).
 """
 
@@ -17,13 +19,14 @@ from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
 from gnssatt.rinex.ephemeris import C, transmit_states
+from gnssatt.rinex.iono import klobuchar_delay_m
 from gnssatt.rinex.nav import RinexNav, gps_ns
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
 __all__ = ["PointSolution", "code_observations", "elevation_azimuth_ecef", "single_point_positions"]
 
-_F1 = {"G": 1575.42e6, "J": 1575.42e6, "E": 1575.42e6, "C": 1561.098e6}
+_F1 = {"G": 1575.42e6, "J": 1575.42e6, "E": 1575.42e6, "C": 1561.098e6, "R": 1602.0e6}
 _F2 = {"G": 1227.60e6, "J": 1227.60e6, "E": 1176.45e6, "C": 1207.14e6}
 _BAND2 = {"G": 2, "J": 2, "E": 5, "C": 7, "R": 2}
 
@@ -84,7 +87,7 @@ def code_observations(obs: RinexObs) -> tuple[NDArray[np.float64], NDArray[np.bo
         c2 = obs.code_for(system, "C", _BAND2.get(system, 2))
         if c2 is not None and system in _F2:
             p2 = obs.get(c2)[:, cols]
-            g = (_F1[system] / _F2[system]) ** 2
+            g = (_F1[system] / _F2[system]) ** 2  # system in _F2, so in _F1
             p_if = (g * p1 - p2) / (g - 1.0)
             both = np.isfinite(p_if)
             out[:, cols] = np.where(both, p_if, p1)
@@ -95,9 +98,16 @@ def code_observations(obs: RinexObs) -> tuple[NDArray[np.float64], NDArray[np.bo
 
 
 def single_point_positions(
-    obs: RinexObs, nav: RinexNav, *, elevation_mask_deg: float = 10.0, max_iter: int = 10
+    obs: RinexObs,
+    nav: RinexNav,
+    *,
+    elevation_mask_deg: float = 10.0,
+    max_iter: int = 10,
+    ionosphere: bool = True,
 ) -> PointSolution:
     """Position and clock of the receiver at every epoch from its pseudoranges (module docstring).
+
+    ``ionosphere=False`` leaves the single-frequency ionospheric delay in (no Klobuchar correction).
 
     Raises
     ------
@@ -113,6 +123,8 @@ def single_point_positions(
     rms_out = np.full(n_ep, np.nan)
     x0 = obs.approx_position_m.copy() if np.linalg.norm(obs.approx_position_m) > 6e6 else np.zeros(3)
     mask = np.radians(elevation_mask_deg)
+    klob = ionosphere and bool(np.all(np.isfinite(nav.iono_alpha)) and np.all(np.isfinite(nav.iono_beta)))
+    week_ns = 604_800 * 1_000_000_000
     for e in range(n_ep):
         have = np.flatnonzero(np.isfinite(pr[e]))
         sats = [obs.sats[k] for k in have]
@@ -125,6 +137,7 @@ def single_point_positions(
         sp, sclk, tgd, p = sp[valid], sclk[valid], tgd[valid], p[valid]
         sysc = np.array([s[0] for s in np.array(sats)[valid]])
         sclk = np.where(iono_free[e, have][valid], sclk, sclk - tgd)
+        single_freq = ~iono_free[e, have][valid]
         systems = sorted(set(sysc), key=lambda s: (s != "G", s))
         x = np.concatenate([x0, np.zeros(len(systems))])
         use = np.ones(len(p), dtype=bool)
@@ -132,14 +145,27 @@ def single_point_positions(
             d = sp - x[:3]
             rho = np.linalg.norm(d, axis=1)
             if np.linalg.norm(x[:3]) > 6e6:
-                el, _, _ = elevation_azimuth_ecef(x[:3], sp)
-                _, _, h = ecef_to_geodetic(x[:3])
-                trop = 2.3 * np.exp(-max(float(h), 0.0) / 8500.0) / np.maximum(np.sin(el), 0.05)
+                el, az, _ = elevation_azimuth_ecef(x[:3], sp)
+                lat, lon, h = ecef_to_geodetic(x[:3])
+                delay = 2.3 * np.exp(-max(float(h), 0.0) / 8500.0) / np.maximum(np.sin(el), 0.05)
+                if klob:
+                    freq = np.array([_F1.get(c, _F1["G"]) for c in sysc])
+                    iono = klobuchar_delay_m(
+                        nav.iono_alpha,
+                        nav.iono_beta,
+                        float(np.radians(lat)),
+                        float(np.radians(lon)),
+                        az,
+                        el,
+                        (int(t_ns[e]) % week_ns) * 1e-9,
+                        frequency_hz=freq,
+                    )
+                    delay = delay + np.where(single_freq, iono, 0.0)
                 use = el >= mask if it > 0 else np.ones(len(p), dtype=bool)
             else:
-                trop = np.zeros(len(p))
+                delay = np.zeros(len(p))
             clk_cols = np.array([systems.index(s) for s in sysc])
-            model = rho + x[3 + clk_cols] - C * sclk + trop
+            model = rho + x[3 + clk_cols] - C * sclk + delay
             h_mat = np.zeros((len(p), 3 + len(systems)))
             h_mat[:, :3] = -d / rho[:, None]
             h_mat[np.arange(len(p)), 3 + clk_cols] = 1.0
@@ -153,7 +179,7 @@ def single_point_positions(
                 break
         if not np.all(np.isfinite(x)):
             continue
-        res = (p - (np.linalg.norm(sp - x[:3], axis=1) + x[3 + clk_cols] - C * sclk + trop))[use]
+        res = (p - (np.linalg.norm(sp - x[:3], axis=1) + x[3 + clk_cols] - C * sclk + delay))[use]
         pos_out[e] = x[:3]
         clk_out[e] = x[3] / C
         nsat_out[e] = int(use.sum())
