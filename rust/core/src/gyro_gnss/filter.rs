@@ -9,13 +9,15 @@ use super::kinematics::{check_rates, check_times, skew, step, to_array, unit};
 use super::{AttitudeFix, FilterRun, FixAttempt, Initial, Nis, PhaseEpoch, Settings, Slip};
 use crate::error::{ensure_finite, Error, Result};
 use crate::kalman::{discretize, predict_covariance, symmetrize, update};
-use crate::lambda::bootstrap_success_rate;
-use crate::lambda::validation::{ratio_test, RatioThreshold};
+use crate::lambda::bootstrap::success_rate;
+use crate::lambda::Problem;
 
 /// Attitude error and drift error: the states every configuration has.
 const CORE: usize = 6;
 /// Core states plus the misalignment of the sensitivity analysis.
 const DYN: usize = 9;
+/// Search nodes allowed per fix attempt.
+const MAX_FIX_NODES: u64 = 1_000_000;
 
 /// Runs the filter over the gyro record `gyro_t`, `gyro_rates` (`rates[k]` holds over
 /// `[t_k, t_{k+1}]`, body axes, rad/s) with the loosely coupled `attitude_fixes` and/or the tightly coupled
@@ -389,7 +391,14 @@ impl<'a> Filter<'a> {
         let mut g = DMatrix::zeros(m, n);
         g.view_mut((0, 0), (m, 3)).copy_from(&h_theta);
         let gp = &g * &self.p;
-        let pnn = &gp * g.transpose() + DMatrix::identity(m, m) * self.s.phase_sigma.powi(2);
+        // The neglected second-order term of h, -los . R_hat ([dtheta x]^2 / 2) b / lambda, is at most
+        // |dtheta|^2 |b| / (2 lambda) with E|dtheta|^2 = tr P_theta: counted as extra independent noise, it
+        // keeps ambiguities started under a poor attitude from looking sharper than they are.
+        let tr = self.p[(0, 0)] + self.p[(1, 1)] + self.p[(2, 2)];
+        let mut pnn = &gp * g.transpose() + DMatrix::identity(m, m) * self.s.phase_sigma.powi(2);
+        for (i, b) in self.s.baselines.iter().enumerate() {
+            pnn[(i, i)] += (0.5 * tr * b.norm() / obs.wavelength).powi(2);
+        }
         let mut p = DMatrix::zeros(n + m, n + m);
         p.view_mut((0, 0), (n, n)).copy_from(&self.p);
         p.view_mut((n, 0), (m, n)).copy_from(&(-&gp));
@@ -428,31 +437,40 @@ impl<'a> Filter<'a> {
         let na = n - CORE;
         let a = self.x.rows(CORE, na).into_owned();
         let qa = symmetrize(self.p.view((CORE, CORE), (na, na)).into_owned());
-        let success_rate = bootstrap_success_rate(&qa)?;
+        let problem = Problem::new(&a, &qa)?;
+        let success_rate = success_rate(problem.reduction.factor.d.as_slice());
         let label = |v: &DVector<i64>| -> Vec<(i64, usize, i64)> {
             (0..na)
                 .map(|i| (self.float_tracks[i / m], i % m, v[i]))
                 .collect()
         };
+        let mut attempt = FixAttempt {
+            t,
+            accepted: false,
+            ratio: 0.0,
+            success_rate,
+            values: Vec::new(),
+        };
         if success_rate < self.s.fix.min_success_rate {
-            out.fixes.push(FixAttempt {
-                t,
-                accepted: false,
-                ratio: 0.0,
-                success_rate,
-                values: Vec::new(),
-            });
+            out.fixes.push(attempt);
             return Ok(());
         }
-        let test = ratio_test(&a, &qa, RatioThreshold::Fixed(self.s.fix.ratio_threshold))?;
-        out.fixes.push(FixAttempt {
-            t,
-            accepted: test.accepted,
-            ratio: test.ratio,
-            success_rate,
-            values: label(&test.fixed),
-        });
-        if !test.accepted {
+        // A float solution too vague for the search is not fixable yet; the cap keeps one epoch cheap.
+        let best = match problem.solve(2, MAX_FIX_NODES) {
+            Ok(best) => best,
+            Err(Error::Convergence { .. }) => {
+                out.fixes.push(attempt);
+                return Ok(());
+            }
+            Err(e) => return Err(e),
+        };
+        let fixed = best.fixed.column(0).into_owned();
+        attempt.ratio = best.squared_norms[1] / best.squared_norms[0].max(f64::MIN_POSITIVE);
+        attempt.accepted = attempt.ratio >= self.s.fix.ratio_threshold;
+        attempt.values = label(&fixed);
+        let accepted = attempt.accepted;
+        out.fixes.push(attempt);
+        if !accepted {
             return Ok(());
         }
         let chol = qa.clone().cholesky().ok_or(Error::DegenerateGeometry {
@@ -460,7 +478,7 @@ impl<'a> Filter<'a> {
             matrix: "float ambiguity covariance",
             condition: f64::INFINITY,
         })?;
-        let fixed_f = test.fixed.map(|v| v as f64);
+        let fixed_f = fixed.map(|v| v as f64);
         let pca = self.p.view((0, CORE), (CORE, na)).into_owned();
         let gain = chol.solve(&pca.transpose()).transpose();
         let dx = &gain * (fixed_f - &a);
@@ -469,7 +487,7 @@ impl<'a> Filter<'a> {
         self.p = symmetrize(pcc);
         for (g, &track) in self.float_tracks.iter().enumerate() {
             self.fixed
-                .insert(track, test.fixed.rows(g * m, m).iter().copied().collect());
+                .insert(track, fixed.rows(g * m, m).iter().copied().collect());
         }
         self.float_tracks.clear();
         self.reset();
