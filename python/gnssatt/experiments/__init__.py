@@ -36,6 +36,7 @@ class Experiment:
 
 # Module names under gnssatt.experiments, in the order `--list` shows them.
 _MODULES = ("matrix_method", "ml_grid", "magnetometer_yaw", "visibility_rotation")
+_MODULES += ("gyro_gnss",)
 
 
 def _load() -> dict[str, Experiment]:
