@@ -160,14 +160,17 @@ impl<'a> Filter<'a> {
         let w = rate + self.drift;
         self.q = step(&self.q, &w, h);
         self.t = t;
-        // Misalignment enters as d(dtheta)/dt = -[w x] mu; it lives only in the sensitivity model, but the
+        // Misalignment enters as d(dtheta)/dt = -[w x] mu; it lives only in the sensitivity model, whose
         // 9-state exponential has the filter's own 6 x 6 transition as its leading block.
-        let mut f = DMatrix::zeros(DYN, DYN);
+        let nd = if self.py.is_some() { DYN } else { CORE };
+        let mut f = DMatrix::zeros(nd, nd);
         let wx = skew(&w);
         f.view_mut((0, 0), (3, 3)).copy_from(&(-wx));
         f.view_mut((0, 3), (3, 3)).fill_with_identity();
-        f.view_mut((0, 6), (3, 3)).copy_from(&(-wx));
-        let mut qc = DMatrix::zeros(DYN, DYN);
+        if nd == DYN {
+            f.view_mut((0, 6), (3, 3)).copy_from(&(-wx));
+        }
+        let mut qc = DMatrix::zeros(nd, nd);
         for i in 0..3 {
             qc[(i, i)] = self.s.noise.arw.powi(2);
             qc[(3 + i, 3 + i)] = self.s.noise.rrw.powi(2);
