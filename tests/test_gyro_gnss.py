@@ -329,3 +329,24 @@ def test_sensitivity_needs_known_ambiguities() -> None:
             phases=ph,
             sensitivity=(0.01, 0.01),
         )
+
+
+def test_true_error_covariance_equals_the_filters_without_unmodelled_errors() -> None:
+    rng = np.random.default_rng(2)
+    t, att, _ = motion(60.0)
+    g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW)
+    ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01)
+    r = gyro_gnss_filter(
+        t,
+        g.rates,
+        initial_rotation=att[0],
+        initial_covariance=P0,
+        arw=ARW,
+        baselines_m=BASELINES,
+        phases=ph.without_ambiguities(),
+        known_ambiguities=True,
+        sensitivity=(0.0, 0.0),
+    )
+    assert r.true_covariance is not None
+    # both are the Joseph-form covariance of the same gains: equal up to round-off
+    np.testing.assert_allclose(r.true_covariance, r.covariance, rtol=1e-9, atol=1e-20)
