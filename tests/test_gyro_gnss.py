@@ -350,3 +350,36 @@ def test_true_error_covariance_equals_the_filters_without_unmodelled_errors() ->
     assert r.true_covariance is not None
     # both are the Joseph-form covariance of the same gains: equal up to round-off
     np.testing.assert_allclose(r.true_covariance, r.covariance, rtol=1e-9, atol=1e-20)
+
+
+def test_misalignment_states_make_the_filter_consistent_where_the_reduced_one_is_not() -> None:
+    runs, sigma_mu = 20, np.radians(1.0)
+    t, att, _ = motion(300.0)
+    nees_full, nees_mu, nees_reduced = 0.0, 0.0, 0.0
+    for seed in range(runs):
+        rng = np.random.default_rng(seed)
+        mu = rng.normal(0.0, sigma_mu, 3)
+        g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW, misalignment_rad=mu)
+        ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01)
+        e0 = rng.multivariate_normal(np.zeros(6), P0)
+        kw = {
+            "initial_rotation": att[0] * Rotation.from_rotvec(-e0[:3]),
+            "initial_covariance": P0,
+            "initial_drift": DRIFT - e0[3:],
+            "arw": ARW,
+            "output_every": len(t) - 1,
+            "phases": ph,
+            "baselines_m": BASELINES,
+        }
+        truth = (att[[0, -1]], g.drift[[0, -1]])
+        full = gyro_gnss_filter(t, g.rates, **kw, misalignment_sigma_rad=sigma_mu)
+        reduced = gyro_gnss_filter(t, g.rates, **kw)
+        nees_full += full.nees(full.errors(*truth))[-1]
+        e_mu = mu - full.misalignment[-1]
+        nees_mu += e_mu @ np.linalg.solve(full.misalignment_covariance[-1], e_mu)
+        nees_reduced += reduced.nees(reduced.errors(*truth))[-1]
+    lo, hi = chi2_bounds(6 * runs)
+    assert lo <= nees_full <= hi
+    lo3, hi3 = chi2_bounds(3 * runs)
+    assert lo3 <= nees_mu <= hi3
+    assert nees_reduced > hi

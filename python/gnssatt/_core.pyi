@@ -174,6 +174,7 @@ def gyro_gnss_filter(
     slip_threshold: float,
     known_ambiguities: bool,
     sensitivity: tuple[float, float] | None,
+    misalignment_sigma: float | None,
     output_every: int,
     fix_t: NDArray[np.float64],
     fix_q: NDArray[np.float64],

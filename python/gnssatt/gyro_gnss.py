@@ -65,6 +65,7 @@ class GyroGnssResult:
 
     ``rotation`` body -> ECI; ``drift`` rad/s; ``covariance`` (n, 6, 6) of ``[dtheta, ddrift]`` as the filter
     believes it; ``true_covariance`` the covariance of the TRUE error (sensitivity analysis), else ``None``;
+    ``misalignment`` (n, 3) rad and its ``misalignment_covariance`` (zeros unless estimated);
     ``n_float``/``n_fixed`` ambiguities held; ``nis`` (n_updates, 3) rows ``(t, NIS, dof)``; ``slips`` rows
     ``(t, track, NIS)``.
     """
@@ -74,6 +75,8 @@ class GyroGnssResult:
     drift: NDArray[np.float64]
     covariance: NDArray[np.float64]
     true_covariance: NDArray[np.float64] | None
+    misalignment: NDArray[np.float64]
+    misalignment_covariance: NDArray[np.float64]
     n_float: NDArray[np.int64]
     n_fixed: NDArray[np.int64]
     fixes: list[FixAttempt]
@@ -124,6 +127,7 @@ def gyro_gnss_filter(
     slip_false_alarm: float | None = 1e-6,
     known_ambiguities: bool = False,
     sensitivity: tuple[float, float] | None = None,
+    misalignment_sigma_rad: float | None = None,
     output_every: int = 1,
 ) -> GyroGnssResult:
     """Run the gyro + GNSS attitude filter.
@@ -155,6 +159,9 @@ def gyro_gnss_filter(
     sensitivity
         ``(misalignment_sigma_rad, baseline_sigma_m)``: also propagate the true-error covariance (needs
         ``known_ambiguities`` and no attitude fixes).
+    misalignment_sigma_rad
+        Estimate the misalignment of the gyro triad (three more states, ``mu`` with
+        ``omega_meas = exp(-[mu x]) omega - drift - w``) with this prior sigma per axis, rad.
     output_every
         Record every ``output_every``-th gyro sample (and the first and last).
     """
@@ -202,6 +209,7 @@ def gyro_gnss_filter(
             float_array("phases.phase", phases.phase, ndim=2, shape="(n_rows, m)"),
         )
     sens = None if sensitivity is None else (float(sensitivity[0]), float(sensitivity[1]))
+    mis = None if misalignment_sigma_rad is None else float(misalignment_sigma_rad)
     d = _core.gyro_gnss_filter(
         t,
         w,
@@ -218,6 +226,7 @@ def gyro_gnss_filter(
         slip,
         bool(known_ambiguities),
         sens,
+        mis,
         int(output_every),
         *fx,
         *ph,
@@ -228,6 +237,8 @@ def gyro_gnss_filter(
         drift=d["drift"],
         covariance=d["covariance"],
         true_covariance=d["true_covariance"] if sens is not None else None,
+        misalignment=d["misalignment"],
+        misalignment_covariance=d["misalignment_covariance"],
         n_float=d["n_float"].astype(np.int64),
         n_fixed=d["n_fixed"].astype(np.int64),
         fixes=[FixAttempt(*f) for f in d["fixes"]],

@@ -46,6 +46,7 @@ BASELINE_ERRORS_MM = (0.0, 0.5, 1.0, 2.0, 5.0, 10.0)
 MISALIGNMENTS_DEG = (0.0, 0.1, 0.3, 1.0, 3.0)
 SENSITIVITY_S = 1000.0
 SENS_MC_POINT = (0.3, 2.0)  # misalignment deg, baseline error mm
+MISALIGNMENT_ESTIMATE_DEG = 1.0
 LINEARITY_SIGMAS_DEG = (0.1, 0.5, 1.0, 2.0)
 LINEARITY_S = 300.0
 DEG_H = math.radians(1.0) / 3600.0
@@ -183,6 +184,32 @@ def sensitivity_trial(
     }
 
 
+def misalignment_trial(rng: np.random.Generator, *, sigma_deg: float) -> dict[str, np.ndarray]:
+    """Final errors and sigmas of the reduced filter and of the one with misalignment states (prior
+    ``sigma_deg``), the truth's misalignment drawn from that prior."""
+    t, att = _motion(SENSITIVITY_S)
+    mu = rng.normal(0.0, math.radians(sigma_deg), 3)
+    g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW, misalignment_rad=mu)
+    k = np.arange(0, len(t), GNSS_EVERY)
+    ph = sc.phase_observations(RX, _gnss(), t[k], att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+    start = _start(rng, att[0], _p0()) | {
+        "output_every": len(t) - 1,
+        "baselines_m": _baselines(),
+        "phases": ph,
+    }
+    reduced = gyro_gnss_filter(t, g.rates, **start)
+    full = gyro_gnss_filter(t, g.rates, **start, misalignment_sigma_rad=math.radians(sigma_deg))
+    truth = (att[[0, -1]], g.drift[[0, -1]])
+    return {
+        "reduced_err": reduced.errors(*truth)[-1, :3],
+        "reduced_sig": np.sqrt(np.diag(reduced.covariance[-1])[:3]),
+        "full_err": full.errors(*truth)[-1, :3],
+        "full_sig": np.sqrt(np.diag(full.covariance[-1])[:3]),
+        "mu_err": mu - full.misalignment[-1],
+        "mu_sig": np.sqrt(np.diag(full.misalignment_covariance[-1])),
+    }
+
+
 def linearity_trial(rng: np.random.Generator, *, sigma_att_deg: float) -> float:
     """NEES at the end of a float-only tightly coupled run started with the given attitude uncertainty."""
     t, att = _motion(LINEARITY_S)
@@ -250,6 +277,17 @@ def run(
 
     sens = _sensitivity(mc, runs)
     measured |= sens["measured"]
+    mis_rows = mc(functools.partial(misalignment_trial, sigma_deg=MISALIGNMENT_ESTIMATE_DEG), runs)
+    tag = f"misalignment_{MISALIGNMENT_ESTIMATE_DEG:g}deg"
+    for key, name in (
+        ("reduced_err", "reduced_attitude_rms"),
+        ("full_err", "full_attitude_rms"),
+        ("mu_err", "full_misalignment_rms"),
+        ("reduced_sig", "reduced_attitude_sigma"),
+        ("full_sig", "full_attitude_sigma"),
+        ("mu_sig", "full_misalignment_sigma"),
+    ):
+        measured[f"{tag}_{name}_deg"] = math.degrees(float(_rms(np.array([r[key] for r in mis_rows]))))
     lin = {s: mc(functools.partial(linearity_trial, sigma_att_deg=s), runs) for s in LINEARITY_SIGMAS_DEG}
     for s, v in lin.items():
         measured[f"float_only_nees_{LINEARITY_S:g}s_init_{s:g}deg"] = float(np.mean(v))

@@ -137,6 +137,17 @@ fn to_dict<'py>(py: Python<'py>, run: FilterRun) -> PyResult<Bound<'py, PyDict>>
         "true_covariance",
         mat6(&run.true_covariance).into_pyarray(py),
     )?;
+    d.set_item(
+        "misalignment",
+        Array2::from_shape_fn((n, 3), |(k, i)| run.misalignment[k][i]).into_pyarray(py),
+    )?;
+    d.set_item(
+        "misalignment_covariance",
+        Array3::from_shape_fn((n, 3, 3), |(k, i, j)| {
+            run.misalignment_covariance[k][(i, j)]
+        })
+        .into_pyarray(py),
+    )?;
     d.set_item("n_float", Array1::from(run.n_float).into_pyarray(py))?;
     d.set_item("n_fixed", Array1::from(run.n_fixed).into_pyarray(py))?;
     let fixes: Vec<_> = run
@@ -160,7 +171,8 @@ fn to_dict<'py>(py: Python<'py>, run: FilterRun) -> PyResult<Bound<'py, PyDict>>
 #[pyfunction]
 #[pyo3(signature = (
     gyro_t, gyro_rates, q0, drift0, p0, arw, rrw, baselines, phase_sigma, fix_enabled,
-    ratio_threshold, min_success_rate, slip_threshold, known_ambiguities, sensitivity, output_every,
+    ratio_threshold, min_success_rate, slip_threshold, known_ambiguities, sensitivity, misalignment_sigma,
+    output_every,
     fix_t, fix_q, fix_cov, epoch_t, phase_epoch, phase_track, phase_los, phase_wavelength, phase
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -181,6 +193,7 @@ fn gyro_gnss_filter<'py>(
     slip_threshold: f64,
     known_ambiguities: bool,
     sensitivity: Option<(f64, f64)>,
+    misalignment_sigma: Option<f64>,
     output_every: usize,
     fix_t: PyReadonlyArray1<'_, f64>,
     fix_q: PyReadonlyArray2<'_, f64>,
@@ -223,6 +236,7 @@ fn gyro_gnss_filter<'py>(
             misalignment_sigma,
             baseline_sigma,
         }),
+        misalignment_sigma,
         output_every,
         baselines,
     };

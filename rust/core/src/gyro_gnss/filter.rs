@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use nalgebra::{DMatrix, DVector, Matrix6, UnitQuaternion, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, UnitQuaternion, Vector3};
 
 use super::kinematics::{check_rates, check_times, skew, step, to_array, unit};
 use super::{AttitudeFix, FilterRun, FixAttempt, Initial, Nis, PhaseEpoch, Settings, Slip};
@@ -86,7 +86,11 @@ struct Filter<'a> {
     /// `[dtheta, ddrift]` (zero between updates) then the float ambiguities, cycles.
     x: DVector<f64>,
     p: DMatrix<f64>,
-    /// Track of each group of `m` float ambiguities in `x[CORE..]`, in order.
+    /// Error states before the ambiguities: 6, or 9 when the misalignment is estimated.
+    nc: usize,
+    /// Misalignment estimate (rotation vector of the gyro triad), rad.
+    misalignment: Vector3<f64>,
+    /// Track of each group of `m` float ambiguities in `x[nc..]`, in order.
     float_tracks: Vec<i64>,
     /// Fixed integers per track, one per baseline.
     fixed: HashMap<i64, Vec<i64>>,
@@ -105,11 +109,26 @@ impl<'a> Filter<'a> {
                 "expected a symmetric positive definite 6 x 6 matrix",
             ));
         }
-        let p = DMatrix::from_iterator(CORE, CORE, init.covariance.iter().copied());
+        let nc = if s.misalignment_sigma.is_some() {
+            DYN
+        } else {
+            CORE
+        };
+        let mut p = DMatrix::zeros(nc, nc);
+        p.view_mut((0, 0), (CORE, CORE))
+            .copy_from(&DMatrix::from_iterator(
+                CORE,
+                CORE,
+                init.covariance.iter().copied(),
+            ));
+        for i in CORE..nc {
+            p[(i, i)] = s.misalignment_sigma.unwrap_or(0.0).powi(2);
+        }
         let py = s.sensitivity.map(|sens| {
             let m3 = 3 * s.baselines.len();
             let mut py = DMatrix::zeros(DYN + m3, DYN + m3);
-            py.view_mut((0, 0), (CORE, CORE)).copy_from(&p);
+            py.view_mut((0, 0), (CORE, CORE))
+                .copy_from(&p.view((0, 0), (CORE, CORE)));
             for i in CORE..DYN {
                 py[(i, i)] = sens.misalignment_sigma.powi(2);
             }
@@ -123,7 +142,9 @@ impl<'a> Filter<'a> {
             t: f64::NAN,
             q,
             drift: init.drift,
-            x: DVector::zeros(CORE),
+            x: DVector::zeros(nc),
+            nc,
+            misalignment: Vector3::zeros(),
             p,
             float_tracks: Vec::new(),
             fixed: HashMap::new(),
@@ -143,6 +164,14 @@ impl<'a> Filter<'a> {
         out.quaternion.push(to_array(&self.q));
         out.drift.push(self.drift);
         out.covariance.push(Matrix6::from_fn(|i, j| self.p[(i, j)]));
+        out.misalignment.push(self.misalignment);
+        out.misalignment_covariance.push(Matrix3::from_fn(|i, j| {
+            if self.nc == DYN {
+                self.p[(CORE + i, CORE + j)]
+            } else {
+                0.0
+            }
+        }));
         if let Some(py) = &self.py {
             out.true_covariance
                 .push(Matrix6::from_fn(|i, j| py[(i, j)]));
@@ -157,12 +186,13 @@ impl<'a> Filter<'a> {
         if h <= 0.0 {
             return Ok(());
         }
-        let w = rate + self.drift;
+        // Gyro axes -> body: exp([mu x]) undoes the triad's misalignment (identity when not estimated).
+        let w = UnitQuaternion::from_scaled_axis(self.misalignment) * (rate + self.drift);
         self.q = step(&self.q, &w, h);
         self.t = t;
         // Misalignment enters as d(dtheta)/dt = -[w x] mu; it lives only in the sensitivity model, whose
         // 9-state exponential has the filter's own 6 x 6 transition as its leading block.
-        let nd = if self.py.is_some() { DYN } else { CORE };
+        let nd = if self.py.is_some() { DYN } else { self.nc };
         let mut f = DMatrix::zeros(nd, nd);
         let wx = skew(&w);
         f.view_mut((0, 0), (3, 3)).copy_from(&(-wx));
@@ -176,17 +206,18 @@ impl<'a> Filter<'a> {
             qc[(3 + i, 3 + i)] = self.s.noise.rrw.powi(2);
         }
         let (phi9, qd9) = discretize(&f, &qc, h)?;
-        let phi = phi9.view((0, 0), (CORE, CORE)).into_owned();
-        let qd = qd9.view((0, 0), (CORE, CORE)).into_owned();
-        let pcc = self.p.view((0, 0), (CORE, CORE)).into_owned();
+        let nc = self.nc;
+        let phi = phi9.view((0, 0), (nc, nc)).into_owned();
+        let qd = qd9.view((0, 0), (nc, nc)).into_owned();
+        let pcc = self.p.view((0, 0), (nc, nc)).into_owned();
         let pcc = predict_covariance(&pcc, &phi, &qd)?;
-        self.p.view_mut((0, 0), (CORE, CORE)).copy_from(&pcc);
+        self.p.view_mut((0, 0), (nc, nc)).copy_from(&pcc);
         let n = self.p.nrows();
-        if n > CORE {
-            let pca = &phi * self.p.view((0, CORE), (CORE, n - CORE));
-            self.p.view_mut((0, CORE), (CORE, n - CORE)).copy_from(&pca);
+        if n > nc {
+            let pca = &phi * self.p.view((0, nc), (nc, n - nc));
+            self.p.view_mut((0, nc), (nc, n - nc)).copy_from(&pca);
             self.p
-                .view_mut((CORE, 0), (n - CORE, CORE))
+                .view_mut((nc, 0), (n - nc, nc))
                 .copy_from(&pca.transpose());
         }
         if let Some(py) = &mut self.py {
@@ -205,7 +236,10 @@ impl<'a> Filter<'a> {
         let dtheta = Vector3::new(self.x[0], self.x[1], self.x[2]);
         self.q = step(&self.q, &dtheta, 1.0);
         self.drift += Vector3::new(self.x[3], self.x[4], self.x[5]);
-        self.x.rows_mut(0, CORE).fill(0.0);
+        if self.nc == DYN {
+            self.misalignment += Vector3::new(self.x[6], self.x[7], self.x[8]);
+        }
+        self.x.rows_mut(0, self.nc).fill(0.0);
     }
 
     fn attitude_update(&mut self, fix: &AttitudeFix, out: &mut FilterRun) -> Result<()> {
@@ -328,8 +362,8 @@ impl<'a> Filter<'a> {
             for i in 0..m {
                 let ambiguity = match (float_at, self.fixed.get(&track)) {
                     (Some(g), _) => {
-                        hh[(r * m + i, CORE + g * m + i)] = 1.0;
-                        self.x[CORE + g * m + i]
+                        hh[(r * m + i, self.nc + g * m + i)] = 1.0;
+                        self.x[self.nc + g * m + i]
                     }
                     (None, Some(ints)) => ints[i] as f64,
                     (None, None) => 0.0,
@@ -422,7 +456,7 @@ impl<'a> Filter<'a> {
             return;
         };
         let m = self.m();
-        let start = CORE + g * m;
+        let start = self.nc + g * m;
         self.x = self.x.clone().remove_rows(start, m);
         self.p = self
             .p
@@ -437,9 +471,10 @@ impl<'a> Filter<'a> {
     fn try_fix(&mut self, t: f64, out: &mut FilterRun) -> Result<()> {
         let m = self.m();
         let n = self.x.len();
-        let na = n - CORE;
-        let a = self.x.rows(CORE, na).into_owned();
-        let qa = symmetrize(self.p.view((CORE, CORE), (na, na)).into_owned());
+        let nc = self.nc;
+        let na = n - nc;
+        let a = self.x.rows(nc, na).into_owned();
+        let qa = symmetrize(self.p.view((nc, nc), (na, na)).into_owned());
         let problem = Problem::new(&a, &qa)?;
         let success_rate = success_rate(problem.reduction.factor.d.as_slice());
         let label = |v: &DVector<i64>| -> Vec<(i64, usize, i64)> {
@@ -482,10 +517,10 @@ impl<'a> Filter<'a> {
             condition: f64::INFINITY,
         })?;
         let fixed_f = fixed.map(|v| v as f64);
-        let pca = self.p.view((0, CORE), (CORE, na)).into_owned();
+        let pca = self.p.view((0, nc), (nc, na)).into_owned();
         let gain = chol.solve(&pca.transpose()).transpose();
         let dx = &gain * (fixed_f - &a);
-        let pcc = self.p.view((0, 0), (CORE, CORE)) - &gain * pca.transpose();
+        let pcc = self.p.view((0, 0), (nc, nc)) - &gain * pca.transpose();
         self.x = dx;
         self.p = symmetrize(pcc);
         for (g, &track) in self.float_tracks.iter().enumerate() {
@@ -553,6 +588,14 @@ fn check_settings(s: &Settings, phases: bool, fixes: bool) -> Result<()> {
             ),
         ));
     }
+    if let Some(v) = s.misalignment_sigma {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::out_of_range(
+                "misalignment_sigma",
+                format!("expected a finite prior > 0 rad, got {v}"),
+            ));
+        }
+    }
     if s.output_every == 0 {
         return Err(Error::out_of_range("output_every", "expected >= 1, got 0"));
     }
@@ -567,10 +610,11 @@ fn check_settings(s: &Settings, phases: bool, fixes: bool) -> Result<()> {
                 ),
             ));
         }
-        if !s.known_ambiguities || fixes {
+        if !s.known_ambiguities || fixes || s.misalignment_sigma.is_some() {
             return Err(Error::out_of_range(
                 "sensitivity",
-                "the true-error covariance is propagated for phase updates with known ambiguities only",
+                "the true-error covariance is propagated for the reduced filter (no misalignment states) with \
+                 phase updates and known ambiguities only",
             ));
         }
     }

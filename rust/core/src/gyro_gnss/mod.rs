@@ -9,9 +9,11 @@
 //! - Gyro: `omega_meas = omega - nu`, `nu = drift + white noise` (angle random walk `arw`, rad/s/sqrt(Hz)),
 //!   the drift constant or a random walk (`rrw`, rad/s^2/sqrt(Hz)). `omega_meas[k]` is the mean rate over
 //!   `[t_k, t_{k+1}]` (an integrating gyro's angle increment over the interval).
-//! - Error state `x = [dtheta (3), ddrift (3), N (m per tracked satellite)]`: true attitude
+//! - Error state `x = [dtheta (3), ddrift (3), [dmu (3),] N (m per tracked satellite)]`: true attitude
 //!   `R = R_hat exp([dtheta x])` (a body-frame rotation vector), `ddrift = drift - drift_hat`, and the float
-//!   ambiguities themselves (cycles). Continuous model `dtheta' = -[omega_hat x] dtheta + ddrift + w`.
+//!   ambiguities themselves (cycles). Continuous model `dtheta' = -[omega_hat x] (dtheta + dmu) + ddrift + w`,
+//!   `dmu = mu - mu_hat` the error of the optional misalignment estimate of the gyro triad, whose rates are
+//!   taken to the body by `omega_hat = exp([mu_hat x]) (omega_meas + drift_hat)`.
 //! - Phase first difference of slave antenna `i` minus the master for satellite `k`, cycles:
 //!   `z_ik = -los_k . (R b_i) / lambda_k + N_ik + v` — one multi-antenna receiver with a common oscillator,
 //!   so no clock or oscillator term survives the difference. `los_k` in the reference frame (receiver to
@@ -73,6 +75,8 @@ pub struct Settings {
     pub known_ambiguities: bool,
     /// Propagate the true-error covariance against these unmodelled errors (needs `known_ambiguities`).
     pub sensitivity: Option<Sensitivity>,
+    /// Estimate the misalignment of the gyro triad (three more states, this prior sigma per axis, rad).
+    pub misalignment_sigma: Option<f64>,
     /// Record the state every `output_every` gyro samples (and at the first one).
     pub output_every: usize,
 }
@@ -159,6 +163,9 @@ pub struct FilterRun {
     pub covariance: Vec<Matrix6<f64>>,
     /// The covariance of the TRUE error `[dtheta, ddrift]` (sensitivity analysis only).
     pub true_covariance: Vec<Matrix6<f64>>,
+    /// Misalignment estimates (rad) and their covariance (zero when not estimated).
+    pub misalignment: Vec<Vector3<f64>>,
+    pub misalignment_covariance: Vec<Matrix3<f64>>,
     /// Float and fixed ambiguities held at each output time.
     pub n_float: Vec<usize>,
     pub n_fixed: Vec<usize>,

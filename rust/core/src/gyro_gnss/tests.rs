@@ -20,6 +20,7 @@ fn settings(baselines: Vec<Vector3<f64>>) -> Settings {
         slip_threshold: 30.0,
         known_ambiguities: false,
         sensitivity: None,
+        misalignment_sigma: None,
         output_every: 1,
     }
 }
