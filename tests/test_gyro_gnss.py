@@ -275,7 +275,7 @@ def test_true_error_covariance_matches_monte_carlo_errors() -> None:
 # --- bad input ---------------------------------------------------------------------------------------------
 
 
-def base_args(n: int = 11) -> dict:
+def base_args() -> dict:
     return {"initial_rotation": Rotation.identity(), "initial_covariance": P0, "arw": ARW}
 
 
@@ -383,3 +383,10 @@ def test_misalignment_states_make_the_filter_consistent_where_the_reduced_one_is
     lo3, hi3 = chi2_bounds(3 * runs)
     assert lo3 <= nees_mu <= hi3
     assert nees_reduced > hi
+
+
+def test_attitude_fixes_out_of_order_are_rejected() -> None:
+    t, att, _ = motion(60.0)
+    fixes = sc.AttitudeFixes(np.array([20.0, 10.0]), att[[200, 100]], np.tile(np.eye(3) * 1e-6, (2, 1, 1)))
+    with pytest.raises(InvalidInputError, match="in order"):
+        gyro_gnss_filter(t, np.zeros((len(t), 3)), **base_args(), attitude_fixes=fixes)
