@@ -34,6 +34,7 @@ from gnssatt.sim.visibility import earth_occlusion_mask
 
 __all__ = [
     "AttitudeFixes",
+    "GyroOutput",
     "PhaseObservations",
     "attitude_fixes",
     "gyro_output",
