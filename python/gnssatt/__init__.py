@@ -25,6 +25,7 @@ from gnssatt.errors import (
     InvalidInputError,
     NearDegenerateWarning,
 )
+from gnssatt.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
 from gnssatt.likelihood import (
     AttitudePrior,
     BaselineDirection,
@@ -48,6 +49,7 @@ __all__ = [
     "DegenerateGeometryError",
     "GnssattError",
     "GnssattWarning",
+    "GyroGnssResult",
     "InvalidInputError",
     "LikelihoodAttitude",
     "LikelihoodGrid",
@@ -64,6 +66,8 @@ __all__ = [
     "bootstrap_success_rate",
     "errors",
     "fit_rotation",
+    "gyro_gnss_filter",
+    "gyro_propagate",
     "lambda_decorrelate",
     "lambda_ils",
     "likelihood_grid",

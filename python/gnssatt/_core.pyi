@@ -196,3 +196,35 @@ def orbit_filter_tight(
     model: dict[str, object],
     settings: dict[str, float],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...
+# gyro_gnss.rs (arguments built by gnssatt.gyro_gnss)
+def gyro_propagate(
+    q0: NDArray[np.float64], t: NDArray[np.float64], rates: NDArray[np.float64]
+) -> NDArray[np.float64]: ...
+def gyro_gnss_filter(
+    gyro_t: NDArray[np.float64],
+    gyro_rates: NDArray[np.float64],
+    q0: NDArray[np.float64],
+    drift0: NDArray[np.float64],
+    p0: NDArray[np.float64],
+    arw: float,
+    rrw: float,
+    baselines: NDArray[np.float64],
+    phase_sigma: float,
+    fix_enabled: bool,
+    ratio_threshold: float,
+    min_success_rate: float,
+    slip_threshold: float,
+    known_ambiguities: bool,
+    sensitivity: tuple[float, float] | None,
+    misalignment_sigma: float | None,
+    output_every: int,
+    fix_t: NDArray[np.float64],
+    fix_q: NDArray[np.float64],
+    fix_cov: NDArray[np.float64],
+    epoch_t: NDArray[np.float64],
+    phase_epoch: NDArray[np.int64],
+    phase_track: NDArray[np.int64],
+    phase_los: NDArray[np.float64],
+    phase_wavelength: NDArray[np.float64],
+    phase: NDArray[np.float64],
+) -> dict[str, object]: ...

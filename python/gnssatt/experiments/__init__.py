@@ -40,6 +40,7 @@ _MODULES = (
     "ml_grid",
     "magnetometer_yaw",
     "orbit_filter",
+    "gyro_gnss",
     "visibility_rotation",
     "recorded_methods",
 )

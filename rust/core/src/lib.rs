@@ -7,6 +7,7 @@
 
 pub mod dynamics;
 pub mod error;
+pub mod gyro_gnss;
 pub mod kalman;
 pub mod lambda;
 pub mod likelihood;

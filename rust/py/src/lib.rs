@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 mod convert;
 mod dynamics;
 mod errors;
+mod gyro_gnss;
 mod lambda;
 mod likelihood;
 mod matrix_method;
@@ -23,5 +24,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     dynamics::register(m)?;
     wahba::register(m)?;
     orbit::register(m)?;
+    gyro_gnss::register(m)?;
     Ok(())
 }

@@ -1,0 +1,302 @@
+"""Scenario of the gyro + multi-antenna GNSS filter (seed 003): true angular motion, gyro output,
+carrier-phase first differences between the master and slave antennas, and the receiver's own attitude
+solutions.
+
+Conventions (``docs/conventions.md``, "Gyro + GNSS filter"):
+- Attitude is a scipy ``Rotation`` body -> ECI; the body rate ``omega`` is relative to ECI, body axes, rad/s.
+- Motion: orbital-frame hold plus small oscillations,
+  ``R_eci_from_body(t) = R_eci_from_orbital(t) exp([a(t) x])`` with ``a_j(t) = A_j sin(2 pi t / T_j + p_j)``.
+  Then ``omega = exp(-[a x]) (0, n, 0) + J_r(a) da/dt``, with ``J_r`` the right Jacobian of SO(3) and ``n``
+  the orbital rate (the orbital frame turns about its y axis).
+- Gyro: ``omega_meas[k] = C mean_rate[k] - drift[k] - w[k]`` where ``mean_rate[k]`` is the constant rate that
+  takes ``R(t_k)`` to ``R(t_{k+1})`` (an integrating gyro's angle increment over the interval divided by it),
+  ``C = exp(-[mu x])`` the misalignment of the gyro triad (body -> gyro axes), ``w[k] ~ N(0, arw^2 / dt)``,
+  ``drift[k+1] = drift[k] + N(0, rrw^2 dt)``.
+- Phase first difference of slave antenna ``i`` minus the master for satellite ``k``, cycles:
+  ``-los_k . (R (b_i + db_i)) / lambda_k + N_ik + e``: one receiver, one oscillator for every antenna, so no
+  oscillator or clock term; ``db_i`` optional baseline errors (truth only).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt._arrays import float_array
+from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import scalar
+from gnssatt.sim.constellation import Constellation
+from gnssatt.sim.receivers import OrbitalReceiver
+from gnssatt.sim.visibility import earth_occlusion_mask
+
+__all__ = [
+    "AttitudeFixes",
+    "GyroOutput",
+    "PhaseObservations",
+    "attitude_fixes",
+    "gyro_output",
+    "orbital_hold_motion",
+    "phase_observations",
+    "right_jacobian",
+]
+
+
+def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    z = np.zeros(v.shape[:-1])
+    x, y, w = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack([np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], -2)
+
+
+def right_jacobian(a: ArrayLike) -> NDArray[np.float64]:
+    """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``."""
+    v = np.asarray(a, dtype=np.float64)
+    th = np.linalg.norm(v, axis=-1)[..., None, None]
+    k = _skew(v)
+    small = th < 1e-6
+    ths = np.where(small, 1.0, th)
+    c1 = np.where(small, 0.5 - th**2 / 24.0, (1.0 - np.cos(ths)) / ths**2)
+    c2 = np.where(small, 1.0 / 6.0 - th**2 / 120.0, (ths - np.sin(ths)) / ths**3)
+    return np.eye(3) - c1 * k + c2 * (k @ k)
+
+
+def orbital_hold_motion(
+    receiver: OrbitalReceiver,
+    t: ArrayLike,
+    amplitude_rad: ArrayLike = (0.0, 0.0, 0.0),
+    period_s: ArrayLike = (300.0, 300.0, 300.0),
+    phase_rad: ArrayLike = (0.0, 0.0, 0.0),
+) -> tuple[Rotation, NDArray[np.float64]]:
+    """True attitude (body -> ECI) and body rate (rad/s, body axes) at ``t`` for the orbital-frame hold of
+    ``receiver``'s circular orbit plus oscillations ``a_j = A_j sin(2 pi t / T_j + p_j)`` about body axes.
+    """
+    tt = float_array("t", t, ndim=1, shape="(n_t,)")
+    amp = float_array("amplitude_rad", amplitude_rad, ndim=1, shape="(3,)")
+    per = float_array("period_s", period_s, ndim=1, shape="(3,)")
+    ph = float_array("phase_rad", phase_rad, ndim=1, shape="(3,)")
+    if amp.shape != (3,) or per.shape != (3,) or ph.shape != (3,) or np.any(per <= 0):
+        raise InvalidInputError("expected amplitude_rad, period_s (> 0) and phase_rad of shape (3,)")
+    w = 2.0 * np.pi / per
+    a = amp * np.sin(w * tt[:, None] + ph)
+    a_dot = amp * w * np.cos(w * tt[:, None] + ph)
+    osc = Rotation.from_rotvec(a)
+    orbital = Rotation.from_matrix(receiver.dcm_eci_from_orbital(tt))
+    omega_orb = np.array([0.0, receiver.mean_motion_rad_s, 0.0])
+    rate = osc.inv().apply(omega_orb) + np.einsum("kij,kj->ki", right_jacobian(a), a_dot)
+    return orbital * osc, rate
+
+
+@dataclass(frozen=True)
+class GyroOutput:
+    """Gyro samples: ``rates[k]`` (gyro axes, rad/s) holds over ``[t[k], t[k+1]]``; ``drift`` the truth."""
+
+    t: NDArray[np.float64]
+    rates: NDArray[np.float64]
+    drift: NDArray[np.float64]
+
+
+def gyro_output(
+    t: ArrayLike,
+    attitude: Rotation,
+    rng: np.random.Generator,
+    *,
+    drift_rad_s: ArrayLike,
+    arw: float,
+    rrw: float = 0.0,
+    misalignment_rad: ArrayLike = (0.0, 0.0, 0.0),
+) -> GyroOutput:
+    """Gyro output for the true attitude ``attitude`` (body -> ECI) at the sample times ``t``.
+
+    ``drift_rad_s`` is the initial drift (3,), ``arw`` the angle random walk (rad/s/sqrt(Hz)), ``rrw`` the
+    drift random walk (rad/s^2/sqrt(Hz)), ``misalignment_rad`` the rotation vector ``mu`` of the gyro triad.
+    The last sample repeats the previous rate (it holds over no interval).
+    """
+    tt = float_array("t", t, ndim=1, shape="(n_t,)")
+    if len(tt) < 2 or np.any(np.diff(tt) <= 0):
+        raise InvalidInputError("expected at least 2 strictly increasing gyro time stamps")
+    if len(attitude) != len(tt):
+        raise InvalidInputError(f"expected one attitude per time stamp ({len(tt)}), got {len(attitude)}")
+    arw = scalar("arw", arw, minimum=0.0)
+    rrw = scalar("rrw", rrw, minimum=0.0)
+    b0 = float_array("drift_rad_s", drift_rad_s, ndim=1, shape="(3,)")
+    mu = float_array("misalignment_rad", misalignment_rad, ndim=1, shape="(3,)")
+    dt = np.diff(tt)
+    mean_rate = (attitude[:-1].inv() * attitude[1:]).as_rotvec() / dt[:, None]
+    mean_rate = np.vstack([mean_rate, mean_rate[-1:]])
+    dt = np.append(dt, dt[-1])
+    steps = rng.standard_normal((len(tt), 3)) * rrw * np.sqrt(dt)[:, None]
+    drift = b0 + np.vstack([np.zeros((1, 3)), np.cumsum(steps[:-1], axis=0)])
+    noise = rng.standard_normal((len(tt), 3)) * arw / np.sqrt(dt)[:, None]
+    measured = Rotation.from_rotvec(-mu).apply(mean_rate) - drift - noise
+    return GyroOutput(tt, measured, drift)
+
+
+@dataclass(frozen=True)
+class PhaseObservations:
+    """Carrier-phase first differences, one row per (epoch, tracked satellite).
+
+    Attributes
+    ----------
+    epoch_t
+        (n_e,) epoch times, s.
+    epoch
+        (n_rows,) index into ``epoch_t``, non-decreasing.
+    track
+        (n_rows,) arc id: a new id means new ambiguities (satellite rose, or lock was lost).
+    los
+        (n_rows, 3) unit lines of sight receiver -> satellite, ECI.
+    wavelength
+        (n_rows,) m.
+    phase
+        (n_rows, m) first differences slave ``i`` minus master, cycles.
+    ambiguity
+        (n_rows, m) true integers ``N_ik`` of each row (for checking fixes).
+    satellite
+        (n_rows,) index of the satellite in the constellation.
+    """
+
+    epoch_t: NDArray[np.float64]
+    epoch: NDArray[np.int64]
+    track: NDArray[np.int64]
+    los: NDArray[np.float64]
+    wavelength: NDArray[np.float64]
+    phase: NDArray[np.float64]
+    ambiguity: NDArray[np.int64]
+    satellite: NDArray[np.int64]
+
+    def without_ambiguities(self) -> PhaseObservations:
+        """The same rows with the true integers removed (for a filter told ``known_ambiguities``)."""
+        return PhaseObservations(
+            self.epoch_t,
+            self.epoch,
+            self.track,
+            self.los,
+            self.wavelength,
+            self.phase - self.ambiguity,
+            np.zeros_like(self.ambiguity),
+            self.satellite,
+        )
+
+    def n_visible(self) -> NDArray[np.int64]:
+        """(n_e,) satellites per epoch."""
+        return np.bincount(self.epoch, minlength=len(self.epoch_t))
+
+
+def _visible(
+    receiver: OrbitalReceiver,
+    gnss: Constellation,
+    t: NDArray[np.float64],
+    attitude: Rotation,
+    half_angle_deg: float,
+    atmosphere_m: float,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    r_r, _ = receiver.state_eci(t)
+    r_s, _ = gnss.state_eci(t)
+    d = r_s - r_r[:, None, :]
+    los = d / np.linalg.norm(d, axis=-1, keepdims=True)
+    boresight = attitude.apply([0.0, 0.0, 1.0])
+    up = np.einsum("kj,kij->ki", boresight, los) >= np.cos(np.radians(half_angle_deg))
+    return los, up & earth_occlusion_mask(r_r, r_s, atmosphere_m=atmosphere_m)
+
+
+def phase_observations(
+    receiver: OrbitalReceiver,
+    gnss: Constellation,
+    t: ArrayLike,
+    attitude: Rotation,
+    baselines_m: ArrayLike,
+    rng: np.random.Generator,
+    *,
+    sigma_cycles: float,
+    baseline_errors_m: ArrayLike | None = None,
+    half_angle_deg: float = 80.0,
+    atmosphere_m: float = 100e3,
+    max_satellites: int | None = None,
+    new_arcs_after: ArrayLike = (),
+    slips: ArrayLike = (),
+) -> PhaseObservations:
+    """Simulated first differences at epochs ``t`` for the true attitude ``attitude`` (body -> ECI, one per
+    epoch) of an array whose antenna boresight is body +z (cone of ``half_angle_deg``), Earth occlusion with
+    ``atmosphere_m`` of grazing layer. ``max_satellites`` keeps the satellites of lowest index among those
+    visible. Every satellite starts a new arc (new track id, new random integers) after each time in
+    ``new_arcs_after`` (e.g. the end of a phase outage). ``slips`` rows ``(time, satellite index, cycles)``
+    add a jump to every baseline of that satellite from that time on, keeping the track id.
+    """
+    tt = float_array("t", t, ndim=1, shape="(n_e,)")
+    b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    if b.shape[1] != 3 or len(b) == 0:
+        raise InvalidInputError(f"expected baselines_m of shape (m, 3), got {b.shape}")
+    db = (
+        np.zeros_like(b)
+        if baseline_errors_m is None
+        else float_array("baseline_errors_m", baseline_errors_m, ndim=2, shape="(m, 3)")
+    )
+    if db.shape != b.shape:
+        raise InvalidInputError(f"expected baseline_errors_m of shape {b.shape}, got {db.shape}")
+    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0)
+    los, vis = _visible(receiver, gnss, tt, attitude, half_angle_deg, atmosphere_m)
+    if max_satellites is not None:
+        vis &= np.cumsum(vis, axis=1) <= max_satellites
+    lam = gnss.wavelengths_m("L1")
+    arcs = np.searchsorted(np.sort(np.asarray(new_arcs_after, dtype=np.float64)), tt, side="left")
+    k_idx, s_idx = np.nonzero(vis)
+    arc = arcs[k_idx]
+    track = s_idx * 1000 + arc
+    uniq, inverse = np.unique(track, return_inverse=True)
+    ints = rng.integers(-50, 51, size=(len(uniq), len(b)))
+    amb = ints[inverse]
+    for ts, sat, cycles in np.asarray(slips, dtype=np.float64).reshape(-1, 3):
+        amb[(s_idx == int(sat)) & (tt[k_idx] >= ts)] += int(cycles)
+    rows_los = los[k_idx, s_idx]
+    los_body = attitude[k_idx].inv().apply(rows_los)
+    geom = -(los_body @ (b + db).T) / lam[s_idx, None]
+    phase = geom + amb + sigma * rng.standard_normal(geom.shape)
+    return PhaseObservations(
+        tt,
+        k_idx.astype(np.int64),
+        track.astype(np.int64),
+        rows_los,
+        lam[s_idx],
+        phase,
+        amb.astype(np.int64),
+        s_idx.astype(np.int64),
+    )
+
+
+@dataclass(frozen=True)
+class AttitudeFixes:
+    """Attitude solutions of the receiver: ``rotation`` body -> ECI at ``t`` with the covariance (n, 3, 3) of
+    its body-frame rotation-vector error, rad^2."""
+
+    t: NDArray[np.float64]
+    rotation: Rotation
+    covariance: NDArray[np.float64]
+
+
+def attitude_fixes(
+    phases: PhaseObservations,
+    attitude: Rotation,
+    baselines_m: ArrayLike,
+    rng: np.random.Generator,
+    *,
+    sigma_cycles: float,
+    min_satellites: int = 3,
+) -> AttitudeFixes:
+    """The receiver's own attitude solution at each epoch of ``phases`` with at least ``min_satellites``
+    satellites, drawn from the least-squares error of the first differences with their integers resolved:
+    covariance ``(sum_k,i H_ki^T H_ki / sigma^2)^-1``, ``H_ki = ((R^T los_k) x b_i)^T / lambda_k``. Three
+    satellites is what a single-epoch solution (e.g. :func:`gnssatt.matrix_attitude`) needs.
+    """
+    b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
+    count = phases.n_visible()
+    keep = np.nonzero(count >= min_satellites)[0]
+    s_body = attitude[phases.epoch].inv().apply(phases.los)
+    h = np.cross(s_body[:, None, :], b[None]) / phases.wavelength[:, None, None]  # (rows, m, 3)
+    info = np.zeros((len(phases.epoch_t), 3, 3))
+    np.add.at(info, phases.epoch, np.einsum("rim,rin->rmn", h, h) / sigma**2)
+    cov = np.linalg.inv(info[keep])
+    eta = np.einsum("kij,kj->ki", np.linalg.cholesky(cov), rng.standard_normal((len(keep), 3)))
+    return AttitudeFixes(phases.epoch_t[keep], attitude[keep] * Rotation.from_rotvec(eta), cov)

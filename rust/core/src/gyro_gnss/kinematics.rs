@@ -1,0 +1,97 @@
+//! Attitude kinematics of the gyro-driven filter: the quaternion equation `dq/dt = q * [omega / 2, 0]`
+//! (equivalently Poisson's equation `dR/dt = R [omega x]`) for the body-to-reference rotation `R`, with
+//! `omega` the body angular rate relative to the reference frame, in body axes.
+//!
+//! Over a step of length `h` with a constant body rate the solution is exact:
+//! `q(t + h) = q(t) * exp(omega h / 2)`. A rate whose direction turns within the step leaves the coning
+//! error of the one-sample algorithm, `|omega x omega_dot| h^3 / 12` rad per step to leading order.
+
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+
+use crate::error::{ensure_finite, Error, Result};
+
+/// `[v x]`, the matrix with `[v x] u = v x u`.
+pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// One exact step of the kinematic equation for the constant body rate `rate` (rad/s) over `dt` (s).
+pub fn step(q: &UnitQuaternion<f64>, rate: &Vector3<f64>, dt: f64) -> UnitQuaternion<f64> {
+    q * UnitQuaternion::from_scaled_axis(rate * dt)
+}
+
+/// Unit quaternion of a scalar-last `[x, y, z, w]` array (normalised here).
+///
+/// # Errors
+/// [`Error::NonFinite`], or [`Error::OutOfRange`] for a norm below 1e-12.
+pub fn unit(name: &'static str, q: [f64; 4]) -> Result<UnitQuaternion<f64>> {
+    ensure_finite(name, q.iter())?;
+    let quat = Quaternion::new(q[3], q[0], q[1], q[2]);
+    let norm = quat.norm();
+    if norm < 1e-12 {
+        return Err(Error::out_of_range(
+            name,
+            format!("expected a non-zero quaternion, got norm {norm:.3e}"),
+        ));
+    }
+    Ok(UnitQuaternion::from_quaternion(quat))
+}
+
+/// Scalar-last `[x, y, z, w]` with `w >= 0`.
+pub fn to_array(q: &UnitQuaternion<f64>) -> [f64; 4] {
+    let s = if q.w < 0.0 { -1.0 } else { 1.0 };
+    [s * q.i, s * q.j, s * q.k, s * q.w]
+}
+
+/// Strictly increasing, finite time stamps (at least `min_len`).
+pub fn check_times(name: &'static str, t: &[f64], min_len: usize) -> Result<()> {
+    ensure_finite(name, t.iter())?;
+    if t.len() < min_len {
+        return Err(Error::out_of_range(
+            name,
+            format!("expected at least {min_len} time stamps, got {}", t.len()),
+        ));
+    }
+    if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(Error::out_of_range(
+            name,
+            format!(
+                "expected strictly increasing time stamps, got t[{}] = {} after t[{k}] = {}",
+                k + 1,
+                t[k + 1],
+                t[k]
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Attitude at every gyro time stamp: `rates[k]` (body, rad/s) holds over `[t[k], t[k+1]]`, so the last
+/// rate is not used. Returns scalar-last quaternions (body -> reference), `len(t)` of them.
+///
+/// # Errors
+/// Non-finite or non-increasing `t`, non-finite rates, a zero quaternion, or `rates` not as long as `t`.
+pub fn propagate(q0: [f64; 4], t: &[f64], rates: &[Vector3<f64>]) -> Result<Vec<[f64; 4]>> {
+    let mut q = unit("q0", q0)?;
+    check_times("t", t, 1)?;
+    check_rates(rates, t.len())?;
+    let mut out = Vec::with_capacity(t.len());
+    out.push(to_array(&q));
+    for k in 1..t.len() {
+        q = step(&q, &rates[k - 1], t[k] - t[k - 1]);
+        out.push(to_array(&q));
+    }
+    Ok(out)
+}
+
+/// Finite rates, one per time stamp.
+pub fn check_rates(rates: &[Vector3<f64>], n: usize) -> Result<()> {
+    if rates.len() != n {
+        return Err(Error::Shape {
+            name: "rates",
+            expected: format!("({n}, 3), one per time stamp"),
+            actual: format!("({}, 3)", rates.len()),
+        });
+    }
+    ensure_finite("rates", rates.iter().flat_map(|r| r.iter()))
+}

@@ -1,0 +1,392 @@
+"""Gyro + multi-antenna GNSS filter (seed 003): kinematics, consistency, ambiguities, sensitivity, bad input.
+
+Statistical checks use fixed seeds; their bounds are chi-square quantiles at a two-sided level of 1e-3 per
+check (so a correct filter fails a check about once in a thousand seeds), or binomial arguments stated at
+the check.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+from scipy.stats import chi2
+
+from gnssatt import sim
+from gnssatt._gyro_gnss_numpy import run_reference
+from gnssatt.errors import InvalidInputError
+from gnssatt.gyro_gnss import gyro_gnss_filter, gyro_propagate
+from gnssatt.sim import attitude_scenario as sc
+
+RX = sim.OrbitalReceiver(altitude_m=700e3, inclination_deg=51.6)
+ARW = 1e-5  # rad/s/sqrt(Hz)
+DRIFT = np.radians([10.0, -5.0, 3.0]) / 3600.0
+BASELINES = sim.equilateral_triangle(1.0)[1:]
+SIGMA_ATT = np.radians(0.5)
+SIGMA_DRIFT = np.radians(20.0) / 3600.0
+P0 = np.diag([SIGMA_ATT**2] * 3 + [SIGMA_DRIFT**2] * 3)
+LEVEL = 1e-3
+
+
+@cache
+def gnss() -> sim.Constellation:
+    return sim.gps_nominal() + sim.glonass_nominal()
+
+
+@cache
+def motion(duration_s: float) -> tuple[np.ndarray, Rotation, np.ndarray]:
+    t = np.arange(0.0, duration_s + 1e-9, 0.1)
+    att, rate = sc.orbital_hold_motion(
+        RX, t, np.radians([2.0, 1.0, 3.0]), [200.0, 250.0, 300.0], [0.0, 1.0, 2.0]
+    )
+    return t, att, rate
+
+
+def trial(
+    seed: int,
+    duration_s: float = 300.0,
+    *,
+    sigma_cycles: float = 0.01,
+    max_satellites: int | None = None,
+    mode: str = "tight",
+    slips: tuple = (),
+    **kw: object,
+) -> tuple:
+    """One run: (result, errors at the outputs, phases)."""
+    rng = np.random.default_rng(seed)
+    t, att, _ = motion(duration_s)
+    g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW)
+    ph = sc.phase_observations(
+        RX,
+        gnss(),
+        t[::10],
+        att[::10],
+        BASELINES,
+        rng,
+        sigma_cycles=sigma_cycles,
+        max_satellites=max_satellites,
+        slips=slips,
+    )
+    e0 = rng.multivariate_normal(np.zeros(6), P0)
+    q0 = att[0] * Rotation.from_rotvec(-e0[:3])
+    meas: dict[str, object] = {"phases": ph, "baselines_m": BASELINES}
+    if mode == "loose":
+        meas = {"attitude_fixes": sc.attitude_fixes(ph, att[::10], BASELINES, rng, sigma_cycles=sigma_cycles)}
+    r = gyro_gnss_filter(
+        t,
+        g.rates,
+        initial_rotation=q0,
+        initial_covariance=P0,
+        initial_drift=DRIFT - e0[3:],
+        arw=ARW,
+        phase_sigma_cycles=sigma_cycles,
+        output_every=10,
+        **meas,
+        **kw,
+    )
+    return r, r.errors(att[::10], g.drift[::10]), ph
+
+
+def chi2_bounds(dof: int) -> tuple[float, float]:
+    return chi2.ppf(LEVEL / 2, dof), chi2.isf(LEVEL / 2, dof)
+
+
+# --- kinematics and scenario ------------------------------------------------------------------------------
+
+
+def test_constant_rate_propagation_matches_closed_form() -> None:
+    w = np.array([0.01, -0.02, 0.03])
+    t = np.linspace(0.0, 100.0, 1001)
+    q0 = Rotation.from_euler("ZYX", [30.0, 10.0, -20.0], degrees=True)
+    q = Rotation.from_quat(gyro_propagate(q0.as_quat(), t, np.tile(w, (len(t), 1))))
+    closed = q0 * Rotation.from_rotvec(np.outer(t, w))
+    assert np.max((q.inv() * closed).magnitude()) < 1e-12
+
+
+def test_truth_rate_is_the_derivative_of_the_truth_attitude() -> None:
+    t = np.array([10.0, 123.4, 250.0])
+    h = 1e-3
+    amp, per, ph = np.radians([5.0, 3.0, 4.0]), [100.0, 130.0, 170.0], [0.3, 1.0, 2.0]
+    _, rate = sc.orbital_hold_motion(RX, t, amp, per, ph)
+    before, _ = sc.orbital_hold_motion(RX, t - h, amp, per, ph)
+    after, _ = sc.orbital_hold_motion(RX, t + h, amp, per, ph)
+    numeric = (before.inv() * after).as_rotvec() / (2 * h)
+    # central difference error ~ |omega''| h^2 / 6 (< 1e-9 rad/s here); 1e-8 leaves room for round-off
+    np.testing.assert_allclose(rate, numeric, atol=1e-8)
+
+
+def test_noise_free_gyro_reproduces_the_truth() -> None:
+    t, att, _ = motion(300.0)
+    g = sc.gyro_output(t, att, np.random.default_rng(0), drift_rad_s=np.zeros(3), arw=0.0)
+    q = Rotation.from_quat(gyro_propagate(att[0].as_quat(), t, g.rates))
+    assert np.max((q.inv() * att).magnitude()) < 1e-9
+
+
+# --- Rust against the numpy reference ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", ["tight", "loose"])
+def test_rust_filter_matches_numpy_reference(mode: str) -> None:
+    rng = np.random.default_rng(5)
+    t, att, _ = motion(60.0)
+    g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW)
+    ph = sc.phase_observations(
+        RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01, max_satellites=4
+    )
+    fixes = sc.attitude_fixes(ph, att[::10], BASELINES, rng, sigma_cycles=0.01) if mode == "loose" else None
+    phases = ph if mode == "tight" else None
+    q0 = att[0] * Rotation.from_rotvec(np.radians([0.3, -0.2, 0.4]))
+    r = gyro_gnss_filter(
+        t,
+        g.rates,
+        initial_rotation=q0,
+        initial_covariance=P0,
+        arw=ARW,
+        rrw=1e-9,
+        baselines_m=BASELINES,
+        phases=phases,
+        attitude_fixes=fixes,
+        fix_ambiguities=False,
+        slip_false_alarm=None,
+    )
+    q, b, p = run_reference(t, g.rates, q0, np.zeros(3), P0, ARW, 1e-9, BASELINES, 0.01, fixes, phases)
+    assert np.max((r.rotation.inv() * Rotation.from_quat(q)).magnitude()) < 1e-10
+    np.testing.assert_allclose(r.drift, b, atol=1e-13)
+    np.testing.assert_allclose(r.covariance, p, rtol=1e-7, atol=1e-16)
+
+
+# --- consistency -------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("mode", ["tight", "loose"])
+def test_filter_is_consistent_over_monte_carlo_runs(mode: str) -> None:
+    runs = 30
+    results = [trial(seed, mode=mode) for seed in range(runs)]
+    nees = np.array([r.nees(e) for r, e, _ in results])
+    lo, hi = chi2_bounds(6 * runs)
+    # sum over runs of NEES ~ chi2(6 runs) at each time for a consistent filter
+    for k in (1, 10, 100, 300):
+        assert lo <= nees[:, k].sum() <= hi, (k, nees[:, k].mean())
+
+
+def test_tightly_coupled_converges_with_two_satellites_where_loosely_coupled_cannot() -> None:
+    runs = 20
+    tight = [trial(seed, max_satellites=2) for seed in range(runs)]
+    loose = [trial(seed, max_satellites=2, mode="loose") for seed in range(runs)]
+    # the receiver's own solution needs three lines of sight: no loosely coupled update happens at all
+    assert all(len(r.nis) == 0 for r, _, _ in loose)
+    sig = lambda r: np.degrees(np.sqrt(np.linalg.eigvalsh(r.covariance[-1][:3, :3]).max()))  # noqa: E731
+    assert all(sig(r) > np.degrees(SIGMA_ATT) for r, _, _ in loose)
+    assert all(sig(r) < 0.05 for r, _, _ in tight)
+    nees = sum(r.nees(e)[-1] for r, e, _ in tight)
+    lo, hi = chi2_bounds(6 * runs)
+    assert lo <= nees <= hi
+
+
+# --- ambiguities -------------------------------------------------------------------------------------------
+
+
+def wrong_fixes(results: list) -> tuple[int, int]:
+    accepted = wrong = 0
+    for r, _, ph in results:
+        truth = {int(tr): a for tr, a in zip(ph.track, ph.ambiguity, strict=True)}
+        for f in r.fixes:
+            if f.accepted:
+                accepted += 1
+                wrong += any(truth[tr][bl] != v for tr, bl, v in f.values)
+    return accepted, wrong
+
+
+def test_validation_stops_the_wrong_fixes_that_an_unvalidated_filter_makes() -> None:
+    # noisy phases (0.3 cycle) and two satellites: the first float solutions round wrongly about a third of
+    # the time
+    runs = 20
+    kw = {"sigma_cycles": 0.3, "max_satellites": 2}
+    checked = [trial(seed, **kw) for seed in range(runs)]
+    unchecked = [trial(seed, **kw, ratio_threshold=1.0, min_success_rate=0.0) for seed in range(runs)]
+    n_ok, wrong_ok = wrong_fixes(checked)
+    _, wrong_bad = wrong_fixes(unchecked)
+    assert n_ok >= runs  # at least one fix per run
+    # each accepted fix had a success rate >= 0.999; with < 200 fixes P(>= 3 wrong) < 2e-3
+    assert n_ok < 200 and wrong_ok <= 2
+    assert wrong_bad >= 5
+
+
+def test_cycle_slip_is_detected_and_the_ambiguity_refixed() -> None:
+    t, att, _ = motion(300.0)
+    seen = sc.phase_observations(
+        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+    )
+    sat = int(np.bincount(seen.satellite).argmax())  # visible throughout (checked below)
+    assert np.all(np.isin(np.arange(len(seen.epoch_t)), seen.epoch[seen.satellite == sat]))
+    r, e, ph = trial(3, slips=((150.0, sat, 1),))
+    slipped = int(ph.track[ph.satellite == sat][0])
+    assert [(t, int(tr)) for t, tr, _ in r.slips] == [(150.0, slipped)]
+    refix = [
+        f for f in r.fixes if f.accepted and f.t >= 150.0 and any(tr == slipped for tr, _, _ in f.values)
+    ]
+    truth_after = ph.ambiguity[(ph.track == slipped) & (ph.epoch_t[ph.epoch] >= 150.0)][0]
+    assert refix and [v for tr, _, v in refix[0].values if tr == slipped] == truth_after.tolist()
+    assert r.nees(e)[-1] < chi2.isf(LEVEL, 6)
+
+
+# --- sensitivity -------------------------------------------------------------------------------------------
+
+
+def test_true_error_covariance_matches_monte_carlo_errors() -> None:
+    runs, duration = 40, 300.0
+    mis, base = np.radians(0.5), 0.005
+    t, att, _ = motion(duration)
+    z_true, z_filter = [], []
+    for seed in range(runs):
+        rng = np.random.default_rng(seed)
+        mu, db = rng.normal(0.0, mis, 3), rng.normal(0.0, base, (2, 3))
+        g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW, misalignment_rad=mu)
+        ph = sc.phase_observations(
+            RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01, baseline_errors_m=db
+        ).without_ambiguities()
+        e0 = rng.multivariate_normal(np.zeros(6), P0)
+        r = gyro_gnss_filter(
+            t,
+            g.rates,
+            initial_rotation=att[0] * Rotation.from_rotvec(-e0[:3]),
+            initial_covariance=P0,
+            initial_drift=DRIFT - e0[3:],
+            arw=ARW,
+            output_every=1000,
+            phases=ph,
+            baselines_m=BASELINES,
+            known_ambiguities=True,
+            sensitivity=(mis, base),
+        )
+        e = r.errors(att[::1000], g.drift[::1000])[-1]
+        z_true.append(e / np.sqrt(np.diag(r.true_covariance[-1])))
+        z_filter.append(e / np.sqrt(np.diag(r.covariance[-1])))
+    z_true, z_filter = np.array(z_true), np.array(z_filter)
+    # per component, sum of squared normalised errors ~ chi2(runs); Bonferroni over the 6 components
+    lo, hi = chi2.ppf(LEVEL / 12, runs), chi2.isf(LEVEL / 12, runs)
+    assert np.all((lo <= (z_true**2).sum(0)) & ((z_true**2).sum(0) <= hi)), (z_true**2).mean(0)
+    # the reduced filter's own covariance misses the baseline errors: its attitude errors are far too large
+    assert np.all((z_filter[:, :3] ** 2).sum(0) > hi)
+
+
+# --- bad input ---------------------------------------------------------------------------------------------
+
+
+def base_args() -> dict:
+    return {"initial_rotation": Rotation.identity(), "initial_covariance": P0, "arw": ARW}
+
+
+def test_non_finite_rates_are_rejected() -> None:
+    rates = np.zeros((11, 3))
+    rates[4, 1] = np.nan
+    with pytest.raises(InvalidInputError, match="gyro_rates"):
+        gyro_gnss_filter(np.arange(11.0), rates, **base_args())
+
+
+def test_non_increasing_time_stamps_are_rejected() -> None:
+    t = np.arange(11.0)
+    t[5] = t[4]
+    with pytest.raises(InvalidInputError, match="strictly increasing"):
+        gyro_gnss_filter(t, np.zeros((11, 3)), **base_args())
+    with pytest.raises(InvalidInputError, match="one per time stamp"):
+        gyro_gnss_filter(np.arange(11.0), np.zeros((10, 3)), **base_args())
+
+
+def test_measurements_outside_the_gyro_record_are_rejected() -> None:
+    t, att, _ = motion(60.0)
+    ph = sc.phase_observations(
+        RX, gnss(), t[::10] + 5.0, att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+    )
+    with pytest.raises(InvalidInputError, match="within the gyro record"):
+        gyro_gnss_filter(t, np.zeros((len(t), 3)), **base_args(), baselines_m=BASELINES, phases=ph)
+
+
+def test_zero_length_baseline_is_rejected() -> None:
+    t, att, _ = motion(60.0)
+    ph = sc.phase_observations(
+        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+    )
+    bad = BASELINES.copy()
+    bad[1] = 0.0
+    with pytest.raises(InvalidInputError, match="baseline 1 has length 0"):
+        gyro_gnss_filter(t, np.zeros((len(t), 3)), **base_args(), baselines_m=bad, phases=ph)
+
+
+def test_sensitivity_needs_known_ambiguities() -> None:
+    t, att, _ = motion(60.0)
+    ph = sc.phase_observations(
+        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+    )
+    with pytest.raises(InvalidInputError, match="known ambiguities"):
+        gyro_gnss_filter(
+            t,
+            np.zeros((len(t), 3)),
+            **base_args(),
+            baselines_m=BASELINES,
+            phases=ph,
+            sensitivity=(0.01, 0.01),
+        )
+
+
+def test_true_error_covariance_equals_the_filters_without_unmodelled_errors() -> None:
+    rng = np.random.default_rng(2)
+    t, att, _ = motion(60.0)
+    g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW)
+    ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01)
+    r = gyro_gnss_filter(
+        t,
+        g.rates,
+        initial_rotation=att[0],
+        initial_covariance=P0,
+        arw=ARW,
+        baselines_m=BASELINES,
+        phases=ph.without_ambiguities(),
+        known_ambiguities=True,
+        sensitivity=(0.0, 0.0),
+    )
+    assert r.true_covariance is not None
+    # both are the Joseph-form covariance of the same gains: equal up to round-off
+    np.testing.assert_allclose(r.true_covariance, r.covariance, rtol=1e-9, atol=1e-20)
+
+
+def test_misalignment_states_make_the_filter_consistent_where_the_reduced_one_is_not() -> None:
+    runs, sigma_mu = 20, np.radians(1.0)
+    t, att, _ = motion(300.0)
+    nees_full, nees_mu, nees_reduced = 0.0, 0.0, 0.0
+    for seed in range(runs):
+        rng = np.random.default_rng(seed)
+        mu = rng.normal(0.0, sigma_mu, 3)
+        g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW, misalignment_rad=mu)
+        ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01)
+        e0 = rng.multivariate_normal(np.zeros(6), P0)
+        kw = {
+            "initial_rotation": att[0] * Rotation.from_rotvec(-e0[:3]),
+            "initial_covariance": P0,
+            "initial_drift": DRIFT - e0[3:],
+            "arw": ARW,
+            "output_every": len(t) - 1,
+            "phases": ph,
+            "baselines_m": BASELINES,
+        }
+        truth = (att[[0, -1]], g.drift[[0, -1]])
+        full = gyro_gnss_filter(t, g.rates, **kw, misalignment_sigma_rad=sigma_mu)
+        reduced = gyro_gnss_filter(t, g.rates, **kw)
+        nees_full += full.nees(full.errors(*truth))[-1]
+        e_mu = mu - full.misalignment[-1]
+        nees_mu += e_mu @ np.linalg.solve(full.misalignment_covariance[-1], e_mu)
+        nees_reduced += reduced.nees(reduced.errors(*truth))[-1]
+    lo, hi = chi2_bounds(6 * runs)
+    assert lo <= nees_full <= hi
+    lo3, hi3 = chi2_bounds(3 * runs)
+    assert lo3 <= nees_mu <= hi3
+    assert nees_reduced > hi
+
+
+def test_attitude_fixes_out_of_order_are_rejected() -> None:
+    t, att, _ = motion(60.0)
+    fixes = sc.AttitudeFixes(np.array([20.0, 10.0]), att[[200, 100]], np.tile(np.eye(3) * 1e-6, (2, 1, 1)))
+    with pytest.raises(InvalidInputError, match="in order"):
+        gyro_gnss_filter(t, np.zeros((len(t), 3)), **base_args(), attitude_fixes=fixes)
