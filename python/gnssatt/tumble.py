@@ -4,7 +4,8 @@ Euler's equations with gravity-gradient and aerodynamic torques and quaternion k
 orbital frame (eqs. (3)-(4)) run in the Rust core (``gnssatt._core.tumble_*``, RK4, rayon over initial
 states). The initial state ``b = (psi, alpha, phi, wx, wy, wz)`` is fitted to axis directions collected
 over an interval by differential evolution (eq. (1), scipy's ``differential_evolution`` with a vectorised
-objective and the paper's stopping rule).
+objective and the paper's stopping rule). Given the axis noise, a fit whose objective exceeds what the
+noise explains (:func:`noise_cost_threshold`) is a local minimum and is restarted (:func:`fit_rotation`).
 
 Frames and angles (``docs/conventions.md``, seed 004):
 
