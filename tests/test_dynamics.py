@@ -149,11 +149,12 @@ def test_noise_cost_threshold_is_the_tail_of_the_cost_at_the_truth(sigma_deg: fl
     assert frac > 0.2 * p
 
 
-def test_restarts_follow_the_noise_threshold() -> None:
+@pytest.mark.parametrize("kind", ["horizon", "fresh"])
+def test_restarts_follow_the_noise_threshold(kind: str) -> None:
     t = np.arange(0.0, 61.0, 2.0)
     rng = np.random.default_rng(2)
     meas = _tilted(rng, tumble.propagate_axes(TRUTH, t, MODEL), np.radians(5.0))
-    quick = {"maxiter": 3, "polish": False, "popsize": 5, "seed": 9}
+    quick = {"maxiter": 3, "polish": False, "popsize": 5, "seed": 9, "restart": kind}
     single = tumble.fit_rotation(t, meas, MODEL, max_restarts=0, **quick)
     # A 0.01-deg noise claim cannot be met after 3 generations: every restart is used, the best kept.
     strict = tumble.fit_rotation(t, meas, MODEL, axis_sigma_deg=0.01, max_restarts=2, **quick)
@@ -168,6 +169,12 @@ def test_restarts_follow_the_noise_threshold() -> None:
     assert loose.attempt_costs.shape == (1,) and loose.cost < loose.cost_threshold
     again = tumble.fit_rotation(t, meas, MODEL, axis_sigma_deg=0.01, max_restarts=2, **quick)
     np.testing.assert_array_equal(again.attempt_params, strict.attempt_params)
+    # Each run's reported objective is objective (1) at its reported state.
+    np.testing.assert_allclose(tumble.axis_cost(strict.attempt_params, t, meas, MODEL), strict.attempt_costs)
+    assert np.all(strict.attempt_params[:, [0, 2]] >= 0) and np.all(
+        strict.attempt_params[:, [0, 2]] < 2 * np.pi
+    )
+    assert np.all(strict.attempt_params[:, 1] >= 0) and np.all(strict.attempt_params[:, 1] <= np.pi)
 
 
 def test_restart_arguments_are_checked() -> None:
