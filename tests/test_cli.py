@@ -100,3 +100,5 @@ def test_visibility_rotation_writes_json_and_histograms(
     assert all(np.isfinite(v) for v in m.values())
     for part in ("rates", "angles"):
         assert (tmp_path / f"visibility-rotation-{part}.png").stat().st_size > 10_000
+    lines = (tmp_path / "visibility-rotation-trials.csv").read_text().splitlines()
+    assert len(lines) == 3 and "attitude_error_deg" in lines[0].split(",")
