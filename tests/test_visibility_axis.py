@@ -75,3 +75,34 @@ def test_bad_input() -> None:
     flat = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
     with pytest.raises(DegenerateGeometryError, match="condition number"):
         visibility_axis(flat[:2], flat[2:])
+
+
+def test_visibility_sets_bad_input() -> None:
+    rx = sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=51.6)
+    gps = sim.gps_nominal()
+    t = np.arange(3.0)
+    axes = np.tile([0.0, 0.0, 1.0], (3, 1))
+    with pytest.raises(InvalidInputError, match="row 1 is zero"):
+        visibility_sets(rx, gps, t, axes * [[1], [0], [1]])
+    with pytest.raises(InvalidInputError, match="non-finite"):
+        visibility_sets(rx, gps, t, axes * [[1], [np.nan], [1]])
+    with pytest.raises(InvalidInputError, match=r"shape \(3, 3\)"):
+        visibility_sets(rx, gps, t, axes[:2])
+    with pytest.raises(InvalidInputError, match="half_angle_deg"):
+        visibility_sets(rx, gps, t, axes, half_angle_deg=0.0)
+    with pytest.raises(InvalidInputError, match="half_angle_deg"):
+        visibility_sets(rx, gps, t, axes, half_angle_deg=181.0)
+
+
+def test_an_epoch_that_sees_every_satellite_or_none_is_refused() -> None:
+    # A 180-deg cone sees every satellite above the limb, a 1-deg cone pointed at the nadir none.
+    rx = sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=51.6)
+    gps = sim.gps_nominal()
+    ((vis, inv),) = visibility_sets(rx, gps, [0.0], [[0.0, 0.0, 1.0]], half_angle_deg=180.0)
+    assert len(inv) == 0 and len(vis) > 4
+    with pytest.raises(InvalidInputError, match="every satellite is visible or none"):
+        visibility_axis(vis, inv)
+    ((vis, inv),) = visibility_sets(rx, gps, [0.0], [[0.0, 0.0, -1.0]], half_angle_deg=1.0)
+    assert len(vis) == 0 and len(inv) > 4
+    with pytest.raises(InvalidInputError, match="every satellite is visible or none"):
+        visibility_axis(vis, inv)

@@ -4,7 +4,8 @@ Euler's equations with gravity-gradient and aerodynamic torques and quaternion k
 orbital frame (eqs. (3)-(4)) run in the Rust core (``gnssatt._core.tumble_*``, RK4, rayon over initial
 states). The initial state ``b = (psi, alpha, phi, wx, wy, wz)`` is fitted to axis directions collected
 over an interval by differential evolution (eq. (1), scipy's ``differential_evolution`` with a vectorised
-objective and the paper's stopping rule).
+objective and the paper's stopping rule). Given the axis noise, a fit whose objective exceeds what the
+noise explains (:func:`noise_cost_threshold`) is a local minimum and is restarted (:func:`fit_rotation`).
 
 Frames and angles (``docs/conventions.md``, seed 004):
 
@@ -26,16 +27,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import differential_evolution
+from scipy.optimize import differential_evolution, minimize
 from scipy.spatial.transform import Rotation
+from scipy.stats import chi2
 
 from gnssatt import _core
 from gnssatt._arrays import float_array
 from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import scalar
 
 __all__ = [
     "RotationFit",
@@ -44,6 +47,7 @@ __all__ = [
     "axis_cost",
     "fit_rotation",
     "fold_symmetric",
+    "noise_cost_threshold",
     "propagate",
     "propagate_axes",
 ]
@@ -213,6 +217,36 @@ def fold_symmetric(params: ArrayLike, reference: ArrayLike) -> NDArray[np.float6
     return p if dist(p) <= dist(mirror) else mirror
 
 
+def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: float = 1e-3) -> float:
+    """Objective (1) that the true state exceeds with probability at most ``false_restart``.
+
+    For measured axes tilted from the true ones by independent Gaussian tangent-plane errors of
+    ``sigma = axis_sigma_deg`` per component (the paper's "3 sigma = 15 deg" is ``sigma = 5 deg``), the
+    measured axis is ``(a + d1 e1 + d2 e2) / sqrt(1 + r^2)`` with ``r^2 = d1^2 + d2^2 ~ sigma^2 chi2(2)``,
+    so each term of (1) is ``|a - m|^2 = 2 - 2 / sqrt(1 + r^2) <= r^2``. The objective at the truth is
+    therefore at most ``sigma^2 chi2(2 n)``, and the global minimum lies at or below it: a fit whose
+    objective is above ``sigma^2 * chi2.ppf(1 - false_restart, 2 n)`` is (but for probability
+    ``false_restart``) not the global minimum. The bound is conservative by the neglected ``3 r^4 / 4``
+    term, about 2 % of the objective at 5 deg, i.e. half a standard deviation for 1501 epochs.
+
+    Parameters
+    ----------
+    n_epochs
+        Number of measured axes, >= 1.
+    axis_sigma_deg
+        Per-component standard deviation of the axis error, degrees, > 0.
+    false_restart
+        Probability that the truth itself lies above the threshold, in (0, 1).
+    """
+    if isinstance(n_epochs, bool) or not isinstance(n_epochs, int | np.integer) or n_epochs < 1:
+        raise InvalidInputError(f"expected n_epochs as an integer >= 1, got {n_epochs!r}")
+    sigma = scalar("axis_sigma_deg", axis_sigma_deg, minimum=0.0, strict=True)
+    p = scalar("false_restart", false_restart)
+    if not 0.0 < p < 1.0:
+        raise InvalidInputError(f"expected false_restart in (0, 1), got {false_restart!r}")
+    return math.radians(sigma) ** 2 * float(chi2.isf(p, 2 * int(n_epochs)))
+
+
 @dataclass(frozen=True)
 class RotationFit:
     """Result of :func:`fit_rotation`.
@@ -224,14 +258,20 @@ class RotationFit:
     cost
         Objective (1) at ``params`` (sum of squared unit-vector differences, dimensionless).
     nfev
-        Objective evaluations (one per propagated initial state).
+        Objective evaluations (one per propagated initial state), all runs together.
     nit
-        Differential-evolution generations.
+        Differential-evolution generations, all runs together.
     stopped_by
-        ``"paper"`` (population-mean objective changed by less than ``tol_abs``), ``"maxiter"`` or
-        ``"scipy"`` (scipy's own convergence test).
+        How the best run (its first window for a "horizon" restart) stopped: ``"paper"`` (population-mean
+        objective changed by less than ``tol_abs``), ``"maxiter"`` or ``"scipy"`` (scipy's own test).
     residual_rms_deg
         RMS angle between fitted and measured axes, degrees.
+    attempt_params, attempt_costs
+        (k, 6) best state and (k,) objective of each differential-evolution run, the first run first;
+        ``k - 1`` restarts were made (see ``max_restarts`` of :func:`fit_rotation`).
+    cost_threshold
+        The objective above which a run was restarted (:func:`noise_cost_threshold`); ``inf`` when no
+        ``axis_sigma_deg`` was given.
     """
 
     params: NDArray[np.float64]
@@ -240,6 +280,9 @@ class RotationFit:
     nit: int
     stopped_by: str
     residual_rms_deg: float
+    attempt_params: NDArray[np.float64]
+    attempt_costs: NDArray[np.float64]
+    cost_threshold: float
     angles_deg: NDArray[np.float64] = field(init=False)
     omega_deg_s: NDArray[np.float64] = field(init=False)
 
@@ -264,7 +307,8 @@ class _Objective:
     def __init__(
         self, t: NDArray[np.float64], measured: NDArray[np.float64], model: TumbleModel, step_s: float
     ):
-        self.t, self.measured, self.kwargs, self.step_s = t, measured, model._kwargs(), step_s
+        self.t, self.measured, self.model, self.step_s = t, measured, model, step_s
+        self.kwargs = model._kwargs()
         self.nfev = 0
         self.population: NDArray[np.float64] | None = None
         self.means: list[float] = []
@@ -282,12 +326,91 @@ class _Objective:
         return cost if x.ndim == 2 else cost[0]
 
 
+# Restart k of the "horizon" kind fits the first HORIZON_FRACTIONS[(k - 1) % 3] of the span by differential
+# evolution, then refines over windows doubling up to the whole span.
+HORIZON_FRACTIONS = (0.1, 0.2, 0.05)
+# Fewest epochs in the first window of a "horizon" restart.
+MIN_HORIZON_EPOCHS = 20
+
+
+def _canonical(params: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The same state with ``psi, phi in [0, 2 pi)``, ``alpha in [0, pi]`` (``YZY`` angles are 2-to-1)."""
+    angles = Rotation.from_euler("YZY", params[:3]).as_euler("YZY") % (2 * math.pi)
+    angles[1] = min(angles[1], 2 * math.pi - angles[1])  # as_euler gives [0, pi]; guard a rounded 2 pi
+    return np.r_[angles, params[3:]]
+
+
+def _de_run(obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: dict[str, Any]) -> tuple:
+    """One differential-evolution run with the paper's stopping rule: (x, cost, generations, stopped_by)."""
+    obj.population, obj.means = None, []
+    stopped = {"by": "maxiter"}
+    tol_abs, patience = opts["tol_abs"], opts["patience"]
+
+    def callback(intermediate_result: Any) -> None:
+        recent = np.abs(np.diff(obj.means[-(patience + 1) :]))
+        if len(recent) >= patience and np.all(recent < tol_abs):
+            stopped["by"] = "paper"
+            raise StopIteration
+
+    res = differential_evolution(
+        obj,
+        bounds,
+        popsize=opts["popsize"],
+        mutation=opts["mutation"],
+        recombination=opts["recombination"],
+        strategy=opts["strategy"],
+        seed=seed,
+        maxiter=opts["maxiter"],
+        tol=0.0,
+        atol=0.0,
+        polish=opts["polish"],
+        vectorized=True,
+        updating="deferred",
+        callback=callback,
+        init="sobol",
+    )
+    if stopped["by"] == "maxiter" and res.success:
+        stopped["by"] = "scipy"
+    return np.asarray(res.x, dtype=np.float64), float(res.fun), int(res.nit), stopped["by"]
+
+
+def _horizon_run(
+    obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: dict[str, Any], fraction: float
+) -> tuple:
+    """Differential evolution on the first ``fraction`` of the span, then Nelder-Mead over doubling windows.
+
+    Over a short window the axis history depends smoothly on the state and the global basin is wide;
+    each doubling starts inside the next window's basin. Returns (x, cost over the whole span,
+    generations, stopped_by of the first window's run).
+    """
+    t, m = obj.t, obj.measured
+    span = t[-1] - t[0]
+    end = t[0] + fraction * span
+    n = max(int(np.searchsorted(t, end, side="right")), min(MIN_HORIZON_EPOCHS, t.size))
+    window = _Objective(t[:n], m[:n], obj.model, obj.step_s)
+    x, _, nit, stopped = _de_run(window, bounds, seed, opts)
+    obj.nfev += window.nfev
+    while n < t.size:
+        end = t[0] + 2 * (t[n - 1] - t[0])
+        n = max(int(np.searchsorted(t, end, side="right")), min(2 * n, t.size))
+        part = _Objective(t[:n], m[:n], obj.model, obj.step_s)
+        res = minimize(part, x, method="Nelder-Mead", options={"maxfev": 4000, "xatol": 1e-8, "fatol": 1e-7})
+        obj.nfev += part.nfev
+        x = np.asarray(res.x, dtype=np.float64)
+    x = _canonical(x)
+    return x, float(obj(x)), nit, stopped
+
+
 def fit_rotation(
     t: ArrayLike,
     measured_axes: ArrayLike,
     model: TumbleModel | None = None,
     *,
-    seed: int | None = None,
+    seed: int | np.random.SeedSequence | None = None,
+    axis_sigma_deg: float | None = None,
+    max_restarts: int = 3,
+    false_restart: float = 1e-3,
+    restart: Literal["horizon", "fresh"] = "horizon",
     popsize: int = 15,
     mutation: float | tuple[float, float] = (0.5, 1.0),
     recombination: float = 0.9,
@@ -310,7 +433,24 @@ def fit_rotation(
     model
         :class:`TumbleModel`; default ``TumbleModel.circular()``.
     seed
-        Seed of the optimiser; a fixed seed gives identical results.
+        Seed of the optimiser (an integer or a ``numpy.random.SeedSequence``); a fixed seed gives
+        identical results. The first run uses it as given, restart ``k`` the ``k``-th child of
+        ``SeedSequence(seed)``.
+    axis_sigma_deg
+        Per-component standard deviation of the measured axes' tangent-plane error, degrees (5 for the
+        paper's "3 sigma = 15 deg"). When given, a run whose objective lies above
+        :func:`noise_cost_threshold` ``(n_t, axis_sigma_deg, false_restart)`` -- more than the measurement
+        noise can explain, so a local minimum -- is followed by a fresh run, up to ``max_restarts``
+        times; the best run is returned. ``None``: one run.
+    max_restarts
+        Most restarts, >= 0.
+    restart
+        ``"horizon"`` (default): each restart runs differential evolution (same settings, next seed) on
+        the first 10, 20 or 5 % of the span only, where the global basin is wide, then refines by
+        Nelder-Mead over windows doubling up to the whole span. ``"fresh"``: each restart repeats the
+        first run with the next seed (it tends to fall into the same wrong minimum).
+    false_restart
+        Probability that a fit at the global minimum is restarted all the same (the threshold's tail).
     popsize, mutation, recombination
         scipy's population multiplier (``popsize * 6`` members, the paper's N), weight F (dithered
         when a tuple) and crossover probability P.
@@ -318,20 +458,20 @@ def fit_rotation(
         scipy's mutation strategy. ``"rand1bin"`` is the paper's ``b_m = b1 + F (b2 - b3)`` with random
         ``b1``; with the stopping rule above it ran into ``maxiter`` (130 000 evaluations, 30 s) on 3 of 4
         noisy test cases without ending in better minima than scipy's default ``"best1bin"`` (5 s), kept
-        here. Either can end in a local minimum (about 1 trial in 4 at 3 deg/s with noisy axes): compare
-        ``residual_rms_deg`` with the measurement noise.
+        here. A single run of either ends in a local minimum in about 1 trial in 3 at 3 deg/s with noisy
+        axes: hence the restarts.
     tol_abs
         The paper's stopping rule: stop when the population-mean objective changes by less than
         ``tol_abs`` between consecutive generations (0.001 in the paper), here required over ``patience``
         consecutive generations: read literally (``patience=1``) the rule fires on the first generation
         in which no trial vector wins, long before the population has converged.
     maxiter
-        Generation cap.
+        Generation cap per run.
     max_rate_rad_s
         Search box for each rate component, rad/s (3 deg/s: the paper's bound); angles span
         ``psi, phi in [0, 2 pi]``, ``alpha in [0, pi]``.
     polish
-        Finish with scipy's L-BFGS-B polish (local refinement of the best member).
+        Finish each run with scipy's L-BFGS-B polish (local refinement of the best member).
     step_s
         RK4 step, s.
 
@@ -341,7 +481,8 @@ def fit_rotation(
     Raises
     ------
     InvalidInputError
-        Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times.
+        Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times, a
+        non-positive ``axis_sigma_deg``, a negative ``max_restarts``.
     """
     tt = _times(t)
     m = float_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
@@ -352,48 +493,55 @@ def fit_rotation(
     norm = np.linalg.norm(m, axis=1)
     if np.any(norm < 1e-9):
         raise InvalidInputError(f"measured_axes row {int(np.argmin(norm))} is zero")
+    if isinstance(max_restarts, bool) or not isinstance(max_restarts, int | np.integer) or max_restarts < 0:
+        raise InvalidInputError(f"expected max_restarts as an integer >= 0, got {max_restarts!r}")
+    threshold = math.inf
+    if axis_sigma_deg is not None:
+        threshold = noise_cost_threshold(tt.size, axis_sigma_deg, false_restart)
     m = np.ascontiguousarray(m / norm[:, None])
     mdl = _default(model)
     obj = _Objective(tt, m, mdl, float(step_s))
     obj(np.zeros((6, 1)) + 0.1)  # validate the model and times once, with a clear error
     obj.nfev = 0
-    stopped = {"by": "maxiter"}
 
-    def callback(intermediate_result: Any) -> None:
-        recent = np.abs(np.diff(obj.means[-(patience + 1) :]))
-        if len(recent) >= patience and np.all(recent < tol_abs):
-            stopped["by"] = "paper"
-            raise StopIteration
-
+    if restart not in ("horizon", "fresh"):
+        raise InvalidInputError(f"expected restart 'horizon' or 'fresh', got {restart!r}")
     w = float(max_rate_rad_s)
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
-    res = differential_evolution(
-        obj,
-        bounds,
-        popsize=popsize,
-        mutation=mutation,
-        recombination=recombination,
-        strategy=strategy,
-        seed=seed,
-        maxiter=maxiter,
-        tol=0.0,
-        atol=0.0,
-        polish=polish,
-        vectorized=True,
-        updating="deferred",
-        callback=callback,
-        init="sobol",
-    )
-    if stopped["by"] == "maxiter" and res.success:
-        stopped["by"] = "scipy"
-    best = np.asarray(res.x, dtype=np.float64)
+    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    restart_seeds = root.spawn(max_restarts) if threshold < math.inf else []
+    first_seed = np.random.default_rng(root) if isinstance(seed, np.random.SeedSequence) else seed
+    opts = {
+        "popsize": popsize,
+        "mutation": mutation,
+        "recombination": recombination,
+        "strategy": strategy,
+        "tol_abs": tol_abs,
+        "patience": patience,
+        "maxiter": maxiter,
+        "polish": polish,
+    }
+    runs = [_de_run(obj, bounds, first_seed, opts)]
+    for k, child in enumerate(restart_seeds):
+        if min(r[1] for r in runs) <= threshold:
+            break
+        rng = np.random.default_rng(child)
+        if restart == "fresh":
+            runs.append(_de_run(obj, bounds, rng, opts))
+        else:
+            fraction = HORIZON_FRACTIONS[k % len(HORIZON_FRACTIONS)]
+            runs.append(_horizon_run(obj, bounds, rng, opts, fraction))
+    best, cost, _, stopped_by = min(runs, key=lambda r: r[1])
     fitted = propagate_axes(best, tt, mdl, step_s=step_s)
     ang = np.arccos(np.clip(np.sum(fitted * m, axis=1), -1.0, 1.0))
     return RotationFit(
         params=best,
-        cost=float(res.fun),
+        cost=cost,
         nfev=obj.nfev,
-        nit=int(res.nit),
-        stopped_by=stopped["by"],
+        nit=sum(r[2] for r in runs),
+        stopped_by=stopped_by,
         residual_rms_deg=float(np.degrees(np.sqrt(np.mean(ang**2)))),
+        attempt_params=np.array([r[0] for r in runs]),
+        attempt_costs=np.array([r[1] for r in runs]),
+        cost_threshold=threshold,
     )

@@ -31,6 +31,7 @@ from scipy.optimize import minimize
 
 from gnssatt._arrays import float_array
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.sim._util import scalar
 
 __all__ = ["visibility_axis", "visibility_sets"]
 
@@ -204,6 +205,11 @@ def visibility_sets(
     Returns
     -------
     One ``(visible_los, invisible_los)`` pair of (n, 3) arrays per epoch.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or mismatched times and axes, a zero axis, ``half_angle_deg`` outside (0, 180].
     """
     from gnssatt.sim import earth_occlusion_mask, line_of_sight
 
@@ -211,8 +217,13 @@ def visibility_sets(
     axes = float_array("axes_orbital", axes_orbital, ndim=2, shape="(n_t, 3)")
     if axes.shape != (tt.size, 3):
         raise InvalidInputError(f"expected axes_orbital of shape ({tt.size}, 3), got {axes.shape}")
+    norm = np.linalg.norm(axes, axis=1)
+    if np.any(norm < 1e-9):
+        raise InvalidInputError(f"expected non-zero axes_orbital, row {int(np.argmin(norm))} is zero")
+    half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True)
+    if half > 180.0:
+        raise InvalidInputError(f"expected half_angle_deg in (0, 180], got {half}")
     geo = line_of_sight(receiver, constellation, tt)
     clear = earth_occlusion_mask(geo.receiver_eci_m, geo.satellites_eci_m)
-    axes = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-    seen = np.einsum("tsk,tk->ts", geo.los, axes) >= np.cos(np.radians(half_angle_deg))
+    seen = np.einsum("tsk,tk->ts", geo.los, axes / norm[:, None]) >= np.cos(np.radians(half))
     return [(geo.los[k][clear[k] & seen[k]], geo.los[k][clear[k] & ~seen[k]]) for k in range(tt.size)]
