@@ -33,12 +33,15 @@ def _fmt(value: Any) -> str:
 
 
 def format_table(doc: dict[str, Any]) -> str:
-    """A plain-text table of every quantity, paper next to measured."""
+    """A plain-text table of every quantity, paper next to measured (no paper column where ``paper`` is
+    empty)."""
     names = list(dict.fromkeys([*doc["paper"], *doc["measured"]]))
     rows = [("quantity", "paper", "measured")] + [
         (n, _fmt(doc["paper"].get(n)), _fmt(doc["measured"].get(n))) for n in names
     ]
-    widths = [max(len(r[i]) for r in rows) for i in range(3)]
+    if not doc["paper"]:
+        rows = [(r[0], r[2]) for r in rows]
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     lines = [f"{doc['experiment']}  (runs={doc['runs']}, seed={doc['seed']})"]
     for k, r in enumerate(rows):
         lines.append(
