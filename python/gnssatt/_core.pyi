@@ -196,6 +196,7 @@ def orbit_filter_tight(
     model: dict[str, object],
     settings: dict[str, float],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...
+
 # gyro_gnss.rs (arguments built by gnssatt.gyro_gnss)
 def gyro_propagate(
     q0: NDArray[np.float64], t: NDArray[np.float64], rates: NDArray[np.float64]
