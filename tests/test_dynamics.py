@@ -167,6 +167,12 @@ def test_restarts_follow_the_noise_threshold(kind: str) -> None:
     # A 60-deg noise claim accepts the first run.
     loose = tumble.fit_rotation(t, meas, MODEL, axis_sigma_deg=60.0, max_restarts=2, **quick)
     assert loose.attempt_costs.shape == (1,) and loose.cost < loose.cost_threshold
+    # min_restarts runs restarts the threshold would skip, with or without a noise claim.
+    forced = tumble.fit_rotation(t, meas, MODEL, axis_sigma_deg=60.0, max_restarts=2, min_restarts=1, **quick)
+    assert forced.attempt_costs.shape == (2,) and forced.cost == forced.attempt_costs.min()
+    np.testing.assert_array_equal(forced.attempt_params[:2], strict.attempt_params[:2])
+    plain = tumble.fit_rotation(t, meas, MODEL, max_restarts=2, min_restarts=2, **quick)
+    assert plain.attempt_costs.shape == (3,) and plain.cost_threshold == np.inf
     again = tumble.fit_rotation(t, meas, MODEL, axis_sigma_deg=0.01, max_restarts=2, **quick)
     np.testing.assert_array_equal(again.attempt_params, strict.attempt_params)
     # Each run's reported objective is objective (1) at its reported state.
@@ -182,6 +188,8 @@ def test_restart_arguments_are_checked() -> None:
     axes = tumble.propagate_axes(TRUTH, t, MODEL)
     with pytest.raises(InvalidInputError, match="max_restarts"):
         tumble.fit_rotation(t, axes, MODEL, axis_sigma_deg=5.0, max_restarts=-1)
+    with pytest.raises(InvalidInputError, match="min_restarts"):
+        tumble.fit_rotation(t, axes, MODEL, axis_sigma_deg=5.0, max_restarts=1, min_restarts=2)
     with pytest.raises(InvalidInputError, match="axis_sigma_deg"):
         tumble.fit_rotation(t, axes, MODEL, axis_sigma_deg=0.0)
     with pytest.raises(InvalidInputError, match="axis_sigma_deg"):

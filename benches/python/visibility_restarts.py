@@ -35,7 +35,7 @@ def main() -> None:
         t0 = time.perf_counter()
         with ProcessPoolExecutor(args.workers, mp_context=ctx) as pool:
             rows = montecarlo.run(
-                functools.partial(vr.trial, restart=kind),
+                functools.partial(vr.trial, restart=kind, min_restarts=0),
                 args.trials,
                 seed=args.seed,
                 executor=pool,

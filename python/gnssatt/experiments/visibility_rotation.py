@@ -14,7 +14,9 @@ The fit's 180-deg spin ambiguity (``tumble.fold_symmetric``) is removed before t
 
 A single DE run over the whole 1500 s ends in a local minimum in about a third of the trials; the fit
 therefore restarts while its objective exceeds what the axis noise explains (``tumble.noise_cost_threshold``,
-chi-square tail 1e-3; up to 3 "horizon" restarts, see ``tumble.fit_rotation``). ``measured`` holds the
+chi-square tail 1e-3; up to 3 "horizon" restarts, see ``tumble.fit_rotation``), and restarts once in any
+case: a local minimum whose objective lies within the noise spread passes the threshold (five of the six
+fits more than 15 deg off in a 400-trial study without it). ``measured`` holds the
 errors after restarts and, prefixed ``first_run_``, those of the first run alone on the same seeds, with
 the share of fits above the threshold (``first_run_local_minimum_fraction``, ``local_minimum_fraction``).
 ``visibility-rotation-trials.csv`` holds every trial's row (true state, errors, objective ratios).
@@ -98,6 +100,7 @@ def trial(
     *,
     measurements: str = "noise",
     max_restarts: int = 3,
+    min_restarts: int = 1,
     restart: str = "horizon",
     duration_s: float = DURATION_S,
 ) -> dict[str, float]:
@@ -108,6 +111,8 @@ def trial(
     trial's stream, ``restart`` as in :func:`gnssatt.tumble.fit_rotation`) while its objective exceeds
     what 5-deg axis noise explains (:func:`gnssatt.tumble.noise_cost_threshold`, tail 1e-3). The row
     also holds the first run's errors (``first_run_*``): the fit without restarts, on the same seed.
+    ``min_restarts`` restarts run whatever the first objective (a local minimum within the noise spread
+    passes the threshold).
     """
     model = tumble.TumbleModel.circular(500e3)
     truth = random_initial_state(rng)
@@ -124,6 +129,7 @@ def trial(
         seed=int(rng.integers(2**31)),
         axis_sigma_deg=sigma,
         max_restarts=max_restarts,
+        min_restarts=min_restarts,
         restart=restart,  # type: ignore[arg-type]
     )
     row = state_errors(fit.params, truth)
