@@ -8,6 +8,7 @@ the check.
 from __future__ import annotations
 
 from functools import cache
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,6 +18,7 @@ from scipy.stats import chi2
 from gnssatt import sim
 from gnssatt._gyro_gnss_numpy import run_reference
 from gnssatt.errors import InvalidInputError
+from gnssatt.experiments import gyro_gnss as exp
 from gnssatt.gyro_gnss import gyro_gnss_filter, gyro_propagate
 from gnssatt.phase_attitude import phase_attitude_fixes
 from gnssatt.sim import attitude_scenario as sc
@@ -509,3 +511,12 @@ def test_matrix_fixes_reject_bad_input() -> None:
         phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=0.0)
     with pytest.raises(TypeError, match="PhaseObservations"):
         phase_attitude_fixes(ph.phase, BASELINES, ph.ambiguity, sigma_cycles=0.01)  # type: ignore[arg-type]
+
+
+def test_experiment_feeds_the_loose_filter_with_matrix_fixes(tmp_path: Path) -> None:
+    r = exp.orbit_trial(np.random.default_rng(4), duration_s=120.0, loose_fixes="matrix")
+    # a consistent filter exceeds this NEES with probability 1e-3; wrongly signed or scaled fixes do not stay
+    # under it
+    assert r["loose"]["nees"][-1] < chi2.isf(LEVEL, 6)
+    with pytest.raises(InvalidInputError, match="loose_fixes"):
+        exp.run(runs=1, seed=0, out=tmp_path, progress=False, loose_fixes="truth")  # type: ignore[arg-type]
