@@ -8,6 +8,7 @@ the check.
 from __future__ import annotations
 
 from functools import cache
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +18,9 @@ from scipy.stats import chi2
 from gnssatt import sim
 from gnssatt._gyro_gnss_numpy import run_reference
 from gnssatt.errors import InvalidInputError
+from gnssatt.experiments import gyro_gnss as exp
 from gnssatt.gyro_gnss import gyro_gnss_filter, gyro_propagate
+from gnssatt.phase_attitude import phase_attitude_fixes
 from gnssatt.sim import attitude_scenario as sc
 
 RX = sim.OrbitalReceiver(altitude_m=700e3, inclination_deg=51.6)
@@ -74,6 +77,10 @@ def trial(
     meas: dict[str, object] = {"phases": ph, "baselines_m": BASELINES}
     if mode == "loose":
         meas = {"attitude_fixes": sc.attitude_fixes(ph, att[::10], BASELINES, rng, sigma_cycles=sigma_cycles)}
+    elif mode == "matrix":
+        meas = {
+            "attitude_fixes": phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=sigma_cycles)
+        }
     r = gyro_gnss_filter(
         t,
         g.rates,
@@ -160,7 +167,7 @@ def test_rust_filter_matches_numpy_reference(mode: str) -> None:
 # --- consistency -------------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("mode", ["tight", "loose"])
+@pytest.mark.parametrize("mode", ["tight", "loose", "matrix"])
 def test_filter_is_consistent_over_monte_carlo_runs(mode: str) -> None:
     runs = 30
     results = [trial(seed, mode=mode) for seed in range(runs)]
@@ -390,3 +397,126 @@ def test_attitude_fixes_out_of_order_are_rejected() -> None:
     fixes = sc.AttitudeFixes(np.array([20.0, 10.0]), att[[200, 100]], np.tile(np.eye(3) * 1e-6, (2, 1, 1)))
     with pytest.raises(InvalidInputError, match="in order"):
         gyro_gnss_filter(t, np.zeros((len(t), 3)), **base_args(), attitude_fixes=fixes)
+
+
+# --- loosely coupled input from matrix_attitude ------------------------------------------------------------
+
+
+def repeated_epoch(
+    los: np.ndarray, wavelength: np.ndarray, truth: Rotation, baselines: np.ndarray, sigma: float, draws: int
+) -> sc.PhaseObservations:
+    """``draws`` epochs of the same geometry (truth body -> ECI), independent phase noise, random integers."""
+    rng = np.random.default_rng(11)
+    n = len(los)
+    geom = -(truth.inv().apply(los) @ baselines.T) / wavelength[:, None]
+    amb = rng.integers(-50, 51, size=(draws * n, len(baselines)))
+    return sc.PhaseObservations(
+        np.arange(float(draws)),
+        np.repeat(np.arange(draws), n),
+        np.tile(np.arange(n), draws),
+        np.tile(los, (draws, 1)),
+        np.tile(wavelength, draws),
+        np.tile(geom, (draws, 1)) + amb + sigma * rng.standard_normal((draws * n, len(baselines))),
+        amb,
+        np.tile(np.arange(n), draws),
+    )
+
+
+@pytest.mark.parametrize("n_sat", [3, None])
+def test_matrix_fix_covariance_matches_monte_carlo_errors(n_sat: int | None) -> None:
+    # one epoch of the scenario: three satellites (the fewest a coplanar array needs) or all (GPS + GLONASS,
+    # several wavelengths); a noisy 0.05 cycle so that the errors are far from round-off
+    draws, sigma = 500, 0.05
+    t, att, _ = motion(60.0)
+    ph = sc.phase_observations(
+        RX,
+        gnss(),
+        t[:1],
+        att[:1],
+        BASELINES,
+        np.random.default_rng(0),
+        sigma_cycles=0.0,
+        max_satellites=n_sat,
+    )
+    assert n_sat is not None or len(np.unique(ph.wavelength)) > 1
+    mc = repeated_epoch(ph.los, ph.wavelength, att[0], BASELINES, sigma, draws)
+    fixes = phase_attitude_fixes(mc, BASELINES, mc.ambiguity, sigma_cycles=sigma)
+    assert len(fixes.t) == draws
+    eta = (fixes.rotation.inv() * att[0]).as_rotvec()  # R_true = R_hat exp([eta x])
+    z = np.linalg.solve(np.linalg.cholesky(fixes.covariance), eta[..., None])[..., 0]
+    # a consistent covariance makes z ~ N(0, I): sum of NEES ~ chi2(3 draws), and each whitened component's
+    # sum of squares ~ chi2(draws) (Bonferroni over the three)
+    lo, hi = chi2_bounds(3 * draws)
+    assert lo <= (z**2).sum() <= hi, (z**2).sum() / draws
+    lo1, hi1 = chi2.ppf(LEVEL / 6, draws), chi2.isf(LEVEL / 6, draws)
+    assert np.all((lo1 <= (z**2).sum(0)) & ((z**2).sum(0) <= hi1)), (z**2).mean(0)
+
+
+def test_matrix_fixes_without_noise_are_the_truth() -> None:
+    # pins the sign of the range differences: a wrong sign gives a different rotation, not the truth
+    t, att, _ = motion(60.0)
+    ph = sc.phase_observations(
+        RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(1), sigma_cycles=0.0
+    )
+    fixes = phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=0.01)
+    np.testing.assert_array_equal(fixes.t, ph.epoch_t)
+    assert np.max((fixes.rotation.inv() * att[::100]).magnitude()) < 1e-9
+    known = ph.without_ambiguities()
+    again = phase_attitude_fixes(known, BASELINES, known.ambiguity, sigma_cycles=0.01)
+    assert np.max((again.rotation.inv() * fixes.rotation).magnitude()) < 1e-12
+
+
+def test_matrix_fixes_skip_epochs_that_do_not_fix_the_attitude() -> None:
+    t, att, _ = motion(60.0)
+    rng = np.random.default_rng(2)
+    ph = sc.phase_observations(RX, gnss(), t[:1], att[:1], BASELINES, rng, sigma_cycles=0.0, max_satellites=3)
+    los, lam, truth = ph.los, ph.wavelength, att[0]
+    tetra = np.vstack([BASELINES, [0.0, 0.0, 0.7]])  # a fourth antenna off the plane
+    for baselines, solved in ((BASELINES, [3.0]), (tetra, [2.0, 3.0])):
+        # epochs with 0 (absent), 1, 2 and 3 satellites
+        rows = [(1, 0), (2, 0), (2, 1), (3, 0), (3, 1), (3, 2)]
+        geom = -(truth.inv().apply(los) @ baselines.T) / lam[:, None]
+        k = np.array([j for _, j in rows])
+        obs = sc.PhaseObservations(
+            np.arange(4.0),
+            np.array([e for e, _ in rows]),
+            k,
+            los[k],
+            lam[k],
+            geom[k],
+            np.zeros((len(rows), len(baselines)), np.int64),
+            k,
+        )
+        fixes = phase_attitude_fixes(obs, baselines, obs.ambiguity, sigma_cycles=0.01)
+        # two lines of sight fix the attitude of a non-coplanar array, not of a coplanar one
+        np.testing.assert_array_equal(fixes.t, solved)
+        assert fixes.covariance.shape == (len(solved), 3, 3)
+        assert np.max((fixes.rotation.inv() * truth).magnitude()) < 1e-9
+
+
+def test_matrix_fixes_reject_bad_input() -> None:
+    t, att, _ = motion(60.0)
+    ph = sc.phase_observations(
+        RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(3), sigma_cycles=0.01
+    )
+    with pytest.raises(InvalidInputError, match="ambiguities of shape"):
+        phase_attitude_fixes(ph, BASELINES, ph.ambiguity[:-1], sigma_cycles=0.01)
+    with pytest.raises(InvalidInputError, match="integer ambiguities"):
+        phase_attitude_fixes(ph, BASELINES, ph.ambiguity + 0.5, sigma_cycles=0.01)
+    with pytest.raises(InvalidInputError, match="for 3 baselines"):
+        phase_attitude_fixes(ph, np.vstack([BASELINES, [0.0, 0.0, 1.0]]), ph.ambiguity, sigma_cycles=0.01)
+    with pytest.raises(InvalidInputError, match=r"baselines_m of shape \(m, 3\)"):
+        phase_attitude_fixes(ph, BASELINES[:, :2], ph.ambiguity, sigma_cycles=0.01)
+    with pytest.raises(InvalidInputError, match="sigma_cycles > 0"):
+        phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=0.0)
+    with pytest.raises(TypeError, match="PhaseObservations"):
+        phase_attitude_fixes(ph.phase, BASELINES, ph.ambiguity, sigma_cycles=0.01)  # type: ignore[arg-type]
+
+
+def test_experiment_feeds_the_loose_filter_with_matrix_fixes(tmp_path: Path) -> None:
+    r = exp.orbit_trial(np.random.default_rng(4), duration_s=120.0, loose_fixes="matrix")
+    # a consistent filter exceeds this NEES with probability 1e-3; wrongly signed or scaled fixes do not stay
+    # under it
+    assert r["loose"]["nees"][-1] < chi2.isf(LEVEL, 6)
+    with pytest.raises(InvalidInputError, match="loose_fixes"):
+        exp.run(runs=1, seed=0, out=tmp_path, progress=False, loose_fixes="truth")  # type: ignore[arg-type]

@@ -38,6 +38,7 @@ from gnssatt.likelihood import (
 )
 from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
 from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
+from gnssatt.phase_attitude import phase_attitude_fixes
 from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
 from gnssatt.vector_attitude import TriadResult, WahbaResult, triad, wahba
 from gnssatt.visibility import visibility_axis
@@ -77,6 +78,7 @@ __all__ = [
     "ml_baseline",
     "orbit",
     "partial_fix",
+    "phase_attitude_fixes",
     "prior_from_velocity",
     "ratio_test",
     "ratio_threshold_fixed_failure_rate",

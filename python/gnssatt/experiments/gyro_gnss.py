@@ -10,7 +10,9 @@ drifts (10, -5, 3) deg/h; phase first differences at 1 Hz with 0.002 cycle noise
 0.5 deg (attitude) and 20 deg/h (drift) per axis; a GNSS-phase outage from 2000 to 2300 s after which every
 satellite is re-acquired with new ambiguities. The loosely coupled filter uses the receiver's own attitude
 solution at every epoch with at least three satellites (covariance from the geometry of the first
-differences with resolved integers, :func:`gnssatt.sim.attitude_scenario.attitude_fixes`).
+differences with resolved integers, :func:`gnssatt.sim.attitude_scenario.attitude_fixes`), or with
+``run(..., loose_fixes="matrix")`` the per-epoch :func:`gnssatt.matrix_attitude` solutions of the phases with
+their true integers (:func:`gnssatt.phase_attitude_fixes`).
 """
 
 from __future__ import annotations
@@ -19,15 +21,17 @@ import functools
 import math
 from concurrent.futures import Executor
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from gnssatt import montecarlo, sim
+from gnssatt.errors import InvalidInputError
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 from gnssatt.gyro_gnss import gyro_gnss_filter
+from gnssatt.phase_attitude import phase_attitude_fixes
 from gnssatt.sim import attitude_scenario as sc
 
 NAME = "gyro-gnss"
@@ -50,6 +54,7 @@ MISALIGNMENT_ESTIMATE_DEG = 1.0
 LINEARITY_SIGMAS_DEG = (0.1, 0.5, 1.0, 2.0)
 LINEARITY_S = 300.0
 DEG_H = math.radians(1.0) / 3600.0
+LooseFixes = Literal["simulated", "matrix"]
 
 
 @functools.cache
@@ -83,12 +88,24 @@ def _start(rng: np.random.Generator, att0: Rotation, p0: np.ndarray) -> dict[str
     }
 
 
+def _loose_fixes(
+    kind: LooseFixes, ph: sc.PhaseObservations, att: Rotation, rng: np.random.Generator
+) -> sc.AttitudeFixes:
+    """The loosely coupled input: simulated solutions (truth times a draw from their covariance), or the
+    matrix-method solutions of the phases with their true integers."""
+    if kind == "matrix":
+        return phase_attitude_fixes(ph, _baselines(), ph.ambiguity, sigma_cycles=PHASE_SIGMA_CYCLES)
+    return sc.attitude_fixes(ph, att, _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+
+
 def _summary(r: Any, e: np.ndarray) -> dict[str, np.ndarray]:
     sig = np.sqrt(np.diagonal(r.covariance, axis1=1, axis2=2))
     return {"err": e.astype(np.float32), "sig": sig.astype(np.float32), "nees": r.nees(e).astype(np.float32)}
 
 
-def orbit_trial(rng: np.random.Generator, *, duration_s: float) -> dict[str, Any]:
+def orbit_trial(
+    rng: np.random.Generator, *, duration_s: float, loose_fixes: LooseFixes = "simulated"
+) -> dict[str, Any]:
     """Loosely and tightly coupled filters over one scenario with the phase outage."""
     t, att = _motion(duration_s)
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW)
@@ -104,7 +121,7 @@ def orbit_trial(rng: np.random.Generator, *, duration_s: float) -> dict[str, Any
         sigma_cycles=PHASE_SIGMA_CYCLES,
         new_arcs_after=(OUTAGE_S[1],),
     )
-    fixes = sc.attitude_fixes(ph, att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+    fixes = _loose_fixes(loose_fixes, ph, att[k], rng)
     start = _start(rng, att[0], _p0())
     out_k = np.arange(0, len(t), GNSS_EVERY)
     truth = (att[out_k], g.drift[out_k])
@@ -129,7 +146,9 @@ def orbit_trial(rng: np.random.Generator, *, duration_s: float) -> dict[str, Any
     }
 
 
-def two_satellite_trial(rng: np.random.Generator, *, duration_s: float) -> dict[str, float]:
+def two_satellite_trial(
+    rng: np.random.Generator, *, duration_s: float, loose_fixes: LooseFixes = "simulated"
+) -> dict[str, float]:
     """Final attitude 3-sigma (deg) of both filters when only two satellites are tracked."""
     t, att = _motion(duration_s)
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW)
@@ -137,7 +156,7 @@ def two_satellite_trial(rng: np.random.Generator, *, duration_s: float) -> dict[
     ph = sc.phase_observations(
         RX, _gnss(), t[k], att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES, max_satellites=2
     )
-    fixes = sc.attitude_fixes(ph, att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+    fixes = _loose_fixes(loose_fixes, ph, att[k], rng)
     start = _start(rng, att[0], _p0())
     tight = gyro_gnss_filter(t, g.rates, **start, baselines_m=_baselines(), phases=ph)
     loose = gyro_gnss_filter(t, g.rates, **start, attitude_fixes=fixes)
@@ -235,15 +254,19 @@ def run(
     executor: Executor | None = None,
     progress: bool = True,
     duration_s: float | None = None,
+    loose_fixes: LooseFixes = "simulated",
 ) -> dict[str, Any]:
+    if loose_fixes not in ("simulated", "matrix"):
+        raise InvalidInputError(f"expected loose_fixes 'simulated' or 'matrix', got {loose_fixes!r}")
     out.mkdir(parents=True, exist_ok=True)
     duration = float(math.floor(RX.period_s if duration_s is None else duration_s))  # whole GNSS epochs
     mc = functools.partial(montecarlo.run, seed=seed, executor=executor, progress=progress)
-    rows = mc(functools.partial(orbit_trial, duration_s=duration), runs)
+    rows = mc(functools.partial(orbit_trial, duration_s=duration, loose_fixes=loose_fixes), runs)
     t = rows[0]["t"]
     measured: dict[str, Any] = {
         "duration_s": float(duration),
         "runs": runs,
+        "loose_fixes": loose_fixes,
         "visible_satellites_mean": float(np.mean([r["n_visible_mean"] for r in rows])),
     }
     steady = (t >= 600.0) & (t < OUTAGE_S[0])
@@ -270,7 +293,7 @@ def run(
     measured["tight_refix_after_outage_s_mean"] = float(np.nanmean([r["refix_after_outage_s"] for r in rows]))
     measured["tight_slips_detected"] = int(sum(r["slips"] for r in rows))
 
-    two = mc(functools.partial(two_satellite_trial, duration_s=600.0), runs)
+    two = mc(functools.partial(two_satellite_trial, duration_s=600.0, loose_fixes=loose_fixes), runs)
     for key in ("tight_3sigma_deg", "loose_3sigma_deg", "tight_error_deg", "tight_nees"):
         measured[f"two_satellites_{key}_mean"] = float(np.mean([r[key] for r in two]))
     measured["two_satellites_loose_updates"] = int(sum(r["loose_updates"] for r in two))

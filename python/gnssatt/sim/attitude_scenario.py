@@ -288,6 +288,7 @@ def attitude_fixes(
     satellites, drawn from the least-squares error of the first differences with their integers resolved:
     covariance ``(sum_k,i H_ki^T H_ki / sigma^2)^-1``, ``H_ki = ((R^T los_k) x b_i)^T / lambda_k``. Three
     satellites is what a single-epoch solution (e.g. :func:`gnssatt.matrix_attitude`) needs.
+    :func:`gnssatt.phase_attitude_fixes` solves the phases themselves instead.
     """
     b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
     sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)

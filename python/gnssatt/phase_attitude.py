@@ -1,0 +1,121 @@
+"""Per-epoch attitude solutions from integer-fixed carrier-phase first differences, with their covariance:
+the loosely coupled input of :func:`gnssatt.gyro_gnss_filter`.
+
+Each epoch is solved on its own by :func:`gnssatt.matrix_attitude` (``method="ml"``: the least-squares
+minimiser of the range-difference residuals, by Gauss-Newton on SO(3)). Frames and signs:
+``docs/conventions.md`` ("Gyro + GNSS filter").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.spatial.transform import Rotation
+
+from gnssatt._arrays import float_array
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.matrix_method import matrix_attitude
+from gnssatt.sim._util import scalar
+from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
+
+__all__ = ["phase_attitude_fixes"]
+
+
+def phase_attitude_fixes(
+    phases: PhaseObservations,
+    baselines_m: ArrayLike,
+    ambiguities: ArrayLike,
+    *,
+    sigma_cycles: float,
+) -> AttitudeFixes:
+    """Attitude (body -> ECI) and its covariance at each epoch of ``phases`` that fixes the attitude.
+
+    Parameters
+    ----------
+    phases
+        First differences slave ``i`` minus master, cycles, with ECI lines of sight receiver -> satellite
+        (:class:`~gnssatt.sim.attitude_scenario.PhaseObservations`):
+        ``phase_ik = -los_k . (R b_i) / lambda_k + N_ik + v``.
+    baselines_m
+        (m, 3) body baselines slave minus master, m.
+    ambiguities
+        (n_rows, m) integers ``N_ik`` of the rows of ``phases``, as fixed by the user (e.g. with
+        :func:`gnssatt.lambda_ils`); in simulation ``phases.ambiguity`` (the truth), or zeros with
+        :meth:`~gnssatt.sim.attitude_scenario.PhaseObservations.without_ambiguities`.
+    sigma_cycles
+        Standard deviation of one first difference, cycles (> 0); first differences are taken as
+        independent, as the simulator and the filter take them.
+
+    Returns
+    -------
+    AttitudeFixes
+        ``t`` the solved epochs, ``rotation`` body -> ECI, ``covariance`` (n, 3, 3) rad^2 of the body-frame
+        rotation-vector error ``eta`` with ``R_true = R_hat exp([eta x])``. The filter's loosely coupled
+        model ``R_m = R_true exp([eta_m x])`` has ``eta_m = -eta``, with the same covariance.
+
+    Notes
+    -----
+    The range difference passed to :func:`~gnssatt.matrix_attitude` is
+    ``r_ik = -(phase_ik - N_ik) lambda_k = b_i . (R^T los_k)`` m: how much closer slave ``i`` is to
+    satellite ``k`` than the master (the phase grows with range). Its derivative in ``eta`` at ``R_hat`` is
+    ``H_ik = (b_i x s_k)^T`` m/rad with ``s_k = R_hat^T los_k`` (body frame). ``matrix_attitude`` minimises
+    the unweighted sum of squared residuals, so the covariance is the Gauss-Newton sandwich
+    ``(H^T H)^-1 H^T W H (H^T H)^-1`` with ``W = diag((sigma_cycles lambda_k)^2)``; with one wavelength
+    (GPS only) this is ``sigma^2 (H^T H)^-1``. GLONASS wavelengths differ by up to about 1 %, so the
+    unweighted estimate is within a fraction of a percent of the weighted one.
+
+    Epochs with fewer than 2 satellites, and epochs whose geometry does not fix the attitude (two
+    satellites with a coplanar array; :class:`~gnssatt.errors.DegenerateGeometryError` from
+    ``matrix_attitude``), are skipped: they are absent from ``t``.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-integer ambiguities, ``sigma_cycles <= 0``.
+    """
+    if not isinstance(phases, PhaseObservations):
+        raise TypeError(f"expected phases as PhaseObservations, got {type(phases).__name__}")
+    b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    m = len(b)
+    if b.shape[1] != 3 or m == 0:
+        raise InvalidInputError(f"expected baselines_m of shape (m, 3), got {b.shape}")
+    n_rows = len(phases.epoch)
+    if phases.phase.shape != (n_rows, m):
+        raise InvalidInputError(
+            f"expected phases.phase of shape (n_rows, m) = ({n_rows}, {m}) for {m} baselines, "
+            f"got {phases.phase.shape}"
+        )
+    amb = float_array("ambiguities", ambiguities, ndim=2, shape=f"(n_rows, m) = ({n_rows}, {m})")
+    if amb.shape != (n_rows, m):
+        raise InvalidInputError(f"expected ambiguities of shape ({n_rows}, {m}), got {amb.shape}")
+    if np.any(amb != np.round(amb)):
+        bad = tuple(int(i) for i in np.argwhere(amb != np.round(amb))[0])
+        raise InvalidInputError(f"expected integer ambiguities, got {amb[bad]} at index {bad}")
+    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
+
+    range_diffs = -(phases.phase - amb) * phases.wavelength[:, None]  # (n_rows, m), m
+    order = np.argsort(phases.epoch, kind="stable")
+    starts = np.searchsorted(phases.epoch[order], np.arange(len(phases.epoch_t) + 1))
+    t, quats, covs = [], [], []
+    for e in range(len(phases.epoch_t)):
+        rows = order[starts[e] : starts[e + 1]]
+        if len(rows) < 2:
+            continue
+        los = phases.los[rows]
+        try:
+            fix = matrix_attitude(b, los, range_diffs[rows].T, method="ml")
+        except DegenerateGeometryError:
+            continue
+        s_body = fix.rotation.inv().apply(los)
+        h = np.cross(b[:, None, :], s_body[None, :, :]).reshape(-1, 3)  # rows (i, k), i-major
+        w = np.tile((sigma * phases.wavelength[rows]) ** 2, m)
+        info_inv = np.linalg.inv(h.T @ h)
+        t.append(phases.epoch_t[e])
+        quats.append(fix.rotation.as_quat())
+        cov = info_inv @ (h.T * w) @ h @ info_inv
+        covs.append(0.5 * (cov + cov.T))
+    return AttitudeFixes(
+        np.array(t, dtype=np.float64),
+        Rotation.from_quat(np.array(quats).reshape(-1, 4)),
+        np.array(covs, dtype=np.float64).reshape(-1, 3, 3),
+    )
