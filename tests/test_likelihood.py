@@ -220,6 +220,24 @@ def test_single_baseline_heading_and_elevation():
     assert grid.z.shape[2] == 1
 
 
+def test_long_baseline_needs_a_window_not_the_whole_domain():
+    """3.3 km (the GEONET pair): the default step (lambda / 10 L, 3.3e-4 deg) over the whole domain is
+    5.9e11 cells in two dimensions, refused; a 0.2-deg window around a rough start holds 3.7e5."""
+    rng = np.random.default_rng(12)
+    los = sky(rng, 8)
+    heading, elev, length = 163.3858, 0.0797, 3300.0
+    h, e = np.radians([heading, elev])
+    u = np.array([np.sin(h) * np.cos(e), np.cos(h) * np.cos(e), np.sin(e)])
+    p = np.mod(-2 * np.pi / L1 * length * (los @ u) + 0.4, 2 * np.pi)
+    with pytest.raises(InvalidInputError, match="over 2\\^31"):
+        gnssatt.ml_baseline(p, los, length, L1)
+    # eq. (5) heading psi = -compass heading; a start 0.05 deg off, as a code baseline would give.
+    start = np.array([-(heading + 0.05), elev - 0.05])
+    res = gnssatt.ml_baseline(p, los, length, L1, window_deg=np.stack([start - 0.1, start + 0.1], axis=1))
+    assert res.heading_deg == pytest.approx(heading, abs=1e-6)
+    assert res.elevation_deg == pytest.approx(elev, abs=1e-6)
+
+
 def test_default_step_and_grid_shape():
     rng = np.random.default_rng(9)
     los = sky(rng, 8)

@@ -66,14 +66,9 @@ fn grid(
     match (window_rad, two_dimensional) {
         (Some(w), false) => Grid::window(step, w.map(|r| (r[0], r[1]))),
         (None, false) => Grid::full(step),
-        (Some(w), true) => Grid::two_dimensional(step).and_then(|g| {
-            let win = Grid::window(step, [(w[0][0], w[0][1]), (w[1][0], w[1][1]), (-1.0, 1.0)])?;
-            Ok(Grid {
-                psi: win.psi,
-                theta: win.theta,
-                ..g
-            })
-        }),
+        (Some(w), true) => {
+            Grid::two_dimensional_window(step, [(w[0][0], w[0][1]), (w[1][0], w[1][1])])
+        }
         (None, true) => Grid::two_dimensional(step),
     }
     .into_py_result(py)

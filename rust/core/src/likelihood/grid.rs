@@ -70,6 +70,10 @@ pub struct Grid {
     pub phi: Axis,
 }
 
+/// Most cells one grid may hold: the flat index and the per-cell work stay bounded (2^31 cells of f32 are
+/// 8 GiB). Counted over the cells a grid actually holds, so a window makes fine steps possible.
+const MAX_CELLS: f64 = 2147483648.0;
+
 impl Grid {
     /// The whole attitude domain with step at most `step_rad`: `n = 2 ceil(pi / step_rad)` nodes per turn,
     /// actual step `2 pi / n`, `n/2 + 1` pitch nodes from -pi/2 to pi/2.
@@ -78,25 +82,65 @@ impl Grid {
     /// * `step_rad` - requested step, radians, positive.
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] for a non-positive, non-finite or absurdly fine step (over 2^31 cells).
+    /// [`Error::OutOfRange`] for a non-positive or non-finite step, or one giving over 2^31 cells.
     pub fn full(step_rad: f64) -> Result<Grid> {
+        Grid::lattice(step_rad)?.checked()
+    }
+
+    /// The nodes of [`Grid::full`] inside `[lo, hi]` ranges (radians) of psi, theta and phi; a periodic
+    /// range wider than a turn is the whole axis, pitch is clipped to [-pi/2, pi/2].
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a non-positive or non-finite step, an inverted window, one with no node,
+    /// or one holding over 2^31 cells (the whole domain may hold more).
+    pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
+        let g = Grid::lattice(step_rad)?;
+        Grid {
+            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
+            phi: g.phi.window("window phi", ranges[2].0, ranges[2].1)?,
+        }
+        .checked()
+    }
+
+    /// The single-baseline grid: heading and pitch (elevation) of the baseline, roll fixed at zero.
+    ///
+    /// # Errors
+    /// As [`Grid::full`].
+    pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
+        Grid::lattice(step_rad)?.without_roll().checked()
+    }
+
+    /// [`Grid::two_dimensional`] restricted to `[lo, hi]` ranges (radians) of heading and pitch.
+    ///
+    /// # Errors
+    /// As [`Grid::window`].
+    pub fn two_dimensional_window(step_rad: f64, ranges: [(f64, f64); 2]) -> Result<Grid> {
+        let g = Grid::lattice(step_rad)?.without_roll();
+        Grid {
+            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
+            ..g
+        }
+        .checked()
+    }
+
+    /// The lattice of step at most `step_rad` over the whole domain, its size not yet checked.
+    fn lattice(step_rad: f64) -> Result<Grid> {
         if !(step_rad.is_finite() && step_rad > 0.0) {
             return Err(Error::out_of_range(
                 "step_deg",
                 format!("expected a positive step, got {step_rad} rad"),
             ));
         }
-        let n = 2 * (PI / step_rad).ceil() as usize;
-        let cells = (n as f64) * (n as f64) * (n as f64 / 2.0 + 1.0);
-        if cells > 2f64.powi(31) {
+        let turns = (PI / step_rad).ceil();
+        if turns > MAX_CELLS {
             return Err(Error::out_of_range(
                 "step_deg",
-                format!(
-                    "a step of {:.4} deg gives {cells:.3e} cells, over 2^31",
-                    step_rad.to_degrees()
-                ),
+                format!("a step of {:.3e} deg is too fine", step_rad.to_degrees()),
             ));
         }
+        let n = 2 * turns as usize;
         let step = TAU / n as f64;
         Ok(Grid {
             psi: Axis {
@@ -123,36 +167,32 @@ impl Grid {
         })
     }
 
-    /// The nodes of [`Grid::full`] inside `[lo, hi]` ranges (radians) of psi, theta and phi; a periodic
-    /// range wider than a turn is the whole axis, pitch is clipped to [-pi/2, pi/2].
-    ///
-    /// # Errors
-    /// As [`Grid::full`], and [`Error::OutOfRange`] for an inverted window or one with no node.
-    pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
-        let g = Grid::full(step_rad)?;
-        Ok(Grid {
-            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
-            phi: g.phi.window("window phi", ranges[2].0, ranges[2].1)?,
-        })
-    }
-
-    /// The single-baseline grid: heading and pitch (elevation) of the baseline, roll fixed at zero.
-    ///
-    /// # Errors
-    /// As [`Grid::full`].
-    pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
-        let g = Grid::full(step_rad)?;
-        Ok(Grid {
+    fn without_roll(self) -> Grid {
+        Grid {
             phi: Axis {
                 origin: 0.0,
-                step: g.phi.step,
+                step: self.phi.step,
                 first: 0,
                 len: 1,
                 period: None,
             },
-            ..g
-        })
+            ..self
+        }
+    }
+
+    fn checked(self) -> Result<Grid> {
+        let cells = self.psi.len as f64 * self.theta.len as f64 * self.phi.len as f64;
+        if cells > MAX_CELLS {
+            return Err(Error::out_of_range(
+                "step_deg",
+                format!(
+                    "a step of {:.3e} deg gives {cells:.3e} cells, over 2^31: coarsen the step or narrow \
+                     the window",
+                    self.step().to_degrees()
+                ),
+            ));
+        }
+        Ok(self)
     }
 
     /// Grid step, radians.

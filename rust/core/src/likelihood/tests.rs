@@ -174,3 +174,38 @@ fn bad_input_is_rejected() {
     assert!(exhaustive_max(&model, &Grid::full(20f64.to_radians()).unwrap()).is_err());
     assert!(Grid::window(0.02, [(0.1, 0.105), (0.0, 0.1), (0.0, 0.1)]).is_err());
 }
+
+#[test]
+fn cell_limit_counts_the_cells_a_grid_holds() {
+    // 1e-3 deg: 360000 nodes per turn, 2.3e16 cells over the whole domain, 3.5e11 in two dimensions.
+    let step = 1e-3f64.to_radians();
+    assert!(matches!(Grid::full(step), Err(Error::OutOfRange { .. })));
+    assert!(matches!(
+        Grid::two_dimensional(step),
+        Err(Error::OutOfRange { .. })
+    ));
+    // A 0.1 deg window per axis holds exactly the lattice nodes inside it: every node in, both outside
+    // neighbours out (a 0.1 deg span holds 100 or 101 nodes of step 1e-3 deg).
+    let w = 0.05f64.to_radians();
+    let centre = [1.0, 0.2, -0.5];
+    let check = |axis: &Axis, c: f64| {
+        assert!(axis.len == 100 || axis.len == 101, "{}", axis.len);
+        let n = axis.len as i64;
+        assert!(axis.angle(0) >= c - w && axis.angle(n - 1) <= c + w);
+        assert!(axis.angle(-1) < c - w && axis.angle(n) > c + w);
+    };
+    let r = centre.map(|c| (c - w, c + w));
+    let g = Grid::window(step, r).unwrap();
+    for (axis, c) in [g.psi, g.theta, g.phi].iter().zip(centre) {
+        check(axis, c);
+    }
+    assert!((g.step() - std::f64::consts::TAU / 360000.0).abs() < 1e-18);
+    let g2 = Grid::two_dimensional_window(step, [r[0], r[1]]).unwrap();
+    check(&g2.psi, centre[0]);
+    check(&g2.theta, centre[1]);
+    assert_eq!((g2.phi.len, g2.phi.angle(0)), (1, 0.0));
+    // A window still over the limit is refused with the step in the message.
+    let wide = centre.map(|c| (c - 0.3, c + 0.3));
+    let err = Grid::window(step, wide);
+    assert!(matches!(err, Err(Error::OutOfRange { .. })));
+}
