@@ -14,7 +14,7 @@ from gnssatt.cli import main
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex import gps_ns, read_nav, read_obs, satellite_states
 from gnssatt.rinex.attitude import attitude_from_rinex
-from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
+from gnssatt.rinex.scenario import write_array_rinex
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 EULER = [-40.0, 5.0, 3.0]  # psi (compass heading 40), theta, phi of seed 001
@@ -31,20 +31,8 @@ def _scenario(tmp_path: Path, antennas: np.ndarray, n_ep: int = 12) -> tuple[lis
         geom, rotation_from_euler(EULER), antennas, vis.wavelengths_m(), np.random.default_rng(7),
         code_sigma_m=0.3, phase_sigma_rad=0.03, clock_bias_s=np.linspace(0.0, 3e-7, len(antennas)),
     )  # fmt: skip
-    nav = tmp_path / "sim.24n"
-    write_nav_from_constellation(nav, gps, T0)
-    times = T0 + (t * 1e9).astype("timedelta64[ns]")
-    paths = []
-    for i in range(len(antennas)):
-        p = tmp_path / f"ant{i}.24o"
-        obs = {
-            "C1C": meas.pseudorange_m[:, i],
-            "L1C": meas.carrier_phase_cycles[:, i],
-            "D1C": meas.doppler_hz[:, i],
-        }
-        write_obs(p, times, vis.ids, obs, approx_position_m=rx.position_ecef_m)
-        paths.append(p)
-    return paths, nav
+    paths, nav = write_array_rinex(tmp_path, meas, t, gps, vis.ids, rx)
+    return list(paths), nav
 
 
 def test_written_files_read_back(tmp_path: Path) -> None:

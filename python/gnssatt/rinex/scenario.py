@@ -8,6 +8,7 @@ below 1e-7 s so that this mismatch stays under 0.2 mm."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
@@ -20,7 +21,7 @@ from gnssatt.errors import InvalidInputError
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
 
-__all__ = ["SimulatedRinex", "simulate_rinex_array"]
+__all__ = ["SimulatedRinex", "simulate_rinex_array", "write_array_rinex"]
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 
@@ -127,19 +128,39 @@ def simulate_rinex_array(
         phase_sigma_m=phase_sigma_m,
         clock_bias_s=rng.uniform(-1e-7, 1e-7, size=len(ant)),
     )
-    nav = folder / "sim.24n"
-    write_nav_from_constellation(nav, gps, T0)
-    times = T0 + (t * 1e9).astype("timedelta64[ns]")
-    paths = []
-    for i in range(len(ant)):
-        p = folder / f"ant{i}.24o"
-        obs = {
-            "C1C": meas.pseudorange_m[:, i],
-            "L1C": meas.carrier_phase_cycles[:, i],
-            "D1C": meas.doppler_hz[:, i],
-        }
-        write_obs(p, times, vis.ids, obs, approx_position_m=rx.position_ecef_m)
-        paths.append(p)
+    paths, nav = write_array_rinex(folder, meas, t, gps, vis.ids, rx)
     rel = ant[1:] - ant[0]
     truth = np.einsum("tij,aj->tai", rot.as_matrix(), rel)
-    return SimulatedRinex(tuple(paths), nav, times, eul, truth, tuple(vis.ids))
+    times = T0 + (t * 1e9).astype("timedelta64[ns]")
+    return SimulatedRinex(paths, nav, times, eul, truth, tuple(vis.ids))
+
+
+def write_array_rinex(
+    folder: str | PathLike[str],
+    measurements: sim.ArrayMeasurements,
+    t_s: ArrayLike,
+    constellation: sim.Constellation,
+    sat_ids: Sequence[str],
+    receiver: sim.GroundReceiver,
+) -> tuple[tuple[Path, ...], Path]:
+    """Write simulated array measurements as RINEX 3: ``ant<i>.24o`` per antenna (C1C, L1C, D1C of the
+    satellites ``sat_ids``, the measurements' column order) and ``sim.24n``, GPS broadcast records of
+    ``constellation`` that reproduce its orbits. ``t_s`` (n_ep,) are seconds after ``T0`` (GPST).
+
+    Returns the observation paths (reference antenna first) and the navigation path.
+    """
+    folder = Path(folder)
+    nav = folder / "sim.24n"
+    write_nav_from_constellation(nav, constellation, T0)
+    times = T0 + (np.asarray(t_s, dtype=np.float64) * 1e9).astype("timedelta64[ns]")
+    paths = []
+    for i in range(measurements.pseudorange_m.shape[1]):
+        p = folder / f"ant{i}.24o"
+        obs = {
+            "C1C": measurements.pseudorange_m[:, i],
+            "L1C": measurements.carrier_phase_cycles[:, i],
+            "D1C": measurements.doppler_hz[:, i],
+        }
+        write_obs(p, times, list(sat_ids), obs, approx_position_m=receiver.position_ecef_m)
+        paths.append(p)
+    return tuple(paths), nav
