@@ -11,9 +11,11 @@ __all__ = [
     "DegenerateGeometryError",
     "GnssattError",
     "GnssattWarning",
+    "InternalError",
     "InvalidInputError",
     "NearDegenerateWarning",
     "RinexError",
+    "WorkLimitError",
 ]
 
 
@@ -29,8 +31,19 @@ class DegenerateGeometryError(InvalidInputError):
     """The geometry (baselines, lines of sight, reference vectors) does not fix the answer."""
 
 
+class WorkLimitError(InvalidInputError):
+    """A requested amount of work or memory (candidates, samples, integration steps, grid cells) exceeds its
+    documented limit; raised before any work starts, with the requested number and the limit."""
+
+
 class ConvergenceError(GnssattError):
-    """An iterative method did not converge."""
+    """An iterative method did not converge, or a computation on valid input lost its accuracy (an integer
+    overflow, a failed identity check, a diverging integration) and refuses to return a wrong answer."""
+
+
+class InternalError(GnssattError, RuntimeError):
+    """A defect in gnssatt itself: a Rust panic caught at the boundary. Please report it with the input that
+    caused it; the message carries the panic's text."""
 
 
 class RinexError(InvalidInputError):

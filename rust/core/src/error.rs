@@ -39,6 +39,22 @@ pub enum Error {
         what: &'static str,
         iterations: usize,
     },
+    /// A user-controlled amount of work or memory (candidates, samples, steps, cells) exceeds its documented
+    /// limit; checked before any work starts.
+    #[error("{name} asks for {requested} {unit}, more than the limit of {limit}")]
+    TooLarge {
+        name: &'static str,
+        requested: f64,
+        limit: f64,
+        unit: &'static str,
+    },
+    /// A computation on valid input lost its accuracy (overflow, a failed identity check, a diverging
+    /// integration) and refuses to return a wrong answer; `detail` carries the numbers.
+    #[error("{what}: {detail}")]
+    Numerical { what: &'static str, detail: String },
+    /// The caller asked to stop (Ctrl-C) while the computation ran.
+    #[error("{what} interrupted")]
+    Interrupted { what: &'static str },
 }
 
 /// Result alias used throughout the core.
@@ -73,6 +89,22 @@ impl Error {
                 detail: format!("epoch {k}: {detail}"),
             },
             other => other,
+        }
+    }
+
+    pub fn too_large(name: &'static str, requested: f64, limit: f64, unit: &'static str) -> Self {
+        Error::TooLarge {
+            name,
+            requested,
+            limit,
+            unit,
+        }
+    }
+
+    pub fn numerical(what: &'static str, detail: impl Into<String>) -> Self {
+        Error::Numerical {
+            what,
+            detail: detail.into(),
         }
     }
 

@@ -19,9 +19,13 @@ impl<T> IntoPyResult<T> for Result<T, Error> {
 pub fn to_py_err(py: Python<'_>, e: &Error) -> PyErr {
     let class = match e {
         Error::DegenerateGeometry { .. } | Error::Degenerate { .. } => "DegenerateGeometryError",
-        Error::Convergence { .. } => "ConvergenceError",
+        Error::Convergence { .. } | Error::Numerical { .. } => "ConvergenceError",
         Error::Shape { .. } | Error::NonFinite { .. } | Error::OutOfRange { .. } => {
             "InvalidInputError"
+        }
+        Error::TooLarge { .. } => "WorkLimitError",
+        Error::Interrupted { .. } => {
+            return pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
         }
     };
     match exception_class(py, class) {

@@ -25,5 +25,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     wahba::register(m)?;
     orbit::register(m)?;
     gyro_gnss::register(m)?;
+    // The last line of defence: every function is wrapped so that a panic (a defect: the core is written not
+    // to panic) reaches Python as gnssatt.errors.InternalError, not as a BaseException (see _panic_guard.py).
+    m.py()
+        .import("gnssatt._panic_guard")?
+        .call_method1("install", (m,))?;
     Ok(())
 }
