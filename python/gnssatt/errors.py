@@ -13,6 +13,7 @@ __all__ = [
     "GnssattWarning",
     "InternalError",
     "InvalidInputError",
+    "InvalidTypeError",
     "NearDegenerateWarning",
     "RinexError",
     "WorkLimitError",
@@ -25,6 +26,11 @@ class GnssattError(Exception):
 
 class InvalidInputError(GnssattError, ValueError):
     """An argument has the wrong shape, a non-finite value, or is out of range."""
+
+
+class InvalidTypeError(InvalidInputError, TypeError):
+    """An argument is of the wrong kind (complex, boolean, text or ``None`` where real numbers are expected);
+    both a ``ValueError`` (as every input error here) and a ``TypeError`` (as Python's own type errors)."""
 
 
 class DegenerateGeometryError(InvalidInputError):

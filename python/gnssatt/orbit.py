@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array, scalar
+from gnssatt.sim._util import checked_array
 
 __all__ = [
     "CircularOrbit",

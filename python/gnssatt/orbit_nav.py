@@ -16,10 +16,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
 from gnssatt.orbit import GlonassModel, glonass_propagate
-from gnssatt.sim._util import scalar
 from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 __all__ = [

@@ -12,10 +12,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.matrix_method import matrix_attitude
-from gnssatt.sim._util import scalar
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
 
 __all__ = ["phase_attitude_fixes"]

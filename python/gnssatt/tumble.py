@@ -36,9 +36,8 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import scalar
 
 __all__ = [
     "RotationFit",

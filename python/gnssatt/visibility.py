@@ -29,9 +29,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
-from gnssatt.sim._util import scalar
 
 __all__ = ["visibility_axis", "visibility_sets"]
 

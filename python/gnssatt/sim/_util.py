@@ -27,19 +27,6 @@ def time_array(t: Any) -> NDArray[np.float64]:
     return checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)")
 
 
-def scalar(name: str, value: Any, *, minimum: float | None = None, strict: bool = False) -> float:
-    """``value`` as a finite Python float, optionally bounded below (``> minimum`` if ``strict``)."""
-    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise TypeError(f"expected {name} as a real number, got {type(value).__name__}")
-    x = float(value)
-    if not np.isfinite(x):
-        raise InvalidInputError(f"expected a finite {name}, got {x}")
-    if minimum is not None and (x <= minimum if strict else x < minimum):
-        op = ">" if strict else ">="
-        raise InvalidInputError(f"expected {name} {op} {minimum}, got {x}")
-    return x
-
-
 def matvec(m: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
     """``m @ v`` over the last axes with broadcasting: m (..., 3, 3), v (..., 3) -> (..., 3)."""
     return np.einsum("...ij,...j->...i", m, v)

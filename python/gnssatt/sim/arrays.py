@@ -13,8 +13,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from gnssatt._arrays import scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import scalar
 
 __all__ = ["equilateral_triangle", "random_attitude", "random_los"]
 

@@ -25,9 +25,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import scalar
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.receivers import OrbitalReceiver
 from gnssatt.sim.visibility import earth_occlusion_mask

@@ -38,8 +38,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gnssatt._arrays import scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import readonly, scalar
+from gnssatt.sim._util import readonly
 from gnssatt.sim.constants import (
     GPS_L1_HZ,
     GPS_L2_HZ,

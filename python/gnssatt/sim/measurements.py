@@ -35,9 +35,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array, readonly, scalar, wrap_rad
+from gnssatt.sim._util import checked_array, readonly, wrap_rad
 from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.sim.geometry import Geometry, _attitude_matrices
 

@@ -24,8 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gnssatt._arrays import scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import rot_x, rot_z, scalar, time_array
+from gnssatt.sim._util import rot_x, rot_z, time_array
 from gnssatt.sim.constants import GM_M3_S2, WGS84_A_M
 from gnssatt.sim.frames import (
     dcm_ecef_from_enu,

@@ -25,9 +25,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import scalar
 from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.visibility import antenna_cone_mask, earth_occlusion_mask

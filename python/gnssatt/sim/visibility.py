@@ -11,9 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import scalar
 from gnssatt.sim.constants import WGS84_A_M
 from gnssatt.sim.geometry import los_body
 
