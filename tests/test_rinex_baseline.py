@@ -8,10 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gnssatt.data import geonet_dir
 from gnssatt.errors import RinexError
 from gnssatt.rinex import align_receivers, epoch_baselines, read_nav, read_obs, static_baseline
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "rtklib_geonet_0759_3040"
+DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
 
 TRUTH = np.array([-2022.9266, 468.6044, -2610.2182])

@@ -4,20 +4,20 @@ ambiguity continuity, the windowed ML grid, and the GEONET pair epoch by epoch."
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import stats
 
 from gnssatt import sim
+from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError
 from gnssatt.rinex import align_receivers, read_nav, read_obs, static_baseline
 from gnssatt.rinex.attitude import attitude_from_rinex
 from gnssatt.rinex.epoch_lambda import epoch_lambda
 from gnssatt.rinex.scenario import simulate_rinex_array
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "rtklib_geonet_0759_3040"
+DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 SIGMA_PHASE = 0.002
 N_EP = 20
 ANT = sim.equilateral_triangle(1.0, plane="xz")

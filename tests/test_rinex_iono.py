@@ -3,17 +3,16 @@ single-point positioning of the GEONET data."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError
 from gnssatt.rinex import read_nav, read_obs, single_point_positions
 from gnssatt.rinex.iono import klobuchar_delay_m
 from gnssatt.rinex.obs import RinexObs
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "rtklib_geonet_0759_3040"
+DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 
 
 @pytest.mark.parametrize(

@@ -8,10 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gnssatt.data import geonet_dir
 from gnssatt.errors import RinexError
 from gnssatt.rinex import read_nav, read_obs, single_point_positions
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "rtklib_geonet_0759_3040"
+DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
 
 

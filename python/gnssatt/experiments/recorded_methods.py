@@ -11,7 +11,7 @@ Per method and satellite count: fraction of epochs with a wrong solution (an Eul
 3 deg, i.e. a wrong peak or wrong integers), fix rate (LAMBDA), RMS error of the right solutions, time per
 epoch (alignment excluded).
 
-GEONET part (2 stations 3.3 km apart, baseline mode, needs ``shared/data/rtklib_geonet_0759_3040``):
+GEONET part (2 stations 3.3 km apart, baseline mode, the pair shipped in :mod:`gnssatt.data`):
 static-session LAMBDA, single-epoch LAMBDA and held LAMBDA; errors against the static solution and the
 header positions. The ML grid does not run there: its step ``lambda / (10 L)`` is 3.3e-4 deg for 3.3 km,
 so the whole domain holds 5.9e11 cells and the Rust grid refuses more than 2^31; a window around a start
@@ -41,7 +41,6 @@ N_SATS = (5, 6, 7, 8)
 METHODS = ("ml", "ml_window", "lambda", "lambda_hold")
 N_EP = 20
 WRONG_DEG = 3.0
-GEONET = Path(__file__).resolve().parents[4] / "shared" / "data" / "rtklib_geonet_0759_3040"
 
 
 def _angles_error(a: np.ndarray, truth: np.ndarray) -> np.ndarray:
@@ -96,15 +95,15 @@ def trial(rng: np.random.Generator) -> dict[str, float]:
 
 
 def geonet() -> dict[str, float]:
-    """The GEONET pair in baseline mode (module docstring); empty when the data are absent."""
-    if not GEONET.is_dir():
-        return {}
+    """The GEONET pair in baseline mode (module docstring)."""
+    from gnssatt.data import geonet_dir
     from gnssatt.rinex import align_receivers, read_nav, read_obs, static_baseline
     from gnssatt.rinex.epoch_lambda import epoch_lambda
     from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
-    a, b = read_obs(GEONET / "07590920.05o"), read_obs(GEONET / "30400920.05o")
-    al = align_receivers([a, b], read_nav(GEONET / "07590920.05n"), systems="G")
+    data = geonet_dir()
+    a, b = read_obs(data / "07590920.05o"), read_obs(data / "30400920.05o")
+    al = align_receivers([a, b], read_nav(data / "07590920.05n"), systems="G")
     n_ep = len(al.time)
     lat, lon, _ = ecef_to_geodetic(a.approx_position_m)
     header = (b.approx_position_m - a.approx_position_m) @ dcm_ecef_from_enu(float(lat), float(lon))
