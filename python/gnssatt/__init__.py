@@ -3,45 +3,101 @@
 Every attitude estimator returns a result whose ``.rotation`` is a :class:`scipy.spatial.transform.Rotation`
 mapping body-frame vectors into the reference frame in which the lines of sight or reference vectors were
 given. Frames, Euler sequences, units and signs: ``docs/conventions.md``.
+
+Submodules and the names re-exported here are imported on first use (PEP 562), so that ``import gnssatt``
+costs little more than numpy and :mod:`scipy.spatial.transform` (``benches/python/import_time.py``): the
+simulator, :mod:`scipy.stats` and matplotlib load only when something needs them.
 """
 
-from gnssatt import errors, magnetic, orbit, rinex, sim, tumble
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from gnssatt._core import __version__
-from gnssatt.ambiguity import (
-    PartialFixResult,
-    RatioTestResult,
-    bootstrap_success_rate,
-    lambda_decorrelate,
-    lambda_ils,
-    partial_fix,
-    ratio_test,
-    ratio_threshold_fixed_failure_rate,
-)
-from gnssatt.errors import (
-    ConvergenceError,
-    DegenerateGeometryError,
-    GnssattError,
-    GnssattWarning,
-    InvalidInputError,
-    NearDegenerateWarning,
-)
-from gnssatt.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
-from gnssatt.likelihood import (
-    AttitudePrior,
-    BaselineDirection,
-    LikelihoodAttitude,
-    LikelihoodGrid,
-    likelihood_grid,
-    ml_attitude,
-    ml_baseline,
-    prior_from_velocity,
-)
-from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
-from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
-from gnssatt.phase_attitude import phase_attitude_fixes
-from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
-from gnssatt.vector_attitude import TriadResult, WahbaResult, triad, wahba
-from gnssatt.visibility import visibility_axis
+
+if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type checkers and IDEs
+    from gnssatt import errors, magnetic, orbit, rinex, sim, tumble
+    from gnssatt.ambiguity import (
+        PartialFixResult,
+        RatioTestResult,
+        bootstrap_success_rate,
+        lambda_decorrelate,
+        lambda_ils,
+        partial_fix,
+        ratio_test,
+        ratio_threshold_fixed_failure_rate,
+    )
+    from gnssatt.errors import (
+        ConvergenceError,
+        DegenerateGeometryError,
+        GnssattError,
+        GnssattWarning,
+        InvalidInputError,
+        NearDegenerateWarning,
+    )
+    from gnssatt.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
+    from gnssatt.likelihood import (
+        AttitudePrior,
+        BaselineDirection,
+        LikelihoodAttitude,
+        LikelihoodGrid,
+        likelihood_grid,
+        ml_attitude,
+        ml_baseline,
+        prior_from_velocity,
+    )
+    from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
+    from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
+    from gnssatt.phase_attitude import phase_attitude_fixes
+    from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
+    from gnssatt.vector_attitude import TriadResult, WahbaResult, triad, wahba
+    from gnssatt.visibility import visibility_axis
+
+_SUBMODULES = frozenset({"errors", "magnetic", "orbit", "rinex", "sim", "tumble"})
+
+# Module defining each re-exported name; tests/test_lazy_import.py checks it against the block above.
+_EXPORTS: dict[str, str] = {
+    name: module
+    for module, names in {
+        "ambiguity": (
+            "PartialFixResult",
+            "RatioTestResult",
+            "bootstrap_success_rate",
+            "lambda_decorrelate",
+            "lambda_ils",
+            "partial_fix",
+            "ratio_test",
+            "ratio_threshold_fixed_failure_rate",
+        ),
+        "errors": (
+            "ConvergenceError",
+            "DegenerateGeometryError",
+            "GnssattError",
+            "GnssattWarning",
+            "InvalidInputError",
+            "NearDegenerateWarning",
+        ),
+        "gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
+        "likelihood": (
+            "AttitudePrior",
+            "BaselineDirection",
+            "LikelihoodAttitude",
+            "LikelihoodGrid",
+            "likelihood_grid",
+            "ml_attitude",
+            "ml_baseline",
+            "prior_from_velocity",
+        ),
+        "magnetometer": ("YawResult", "yaw_from_magnetometer"),
+        "matrix_method": ("MatrixAttitudeResult", "matrix_attitude"),
+        "phase_attitude": ("phase_attitude_fixes",),
+        "tumble": ("RotationFit", "TumbleModel", "fit_rotation"),
+        "vector_attitude": ("TriadResult", "WahbaResult", "triad", "wahba"),
+        "visibility": ("visibility_axis",),
+    }.items()
+    for name in names
+}
 
 __all__ = [
     "AttitudePrior",
@@ -90,3 +146,19 @@ __all__ = [
     "wahba",
     "yaw_from_magnetometer",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """Import a submodule or a re-exported name on first access (PEP 562) and cache it in the package."""
+    if name in _SUBMODULES:
+        value: Any = importlib.import_module(f"{__name__}.{name}")
+    elif name in _EXPORTS:
+        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
