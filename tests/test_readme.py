@@ -1,0 +1,65 @@
+"""Every code block of the README works as printed.
+
+Python and shell blocks run verbatim, each in a fresh subprocess in an empty folder; the install-and-run
+blocks (those starting with ``pip install``) are what ``.ci/run`` runs, so they must appear there word for
+word.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+FENCE = re.compile(r"^```(\w*)\n(.*?)^```", re.MULTILINE | re.DOTALL)
+BLOCKS = FENCE.findall((ROOT / "README.md").read_text())
+INSTALLS = [code for lang, code in BLOCKS if lang == "bash" and code.startswith("pip install")]
+RUNS = [(lang, code) for lang, code in BLOCKS if code not in INSTALLS]
+
+
+def test_blocks_are_python_or_bash() -> None:
+    assert len(BLOCKS) >= 5
+    assert {lang for lang, _ in BLOCKS} <= {"python", "bash"}
+
+
+def test_install_blocks_are_what_ci_runs() -> None:
+    ci_lines = {line.strip() for line in (ROOT / ".ci" / "run").read_text().splitlines()}
+    assert len(INSTALLS) >= 2
+    for code in INSTALLS:
+        assert code.strip() in ci_lines, code
+
+
+def _launchers(folder: Path) -> dict[str, str]:
+    """Environment with ``python`` and ``gnssatt`` on PATH: this interpreter and its ``gnssatt.cli:main``."""
+    folder.mkdir()
+    exe = shlex.quote(sys.executable)
+    scripts = {
+        "python": f'exec {exe} "$@"',
+        "gnssatt": f'exec {exe} -c "import sys; from gnssatt.cli import main; sys.exit(main())" "$@"',
+    }
+    for name, body in scripts.items():
+        path = folder / name
+        path.write_text(f"#!/bin/sh\n{body}\n")
+        path.chmod(0o755)
+    return {**os.environ, "PATH": f"{folder}{os.pathsep}{os.environ.get('PATH', '')}"}
+
+
+@pytest.mark.parametrize(("lang", "code"), RUNS, ids=[f"{i}-{lang}" for i, (lang, _) in enumerate(RUNS)])
+def test_block_runs_verbatim(lang: str, code: str, tmp_path: Path) -> None:
+    env = _launchers(tmp_path / "bin")
+    work = tmp_path / "work"
+    work.mkdir()
+    if lang == "python":
+        # As a script file, as a user pastes it: process-pool workers re-import it.
+        (work / "block.py").write_text(code)
+        cmd = [sys.executable, "block.py"]
+    else:
+        cmd = ["bash", "-e", "-o", "pipefail", "-c", code]
+    res = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, f"{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
