@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
-__all__ = ["float_array", "integer", "scalar"]
+__all__ = ["choice", "flag", "float_array", "instance", "integer", "scalar", "shaped"]
 
 
 def _describe(value: Any) -> str:
@@ -117,3 +117,66 @@ def integer(name: str, value: Any, *, minimum: int | None = None, maximum: int |
     if maximum is not None and n > maximum:
         raise WorkLimitError(f"{name} = {n} exceeds the limit of {maximum}")
     return n
+
+
+# --- the intake of options, flags and objects (added for the estimators, issue 15 part C) ------------------
+
+
+def shaped(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """:func:`float_array` whose shape matches one of ``patterns`` (``None`` matches any length), e.g.
+    ``shaped("los", los, "(n, 3)", (None, 3))``; ``shape`` is the expected shape as written in the message.
+
+    Raises
+    ------
+    InvalidTypeError, InvalidInputError
+        As :func:`float_array`, and for a shape that matches no pattern.
+    """
+    arr = float_array(name, value, ndim=tuple(sorted({len(p) for p in patterns})), shape=shape)
+    for p in patterns:
+        if len(p) == arr.ndim and all(d is None or d == n for d, n in zip(p, arr.shape, strict=True)):
+            return arr
+    raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+
+
+def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
+    """``value`` as one of the strings ``options`` (a method, a statistic, an Euler sequence ...).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a string.
+    InvalidInputError
+        ``value`` is not one of ``options``.
+    """
+    listed = ", ".join(repr(o) for o in options)
+    if not isinstance(value, str):
+        raise InvalidTypeError(f"expected {name} as one of {listed}, got {_describe(value)}")
+    if value not in options:
+        raise InvalidInputError(f"expected {name} as one of {listed}, got {value!r}")
+    return value
+
+
+def flag(name: str, value: Any) -> bool:
+    """``value`` as a bool; ``True``/``False`` (Python or numpy) only, since ``bool("no")`` is True.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a boolean.
+    """
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidTypeError(f"expected {name} as True or False, got {_describe(value)}")
+    return bool(value)
+
+
+def instance(name: str, value: Any, cls: type | tuple[type, ...], what: str) -> Any:
+    """``value`` itself if it is an instance of ``cls``; ``what`` says what is expected in the message.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not an instance of ``cls``.
+    """
+    if not isinstance(value, cls):
+        raise InvalidTypeError(f"expected {name} as {what}, got {_describe(value)}")
+    return value

@@ -7,10 +7,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
-from gnssatt.errors import DegenerateGeometryError
+from gnssatt._arrays import instance, shaped
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
 __all__ = ["attitude_dop", "range_difference_fisher"]
+
+# Lines of sight must be unit vectors to this tolerance.
+_UNIT_TOL = 1e-6
+# Baselines are refused beyond this length, m (the Earth's diameter), so that the information (which grows
+# like the fourth power of the length) stays far from overflow.
+_MAX_BASELINE_M = 1.3e7
 
 
 def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> NDArray[np.float64]:
@@ -19,10 +25,41 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     The measurement is ``dr_ij = (M b_i) . s_j`` with ``M`` the body -> reference rotation; perturbing
     ``M -> exp([delta]x) M`` with ``delta`` in the reference frame gives the gradient ``(M b_i) x s_j``, so
     the information is ``sum_ij g_ij g_ij^T`` (rad^-2 per m^-2 of range-difference variance).
+
+    Parameters
+    ----------
+    baselines
+        (m, 3) antenna positions relative to the reference antenna, body frame, metres; each at most
+        1.3e7 m long.
+    los
+        (n, 3) unit lines of sight, reference frame.
+    rotation
+        A single body -> reference :class:`~scipy.spatial.transform.Rotation`.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines longer than
+        1.3e7 m; :class:`~gnssatt.errors.InvalidTypeError` for a ``rotation`` that is not a single Rotation.
     """
-    b = float_array("baselines", baselines, ndim=2, shape="(m, 3)")
-    s = float_array("los", los, ndim=2, shape="(n, 3)")
-    g = np.cross(rotation.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
+    b = shaped("baselines", baselines, "(m, 3)", (None, 3))
+    s = shaped("los", los, "(n, 3)", (None, 3))
+    r = instance("rotation", rotation, Rotation, "a single scipy Rotation")
+    if not r.single:
+        raise InvalidInputError(f"expected rotation as a single Rotation, got a stack of {len(r)}")
+    length = np.linalg.norm(b, axis=1)
+    if np.any(length > _MAX_BASELINE_M):
+        k = int(np.argmax(length))
+        raise InvalidInputError(
+            f"expected baselines at most {_MAX_BASELINE_M:g} m long, row {k} is {length[k]:.6g} m"
+        )
+    norm = np.linalg.norm(s, axis=1)
+    bad = np.flatnonzero(np.abs(norm - 1.0) > _UNIT_TOL)
+    if bad.size:
+        raise InvalidInputError(
+            f"expected unit lines of sight in los, row {bad[0]} has norm {norm[bad[0]]:.6g}"
+        )
+    g = np.cross(r.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
     return g.T @ g
 
 
@@ -30,13 +67,23 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
     """Attitude dilution of precision: ``sqrt(trace(J^-1))`` with ``J`` from :func:`range_difference_fisher`.
 
     Multiplied by the range-difference noise sigma (m) it gives the Cramer-Rao bound on the RMS total
-    rotation error (rad) of any unbiased estimator.
+    rotation error (rad) of any unbiased estimator. Arguments as :func:`range_difference_fisher`.
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`range_difference_fisher`.
+    DegenerateGeometryError
+        The geometry does not fix the attitude (no baselines or lines of sight, all of them parallel).
     """
     info = range_difference_fisher(baselines, los, rotation)
     eig = np.linalg.eigvalsh(info)
-    if eig[0] <= 1e-12 * eig[-1]:
+    # eig[0] > 0 does not make 1 / eig finite: a subnormal information (baselines near 1e-160 m) overflows
+    with np.errstate(over="ignore", divide="ignore"):
+        dop = float(np.sqrt(np.sum(1.0 / eig))) if eig[0] > 1e-12 * eig[-1] else float("inf")
+    if not np.isfinite(dop):
         raise DegenerateGeometryError(
-            f"the geometry does not fix the attitude: the Fisher information has condition number "
-            f"{eig[-1] / max(eig[0], 1e-300):.3e}"
+            f"the geometry does not fix the attitude: the Fisher information has eigenvalues {eig[0]:.3e} "
+            f"to {eig[-1]:.3e} rad^-2 m^-2 (condition number above 1e12, or too small to invert)"
         )
-    return float(np.sqrt(np.sum(1.0 / eig)))
+    return dop

@@ -1,0 +1,442 @@
+"""Bad input to every public function of the estimators (issue 15, part C): each argument, each category of
+bad value, gets an :class:`~gnssatt.errors.InvalidInputError` (a :class:`~gnssatt.errors.InvalidTypeError`
+for values of the wrong kind) whose message names the parameter, before any work starts; finite input never
+gives a NaN.
+
+The table ``FUNCTIONS`` lists, per public function, a valid call (checked to run) and the arguments with
+their kind; ``bad_values`` derives the categories from the valid value (wrong shape, complex, boolean, object,
+text, ``None``, NaN, infinity, out of range, absurd sizes), so that a function or argument added to the table
+is covered in every category.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from functools import cache
+from typing import Any
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from gnssatt import geometry, gyro_gnss, likelihood, magnetometer, matrix_method, phase_attitude, rotation
+from gnssatt import sim, vector_attitude, visibility
+from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.sim import attitude_scenario as sc
+
+TRUTH = Rotation.from_euler("ZYX", [30.0, 10.0, -5.0], degrees=True)
+BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.2, 1.0]])
+LOS = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, 0.6, 0.8], [-0.48, -0.36, 0.8], [0.36, -0.48, 0.8]])
+RANGE_DIFFS = BASELINES @ TRUTH.inv().apply(LOS).T  # (m, n): b_i . (A s_j)
+L1 = 0.19029367279836487
+
+
+@dataclass(frozen=True)
+class Arg:
+    """One argument: ``kind`` is ``"array"``, ``"scalar"``, ``"integer"``, ``"choice"`` or ``"object"``;
+    ``shapes`` are wrong-shaped replacements, ``out_of_range`` finite values of the right kind that must be
+    refused; ``optional`` arguments accept ``None``."""
+
+    name: str
+    kind: str
+    shapes: tuple[Any, ...] = ()
+    out_of_range: tuple[Any, ...] = ()
+    optional: bool = False
+    label: str | None = None  # the name the message uses, where it differs (a field: "phases.los")
+
+
+@dataclass(frozen=True)
+class Function:
+    name: str
+    call: Callable[..., Any]
+    valid: Callable[[], dict[str, Any]]
+    args: tuple[Arg, ...]
+    extra: tuple[tuple[str, dict[str, Any]], ...] = field(default=())  # (label, overrides) also refused
+
+
+def _replace(value: Any, bad: float) -> Any:
+    a = np.array(value, dtype=np.float64)
+    a.reshape(-1)[0] = bad
+    return a
+
+
+def bad_values(arg: Arg, value: Any) -> Iterator[tuple[str, Any, type[Exception]]]:
+    """(category, replacement, expected class) for one argument whose valid value is ``value``."""
+    if arg.kind in ("array", "scalar"):
+        yield "complex", np.asarray(value, dtype=np.complex128) + 1j, InvalidTypeError
+        yield "bool", np.ones(np.shape(value), dtype=bool), InvalidTypeError
+        yield "object", np.array(value, dtype=object) if np.ndim(value) else object(), InvalidTypeError
+        yield "text", "1.0", InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+        yield "nan", _replace(value, np.nan) if arg.kind == "array" else float("nan"), InvalidInputError
+        yield "inf", _replace(value, np.inf) if arg.kind == "array" else float("inf"), InvalidInputError
+        yield "-inf", _replace(value, -np.inf) if arg.kind == "array" else float("-inf"), InvalidInputError
+    elif arg.kind == "integer":
+        yield "float", 2.0, InvalidTypeError
+        yield "text", "2", InvalidTypeError
+        yield "bool", True, InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+        yield "absurd", 10**18, WorkLimitError
+    elif arg.kind == "choice":
+        yield "unknown", "no-such-option", InvalidInputError
+        yield "number", 1.0, InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+    elif arg.kind == "flag":
+        yield "number", 1.0, InvalidTypeError
+        yield "text", "yes", InvalidTypeError
+        yield "none", None, InvalidTypeError
+    elif arg.kind == "object":
+        yield "number", 1.0, InvalidTypeError
+        yield "array", np.zeros(3), InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+    for k, v in enumerate(arg.shapes):
+        yield f"shape{k}", v, InvalidInputError
+    for k, v in enumerate(arg.out_of_range):
+        yield f"range{k}", v, InvalidInputError
+
+
+# --- valid calls -------------------------------------------------------------------------------------------
+
+
+def _phases() -> dict[str, Any]:
+    """Phase differences (m, M) of the seed-001 model for BASELINES[:2] at TRUTH-like angles, radians."""
+    r = likelihood.rotation_from_euler([20.0, 5.0, -3.0])
+    p = -2 * np.pi / L1 * (r.apply(BASELINES[:2]) @ LOS.T)
+    return {"phase_diffs": np.mod(p, 2 * np.pi), "los": LOS, "baselines": BASELINES[:2], "wavelength": L1}
+
+
+@cache
+def _observations() -> sc.PhaseObservations:
+    """Error-free first differences, cycles, at 3 epochs of 5 satellites; attitude TRUTH (body -> ECI)."""
+    n_e, m = 3, len(BASELINES)
+    epoch = np.repeat(np.arange(n_e), len(LOS))
+    los = np.tile(LOS, (n_e, 1))
+    lam = np.full(len(epoch), L1)
+    phase = -(TRUTH.inv().apply(los) @ BASELINES.T) / lam[:, None]
+    track = np.tile(np.arange(len(LOS)), n_e)
+    amb = np.zeros((len(epoch), m), np.int64)
+    return sc.PhaseObservations(np.arange(n_e) * 10.0, epoch, track, los, lam, phase, amb, track)
+
+
+def _filter() -> dict[str, Any]:
+    return {
+        "gyro_t": np.arange(0.0, 21.0),
+        "gyro_rates": np.zeros((21, 3)),
+        "initial_rotation": TRUTH,
+        "initial_covariance": np.diag([1e-4] * 3 + [1e-10] * 3),
+        "arw": 1e-5,
+        "baselines_m": BASELINES,
+        "phases": _observations().without_ambiguities(),
+        "known_ambiguities": True,
+    }
+
+
+@cache
+def _receiver() -> tuple[Any, Any]:
+    return sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=51.6), sim.gps_nominal()
+
+
+ARRAY_SHAPE_3 = (np.zeros(2), np.zeros((1, 3)), np.zeros(4))
+VEC3_OR_N3 = (np.zeros(2), np.zeros((2, 2)), np.zeros((1, 1, 3)))
+MATRIX_33 = (np.eye(2), np.zeros(9), np.zeros((3, 3, 3)))
+WINDOW = np.array([[0.0, 40.0], [-10.0, 20.0], [-20.0, 20.0]])
+
+FUNCTIONS: tuple[Function, ...] = (
+    Function(
+        "rotation.euler_to_dcm",
+        rotation.euler_to_dcm,
+        lambda: {"seq": "ZYX", "angles": [0.1, 0.2, 0.3]},
+        (Arg("seq", "choice"), Arg("angles", "array", shapes=ARRAY_SHAPE_3), Arg("degrees", "flag")),
+    ),
+    Function(
+        "rotation.dcm_to_euler",
+        rotation.dcm_to_euler,
+        lambda: {"seq": "ZYX", "dcm": TRUTH.as_matrix()},
+        (Arg("seq", "choice"), Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),))),
+    ),
+    Function(
+        "rotation.quat_to_dcm",
+        rotation.quat_to_dcm,
+        lambda: {"quat": TRUTH.as_quat()},
+        (Arg("quat", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),),
+    ),
+    Function(
+        "rotation.dcm_to_quat",
+        rotation.dcm_to_quat,
+        lambda: {"dcm": TRUTH.as_matrix()},
+        (Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),)),),
+    ),
+    Function(
+        "rotation.nearest_rotation",
+        rotation.nearest_rotation,
+        lambda: {"matrix": TRUTH.as_matrix() + 0.01},
+        (Arg("matrix", "array", shapes=MATRIX_33),),
+    ),
+    Function(
+        "matrix_method.matrix_attitude",
+        matrix_method.matrix_attitude,
+        lambda: {"baselines": BASELINES, "los": LOS, "range_diffs": RANGE_DIFFS},
+        (
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=(BASELINES * 0,)),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
+            Arg("range_diffs", "array", shapes=(RANGE_DIFFS[:, :2], RANGE_DIFFS[0], RANGE_DIFFS.T)),
+            Arg("method", "choice"),
+        ),
+    ),
+    Function(
+        "vector_attitude.triad",
+        vector_attitude.triad,
+        lambda: {
+            "b1": [1.0, 0.0, 0.0],
+            "b2": [0.0, 1.0, 0.0],
+            "r1": TRUTH.apply([1.0, 0.0, 0.0]),
+            "r2": TRUTH.apply([0.0, 1.0, 0.0]),
+        },
+        tuple(Arg(n, "array", shapes=VEC3_OR_N3) for n in ("b1", "b2", "r1", "r2")),
+    ),
+    Function(
+        "vector_attitude.wahba",
+        vector_attitude.wahba,
+        lambda: {"body": TRUTH.inv().apply(LOS), "ref": LOS, "weights": np.ones(len(LOS))},
+        (
+            Arg("body", "array", shapes=(LOS[:, :2], LOS[0], LOS[:1])),
+            Arg("ref", "array", shapes=(LOS[:, :2], LOS[0], LOS[:3])),
+            Arg("weights", "array", shapes=(np.ones(3), np.ones((2, 2, 5))), out_of_range=(-np.ones(5),),
+                optional=True),
+            Arg("method", "choice"),
+        ),
+    ),
+    Function(
+        "magnetometer.yaw_from_magnetometer",
+        magnetometer.yaw_from_magnetometer,
+        lambda: {
+            "b_body": [2e-5, 1e-5, 3e-5],
+            "b_orbital": [1e-5, 2e-5, -3e-5],
+            "pitch": 0.1,
+            "roll": -0.2,
+        },
+        (
+            Arg("b_body", "array", shapes=VEC3_OR_N3),
+            Arg("b_orbital", "array", shapes=VEC3_OR_N3),
+            Arg("pitch", "array", shapes=(np.zeros((2, 2)), np.zeros(5))),
+            Arg("roll", "array", shapes=(np.zeros((2, 2)), np.zeros(5))),
+            Arg("degrees", "flag"),
+        ),
+    ),
+    Function(
+        "geometry.range_difference_fisher",
+        geometry.range_difference_fisher,
+        lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
+        (
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0])),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
+            Arg("rotation", "object"),
+        ),
+    ),
+    Function(
+        "geometry.attitude_dop",
+        geometry.attitude_dop,
+        lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
+        (
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0])),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
+            Arg("rotation", "object"),
+        ),
+    ),
+    Function(
+        "likelihood.rotation_from_euler",
+        likelihood.rotation_from_euler,
+        lambda: {"euler_deg": [10.0, 5.0, -3.0]},
+        (Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3),),
+    ),
+    Function(
+        "likelihood.euler_from_rotation",
+        likelihood.euler_from_rotation,
+        lambda: {"rotation": TRUTH},
+        (Arg("rotation", "object"),),
+    ),
+    Function(
+        "likelihood.AttitudePrior",
+        likelihood.AttitudePrior,
+        lambda: {"euler_deg": np.array([10.0, 5.0, -3.0]), "half_width_deg": np.array([5.0, 5.0, 5.0])},
+        (
+            Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3),
+            Arg("half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3), [5.0, -1.0, 5.0])),
+        ),
+    ),
+    Function(
+        "likelihood.prior_from_velocity",
+        likelihood.prior_from_velocity,
+        lambda: {"velocity_enu": [100.0, 200.0, 5.0], "acceleration_enu": [1.0, -2.0, 0.0]},
+        (
+            Arg("velocity_enu", "array", shapes=ARRAY_SHAPE_3, out_of_range=([0.0, 0.0, 5.0],)),
+            Arg("acceleration_enu", "array", shapes=ARRAY_SHAPE_3, optional=True),
+            Arg("half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3),)),
+            Arg("gravity", "scalar", out_of_range=(0.0, -9.8)),
+        ),
+    ),
+    Function(
+        "likelihood.ml_attitude",
+        likelihood.ml_attitude,
+        lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
+        (
+            Arg("phase_diffs", "array", shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5)))),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES)),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
+            Arg("statistic", "choice"),
+            Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
+            Arg("window_deg", "array", shapes=(WINDOW[:2], WINDOW.T), out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
+                optional=True),
+            Arg("search", "choice"),
+            Arg("refine", "choice"),
+        ),
+    ),
+    Function(
+        "likelihood.likelihood_grid",
+        likelihood.likelihood_grid,
+        lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
+        (
+            Arg("phase_diffs", "array", shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5)))),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES)),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
+            Arg("statistic", "choice"),
+            Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
+            Arg("window_deg", "array", shapes=(WINDOW[:2], WINDOW.T), out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
+                optional=True),
+        ),
+    ),
+    Function(
+        "likelihood.ml_baseline",
+        likelihood.ml_baseline,
+        lambda: {
+            "phase_diffs": _phases()["phase_diffs"][0],
+            "los": LOS,
+            "baseline_length_m": 1.0,
+            "wavelength": L1,
+            "step_deg": 2.0,
+            "window_deg": WINDOW[:2],
+        },
+        (
+            Arg("phase_diffs", "array", shapes=(np.zeros(4), np.zeros((2, 2, 5)))),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
+            Arg("baseline_length_m", "scalar", out_of_range=(0.0, -1.0)),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
+            Arg("statistic", "choice"),
+            Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
+            Arg("window_deg", "array", shapes=(WINDOW, WINDOW[:2].T[:1]), out_of_range=(WINDOW[:2, ::-1],),
+                optional=True),
+            Arg("refine", "choice"),
+        ),
+    ),
+    Function(
+        "gyro_gnss.gyro_propagate",
+        gyro_gnss.gyro_propagate,
+        lambda: {"q0": TRUTH.as_quat(), "t": np.arange(5.0), "rates": np.full((5, 3), 0.01)},
+        (
+            Arg("q0", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),
+            Arg("t", "array", shapes=(np.arange(4.0), np.zeros((5, 1))), out_of_range=(np.zeros(5),)),
+            Arg("rates", "array", shapes=(np.zeros((5, 2)), np.zeros((4, 3)), np.zeros(15))),
+        ),
+    ),
+    Function(
+        "gyro_gnss.gyro_gnss_filter",
+        gyro_gnss.gyro_gnss_filter,
+        _filter,
+        (
+            Arg("gyro_t", "array", shapes=(np.zeros((21, 1)), np.arange(20.0)), out_of_range=(np.zeros(21),)),
+            Arg("gyro_rates", "array", shapes=(np.zeros((21, 2)), np.zeros((20, 3)))),
+            Arg("initial_rotation", "object"),
+            Arg("initial_covariance", "array", shapes=(np.eye(3), np.eye(36)), out_of_range=(-np.eye(6),)),
+            Arg("arw", "scalar", out_of_range=(-1.0,)),
+            Arg("rrw", "scalar", out_of_range=(-1.0,)),
+            Arg("initial_drift", "array", shapes=ARRAY_SHAPE_3),
+            Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2]), optional=True),
+            Arg("phase_sigma_cycles", "scalar", out_of_range=(0.0, -0.01)),
+            Arg("phases", "object", optional=True),
+            Arg("attitude_fixes", "object", optional=True),
+            Arg("fix_ambiguities", "flag"),
+            Arg("ratio_threshold", "scalar", out_of_range=(0.5,)),
+            Arg("min_success_rate", "scalar", out_of_range=(1.5, -0.1)),
+            Arg("slip_false_alarm", "scalar", out_of_range=(0.0, 1.0), optional=True),
+            Arg("known_ambiguities", "flag"),
+            Arg("misalignment_sigma_rad", "scalar", out_of_range=(0.0, -1.0), optional=True),
+            Arg("output_every", "integer", out_of_range=(0, -1)),
+        ),
+    ),
+    Function(
+        "phase_attitude.phase_attitude_fixes",
+        phase_attitude.phase_attitude_fixes,
+        lambda: {
+            "phases": _observations(),
+            "baselines_m": BASELINES,
+            "ambiguities": _observations().ambiguity,
+            "sigma_cycles": 0.01,
+        },
+        (
+            Arg("phases", "object"),
+            Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2])),
+            Arg("ambiguities", "array", shapes=(np.zeros((15, 2)), np.zeros(15)), out_of_range=(np.full((15, 3), 0.5),)),
+            Arg("sigma_cycles", "scalar", out_of_range=(0.0, -1.0)),
+        ),
+    ),
+    Function(
+        "visibility.visibility_axis",
+        visibility.visibility_axis,
+        lambda: {"visible_los": LOS[:3], "invisible_los": -LOS[3:]},
+        (
+            Arg("visible_los", "array", shapes=(LOS[:3, :2], LOS[0]), out_of_range=(LOS[:3] * 2,)),
+            Arg("invisible_los", "array", shapes=(LOS[3:, :2], LOS[3]), out_of_range=(LOS[3:] * 2,)),
+            Arg("method", "choice"),
+        ),
+    ),
+    Function(
+        "visibility.visibility_sets",
+        visibility.visibility_sets,
+        lambda: {
+            "receiver": _receiver()[0],
+            "constellation": _receiver()[1],
+            "t": np.arange(3.0),
+            "axes_orbital": np.tile([0.0, 0.0, 1.0], (3, 1)),
+        },
+        (
+            Arg("receiver", "object"),
+            Arg("constellation", "object"),
+            Arg("t", "array", shapes=(np.zeros((3, 1)),)),
+            Arg("axes_orbital", "array", shapes=(np.zeros((3, 2)), np.zeros((2, 3))), out_of_range=(np.zeros((3, 3)),)),
+            Arg("half_angle_deg", "scalar", out_of_range=(0.0, 181.0)),
+        ),
+    ),
+)
+
+
+def _cases() -> Iterator[Any]:
+    for f in FUNCTIONS:
+        valid = f.valid()
+        for arg in f.args:
+            value = valid.get(arg.name)
+            for category, bad, error in bad_values(arg, value):
+                yield pytest.param(f, arg, bad, error, id=f"{f.name}-{arg.name}-{category}")
+
+
+@pytest.mark.parametrize("f", FUNCTIONS, ids=lambda f: f.name)
+def test_the_valid_call_runs(f: Function) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f.call(**f.valid())
+
+
+@pytest.mark.parametrize(("f", "arg", "bad", "error"), list(_cases()))
+def test_bad_argument_is_refused_naming_it(f: Function, arg: Arg, bad: Any, error: type[Exception]) -> None:
+    kwargs = f.valid()
+    kwargs[arg.name] = bad
+    with pytest.raises(error) as info:
+        f.call(**kwargs)
+    assert (arg.label or arg.name) in str(info.value)
