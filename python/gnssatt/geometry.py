@@ -1,5 +1,6 @@
-"""Geometry diagnostics shared by the estimators: how well an array and a set of lines of sight fix an
-attitude (Cramer-Rao bound of range-difference attitude)."""
+"""Geometry shared by the estimators: the intake of antenna baselines (:func:`checked_baselines`, with the
+length limits every estimator applies) and how well an array and a set of lines of sight fix an attitude
+(Cramer-Rao bound of range-difference attitude)."""
 
 from __future__ import annotations
 
@@ -10,13 +11,38 @@ from scipy.spatial.transform import Rotation
 from gnssatt._arrays import instance, shaped
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
-__all__ = ["attitude_dop", "range_difference_fisher"]
+__all__ = ["MAX_BASELINE_M", "MIN_BASELINE_M", "attitude_dop", "checked_baselines", "range_difference_fisher"]
 
 # Lines of sight must be unit vectors to this tolerance.
 _UNIT_TOL = 1e-6
-# Baselines are refused beyond this length, m (the Earth's diameter), so that the information (which grows
-# like the fourth power of the length) stays far from overflow.
-_MAX_BASELINE_M = 1.3e7
+#: Shortest baseline any estimator accepts, m: below a micrometre a baseline is a zero (and the squares and
+#: inverses the estimators form underflow or overflow near 1e-150 m).
+MIN_BASELINE_M = 1e-6
+#: Longest baseline any estimator accepts, m (the Earth's diameter): range differences, informations (fourth
+#: power of the length) and grid steps then stay far from overflow.
+MAX_BASELINE_M = 1.3e7
+
+
+def checked_baselines(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    """``value`` as (m, 3) antenna baselines, metres, each between :data:`MIN_BASELINE_M` and
+    :data:`MAX_BASELINE_M` long: the one intake of baselines for every estimator.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shape, non-finite values, a baseline shorter or longer than the limits (the message names the
+        row and its length); :class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers.
+    """
+    b = shaped(name, value, "(m, 3)", (None, 3))
+    length = np.sqrt(np.sum((b / MAX_BASELINE_M) ** 2, axis=1)) * MAX_BASELINE_M  # no overflow in the squares
+    bad = np.flatnonzero((length < MIN_BASELINE_M) | (length > MAX_BASELINE_M))
+    if bad.size:
+        k = int(bad[0])
+        raise InvalidInputError(
+            f"expected {name} between {MIN_BASELINE_M:g} and {MAX_BASELINE_M:g} m long, baseline {k} has "
+            f"length {length[k]:.6g} m"
+        )
+    return b
 
 
 def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> NDArray[np.float64]:
@@ -29,8 +55,8 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     Parameters
     ----------
     baselines
-        (m, 3) antenna positions relative to the reference antenna, body frame, metres; each at most
-        1.3e7 m long.
+        (m, 3) antenna positions relative to the reference antenna, body frame, metres; each between
+        :data:`MIN_BASELINE_M` and :data:`MAX_BASELINE_M` long.
     los
         (n, 3) unit lines of sight, reference frame.
     rotation
@@ -39,20 +65,15 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines longer than
-        1.3e7 m; :class:`~gnssatt.errors.InvalidTypeError` for a ``rotation`` that is not a single Rotation.
+        Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines outside the
+        length limits; :class:`~gnssatt.errors.InvalidTypeError` for a ``rotation`` that is not a single
+        Rotation.
     """
-    b = shaped("baselines", baselines, "(m, 3)", (None, 3))
+    b = checked_baselines("baselines", baselines)
     s = shaped("los", los, "(n, 3)", (None, 3))
     r = instance("rotation", rotation, Rotation, "a single scipy Rotation")
     if not r.single:
         raise InvalidInputError(f"expected rotation as a single Rotation, got a stack of {len(r)}")
-    length = np.linalg.norm(b, axis=1)
-    if np.any(length > _MAX_BASELINE_M):
-        k = int(np.argmax(length))
-        raise InvalidInputError(
-            f"expected baselines at most {_MAX_BASELINE_M:g} m long, row {k} is {length[k]:.6g} m"
-        )
     norm = np.linalg.norm(s, axis=1)
     bad = np.flatnonzero(np.abs(norm - 1.0) > _UNIT_TOL)
     if bad.size:
