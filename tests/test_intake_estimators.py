@@ -58,7 +58,7 @@ class Function:
 
 def _replace(value: Any, bad: float) -> Any:
     a = np.array(value, dtype=np.float64)
-    a.reshape(-1)[0] = bad
+    a.flat[0] = bad
     return a
 
 
@@ -224,8 +224,8 @@ FUNCTIONS: tuple[Function, ...] = (
         (
             Arg("b_body", "array", shapes=VEC3_OR_N3),
             Arg("b_orbital", "array", shapes=VEC3_OR_N3),
-            Arg("pitch", "array", shapes=(np.zeros((2, 2)), np.zeros(5))),
-            Arg("roll", "array", shapes=(np.zeros((2, 2)), np.zeros(5))),
+            Arg("pitch", "array", shapes=(np.zeros((2, 2)),)),
+            Arg("roll", "array", shapes=(np.zeros((2, 2)),)),
             Arg("degrees", "flag"),
         ),
     ),
