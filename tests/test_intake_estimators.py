@@ -21,9 +21,19 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt import geometry, gyro_gnss, likelihood, magnetometer, matrix_method, phase_attitude, rotation
-from gnssatt import sim, vector_attitude, visibility
-from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt import (
+    geometry,
+    gyro_gnss,
+    likelihood,
+    magnetometer,
+    matrix_method,
+    phase_attitude,
+    rotation,
+    sim,
+    vector_attitude,
+    visibility,
+)
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.sim import attitude_scenario as sc
 
 TRUTH = Rotation.from_euler("ZYX", [30.0, 10.0, -5.0], degrees=True)
@@ -207,8 +217,13 @@ FUNCTIONS: tuple[Function, ...] = (
         (
             Arg("body", "array", shapes=(LOS[:, :2], LOS[0], LOS[:1])),
             Arg("ref", "array", shapes=(LOS[:, :2], LOS[0], LOS[:3])),
-            Arg("weights", "array", shapes=(np.ones(3), np.ones((2, 2, 5))), out_of_range=(-np.ones(5),),
-                optional=True),
+            Arg(
+                "weights",
+                "array",
+                shapes=(np.ones(3), np.ones((2, 2, 5))),
+                out_of_range=(-np.ones(5),),
+                optional=True,
+            ),
             Arg("method", "choice"),
         ),
     ),
@@ -253,7 +268,7 @@ FUNCTIONS: tuple[Function, ...] = (
         "likelihood.rotation_from_euler",
         likelihood.rotation_from_euler,
         lambda: {"euler_deg": [10.0, 5.0, -3.0]},
-        (Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3),),
+        (Arg("euler_deg", "array", shapes=(np.zeros(2), np.zeros((3, 2)), np.zeros((1, 1, 3)))),),
     ),
     Function(
         "likelihood.euler_from_rotation",
@@ -267,7 +282,9 @@ FUNCTIONS: tuple[Function, ...] = (
         lambda: {"euler_deg": np.array([10.0, 5.0, -3.0]), "half_width_deg": np.array([5.0, 5.0, 5.0])},
         (
             Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3),
-            Arg("half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3), [5.0, -1.0, 5.0])),
+            Arg(
+                "half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3), [5.0, -1.0, 5.0])
+            ),
         ),
     ),
     Function(
@@ -292,8 +309,13 @@ FUNCTIONS: tuple[Function, ...] = (
             Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
             Arg("statistic", "choice"),
             Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
-            Arg("window_deg", "array", shapes=(WINDOW[:2], WINDOW.T), out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
-                optional=True),
+            Arg(
+                "window_deg",
+                "array",
+                shapes=(WINDOW[:2], WINDOW.T),
+                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
+                optional=True,
+            ),
             Arg("search", "choice"),
             Arg("refine", "choice"),
         ),
@@ -309,8 +331,13 @@ FUNCTIONS: tuple[Function, ...] = (
             Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
             Arg("statistic", "choice"),
             Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
-            Arg("window_deg", "array", shapes=(WINDOW[:2], WINDOW.T), out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
-                optional=True),
+            Arg(
+                "window_deg",
+                "array",
+                shapes=(WINDOW[:2], WINDOW.T),
+                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
+                optional=True,
+            ),
         ),
     ),
     Function(
@@ -331,8 +358,13 @@ FUNCTIONS: tuple[Function, ...] = (
             Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
             Arg("statistic", "choice"),
             Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
-            Arg("window_deg", "array", shapes=(WINDOW, WINDOW[:2].T[:1]), out_of_range=(WINDOW[:2, ::-1],),
-                optional=True),
+            Arg(
+                "window_deg",
+                "array",
+                shapes=(WINDOW, WINDOW[:2].T[:1]),
+                out_of_range=(WINDOW[:2, ::-1],),
+                optional=True,
+            ),
             Arg("refine", "choice"),
         ),
     ),
@@ -383,7 +415,12 @@ FUNCTIONS: tuple[Function, ...] = (
         (
             Arg("phases", "object"),
             Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2])),
-            Arg("ambiguities", "array", shapes=(np.zeros((15, 2)), np.zeros(15)), out_of_range=(np.full((15, 3), 0.5),)),
+            Arg(
+                "ambiguities",
+                "array",
+                shapes=(np.zeros((15, 2)), np.zeros(15)),
+                out_of_range=(np.full((15, 3), 0.5),),
+            ),
             Arg("sigma_cycles", "scalar", out_of_range=(0.0, -1.0)),
         ),
     ),
@@ -410,7 +447,12 @@ FUNCTIONS: tuple[Function, ...] = (
             Arg("receiver", "object"),
             Arg("constellation", "object"),
             Arg("t", "array", shapes=(np.zeros((3, 1)),)),
-            Arg("axes_orbital", "array", shapes=(np.zeros((3, 2)), np.zeros((2, 3))), out_of_range=(np.zeros((3, 3)),)),
+            Arg(
+                "axes_orbital",
+                "array",
+                shapes=(np.zeros((3, 2)), np.zeros((2, 3))),
+                out_of_range=(np.zeros((3, 3)),),
+            ),
             Arg("half_angle_deg", "scalar", out_of_range=(0.0, 181.0)),
         ),
     ),
