@@ -54,6 +54,7 @@ class Arg:
     shapes: tuple[Any, ...] = ()
     out_of_range: tuple[Any, ...] = ()
     optional: bool = False
+    limited: bool = True  # an integer that sizes the work, with a documented limit
     label: str | None = None  # the name the message uses, where it differs (a field: "phases.los")
 
 
@@ -90,7 +91,8 @@ def bad_values(arg: Arg, value: Any) -> Iterator[tuple[str, Any, type[Exception]
         yield "bool", True, InvalidTypeError
         if not arg.optional:
             yield "none", None, InvalidTypeError
-        yield "absurd", 10**18, WorkLimitError
+        if arg.limited:
+            yield "absurd", 10**18, WorkLimitError
     elif arg.kind == "choice":
         yield "unknown", "no-such-option", InvalidInputError
         yield "number", 1.0, InvalidTypeError
@@ -400,7 +402,7 @@ FUNCTIONS: tuple[Function, ...] = (
             Arg("slip_false_alarm", "scalar", out_of_range=(0.0, 1.0), optional=True),
             Arg("known_ambiguities", "flag"),
             Arg("misalignment_sigma_rad", "scalar", out_of_range=(0.0, -1.0), optional=True),
-            Arg("output_every", "integer", out_of_range=(0, -1)),
+            Arg("output_every", "integer", out_of_range=(0, -1), limited=False),
         ),
     ),
     Function(
