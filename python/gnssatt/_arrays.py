@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
-__all__ = ["choice", "flag", "float_array", "instance", "integer", "scalar", "shaped"]
+__all__ = ["choice", "flag", "float_array", "instance", "integer", "integer_array", "scalar", "shaped"]
 
 
 def _describe(value: Any) -> str:
@@ -136,6 +136,23 @@ def shaped(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...])
         if len(p) == arr.ndim and all(d is None or d == n for d, n in zip(p, arr.shape, strict=True)):
             return arr
     raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+
+
+def integer_array(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.int64]:
+    """:func:`shaped` holding integers (of an integer dtype, or floats with integral values within +-2^53,
+    where float64 still counts in ones), as int64: indices, arc ids, ambiguities.
+
+    Raises
+    ------
+    InvalidTypeError, InvalidInputError
+        As :func:`shaped`, and for a value that is not an integer (the message gives it and its index).
+    """
+    a = shaped(name, value, shape, *patterns)
+    bad = (a != np.round(a)) | (np.abs(a) > 2.0**53)
+    if np.any(bad):
+        k = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise InvalidInputError(f"expected integers in {name}, got {a[k]} at index {k}")
+    return a.astype(np.int64)
 
 
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:

@@ -31,7 +31,7 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import flag, instance, integer, scalar, shaped
+from gnssatt._arrays import flag, instance, integer, integer_array, scalar, shaped
 from gnssatt.errors import ConvergenceError, InvalidInputError
 from gnssatt.geometry import checked_baselines
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
@@ -164,15 +164,6 @@ def _covariance(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
             f"expected {name} positive semi-definite, got an eigenvalue of {smallest:.3e}"
         )
     return p
-
-
-def _indices(name: str, value: ArrayLike, rows: int) -> NDArray[np.int64]:
-    """(rows,) integers (integer dtype, or floats with integral values)."""
-    a = shaped(name, value, f"(n_rows,) = ({rows},)", (rows,))
-    if np.any(a != np.round(a)) or np.any(np.abs(a) > 2.0**62):
-        k = int(np.flatnonzero((a != np.round(a)) | (np.abs(a) > 2.0**62))[0])
-        raise InvalidInputError(f"expected integers in {name}, got {a[k]} at row {k}")
-    return np.asarray(value, dtype=np.int64).reshape(rows)
 
 
 def _empty_phases(m: int) -> tuple[Any, ...]:
@@ -316,8 +307,8 @@ def gyro_gnss_filter(
         rows = len(np.atleast_1d(obs.epoch))
         ph = (
             shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,)),
-            _indices("phases.epoch", obs.epoch, rows),
-            _indices("phases.track", obs.track, rows),
+            integer_array("phases.epoch", obs.epoch, f"(n_rows,) = ({rows},)", (rows,)),
+            integer_array("phases.track", obs.track, f"(n_rows,) = ({rows},)", (rows,)),
             shaped("phases.los", obs.los, f"(n_rows, 3) = ({rows}, 3)", (rows, 3)),
             shaped("phases.wavelength", obs.wavelength, f"(n_rows,) = ({rows},)", (rows,)),
             shaped(
