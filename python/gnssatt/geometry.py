@@ -34,7 +34,9 @@ def checked_baselines(name: str, value: ArrayLike) -> NDArray[np.float64]:
         row and its length); :class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers.
     """
     b = shaped(name, value, "(m, 3)", (None, 3))
-    length = np.sqrt(np.sum((b / MAX_BASELINE_M) ** 2, axis=1)) * MAX_BASELINE_M  # no overflow in the squares
+    # the largest component first, so that the squares neither overflow (1e200 m) nor underflow (1e-200 m)
+    big = np.max(np.abs(b), axis=1, initial=0.0)
+    length = big * np.linalg.norm(b / np.where(big > 0.0, big, 1.0)[:, None], axis=1)
     bad = np.flatnonzero((length < MIN_BASELINE_M) | (length > MAX_BASELINE_M))
     if bad.size:
         k = int(bad[0])

@@ -204,6 +204,9 @@ class LikelihoodGrid:
         (n_psi, n_theta, n_phi) float32 (a transposed view of the (theta, phi, psi) array the core fills).
     psi_deg, theta_deg, phi_deg
         The axes, degrees (psi and phi may run past 360 / 180 in a window that wraps).
+    step_deg
+        The grid step actually used, degrees (``360 / n`` with ``n`` even), also for a window holding a
+        single node.
     """
 
     z: NDArray[np.float32]
@@ -399,15 +402,24 @@ def likelihood_grid(
     """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=1)
     statistic = choice("statistic", statistic, get_args(StatisticName))
+    step = _step(step_deg)
     z, psi, theta, phi = _core.likelihood_grid(
-        p, s, w, b, statistic, _step(step_deg), _window(window_deg), b.shape[0] == 1
+        p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1
     )
+    spaced = [a for a in (psi, theta, phi) if len(a) > 1]
+    if spaced:
+        actual = float(spaced[0][1] - spaced[0][0])
+    else:  # a window holding a single node: the lattice step of the core, eq. (15) by default
+        requested = (
+            step if step is not None else float(np.min(w)) / (10.0 * float(np.max(np.linalg.norm(b, axis=1))))
+        )
+        actual = np.pi / np.ceil(np.pi / requested)
     return LikelihoodGrid(
         z=np.transpose(z, (2, 0, 1)),
         psi_deg=np.degrees(psi),
         theta_deg=np.degrees(theta),
         phi_deg=np.degrees(phi),
-        step_deg=float(np.degrees(psi[1] - psi[0])) if len(psi) > 1 else float("nan"),
+        step_deg=float(np.degrees(actual)),
     )
 
 

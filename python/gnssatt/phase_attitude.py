@@ -13,12 +13,16 @@ from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import instance, integer_array, scalar, shaped
-from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.errors import ConvergenceError, DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 from gnssatt.matrix_method import matrix_attitude
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
 
-__all__ = ["phase_attitude_fixes"]
+__all__ = ["MAX_SIGMA_CYCLES", "phase_attitude_fixes"]
+
+#: Largest accepted phase noise, cycles: beyond a few cycles no integer is fixed anyway, and the covariance,
+#: which grows with its square, stays far from overflow.
+MAX_SIGMA_CYCLES = 1e3
 
 
 def phase_attitude_fixes(
@@ -43,8 +47,8 @@ def phase_attitude_fixes(
         :func:`gnssatt.lambda_ils`); in simulation ``phases.ambiguity`` (the truth), or zeros with
         :meth:`~gnssatt.sim.attitude_scenario.PhaseObservations.without_ambiguities`.
     sigma_cycles
-        Standard deviation of one first difference, cycles (> 0); first differences are taken as
-        independent, as the simulator and the filter take them.
+        Standard deviation of one first difference, cycles, in (0, :data:`MAX_SIGMA_CYCLES`]; first
+        differences are taken as independent, as the simulator and the filter take them.
 
     Returns
     -------
@@ -75,9 +79,11 @@ def phase_attitude_fixes(
         outside ``[0, len(phases.epoch_t))``, lines of sight that are not unit vectors, non-positive
         wavelengths, non-integer ambiguities, range differences ``(phase - N) lambda`` beyond
         :data:`~gnssatt.geometry.MAX_BASELINE_M`, baselines outside the limits of
-        :func:`~gnssatt.geometry.checked_baselines`, ``sigma_cycles <= 0``;
+        :func:`~gnssatt.geometry.checked_baselines`, ``sigma_cycles`` outside (0, :data:`MAX_SIGMA_CYCLES`];
         :class:`~gnssatt.errors.InvalidTypeError` for a ``phases`` that is not
         :class:`~gnssatt.sim.attitude_scenario.PhaseObservations` or values that are not real numbers.
+    ConvergenceError
+        A covariance that is not finite (an information matrix too small to invert).
     """
     obs = instance("phases", phases, PhaseObservations, "PhaseObservations")
     b = checked_baselines("baselines_m", baselines_m)
@@ -108,6 +114,8 @@ def phase_attitude_fixes(
     )
     amb = integer_array("ambiguities", ambiguities, f"(n_rows, m) = ({n_rows}, {m})", (n_rows, m))
     sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True, unit="cycles")
+    if sigma > MAX_SIGMA_CYCLES:
+        raise InvalidInputError(f"expected sigma_cycles <= {MAX_SIGMA_CYCLES:g} cycles, got {sigma} cycles")
 
     with np.errstate(over="ignore"):
         range_diffs = -(phase - amb) * wavelength[:, None]  # (n_rows, m), m
@@ -137,6 +145,11 @@ def phase_attitude_fixes(
         t.append(epoch_t[e])
         quats.append(fix.rotation.as_quat())
         cov = info_inv @ (h.T * w) @ h @ info_inv
+        if not np.all(np.isfinite(cov)):
+            raise ConvergenceError(
+                f"phase_attitude_fixes: the covariance at epoch {e} (t = {epoch_t[e]} s) is not finite; the "
+                f"information H^T H has eigenvalues {np.linalg.eigvalsh(h.T @ h).tolist()} m^2/rad^2"
+            )
         covs.append(0.5 * (cov + cov.T))
     return AttitudeFixes(
         np.array(t, dtype=np.float64),

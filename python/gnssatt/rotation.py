@@ -64,4 +64,8 @@ def dcm_to_quat(dcm: ArrayLike) -> NDArray[np.float64]:
 
 def nearest_rotation(matrix: ArrayLike) -> NDArray[np.float64]:
     """The proper rotation closest to a 3 x 3 matrix in the Frobenius norm (determinant fixed to +1)."""
-    return _core.nearest_rotation(shaped("matrix", matrix, "(3, 3)", (3, 3)))
+    m = shaped("matrix", matrix, "(3, 3)", (3, 3))
+    # the nearest rotation of c M is that of M for any c > 0: scale to entries of order one, so that the
+    # core's products neither overflow nor underflow
+    big = float(np.max(np.abs(m)))
+    return _core.nearest_rotation(m / big if big > 0.0 else m)
