@@ -11,6 +11,7 @@ is covered in every category.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -155,6 +156,10 @@ def _receiver() -> tuple[Any, Any]:
 
 
 ARRAY_SHAPE_3 = (np.zeros(2), np.zeros((1, 3)), np.zeros(4))
+# zero, sub-micrometre (a Rust panic in matrix_attitude before) and longer than the Earth
+BAD_BASELINES = (BASELINES * 0, BASELINES * 1e-60, BASELINES * 1e8)
+BAD_WAVELENGTHS = (0.0, -L1, 1e-300, 1e300)
+BAD_STEPS = (0.0, -1.0, 1e-9, 200.0)
 VEC3_OR_N3 = (np.zeros(2), np.zeros((2, 2)), np.zeros((1, 1, 3)))
 MATRIX_33 = (np.eye(2), np.zeros(9), np.zeros((3, 3, 3)))
 WINDOW = np.array([[0.0, 40.0], [-10.0, 20.0], [-20.0, 20.0]])
@@ -195,9 +200,14 @@ FUNCTIONS: tuple[Function, ...] = (
         matrix_method.matrix_attitude,
         lambda: {"baselines": BASELINES, "los": LOS, "range_diffs": RANGE_DIFFS},
         (
-            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=(BASELINES * 0,)),
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
-            Arg("range_diffs", "array", shapes=(RANGE_DIFFS[:, :2], RANGE_DIFFS[0], RANGE_DIFFS.T)),
+            Arg(
+                "range_diffs",
+                "array",
+                shapes=(RANGE_DIFFS[:, :2], RANGE_DIFFS[0], RANGE_DIFFS.T),
+                out_of_range=(RANGE_DIFFS * 1e300,),
+            ),
             Arg("method", "choice"),
         ),
     ),
@@ -223,7 +233,7 @@ FUNCTIONS: tuple[Function, ...] = (
                 "weights",
                 "array",
                 shapes=(np.ones(3), np.ones((2, 2, 5))),
-                out_of_range=(-np.ones(5),),
+                out_of_range=(-np.ones(5), np.zeros(5)),
                 optional=True,
             ),
             Arg("method", "choice"),
@@ -251,7 +261,7 @@ FUNCTIONS: tuple[Function, ...] = (
         geometry.range_difference_fisher,
         lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
         (
-            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0])),
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
             Arg("rotation", "object"),
         ),
@@ -261,7 +271,7 @@ FUNCTIONS: tuple[Function, ...] = (
         geometry.attitude_dop,
         lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
         (
-            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0])),
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
             Arg("rotation", "object"),
         ),
@@ -283,9 +293,12 @@ FUNCTIONS: tuple[Function, ...] = (
         likelihood.AttitudePrior,
         lambda: {"euler_deg": np.array([10.0, 5.0, -3.0]), "half_width_deg": np.array([5.0, 5.0, 5.0])},
         (
-            Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3),
+            Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=([400.0, 0.0, 0.0],)),
             Arg(
-                "half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3), [5.0, -1.0, 5.0])
+                "half_width_deg",
+                "array",
+                shapes=ARRAY_SHAPE_3,
+                out_of_range=(np.zeros(3), [5.0, -1.0, 5.0], [400.0, 5.0, 5.0]),
             ),
         ),
     ),
@@ -296,7 +309,9 @@ FUNCTIONS: tuple[Function, ...] = (
         (
             Arg("velocity_enu", "array", shapes=ARRAY_SHAPE_3, out_of_range=([0.0, 0.0, 5.0],)),
             Arg("acceleration_enu", "array", shapes=ARRAY_SHAPE_3, optional=True),
-            Arg("half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3),)),
+            Arg(
+                "half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3), [400.0, 5.0, 5.0])
+            ),
             Arg("gravity", "scalar", out_of_range=(0.0, -9.8)),
         ),
     ),
@@ -305,17 +320,27 @@ FUNCTIONS: tuple[Function, ...] = (
         likelihood.ml_attitude,
         lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
         (
-            Arg("phase_diffs", "array", shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5)))),
+            Arg(
+                "phase_diffs",
+                "array",
+                shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5))),
+                out_of_range=(np.full((2, 5), 1e13),),
+            ),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
-            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES)),
-            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
+            Arg(
+                "baselines",
+                "array",
+                shapes=(BASELINES[:, :2], BASELINES),
+                out_of_range=tuple(b[:2] for b in BAD_BASELINES),
+            ),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=BAD_WAVELENGTHS),
             Arg("statistic", "choice"),
-            Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
+            Arg("step_deg", "scalar", out_of_range=BAD_STEPS, optional=True),
             Arg(
                 "window_deg",
                 "array",
                 shapes=(WINDOW[:2], WINDOW.T),
-                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
+                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20, WINDOW - 5000.0),
                 optional=True,
             ),
             Arg("search", "choice"),
@@ -327,17 +352,27 @@ FUNCTIONS: tuple[Function, ...] = (
         likelihood.likelihood_grid,
         lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
         (
-            Arg("phase_diffs", "array", shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5)))),
+            Arg(
+                "phase_diffs",
+                "array",
+                shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5))),
+                out_of_range=(np.full((2, 5), 1e13),),
+            ),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
-            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES)),
-            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
+            Arg(
+                "baselines",
+                "array",
+                shapes=(BASELINES[:, :2], BASELINES),
+                out_of_range=tuple(b[:2] for b in BAD_BASELINES),
+            ),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=BAD_WAVELENGTHS),
             Arg("statistic", "choice"),
-            Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
+            Arg("step_deg", "scalar", out_of_range=BAD_STEPS, optional=True),
             Arg(
                 "window_deg",
                 "array",
                 shapes=(WINDOW[:2], WINDOW.T),
-                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20),
+                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20, WINDOW - 5000.0),
                 optional=True,
             ),
         ),
@@ -354,17 +389,22 @@ FUNCTIONS: tuple[Function, ...] = (
             "window_deg": WINDOW[:2],
         },
         (
-            Arg("phase_diffs", "array", shapes=(np.zeros(4), np.zeros((2, 2, 5)))),
+            Arg(
+                "phase_diffs",
+                "array",
+                shapes=(np.zeros(4), np.zeros((2, 2, 5))),
+                out_of_range=(np.full(5, -1e13),),
+            ),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
-            Arg("baseline_length_m", "scalar", out_of_range=(0.0, -1.0)),
-            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=(0.0, -L1)),
+            Arg("baseline_length_m", "scalar", out_of_range=(0.0, -1.0, 1e-60, 1e8)),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=BAD_WAVELENGTHS),
             Arg("statistic", "choice"),
-            Arg("step_deg", "scalar", out_of_range=(0.0, -1.0, 1e-9), optional=True),
+            Arg("step_deg", "scalar", out_of_range=BAD_STEPS, optional=True),
             Arg(
                 "window_deg",
                 "array",
                 shapes=(WINDOW, WINDOW[:2].T[:1]),
-                out_of_range=(WINDOW[:2, ::-1],),
+                out_of_range=(WINDOW[:2, ::-1], WINDOW[:2] * 1e20),
                 optional=True,
             ),
             Arg("refine", "choice"),
@@ -376,8 +416,19 @@ FUNCTIONS: tuple[Function, ...] = (
         lambda: {"q0": TRUTH.as_quat(), "t": np.arange(5.0), "rates": np.full((5, 3), 0.01)},
         (
             Arg("q0", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),
-            Arg("t", "array", shapes=(np.arange(4.0), np.zeros((5, 1))), out_of_range=(np.zeros(5),)),
-            Arg("rates", "array", shapes=(np.zeros((5, 2)), np.zeros((4, 3)), np.zeros(15))),
+            # equal times; an interval of 1e300 s at 0.01 rad/s (NaN quaternions before)
+            Arg(
+                "t",
+                "array",
+                shapes=(np.arange(4.0), np.zeros((5, 1))),
+                out_of_range=(np.zeros(5), [0, 1, 2, 3, 1e300]),
+            ),
+            Arg(
+                "rates",
+                "array",
+                shapes=(np.zeros((5, 2)), np.zeros((4, 3)), np.zeros(15)),
+                out_of_range=(np.full((5, 3), 1e300), np.full((5, 3), 1e6)),
+            ),
         ),
     ),
     Function(
@@ -386,13 +437,29 @@ FUNCTIONS: tuple[Function, ...] = (
         _filter,
         (
             Arg("gyro_t", "array", shapes=(np.zeros((21, 1)), np.arange(20.0)), out_of_range=(np.zeros(21),)),
-            Arg("gyro_rates", "array", shapes=(np.zeros((21, 2)), np.zeros((20, 3)))),
+            Arg(
+                "gyro_rates",
+                "array",
+                shapes=(np.zeros((21, 2)), np.zeros((20, 3))),
+                out_of_range=(np.full((21, 3), 1e300),),
+            ),
             Arg("initial_rotation", "object"),
-            Arg("initial_covariance", "array", shapes=(np.eye(3), np.eye(36)), out_of_range=(-np.eye(6),)),
+            Arg(
+                "initial_covariance",
+                "array",
+                shapes=(np.eye(3), np.eye(36)),
+                out_of_range=(-np.eye(6), np.eye(6) + np.triu(np.ones((6, 6)), 1)),
+            ),
             Arg("arw", "scalar", out_of_range=(-1.0,)),
             Arg("rrw", "scalar", out_of_range=(-1.0,)),
             Arg("initial_drift", "array", shapes=ARRAY_SHAPE_3),
-            Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2]), optional=True),
+            Arg(
+                "baselines_m",
+                "array",
+                shapes=(BASELINES[:, :2], BASELINES[:2]),
+                out_of_range=BAD_BASELINES,
+                optional=True,
+            ),
             Arg("phase_sigma_cycles", "scalar", out_of_range=(0.0, -0.01)),
             Arg("phases", "object", optional=True),
             Arg("attitude_fixes", "object", optional=True),
@@ -416,14 +483,14 @@ FUNCTIONS: tuple[Function, ...] = (
         },
         (
             Arg("phases", "object"),
-            Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2])),
+            Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2]), out_of_range=BAD_BASELINES),
             Arg(
                 "ambiguities",
                 "array",
                 shapes=(np.zeros((15, 2)), np.zeros(15)),
                 out_of_range=(np.full((15, 3), 0.5),),
             ),
-            Arg("sigma_cycles", "scalar", out_of_range=(0.0, -1.0)),
+            Arg("sigma_cycles", "scalar", out_of_range=(0.0, -1.0, 1e160)),
         ),
     ),
     Function(
@@ -484,3 +551,151 @@ def test_bad_argument_is_refused_naming_it(f: Function, arg: Arg, bad: Any, erro
     with pytest.raises(error) as info:
         f.call(**kwargs)
     assert (arg.label or arg.name) in str(info.value)
+
+
+# --- arguments inside containers, and combinations the table cannot express ---------------------------------
+
+
+def _obs(**fields: Any) -> sc.PhaseObservations:
+    return dataclasses.replace(_observations(), **fields)
+
+
+def _fixes(**fields: Any) -> sc.AttitudeFixes:
+    valid = {"t": np.array([5.0]), "rotation": TRUTH, "covariance": 1e-6 * np.eye(3)[None]}
+    return sc.AttitudeFixes(**(valid | fields))
+
+
+@cache
+def _result() -> gyro_gnss.GyroGnssResult:
+    return gyro_gnss.gyro_gnss_filter(**_filter())
+
+
+OBS = _observations()
+EXTRA = [
+    # (id, call, kwargs, expected class, name the message must hold)
+    (
+        "filter-sensitivity-negative",
+        gyro_gnss.gyro_gnss_filter,
+        {"sensitivity": (-1.0, 0.0)},
+        InvalidInputError,
+    ),
+    ("filter-sensitivity-text", gyro_gnss.gyro_gnss_filter, {"sensitivity": "ab"}, InvalidTypeError),
+    (
+        "filter-sensitivity-shape",
+        gyro_gnss.gyro_gnss_filter,
+        {"sensitivity": (1.0, 2.0, 3.0)},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.epoch",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(epoch=OBS.epoch + 10)},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.epoch-float",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(epoch=OBS.epoch + 0.5)},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.track-text",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(track=["a"] * 15)},
+        InvalidTypeError,
+    ),
+    ("filter-phases.los", gyro_gnss.gyro_gnss_filter, {"phases": _obs(los=OBS.los + 0j)}, InvalidTypeError),
+    (
+        "filter-phases.wavelength",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(wavelength=OBS.wavelength[:3])},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.phase",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(phase=OBS.phase * np.nan)},
+        InvalidInputError,
+    ),
+    (
+        "filter-attitude_fixes.t",
+        gyro_gnss.gyro_gnss_filter,
+        {"attitude_fixes": _fixes(t=np.array([np.nan]))},
+        InvalidInputError,
+    ),
+    (
+        "filter-attitude_fixes.rotation",
+        gyro_gnss.gyro_gnss_filter,
+        {"attitude_fixes": _fixes(rotation=np.eye(3))},
+        InvalidTypeError,
+    ),
+    (
+        "filter-attitude_fixes.covariance",
+        gyro_gnss.gyro_gnss_filter,
+        {"attitude_fixes": _fixes(covariance=np.eye(2)[None])},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.epoch",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(epoch=OBS.epoch - 1)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.los",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(los=OBS.los * 2)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.wavelength",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(wavelength=-OBS.wavelength)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.phase",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(phase=OBS.phase + 1e300)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.epoch_t",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(epoch_t=None)},
+        InvalidTypeError,
+    ),
+]
+
+
+def _extra_valid(call: Callable[..., Any]) -> dict[str, Any]:
+    return next(f for f in FUNCTIONS if f.call is call).valid()
+
+
+@pytest.mark.parametrize(
+    ("call", "kwargs", "error", "name"),
+    [pytest.param(c, kw, e, i.split("-")[1], id=i) for i, c, kw, e in EXTRA],
+)
+def test_bad_container_field_is_refused_naming_it(
+    call: Callable[..., Any], kwargs: dict[str, Any], error: type[Exception], name: str
+) -> None:
+    with pytest.raises(error) as info:
+        call(**(_extra_valid(call) | kwargs))
+    assert name in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("method", "args", "error", "name"),
+    [
+        ("errors", (1.0, np.zeros(3)), InvalidTypeError, "true_rotation"),
+        ("errors", (TRUTH, np.zeros((2, 3))), InvalidInputError, "true_drift"),
+        ("errors", (TRUTH, np.zeros(3) + 1j), InvalidTypeError, "true_drift"),
+        ("nees", (np.zeros((21, 5)),), InvalidInputError, "errors"),
+        ("nees", (np.full((21, 6), np.nan),), InvalidInputError, "errors"),
+    ],
+)
+def test_result_methods_check_their_arguments(
+    method: str, args: tuple, error: type[Exception], name: str
+) -> None:
+    with pytest.raises(error, match=name):
+        getattr(_result(), method)(*args)

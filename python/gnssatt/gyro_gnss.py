@@ -305,9 +305,17 @@ def gyro_gnss_filter(
     else:
         obs = instance("phases", phases, PhaseObservations, "PhaseObservations")
         rows = len(np.atleast_1d(obs.epoch))
+        epoch_t = shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,))
+        epoch = integer_array("phases.epoch", obs.epoch, f"(n_rows,) = ({rows},)", (rows,))
+        outside = (epoch < 0) | (epoch >= len(epoch_t))
+        if np.any(outside):
+            k = int(np.flatnonzero(outside)[0])
+            raise InvalidInputError(
+                f"expected phases.epoch in [0, {len(epoch_t)}), got {epoch[k]} at row {k}"
+            )
         ph = (
-            shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,)),
-            integer_array("phases.epoch", obs.epoch, f"(n_rows,) = ({rows},)", (rows,)),
+            epoch_t,
+            epoch,
             integer_array("phases.track", obs.track, f"(n_rows,) = ({rows},)", (rows,)),
             shaped("phases.los", obs.los, f"(n_rows, 3) = ({rows}, 3)", (rows, 3)),
             shaped("phases.wavelength", obs.wavelength, f"(n_rows,) = ({rows},)", (rows,)),
