@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import (
@@ -34,7 +35,14 @@ from gnssatt import (
     vector_attitude,
     visibility,
 )
-from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.errors import (
+    GnssattError,
+    InternalError,
+    InvalidInputError,
+    InvalidTypeError,
+    NearDegenerateWarning,
+    WorkLimitError,
+)
 from gnssatt.sim import attitude_scenario as sc
 
 TRUTH = Rotation.from_euler("ZYX", [30.0, 10.0, -5.0], degrees=True)
@@ -699,3 +707,135 @@ def test_result_methods_check_their_arguments(
 ) -> None:
     with pytest.raises(error, match=name):
         getattr(_result(), method)(*args)
+
+
+# --- no NaN from finite input ------------------------------------------------------------------------------
+
+
+def _leaves(x: Any) -> Iterator[NDArray[np.float64]]:
+    """Every number in a result: arrays, floats, the quaternions of rotations, fields of dataclasses."""
+    if isinstance(x, Rotation):
+        yield x.as_quat()
+    elif dataclasses.is_dataclass(x):
+        for f in dataclasses.fields(x):
+            yield from _leaves(getattr(x, f.name))
+    elif isinstance(x, list | tuple):
+        for v in x:
+            yield from _leaves(v)
+    elif isinstance(x, np.ndarray | float | int):
+        yield np.asarray(x, dtype=np.float64)
+
+
+SCALES = (1e-300, 1e-160, 1e-20, 1e20, 1e160, 1e300, -1e300)
+
+
+def _scaled_cases() -> Iterator[Any]:
+    for f in FUNCTIONS:
+        valid = f.valid()
+        for arg in f.args:
+            if arg.kind in ("array", "scalar") and valid.get(arg.name) is not None:
+                for s in SCALES:
+                    yield pytest.param(f, arg.name, s, id=f"{f.name}-{arg.name}-{s:g}")
+
+
+@pytest.mark.parametrize(("f", "name", "scale"), list(_scaled_cases()))
+def test_finite_input_of_any_magnitude_gives_finite_output_or_an_error(
+    f: Function, name: str, scale: float
+) -> None:
+    # Each argument multiplied by a factor from 1e-300 to 1e300: the call either refuses with a gnssatt
+    # error (never a defect: InternalError) or returns finite numbers only.
+    kwargs = f.valid()
+    kwargs[name] = np.asarray(kwargs[name], dtype=np.float64) * scale
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearDegenerateWarning)
+        try:
+            result = f.call(**kwargs)
+        except InternalError:
+            raise
+        except GnssattError:
+            return
+    assert all(np.all(np.isfinite(v)) for v in _leaves(result))
+
+
+@pytest.mark.parametrize("scale", [1e-160, 1e-100, 1e100, 1e160, 1e300])
+def test_vector_attitude_does_not_depend_on_the_scale_of_the_vectors(scale: float) -> None:
+    # Directions are what TRIAD, Wahba and eq. (3) use: vectors of 1e160 (whose squared norms overflow)
+    # were reported parallel, 1e-160 zero; now they give the attitude of the unscaled vectors.
+    b, r = TRUTH.inv().apply(LOS), LOS
+    tri = vector_attitude.triad(b[0] * scale, b[1] * scale, r[0] * scale, r[1] * scale)
+    assert tri.rotation.approx_equal(TRUTH, atol=1e-12)
+    wah = vector_attitude.wahba(b * scale, r * scale)
+    assert wah.rotation.approx_equal(TRUTH, atol=1e-12)
+    args = ([2e-5, 1e-5, 3e-5], [1e-5, 2e-5, -3e-5], 0.1, -0.2)
+    yaw = magnetometer.yaw_from_magnetometer(*args).yaw
+    scaled = magnetometer.yaw_from_magnetometer(
+        np.multiply(args[0], scale), np.multiply(args[1], scale), *args[2:]
+    )
+    assert scaled.yaw == pytest.approx(yaw, abs=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1e-250, 1e-100, 1e100, 1e250])
+def test_wahba_weights_of_any_scale_give_the_rotation_and_scale_the_covariance(scale: float) -> None:
+    # Only ratios of weights fix the rotation; P = [sum w (I - r r^T)]^-1 scales like 1/w and the loss like w.
+    b, r, w = TRUTH.inv().apply(LOS), LOS, np.array([1.0, 2.0, 3.0, 4.0, 5.0])
+    ref = vector_attitude.wahba(b, r, w)
+    got = vector_attitude.wahba(b, r, w * scale)
+    assert got.rotation.approx_equal(ref.rotation, atol=1e-12)
+    np.testing.assert_allclose(got.covariance * scale, ref.covariance, rtol=1e-12)
+    assert got.information_ratio == pytest.approx(ref.information_ratio, rel=1e-12)
+
+
+def test_nearest_rotation_of_a_huge_matrix_is_that_of_the_matrix() -> None:
+    m = TRUTH.as_matrix() + 0.01
+    ref = rotation.nearest_rotation(m)
+    for scale in (1e-300, 1e160, 1e300):
+        np.testing.assert_allclose(rotation.nearest_rotation(m * scale), ref, atol=1e-14)
+
+
+def test_gyro_propagation_is_exact_up_to_the_step_angle_limit_and_refuses_beyond() -> None:
+    # constant rate about z: q(t) = [0, 0, sin(w t / 2), cos(w t / 2)]; one step of 1e5 rad, rounding 1e-11
+    t = np.array([0.0, 1e3])
+    q = gyro_gnss.gyro_propagate([0.0, 0.0, 0.0, 1.0], t, [[0.0, 0.0, 100.0]] * 2)
+    angle = 100.0 * 1e3
+    expected = np.array([0.0, 0.0, np.sin(angle / 2), np.cos(angle / 2)]) * np.sign(np.cos(angle / 2))
+    np.testing.assert_allclose(q[1], expected, atol=1e-9)
+    with pytest.raises(InvalidInputError, match=r"rates times the interval of t .* at most 1e\+06 rad"):
+        gyro_gnss.gyro_propagate([0.0, 0.0, 0.0, 1.0], t, [[0.0, 0.0, 1e4]] * 2)
+
+
+def test_prior_from_velocity_refuses_a_non_finite_or_non_positive_gravity() -> None:
+    for g in (np.nan, np.inf, 0.0, -9.8):
+        with pytest.raises(InvalidInputError, match="gravity"):
+            likelihood.prior_from_velocity([100.0, 200.0, 5.0], [1.0, -2.0, 0.0], gravity=g)
+    # an absurd but finite acceleration still has a bank angle: 90 deg, not NaN
+    prior = likelihood.prior_from_velocity([0.0, 100.0, 0.0], [1e308, 0.0, 0.0])
+    assert prior.euler_deg[2] == pytest.approx(90.0)
+
+
+def test_a_single_node_grid_reports_its_step() -> None:
+    # 360 / n with n = 2 ceil(180 / step): 3.7 deg -> n = 98 -> 3.6734... deg, as the axis spacing of a wider
+    # window shows
+    kw = _phases()
+    wide = likelihood.likelihood_grid(**kw, step_deg=3.7, window_deg=WINDOW)
+    node = wide.psi_deg[3], wide.theta_deg[3], wide.phi_deg[3]
+    single = likelihood.likelihood_grid(**kw, step_deg=3.7, window_deg=[[v, v] for v in node])
+    assert single.z.shape == (1, 1, 1)
+    assert single.step_deg == pytest.approx(360.0 / 98)
+    assert wide.step_deg == pytest.approx(360.0 / 98)
+
+
+def test_phases_shifted_by_whole_cycles_give_the_same_attitude_until_the_limit() -> None:
+    kw = {**_phases(), "window_deg": WINDOW, "step_deg": 2.0}
+    ref = likelihood.ml_attitude(**kw).euler_deg
+    shifted = likelihood.ml_attitude(**{**kw, "phase_diffs": kw["phase_diffs"] + 2 * np.pi * 1e8}).euler_deg
+    np.testing.assert_allclose(shifted, ref, atol=1e-6)
+    with pytest.raises(InvalidInputError, match="phase_diffs at most 1e\\+12 rad"):
+        likelihood.ml_attitude(**{**kw, "phase_diffs": kw["phase_diffs"] + 1e20})
+
+
+def test_attitude_dop_is_finite_or_refused() -> None:
+    # baselines at the 1e-6 m limit: a DOP of order 1e6, finite; below it, refused before any work
+    dop = geometry.attitude_dop(BASELINES * 1e-6, LOS, TRUTH)
+    assert np.isfinite(dop) and dop == pytest.approx(geometry.attitude_dop(BASELINES, LOS, TRUTH) * 1e6)
+    with pytest.raises(InvalidInputError, match="baselines"):
+        geometry.attitude_dop(BASELINES * 1e-160, LOS, TRUTH)

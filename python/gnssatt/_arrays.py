@@ -18,7 +18,17 @@ from numpy.typing import NDArray
 
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
-__all__ = ["choice", "flag", "float_array", "instance", "integer", "integer_array", "scalar", "shaped"]
+__all__ = [
+    "choice",
+    "flag",
+    "float_array",
+    "instance",
+    "integer",
+    "integer_array",
+    "scalar",
+    "shaped",
+    "unit_rows",
+]
 
 
 def _describe(value: Any) -> str:
@@ -136,6 +146,26 @@ def shaped(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...])
         if len(p) == arr.ndim and all(d is None or d == n for d, n in zip(p, arr.shape, strict=True)):
             return arr
     raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+
+
+def unit_rows(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """:func:`shaped` whose rows (last axis) are unit vectors to 1e-6, such as lines of sight.
+
+    Raises
+    ------
+    InvalidTypeError, InvalidInputError
+        As :func:`shaped`, and for a row whose norm differs from one (the message gives the row and its norm,
+        computed without overflow).
+    """
+    a = shaped(name, value, shape, *patterns)
+    big = np.max(np.abs(a), axis=-1, keepdims=True, initial=0.0)
+    norm = big[..., 0] * np.linalg.norm(a / np.where(big > 0.0, big, 1.0), axis=-1)
+    bad = np.abs(norm - 1.0) > 1e-6
+    if np.any(bad):
+        k = tuple(int(i) for i in np.argwhere(bad)[0])
+        row = k[0] if len(k) == 1 else k
+        raise InvalidInputError(f"expected unit lines of sight in {name}, row {row} has norm {norm[k]:.6g}")
+    return a
 
 
 def integer_array(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.int64]:

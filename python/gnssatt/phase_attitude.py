@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import instance, integer_array, scalar, shaped
+from gnssatt._arrays import instance, integer_array, scalar, shaped, unit_rows
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 from gnssatt.matrix_method import matrix_attitude
@@ -97,11 +97,7 @@ def phase_attitude_fixes(
     if np.any((epoch < 0) | (epoch >= len(epoch_t))):
         k = int(np.flatnonzero((epoch < 0) | (epoch >= len(epoch_t)))[0])
         raise InvalidInputError(f"expected phases.epoch in [0, {len(epoch_t)}), got {epoch[k]} at row {k}")
-    los_all = shaped("phases.los", obs.los, f"(n_rows, 3) = ({n_rows}, 3)", (n_rows, 3))
-    norm = np.linalg.norm(los_all, axis=1)
-    if np.any(np.abs(norm - 1.0) > 1e-6):
-        k = int(np.flatnonzero(np.abs(norm - 1.0) > 1e-6)[0])
-        raise InvalidInputError(f"expected unit lines of sight in phases.los, row {k} has norm {norm[k]:.6g}")
+    los_all = unit_rows("phases.los", obs.los, f"(n_rows, 3) = ({n_rows}, 3)", (n_rows, 3))
     wavelength = shaped("phases.wavelength", obs.wavelength, rows_shape, (n_rows,))
     if np.any(wavelength <= 0.0):
         k = int(np.flatnonzero(wavelength <= 0.0)[0])
