@@ -501,9 +501,9 @@ def test_matrix_fixes_reject_bad_input() -> None:
     )
     with pytest.raises(InvalidInputError, match="ambiguities of shape"):
         phase_attitude_fixes(ph, BASELINES, ph.ambiguity[:-1], sigma_cycles=0.01)
-    with pytest.raises(InvalidInputError, match="integer ambiguities"):
+    with pytest.raises(InvalidInputError, match="expected integers in ambiguities"):
         phase_attitude_fixes(ph, BASELINES, ph.ambiguity + 0.5, sigma_cycles=0.01)
-    with pytest.raises(InvalidInputError, match="for 3 baselines"):
+    with pytest.raises(InvalidInputError, match="for the 3 rows of baselines_m"):
         phase_attitude_fixes(ph, np.vstack([BASELINES, [0.0, 0.0, 1.0]]), ph.ambiguity, sigma_cycles=0.01)
     with pytest.raises(InvalidInputError, match=r"baselines_m of shape \(m, 3\)"):
         phase_attitude_fixes(ph, BASELINES[:, :2], ph.ambiguity, sigma_cycles=0.01)

@@ -18,7 +18,17 @@ from numpy.typing import NDArray
 
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
-__all__ = ["float_array", "integer", "scalar"]
+__all__ = [
+    "choice",
+    "flag",
+    "float_array",
+    "instance",
+    "integer",
+    "integer_array",
+    "scalar",
+    "shaped",
+    "unit_rows",
+]
 
 
 def _describe(value: Any) -> str:
@@ -117,3 +127,103 @@ def integer(name: str, value: Any, *, minimum: int | None = None, maximum: int |
     if maximum is not None and n > maximum:
         raise WorkLimitError(f"{name} = {n} exceeds the limit of {maximum}")
     return n
+
+
+# --- the intake of options, flags and objects (added for the estimators, issue 15 part C) ------------------
+
+
+def shaped(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """:func:`float_array` whose shape matches one of ``patterns`` (``None`` matches any length), e.g.
+    ``shaped("los", los, "(n, 3)", (None, 3))``; ``shape`` is the expected shape as written in the message.
+
+    Raises
+    ------
+    InvalidTypeError, InvalidInputError
+        As :func:`float_array`, and for a shape that matches no pattern.
+    """
+    arr = float_array(name, value, ndim=tuple(sorted({len(p) for p in patterns})), shape=shape)
+    for p in patterns:
+        if len(p) == arr.ndim and all(d is None or d == n for d, n in zip(p, arr.shape, strict=True)):
+            return arr
+    raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+
+
+def unit_rows(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """:func:`shaped` whose rows (last axis) are unit vectors to 1e-6, such as lines of sight.
+
+    Raises
+    ------
+    InvalidTypeError, InvalidInputError
+        As :func:`shaped`, and for a row whose norm differs from one (the message gives the row and its norm,
+        computed without overflow).
+    """
+    a = shaped(name, value, shape, *patterns)
+    big = np.max(np.abs(a), axis=-1, keepdims=True, initial=0.0)
+    norm = big[..., 0] * np.linalg.norm(a / np.where(big > 0.0, big, 1.0), axis=-1)
+    bad = np.abs(norm - 1.0) > 1e-6
+    if np.any(bad):
+        k = tuple(int(i) for i in np.argwhere(bad)[0])
+        row = k[0] if len(k) == 1 else k
+        raise InvalidInputError(f"expected unit lines of sight in {name}, row {row} has norm {norm[k]:.6g}")
+    return a
+
+
+def integer_array(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.int64]:
+    """:func:`shaped` holding integers (of an integer dtype, or floats with integral values within +-2^53,
+    where float64 still counts in ones), as int64: indices, arc ids, ambiguities.
+
+    Raises
+    ------
+    InvalidTypeError, InvalidInputError
+        As :func:`shaped`, and for a value that is not an integer (the message gives it and its index).
+    """
+    a = shaped(name, value, shape, *patterns)
+    bad = (a != np.round(a)) | (np.abs(a) > 2.0**53)
+    if np.any(bad):
+        k = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise InvalidInputError(f"expected integers in {name}, got {a[k]} at index {k}")
+    return a.astype(np.int64)
+
+
+def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
+    """``value`` as one of the strings ``options`` (a method, a statistic, an Euler sequence ...).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a string.
+    InvalidInputError
+        ``value`` is not one of ``options``.
+    """
+    listed = ", ".join(repr(o) for o in options)
+    if not isinstance(value, str):
+        raise InvalidTypeError(f"expected {name} as one of {listed}, got {_describe(value)}")
+    if value not in options:
+        raise InvalidInputError(f"expected {name} as one of {listed}, got {value!r}")
+    return value
+
+
+def flag(name: str, value: Any) -> bool:
+    """``value`` as a bool; ``True``/``False`` (Python or numpy) only, since ``bool("no")`` is True.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a boolean.
+    """
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidTypeError(f"expected {name} as True or False, got {_describe(value)}")
+    return bool(value)
+
+
+def instance(name: str, value: Any, cls: type | tuple[type, ...], what: str) -> Any:
+    """``value`` itself if it is an instance of ``cls``; ``what`` says what is expected in the message.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not an instance of ``cls``.
+    """
+    if not isinstance(value, cls):
+        raise InvalidTypeError(f"expected {name} as {what}, got {_describe(value)}")
+    return value

@@ -1,5 +1,6 @@
-"""Geometry diagnostics shared by the estimators: how well an array and a set of lines of sight fix an
-attitude (Cramer-Rao bound of range-difference attitude)."""
+"""Geometry shared by the estimators: the intake of antenna baselines (:func:`checked_baselines`, with the
+length limits every estimator applies) and how well an array and a set of lines of sight fix an attitude
+(Cramer-Rao bound of range-difference attitude)."""
 
 from __future__ import annotations
 
@@ -7,10 +8,41 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
-from gnssatt.errors import DegenerateGeometryError
+from gnssatt._arrays import instance, shaped, unit_rows
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
-__all__ = ["attitude_dop", "range_difference_fisher"]
+__all__ = ["MAX_BASELINE_M", "MIN_BASELINE_M", "attitude_dop", "checked_baselines", "range_difference_fisher"]
+
+#: Shortest baseline any estimator accepts, m: below a micrometre a baseline is a zero (and the squares and
+#: inverses the estimators form underflow or overflow near 1e-150 m).
+MIN_BASELINE_M = 1e-6
+#: Longest baseline any estimator accepts, m (the Earth's diameter): range differences, informations (fourth
+#: power of the length) and grid steps then stay far from overflow.
+MAX_BASELINE_M = 1.3e7
+
+
+def checked_baselines(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    """``value`` as (m, 3) antenna baselines, metres, each between :data:`MIN_BASELINE_M` and
+    :data:`MAX_BASELINE_M` long: the one intake of baselines for every estimator.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shape, non-finite values, a baseline shorter or longer than the limits (the message names the
+        row and its length); :class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers.
+    """
+    b = shaped(name, value, "(m, 3)", (None, 3))
+    # the largest component first, so that the squares neither overflow (1e200 m) nor underflow (1e-200 m)
+    big = np.max(np.abs(b), axis=1, initial=0.0)
+    length = big * np.linalg.norm(b / np.where(big > 0.0, big, 1.0)[:, None], axis=1)
+    bad = np.flatnonzero((length < MIN_BASELINE_M) | (length > MAX_BASELINE_M))
+    if bad.size:
+        k = int(bad[0])
+        raise InvalidInputError(
+            f"expected {name} between {MIN_BASELINE_M:g} and {MAX_BASELINE_M:g} m long, baseline {k} has "
+            f"length {length[k]:.6g} m"
+        )
+    return b
 
 
 def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> NDArray[np.float64]:
@@ -19,10 +51,30 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     The measurement is ``dr_ij = (M b_i) . s_j`` with ``M`` the body -> reference rotation; perturbing
     ``M -> exp([delta]x) M`` with ``delta`` in the reference frame gives the gradient ``(M b_i) x s_j``, so
     the information is ``sum_ij g_ij g_ij^T`` (rad^-2 per m^-2 of range-difference variance).
+
+    Parameters
+    ----------
+    baselines
+        (m, 3) antenna positions relative to the reference antenna, body frame, metres; each between
+        :data:`MIN_BASELINE_M` and :data:`MAX_BASELINE_M` long.
+    los
+        (n, 3) unit lines of sight, reference frame.
+    rotation
+        A single body -> reference :class:`~scipy.spatial.transform.Rotation`.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines outside the
+        length limits; :class:`~gnssatt.errors.InvalidTypeError` for a ``rotation`` that is not a single
+        Rotation.
     """
-    b = float_array("baselines", baselines, ndim=2, shape="(m, 3)")
-    s = float_array("los", los, ndim=2, shape="(n, 3)")
-    g = np.cross(rotation.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
+    b = checked_baselines("baselines", baselines)
+    s = unit_rows("los", los, "(n, 3)", (None, 3))
+    r = instance("rotation", rotation, Rotation, "a single scipy Rotation")
+    if not r.single:
+        raise InvalidInputError(f"expected rotation as a single Rotation, got a stack of {len(r)}")
+    g = np.cross(r.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
     return g.T @ g
 
 
@@ -30,13 +82,23 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
     """Attitude dilution of precision: ``sqrt(trace(J^-1))`` with ``J`` from :func:`range_difference_fisher`.
 
     Multiplied by the range-difference noise sigma (m) it gives the Cramer-Rao bound on the RMS total
-    rotation error (rad) of any unbiased estimator.
+    rotation error (rad) of any unbiased estimator. Arguments as :func:`range_difference_fisher`.
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`range_difference_fisher`.
+    DegenerateGeometryError
+        The geometry does not fix the attitude (no baselines or lines of sight, all of them parallel).
     """
     info = range_difference_fisher(baselines, los, rotation)
     eig = np.linalg.eigvalsh(info)
-    if eig[0] <= 1e-12 * eig[-1]:
+    # eig[0] > 0 does not make 1 / eig finite: a subnormal information (baselines near 1e-160 m) overflows
+    with np.errstate(over="ignore", divide="ignore"):
+        dop = float(np.sqrt(np.sum(1.0 / eig))) if eig[0] > 1e-12 * eig[-1] else float("inf")
+    if not np.isfinite(dop):
         raise DegenerateGeometryError(
-            f"the geometry does not fix the attitude: the Fisher information has condition number "
-            f"{eig[-1] / max(eig[0], 1e-300):.3e}"
+            f"the geometry does not fix the attitude: the Fisher information has eigenvalues {eig[0]:.3e} "
+            f"to {eig[-1]:.3e} rad^-2 m^-2 (condition number above 1e12, or too small to invert)"
         )
-    return float(np.sqrt(np.sum(1.0 / eig)))
+    return dop

@@ -31,21 +31,63 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import flag, instance, integer, integer_array, scalar, shaped
+from gnssatt.errors import ConvergenceError, InvalidInputError
+from gnssatt.geometry import checked_baselines
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
 
-__all__ = ["FixAttempt", "GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"]
+__all__ = ["MAX_STEP_ANGLE_RAD", "FixAttempt", "GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"]
+
+#: Largest rotation over one gyro interval, ``|rates[k]| (t[k+1] - t[k])``, rad. The step is exact for a
+#: constant rate at any angle, but the angle's rounding error grows with it (1e-10 rad here); far beyond,
+#: the product overflows and the attitude would be NaN.
+MAX_STEP_ANGLE_RAD = 1e6
+
+
+def _times_and_rates(
+    t_name: str, t: ArrayLike, rates_name: str, rates: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(n,) times and (n, 3) rates, with every interval finite and turning by at most MAX_STEP_ANGLE_RAD."""
+    tt = shaped(t_name, t, "(n,)", (None,))
+    w = shaped(rates_name, rates, f"(n, 3) = ({len(tt)}, 3), one per time stamp of {t_name}", (len(tt), 3))
+    with np.errstate(over="ignore", invalid="ignore"):
+        dt = np.diff(tt)
+        # an upper bound of |omega| dt (max component times sqrt(3)) that cannot overflow before the test
+        angle = np.sqrt(3.0) * np.max(np.abs(w[:-1]), axis=1, initial=0.0) * np.abs(dt)
+    bad = np.flatnonzero(~np.isfinite(dt) | ~(angle <= MAX_STEP_ANGLE_RAD))
+    if bad.size:
+        k = int(bad[0])
+        rate = np.sqrt(3.0) * np.max(np.abs(w[k]))
+        raise InvalidInputError(
+            f"expected {rates_name} times the interval of {t_name} to turn by at most "
+            f"{MAX_STEP_ANGLE_RAD:g} rad per interval, got |{rates_name}[{k}]| <= {rate:.6g} rad/s over "
+            f"{t_name}[{k + 1}] - {t_name}[{k}] = {dt[k]:.6g} s"
+        )
+    return tt, w
+
+
+def _finite(what: str, **outputs: Any) -> None:
+    for name, value in outputs.items():
+        if not np.all(np.isfinite(value)):
+            raise ConvergenceError(f"{what} gave a non-finite {name} from finite input")
 
 
 def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.float64]:
     """Attitude quaternions (n, 4) scalar-last, body -> reference, at ``t`` (s) from ``q0`` with the body
-    rates ``rates`` (n, 3) rad/s, ``rates[k]`` held over ``[t[k], t[k+1]]`` (exact for constant rates)."""
-    return _core.gyro_propagate(
-        float_array("q0", q0, ndim=1, shape="(4,)"),
-        float_array("t", t, ndim=1, shape="(n,)"),
-        float_array("rates", rates, ndim=2, shape="(n, 3)"),
-    )
+    rates ``rates`` (n, 3) rad/s, ``rates[k]`` held over ``[t[k], t[k+1]]`` (exact for constant rates).
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, a zero ``q0``, ``t`` not strictly increasing, or a rotation over
+        one interval beyond :data:`MAX_STEP_ANGLE_RAD` (:class:`~gnssatt.errors.InvalidTypeError` for values
+        that are not real numbers).
+    """
+    q = shaped("q0", q0, "(4,)", (4,))
+    tt, w = _times_and_rates("t", t, "rates", rates)
+    out = _core.gyro_propagate(q, tt, w)
+    _finite("gyro_propagate", quaternions=out)
+    return out
 
 
 @dataclass(frozen=True)
@@ -84,17 +126,44 @@ class GyroGnssResult:
     nis: NDArray[np.float64]
 
     def errors(self, true_rotation: Rotation, true_drift: ArrayLike) -> NDArray[np.float64]:
-        """(n, 6) true errors ``[dtheta, ddrift]``, filter sign: ``R_true = R_hat exp([dtheta x])``."""
-        dtheta = (self.rotation.inv() * true_rotation).as_rotvec()
-        return np.hstack([dtheta, np.asarray(true_drift, dtype=np.float64) - self.drift])
+        """(n, 6) true errors ``[dtheta, ddrift]``, filter sign: ``R_true = R_hat exp([dtheta x])``;
+        ``true_rotation`` a Rotation of length n (or single), ``true_drift`` (3,) or (n, 3) rad/s."""
+        truth = instance("true_rotation", true_rotation, Rotation, "a scipy Rotation")
+        drift = shaped("true_drift", true_drift, "(3,) or (n, 3)", (3,), (None, 3))
+        if (not truth.single and len(truth) != len(self.t)) or (
+            drift.ndim == 2 and len(drift) != len(self.t)
+        ):
+            raise InvalidInputError(
+                f"expected true_rotation and true_drift for the {len(self.t)} output times, got "
+                f"{'one' if truth.single else len(truth)} rotation(s) and drift {drift.shape}"
+            )
+        dtheta = (self.rotation.inv() * truth).as_rotvec()
+        return np.hstack([dtheta, drift - self.drift])
 
     def nees(self, errors: ArrayLike, *, true: bool = False) -> NDArray[np.float64]:
-        """(n,) ``e^T P^-1 e`` with the filter's covariance (or the true-error covariance if ``true``)."""
-        p = self.true_covariance if true else self.covariance
+        """(n,) ``e^T P^-1 e`` with the filter's covariance (or the true-error covariance if ``true``) for
+        (n, 6) ``errors``."""
+        p = self.true_covariance if flag("true", true) else self.covariance
         if p is None:
             raise InvalidInputError("no true-error covariance: run with sensitivity=(...)")
-        e = np.asarray(errors, dtype=np.float64)
+        e = shaped("errors", errors, f"(n, 6) = ({len(p)}, 6)", (len(p), 6))
         return np.einsum("ki,ki->k", e, np.linalg.solve(p, e[..., None])[..., 0])
+
+
+def _covariance(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
+    """An (n, n) symmetric positive semi-definite matrix (to rounding: 1e-9 of its largest entry)."""
+    p = shaped(name, value, f"({n}, {n})", (n, n))
+    tol = 1e-9 * float(np.max(np.abs(p)))
+    if np.any(np.abs(p - p.T) > tol):
+        raise InvalidInputError(
+            f"expected {name} symmetric, got an asymmetry of {np.max(np.abs(p - p.T)):.3e}"
+        )
+    smallest = float(np.linalg.eigvalsh(p)[0])
+    if smallest < -tol:
+        raise InvalidInputError(
+            f"expected {name} positive semi-definite, got an eigenvalue of {smallest:.3e}"
+        )
+    return p
 
 
 def _empty_phases(m: int) -> tuple[Any, ...]:
@@ -163,73 +232,127 @@ def gyro_gnss_filter(
         Estimate the misalignment of the gyro triad (three more states, ``mu`` with
         ``omega_meas = exp(-[mu x]) omega - drift - w``) with this prior sigma per axis, rad.
     output_every
-        Record every ``output_every``-th gyro sample (and the first and last).
+        Record every ``output_every``-th gyro sample (and the first and last); an integer >= 1.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes or non-finite values; ``gyro_t`` not strictly increasing; a rotation over one gyro
+        interval beyond :data:`MAX_STEP_ANGLE_RAD`; an ``initial_covariance`` that is not symmetric positive
+        semi-definite; ``arw``, ``rrw`` or a ``sensitivity`` sigma below 0; ``phase_sigma_cycles`` or
+        ``misalignment_sigma_rad`` not above 0; ``ratio_threshold`` below 1; ``min_success_rate`` outside
+        [0, 1]; ``slip_false_alarm`` outside (0, 1); ``output_every`` below 1; baselines outside the limits of
+        :func:`gnssatt.geometry.checked_baselines`; measurements outside the gyro record or inconsistent
+        (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind: text, ``None``, complex,
+        a ``phases`` that is not :class:`~gnssatt.sim.attitude_scenario.PhaseObservations` ...).
+    DegenerateGeometryError
+        An innovation covariance that is not positive definite.
+    ConvergenceError
+        A non-finite filter output from finite input.
     """
-    if not isinstance(initial_rotation, Rotation) or not initial_rotation.single:
-        raise TypeError("expected initial_rotation as a single scipy Rotation")
-    t = float_array("gyro_t", gyro_t, ndim=1, shape="(n,)")
-    w = float_array("gyro_rates", gyro_rates, ndim=2, shape="(n, 3)")
-    p0 = float_array("initial_covariance", initial_covariance, ndim=2, shape="(6, 6)")
-    b0 = float_array("initial_drift", initial_drift, ndim=1, shape="(3,)")
+    rot0 = instance("initial_rotation", initial_rotation, Rotation, "a single scipy Rotation")
+    if not rot0.single:
+        raise InvalidInputError(f"expected initial_rotation as a single Rotation, got a stack of {len(rot0)}")
+    t, w = _times_and_rates("gyro_t", gyro_t, "gyro_rates", gyro_rates)
+    p0 = _covariance("initial_covariance", initial_covariance, 6)
+    b0 = shaped("initial_drift", initial_drift, "(3,)", (3,))
+    arw = scalar("arw", arw, minimum=0.0, unit="rad/s/sqrt(Hz)")
+    rrw = scalar("rrw", rrw, minimum=0.0, unit="rad/s^2/sqrt(Hz)")
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True, unit="cycles")
+    fix = flag("fix_ambiguities", fix_ambiguities)
+    ratio = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    success = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
+    known = flag("known_ambiguities", known_ambiguities)
+    every = min(integer("output_every", output_every, minimum=1), max(len(t), 1))  # beyond n: first and last
     if phases is not None and baselines_m is None:
         raise InvalidInputError("expected baselines_m with phase observations")
-    b = (
-        np.zeros((0, 3))
-        if baselines_m is None
-        else float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
-    )
+    b = np.zeros((0, 3)) if baselines_m is None else checked_baselines("baselines_m", baselines_m)
     m = len(b)
     if slip_false_alarm is None:
         slip = float("inf")
-    elif not 0.0 < slip_false_alarm < 1.0:
-        raise InvalidInputError(f"expected slip_false_alarm in (0, 1) or None, got {slip_false_alarm}")
     else:
-        slip = float(chi2.isf(slip_false_alarm, max(m, 1)))
-    if isinstance(output_every, bool) or not isinstance(output_every, int | np.integer) or output_every < 1:
-        raise InvalidInputError(f"expected output_every as an integer >= 1, got {output_every!r}")
+        alarm = scalar("slip_false_alarm", slip_false_alarm, minimum=0.0, maximum=1.0, strict=True)
+        slip = float(chi2.isf(alarm, max(m, 1)))
+    sens = None
+    if sensitivity is not None:
+        pair = shaped("sensitivity", sensitivity, "(2,) (misalignment_sigma_rad, baseline_sigma_m)", (2,))
+        if np.any(pair < 0.0):
+            raise InvalidInputError(f"expected sensitivity sigmas >= 0, got {pair.tolist()}")
+        sens = (float(pair[0]), float(pair[1]))
+    mis = (
+        None
+        if misalignment_sigma_rad is None
+        else scalar("misalignment_sigma_rad", misalignment_sigma_rad, minimum=0.0, strict=True, unit="rad")
+    )
     if attitude_fixes is None:
         fx = (np.zeros(0), np.zeros((0, 4)), np.zeros((0, 3, 3)))
     else:
+        fixes = instance("attitude_fixes", attitude_fixes, AttitudeFixes, "AttitudeFixes")
+        ft = shaped("attitude_fixes.t", fixes.t, "(n_fix,)", (None,))
+        rot = instance("attitude_fixes.rotation", fixes.rotation, Rotation, "a scipy Rotation")
         fx = (
-            float_array("attitude_fixes.t", attitude_fixes.t, ndim=1, shape="(n_fix,)"),
-            attitude_fixes.rotation.as_quat().reshape(-1, 4),
-            float_array(
-                "attitude_fixes.covariance", attitude_fixes.covariance, ndim=3, shape="(n_fix, 3, 3)"
+            ft,
+            rot.as_quat().reshape(-1, 4),
+            shaped(
+                "attitude_fixes.covariance",
+                fixes.covariance,
+                f"(n_fix, 3, 3) = ({len(ft)}, 3, 3)",
+                (len(ft), 3, 3),
             ),
         )
     if phases is None:
         ph = _empty_phases(m)
     else:
+        obs = instance("phases", phases, PhaseObservations, "PhaseObservations")
+        rows = len(np.atleast_1d(obs.epoch))
+        epoch_t = shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,))
+        epoch = integer_array("phases.epoch", obs.epoch, f"(n_rows,) = ({rows},)", (rows,))
+        outside = (epoch < 0) | (epoch >= len(epoch_t))
+        if np.any(outside):
+            k = int(np.flatnonzero(outside)[0])
+            raise InvalidInputError(
+                f"expected phases.epoch in [0, {len(epoch_t)}), got {epoch[k]} at row {k}"
+            )
         ph = (
-            float_array("phases.epoch_t", phases.epoch_t, ndim=1, shape="(n_e,)"),
-            np.ascontiguousarray(phases.epoch, dtype=np.int64),
-            np.ascontiguousarray(phases.track, dtype=np.int64),
-            float_array("phases.los", phases.los, ndim=2, shape="(n_rows, 3)"),
-            float_array("phases.wavelength", phases.wavelength, ndim=1, shape="(n_rows,)"),
-            float_array("phases.phase", phases.phase, ndim=2, shape="(n_rows, m)"),
+            epoch_t,
+            epoch,
+            integer_array("phases.track", obs.track, f"(n_rows,) = ({rows},)", (rows,)),
+            shaped("phases.los", obs.los, f"(n_rows, 3) = ({rows}, 3)", (rows, 3)),
+            shaped("phases.wavelength", obs.wavelength, f"(n_rows,) = ({rows},)", (rows,)),
+            shaped(
+                "phases.phase",
+                obs.phase,
+                f"(n_rows, m) = ({rows}, {m}) for the {m} rows of baselines_m",
+                (rows, m),
+            ),
         )
-    sens = None if sensitivity is None else (float(sensitivity[0]), float(sensitivity[1]))
-    mis = None if misalignment_sigma_rad is None else float(misalignment_sigma_rad)
     d = _core.gyro_gnss_filter(
         t,
         w,
-        initial_rotation.as_quat(),
+        rot0.as_quat(),
         b0,
         p0,
-        float(arw),
-        float(rrw),
+        arw,
+        rrw,
         b,
-        float(phase_sigma_cycles),
-        bool(fix_ambiguities),
-        float(ratio_threshold),
-        float(min_success_rate),
+        sigma,
+        fix,
+        ratio,
+        success,
         slip,
-        bool(known_ambiguities),
+        known,
         sens,
         mis,
-        int(output_every),
+        every,
         *fx,
         *ph,
+    )
+    _finite(
+        "gyro_gnss_filter",
+        quaternions=d["quaternion"],
+        drift=d["drift"],
+        covariance=d["covariance"],
+        misalignment=d["misalignment"],
     )
     return GyroGnssResult(
         t=d["t"],

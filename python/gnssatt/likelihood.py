@@ -35,15 +35,16 @@ ambiguity function for M = 8.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import choice, float_array, instance, scalar, shaped
+from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
 
 __all__ = [
     "AttitudePrior",
@@ -63,16 +64,43 @@ RefineName = bool | Literal["parabolic", "newton"]
 #: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U).
 ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
+#: Largest magnitude of a phase difference, radians: any multiple of 2 pi may be added, but above this the
+#: float64 spacing (1.2e-4 rad) no longer carries the fraction of a cycle the statistic needs.
+MAX_PHASE_RAD = 1e12
+#: Carrier wavelengths are accepted in [MIN_WAVELENGTH_M, MAX_WAVELENGTH_M] (GNSS: 0.19 to 0.26 m); outside,
+#: wave numbers ``2 pi / lambda`` and grid steps leave the float range long before anything physical.
+MIN_WAVELENGTH_M, MAX_WAVELENGTH_M = 1e-6, 1e6
+#: Window limits (degrees) are accepted within +-WINDOW_LIMIT_DEG: ten turns, room for any window written
+#: around a heading, far from the integer range of the grid's node indices.
+WINDOW_LIMIT_DEG = 3600.0
+#: Largest grid step, degrees (coarser than a half turn is no grid).
+MAX_STEP_DEG = 180.0
+
 
 def rotation_from_euler(euler_deg: ArrayLike) -> Rotation:
-    """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees."""
-    r_normal = Rotation.from_euler("YZX", np.asarray(euler_deg, dtype=float), degrees=True).as_matrix()
+    """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3).
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shape or non-finite angles (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
+        real numbers).
+    """
+    angles = shaped("euler_deg", euler_deg, "(3,) or (n, 3)", (3,), (None, 3))
+    r_normal = Rotation.from_euler("YZX", angles, degrees=True).as_matrix()
     return Rotation.from_matrix(ENU_FROM_NORMAL @ r_normal)
 
 
 def euler_from_rotation(rotation: Rotation) -> NDArray[np.float64]:
-    """Eq. (5) angles ``(psi, theta, phi)`` in degrees of a body -> ENU rotation."""
-    r_normal = ENU_FROM_NORMAL.T @ rotation.as_matrix()
+    """Eq. (5) angles ``(psi, theta, phi)`` in degrees of a body -> ENU rotation (single or a stack).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``rotation`` is not a scipy :class:`~scipy.spatial.transform.Rotation`.
+    """
+    r = instance("rotation", rotation, Rotation, "a scipy Rotation")
+    r_normal = ENU_FROM_NORMAL.T @ r.as_matrix()
     return np.asarray(Rotation.from_matrix(r_normal).as_euler("YZX", degrees=True))
 
 
@@ -83,13 +111,29 @@ class AttitudePrior:
     Attributes
     ----------
     euler_deg
-        (psi, theta, phi) of eq. (5), degrees.
+        (psi, theta, phi) of eq. (5), degrees, each in [-360, 360].
     half_width_deg
-        Half-widths of the window in psi, theta, phi, degrees.
+        Half-widths of the window in psi, theta, phi, degrees, each in (0, 360].
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values or values out of the ranges above
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
     """
 
     euler_deg: NDArray[np.float64]
     half_width_deg: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        euler = shaped("euler_deg", self.euler_deg, "(3,)", (3,))
+        half = shaped("half_width_deg", self.half_width_deg, "(3,)", (3,))
+        if np.any(np.abs(euler) > 360.0):
+            raise InvalidInputError(f"expected euler_deg in [-360, 360] deg, got {euler}")
+        if np.any(half <= 0.0) or np.any(half > 360.0):
+            raise InvalidInputError(f"expected half_width_deg in (0, 360] deg, got {half}")
+        object.__setattr__(self, "euler_deg", euler)  # frozen: store the checked float64 copies
+        object.__setattr__(self, "half_width_deg", half)
 
     @property
     def window_deg(self) -> NDArray[np.float64]:
@@ -160,6 +204,9 @@ class LikelihoodGrid:
         (n_psi, n_theta, n_phi) float32 (a transposed view of the (theta, phi, psi) array the core fills).
     psi_deg, theta_deg, phi_deg
         The axes, degrees (psi and phi may run past 360 / 180 in a window that wraps).
+    step_deg
+        The grid step actually used, degrees (``360 / n`` with ``n`` even), also for a window holding a
+        single node.
     """
 
     z: NDArray[np.float32]
@@ -186,13 +233,22 @@ def _intake(
     if p.ndim == 2:
         p = p[None]
     ne, nb, m = p.shape
+    if np.any(np.abs(p) > MAX_PHASE_RAD):
+        k = tuple(int(i) for i in np.argwhere(np.abs(p) > MAX_PHASE_RAD)[0])
+        raise InvalidInputError(
+            f"expected phase_diffs at most {MAX_PHASE_RAD:g} rad in magnitude (remove whole cycles), got "
+            f"{p[k]:.6g} at (epoch, baseline, satellite) {k}"
+        )
     s = float_array("los", los, ndim=(2, 3), shape="(M, 3) or (epochs, M, 3)")
     if s.ndim == 2:
         s = np.broadcast_to(s, (ne, *s.shape))
     if s.shape != (ne, m, 3):
-        raise InvalidInputError(f"expected los of shape ({m}, 3) or ({ne}, {m}, 3), got {s.shape}")
-    b = float_array("baselines", baselines, ndim=2, shape="(m, 3)")
-    if b.shape[1] != 3 or b.shape[0] != nb:
+        raise InvalidInputError(
+            f"expected los of shape ({m}, 3) or ({ne}, {m}, 3) to match phase_diffs {p.shape} "
+            f"(epochs, m, M), got {s.shape}"
+        )
+    b = checked_baselines("baselines", baselines)
+    if b.shape[0] != nb:
         raise InvalidInputError(f"expected baselines of shape ({nb}, 3) to match phase_diffs, got {b.shape}")
     if n_baselines is not None and nb < n_baselines:
         raise InvalidInputError(f"expected at least {n_baselines} baselines (m, 3), got {b.shape}")
@@ -201,7 +257,23 @@ def _intake(
         w = np.broadcast_to(w, (ne, m))
     except ValueError as exc:
         raise InvalidInputError(f"expected wavelength as a scalar or of shape ({m},), got {w.shape}") from exc
+    if np.any((w < MIN_WAVELENGTH_M) | (w > MAX_WAVELENGTH_M)):
+        k = tuple(int(i) for i in np.argwhere((w < MIN_WAVELENGTH_M) | (w > MAX_WAVELENGTH_M))[0])
+        raise InvalidInputError(
+            f"expected wavelength in [{MIN_WAVELENGTH_M:g}, {MAX_WAVELENGTH_M:g}] m, got {w[k]:.6g} m at "
+            f"(epoch, satellite) {k}"
+        )
     return p, np.ascontiguousarray(s), np.ascontiguousarray(w), b
+
+
+def _rows(name: str, w: NDArray[np.float64], axes: tuple[str, ...]) -> None:
+    """Window rows ``[lo, hi]`` in order and within +-WINDOW_LIMIT_DEG."""
+    for (lo, hi), axis in zip(w, axes, strict=True):
+        if not (-WINDOW_LIMIT_DEG <= lo <= hi <= WINDOW_LIMIT_DEG):
+            raise InvalidInputError(
+                f"expected {name} rows [lo, hi] with -{WINDOW_LIMIT_DEG:g} <= lo <= hi <= "
+                f"{WINDOW_LIMIT_DEG:g} deg, got [{lo}, {hi}] for {axis}"
+            )
 
 
 def _window(window_deg: ArrayLike | AttitudePrior | None) -> list[list[float]] | None:
@@ -209,31 +281,30 @@ def _window(window_deg: ArrayLike | AttitudePrior | None) -> list[list[float]] |
         return None
     if isinstance(window_deg, AttitudePrior):
         window_deg = window_deg.window_deg
-    w = float_array("window_deg", window_deg, ndim=2, shape="(3, 2)")
-    if w.shape != (3, 2):
-        raise InvalidInputError(
-            f"expected window_deg of shape (3, 2) ([lo, hi] of psi, theta, phi), got {w.shape}"
-        )
+    w = shaped("window_deg", window_deg, "(3, 2) ([lo, hi] of psi, theta, phi)", (3, 2))
+    _rows("window_deg", w, ("psi", "theta", "phi"))
     return [[float(v) for v in row] for row in np.radians(w)]
 
 
 def _step(step_deg: float | None) -> float | None:
     if step_deg is None:
         return None
-    step = float(step_deg)
-    if not np.isfinite(step) or step <= 0:
-        raise InvalidInputError(f"expected a positive step_deg, got {step_deg}")
+    step = scalar("step_deg", step_deg, minimum=0.0, strict=True, unit="deg")
+    if step > MAX_STEP_DEG:
+        raise InvalidInputError(f"expected step_deg <= {MAX_STEP_DEG:g} deg, got {step} deg")
     return float(np.radians(step))
 
 
 def _refine(refine: RefineName) -> str:
-    if refine is True:
-        return "newton"
-    if refine is False:
-        return "none"
-    if refine in ("parabolic", "newton"):
-        return refine
-    raise InvalidInputError(f"expected refine True, False, 'parabolic' or 'newton', got {refine!r}")
+    if isinstance(refine, bool | np.bool_):
+        return "newton" if refine else "none"
+    if not isinstance(refine, str):
+        raise InvalidTypeError(
+            f"expected refine True, False, 'parabolic' or 'newton', got {type(refine).__name__}"
+        )
+    if refine not in ("parabolic", "newton"):
+        raise InvalidInputError(f"expected refine True, False, 'parabolic' or 'newton', got {refine!r}")
+    return refine
 
 
 def ml_attitude(
@@ -282,12 +353,22 @@ def ml_attitude(
     Raises
     ------
     InvalidInputError
-        Non-finite values, mismatched shapes, fewer than 3 satellites, zero baselines, non-positive
-        wavelengths, a step coarser than the main lobe, an empty window.
+        Non-finite values, mismatched shapes, fewer than 3 satellites, lines of sight that are not unit
+        vectors, baselines shorter than :data:`~gnssatt.geometry.MIN_BASELINE_M` or longer than
+        :data:`~gnssatt.geometry.MAX_BASELINE_M`, phase differences beyond :data:`MAX_PHASE_RAD`, wavelengths
+        outside [:data:`MIN_WAVELENGTH_M`, :data:`MAX_WAVELENGTH_M`], a step that is not in
+        (0, :data:`MAX_STEP_DEG`] or is coarser than the main lobe, a window with ``lo > hi``, beyond
+        +-:data:`WINDOW_LIMIT_DEG` or holding no node, an unknown ``statistic``, ``search`` or ``refine``
+        (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
+    WorkLimitError
+        A step that gives a grid of more than 2^31 cells (the core's documented limit): coarsen it or
+        narrow the window.
     DegenerateGeometryError
         Collinear baselines.
     """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=2)
+    statistic = choice("statistic", statistic, get_args(StatisticName))
+    search = choice("search", search, get_args(SearchName))
     angles, grid_angles, z, cells, step, _ = _core.ml_search(
         p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, _refine(refine), False
     )
@@ -312,17 +393,33 @@ def likelihood_grid(
     step_deg: float | None = None,
     window_deg: ArrayLike | AttitudePrior | None = None,
 ) -> LikelihoodGrid:
-    """The statistic on the whole grid (float32), for plots and inspection; inputs as :func:`ml_attitude`."""
+    """The statistic on the whole grid (float32), for plots and inspection; inputs as :func:`ml_attitude`.
+
+    Raises
+    ------
+    InvalidInputError, WorkLimitError, DegenerateGeometryError
+        As :func:`ml_attitude` (one baseline suffices here).
+    """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=1)
+    statistic = choice("statistic", statistic, get_args(StatisticName))
+    step = _step(step_deg)
     z, psi, theta, phi = _core.likelihood_grid(
-        p, s, w, b, statistic, _step(step_deg), _window(window_deg), b.shape[0] == 1
+        p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1
     )
+    spaced = [a for a in (psi, theta, phi) if len(a) > 1]
+    if spaced:
+        actual = float(spaced[0][1] - spaced[0][0])
+    else:  # a window holding a single node: the lattice step of the core, eq. (15) by default
+        requested = (
+            step if step is not None else float(np.min(w)) / (10.0 * float(np.max(np.linalg.norm(b, axis=1))))
+        )
+        actual = np.pi / np.ceil(np.pi / requested)
     return LikelihoodGrid(
         z=np.transpose(z, (2, 0, 1)),
         psi_deg=np.degrees(psi),
         theta_deg=np.degrees(theta),
         phi_deg=np.degrees(phi),
-        step_deg=float(np.degrees(psi[1] - psi[0])) if len(psi) > 1 else float("nan"),
+        step_deg=float(np.degrees(actual)),
     )
 
 
@@ -347,21 +444,27 @@ def ml_baseline(
     los, wavelength, statistic, step_deg, refine
         As in :func:`ml_attitude`.
     baseline_length_m
-        Distance between the antennas, metres.
+        Distance between the antennas, metres, in [:data:`~gnssatt.geometry.MIN_BASELINE_M`,
+        :data:`~gnssatt.geometry.MAX_BASELINE_M`].
     window_deg
         ``None`` or (2, 2) ``[lo, hi]`` of the eq. (5) heading ``psi`` (= -compass heading) and elevation.
+
+    Raises
+    ------
+    InvalidInputError, WorkLimitError, DegenerateGeometryError
+        As :func:`ml_attitude`.
     """
     p = float_array("phase_diffs", phase_diffs, ndim=(1, 2), shape="(M,) or (epochs, M)")
     p = p[:, None, :] if p.ndim == 2 else p[None, None, :]
-    length = float(baseline_length_m)
-    if not np.isfinite(length) or length <= 0:
-        raise InvalidInputError(f"expected a positive baseline_length_m, got {baseline_length_m}")
+    length = scalar(
+        "baseline_length_m", baseline_length_m, minimum=MIN_BASELINE_M, maximum=MAX_BASELINE_M, unit="m"
+    )
     p, s, w, b = _intake(p, los, [[length, 0.0, 0.0]], wavelength, n_baselines=1)
+    statistic = choice("statistic", statistic, get_args(StatisticName))
     win = None
     if window_deg is not None:
-        w2 = float_array("window_deg", window_deg, ndim=2, shape="(2, 2)")
-        if w2.shape != (2, 2):
-            raise InvalidInputError(f"expected window_deg of shape (2, 2), got {w2.shape}")
+        w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
+        _rows("window_deg", w2, ("psi", "elevation"))
         win = [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
     angles, _, z, cells, step, _ = _core.ml_search(
         p, s, w, b, statistic, _step(step_deg), win, "exhaustive", _refine(refine), True
@@ -398,26 +501,32 @@ def prior_from_velocity(
     acceleration_enu
         (3,) acceleration, East-North-Up, m/s^2; ``None`` gives zero roll.
     half_width_deg
-        Window half-widths in psi, theta, phi, degrees.
+        Window half-widths in psi, theta, phi, degrees, each in (0, 360].
     gravity
-        m/s^2.
+        m/s^2, > 0.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, a velocity with a horizontal speed below 1e-9 m/s, half-widths
+        out of range, ``gravity <= 0`` (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
+        real numbers).
     """
-    v = float_array("velocity_enu", velocity_enu, ndim=1, shape="(3,)")
-    if v.shape != (3,):
-        raise InvalidInputError(f"expected velocity_enu of shape (3,), got {v.shape}")
-    horizontal = float(np.hypot(v[0], v[1]))
+    v = shaped("velocity_enu", velocity_enu, "(3,)", (3,))
+    a = None if acceleration_enu is None else shaped("acceleration_enu", acceleration_enu, "(3,)", (3,))
+    hw = shaped("half_width_deg", half_width_deg, "(3,)", (3,))
+    g = scalar("gravity", gravity, minimum=0.0, strict=True, unit="m/s^2")
+    horizontal = float(np.hypot(v[0], v[1]))  # hypot: no overflow for speeds near 1e308
     if horizontal < 1e-9:
-        raise InvalidInputError("velocity_enu has no horizontal component: heading is undefined")
+        raise InvalidInputError(
+            f"expected velocity_enu with a horizontal speed of at least 1e-9 m/s (heading is undefined "
+            f"without one), got {horizontal:.3g} m/s"
+        )
     compass = np.arctan2(v[0], v[1])
     pitch = np.arctan2(v[2], horizontal)
     roll = 0.0
-    if acceleration_enu is not None:
-        a = float_array("acceleration_enu", acceleration_enu, ndim=1, shape="(3,)")
-        if a.shape != (3,):
-            raise InvalidInputError(f"expected acceleration_enu of shape (3,), got {a.shape}")
+    if a is not None:
         right = np.array([np.cos(compass), -np.sin(compass), 0.0])
-        roll = float(np.arctan2(a @ right, gravity))
-    hw = float_array("half_width_deg", half_width_deg, ndim=1, shape="(3,)")
-    if hw.shape != (3,) or np.any(hw <= 0):
-        raise InvalidInputError(f"expected three positive half_width_deg, got {hw}")
+        with np.errstate(over="ignore"):  # an infinite lateral acceleration still has a bank angle of 90 deg
+            roll = float(np.arctan2(a @ right, g))
     return AttitudePrior(euler_deg=np.degrees([-compass, pitch, roll]), half_width_deg=hw)

@@ -14,9 +14,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
+from gnssatt._arrays import flag, float_array
 from gnssatt.errors import InvalidInputError
-from gnssatt.vector_attitude import _vectors, _warn_small
+from gnssatt.vector_attitude import _check_finite, _vectors, _warn_small
 
 __all__ = ["YawResult", "yaw_from_magnetometer"]
 
@@ -79,7 +79,8 @@ def yaw_from_magnetometer(
     Raises
     ------
     InvalidInputError
-        Wrong shapes or non-finite values.
+        Wrong shapes or non-finite values (:class:`~gnssatt.errors.InvalidTypeError` for values that are
+        not real numbers, a ``degrees`` that is not a bool).
     DegenerateGeometryError
         ``cos(pitch)`` = 0, a vanishing horizontal field ``a_x0^2 + a_y0^2``, or a zero field; the message
         names the quantity and the epoch.
@@ -96,7 +97,7 @@ def yaw_from_magnetometer(
     r = float_array("roll", roll, ndim=(0, 1), shape="() or (epochs,)")
     # float_array makes scalars (1,): decide single-epoch output from the arguments themselves.
     single = bb.ndim == 1 and bo.ndim == 1 and np.ndim(pitch) == 0 and np.ndim(roll) == 0
-    if degrees:
+    if flag("degrees", degrees):
         p, r = np.radians(p), np.radians(r)
     try:
         epochs = np.broadcast_shapes(bb.shape[:-1], bo.shape[:-1], p.shape, r.shape)
@@ -106,9 +107,14 @@ def yaw_from_magnetometer(
             f"{bb.shape}, {bo.shape}, {p.shape}, {r.shape}"
         ) from None
     n = epochs[0] if epochs else 1
-    vec = [np.ascontiguousarray(np.broadcast_to(v, (n, 3))) for v in (bb, bo)]
+    vec = [np.broadcast_to(v, (n, 3)) for v in (bb, bo)]
+    # One scale per epoch for both fields (eq. (3) adds a_x to a_z0 sin theta): the norms the core forms
+    # then neither overflow nor underflow, and the yaw is unchanged.
+    scale = np.maximum(np.max(np.abs(vec[0]), axis=1), np.max(np.abs(vec[1]), axis=1))[:, None]
+    vec = [np.ascontiguousarray(v / np.where(scale > 0.0, scale, 1.0)) for v in vec]
     ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
     yaw, cos_pitch, horizontal = _core.yaw_batch(*vec, *ang)
+    _check_finite("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
     _warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
     _warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
     rotation = Rotation.from_euler("ZYX", np.column_stack([yaw, ang[0], ang[1]]))

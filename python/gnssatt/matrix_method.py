@@ -10,11 +10,14 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
+from gnssatt._arrays import choice, shaped
+from gnssatt.errors import ConvergenceError, InvalidInputError
+from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
 
 Method = Literal["svd", "ml", "closed_form", "paper"]
+METHODS = ("svd", "ml", "closed_form", "paper")
 
 
 @dataclass(frozen=True)
@@ -53,13 +56,16 @@ def matrix_attitude(
     Parameters
     ----------
     baselines
-        (m, 3) antenna positions relative to the reference antenna, body frame, metres; m >= 2.
+        (m, 3) antenna positions relative to the reference antenna, body frame, metres; m >= 2, each
+        between :data:`~gnssatt.geometry.MIN_BASELINE_M` (1e-6) and :data:`~gnssatt.geometry.MAX_BASELINE_M`
+        (1.3e7) m long.
     los
         (n, 3) unit lines of sight from the vehicle to the satellites, reference frame; n >= 2.
     range_diffs
         (m, n) range differences in metres: ``b_i . (A s_j)`` plus noise, with ``A`` the
         reference -> body rotation, i.e. how much closer antenna i is to satellite j than the reference
-        antenna.
+        antenna; at most :data:`~gnssatt.geometry.MAX_BASELINE_M` in magnitude (a range difference never
+        exceeds the baseline).
     method
         ``"svd"`` (default): the proper rotation solving the least-squares problem (5) by SVD; handles
         coplanar arrays (three antennas) given 3 non-coplanar lines of sight, and equals eq. (16) whenever
@@ -74,15 +80,33 @@ def matrix_attitude(
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-finite values, lines of sight that are not unit vectors, zero baselines.
+        Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines or range
+        differences outside the limits above, an unknown ``method``
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers or text).
     DegenerateGeometryError
         The geometry does not fix the attitude, or the chosen formula's matrix is singular; the message
         names the matrix and its condition number.
     ConvergenceError
-        ``"ml"`` did not converge (not seen in testing; it would point at a defect).
+        ``"ml"`` did not converge, or the result is not finite (not seen in testing; it would point at a
+        defect).
     """
-    b = float_array("baselines", baselines, ndim=2, shape="(m, 3)")
-    s = float_array("los", los, ndim=2, shape="(n, 3)")
-    r = float_array("range_diffs", range_diffs, ndim=2, shape="(m, n)")
+    b = checked_baselines("baselines", baselines)
+    if len(b) < 2:
+        raise InvalidInputError(f"expected baselines of shape (m, 3) with m >= 2, got {b.shape}")
+    s = shaped("los", los, "(n, 3)", (None, 3))
+    if len(s) < 2:
+        raise InvalidInputError(f"expected los of shape (n, 3) with n >= 2, got {s.shape}")
+    r = shaped("range_diffs", range_diffs, f"(m, n) = ({len(b)}, {len(s)})", (len(b), len(s)))
+    method = choice("method", method, METHODS)
+    if np.any(np.abs(r) > MAX_BASELINE_M):
+        k = tuple(int(i) for i in np.argwhere(np.abs(r) > MAX_BASELINE_M)[0])
+        raise InvalidInputError(
+            f"expected range_diffs at most {MAX_BASELINE_M:g} m in magnitude, got {r[k]:.6g} m at index {k}"
+        )
     dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
+    if not (np.all(np.isfinite(dcm)) and np.all(np.isfinite(raw)) and np.isfinite(rms)):
+        raise ConvergenceError(
+            f"matrix_attitude ({method!r}) gave a non-finite result from finite input: rotation "
+            f"{dcm.tolist()}, residual RMS {rms} m"
+        )
     return MatrixAttitudeResult(Rotation.from_matrix(dcm), rms, raw, method)

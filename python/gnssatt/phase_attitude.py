@@ -12,12 +12,17 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt._arrays import instance, integer_array, scalar, shaped, unit_rows
+from gnssatt.errors import ConvergenceError, DegenerateGeometryError, InvalidInputError
+from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 from gnssatt.matrix_method import matrix_attitude
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
 
-__all__ = ["phase_attitude_fixes"]
+__all__ = ["MAX_SIGMA_CYCLES", "phase_attitude_fixes"]
+
+#: Largest accepted phase noise, cycles: beyond a few cycles no integer is fixed anyway, and the covariance,
+#: which grows with its square, stays far from overflow.
+MAX_SIGMA_CYCLES = 1e3
 
 
 def phase_attitude_fixes(
@@ -42,8 +47,8 @@ def phase_attitude_fixes(
         :func:`gnssatt.lambda_ils`); in simulation ``phases.ambiguity`` (the truth), or zeros with
         :meth:`~gnssatt.sim.attitude_scenario.PhaseObservations.without_ambiguities`.
     sigma_cycles
-        Standard deviation of one first difference, cycles (> 0); first differences are taken as
-        independent, as the simulator and the filter take them.
+        Standard deviation of one first difference, cycles, in (0, :data:`MAX_SIGMA_CYCLES`]; first
+        differences are taken as independent, as the simulator and the filter take them.
 
     Returns
     -------
@@ -70,48 +75,77 @@ def phase_attitude_fixes(
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-integer ambiguities, ``sigma_cycles <= 0``.
+        Wrong shapes or non-finite values (in the arguments or the fields of ``phases``), epoch indices
+        outside ``[0, len(phases.epoch_t))``, lines of sight that are not unit vectors, non-positive
+        wavelengths, non-integer ambiguities, range differences ``(phase - N) lambda`` beyond
+        :data:`~gnssatt.geometry.MAX_BASELINE_M`, baselines outside the limits of
+        :func:`~gnssatt.geometry.checked_baselines`, ``sigma_cycles`` outside (0, :data:`MAX_SIGMA_CYCLES`];
+        :class:`~gnssatt.errors.InvalidTypeError` for a ``phases`` that is not
+        :class:`~gnssatt.sim.attitude_scenario.PhaseObservations` or values that are not real numbers.
+    ConvergenceError
+        A covariance that is not finite (an information matrix too small to invert).
     """
-    if not isinstance(phases, PhaseObservations):
-        raise TypeError(f"expected phases as PhaseObservations, got {type(phases).__name__}")
-    b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    obs = instance("phases", phases, PhaseObservations, "PhaseObservations")
+    b = checked_baselines("baselines_m", baselines_m)
     m = len(b)
-    if b.shape[1] != 3 or m == 0:
-        raise InvalidInputError(f"expected baselines_m of shape (m, 3), got {b.shape}")
-    n_rows = len(phases.epoch)
-    if phases.phase.shape != (n_rows, m):
-        raise InvalidInputError(
-            f"expected phases.phase of shape (n_rows, m) = ({n_rows}, {m}) for {m} baselines, "
-            f"got {phases.phase.shape}"
-        )
-    amb = float_array("ambiguities", ambiguities, ndim=2, shape=f"(n_rows, m) = ({n_rows}, {m})")
-    if amb.shape != (n_rows, m):
-        raise InvalidInputError(f"expected ambiguities of shape ({n_rows}, {m}), got {amb.shape}")
-    if np.any(amb != np.round(amb)):
-        bad = tuple(int(i) for i in np.argwhere(amb != np.round(amb))[0])
-        raise InvalidInputError(f"expected integer ambiguities, got {amb[bad]} at index {bad}")
-    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
+    if m == 0:
+        raise InvalidInputError(f"expected baselines_m of shape (m, 3) with m >= 1, got {b.shape}")
+    epoch_t = shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,))
+    n_rows = len(np.atleast_1d(obs.epoch))
+    rows_shape = f"(n_rows,) = ({n_rows},)"
+    epoch = integer_array("phases.epoch", obs.epoch, rows_shape, (n_rows,))
+    if np.any((epoch < 0) | (epoch >= len(epoch_t))):
+        k = int(np.flatnonzero((epoch < 0) | (epoch >= len(epoch_t)))[0])
+        raise InvalidInputError(f"expected phases.epoch in [0, {len(epoch_t)}), got {epoch[k]} at row {k}")
+    los_all = unit_rows("phases.los", obs.los, f"(n_rows, 3) = ({n_rows}, 3)", (n_rows, 3))
+    wavelength = shaped("phases.wavelength", obs.wavelength, rows_shape, (n_rows,))
+    if np.any(wavelength <= 0.0):
+        k = int(np.flatnonzero(wavelength <= 0.0)[0])
+        raise InvalidInputError(f"expected phases.wavelength > 0 m, got {wavelength[k]} at row {k}")
+    phase = shaped(
+        "phases.phase",
+        obs.phase,
+        f"(n_rows, m) = ({n_rows}, {m}) for the {m} rows of baselines_m",
+        (n_rows, m),
+    )
+    amb = integer_array("ambiguities", ambiguities, f"(n_rows, m) = ({n_rows}, {m})", (n_rows, m))
+    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True, unit="cycles")
+    if sigma > MAX_SIGMA_CYCLES:
+        raise InvalidInputError(f"expected sigma_cycles <= {MAX_SIGMA_CYCLES:g} cycles, got {sigma} cycles")
 
-    range_diffs = -(phases.phase - amb) * phases.wavelength[:, None]  # (n_rows, m), m
-    order = np.argsort(phases.epoch, kind="stable")
-    starts = np.searchsorted(phases.epoch[order], np.arange(len(phases.epoch_t) + 1))
+    with np.errstate(over="ignore"):
+        range_diffs = -(phase - amb) * wavelength[:, None]  # (n_rows, m), m
+    too_far = ~(np.abs(range_diffs) <= MAX_BASELINE_M)
+    if np.any(too_far):
+        k = tuple(int(i) for i in np.argwhere(too_far)[0])
+        raise InvalidInputError(
+            f"expected (phases.phase - ambiguities) * phases.wavelength at most {MAX_BASELINE_M:g} m in "
+            f"magnitude (a range difference never exceeds the baseline), got {range_diffs[k]:.6g} m at {k}"
+        )
+    order = np.argsort(epoch, kind="stable")
+    starts = np.searchsorted(epoch[order], np.arange(len(epoch_t) + 1))
     t, quats, covs = [], [], []
-    for e in range(len(phases.epoch_t)):
+    for e in range(len(epoch_t)):
         rows = order[starts[e] : starts[e + 1]]
         if len(rows) < 2:
             continue
-        los = phases.los[rows]
+        los = los_all[rows]
         try:
             fix = matrix_attitude(b, los, range_diffs[rows].T, method="ml")
         except DegenerateGeometryError:
             continue
         s_body = fix.rotation.inv().apply(los)
         h = np.cross(b[:, None, :], s_body[None, :, :]).reshape(-1, 3)  # rows (i, k), i-major
-        w = np.tile((sigma * phases.wavelength[rows]) ** 2, m)
+        w = np.tile((sigma * wavelength[rows]) ** 2, m)
         info_inv = np.linalg.inv(h.T @ h)
-        t.append(phases.epoch_t[e])
+        t.append(epoch_t[e])
         quats.append(fix.rotation.as_quat())
         cov = info_inv @ (h.T * w) @ h @ info_inv
+        if not np.all(np.isfinite(cov)):
+            raise ConvergenceError(
+                f"phase_attitude_fixes: the covariance at epoch {e} (t = {epoch_t[e]} s) is not finite; the "
+                f"information H^T H has eigenvalues {np.linalg.eigvalsh(h.T @ h).tolist()} m^2/rad^2"
+            )
         covs.append(0.5 * (cov + cov.T))
     return AttitudeFixes(
         np.array(t, dtype=np.float64),

@@ -11,19 +11,20 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
-from gnssatt.errors import InvalidInputError, NearDegenerateWarning
+from gnssatt._arrays import choice, float_array, shaped
+from gnssatt.errors import ConvergenceError, InvalidInputError, NearDegenerateWarning
 
 __all__ = ["TriadResult", "WahbaResult", "triad", "wahba"]
 
 Method = Literal["svd", "davenport", "quest"]
+METHODS = ("svd", "davenport", "quest")
 
 #: TRIAD warns when the sine of the angle between its two vectors (either frame) is below this.
 TRIAD_WARN_SIN = 1e-2
@@ -45,10 +46,21 @@ def _warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
 
 
 def _vectors(name: str, value: ArrayLike) -> NDArray[np.float64]:
-    arr = float_array(name, value, ndim=(1, 2), shape="(3,) or (epochs, 3)")
-    if arr.shape[-1] != 3:
-        raise InvalidInputError(f"expected {name} of shape (3,) or (epochs, 3), got {arr.shape}")
-    return arr
+    return shaped(name, value, "(3,) or (epochs, 3)", (3,), (None, 3))
+
+
+def rescaled(v: NDArray[np.float64], *, axes: int | tuple[int, ...] = -1) -> NDArray[np.float64]:
+    """``v`` divided by its largest magnitude over ``axes`` (kept where that is zero), so that the norms the
+    core forms neither overflow (vectors near 1e160) nor underflow (near 1e-160): directions, and ratios of
+    weights, are what the estimators use."""
+    scale = np.max(np.abs(v), axis=axes, keepdims=True)
+    return v / np.where(scale > 0.0, scale, 1.0)
+
+
+def _check_finite(what: str, **outputs: Any) -> None:
+    for name, value in outputs.items():
+        if not np.all(np.isfinite(value)):
+            raise ConvergenceError(f"{what} gave a non-finite {name} from finite input: {value}")
 
 
 @dataclass(frozen=True)
@@ -97,7 +109,7 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
     NearDegenerateWarning
         The sine of the angle between the two vectors is below :data:`TRIAD_WARN_SIN`.
     """
-    arrs = [_vectors(n, v) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
+    arrs = [rescaled(_vectors(n, v)) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
     single = all(a.ndim == 1 for a in arrs)
     try:
         arrs = [np.ascontiguousarray(a) for a in np.broadcast_arrays(*(np.atleast_2d(a) for a in arrs))]
@@ -106,6 +118,7 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
             f"expected b1, b2, r1, r2 of one shape (epochs, 3), got {[a.shape for a in arrs]}"
         ) from None
     quat, sb, sr = _core.triad_batch(*arrs)
+    _check_finite("triad", quaternion=quat, sine=np.concatenate([sb, sr]))
     _warn_small(np.minimum(sb, sr), TRIAD_WARN_SIN, "the sine of the angle between the TRIAD vectors")
     if single:
         return TriadResult(Rotation.from_quat(quat[0]), float(sb[0]), float(sr[0]))
@@ -153,8 +166,10 @@ def wahba(
     ref
         The same directions in the reference frame, same shape.
     weights
-        (n,) or (epochs, n) non-negative weights; ``1 / sigma_i^2`` (rad^-2) makes ``covariance``
-        the Cramer-Rao bound. Default: all ones.
+        (n,) or (epochs, n) non-negative weights, not all zero; ``1 / sigma_i^2`` (rad^-2) makes
+        ``covariance`` the Cramer-Rao bound. Default: all ones. Only their ratios enter the rotation (the
+        core sees them divided by the largest of each epoch, so any finite scale works); ``covariance``
+        and ``loss`` scale with them.
     method
         ``"svd"`` (Markley 1988, determinant fixed so the result is never a reflection),
         ``"davenport"`` (q-method, 4x4 symmetric eigenproblem) or ``"quest"`` (Shuster & Oh 1981, with
@@ -169,18 +184,22 @@ def wahba(
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-finite values, negative weights, unknown method.
+        Wrong shapes, non-finite values, negative weights, weights all zero, an unknown ``method``
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers or text).
     DegenerateGeometryError
         A zero vector, or reference vectors all parallel; the message names the epoch.
+    ConvergenceError
+        Weights so small that the covariance overflows (below about 1e-300), or another non-finite result.
 
     Warns
     -----
     NearDegenerateWarning
         ``information_ratio`` below :data:`WAHBA_WARN_RATIO`.
     """
-    b = float_array("body", body, ndim=(2, 3), shape="(n, 3) or (epochs, n, 3)")
-    r = float_array("ref", ref, ndim=(2, 3), shape="(n, 3) or (epochs, n, 3)")
-    if b.shape != r.shape or b.shape[-1] != 3:
+    b = rescaled(shaped("body", body, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
+    r = rescaled(shaped("ref", ref, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
+    method = choice("method", method, METHODS)
+    if b.shape != r.shape:
         raise InvalidInputError(
             f"expected body and ref of one shape (..., n, 3), got {b.shape} and {r.shape}"
         )
@@ -199,9 +218,22 @@ def wahba(
             raise InvalidInputError(
                 f"expected weights of shape ({n},) or ({epochs}, {n}), got {w.shape}"
             ) from None
+        if np.any(w < 0.0):
+            k = tuple(int(i) for i in np.argwhere(w < 0.0)[0])
+            raise InvalidInputError(f"expected non-negative weights, got {w[k]} at (epoch, pair) {k}")
+        zero = np.all(w == 0.0, axis=1)
+        if np.any(zero):
+            raise InvalidInputError(
+                f"expected weights not all zero, got all zero at epoch {int(np.argmax(zero))}"
+            )
+    # the core sees weights relative to the largest of each epoch; covariance and loss scale back
+    scale = np.max(w, axis=1)
     quat, cov, ratio, loss = _core.wahba_batch(
-        b3.reshape(-1, 3), np.ascontiguousarray(r.reshape(-1, 3)), w.reshape(-1), n, method
+        b3.reshape(-1, 3), np.ascontiguousarray(r.reshape(-1, 3)), (w / scale[:, None]).reshape(-1), n, method
     )
+    with np.errstate(over="ignore"):
+        cov, loss = cov / scale[:, None, None], loss * scale
+    _check_finite("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)
     _warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")
     if single:
         return WahbaResult(Rotation.from_quat(quat[0]), cov[0], float(ratio[0]), float(loss[0]), method)

@@ -23,37 +23,29 @@ Lines of sight and axes are in the caller's frame (the orbital frame in ``gnssat
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize
 
-from gnssatt._arrays import float_array, scalar
+from gnssatt._arrays import choice, instance, scalar, shaped, unit_rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
 __all__ = ["visibility_axis", "visibility_sets"]
 
-# Lines of sight must be unit vectors to this tolerance.
-_UNIT_TOL = 1e-6
+Method = Literal["paper", "margin", "centroid"]
+
 # The 3x3 normal matrix of eq. (5) is refused above this condition number.
 _MAX_CONDITION = 1e10
 
 
 def _los(name: str, value: ArrayLike) -> NDArray[np.float64]:
-    g = float_array(name, value, ndim=2, shape="(n, 3)")
-    if g.shape[1] != 3:
-        raise InvalidInputError(f"expected {name} of shape (n, 3), got {g.shape}")
+    g = unit_rows(name, value, "(n, 3)", (None, 3))
     if g.shape[0] == 0:
         raise InvalidInputError(
             f"expected at least one satellite in {name}: the axis is undetermined when every satellite is "
             "visible or none is"
-        )
-    norm = np.linalg.norm(g, axis=1)
-    bad = np.flatnonzero(np.abs(norm - 1.0) > _UNIT_TOL)
-    if bad.size:
-        raise InvalidInputError(
-            f"expected unit lines of sight in {name}, row {bad[0]} has norm {norm[bad[0]]:.6g}"
         )
     return g
 
@@ -138,7 +130,7 @@ def visibility_axis(
     visible_los: ArrayLike,
     invisible_los: ArrayLike,
     *,
-    method: Literal["paper", "margin", "centroid"] = "paper",
+    method: Method = "paper",
 ) -> NDArray[np.float64]:
     """Unit antenna-axis direction from visible and invisible satellites at one epoch.
 
@@ -165,8 +157,7 @@ def visibility_axis(
     DegenerateGeometryError
         Coplanar lines of sight (eq. (5) singular).
     """
-    if method not in ("paper", "margin", "centroid"):
-        raise InvalidInputError(f"expected method 'paper', 'margin' or 'centroid', got {method!r}")
+    method = choice("method", method, get_args(Method))
     vis = _los("visible_los", visible_los)
     inv = _los("invisible_los", invisible_los)
     a = _paper_axis(vis, inv)
@@ -208,20 +199,25 @@ def visibility_sets(
     Raises
     ------
     InvalidInputError
-        Non-finite or mismatched times and axes, a zero axis, ``half_angle_deg`` outside (0, 180].
+        Non-finite or mismatched times and axes, a zero axis, ``half_angle_deg`` outside (0, 180]
+        (:class:`~gnssatt.errors.InvalidTypeError` for a ``receiver`` or ``constellation`` of another type,
+        values that are not real numbers).
     """
-    from gnssatt.sim import earth_occlusion_mask, line_of_sight
+    from gnssatt.sim import Constellation, OrbitalReceiver, earth_occlusion_mask, line_of_sight
 
-    tt = float_array("t", t, ndim=1, shape="(n_t,)")
-    axes = float_array("axes_orbital", axes_orbital, ndim=2, shape="(n_t, 3)")
-    if axes.shape != (tt.size, 3):
-        raise InvalidInputError(f"expected axes_orbital of shape ({tt.size}, 3), got {axes.shape}")
+    instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim.OrbitalReceiver")
+    instance("constellation", constellation, Constellation, "a gnssatt.sim.Constellation")
+    tt = shaped("t", t, "(n_t,)", (None,))
+    axes = shaped("axes_orbital", axes_orbital, f"({tt.size}, 3) (one axis per time in t)", (tt.size, 3))
+    # largest component first: no overflow in the norm of axes near 1e308
+    scale = np.max(np.abs(axes), axis=1, keepdims=True, initial=0.0)
+    if np.any(scale[:, 0] == 0.0):
+        raise InvalidInputError(f"expected non-zero axes_orbital, row {int(np.argmin(scale[:, 0]))} is zero")
+    axes = axes / scale
     norm = np.linalg.norm(axes, axis=1)
-    if np.any(norm < 1e-9):
-        raise InvalidInputError(f"expected non-zero axes_orbital, row {int(np.argmin(norm))} is zero")
-    half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True)
+    half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True, unit="deg")
     if half > 180.0:
-        raise InvalidInputError(f"expected half_angle_deg in (0, 180], got {half}")
+        raise InvalidInputError(f"expected half_angle_deg in (0, 180] deg, got {half} deg")
     geo = line_of_sight(receiver, constellation, tt)
     clear = earth_occlusion_mask(geo.receiver_eci_m, geo.satellites_eci_m)
     seen = np.einsum("tsk,tk->ts", geo.los, axes / norm[:, None]) >= np.cos(np.radians(half))

@@ -1,0 +1,841 @@
+"""Bad input to every public function of the estimators (issue 15, part C): each argument, each category of
+bad value, gets an :class:`~gnssatt.errors.InvalidInputError` (a :class:`~gnssatt.errors.InvalidTypeError`
+for values of the wrong kind) whose message names the parameter, before any work starts; finite input never
+gives a NaN.
+
+The table ``FUNCTIONS`` lists, per public function, a valid call (checked to run) and the arguments with
+their kind; ``bad_values`` derives the categories from the valid value (wrong shape, complex, boolean, object,
+text, ``None``, NaN, infinity, out of range, absurd sizes), so that a function or argument added to the table
+is covered in every category.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from functools import cache
+from typing import Any
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from gnssatt import (
+    geometry,
+    gyro_gnss,
+    likelihood,
+    magnetometer,
+    matrix_method,
+    phase_attitude,
+    rotation,
+    sim,
+    vector_attitude,
+    visibility,
+)
+from gnssatt.errors import (
+    GnssattError,
+    InternalError,
+    InvalidInputError,
+    InvalidTypeError,
+    NearDegenerateWarning,
+    WorkLimitError,
+)
+from gnssatt.sim import attitude_scenario as sc
+
+TRUTH = Rotation.from_euler("ZYX", [30.0, 10.0, -5.0], degrees=True)
+BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.2, 1.0]])
+LOS = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, 0.6, 0.8], [-0.48, -0.36, 0.8], [0.36, -0.48, 0.8]])
+RANGE_DIFFS = BASELINES @ TRUTH.inv().apply(LOS).T  # (m, n): b_i . (A s_j)
+L1 = 0.19029367279836487
+
+
+@dataclass(frozen=True)
+class Arg:
+    """One argument: ``kind`` is ``"array"``, ``"scalar"``, ``"integer"``, ``"choice"`` or ``"object"``;
+    ``shapes`` are wrong-shaped replacements, ``out_of_range`` finite values of the right kind that must be
+    refused; ``optional`` arguments accept ``None``."""
+
+    name: str
+    kind: str
+    shapes: tuple[Any, ...] = ()
+    out_of_range: tuple[Any, ...] = ()
+    optional: bool = False
+    limited: bool = True  # an integer that sizes the work, with a documented limit
+    label: str | None = None  # the name the message uses, where it differs (a field: "phases.los")
+
+
+@dataclass(frozen=True)
+class Function:
+    name: str
+    call: Callable[..., Any]
+    valid: Callable[[], dict[str, Any]]
+    args: tuple[Arg, ...]
+    extra: tuple[tuple[str, dict[str, Any]], ...] = field(default=())  # (label, overrides) also refused
+
+
+def _replace(value: Any, bad: float) -> Any:
+    a = np.array(value, dtype=np.float64)
+    a.flat[0] = bad
+    return a
+
+
+def bad_values(arg: Arg, value: Any) -> Iterator[tuple[str, Any, type[Exception]]]:
+    """(category, replacement, expected class) for one argument whose valid value is ``value``."""
+    if arg.kind in ("array", "scalar"):
+        yield "complex", np.asarray(value, dtype=np.complex128) + 1j, InvalidTypeError
+        yield "bool", np.ones(np.shape(value), dtype=bool), InvalidTypeError
+        yield "object", np.array(value, dtype=object) if np.ndim(value) else object(), InvalidTypeError
+        yield "text", "1.0", InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+        yield "nan", _replace(value, np.nan) if arg.kind == "array" else float("nan"), InvalidInputError
+        yield "inf", _replace(value, np.inf) if arg.kind == "array" else float("inf"), InvalidInputError
+        yield "-inf", _replace(value, -np.inf) if arg.kind == "array" else float("-inf"), InvalidInputError
+    elif arg.kind == "integer":
+        yield "float", 2.0, InvalidTypeError
+        yield "text", "2", InvalidTypeError
+        yield "bool", True, InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+        if arg.limited:
+            yield "absurd", 10**18, WorkLimitError
+    elif arg.kind == "choice":
+        yield "unknown", "no-such-option", InvalidInputError
+        yield "number", 1.0, InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+    elif arg.kind == "flag":
+        yield "number", 1.0, InvalidTypeError
+        yield "text", "yes", InvalidTypeError
+        yield "none", None, InvalidTypeError
+    elif arg.kind == "object":
+        yield "number", 1.0, InvalidTypeError
+        yield "array", np.zeros(3), InvalidTypeError
+        if not arg.optional:
+            yield "none", None, InvalidTypeError
+    for k, v in enumerate(arg.shapes):
+        yield f"shape{k}", v, InvalidInputError
+    for k, v in enumerate(arg.out_of_range):
+        yield f"range{k}", v, InvalidInputError
+
+
+# --- valid calls -------------------------------------------------------------------------------------------
+
+
+def _phases() -> dict[str, Any]:
+    """Phase differences (m, M) of the seed-001 model for BASELINES[:2] at TRUTH-like angles, radians."""
+    r = likelihood.rotation_from_euler([20.0, 5.0, -3.0])
+    p = -2 * np.pi / L1 * (r.apply(BASELINES[:2]) @ LOS.T)
+    return {"phase_diffs": np.mod(p, 2 * np.pi), "los": LOS, "baselines": BASELINES[:2], "wavelength": L1}
+
+
+@cache
+def _observations() -> sc.PhaseObservations:
+    """Error-free first differences, cycles, at 3 epochs of 5 satellites; attitude TRUTH (body -> ECI)."""
+    n_e, m = 3, len(BASELINES)
+    epoch = np.repeat(np.arange(n_e), len(LOS))
+    los = np.tile(LOS, (n_e, 1))
+    lam = np.full(len(epoch), L1)
+    phase = -(TRUTH.inv().apply(los) @ BASELINES.T) / lam[:, None]
+    track = np.tile(np.arange(len(LOS)), n_e)
+    amb = np.zeros((len(epoch), m), np.int64)
+    return sc.PhaseObservations(np.arange(n_e) * 10.0, epoch, track, los, lam, phase, amb, track)
+
+
+def _filter() -> dict[str, Any]:
+    return {
+        "gyro_t": np.arange(0.0, 21.0),
+        "gyro_rates": np.zeros((21, 3)),
+        "initial_rotation": TRUTH,
+        "initial_covariance": np.diag([1e-4] * 3 + [1e-10] * 3),
+        "arw": 1e-5,
+        "baselines_m": BASELINES,
+        "phases": _observations().without_ambiguities(),
+        "known_ambiguities": True,
+    }
+
+
+@cache
+def _receiver() -> tuple[Any, Any]:
+    return sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=51.6), sim.gps_nominal()
+
+
+ARRAY_SHAPE_3 = (np.zeros(2), np.zeros((1, 3)), np.zeros(4))
+# zero, sub-micrometre (a Rust panic in matrix_attitude before) and longer than the Earth
+BAD_BASELINES = (BASELINES * 0, BASELINES * 1e-60, BASELINES * 1e8)
+BAD_WAVELENGTHS = (0.0, -L1, 1e-300, 1e300)
+BAD_STEPS = (0.0, -1.0, 1e-9, 200.0)
+VEC3_OR_N3 = (np.zeros(2), np.zeros((2, 2)), np.zeros((1, 1, 3)))
+MATRIX_33 = (np.eye(2), np.zeros(9), np.zeros((3, 3, 3)))
+WINDOW = np.array([[0.0, 40.0], [-10.0, 20.0], [-20.0, 20.0]])
+
+FUNCTIONS: tuple[Function, ...] = (
+    Function(
+        "rotation.euler_to_dcm",
+        rotation.euler_to_dcm,
+        lambda: {"seq": "ZYX", "angles": [0.1, 0.2, 0.3]},
+        (Arg("seq", "choice"), Arg("angles", "array", shapes=ARRAY_SHAPE_3), Arg("degrees", "flag")),
+    ),
+    Function(
+        "rotation.dcm_to_euler",
+        rotation.dcm_to_euler,
+        lambda: {"seq": "ZYX", "dcm": TRUTH.as_matrix()},
+        (Arg("seq", "choice"), Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),))),
+    ),
+    Function(
+        "rotation.quat_to_dcm",
+        rotation.quat_to_dcm,
+        lambda: {"quat": TRUTH.as_quat()},
+        (Arg("quat", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),),
+    ),
+    Function(
+        "rotation.dcm_to_quat",
+        rotation.dcm_to_quat,
+        lambda: {"dcm": TRUTH.as_matrix()},
+        (Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),)),),
+    ),
+    Function(
+        "rotation.nearest_rotation",
+        rotation.nearest_rotation,
+        lambda: {"matrix": TRUTH.as_matrix() + 0.01},
+        (Arg("matrix", "array", shapes=MATRIX_33),),
+    ),
+    Function(
+        "matrix_method.matrix_attitude",
+        matrix_method.matrix_attitude,
+        lambda: {"baselines": BASELINES, "los": LOS, "range_diffs": RANGE_DIFFS},
+        (
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
+            Arg(
+                "range_diffs",
+                "array",
+                shapes=(RANGE_DIFFS[:, :2], RANGE_DIFFS[0], RANGE_DIFFS.T),
+                out_of_range=(RANGE_DIFFS * 1e300,),
+            ),
+            Arg("method", "choice"),
+        ),
+    ),
+    Function(
+        "vector_attitude.triad",
+        vector_attitude.triad,
+        lambda: {
+            "b1": [1.0, 0.0, 0.0],
+            "b2": [0.0, 1.0, 0.0],
+            "r1": TRUTH.apply([1.0, 0.0, 0.0]),
+            "r2": TRUTH.apply([0.0, 1.0, 0.0]),
+        },
+        tuple(Arg(n, "array", shapes=VEC3_OR_N3) for n in ("b1", "b2", "r1", "r2")),
+    ),
+    Function(
+        "vector_attitude.wahba",
+        vector_attitude.wahba,
+        lambda: {"body": TRUTH.inv().apply(LOS), "ref": LOS, "weights": np.ones(len(LOS))},
+        (
+            Arg("body", "array", shapes=(LOS[:, :2], LOS[0], LOS[:1])),
+            Arg("ref", "array", shapes=(LOS[:, :2], LOS[0], LOS[:3])),
+            Arg(
+                "weights",
+                "array",
+                shapes=(np.ones(3), np.ones((2, 2, 5))),
+                out_of_range=(-np.ones(5), np.zeros(5)),
+                optional=True,
+            ),
+            Arg("method", "choice"),
+        ),
+    ),
+    Function(
+        "magnetometer.yaw_from_magnetometer",
+        magnetometer.yaw_from_magnetometer,
+        lambda: {
+            "b_body": [2e-5, 1e-5, 3e-5],
+            "b_orbital": [1e-5, 2e-5, -3e-5],
+            "pitch": 0.1,
+            "roll": -0.2,
+        },
+        (
+            Arg("b_body", "array", shapes=VEC3_OR_N3),
+            Arg("b_orbital", "array", shapes=VEC3_OR_N3),
+            Arg("pitch", "array", shapes=(np.zeros((2, 2)),)),
+            Arg("roll", "array", shapes=(np.zeros((2, 2)),)),
+            Arg("degrees", "flag"),
+        ),
+    ),
+    Function(
+        "geometry.range_difference_fisher",
+        geometry.range_difference_fisher,
+        lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
+        (
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
+            Arg("rotation", "object"),
+        ),
+    ),
+    Function(
+        "geometry.attitude_dop",
+        geometry.attitude_dop,
+        lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
+        (
+            Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
+            Arg("rotation", "object"),
+        ),
+    ),
+    Function(
+        "likelihood.rotation_from_euler",
+        likelihood.rotation_from_euler,
+        lambda: {"euler_deg": [10.0, 5.0, -3.0]},
+        (Arg("euler_deg", "array", shapes=(np.zeros(2), np.zeros((3, 2)), np.zeros((1, 1, 3)))),),
+    ),
+    Function(
+        "likelihood.euler_from_rotation",
+        likelihood.euler_from_rotation,
+        lambda: {"rotation": TRUTH},
+        (Arg("rotation", "object"),),
+    ),
+    Function(
+        "likelihood.AttitudePrior",
+        likelihood.AttitudePrior,
+        lambda: {"euler_deg": np.array([10.0, 5.0, -3.0]), "half_width_deg": np.array([5.0, 5.0, 5.0])},
+        (
+            Arg("euler_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=([400.0, 0.0, 0.0],)),
+            Arg(
+                "half_width_deg",
+                "array",
+                shapes=ARRAY_SHAPE_3,
+                out_of_range=(np.zeros(3), [5.0, -1.0, 5.0], [400.0, 5.0, 5.0]),
+            ),
+        ),
+    ),
+    Function(
+        "likelihood.prior_from_velocity",
+        likelihood.prior_from_velocity,
+        lambda: {"velocity_enu": [100.0, 200.0, 5.0], "acceleration_enu": [1.0, -2.0, 0.0]},
+        (
+            Arg("velocity_enu", "array", shapes=ARRAY_SHAPE_3, out_of_range=([0.0, 0.0, 5.0],)),
+            Arg("acceleration_enu", "array", shapes=ARRAY_SHAPE_3, optional=True),
+            Arg(
+                "half_width_deg", "array", shapes=ARRAY_SHAPE_3, out_of_range=(np.zeros(3), [400.0, 5.0, 5.0])
+            ),
+            Arg("gravity", "scalar", out_of_range=(0.0, -9.8)),
+        ),
+    ),
+    Function(
+        "likelihood.ml_attitude",
+        likelihood.ml_attitude,
+        lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
+        (
+            Arg(
+                "phase_diffs",
+                "array",
+                shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5))),
+                out_of_range=(np.full((2, 5), 1e13),),
+            ),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
+            Arg(
+                "baselines",
+                "array",
+                shapes=(BASELINES[:, :2], BASELINES),
+                out_of_range=tuple(b[:2] for b in BAD_BASELINES),
+            ),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=BAD_WAVELENGTHS),
+            Arg("statistic", "choice"),
+            Arg("step_deg", "scalar", out_of_range=BAD_STEPS, optional=True),
+            Arg(
+                "window_deg",
+                "array",
+                shapes=(WINDOW[:2], WINDOW.T),
+                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20, WINDOW - 5000.0),
+                optional=True,
+            ),
+            Arg("search", "choice"),
+            Arg("refine", "choice"),
+        ),
+    ),
+    Function(
+        "likelihood.likelihood_grid",
+        likelihood.likelihood_grid,
+        lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
+        (
+            Arg(
+                "phase_diffs",
+                "array",
+                shapes=(np.zeros(5), np.zeros((2, 4)), np.zeros((3, 5))),
+                out_of_range=(np.full((2, 5), 1e13),),
+            ),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
+            Arg(
+                "baselines",
+                "array",
+                shapes=(BASELINES[:, :2], BASELINES),
+                out_of_range=tuple(b[:2] for b in BAD_BASELINES),
+            ),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=BAD_WAVELENGTHS),
+            Arg("statistic", "choice"),
+            Arg("step_deg", "scalar", out_of_range=BAD_STEPS, optional=True),
+            Arg(
+                "window_deg",
+                "array",
+                shapes=(WINDOW[:2], WINDOW.T),
+                out_of_range=(WINDOW[:, ::-1], WINDOW * 1e20, WINDOW - 5000.0),
+                optional=True,
+            ),
+        ),
+    ),
+    Function(
+        "likelihood.ml_baseline",
+        likelihood.ml_baseline,
+        lambda: {
+            "phase_diffs": _phases()["phase_diffs"][0],
+            "los": LOS,
+            "baseline_length_m": 1.0,
+            "wavelength": L1,
+            "step_deg": 2.0,
+            "window_deg": WINDOW[:2],
+        },
+        (
+            Arg(
+                "phase_diffs",
+                "array",
+                shapes=(np.zeros(4), np.zeros((2, 2, 5))),
+                out_of_range=(np.full(5, -1e13),),
+            ),
+            Arg("los", "array", shapes=(LOS[:, :2], LOS[:4]), out_of_range=(LOS * 2,)),
+            Arg("baseline_length_m", "scalar", out_of_range=(0.0, -1.0, 1e-60, 1e8)),
+            Arg("wavelength", "array", shapes=(np.full(4, L1),), out_of_range=BAD_WAVELENGTHS),
+            Arg("statistic", "choice"),
+            Arg("step_deg", "scalar", out_of_range=BAD_STEPS, optional=True),
+            Arg(
+                "window_deg",
+                "array",
+                shapes=(WINDOW, WINDOW[:2].T[:1]),
+                out_of_range=(WINDOW[:2, ::-1], WINDOW[:2] * 1e20),
+                optional=True,
+            ),
+            Arg("refine", "choice"),
+        ),
+    ),
+    Function(
+        "gyro_gnss.gyro_propagate",
+        gyro_gnss.gyro_propagate,
+        lambda: {"q0": TRUTH.as_quat(), "t": np.arange(5.0), "rates": np.full((5, 3), 0.01)},
+        (
+            Arg("q0", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),
+            # equal times; an interval of 1e300 s at 0.01 rad/s (NaN quaternions before)
+            Arg(
+                "t",
+                "array",
+                shapes=(np.arange(4.0), np.zeros((5, 1))),
+                out_of_range=(np.zeros(5), [0, 1, 2, 3, 1e300]),
+            ),
+            Arg(
+                "rates",
+                "array",
+                shapes=(np.zeros((5, 2)), np.zeros((4, 3)), np.zeros(15)),
+                out_of_range=(np.full((5, 3), 1e300), np.full((5, 3), 1e6)),
+            ),
+        ),
+    ),
+    Function(
+        "gyro_gnss.gyro_gnss_filter",
+        gyro_gnss.gyro_gnss_filter,
+        _filter,
+        (
+            Arg("gyro_t", "array", shapes=(np.zeros((21, 1)), np.arange(20.0)), out_of_range=(np.zeros(21),)),
+            Arg(
+                "gyro_rates",
+                "array",
+                shapes=(np.zeros((21, 2)), np.zeros((20, 3))),
+                out_of_range=(np.full((21, 3), 1e300),),
+            ),
+            Arg("initial_rotation", "object"),
+            Arg(
+                "initial_covariance",
+                "array",
+                shapes=(np.eye(3), np.eye(36)),
+                out_of_range=(-np.eye(6), np.eye(6) + np.triu(np.ones((6, 6)), 1)),
+            ),
+            Arg("arw", "scalar", out_of_range=(-1.0,)),
+            Arg("rrw", "scalar", out_of_range=(-1.0,)),
+            Arg("initial_drift", "array", shapes=ARRAY_SHAPE_3),
+            Arg(
+                "baselines_m",
+                "array",
+                shapes=(BASELINES[:, :2], BASELINES[:2]),
+                out_of_range=BAD_BASELINES,
+                optional=True,
+            ),
+            Arg("phase_sigma_cycles", "scalar", out_of_range=(0.0, -0.01)),
+            Arg("phases", "object", optional=True),
+            Arg("attitude_fixes", "object", optional=True),
+            Arg("fix_ambiguities", "flag"),
+            Arg("ratio_threshold", "scalar", out_of_range=(0.5,)),
+            Arg("min_success_rate", "scalar", out_of_range=(1.5, -0.1)),
+            Arg("slip_false_alarm", "scalar", out_of_range=(0.0, 1.0), optional=True),
+            Arg("known_ambiguities", "flag"),
+            Arg("misalignment_sigma_rad", "scalar", out_of_range=(0.0, -1.0), optional=True),
+            Arg("output_every", "integer", out_of_range=(0, -1), limited=False),
+        ),
+    ),
+    Function(
+        "phase_attitude.phase_attitude_fixes",
+        phase_attitude.phase_attitude_fixes,
+        lambda: {
+            "phases": _observations(),
+            "baselines_m": BASELINES,
+            "ambiguities": _observations().ambiguity,
+            "sigma_cycles": 0.01,
+        },
+        (
+            Arg("phases", "object"),
+            Arg("baselines_m", "array", shapes=(BASELINES[:, :2], BASELINES[:2]), out_of_range=BAD_BASELINES),
+            Arg(
+                "ambiguities",
+                "array",
+                shapes=(np.zeros((15, 2)), np.zeros(15)),
+                out_of_range=(np.full((15, 3), 0.5),),
+            ),
+            Arg("sigma_cycles", "scalar", out_of_range=(0.0, -1.0, 1e160)),
+        ),
+    ),
+    Function(
+        "visibility.visibility_axis",
+        visibility.visibility_axis,
+        lambda: {"visible_los": LOS[:3], "invisible_los": -LOS[3:]},
+        (
+            Arg("visible_los", "array", shapes=(LOS[:3, :2], LOS[0]), out_of_range=(LOS[:3] * 2,)),
+            Arg("invisible_los", "array", shapes=(LOS[3:, :2], LOS[3]), out_of_range=(LOS[3:] * 2,)),
+            Arg("method", "choice"),
+        ),
+    ),
+    Function(
+        "visibility.visibility_sets",
+        visibility.visibility_sets,
+        lambda: {
+            "receiver": _receiver()[0],
+            "constellation": _receiver()[1],
+            "t": np.arange(3.0),
+            "axes_orbital": np.tile([0.0, 0.0, 1.0], (3, 1)),
+        },
+        (
+            Arg("receiver", "object"),
+            Arg("constellation", "object"),
+            Arg("t", "array", shapes=(np.zeros((3, 1)),)),
+            Arg(
+                "axes_orbital",
+                "array",
+                shapes=(np.zeros((3, 2)), np.zeros((2, 3))),
+                out_of_range=(np.zeros((3, 3)),),
+            ),
+            Arg("half_angle_deg", "scalar", out_of_range=(0.0, 181.0)),
+        ),
+    ),
+)
+
+
+def _cases() -> Iterator[Any]:
+    for f in FUNCTIONS:
+        valid = f.valid()
+        for arg in f.args:
+            value = valid.get(arg.name)
+            for category, bad, error in bad_values(arg, value):
+                yield pytest.param(f, arg, bad, error, id=f"{f.name}-{arg.name}-{category}")
+
+
+@pytest.mark.parametrize("f", FUNCTIONS, ids=lambda f: f.name)
+def test_the_valid_call_runs(f: Function) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f.call(**f.valid())
+
+
+@pytest.mark.parametrize(("f", "arg", "bad", "error"), list(_cases()))
+def test_bad_argument_is_refused_naming_it(f: Function, arg: Arg, bad: Any, error: type[Exception]) -> None:
+    kwargs = f.valid()
+    kwargs[arg.name] = bad
+    with pytest.raises(error) as info:
+        f.call(**kwargs)
+    assert (arg.label or arg.name) in str(info.value)
+
+
+# --- arguments inside containers, and combinations the table cannot express ---------------------------------
+
+
+def _obs(**fields: Any) -> sc.PhaseObservations:
+    return dataclasses.replace(_observations(), **fields)
+
+
+def _fixes(**fields: Any) -> sc.AttitudeFixes:
+    valid = {"t": np.array([5.0]), "rotation": TRUTH, "covariance": 1e-6 * np.eye(3)[None]}
+    return sc.AttitudeFixes(**(valid | fields))
+
+
+@cache
+def _result() -> gyro_gnss.GyroGnssResult:
+    return gyro_gnss.gyro_gnss_filter(**_filter())
+
+
+OBS = _observations()
+EXTRA = [
+    # (id, call, kwargs, expected class, name the message must hold)
+    (
+        "filter-sensitivity-negative",
+        gyro_gnss.gyro_gnss_filter,
+        {"sensitivity": (-1.0, 0.0)},
+        InvalidInputError,
+    ),
+    ("filter-sensitivity-text", gyro_gnss.gyro_gnss_filter, {"sensitivity": "ab"}, InvalidTypeError),
+    (
+        "filter-sensitivity-shape",
+        gyro_gnss.gyro_gnss_filter,
+        {"sensitivity": (1.0, 2.0, 3.0)},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.epoch",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(epoch=OBS.epoch + 10)},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.epoch-float",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(epoch=OBS.epoch + 0.5)},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.track-text",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(track=["a"] * 15)},
+        InvalidTypeError,
+    ),
+    ("filter-phases.los", gyro_gnss.gyro_gnss_filter, {"phases": _obs(los=OBS.los + 0j)}, InvalidTypeError),
+    (
+        "filter-phases.wavelength",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(wavelength=OBS.wavelength[:3])},
+        InvalidInputError,
+    ),
+    (
+        "filter-phases.phase",
+        gyro_gnss.gyro_gnss_filter,
+        {"phases": _obs(phase=OBS.phase * np.nan)},
+        InvalidInputError,
+    ),
+    (
+        "filter-attitude_fixes.t",
+        gyro_gnss.gyro_gnss_filter,
+        {"attitude_fixes": _fixes(t=np.array([np.nan]))},
+        InvalidInputError,
+    ),
+    (
+        "filter-attitude_fixes.rotation",
+        gyro_gnss.gyro_gnss_filter,
+        {"attitude_fixes": _fixes(rotation=np.eye(3))},
+        InvalidTypeError,
+    ),
+    (
+        "filter-attitude_fixes.covariance",
+        gyro_gnss.gyro_gnss_filter,
+        {"attitude_fixes": _fixes(covariance=np.eye(2)[None])},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.epoch",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(epoch=OBS.epoch - 1)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.los",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(los=OBS.los * 2)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.wavelength",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(wavelength=-OBS.wavelength)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.phase",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(phase=OBS.phase + 1e300)},
+        InvalidInputError,
+    ),
+    (
+        "fixes-phases.epoch_t",
+        phase_attitude.phase_attitude_fixes,
+        {"phases": _obs(epoch_t=None)},
+        InvalidTypeError,
+    ),
+]
+
+
+def _extra_valid(call: Callable[..., Any]) -> dict[str, Any]:
+    return next(f for f in FUNCTIONS if f.call is call).valid()
+
+
+@pytest.mark.parametrize(
+    ("call", "kwargs", "error", "name"),
+    [pytest.param(c, kw, e, i.split("-")[1], id=i) for i, c, kw, e in EXTRA],
+)
+def test_bad_container_field_is_refused_naming_it(
+    call: Callable[..., Any], kwargs: dict[str, Any], error: type[Exception], name: str
+) -> None:
+    with pytest.raises(error) as info:
+        call(**(_extra_valid(call) | kwargs))
+    assert name in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("method", "args", "error", "name"),
+    [
+        ("errors", (1.0, np.zeros(3)), InvalidTypeError, "true_rotation"),
+        ("errors", (TRUTH, np.zeros((2, 3))), InvalidInputError, "true_drift"),
+        ("errors", (TRUTH, np.zeros(3) + 1j), InvalidTypeError, "true_drift"),
+        ("nees", (np.zeros((21, 5)),), InvalidInputError, "errors"),
+        ("nees", (np.full((21, 6), np.nan),), InvalidInputError, "errors"),
+    ],
+)
+def test_result_methods_check_their_arguments(
+    method: str, args: tuple, error: type[Exception], name: str
+) -> None:
+    with pytest.raises(error, match=name):
+        getattr(_result(), method)(*args)
+
+
+# --- no NaN from finite input ------------------------------------------------------------------------------
+
+
+def _leaves(x: Any) -> Iterator[NDArray[np.float64]]:
+    """Every number in a result: arrays, floats, the quaternions of rotations, fields of dataclasses."""
+    if isinstance(x, Rotation):
+        yield x.as_quat()
+    elif dataclasses.is_dataclass(x):
+        for f in dataclasses.fields(x):
+            yield from _leaves(getattr(x, f.name))
+    elif isinstance(x, list | tuple):
+        for v in x:
+            yield from _leaves(v)
+    elif isinstance(x, np.ndarray | float | int):
+        yield np.asarray(x, dtype=np.float64)
+
+
+SCALES = (1e-300, 1e-160, 1e-20, 1e20, 1e160, 1e300, -1e300)
+
+
+def _scaled_cases() -> Iterator[Any]:
+    for f in FUNCTIONS:
+        valid = f.valid()
+        for arg in f.args:
+            if arg.kind in ("array", "scalar") and valid.get(arg.name) is not None:
+                for s in SCALES:
+                    yield pytest.param(f, arg.name, s, id=f"{f.name}-{arg.name}-{s:g}")
+
+
+@pytest.mark.parametrize(("f", "name", "scale"), list(_scaled_cases()))
+def test_finite_input_of_any_magnitude_gives_finite_output_or_an_error(
+    f: Function, name: str, scale: float
+) -> None:
+    # Each argument multiplied by a factor from 1e-300 to 1e300: the call either refuses with a gnssatt
+    # error (never a defect: InternalError) or returns finite numbers only.
+    kwargs = f.valid()
+    kwargs[name] = np.asarray(kwargs[name], dtype=np.float64) * scale
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearDegenerateWarning)
+        try:
+            result = f.call(**kwargs)
+        except InternalError:
+            raise
+        except GnssattError:
+            return
+    assert all(np.all(np.isfinite(v)) for v in _leaves(result))
+
+
+@pytest.mark.parametrize("scale", [1e-160, 1e-100, 1e100, 1e160, 1e300])
+def test_vector_attitude_does_not_depend_on_the_scale_of_the_vectors(scale: float) -> None:
+    # Directions are what TRIAD, Wahba and eq. (3) use: vectors of 1e160 (whose squared norms overflow)
+    # were reported parallel, 1e-160 zero; now they give the attitude of the unscaled vectors.
+    b, r = TRUTH.inv().apply(LOS), LOS
+    tri = vector_attitude.triad(b[0] * scale, b[1] * scale, r[0] * scale, r[1] * scale)
+    assert tri.rotation.approx_equal(TRUTH, atol=1e-12)
+    wah = vector_attitude.wahba(b * scale, r * scale)
+    assert wah.rotation.approx_equal(TRUTH, atol=1e-12)
+    args = ([2e-5, 1e-5, 3e-5], [1e-5, 2e-5, -3e-5], 0.1, -0.2)
+    yaw = magnetometer.yaw_from_magnetometer(*args).yaw
+    scaled = magnetometer.yaw_from_magnetometer(
+        np.multiply(args[0], scale), np.multiply(args[1], scale), *args[2:]
+    )
+    assert scaled.yaw == pytest.approx(yaw, abs=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1e-250, 1e-100, 1e100, 1e250])
+def test_wahba_weights_of_any_scale_give_the_rotation_and_scale_the_covariance(scale: float) -> None:
+    # Only ratios of weights fix the rotation; P = [sum w (I - r r^T)]^-1 scales like 1/w and the loss like w.
+    b, r, w = TRUTH.inv().apply(LOS), LOS, np.array([1.0, 2.0, 3.0, 4.0, 5.0])
+    ref = vector_attitude.wahba(b, r, w)
+    got = vector_attitude.wahba(b, r, w * scale)
+    assert got.rotation.approx_equal(ref.rotation, atol=1e-12)
+    np.testing.assert_allclose(got.covariance * scale, ref.covariance, rtol=1e-12)
+    assert got.information_ratio == pytest.approx(ref.information_ratio, rel=1e-12)
+
+
+def test_nearest_rotation_of_a_huge_matrix_is_that_of_the_matrix() -> None:
+    m = TRUTH.as_matrix() + 0.01
+    ref = rotation.nearest_rotation(m)
+    for scale in (1e-300, 1e160, 1e300):
+        np.testing.assert_allclose(rotation.nearest_rotation(m * scale), ref, atol=1e-14)
+
+
+def test_gyro_propagation_is_exact_up_to_the_step_angle_limit_and_refuses_beyond() -> None:
+    # constant rate about z: q(t) = [0, 0, sin(w t / 2), cos(w t / 2)]; one step of 1e5 rad, rounding 1e-11
+    t = np.array([0.0, 1e3])
+    q = gyro_gnss.gyro_propagate([0.0, 0.0, 0.0, 1.0], t, [[0.0, 0.0, 100.0]] * 2)
+    angle = 100.0 * 1e3
+    expected = np.array([0.0, 0.0, np.sin(angle / 2), np.cos(angle / 2)]) * np.sign(np.cos(angle / 2))
+    np.testing.assert_allclose(q[1], expected, atol=1e-9)
+    with pytest.raises(InvalidInputError, match=r"rates times the interval of t .* at most 1e\+06 rad"):
+        gyro_gnss.gyro_propagate([0.0, 0.0, 0.0, 1.0], t, [[0.0, 0.0, 1e4]] * 2)
+
+
+def test_prior_from_velocity_refuses_a_non_finite_or_non_positive_gravity() -> None:
+    for g in (np.nan, np.inf, 0.0, -9.8):
+        with pytest.raises(InvalidInputError, match="gravity"):
+            likelihood.prior_from_velocity([100.0, 200.0, 5.0], [1.0, -2.0, 0.0], gravity=g)
+    # an absurd but finite acceleration still has a bank angle: 90 deg, not NaN
+    prior = likelihood.prior_from_velocity([0.0, 100.0, 0.0], [1e308, 0.0, 0.0])
+    assert prior.euler_deg[2] == pytest.approx(90.0)
+
+
+def test_a_single_node_grid_reports_its_step() -> None:
+    # 360 / n with n = 2 ceil(180 / step): 3.7 deg -> n = 98 -> 3.6734... deg, as the axis spacing of a wider
+    # window shows
+    kw = _phases()
+    wide = likelihood.likelihood_grid(**kw, step_deg=3.7, window_deg=WINDOW)
+    node = wide.psi_deg[3], wide.theta_deg[3], wide.phi_deg[3]
+    single = likelihood.likelihood_grid(**kw, step_deg=3.7, window_deg=[[v, v] for v in node])
+    assert single.z.shape == (1, 1, 1)
+    assert single.step_deg == pytest.approx(360.0 / 98)
+    assert wide.step_deg == pytest.approx(360.0 / 98)
+
+
+def test_phases_shifted_by_whole_cycles_give_the_same_attitude_until_the_limit() -> None:
+    kw = {**_phases(), "window_deg": WINDOW, "step_deg": 2.0}
+    ref = likelihood.ml_attitude(**kw).euler_deg
+    shifted = likelihood.ml_attitude(**{**kw, "phase_diffs": kw["phase_diffs"] + 2 * np.pi * 1e8}).euler_deg
+    np.testing.assert_allclose(shifted, ref, atol=1e-6)
+    with pytest.raises(InvalidInputError, match="phase_diffs at most 1e\\+12 rad"):
+        likelihood.ml_attitude(**{**kw, "phase_diffs": kw["phase_diffs"] + 1e20})
+
+
+def test_attitude_dop_is_finite_or_refused() -> None:
+    # baselines at the 1e-6 m limit: a DOP of order 1e6, finite; below it, refused before any work
+    dop = geometry.attitude_dop(BASELINES * 1e-6, LOS, TRUTH)
+    assert np.isfinite(dop) and dop == pytest.approx(geometry.attitude_dop(BASELINES, LOS, TRUTH) * 1e6)
+    with pytest.raises(InvalidInputError, match="baselines"):
+        geometry.attitude_dop(BASELINES * 1e-160, LOS, TRUTH)
