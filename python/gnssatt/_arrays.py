@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
 
-__all__ = ["float_array", "integer", "scalar"]
+__all__ = ["finite_result", "float_array", "integer", "scalar"]
 
 
 def _describe(value: Any) -> str:
@@ -117,3 +117,17 @@ def integer(name: str, value: Any, *, minimum: int | None = None, maximum: int |
     if maximum is not None and n > maximum:
         raise WorkLimitError(f"{name} = {n} exceeds the limit of {maximum}")
     return n
+
+
+def finite_result(what: str, value: Any, cause: str) -> Any:
+    """``value`` unchanged if every entry is finite; otherwise a :class:`~gnssatt.errors.ConvergenceError`.
+
+    The last guard of computations whose intermediates can overflow on finite but extreme input (fast
+    rotation, huge velocities, huge noise levels): the caller gets an error that names the result and the
+    inputs behind it (``cause``) rather than NaN or infinity.
+    """
+    arr = np.asarray(value)
+    if arr.dtype.kind in "fc" and not np.all(np.isfinite(arr)):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise ConvergenceError(f"{what} is not finite (at index {bad}); {cause}")
+    return value
