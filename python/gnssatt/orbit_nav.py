@@ -124,6 +124,28 @@ class ReceiverFixes:
     covariance: NDArray[np.float64]
     valid: NDArray[np.bool_]
 
+    def __post_init__(self) -> None:
+        # Also an input of orbit_filter: shapes and types checked; values are finite where valid.
+        t = float_array("times_s", self.times_s, ndim=1, shape="(n_t,)")
+        n_t = t.size
+        valid = np.asarray(self.valid)
+        if valid.dtype != bool or valid.shape != (n_t,):
+            raise InvalidInputError(
+                f"expected valid as booleans of shape ({n_t},), got {valid.dtype} {valid.shape}"
+            )
+        for name, shape in (
+            ("position_m", (n_t, 3)),
+            ("velocity_m_s", (n_t, 3)),
+            ("covariance", (n_t, 6, 6)),
+        ):
+            arr = np.asarray(getattr(self, name))
+            if arr.dtype.kind not in "iuf":
+                raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
+            if arr.shape != shape:
+                raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+            if not np.all(np.isfinite(arr[valid])):
+                raise InvalidInputError(f"{name} contains a non-finite value where valid")
+
 
 def _fix_epoch(
     meas: SpaceborneMeasurements, k: int, start: NDArray[np.float64]

@@ -83,9 +83,10 @@ def rot_z(angle: NDArray[np.float64] | float) -> NDArray[np.float64]:
     return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
 
 
-def wrap_rad(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Angles wrapped to [-pi, pi)."""
-    return (np.asarray(x) + np.pi) % (2.0 * np.pi) - np.pi
+def wrap_rad(x: Any) -> NDArray[np.float64]:
+    """Angles (rad, any shape, finite) wrapped to [-pi, pi)."""
+    arr = checked_array("x", x, ndim=tuple(range(33)), shape="(...)")
+    return (arr + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def readonly(*arrays: NDArray[Any] | None) -> None:
