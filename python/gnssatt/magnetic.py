@@ -128,7 +128,9 @@ def dipole_coefficients(decimal_year: float) -> NDArray[np.float64]:
     5-yearly models, the secular variation after 2025.0."""
     t = scalar("decimal_year", decimal_year)
     if not _EPOCHS[0] <= t <= _LAST_YEAR:
-        raise InvalidInputError(f"expected a decimal year in [2015.0, 2030.0] (IGRF-14), got {t}")
+        raise InvalidInputError(
+            f"expected decimal_year, a decimal year in [2015.0, 2030.0] (IGRF-14), got {t}"
+        )
     if t >= _EPOCHS[-1]:
         return _GAUSS_NT[-1] + (t - _EPOCHS[-1]) * _SV_NT_PER_YEAR
     return np.array([np.interp(t, _EPOCHS, _GAUSS_NT[:, k]) for k in range(3)])
@@ -144,7 +146,7 @@ def _radii(name: str, r: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _geodetic(
-    latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike | None = None
+    latitude_deg: ArrayLike, longitude_deg: ArrayLike, *height_m: ArrayLike
 ) -> tuple[NDArray[np.float64], ...]:
     """Checked latitudes (rad, in [-pi/2, pi/2]), longitudes (rad) and heights (m), broadcast together."""
     lat = checked_array("latitude_deg", latitude_deg, ndim=_ANY_NDIM, shape="(...)")
@@ -152,8 +154,8 @@ def _geodetic(
         raise InvalidInputError(f"expected latitude_deg in [-90, 90], got {lat.flat[np.argmax(np.abs(lat))]}")
     lon = checked_array("longitude_deg", longitude_deg, ndim=_ANY_NDIM, shape="(...)")
     arrays = [np.radians(lat), np.radians(lon)]
-    if height_m is not None:
-        h = checked_array("height_m", height_m, ndim=_ANY_NDIM, shape="(...)")
+    for value in height_m:  # one height or none
+        h = checked_array("height_m", value, ndim=_ANY_NDIM, shape="(...)")
         if h.size and (h.min() < MIN_RADIUS_M - WGS84_A_M or h.max() > MAX_RADIUS_M):
             raise InvalidInputError(
                 f"expected height_m in [{MIN_RADIUS_M - WGS84_A_M}, {MAX_RADIUS_M}] m, "
@@ -240,7 +242,8 @@ def _positions(name: str, value: ArrayLike) -> NDArray[np.float64]:
     r = checked_array(name, value, ndim=_ANY_NDIM[1:], shape="(..., 3)")
     if r.shape[-1] != 3:
         raise InvalidInputError(f"expected {name} of shape (..., 3), got {r.shape}")
-    _radii(name, np.linalg.norm(r, axis=-1))
+    with np.errstate(over="ignore"):  # a radius beyond float64 is refused as out of range
+        _radii(name, np.linalg.norm(r, axis=-1))
     return r
 
 
@@ -255,11 +258,13 @@ def dipole_field_eci(
     r = _positions("position_eci_m", position_eci_m)
     th = checked_array("earth_rotation_angle_rad", earth_rotation_angle_rad, ndim=_ANY_NDIM, shape="(...)")
     try:
-        np.broadcast_shapes(r.shape[:-1], th.shape)
+        lead = np.broadcast_shapes(r.shape[:-1], th.shape)
     except ValueError as exc:
         raise InvalidInputError(
             f"expected earth_rotation_angle_rad broadcastable to {r.shape[:-1]}, got {th.shape}"
         ) from exc
+    # one position at several angles, or several positions at one angle
+    r, th = np.broadcast_to(r, (*lead, 3)), np.broadcast_to(th, lead)
     c, s = np.cos(th), np.sin(th)
     r_ecef = np.stack([c * r[..., 0] + s * r[..., 1], -s * r[..., 0] + c * r[..., 1], r[..., 2]], axis=-1)
     b = dipole_field_ecef(r_ecef, decimal_year)

@@ -114,14 +114,15 @@ def _vec3(name: str, value: ArrayLike) -> NDArray[np.float64]:
     return vector_array(name, value, ndim=1, shape="(3,)")
 
 
-def rk4_steps(name: str, durations_s: NDArray[np.float64], step_s: float) -> int:
+def rk4_steps(what: str, durations_s: NDArray[np.float64], step_s: float) -> int:
     """Number of RK4 steps ``sum ceil(duration / step)`` of a propagation, checked against
-    ``MAX_RK4_STEPS`` before any work (:class:`~gnssatt.errors.WorkLimitError` naming ``name``)."""
+    ``MAX_RK4_STEPS`` before any work; ``what`` names the call and the span's parameter in the
+    :class:`~gnssatt.errors.WorkLimitError`."""
     n = float(np.sum(np.ceil(np.maximum(durations_s, 0.0) / step_s)))
     if n > MAX_RK4_STEPS:
         raise WorkLimitError(
-            f"{name} needs {n:.3g} RK4 steps of step_s = {step_s} s, beyond the limit of {MAX_RK4_STEPS}; "
-            "use a longer step_s or a shorter span"
+            f"{what} ({float(np.sum(durations_s)):.6g} s) in steps of step_s = {step_s} s needs {n:.3g} RK4 "
+            f"steps, beyond the limit of {MAX_RK4_STEPS}; use a longer step_s or a shorter span"
         )
     return int(n)
 
@@ -184,7 +185,7 @@ def glonass_propagate(
     d = scalar("duration_s", duration_s)
     h = scalar("step_s", step_s)
     if d > 0 and 0 < h <= d:  # the core reports the other cases
-        rk4_steps("glonass_propagate", np.array([d]), h)
+        rk4_steps("glonass_propagate over duration_s", np.array([d]), h)
     x, phi = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
     cause = f"position {r.tolist()} m, velocity {state[3:].tolist()} m/s over {d} s"
     finite_result("the propagated state", x, cause)

@@ -19,7 +19,7 @@ from gnssatt import _core
 from gnssatt._arrays import finite_result, float_array, scalar
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.orbit import GlonassModel, glonass_propagate, rk4_steps
-from gnssatt.sim._util import instance, text
+from gnssatt.sim._util import instance, real_array, text
 from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 #: Most epochs of :func:`noisy_orbit` (a Python loop, about 0.1 ms per epoch).
@@ -49,7 +49,8 @@ def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.
     q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
     dt = scalar("dt_s", dt_s, minimum=0.0)
     i3 = np.eye(3)
-    out = q * np.block([[dt**3 / 3 * i3, dt**2 / 2 * i3], [dt**2 / 2 * i3, dt * i3]])
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+        out = q * np.block([[dt**3 / 3 * i3, dt**2 / 2 * i3], [dt**2 / 2 * i3, dt * i3]])
     return finite_result("the process noise covariance", out, f"accel_psd_m2_s3 = {q}, dt_s = {dt}")
 
 
@@ -85,13 +86,13 @@ def noisy_orbit(
     if t.size == 0 or np.any(np.diff(t) <= 0):
         raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
     if t.size > MAX_EPOCHS:
-        raise WorkLimitError(f"noisy_orbit: {t.size} epochs exceed the limit of {MAX_EPOCHS}")
+        raise WorkLimitError(f"noisy_orbit: times_s has {t.size} epochs, beyond the limit of {MAX_EPOCHS}")
     q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
     step_s = scalar("step_s", step_s, minimum=0.0, strict=True)
     instance("rng", rng, np.random.Generator, "a numpy.random.Generator")
     if model is not None:
         instance("model", model, GlonassModel, "a GlonassModel")
-    rk4_steps("noisy_orbit", np.diff(t), step_s)
+    rk4_steps("noisy_orbit over times_s", np.diff(t), step_s)
     out = np.empty((t.size, 6))
     out[0] = x
     for k in range(1, t.size):
@@ -138,9 +139,7 @@ class ReceiverFixes:
             ("velocity_m_s", (n_t, 3)),
             ("covariance", (n_t, 6, 6)),
         ):
-            arr = np.asarray(getattr(self, name))
-            if arr.dtype.kind not in "iuf":
-                raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
+            arr = real_array(name, getattr(self, name))
             if arr.shape != shape:
                 raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
             if not np.all(np.isfinite(arr[valid])):
@@ -202,7 +201,10 @@ def receiver_fix(measurements: SpaceborneMeasurements) -> ReceiverFixes:
     valid = np.zeros(n_t, dtype=bool)
     start = np.zeros(3)
     for k in range(n_t):
-        fix = _fix_epoch(m, k, start)
+        try:
+            fix = _fix_epoch(m, k, start)
+        except np.linalg.LinAlgError:  # the satellites' geometry fixes no solution at this epoch
+            fix = None
         if fix is not None and all(np.all(np.isfinite(f)) for f in fix):
             pos[k], vel[k], cov[k] = fix
             valid[k] = True
@@ -315,7 +317,7 @@ def orbit_filter(
         raise InvalidTypeError(f"expected use_doppler as a bool, got {type(use_doppler).__name__}")
     instance("data", data, SpaceborneMeasurements | ReceiverFixes, "SpaceborneMeasurements or ReceiverFixes")
     t_all = float_array("data.times_s", data.times_s, ndim=1, shape="(n_t,)")
-    rk4_steps("orbit_filter", np.diff(t_all), settings["step_s"])
+    rk4_steps("orbit_filter over data.times_s", np.diff(t_all), settings["step_s"])
     if isinstance(data, ReceiverFixes):
         if coupling != "loose":
             raise InvalidInputError("receiver fixes can only drive the loosely coupled filter")

@@ -28,6 +28,18 @@ def time_array(t: Any) -> NDArray[np.float64]:
     return checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)")
 
 
+def real_array(name: str, value: Any) -> NDArray[np.float64]:
+    """``value`` as a float64 array of real numbers that may hold NaN (where a value is unknown or not
+    measured); complex, boolean, object, text and ragged input is refused as in ``float_array``."""
+    try:
+        arr = np.array(value)
+    except ValueError as exc:  # ragged nested sequences
+        raise InvalidTypeError(f"expected {name} as a real numeric array, got {exc}") from exc
+    if arr.dtype.kind not in "iuf":
+        raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
 def vector_array(
     name: str, value: Any, *, ndim: int | tuple[int, ...], shape: str, nonzero: bool = False
 ) -> NDArray[np.float64]:

@@ -137,8 +137,9 @@ def gyro_output(
     dt = np.append(dt, dt[-1])
     steps = rng.standard_normal((len(tt), 3)) * rrw * np.sqrt(dt)[:, None]
     drift = b0 + np.vstack([np.zeros((1, 3)), np.cumsum(steps[:-1], axis=0)])
-    noise = rng.standard_normal((len(tt), 3)) * arw / np.sqrt(dt)[:, None]
-    measured = Rotation.from_rotvec(-mu).apply(mean_rate) - drift - noise
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+        noise = rng.standard_normal((len(tt), 3)) * arw / np.sqrt(dt)[:, None]
+        measured = Rotation.from_rotvec(-mu).apply(mean_rate) - drift - noise
     cause = f"time steps down to {dt.min()} s with arw = {arw}, rrw = {rrw}"
     return GyroOutput(
         tt, finite_result("the gyro output", measured, cause), finite_result("the drift", drift, cause)

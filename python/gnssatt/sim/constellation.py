@@ -194,7 +194,7 @@ class Constellation:
             missing = [w for w in which if w not in self.ids]
             if missing:
                 raise InvalidInputError(
-                    f"expected satellite ids from {list(self.ids)}, got unknown {missing}"
+                    f"expected which as satellite ids from {list(self.ids)}, got unknown {missing}"
                 )
             idx = np.array([self.ids.index(w) for w in which], dtype=np.int64)
         else:

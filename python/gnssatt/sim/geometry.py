@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import checked_array, instance, readonly, text, vector_array
+from gnssatt.sim._util import checked_array, instance, readonly, real_array, text, vector_array
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver
 
@@ -79,10 +79,7 @@ class Geometry:
             if finite:
                 arr = checked_array(name, value, ndim=(0, 1, 2), shape=str(want)).copy()
             else:  # NaN where unknown
-                arr = np.array(value)
-                if arr.dtype.kind not in "iuf":
-                    raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
-                arr = arr.astype(np.float64)
+                arr = real_array(name, value)
             if arr.shape != want:
                 raise InvalidInputError(f"expected {name} of shape {want}, got {arr.shape}")
             arrays[name] = arr
@@ -118,7 +115,7 @@ class Geometry:
         g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
         norm = np.linalg.norm(g, axis=-1, keepdims=True)
         if np.any(norm < 1e-12):
-            raise InvalidInputError("expected non-zero lines of sight, got a zero vector")
+            raise InvalidInputError("expected non-zero lines of sight in los, got a zero vector")
         g = g / norm
         text("frame", frame)
         lead = g.shape[:-1]
@@ -195,7 +192,9 @@ def _attitude_matrices(attitude: Any, n_t: int | None) -> NDArray[np.float64]:
     if m.ndim == 3:
         if n_t is None or m.shape[0] != n_t:
             want = "a single Rotation" if n_t is None else f"a single Rotation or {n_t} rotations"
-            raise InvalidInputError(f"expected {want} (one per epoch), got {m.shape[0]} rotations")
+            raise InvalidInputError(
+                f"expected attitude as {want} (one per epoch), got {m.shape[0]} rotations"
+            )
     return m
 
 

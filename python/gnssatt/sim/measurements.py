@@ -316,13 +316,14 @@ def simulate_array(
     phase_noise = rng.standard_normal(shape)
     dop_noise = rng.standard_normal(shape)
 
-    pseudorange = rho + SPEED_OF_LIGHT_M_S * dt[:, None] + sig_code * code_noise
-    sig_cycles = sig_rad / (2.0 * np.pi) if sig_rad > 0 else sig_m / lam
-    frac = np.remainder(rho / lam, 1.0) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
-    phase_free = (rho / lam + amb) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
-    phase = phase_free + sig_cycles * phase_noise
-    rate = np.broadcast_to(geometry.range_rate_mps[..., None, :], shape)
-    doppler = -rate / lam + sig_dop * dop_noise
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+        pseudorange = rho + SPEED_OF_LIGHT_M_S * dt[:, None] + sig_code * code_noise
+        sig_cycles = sig_rad / (2.0 * np.pi) if sig_rad > 0 else sig_m / lam
+        frac = np.remainder(rho / lam, 1.0) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
+        phase_free = (rho / lam + amb) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
+        phase = phase_free + sig_cycles * phase_noise
+        rate = np.broadcast_to(geometry.range_rate_mps[..., None, :], shape)
+        doppler = -rate / lam + sig_dop * dop_noise
 
     corr = None
     if cn0_dbhz is not None:

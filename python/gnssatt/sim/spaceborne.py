@@ -26,8 +26,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import finite_result, float_array, integer, scalar
-from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.sim._util import generator, instance, text, vector_array
+from gnssatt.errors import InvalidInputError, WorkLimitError
+from gnssatt.sim._util import generator, instance, real_array, text, vector_array
 from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.visibility import antenna_cone_mask, earth_occlusion_mask
@@ -118,9 +118,7 @@ class SpaceborneMeasurements:
             if arr.shape != (n_t, n_sat, 3):
                 raise InvalidInputError(f"expected {name} of shape ({n_t}, {n_sat}, 3), got {arr.shape}")
         for name in ("pseudorange_m", "doppler_hz"):
-            arr = np.asarray(getattr(self, name))
-            if arr.dtype.kind not in "iuf":
-                raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
+            arr = real_array(name, getattr(self, name))
             if arr.shape != (n_t, n_sat):
                 raise InvalidInputError(f"expected {name} of shape ({n_t}, {n_sat}), got {arr.shape}")
             if not np.all(np.isfinite(arr[visible])):
@@ -139,7 +137,7 @@ class SpaceborneMeasurements:
         keep = np.array([i[0] in prefixes for i in self.ids], dtype=bool)
         if not keep.any():
             raise InvalidInputError(
-                f"expected systems among {sorted({i[0] for i in self.ids})}, got {prefixes!r}"
+                f"expected prefixes naming systems among {sorted({i[0] for i in self.ids})}, got {prefixes!r}"
             )
         return SpaceborneMeasurements(
             self.times_s,
@@ -245,7 +243,8 @@ def simulate_spaceborne(
     t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
     if r.shape != (t.size, 3) or v.shape != r.shape:
         raise InvalidInputError(
-            f"expected receiver states of shape ({t.size}, 3) (one per epoch), got {r.shape} and {v.shape}"
+            f"expected receiver_position_m and receiver_velocity_m_s of shape ({t.size}, 3) (one per epoch "
+            f"of times_s), got {r.shape} and {v.shape}"
         )
     if t.size == 0 or np.any(np.diff(t) <= 0):
         raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
