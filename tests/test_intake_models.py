@@ -317,6 +317,12 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "min_satellites": 3,
         },
     ),
+    "PhaseObservations": (scen.PhaseObservations, dict(PHASES.__dict__)),
+    "GyroOutput": (scen.GyroOutput, {"t": T3, "rates": np.zeros((3, 3)), "drift": np.zeros((3, 3))}),
+    "AttitudeFixes": (
+        scen.AttitudeFixes,
+        {"t": T3, "rotation": ATT3, "covariance": np.tile(np.eye(3), (3, 1, 1))},
+    ),
     # gnssatt.orbit
     "GlonassModel": (
         orbit.GlonassModel,
@@ -459,6 +465,7 @@ OBJECTS = {
     "geometry",
     "orbits",
     "phases",
+    "rotation",
     "measurements",
     "data",
     "model",
@@ -507,6 +514,10 @@ SKIP = {
     "lunisolar_m_s2",
     "slips",
     "new_arcs_after",
+    "epoch",
+    "track",
+    "satellite",
+    "ambiguity",
 }
 
 
@@ -732,6 +743,15 @@ SPECIFIC = [
     ("phase_observations", "slips", np.array([[0.0, 1.0j, 1.0]]), InvalidTypeError),
     ("phase_observations", "new_arcs_after", np.array([math.nan]), InvalidInputError),
     ("attitude_fixes", "sigma_cycles", 0.0, InvalidInputError),
+    ("PhaseObservations", "epoch", PHASES.epoch + 100, InvalidInputError),
+    ("PhaseObservations", "epoch", PHASES.epoch + 0.5, InvalidTypeError),
+    ("PhaseObservations", "track", PHASES.track[:-1], InvalidInputError),
+    ("PhaseObservations", "ambiguity", PHASES.ambiguity[:, :1], InvalidInputError),
+    ("PhaseObservations", "wavelength", -PHASES.wavelength, InvalidInputError),
+    ("PhaseObservations", "los", PHASES.los[:, :2], InvalidInputError),
+    ("GyroOutput", "rates", np.zeros((2, 3)), InvalidInputError),
+    ("AttitudeFixes", "rotation", Rotation.identity(), InvalidInputError),
+    ("AttitudeFixes", "covariance", np.zeros((3, 2, 2)), InvalidInputError),
     ("attitude_fixes", "min_satellites", 0, InvalidInputError),
     ("GlonassModel", "gm_m3_s2", 0.0, InvalidInputError),
     ("GlonassModel", "lunisolar_m_s2", (0.0, 0.0, math.nan), InvalidInputError),
@@ -826,9 +846,6 @@ def test_every_public_function_has_cases() -> None:
                 missing.add(f"{module.__name__}.{name}")
     # results (no user input of their own), aliases and re-exports of covered names
     not_inputs = {
-        "gnssatt.sim.attitude_scenario.AttitudeFixes",
-        "gnssatt.sim.attitude_scenario.GyroOutput",
-        "gnssatt.sim.attitude_scenario.PhaseObservations",
         "gnssatt.sim.ArrayMeasurements",
         "gnssatt.orbit.PropagatedState",
         "gnssatt.orbit_nav.OrbitFilterResult",

@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import finite_result, float_array, integer, scalar
-from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError, InvalidTypeError
 from gnssatt.sim._util import generator, instance, vector_array
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.receivers import OrbitalReceiver
@@ -98,6 +98,11 @@ class GyroOutput:
     rates: NDArray[np.float64]
     drift: NDArray[np.float64]
 
+    def __post_init__(self) -> None:
+        n = _rows("t", self.t, ())
+        _rows("rates", self.rates, (n, 3))
+        _rows("drift", self.drift, (n, 3))
+
 
 def gyro_output(
     t: ArrayLike,
@@ -146,6 +151,20 @@ def gyro_output(
     )
 
 
+def _rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = False) -> int:
+    """Checks a field of a result type that is also an input: its shape (``()`` stands for any (n,)), a
+    finite real array, or integers; returns its first dimension."""
+    if integers:
+        arr = np.asarray(value)
+        if arr.size and arr.dtype.kind not in "iu":
+            raise InvalidTypeError(f"expected {name} as integers, got dtype {arr.dtype}")
+    else:
+        arr = float_array(name, value, ndim=max(len(shape), 1), shape=str(shape or "(n,)"))
+    if (shape and arr.shape != shape) or (not shape and arr.ndim != 1):
+        raise InvalidInputError(f"expected {name} of shape {shape or '(n,)'}, got {arr.shape}")
+    return int(arr.shape[0])
+
+
 def _per_epoch(name: str, attitude: Any, n: int) -> Rotation:
     instance(name, attitude, Rotation, "a scipy Rotation")
     if attitude.single or len(attitude) != n:
@@ -186,6 +205,24 @@ class PhaseObservations:
     phase: NDArray[np.float64]
     ambiguity: NDArray[np.int64]
     satellite: NDArray[np.int64]
+
+    def __post_init__(self) -> None:
+        # Also the intake of the phase-based solvers (gnssatt.phase_attitude_fixes, attitude_fixes).
+        n_e = _rows("epoch_t", self.epoch_t, ())
+        n = _rows("epoch", self.epoch, (), integers=True)
+        if n and (np.min(self.epoch) < 0 or np.max(self.epoch) >= n_e):
+            raise InvalidInputError(
+                f"expected epoch as indices into epoch_t, in [0, {n_e}), got {self.epoch}"[:300]
+            )
+        _rows("track", self.track, (n,), integers=True)
+        _rows("satellite", self.satellite, (n,), integers=True)
+        _rows("los", self.los, (n, 3))
+        _rows("wavelength", self.wavelength, (n,))
+        if n and np.min(self.wavelength) <= 0:
+            raise InvalidInputError(f"expected wavelength > 0, got minimum {np.min(self.wavelength)}")
+        phase = float_array("phase", self.phase, ndim=2, shape="(n_rows, m)")
+        _rows("phase", phase, (n, phase.shape[1]))
+        _rows("ambiguity", self.ambiguity, phase.shape, integers=True)
 
     def without_ambiguities(self) -> PhaseObservations:
         """The same rows with the true integers removed (for a filter told ``known_ambiguities``)."""
@@ -328,6 +365,15 @@ class AttitudeFixes:
     t: NDArray[np.float64]
     rotation: Rotation
     covariance: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        # Also an input of gnssatt.gyro_gnss_filter.
+        n = _rows("t", self.t, ())
+        instance("rotation", self.rotation, Rotation, "a scipy Rotation")
+        if self.rotation.single or len(self.rotation) != n:
+            got = "a single rotation" if self.rotation.single else f"{len(self.rotation)} rotations"
+            raise InvalidInputError(f"expected rotation as {n} rotations (one per t), got {got}")
+        _rows("covariance", self.covariance, (n, 3, 3))
 
 
 def attitude_fixes(
