@@ -871,6 +871,15 @@ def test_ecef_to_geodetic_of_the_centre_is_refused_and_poles_are_finite() -> Non
     np.testing.assert_allclose(lat, [90.0, -90.0, 0.0], atol=1e-12)
 
 
+@pytest.mark.parametrize("radius_m", [1.0001e5, 1e6, 6.4e6, 1e12])
+def test_ecef_to_geodetic_converges_down_to_its_limit(radius_m: float) -> None:
+    # the closed-form forward map takes the answer back to the position (the iteration slows near the centre)
+    d = np.random.default_rng(5).normal(size=(2000, 3))
+    p = radius_m * d / np.linalg.norm(d, axis=1, keepdims=True)
+    lat, lon, h = sim.ecef_to_geodetic(p)
+    np.testing.assert_allclose(sim.geodetic_to_ecef(lat, lon, h), p, rtol=0, atol=1e-13 * radius_m)
+
+
 def test_magnetic_field_refuses_the_centre_and_nan() -> None:
     with pytest.raises(InvalidInputError, match="position_ecef_m"):
         magnetic.dipole_field_ecef([1.0, 0.0, 0.0], 2020.0)
