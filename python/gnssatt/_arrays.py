@@ -16,10 +16,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
     "choice",
+    "finite_result",
     "flag",
     "float_array",
     "instance",
@@ -226,4 +227,18 @@ def instance(name: str, value: Any, cls: type | tuple[type, ...], what: str) -> 
     """
     if not isinstance(value, cls):
         raise InvalidTypeError(f"expected {name} as {what}, got {_describe(value)}")
+    return value
+
+
+def finite_result(what: str, value: Any, cause: str) -> Any:
+    """``value`` unchanged if every entry is finite; otherwise a :class:`~gnssatt.errors.ConvergenceError`.
+
+    The last guard of computations whose intermediates can overflow on finite but extreme input (fast
+    rotation, huge velocities, huge noise levels): the caller gets an error that names the result and the
+    inputs behind it (``cause``) rather than NaN or infinity.
+    """
+    arr = np.asarray(value)
+    if arr.dtype.kind in "fc" and not np.all(np.isfinite(arr)):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise ConvergenceError(f"{what} is not finite (at index {bad}); {cause}")
     return value

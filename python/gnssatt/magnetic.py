@@ -31,8 +31,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import float_array
+from gnssatt._arrays import integer, scalar
 from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import checked_array
 
 __all__ = [
     "EARTH_DIPOLE_T_M3",
@@ -61,6 +62,13 @@ _GAUSS_NT = np.array(
 )
 _SV_NT_PER_YEAR = np.array([12.6, 10.0, -21.5])
 _LAST_YEAR = 2030.0
+#: Closest distance to the Earth's centre at which the field functions evaluate the dipole, m: the models
+#: describe the field outside the core (radius about 3485 km), and ``1 / r^3`` must stay finite.
+MIN_RADIUS_M = 1.0e6
+# Any number of dimensions (numpy's limit is 64; 32 is far more than any broadcast here needs).
+_ANY_NDIM = tuple(range(33))
+#: Largest radius accepted, m (far beyond the magnetopause, some 6e7 m; ``r^3`` stays well inside float64).
+MAX_RADIUS_M = 1.0e12
 
 #: Earth's dipole strength ``M_E = mu0 m / (4 pi) = a^3 sqrt(g10^2 + g11^2 + h11^2)`` at 2025.0 from the
 #: IGRF-14 coefficients above, in T m^3 (about 7.70e15; the dipole moment m is 7.70e22 A m^2). This is the
@@ -92,32 +100,87 @@ def dipole_orbital(
     -------
     ndarray
         (..., 3) field in tesla, ``...`` the broadcast shape of ``u`` and ``radius``.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or non-real input, ``radius`` outside [``MIN_RADIUS_M``, ``MAX_RADIUS_M``] (1e6 to
+        1e12 m), ``inclination`` outside [0, pi], a negative ``strength`` or above 1e30 T m^3, shapes that
+        do not broadcast.
     """
-    u = np.asarray(u, dtype=float)
-    r = np.asarray(radius, dtype=float)
-    if np.any(r <= 0.0):
-        raise InvalidInputError(f"expected a positive radius, got minimum {np.min(r)}")
+    u = checked_array("u", u, ndim=_ANY_NDIM, shape="(...)")
+    r = _radii("radius", checked_array("radius", radius, ndim=_ANY_NDIM, shape="(...)"))
+    inclination = scalar("inclination", inclination, minimum=0.0, maximum=np.pi, unit="rad")
+    strength = scalar("strength", strength, minimum=0.0, maximum=1e30, unit="T m^3")
     si, ci = np.sin(inclination), np.cos(inclination)
     scale = strength / r**3
-    u, scale = np.broadcast_arrays(u, scale)
+    try:
+        u, scale = np.broadcast_arrays(u, scale)
+    except ValueError as exc:
+        raise InvalidInputError(
+            f"expected u and radius of broadcastable shapes, got {u.shape}, {r.shape}"
+        ) from exc
     return scale[..., None] * np.stack([np.cos(u) * si, np.full_like(u, ci), -2.0 * np.sin(u) * si], axis=-1)
 
 
 def dipole_coefficients(decimal_year: float) -> NDArray[np.float64]:
     """IGRF-14 ``(g10, g11, h11)`` in nT at ``decimal_year`` (2015.0 to 2030.0): linear between the
     5-yearly models, the secular variation after 2025.0."""
-    t = float(decimal_year)
+    t = scalar("decimal_year", decimal_year)
     if not _EPOCHS[0] <= t <= _LAST_YEAR:
-        raise InvalidInputError(f"expected a decimal year in [2015.0, 2030.0] (IGRF-14), got {t}")
+        raise InvalidInputError(
+            f"expected decimal_year, a decimal year in [2015.0, 2030.0] (IGRF-14), got {t}"
+        )
     if t >= _EPOCHS[-1]:
         return _GAUSS_NT[-1] + (t - _EPOCHS[-1]) * _SV_NT_PER_YEAR
     return np.array([np.interp(t, _EPOCHS, _GAUSS_NT[:, k]) for k in range(3)])
 
 
+def _radii(name: str, r: NDArray[np.float64]) -> NDArray[np.float64]:
+    if r.size and (r.min() < MIN_RADIUS_M or r.max() > MAX_RADIUS_M):
+        raise InvalidInputError(
+            f"expected {name} in [{MIN_RADIUS_M}, {MAX_RADIUS_M}] m from the Earth's centre, got "
+            f"[{r.min()}, {r.max()}]"
+        )
+    return r
+
+
+def _geodetic(
+    latitude_deg: ArrayLike, longitude_deg: ArrayLike, *height_m: ArrayLike
+) -> tuple[NDArray[np.float64], ...]:
+    """Checked latitudes (rad, in [-pi/2, pi/2]), longitudes (rad) and heights (m), broadcast together."""
+    lat = checked_array("latitude_deg", latitude_deg, ndim=_ANY_NDIM, shape="(...)")
+    if lat.size and np.max(np.abs(lat)) > 90.0:
+        raise InvalidInputError(f"expected latitude_deg in [-90, 90], got {lat.flat[np.argmax(np.abs(lat))]}")
+    lon = checked_array("longitude_deg", longitude_deg, ndim=_ANY_NDIM, shape="(...)")
+    arrays = [np.radians(lat), np.radians(lon)]
+    for value in height_m:  # one height or none
+        h = checked_array("height_m", value, ndim=_ANY_NDIM, shape="(...)")
+        if h.size and (h.min() < MIN_RADIUS_M - WGS84_A_M or h.max() > MAX_RADIUS_M):
+            raise InvalidInputError(
+                f"expected height_m in [{MIN_RADIUS_M - WGS84_A_M}, {MAX_RADIUS_M}] m, "
+                f"got [{h.min()}, {h.max()}]"
+            )
+        arrays.append(h)
+    try:
+        return tuple(np.broadcast_arrays(*arrays))
+    except ValueError as exc:
+        shapes = [a.shape for a in arrays]
+        raise InvalidInputError(
+            f"expected latitude_deg, longitude_deg, height_m of broadcastable shapes, got {shapes}"
+        ) from exc
+
+
 def geodetic_to_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike) -> NDArray:
-    """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres."""
-    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
-    h = np.asarray(height_m, dtype=float)
+    """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or non-real input, latitudes outside [-90, 90], heights that bring the point nearer the
+        centre than ``MIN_RADIUS_M`` or beyond ``MAX_RADIUS_M``, shapes that do not broadcast.
+    """
+    lat, lon, h = _geodetic(latitude_deg, longitude_deg, height_m)
     n = WGS84_A_M / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
     return np.stack(
         [
@@ -130,8 +193,14 @@ def geodetic_to_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m
 
 
 def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
-    """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point."""
-    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
+    """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or non-real input, latitudes outside [-90, 90], shapes that do not broadcast.
+    """
+    lat, lon = _geodetic(latitude_deg, longitude_deg)
     sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
     zero = np.zeros_like(sl * so)
     rows = [
@@ -151,29 +220,51 @@ def dipole_field_ecef(position_ecef_m: ArrayLike, decimal_year: float) -> NDArra
     Parameters
     ----------
     position_ecef_m
-        (..., 3) positions in metres (not the origin).
+        (..., 3) positions in metres, ``MIN_RADIUS_M`` to ``MAX_RADIUS_M`` (1e6 to 1e12 m) from the centre.
     decimal_year
         Epoch, 2015.0 to 2030.0.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shape, non-finite or non-real input, a position outside that radius range, a year outside
+        the model.
     """
-    r = float_array("position_ecef_m", position_ecef_m, ndim=(1, 2, 3), shape="(..., 3)")
-    if r.shape[-1] != 3:
-        raise InvalidInputError(f"expected position_ecef_m of shape (..., 3), got {r.shape}")
+    r = _positions("position_ecef_m", position_ecef_m)
     g10, g11, h11 = dipole_coefficients(decimal_year) * 1e-9
     g = np.array([g11, h11, g10])
     norm = np.linalg.norm(r, axis=-1, keepdims=True)
-    if np.any(norm == 0.0):
-        raise InvalidInputError("position_ecef_m contains the Earth's centre, where the dipole is singular")
     rh = r / norm
     return IGRF_REFERENCE_RADIUS_M**3 * (3.0 * (rh @ g)[..., None] * rh - g) / norm**3
+
+
+def _positions(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    r = checked_array(name, value, ndim=_ANY_NDIM[1:], shape="(..., 3)")
+    if r.shape[-1] != 3:
+        raise InvalidInputError(f"expected {name} of shape (..., 3), got {r.shape}")
+    with np.errstate(over="ignore"):  # a radius beyond float64 is refused as out of range
+        _radii(name, np.linalg.norm(r, axis=-1))
+    return r
 
 
 def dipole_field_eci(
     position_eci_m: ArrayLike, decimal_year: float, earth_rotation_angle_rad: ArrayLike
 ) -> NDArray[np.float64]:
     """:func:`dipole_field_ecef` for ECI positions: ECEF is ECI turned about z by the Earth rotation angle
-    (docs/conventions.md), so ``B_eci = R_z(theta) B_ecef(R_z(-theta) r_eci)``. Tesla, (..., 3)."""
-    r = np.asarray(position_eci_m, dtype=float)
-    th = np.asarray(earth_rotation_angle_rad, dtype=float)
+    (docs/conventions.md), so ``B_eci = R_z(theta) B_ecef(R_z(-theta) r_eci)``. Tesla, (..., 3).
+
+    ``earth_rotation_angle_rad`` broadcasts against the leading shape of ``position_eci_m``; errors as
+    :func:`dipole_field_ecef`."""
+    r = _positions("position_eci_m", position_eci_m)
+    th = checked_array("earth_rotation_angle_rad", earth_rotation_angle_rad, ndim=_ANY_NDIM, shape="(...)")
+    try:
+        lead = np.broadcast_shapes(r.shape[:-1], th.shape)
+    except ValueError as exc:
+        raise InvalidInputError(
+            f"expected earth_rotation_angle_rad broadcastable to {r.shape[:-1]}, got {th.shape}"
+        ) from exc
+    # one position at several angles, or several positions at one angle
+    r, th = np.broadcast_to(r, (*lead, 3)), np.broadcast_to(th, lead)
     c, s = np.cos(th), np.sin(th)
     r_ecef = np.stack([c * r[..., 0] + s * r[..., 1], -s * r[..., 0] + c * r[..., 1], r[..., 2]], axis=-1)
     b = dipole_field_ecef(r_ecef, decimal_year)
@@ -223,20 +314,25 @@ def igrf_field_ecef(
     ------
     ImportError
         ppigrf is not installed.
+    InvalidInputError
+        As :func:`dipole_field_ecef`; ``max_degree`` outside 1..13.
     """
+    r = _positions("position_ecef_m", position_ecef_m)
+    year = scalar("decimal_year", decimal_year, minimum=1900.0, maximum=_LAST_YEAR)
+    max_degree = integer("max_degree", max_degree, minimum=1)
+    if max_degree > 13:
+        raise InvalidInputError(f"expected max_degree in 1..13 (IGRF-14), got {max_degree}")
     try:
         import ppigrf
     except ImportError as exc:
         raise ImportError(
             "igrf_field_ecef needs the optional package ppigrf: pip install gnssatt[igrf]"
         ) from exc
-    r = np.asarray(position_ecef_m, dtype=float)
     rn = np.linalg.norm(r, axis=-1)
     colat = np.degrees(np.arccos(r[..., 2] / rn))
     lon = np.degrees(np.arctan2(r[..., 1], r[..., 0]))
     br, bth, bph = (
-        np.asarray(c)[0]
-        for c in ppigrf.igrf_gc(rn / 1e3, colat, lon, _datetime(decimal_year), max_degree=max_degree)
+        np.asarray(c)[0] for c in ppigrf.igrf_gc(rn / 1e3, colat, lon, _datetime(year), max_degree=max_degree)
     )
     th, ph = np.radians(colat), np.radians(lon)
     e_r = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)

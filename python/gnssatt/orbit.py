@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array
+from gnssatt._arrays import finite_result, float_array, scalar
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.sim._util import checked_array, instance, vector_array
 
 __all__ = [
     "CircularOrbit",
@@ -31,6 +31,16 @@ __all__ = [
 
 #: Earth rotation rate of the GLONASS CDMA ICD (2016) and WGS-84, rad/s.
 OMEGA_E_RAD_S = 7.2921151467e-5
+#: Most RK4 steps of one :func:`glonass_propagate` call (and of all the steps of one
+#: :func:`gnssatt.orbit_nav.noisy_orbit` or :func:`gnssatt.orbit_nav.orbit_filter` call): 116 days in 1 s
+#: steps, about 6 s of work.
+MAX_RK4_STEPS = 10_000_000
+#: Closest distance to the Earth's centre of a propagated position, m (central gravity ``GM / r^2`` grows
+#: without bound below it; every orbit lies far above).
+MIN_ORBIT_RADIUS_M = 1.0e6
+#: Julian dates accepted by :func:`gmst_rad` (4713 BC to AD 22666): the IAU-82 polynomial is cubic in the
+#: centuries from J2000 and meaningless far outside.
+JULIAN_DATE_RANGE = (0.0, 1.0e7)
 
 
 @dataclass(frozen=True)
@@ -60,9 +70,7 @@ class GlonassModel:
     def __post_init__(self) -> None:
         for name in ("gm_m3_s2", "j2", "equatorial_radius_m", "omega_rad_s"):
             object.__setattr__(self, name, scalar(name, getattr(self, name)))
-        acc = float_array("lunisolar_m_s2", self.lunisolar_m_s2, ndim=1, shape="(3,)")
-        if acc.shape != (3,):
-            raise InvalidInputError(f"expected lunisolar_m_s2 of shape (3,), got {acc.shape}")
+        acc = _vec3("lunisolar_m_s2", self.lunisolar_m_s2)
         object.__setattr__(self, "lunisolar_m_s2", tuple(float(a) for a in acc))
         if self.gm_m3_s2 <= 0 or self.equatorial_radius_m <= 0:
             raise InvalidInputError(
@@ -103,10 +111,20 @@ class PropagatedState:
 
 
 def _vec3(name: str, value: ArrayLike) -> NDArray[np.float64]:
-    v = float_array(name, value, ndim=1, shape="(3,)")
-    if v.shape != (3,):
-        raise InvalidInputError(f"expected {name} of shape (3,), got {v.shape}")
-    return v
+    return vector_array(name, value, ndim=1, shape="(3,)")
+
+
+def rk4_steps(what: str, durations_s: NDArray[np.float64], step_s: float) -> int:
+    """Number of RK4 steps ``sum ceil(duration / step)`` of a propagation, checked against
+    ``MAX_RK4_STEPS`` before any work; ``what`` names the call and the span's parameter in the
+    :class:`~gnssatt.errors.WorkLimitError`."""
+    n = float(np.sum(np.ceil(np.maximum(durations_s, 0.0) / step_s)))
+    if n > MAX_RK4_STEPS:
+        raise WorkLimitError(
+            f"{what} ({float(np.sum(durations_s)):.6g} s) in steps of step_s = {step_s} s needs {n:.3g} RK4 "
+            f"steps, beyond the limit of {MAX_RK4_STEPS}; use a longer step_s or a shorter span"
+        )
+    return int(n)
 
 
 def glonass_propagate(
@@ -146,18 +164,32 @@ def glonass_propagate(
     Raises
     ------
     InvalidInputError
-        Non-finite or wrongly shaped state, negative duration, step <= 0 or longer than the duration.
+        Non-finite or wrongly shaped state, a position nearer the Earth's centre than
+        ``MIN_ORBIT_RADIUS_M`` (1000 km), negative duration, step <= 0 or longer than the duration.
+    WorkLimitError
+        More than ``MAX_RK4_STEPS`` (1e7) steps.
+    ConvergenceError
+        The integration overflowed (absurd velocities or model constants: the state left float64).
     """
-    m = model if model is not None else GlonassModel()
-    if not isinstance(m, GlonassModel):
-        raise TypeError(f"expected model as a gnssatt.orbit.GlonassModel, got {type(m).__name__}")
+    m = instance("model", model if model is not None else GlonassModel(), GlonassModel, "a GlonassModel")
     if lunisolar_m_s2 is not None:
         acc = _vec3("lunisolar_m_s2", lunisolar_m_s2)
         m = GlonassModel(m.gm_m3_s2, m.j2, m.equatorial_radius_m, m.omega_rad_s, tuple(acc))
-    state = np.concatenate([_vec3("position_m", position_m), _vec3("velocity_m_s", velocity_m_s)])
+    r = _vec3("position_m", position_m)
+    if np.linalg.norm(r) < MIN_ORBIT_RADIUS_M:
+        raise InvalidInputError(
+            f"expected position_m at least {MIN_ORBIT_RADIUS_M} m away from the Earth's centre, "
+            f"got |r| = {np.linalg.norm(r)} m"
+        )
+    state = np.concatenate([r, _vec3("velocity_m_s", velocity_m_s)])
     d = scalar("duration_s", duration_s)
     h = scalar("step_s", step_s)
+    if d > 0 and 0 < h <= d:  # the core reports the other cases
+        rk4_steps("glonass_propagate over duration_s", np.array([d]), h)
     x, phi = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
+    cause = f"position {r.tolist()} m, velocity {state[3:].tolist()} m/s over {d} s"
+    finite_result("the propagated state", x, cause)
+    finite_result("the state-transition matrix", phi, cause)
     return PropagatedState(x[:3].copy(), x[3:].copy(), phi)
 
 
@@ -175,6 +207,12 @@ class CircularOrbit:
         Argument of latitude at ``t = 0``, rad.
     gm_m3_s2
         Gravitational parameter (default WGS-84), m^3/s^2.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or non-real elements, a radius outside [``MIN_ORBIT_RADIUS_M``, 1e12] m, a
+        non-positive ``gm_m3_s2``.
     """
 
     radius_m: float
@@ -182,6 +220,13 @@ class CircularOrbit:
     raan_rad: float
     arg_latitude0_rad: float
     gm_m3_s2: float = 3.986004418e14
+
+    def __post_init__(self) -> None:
+        for name in ("inclination_rad", "raan_rad", "arg_latitude0_rad"):
+            object.__setattr__(self, name, scalar(name, getattr(self, name)))
+        r = scalar("radius_m", self.radius_m, minimum=MIN_ORBIT_RADIUS_M, unit="m")
+        object.__setattr__(self, "radius_m", scalar("radius_m", r, maximum=1e12, unit="m"))
+        object.__setattr__(self, "gm_m3_s2", scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True))
 
     @property
     def period_s(self) -> float:
@@ -198,7 +243,7 @@ class CircularOrbit:
         """
         t = float_array("times_s", times_s, ndim=1, shape="(n,)")
         elements = [
-            scalar(k, getattr(self, k))
+            getattr(self, k)
             for k in ("radius_m", "inclination_rad", "raan_rad", "arg_latitude0_rad", "gm_m3_s2")
         ]
         return _core.circular_orbit_ecef(
@@ -210,8 +255,19 @@ class CircularOrbit:
 
 
 def gmst_rad(jd_ut1: ArrayLike) -> NDArray[np.float64]:
-    """Greenwich mean sidereal time (IAU-82, Vallado's ``gstime``) of UT1 Julian dates, rad in [0, 2 pi)."""
+    """Greenwich mean sidereal time (IAU-82, Vallado's ``gstime``) of UT1 Julian dates, rad in [0, 2 pi).
+
+    Raises
+    ------
+    InvalidInputError
+        Julian dates outside ``JULIAN_DATE_RANGE`` ([0, 1e7]), non-finite or non-real.
+    """
     jd = checked_array("jd_ut1", jd_ut1, ndim=(0, 1), shape="() or (n,)")
+    lo, hi = JULIAN_DATE_RANGE
+    if jd.size and (jd.min() < lo or jd.max() > hi):
+        raise InvalidInputError(
+            f"expected jd_ut1 in [{lo}, {hi}] (Julian dates), got [{jd.min()}, {jd.max()}]"
+        )
     t = (jd - 2451545.0) / 36525.0
     sec = 67310.54841 + (876600.0 * 3600.0 + 8640184.812866) * t + 0.093104 * t**2 - 6.2e-6 * t**3
     return np.remainder(np.radians(sec / 240.0), 2.0 * np.pi)
@@ -233,13 +289,17 @@ def teme_to_ecef(
     jd_ut1
         () or (n,) Julian dates in UT1.
     """
-    r = float_array("r_teme_m", r_teme_m, ndim=(1, 2), shape="(n, 3)")
-    v = float_array("v_teme_m_s", v_teme_m_s, ndim=(1, 2), shape="(n, 3)")
-    if r.shape[-1] != 3 or v.shape != r.shape:
+    r = vector_array("r_teme_m", r_teme_m, ndim=(1, 2), shape="(n, 3)")
+    v = vector_array("v_teme_m_s", v_teme_m_s, ndim=(1, 2), shape="(n, 3)")
+    if v.shape != r.shape:
         raise InvalidInputError(
             f"expected r_teme_m and v_teme_m_s of one shape (n, 3), got {r.shape}, {v.shape}"
         )
     g = gmst_rad(jd_ut1)
+    if g.ndim == 1 and g.shape != r.shape[:1]:
+        raise InvalidInputError(
+            f"expected jd_ut1 of shape () or ({r.shape[0]},) (one per position), got {g.shape}"
+        )
     c, s, z, o = np.cos(g), np.sin(g), np.zeros_like(g), np.ones_like(g)
     ecef_from_teme = np.stack(
         [np.stack([c, s, z], -1), np.stack([-s, c, z], -1), np.stack([z, z, o], -1)], -2
@@ -252,7 +312,9 @@ def teme_to_ecef(
 def _julian_dates(times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     t = np.asarray(times)
     if t.dtype.kind != "M":
-        raise TypeError(f"expected times as numpy datetime64 (UTC), got dtype {t.dtype}")
+        raise InvalidTypeError(f"expected times as numpy datetime64 (UTC), got dtype {t.dtype}")
+    if t.ndim > 1:
+        raise InvalidInputError(f"expected times of shape () or (n,), got {t.shape}")
     if np.any(np.isnat(t)):
         raise InvalidInputError("times contains NaT")
     ns = t.astype("datetime64[ns]").astype(np.int64)
@@ -292,16 +354,16 @@ def tle_states(
         from sgp4.api import Satrec
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise ImportError("tle_states needs the sgp4 package: pip install 'gnssatt[tle]'") from exc
-    if not isinstance(line1, str) or not isinstance(line2, str):
-        raise TypeError("expected the two TLE lines as str")
+    instance("line1", line1, str, "a str")
+    instance("line2", line2, str, "a str")
     try:
         sat = Satrec.twoline2rv(line1, line2)
     except (ValueError, IndexError) as exc:
         raise InvalidInputError(f"could not parse the TLE: {exc}") from exc
     jd, fr = _julian_dates(times)
+    d = scalar("dut1_s", dut1_s, minimum=-1.0, maximum=1.0, unit="s")  # |UT1 - UTC| < 0.9 s by definition
     err, r_km, v_km_s = sat.sgp4_array(jd, fr)
     if np.any(err != 0):
         k = int(np.flatnonzero(err)[0])
         raise InvalidInputError(f"SGP4 error code {int(err[k])} at time index {k} (see sgp4.api.SGP4_ERRORS)")
-    d = scalar("dut1_s", dut1_s) / 86400.0
-    return teme_to_ecef(r_km * 1e3, v_km_s * 1e3, jd + (fr + d))
+    return teme_to_ecef(r_km * 1e3, v_km_s * 1e3, jd + (fr + d / 86400.0))

@@ -16,10 +16,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import InvalidInputError
-from gnssatt.orbit import GlonassModel, glonass_propagate
+from gnssatt._arrays import finite_result, float_array, scalar
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.orbit import GlonassModel, glonass_propagate, rk4_steps
+from gnssatt.sim._util import instance, real_array, text
 from gnssatt.sim.spaceborne import SpaceborneMeasurements
+
+#: Most epochs of :func:`noisy_orbit` (a Python loop, about 0.1 ms per epoch).
+MAX_EPOCHS = 1_000_000
 
 __all__ = [
     "OrbitFilterResult",
@@ -33,10 +37,21 @@ __all__ = [
 
 def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.float64]:
     """(6, 6) covariance over ``dt_s`` of white acceleration noise on a free particle:
-    ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``."""
-    q, dt = accel_psd_m2_s3, dt_s
+    ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``; ``accel_psd_m2_s3 >= 0`` (m^2/s^3), ``dt_s >= 0`` (s).
+
+    Raises
+    ------
+    InvalidInputError
+        A negative, non-finite or non-real argument.
+    ConvergenceError
+        The covariance overflows (``q dt^3`` beyond float64).
+    """
+    q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
+    dt = scalar("dt_s", dt_s, minimum=0.0)
     i3 = np.eye(3)
-    return q * np.block([[dt**3 / 3 * i3, dt**2 / 2 * i3], [dt**2 / 2 * i3, dt * i3]])
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+        out = q * np.block([[dt**3 / 3 * i3, dt**2 / 2 * i3], [dt**2 / 2 * i3, dt * i3]])
+    return finite_result("the process noise covariance", out, f"accel_psd_m2_s3 = {q}, dt_s = {dt}")
 
 
 def noisy_orbit(
@@ -52,11 +67,32 @@ def noisy_orbit(
     acceleration (:func:`white_acceleration_noise`, the free-particle part of what the filter's Van Loan
     discretisation gives; the gravity-gradient correction is ``(n dt)^2 ~ 1e-4`` of it for 10 s in LEO).
 
-    Returns (n_t, 6) states at ``times_s``; the first is ``x0``.
+    Returns (n_t, 6) states at ``times_s`` (strictly increasing, at least one); the first is ``x0``.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad shapes, types or values; times not strictly increasing; ``step_s`` <= 0.
+    WorkLimitError
+        More than ``MAX_EPOCHS`` (1e6) epochs, or more than :data:`gnssatt.orbit.MAX_RK4_STEPS` (1e7) RK4
+        steps over the whole span (checked before any work).
+    ConvergenceError
+        The propagation or the noise covariance overflowed.
     """
     x = float_array("x0", x0, ndim=1, shape="(6,)")
+    if x.shape != (6,):
+        raise InvalidInputError(f"expected x0 of shape (6,), got {x.shape}")
     t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
+    if t.size == 0 or np.any(np.diff(t) <= 0):
+        raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
+    if t.size > MAX_EPOCHS:
+        raise WorkLimitError(f"noisy_orbit: times_s has {t.size} epochs, beyond the limit of {MAX_EPOCHS}")
     q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
+    step_s = scalar("step_s", step_s, minimum=0.0, strict=True)
+    instance("rng", rng, np.random.Generator, "a numpy.random.Generator")
+    if model is not None:
+        instance("model", model, GlonassModel, "a GlonassModel")
+    rk4_steps("noisy_orbit over times_s", np.diff(t), step_s)
     out = np.empty((t.size, 6))
     out[0] = x
     for k in range(1, t.size):
@@ -88,6 +124,26 @@ class ReceiverFixes:
     velocity_m_s: NDArray[np.float64]
     covariance: NDArray[np.float64]
     valid: NDArray[np.bool_]
+
+    def __post_init__(self) -> None:
+        # Also an input of orbit_filter: shapes and types checked; values are finite where valid.
+        t = float_array("times_s", self.times_s, ndim=1, shape="(n_t,)")
+        n_t = t.size
+        valid = np.asarray(self.valid)
+        if valid.dtype != bool or valid.shape != (n_t,):
+            raise InvalidInputError(
+                f"expected valid as booleans of shape ({n_t},), got {valid.dtype} {valid.shape}"
+            )
+        for name, shape in (
+            ("position_m", (n_t, 3)),
+            ("velocity_m_s", (n_t, 3)),
+            ("covariance", (n_t, 6, 6)),
+        ):
+            arr = real_array(name, getattr(self, name))
+            if arr.shape != shape:
+                raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+            if not np.all(np.isfinite(arr[valid])):
+                raise InvalidInputError(f"{name} contains a non-finite value where valid")
 
 
 def _fix_epoch(
@@ -128,11 +184,16 @@ def _fix_epoch(
 
 def receiver_fix(measurements: SpaceborneMeasurements) -> ReceiverFixes:
     """Single-epoch least-squares fixes (Gauss-Newton for position + one clock per system, linear least
-    squares for velocity + clock drift from Doppler); none where too few satellites are tracked.
+    squares for velocity + clock drift from Doppler); none where too few satellites are tracked, or where
+    the satellites' geometry does not fix the solution (e.g. all in one line).
+
+    Raises
+    ------
+    InvalidInputError
+        ``measurements`` is not :class:`~gnssatt.sim.SpaceborneMeasurements` (an
+        :class:`~gnssatt.errors.InvalidTypeError`).
     """
-    if not isinstance(measurements, SpaceborneMeasurements):
-        raise TypeError(f"expected SpaceborneMeasurements, got {type(measurements).__name__}")
-    m = measurements
+    m = instance("measurements", measurements, SpaceborneMeasurements, "SpaceborneMeasurements")
     n_t = m.times_s.size
     pos = np.full((n_t, 3), np.nan)
     vel = np.full((n_t, 3), np.nan)
@@ -140,8 +201,11 @@ def receiver_fix(measurements: SpaceborneMeasurements) -> ReceiverFixes:
     valid = np.zeros(n_t, dtype=bool)
     start = np.zeros(3)
     for k in range(n_t):
-        fix = _fix_epoch(m, k, start)
-        if fix is not None:
+        try:
+            fix = _fix_epoch(m, k, start)
+        except np.linalg.LinAlgError:  # the satellites' geometry fixes no solution at this epoch
+            fix = None
+        if fix is not None and all(np.all(np.isfinite(f)) for f in fix):
             pos[k], vel[k], cov[k] = fix
             valid[k] = True
             start = pos[k]
@@ -176,7 +240,13 @@ class OrbitFilterResult:
     coupling: str
 
     def nees(self, truth: ArrayLike) -> NDArray[np.float64]:
-        """(n_t,) normalised estimation error squared ``e^T P^-1 e`` against true states (n_t, 6)."""
+        """(n_t,) normalised estimation error squared ``e^T P^-1 e`` against true states (n_t, 6).
+
+        Raises
+        ------
+        InvalidInputError
+            ``truth`` of the wrong shape, non-finite or non-real.
+        """
         x = float_array("truth", truth, ndim=2, shape="(n_t, 6)")
         if x.shape != self.states.shape:
             raise InvalidInputError(f"expected truth of shape {self.states.shape}, got {x.shape}")
@@ -229,24 +299,31 @@ def orbit_filter(
     InvalidInputError
         Bad shapes or values, non-finite tracked measurements, non-increasing times, or no usable
         measurement in any epoch.
+    WorkLimitError
+        More than :data:`gnssatt.orbit.MAX_RK4_STEPS` (1e7) prediction steps over the whole span (checked
+        before any work).
     """
-    m = model if model is not None else GlonassModel()
+    m = instance("model", model if model is not None else GlonassModel(), GlonassModel, "a GlonassModel")
     x = float_array("x0", x0, ndim=1, shape="(6,)")
     p = float_array("p0", p0, ndim=2, shape="(6, 6)")
     settings = {
         "accel_psd_m2_s3": scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0),
         "step_s": scalar("step_s", step_s, minimum=0.0, strict=True),
     }
+    text("coupling", coupling)
     if coupling not in ("loose", "tight"):
         raise InvalidInputError(f"expected coupling 'loose' or 'tight', got {coupling!r}")
+    if not isinstance(use_doppler, bool | np.bool_):
+        raise InvalidTypeError(f"expected use_doppler as a bool, got {type(use_doppler).__name__}")
+    instance("data", data, SpaceborneMeasurements | ReceiverFixes, "SpaceborneMeasurements or ReceiverFixes")
+    t_all = float_array("data.times_s", data.times_s, ndim=1, shape="(n_t,)")
+    rk4_steps("orbit_filter over data.times_s", np.diff(t_all), settings["step_s"])
     if isinstance(data, ReceiverFixes):
         if coupling != "loose":
             raise InvalidInputError("receiver fixes can only drive the loosely coupled filter")
         fixes = data
-    elif isinstance(data, SpaceborneMeasurements):
-        fixes = receiver_fix(data) if coupling == "loose" else None
     else:
-        raise TypeError(f"expected SpaceborneMeasurements or ReceiverFixes, got {type(data).__name__}")
+        fixes = receiver_fix(data) if coupling == "loose" else None
     if fixes is not None:
         t = fixes.times_s
         out = _core.orbit_filter_loose(

@@ -36,8 +36,9 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.sim._util import instance, text, vector_array
 
 __all__ = [
     "RotationFit",
@@ -58,6 +59,18 @@ DCM_ORBITAL_FROM_ORB0 = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0
 MAX_RATE_RAD_S = math.radians(3.0)
 # Fewest epochs accepted by the fit: six unknowns, two independent components per axis direction.
 MIN_EPOCHS = 3
+#: Most RK4 steps of one propagation call, all initial states together (about 12 s of one core at
+#: 8e6 steps/s); a fit's population (``popsize * 6`` states) counts once per generation.
+MAX_RK4_STEPS = 100_000_000
+#: Largest rotation per RK4 step, ``|omega| h`` in rad, at the initial rates: RK4 on a rotation loses
+#: stability near 2.8 rad per step and accuracy long before (this bound keeps the angle error per step
+#: below about 1e-2 rad); beyond it the integration is refused rather than left to produce NaN.
+MAX_ROTATION_PER_STEP_RAD = 1.0
+#: Most differential-evolution generations per run, population multiplier and restarts of
+#: :func:`fit_rotation`.
+MAX_GENERATIONS = 100_000
+MAX_POPSIZE = 1_000
+MAX_RESTARTS = 100
 
 
 @dataclass(frozen=True)
@@ -95,10 +108,30 @@ class TumbleModel:
     area_m2: float = 0.03
     cp_offset_m: tuple[float, float, float] = (0.0, -0.02, 0.0)
 
+    def __post_init__(self) -> None:
+        for name in ("orbital_rate_rad_s", "speed_m_s", "density_kg_m3", "drag_coefficient", "area_m2"):
+            object.__setattr__(self, name, scalar(name, getattr(self, name), minimum=0.0))
+        inertia = vector_array("inertia_kg_m2", self.inertia_kg_m2, ndim=1, shape="(3,)")
+        ix, iy, iz = inertia
+        tol = 1e-12 * (ix + iy + iz)  # the core's tolerance: a thin plate has ix + iy = iz to rounding
+        if inertia.min() <= 0 or ix + iy < iz - tol or iy + iz < ix - tol or iz + ix < iy - tol:
+            raise InvalidInputError(
+                f"expected inertia_kg_m2 as positive principal moments obeying the triangle inequality, "
+                f"got {inertia.tolist()}"
+            )
+        cp = vector_array("cp_offset_m", self.cp_offset_m, ndim=1, shape="(3,)")
+        if not isinstance(self.gravity_gradient, bool | np.bool_):
+            raise InvalidTypeError(
+                f"expected gravity_gradient as a bool, got {type(self.gravity_gradient).__name__}"
+            )
+        object.__setattr__(self, "inertia_kg_m2", tuple(float(v) for v in inertia))
+        object.__setattr__(self, "cp_offset_m", tuple(float(v) for v in cp))
+
     @classmethod
     def circular(cls, altitude_m: float = 500e3, **kwargs: Any) -> TumbleModel:
-        """The model on a circular orbit of ``altitude_m`` above a 6378137 m sphere."""
-        r = EARTH_RADIUS_M + float(altitude_m)
+        """The model on a circular orbit of ``altitude_m`` above a 6378137 m sphere (altitude in
+        (-6378137, 1e12] m)."""
+        r = EARTH_RADIUS_M + scalar("altitude_m", altitude_m, maximum=1e12, unit="m")
         if not r > 0:
             raise InvalidInputError(f"expected altitude_m above -6378137 m, got {altitude_m}")
         return cls(orbital_rate_rad_s=math.sqrt(GM_M3_S2 / r**3), speed_m_s=math.sqrt(GM_M3_S2 / r), **kwargs)
@@ -117,11 +150,58 @@ class TumbleModel:
 
 
 def _default(model: TumbleModel | None) -> TumbleModel:
-    return TumbleModel.circular() if model is None else model
+    return instance("model", TumbleModel.circular() if model is None else model, TumbleModel, "a TumbleModel")
 
 
 def _times(t: ArrayLike) -> NDArray[np.float64]:
-    return float_array("t", t, ndim=1, shape="(n_t,)")
+    tt = float_array("t", t, ndim=1, shape="(n_t,)")
+    if tt.size and tt[0] < 0:
+        raise InvalidInputError(f"expected t >= 0 s from the initial epoch, got {tt[0]}")
+    if np.any(np.diff(tt) < 0):
+        i = int(np.flatnonzero(np.diff(tt) < 0)[0]) + 1
+        raise InvalidInputError(f"expected non-decreasing t, got {tt[i]} after {tt[i - 1]} at index {i}")
+    return tt
+
+
+def _checked_work(n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_rad_s: float) -> float:
+    """``step_s`` as a float after checking the work and the rotation per step, before any propagation.
+
+    The RK4 steps between output times are ``ceil(span / step_s)`` each, no longer than ``step_s`` nor
+    than the longest span; ``max_rate_rad_s`` is the fastest initial rate (norm) of the batch.
+    """
+    h = scalar("step_s", step_s, minimum=0.0, strict=True, unit="s")
+    spans = np.diff(t, prepend=0.0)
+    steps = n_states * float(np.sum(np.ceil(spans / h)))
+    if steps > MAX_RK4_STEPS:
+        raise WorkLimitError(
+            f"{n_states} initial states over t up to {t[-1]} s in step_s = {h} s need {steps:.3g} RK4 steps, "
+            f"beyond the limit of {MAX_RK4_STEPS}; use a longer step_s, fewer times or fewer states"
+        )
+    h_eff = min(h, float(spans.max(initial=0.0)))
+    if max_rate_rad_s * h_eff > MAX_ROTATION_PER_STEP_RAD:
+        raise InvalidInputError(
+            f"expected |omega| * step <= {MAX_ROTATION_PER_STEP_RAD} rad for a stable RK4 integration, got "
+            f"rates up to {max_rate_rad_s} rad/s in params with steps of {h_eff} s; use step_s <= "
+            f"{MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
+        )
+    return h
+
+
+def _finite(what: str, value: NDArray[np.float64], step_s: float) -> NDArray[np.float64]:
+    return finite_result(what, value, f"the integration diverged (step_s = {step_s} s); try a shorter step_s")
+
+
+def _max_rate(p: NDArray[np.float64]) -> float:
+    return float(np.max(np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1), initial=0.0))
+
+
+def _params(p: Any, ndim: int | tuple[int, ...]) -> NDArray[np.float64]:
+    arr = float_array("params", p, ndim=ndim, shape="(6,) or (n, 6)" if ndim != 1 else "(6,)")
+    if arr.shape[-1:] != (6,):
+        raise InvalidInputError(
+            f"expected params of shape {'(6,)' if ndim == 1 else '(6,) or (n, 6)'}, got {arr.shape}"
+        )
+    return arr
 
 
 def propagate_axes(
@@ -139,15 +219,29 @@ def propagate_axes(
     model
         :class:`TumbleModel`; default ``TumbleModel.circular()``.
     step_s
-        Longest RK4 step, s. ``1.0`` keeps the axis within 1e-6 rad of the converged solution over 1500 s
-        at 3 deg/s.
+        Longest RK4 step, s, > 0. ``1.0`` keeps the axis within 1e-6 rad of the converged solution over
+        1500 s at 3 deg/s.
 
     Returns
     -------
     (n_t, 3) or (n, n_t, 3). The batch runs on rayon's pool (``RAYON_NUM_THREADS`` sets its size).
+
+    Raises
+    ------
+    InvalidInputError
+        Bad shapes, types or values; an initial rate so fast that a step turns the body by more than
+        ``MAX_ROTATION_PER_STEP_RAD`` (1 rad).
+    WorkLimitError
+        More than ``MAX_RK4_STEPS`` (1e8) RK4 steps, all states together (checked before any work).
+    ConvergenceError
+        The integration diverged (non-finite axes).
     """
-    p = float_array("params", params, ndim=(1, 2), shape="(6,) or (n, 6)")
-    out = _core.tumble_axes(np.atleast_2d(p), _times(t), _default(model)._kwargs(), step_s=float(step_s))
+    p = _params(params, (1, 2))
+    tt = _times(t)
+    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p))
+    out = _finite(
+        "the propagated axes", _core.tumble_axes(np.atleast_2d(p), tt, _default(model)._kwargs(), step_s=h), h
+    )
     return out[0] if p.ndim == 1 else out
 
 
@@ -159,10 +253,18 @@ def axis_cost(
     *,
     step_s: float = 1.0,
 ) -> NDArray[np.float64]:
-    """Objective (1): ``sum_k |a(t_k; b) - a_meas_k|^2`` for each row ``b`` of ``params`` (n, 6) -> (n,)."""
-    p = float_array("params", params, ndim=(1, 2), shape="(6,) or (n, 6)")
-    m = float_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
-    out = _core.tumble_cost(np.atleast_2d(p), _times(t), m, _default(model)._kwargs(), step_s=float(step_s))
+    """Objective (1): ``sum_k |a(t_k; b) - a_meas_k|^2`` for each row ``b`` of ``params`` (n, 6) -> (n,).
+
+    ``measured_axes`` is (n_t, 3); limits and errors as :func:`propagate_axes`.
+    """
+    p = _params(params, (1, 2))
+    tt = _times(t)
+    m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
+    if m.shape != (tt.size, 3):
+        raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
+    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p))
+    out = _core.tumble_cost(np.atleast_2d(p), tt, m, _default(model)._kwargs(), step_s=h)
+    out = _finite("the objective", out, h)
     return out if p.ndim == 2 else out[:1]
 
 
@@ -191,10 +293,12 @@ class TumbleTrajectory:
 def propagate(
     params: ArrayLike, t: ArrayLike, model: TumbleModel | None = None, *, step_s: float = 1.0
 ) -> TumbleTrajectory:
-    """Full state history of one initial state ``params`` (6,); see :func:`propagate_axes`."""
-    p = float_array("params", params, ndim=1, shape="(6,)")
+    """Full state history of one initial state ``params`` (6,); limits and errors as
+    :func:`propagate_axes`."""
+    p = _params(params, 1)
     tt = _times(t)
-    out = _core.tumble_states(p, tt, _default(model)._kwargs(), step_s=float(step_s))
+    h = _checked_work(1, tt, step_s, _max_rate(p))
+    out = _finite("the propagated state", _core.tumble_states(p, tt, _default(model)._kwargs(), step_s=h), h)
     rot = Rotation.from_matrix(DCM_ORBITAL_FROM_ORB0) * Rotation.from_quat(out[:, :4])
     return TumbleTrajectory(t=tt, rotation=rot, omega_rad_s=out[:, 4:], axis=rot.apply([0.0, 1.0, 0.0]))
 
@@ -205,8 +309,10 @@ def fold_symmetric(params: ArrayLike, reference: ArrayLike) -> NDArray[np.float6
     The two give the same axis history when the inertia is diagonal and the centre of pressure lies on
     ``Yc``; nearness is measured on wrapped angles (rad) plus rates scaled by 1000 s.
     """
-    p = float_array("params", params, ndim=1, shape="(6,)")
+    p = _params(params, 1)
     ref = float_array("reference", reference, ndim=1, shape="(6,)")
+    if ref.shape != (6,):
+        raise InvalidInputError(f"expected reference of shape (6,), got {ref.shape}")
     mirror = p * np.array([1.0, 1.0, 1.0, -1.0, 1.0, -1.0]) + np.array([0.0, 0.0, math.pi, 0.0, 0.0, 0.0])
 
     def dist(q: NDArray[np.float64]) -> float:
@@ -237,8 +343,7 @@ def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: fl
     false_restart
         Probability that the truth itself lies above the threshold, in (0, 1).
     """
-    if isinstance(n_epochs, bool) or not isinstance(n_epochs, int | np.integer) or n_epochs < 1:
-        raise InvalidInputError(f"expected n_epochs as an integer >= 1, got {n_epochs!r}")
+    n_epochs = integer("n_epochs", n_epochs, minimum=1)
     sigma = scalar("axis_sigma_deg", axis_sigma_deg, minimum=0.0, strict=True)
     p = scalar("false_restart", false_restart)
     if not 0.0 < p < 1.0:
@@ -489,10 +594,16 @@ def fit_rotation(
     InvalidInputError
         Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times, a
         non-positive ``axis_sigma_deg``, a negative ``max_restarts``, ``min_restarts`` outside
-        ``[0, max_restarts]``.
+        ``[0, max_restarts]``, optimiser settings out of range (``recombination`` in [0, 1], ``mutation``
+        in [0, 2], ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and step that turn the body by
+        more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
+    WorkLimitError
+        ``popsize`` above ``MAX_POPSIZE`` (1000), ``maxiter`` or ``patience`` above ``MAX_GENERATIONS``
+        (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), or one generation needing more than
+        ``MAX_RK4_STEPS`` RK4 steps.
     """
     tt = _times(t)
-    m = float_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
+    m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
     if m.shape != (tt.size, 3):
         raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
     if tt.size < MIN_EPOCHS:
@@ -500,42 +611,50 @@ def fit_rotation(
     norm = np.linalg.norm(m, axis=1)
     if np.any(norm < 1e-9):
         raise InvalidInputError(f"measured_axes row {int(np.argmin(norm))} is zero")
-    if isinstance(max_restarts, bool) or not isinstance(max_restarts, int | np.integer) or max_restarts < 0:
-        raise InvalidInputError(f"expected max_restarts as an integer >= 0, got {max_restarts!r}")
-    if (
-        isinstance(min_restarts, bool)
-        or not isinstance(min_restarts, int | np.integer)
-        or not 0 <= min_restarts <= max_restarts
-    ):
+    max_restarts = integer("max_restarts", max_restarts, minimum=0, maximum=MAX_RESTARTS)
+    min_restarts = integer("min_restarts", min_restarts, minimum=0)
+    if min_restarts > max_restarts:
         raise InvalidInputError(
             f"expected min_restarts as an integer in [0, max_restarts = {max_restarts}], got {min_restarts!r}"
         )
     threshold = math.inf
     if axis_sigma_deg is not None:
         threshold = noise_cost_threshold(tt.size, axis_sigma_deg, false_restart)
+    text("restart", restart, ("horizon", "fresh"))
+    text("strategy", strategy)
+    if not isinstance(polish, bool | np.bool_):
+        raise InvalidTypeError(f"expected polish as a bool, got {type(polish).__name__}")
+    if seed is not None and not isinstance(seed, np.random.SeedSequence):
+        seed = integer("seed", seed, minimum=0)
+    if isinstance(mutation, tuple | list):
+        if len(mutation) != 2:
+            raise InvalidInputError(f"expected mutation as F or a (low, high) pair, got {mutation!r}")
+        mutation = tuple(
+            scalar(f"mutation[{k}]", f, minimum=0.0, maximum=2.0) for k, f in enumerate(mutation)
+        )
+    else:
+        mutation = scalar("mutation", mutation, minimum=0.0, maximum=2.0)
+    opts = {
+        "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
+        "mutation": mutation,
+        "recombination": scalar("recombination", recombination, minimum=0.0, maximum=1.0),
+        "strategy": strategy,
+        "tol_abs": scalar("tol_abs", tol_abs, minimum=0.0),
+        "patience": integer("patience", patience, minimum=1, maximum=MAX_GENERATIONS),
+        "maxiter": integer("maxiter", maxiter, minimum=1, maximum=MAX_GENERATIONS),
+        "polish": polish,
+    }
+    w = scalar("max_rate_rad_s", max_rate_rad_s, minimum=0.0, strict=True)
     m = np.ascontiguousarray(m / norm[:, None])
     mdl = _default(model)
-    obj = _Objective(tt, m, mdl, float(step_s))
-    obj(np.zeros((6, 1)) + 0.1)  # validate the model and times once, with a clear error
-    obj.nfev = 0
+    # Every population member lies in the search box: its rates are at most sqrt(3) w.
+    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w)
+    obj = _Objective(tt, m, mdl, step_s)
 
-    if restart not in ("horizon", "fresh"):
-        raise InvalidInputError(f"expected restart 'horizon' or 'fresh', got {restart!r}")
-    w = float(max_rate_rad_s)
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
     root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
     restart_seeds = root.spawn(max_restarts if threshold < math.inf else min_restarts)
     first_seed = np.random.default_rng(root) if isinstance(seed, np.random.SeedSequence) else seed
-    opts = {
-        "popsize": popsize,
-        "mutation": mutation,
-        "recombination": recombination,
-        "strategy": strategy,
-        "tol_abs": tol_abs,
-        "patience": patience,
-        "maxiter": maxiter,
-        "polish": polish,
-    }
     runs = [_de_run(obj, bounds, first_seed, opts)]
     for k, child in enumerate(restart_seeds):
         if k >= min_restarts and min(r[1] for r in runs) <= threshold:

@@ -13,12 +13,16 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import scalar
+from gnssatt._arrays import integer, scalar
 from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import generator, text
 
 __all__ = ["equilateral_triangle", "random_attitude", "random_los"]
 
 _AXES = {"x": 0, "y": 1, "z": 2}
+
+#: Most attitudes or lines of sight drawn in one call (each is a few floats; 1e7 is about 0.3 GB).
+MAX_DRAWS = 10_000_000
 
 
 def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "xy") -> NDArray[np.float64]:
@@ -39,6 +43,7 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
     (3, 3) antenna positions, body frame, m; row i is antenna i.
     """
     s = scalar("side_m", side_m, minimum=0.0, strict=True)
+    text("plane", plane)
     if plane not in ("xy", "xz", "yz"):
         raise InvalidInputError(f"expected plane 'xy', 'xz' or 'yz', got {plane!r}")
     a, b = _AXES[plane[0]], _AXES[plane[1]]
@@ -50,9 +55,17 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
 
 
 def random_attitude(rng: np.random.Generator, n: int | None = None) -> Rotation:
-    """Attitude(s) drawn uniformly over SO(3) from ``rng`` (one ``Rotation``, or ``n`` stacked)."""
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"expected rng as a numpy.random.Generator, got {type(rng).__name__}")
+    """Attitude(s) drawn uniformly over SO(3) from ``rng`` (one ``Rotation``, or ``n`` stacked).
+
+    Raises
+    ------
+    InvalidInputError
+        ``rng`` not a ``numpy.random.Generator``, ``n`` not an integer >= 1
+        (:class:`~gnssatt.errors.WorkLimitError` above ``MAX_DRAWS``, 1e7).
+    """
+    generator("rng", rng)
+    if n is not None:
+        n = integer("n", n, minimum=1, maximum=MAX_DRAWS)
     return Rotation.random(n, random_state=rng)
 
 
@@ -66,7 +79,7 @@ def random_los(
     rng
         Source of randomness.
     n_sat
-        Number of directions, >= 1.
+        Number of directions, 1 to ``MAX_DRAWS`` (1e7).
     min_elevation_deg
         Lowest elevation, degrees, in [-90, 90).
 
@@ -74,10 +87,8 @@ def random_los(
     -------
     (n_sat, 3) unit vectors in a local-level frame (ENU or orbital).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"expected rng as a numpy.random.Generator, got {type(rng).__name__}")
-    if isinstance(n_sat, bool) or not isinstance(n_sat, int | np.integer) or n_sat < 1:
-        raise InvalidInputError(f"expected n_sat as an integer >= 1, got {n_sat!r}")
+    generator("rng", rng)
+    n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_DRAWS)
     el = scalar("min_elevation_deg", min_elevation_deg)
     if not -90.0 <= el < 90.0:
         raise InvalidInputError(f"expected min_elevation_deg in [-90, 90), got {el}")

@@ -20,13 +20,15 @@ Conventions (``docs/conventions.md``, "Gyro + GNSS filter"):
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError, InvalidTypeError
+from gnssatt.sim._util import generator, instance, vector_array
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.receivers import OrbitalReceiver
 from gnssatt.sim.visibility import earth_occlusion_mask
@@ -51,7 +53,7 @@ def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def right_jacobian(a: ArrayLike) -> NDArray[np.float64]:
     """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``."""
-    v = np.asarray(a, dtype=np.float64)
+    v = vector_array("a", a, ndim=(1, 2, 3), shape="(..., 3)")
     th = np.linalg.norm(v, axis=-1)[..., None, None]
     k = _skew(v)
     small = th < 1e-6
@@ -71,6 +73,7 @@ def orbital_hold_motion(
     """True attitude (body -> ECI) and body rate (rad/s, body axes) at ``t`` for the orbital-frame hold of
     ``receiver``'s circular orbit plus oscillations ``a_j = A_j sin(2 pi t / T_j + p_j)`` about body axes.
     """
+    instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
     tt = float_array("t", t, ndim=1, shape="(n_t,)")
     amp = float_array("amplitude_rad", amplitude_rad, ndim=1, shape="(3,)")
     per = float_array("period_s", period_s, ndim=1, shape="(3,)")
@@ -95,6 +98,11 @@ class GyroOutput:
     rates: NDArray[np.float64]
     drift: NDArray[np.float64]
 
+    def __post_init__(self) -> None:
+        n = _rows("t", self.t, ())
+        _rows("rates", self.rates, (n, 3))
+        _rows("drift", self.drift, (n, 3))
+
 
 def gyro_output(
     t: ArrayLike,
@@ -111,25 +119,58 @@ def gyro_output(
     ``drift_rad_s`` is the initial drift (3,), ``arw`` the angle random walk (rad/s/sqrt(Hz)), ``rrw`` the
     drift random walk (rad/s^2/sqrt(Hz)), ``misalignment_rad`` the rotation vector ``mu`` of the gyro triad.
     The last sample repeats the previous rate (it holds over no interval).
+
+    Raises
+    ------
+    InvalidInputError
+        Bad shapes, types or values (fewer than 2 or non-increasing time stamps, negative noise levels).
+    ConvergenceError
+        Time stamps so close, or noise levels so large, that the rates overflow.
     """
     tt = float_array("t", t, ndim=1, shape="(n_t,)")
     if len(tt) < 2 or np.any(np.diff(tt) <= 0):
-        raise InvalidInputError("expected at least 2 strictly increasing gyro time stamps")
-    if len(attitude) != len(tt):
-        raise InvalidInputError(f"expected one attitude per time stamp ({len(tt)}), got {len(attitude)}")
+        raise InvalidInputError("expected at least 2 strictly increasing gyro time stamps t")
+    _per_epoch("attitude", attitude, len(tt))
+    generator("rng", rng)
     arw = scalar("arw", arw, minimum=0.0)
     rrw = scalar("rrw", rrw, minimum=0.0)
-    b0 = float_array("drift_rad_s", drift_rad_s, ndim=1, shape="(3,)")
-    mu = float_array("misalignment_rad", misalignment_rad, ndim=1, shape="(3,)")
+    b0 = vector_array("drift_rad_s", drift_rad_s, ndim=1, shape="(3,)")
+    mu = vector_array("misalignment_rad", misalignment_rad, ndim=1, shape="(3,)")
     dt = np.diff(tt)
     mean_rate = (attitude[:-1].inv() * attitude[1:]).as_rotvec() / dt[:, None]
     mean_rate = np.vstack([mean_rate, mean_rate[-1:]])
     dt = np.append(dt, dt[-1])
     steps = rng.standard_normal((len(tt), 3)) * rrw * np.sqrt(dt)[:, None]
     drift = b0 + np.vstack([np.zeros((1, 3)), np.cumsum(steps[:-1], axis=0)])
-    noise = rng.standard_normal((len(tt), 3)) * arw / np.sqrt(dt)[:, None]
-    measured = Rotation.from_rotvec(-mu).apply(mean_rate) - drift - noise
-    return GyroOutput(tt, measured, drift)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+        noise = rng.standard_normal((len(tt), 3)) * arw / np.sqrt(dt)[:, None]
+        measured = Rotation.from_rotvec(-mu).apply(mean_rate) - drift - noise
+    cause = f"time steps down to {dt.min()} s with arw = {arw}, rrw = {rrw}"
+    return GyroOutput(
+        tt, finite_result("the gyro output", measured, cause), finite_result("the drift", drift, cause)
+    )
+
+
+def _rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = False) -> int:
+    """Checks a field of a result type that is also an input: its shape (``()`` stands for any (n,)), a
+    finite real array, or integers; returns its first dimension."""
+    if integers:
+        arr = np.asarray(value)
+        if arr.size and arr.dtype.kind not in "iu":
+            raise InvalidTypeError(f"expected {name} as integers, got dtype {arr.dtype}")
+    else:
+        arr = float_array(name, value, ndim=max(len(shape), 1), shape=str(shape or "(n,)"))
+    if (shape and arr.shape != shape) or (not shape and arr.ndim != 1):
+        raise InvalidInputError(f"expected {name} of shape {shape or '(n,)'}, got {arr.shape}")
+    return int(arr.shape[0])
+
+
+def _per_epoch(name: str, attitude: Any, n: int) -> Rotation:
+    instance(name, attitude, Rotation, "a scipy Rotation")
+    if attitude.single or len(attitude) != n:
+        got = "a single rotation" if attitude.single else f"{len(attitude)} rotations"
+        raise InvalidInputError(f"expected {name} as {n} rotations (one per epoch), got {got}")
+    return attitude
 
 
 @dataclass(frozen=True)
@@ -164,6 +205,24 @@ class PhaseObservations:
     phase: NDArray[np.float64]
     ambiguity: NDArray[np.int64]
     satellite: NDArray[np.int64]
+
+    def __post_init__(self) -> None:
+        # Also the intake of the phase-based solvers (gnssatt.phase_attitude_fixes, attitude_fixes).
+        n_e = _rows("epoch_t", self.epoch_t, ())
+        n = _rows("epoch", self.epoch, (), integers=True)
+        if n and (np.min(self.epoch) < 0 or np.max(self.epoch) >= n_e):
+            raise InvalidInputError(
+                f"expected epoch as indices into epoch_t, in [0, {n_e}), got {self.epoch}"[:300]
+            )
+        _rows("track", self.track, (n,), integers=True)
+        _rows("satellite", self.satellite, (n,), integers=True)
+        _rows("los", self.los, (n, 3))
+        _rows("wavelength", self.wavelength, (n,))
+        if n and np.min(self.wavelength) <= 0:
+            raise InvalidInputError(f"expected wavelength > 0, got minimum {np.min(self.wavelength)}")
+        phase = float_array("phase", self.phase, ndim=2, shape="(n_rows, m)")
+        _rows("phase", phase, (n, phase.shape[1]))
+        _rows("ambiguity", self.ambiguity, phase.shape, integers=True)
 
     def without_ambiguities(self) -> PhaseObservations:
         """The same rows with the true integers removed (for a filter told ``known_ambiguities``)."""
@@ -222,10 +281,21 @@ def phase_observations(
     visible. Every satellite starts a new arc (new track id, new random integers) after each time in
     ``new_arcs_after`` (e.g. the end of a phase outage). ``slips`` rows ``(time, satellite index, cycles)``
     add a jump to every baseline of that satellite from that time on, keeping the track id.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad types, shapes or values: ``half_angle_deg`` outside (0, 180], negative ``atmosphere_m`` or
+        ``sigma_cycles``, ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
+        integer cycles)`` rows.
     """
+    instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
+    instance("gnss", gnss, Constellation, "a gnssatt.sim Constellation")
     tt = float_array("t", t, ndim=1, shape="(n_e,)")
-    b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
-    if b.shape[1] != 3 or len(b) == 0:
+    _per_epoch("attitude", attitude, len(tt))
+    generator("rng", rng)
+    b = vector_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    if len(b) == 0:
         raise InvalidInputError(f"expected baselines_m of shape (m, 3), got {b.shape}")
     db = (
         np.zeros_like(b)
@@ -235,18 +305,22 @@ def phase_observations(
     if db.shape != b.shape:
         raise InvalidInputError(f"expected baseline_errors_m of shape {b.shape}, got {db.shape}")
     sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0)
-    los, vis = _visible(receiver, gnss, tt, attitude, half_angle_deg, atmosphere_m)
+    half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True, unit="deg")
+    scalar("half_angle_deg", half, maximum=180.0, unit="deg")
+    arcs_after = float_array("new_arcs_after", new_arcs_after, ndim=1, shape="(k,)")
+    slip_rows = _slips(slips, len(gnss))
+    los, vis = _visible(receiver, gnss, tt, attitude, half, atmosphere_m)
     if max_satellites is not None:
-        vis &= np.cumsum(vis, axis=1) <= max_satellites
+        vis &= np.cumsum(vis, axis=1) <= integer("max_satellites", max_satellites, minimum=0)
     lam = gnss.wavelengths_m("L1")
-    arcs = np.searchsorted(np.sort(np.asarray(new_arcs_after, dtype=np.float64)), tt, side="left")
+    arcs = np.searchsorted(np.sort(arcs_after), tt, side="left")
     k_idx, s_idx = np.nonzero(vis)
     arc = arcs[k_idx]
     track = s_idx * 1000 + arc
     uniq, inverse = np.unique(track, return_inverse=True)
     ints = rng.integers(-50, 51, size=(len(uniq), len(b)))
     amb = ints[inverse]
-    for ts, sat, cycles in np.asarray(slips, dtype=np.float64).reshape(-1, 3):
+    for ts, sat, cycles in slip_rows:
         amb[(s_idx == int(sat)) & (tt[k_idx] >= ts)] += int(cycles)
     rows_los = los[k_idx, s_idx]
     los_body = attitude[k_idx].inv().apply(rows_los)
@@ -264,6 +338,25 @@ def phase_observations(
     )
 
 
+def _slips(slips: ArrayLike, n_sat: int) -> NDArray[np.float64]:
+    """``slips`` as (k, 3) rows ``(time, satellite index, cycles)`` (a single row may be given flat)."""
+    rows = float_array("slips", slips, ndim=(1, 2), shape="(k, 3)")
+    if rows.size == 0:
+        return np.zeros((0, 3))
+    if rows.shape == (3,):
+        rows = rows[None, :]
+    if rows.ndim != 2 or rows.shape[1] != 3:
+        raise InvalidInputError(f"expected slips of shape (k, 3), got {rows.shape}")
+    sat, cycles = rows[:, 1], rows[:, 2]
+    if np.any(sat != np.round(sat)) or sat.min() < 0 or sat.max() >= n_sat:
+        raise InvalidInputError(
+            f"expected slips' satellite indices as integers in [0, {n_sat}), got {sat.tolist()}"
+        )
+    if np.any(cycles != np.round(cycles)) or np.abs(cycles).max() > 2**31:
+        raise InvalidInputError(f"expected slips' cycles as integers within +-2^31, got {cycles.tolist()}")
+    return rows
+
+
 @dataclass(frozen=True)
 class AttitudeFixes:
     """Attitude solutions of the receiver: ``rotation`` body -> ECI at ``t`` with the covariance (n, 3, 3) of
@@ -272,6 +365,15 @@ class AttitudeFixes:
     t: NDArray[np.float64]
     rotation: Rotation
     covariance: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        # Also an input of gnssatt.gyro_gnss_filter.
+        n = _rows("t", self.t, ())
+        instance("rotation", self.rotation, Rotation, "a scipy Rotation")
+        if self.rotation.single or len(self.rotation) != n:
+            got = "a single rotation" if self.rotation.single else f"{len(self.rotation)} rotations"
+            raise InvalidInputError(f"expected rotation as {n} rotations (one per t), got {got}")
+        _rows("covariance", self.covariance, (n, 3, 3))
 
 
 def attitude_fixes(
@@ -288,15 +390,33 @@ def attitude_fixes(
     covariance ``(sum_k,i H_ki^T H_ki / sigma^2)^-1``, ``H_ki = ((R^T los_k) x b_i)^T / lambda_k``. Three
     satellites is what a single-epoch solution (e.g. :func:`gnssatt.matrix_attitude`) needs.
     :func:`gnssatt.phase_attitude_fixes` solves the phases themselves instead.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad types, shapes or values (``min_satellites`` < 1, ``sigma_cycles`` <= 0).
+    DegenerateGeometryError
+        An epoch whose lines of sight and baselines do not fix all three attitude angles.
     """
-    b = float_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    instance("phases", phases, PhaseObservations, "gnssatt.sim PhaseObservations")
+    _per_epoch("attitude", attitude, len(phases.epoch_t))
+    generator("rng", rng)
+    b = vector_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
     sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
     count = phases.n_visible()
-    keep = np.nonzero(count >= min_satellites)[0]
+    keep = np.nonzero(count >= integer("min_satellites", min_satellites, minimum=1))[0]
     s_body = attitude[phases.epoch].inv().apply(phases.los)
     h = np.cross(s_body[:, None, :], b[None]) / phases.wavelength[:, None, None]  # (rows, m, 3)
     info = np.zeros((len(phases.epoch_t), 3, 3))
     np.add.at(info, phases.epoch, np.einsum("rim,rin->rmn", h, h) / sigma**2)
+    try:
+        np.linalg.cholesky(info[keep])
+    except np.linalg.LinAlgError as exc:
+        bad = [int(k) for k in keep if np.linalg.matrix_rank(info[k]) < 3][:5]
+        raise DegenerateGeometryError(
+            f"the lines of sight and baselines_m do not fix the attitude at epochs {bad}; "
+            f"raise min_satellites (now {min_satellites}) or add baselines"
+        ) from exc
     cov = np.linalg.inv(info[keep])
     eta = np.einsum("kij,kj->ki", np.linalg.cholesky(cov), rng.standard_normal((len(keep), 3)))
     return AttitudeFixes(phases.epoch_t[keep], attitude[keep] * Rotation.from_rotvec(eta), cov)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt.errors import InvalidInputError
+from gnssatt.errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
     "GLONASS_CHANNELS",
@@ -69,12 +69,19 @@ GLONASS_L2_STEP_HZ = 0.4375e6
 
 
 def _channels(k: ArrayLike) -> NDArray[np.int64]:
-    arr = np.asarray(k)
+    try:
+        arr = np.asarray(k)
+    except ValueError as exc:  # ragged nested sequences
+        raise InvalidTypeError(f"expected k as integer GLONASS channel numbers, got {exc}") from exc
     if arr.dtype.kind not in "iu" and not (arr.dtype.kind == "f" and np.all(arr == np.round(arr))):
-        raise TypeError(f"expected integer GLONASS channel numbers, got dtype {arr.dtype}")
+        raise InvalidTypeError(
+            f"expected k as integer GLONASS channel numbers, got dtype {arr.dtype} {arr.tolist()}"[:200]
+        )
     arr = arr.astype(np.int64)
     if np.any((arr < -7) | (arr > 6)):
-        raise InvalidInputError(f"expected GLONASS channel numbers in -7..6, got {np.unique(arr).tolist()}")
+        raise InvalidInputError(
+            f"expected k as GLONASS channel numbers in -7..6, got {np.unique(arr).tolist()}"[:200]
+        )
     return arr
 
 
@@ -97,7 +104,9 @@ def glonass_frequency_hz(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
         return np.asarray(GLONASS_L1_BASE_HZ + ch * GLONASS_L1_STEP_HZ, dtype=np.float64)
     if band == "L2":
         return np.asarray(GLONASS_L2_BASE_HZ + ch * GLONASS_L2_STEP_HZ, dtype=np.float64)
-    raise InvalidInputError(f"expected band 'L1' or 'L2', got {band!r}")
+    if isinstance(band, str):
+        raise InvalidInputError(f"expected band 'L1' or 'L2', got {band!r}")
+    raise InvalidTypeError(f"expected band as a str 'L1' or 'L2', got {type(band).__name__}")
 
 
 def glonass_wavelength_m(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:

@@ -38,9 +38,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import scalar
-from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import readonly
+from gnssatt._arrays import float_array, integer, scalar
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.sim._util import instance, readonly, text
 from gnssatt.sim.constants import (
     GPS_L1_HZ,
     GPS_L2_HZ,
@@ -86,6 +86,10 @@ _GPS_INC_DEG = 55.0
 _GLO_A_M = 25_510_000.0
 _GLO_INC_DEG = 64.8
 
+#: Most satellites :func:`walker` builds (and :func:`gps_nominal` with ``extra_slots_deg``): well above any
+#: navigation constellation, small enough that every per-satellite array stays cheap.
+MAX_SATELLITES = 100_000
+
 
 @dataclass(frozen=True)
 class Constellation:
@@ -113,6 +117,12 @@ class Constellation:
     glonass_channels: NDArray[np.int64]
 
     def __post_init__(self) -> None:
+        instance("orbits", self.orbits, KeplerOrbits, "a gnssatt.sim.KeplerOrbits")
+        instance("ids", self.ids, tuple, "a tuple of str")
+        instance("slots", self.slots, tuple, "a tuple of str")
+        instance("frequencies_hz", self.frequencies_hz, dict, "a dict of band name -> (n_sat,) array")
+        if not all(isinstance(i, str) for i in (*self.ids, *self.slots, *self.frequencies_hz)):
+            raise InvalidTypeError("expected ids, slots and the band names of frequencies_hz as str")
         n = len(self.orbits)
         if len(self.ids) != n or len(self.slots) != n or np.shape(self.glonass_channels) != (n,):
             raise InvalidInputError(
@@ -121,14 +131,22 @@ class Constellation:
             )
         if len(set(self.ids)) != n:
             raise InvalidInputError(f"expected unique satellite ids, got {list(self.ids)}")
-        freqs = {band: np.array(f, dtype=np.float64) for band, f in self.frequencies_hz.items()}
+        freqs = {
+            band: float_array(f"frequencies_hz[{band!r}]", f, ndim=(0, 1, 2), shape=f"({n},)").copy()
+            for band, f in self.frequencies_hz.items()
+        }
+        channels = np.array(self.glonass_channels)
+        if channels.size and channels.dtype.kind not in "iu":
+            raise InvalidTypeError(f"expected glonass_channels as integers, got dtype {channels.dtype}")
         object.__setattr__(self, "frequencies_hz", freqs)
-        object.__setattr__(self, "glonass_channels", np.array(self.glonass_channels, dtype=np.int64))
+        object.__setattr__(self, "glonass_channels", channels.astype(np.int64))
         for band, f in freqs.items():
             if np.shape(f) != (n,):
                 raise InvalidInputError(
                     f"expected frequencies_hz[{band!r}] of shape ({n},), got {np.shape(f)}"
                 )
+            if np.any(f <= 0):
+                raise InvalidInputError(f"expected frequencies_hz[{band!r}] > 0, got minimum {f.min()}")
             readonly(f)
         readonly(self.glonass_channels)
 
@@ -165,6 +183,7 @@ class Constellation:
 
     def wavelengths_m(self, band: str = "L1") -> NDArray[np.float64]:
         """(n_sat,) carrier wavelengths in metres for ``band``."""
+        text("band", band)
         if band not in self.frequencies_hz:
             raise InvalidInputError(f"expected band in {sorted(self.frequencies_hz)}, got {band!r}")
         return SPEED_OF_LIGHT_M_S / self.frequencies_hz[band]
@@ -175,7 +194,7 @@ class Constellation:
             missing = [w for w in which if w not in self.ids]
             if missing:
                 raise InvalidInputError(
-                    f"expected satellite ids from {list(self.ids)}, got unknown {missing}"
+                    f"expected which as satellite ids from {list(self.ids)}, got unknown {missing}"
                 )
             idx = np.array([self.ids.index(w) for w in which], dtype=np.int64)
         else:
@@ -188,8 +207,15 @@ class Constellation:
                 idx = np.flatnonzero(arr)
             elif arr.dtype.kind in "iu" or arr.size == 0:
                 idx = arr.astype(np.int64).reshape(-1)
+                n = len(self)
+                if idx.size and (idx.min() < -n or idx.max() >= n):
+                    raise InvalidInputError(
+                        f"expected which as indices in [-{n}, {n}), got [{idx.min()}, {idx.max()}]"
+                    )
             else:
-                raise TypeError(f"expected satellite ids, indices or a boolean mask, got dtype {arr.dtype}")
+                raise InvalidTypeError(
+                    f"expected which as satellite ids, indices or a boolean mask, got dtype {arr.dtype}"
+                )
         return Constellation(
             tuple(self.ids[i] for i in idx),
             self.orbits.subset(idx),
@@ -231,12 +257,16 @@ def gps_nominal(*, extra_slots_deg: Sequence[tuple[float, float]] = ()) -> Const
         and L2 frequencies.
     """
     pairs = list(GPS_BASELINE_SLOTS.values())
-    for k, p in enumerate(extra_slots_deg):
-        if len(p) != 2:
+    extra = list(instance("extra_slots_deg", extra_slots_deg, Sequence, "a sequence of (raan, u) pairs"))
+    if len(extra) > MAX_SATELLITES - 24:
+        raise WorkLimitError(f"{len(extra)} extra_slots_deg exceed the limit of {MAX_SATELLITES - 24}")
+    for k, p in enumerate(extra):
+        if not isinstance(p, Sequence | np.ndarray) or len(p) != 2:
             raise InvalidInputError(
                 f"expected extra_slots_deg[{k}] as (raan_deg, arg_latitude_deg), got {p!r}"
             )
-        pairs.append((float(p[0]), float(p[1])))
+        name = f"extra_slots_deg[{k}]"
+        pairs.append((scalar(f"{name}[0]", p[0]), scalar(f"{name}[1]", p[1])))
     raan, u = np.radians(np.array(pairs, dtype=np.float64)).T
     n = len(pairs)
     orbits = KeplerOrbits.circular(np.full(n, _GPS_A_M), np.full(n, np.radians(_GPS_INC_DEG)), raan, u)
@@ -288,10 +318,21 @@ def walker(
 
     Plane p (0-based) has RAAN ``raan0 + 360 p / n_planes``; satellite j of plane p has argument of latitude
     ``360 j / (n_sat / n_planes) + 360 phasing p / n_sat`` degrees at ``t = 0``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``n_sat`` not a positive multiple of ``n_planes``, ``inclination_deg`` outside [0, 180],
+        ``semi_major_axis_m`` <= 0, ``frequency_hz`` <= 0, ``prefix`` not a one-letter str.
+    WorkLimitError
+        ``n_sat`` above ``MAX_SATELLITES`` (100,000).
     """
-    for name, v in (("n_sat", n_sat), ("n_planes", n_planes), ("phasing", phasing)):
-        if isinstance(v, bool) or not isinstance(v, int | np.integer):
-            raise TypeError(f"expected {name} as an integer, got {type(v).__name__}")
+    n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_SATELLITES)
+    n_planes = integer("n_planes", n_planes, minimum=1)
+    phasing = integer("phasing", phasing)
+    text("prefix", prefix)
+    if len(prefix) != 1:
+        raise InvalidInputError(f"expected prefix as one letter (the RINEX system), got {prefix!r}")
     if n_planes < 1 or n_sat < 1 or n_sat % n_planes:
         raise InvalidInputError(
             f"expected n_sat a positive multiple of n_planes >= 1, got {n_sat}/{n_planes}"
@@ -301,13 +342,14 @@ def walker(
     p, j = k // per, k % per
     raan = np.radians(scalar("raan0_deg", raan0_deg) + 360.0 * p / n_planes)
     u = np.radians(360.0 * j / per + 360.0 * phasing * p / n_sat)
-    inc = np.radians(scalar("inclination_deg", inclination_deg))
+    inc = np.radians(scalar("inclination_deg", inclination_deg, minimum=0.0, maximum=180.0, unit="deg"))
     a = scalar("semi_major_axis_m", semi_major_axis_m, minimum=0.0, strict=True)
+    f = scalar("frequency_hz", frequency_hz, minimum=0.0, strict=True, unit="Hz")
     orbits = KeplerOrbits.circular(np.full(n_sat, a), np.full(n_sat, inc), raan, u)
     return Constellation(
         tuple(f"{prefix}{i + 1:02d}" for i in k),
         orbits,
-        {"L1": np.full(n_sat, float(frequency_hz))},
+        {"L1": np.full(n_sat, f)},
         ("",) * n_sat,
         np.zeros(n_sat, dtype=np.int64),
     )

@@ -21,8 +21,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import float_array
-from gnssatt.sim._util import checked_array, matvec, rot_z, time_array
+from gnssatt._arrays import finite_result, scalar
+from gnssatt.errors import ConvergenceError, InvalidInputError
+from gnssatt.sim._util import checked_array, matvec, rot_z, time_array, vector_array
 from gnssatt.sim.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 
 __all__ = [
@@ -36,10 +37,22 @@ __all__ = [
     "geodetic_to_ecef",
 ]
 
+#: Closest distance to the Earth's centre accepted by :func:`ecef_to_geodetic`, m. Geodetic coordinates are
+#: not unique within ``a e^2`` (about 42.7 km) of the centre (the evolute of the meridian ellipse), and the
+#: fixed-point iteration needs some margin beyond it.
+MIN_GEODETIC_RADIUS_M = 100e3
+#: Geodetic height accepted by :func:`geodetic_to_ecef`, m: down to ``-MAX_DEPTH_M`` (about -6278 km, the
+#: depth of ``MIN_GEODETIC_RADIUS_M`` under the equator; deeper points near the centre have no unique
+#: geodetic coordinates).
+MAX_DEPTH_M = WGS84_A_M - MIN_GEODETIC_RADIUS_M
+#: Most fixed-point iterations of :func:`ecef_to_geodetic`: the error shrinks by about ``a e^2 / r`` per
+#: iteration (0.43 at ``MIN_GEODETIC_RADIUS_M``, 0.007 at the surface), so 60 reach 1e-13 rad everywhere.
+_GEODETIC_ITERATIONS = 60
+
 
 def earth_rotation_angle(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
     """Earth rotation angle ``theta0 + OMEGA_E t`` in radians (not wrapped), shape of ``t``."""
-    return float(theta0_rad) + OMEGA_E_RAD_S * time_array(t)
+    return scalar("theta0_rad", theta0_rad) + OMEGA_E_RAD_S * time_array(t)
 
 
 def dcm_eci_from_ecef(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
@@ -59,8 +72,19 @@ def _omega_cross(r: NDArray[np.float64]) -> NDArray[np.float64]:
 def _batch_dcm(dcm: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
     # dcm (n_t, 3, 3) against v (n_t, ..., 3): insert axes so that n_t aligns with v's leading axis.
     if dcm.ndim == 3:
+        if v.ndim < 2 or v.shape[0] != dcm.shape[0]:
+            raise InvalidInputError(
+                f"expected positions and velocities of shape ({dcm.shape[0]}, ..., 3) for t of shape "
+                f"({dcm.shape[0]},), got {v.shape}"
+            )
         dcm = dcm.reshape(dcm.shape[:1] + (1,) * (v.ndim - 2) + (3, 3))
     return matvec(dcm, v)
+
+
+def _same_shape(name: str, v: NDArray[np.float64], ref_name: str, ref: NDArray[np.float64]) -> NDArray:
+    if v.shape != ref.shape:
+        raise InvalidInputError(f"expected {name} of the shape of {ref_name}, {ref.shape}, got {v.shape}")
+    return v
 
 
 def eci_to_ecef(
@@ -78,8 +102,8 @@ def eci_to_ecef(
     theta0_rad
         Earth rotation angle at ``t = 0``.
     """
-    r = float_array("r_eci", r_eci, ndim=(1, 2, 3), shape="(..., 3)")
-    v = float_array("v_eci", v_eci, ndim=(1, 2, 3), shape="(..., 3)")
+    r = vector_array("r_eci", r_eci, ndim=(1, 2, 3), shape="(..., 3)")
+    v = _same_shape("v_eci", vector_array("v_eci", v_eci, ndim=(1, 2, 3), shape="(..., 3)"), "r_eci", r)
     m = dcm_ecef_from_eci(t, theta0_rad)
     return _batch_dcm(m, r), _batch_dcm(m, v - _omega_cross(r))
 
@@ -89,8 +113,8 @@ def ecef_to_eci(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Position and velocity from ECEF to ECI (``v_eci = R v_ecef + omega x r_eci``); shapes as
     :func:`eci_to_ecef`."""
-    r = float_array("r_ecef", r_ecef, ndim=(1, 2, 3), shape="(..., 3)")
-    v = float_array("v_ecef", v_ecef, ndim=(1, 2, 3), shape="(..., 3)")
+    r = vector_array("r_ecef", r_ecef, ndim=(1, 2, 3), shape="(..., 3)")
+    v = _same_shape("v_ecef", vector_array("v_ecef", v_ecef, ndim=(1, 2, 3), shape="(..., 3)"), "r_ecef", r)
     m = dcm_eci_from_ecef(t, theta0_rad)
     if m.ndim == 3 and r.ndim == 1:
         r = np.broadcast_to(r, (m.shape[0], 3))
@@ -104,10 +128,25 @@ def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike
 
     ``N = a / sqrt(1 - e^2 sin^2 lat)``, ``x = (N + h) cos lat cos lon``, ``y = (N + h) cos lat sin lon``,
     ``z = (N (1 - e^2) + h) sin lat``.
+
+    Raises
+    ------
+    InvalidInputError
+        Latitudes outside [-90, 90] deg, heights below ``-MAX_DEPTH_M`` (-6278 km) or above 1e12 m,
+        non-finite values, shapes that do not broadcast.
     """
-    lat = np.radians(checked_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
+    lat_d = _latitudes("lat_deg", checked_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
     lon = np.radians(checked_array("lon_deg", lon_deg, ndim=(0, 1), shape="() or (n,)"))
     h = checked_array("height_m", height_m, ndim=(0, 1), shape="() or (n,)")
+    if h.size and (h.min() < -MAX_DEPTH_M or h.max() > 1e12):
+        raise InvalidInputError(f"expected height_m in [{-MAX_DEPTH_M}, 1e12] m, got [{h.min()}, {h.max()}]")
+    try:
+        np.broadcast_shapes(lat_d.shape, lon.shape, h.shape)
+    except ValueError as exc:
+        raise InvalidInputError(
+            f"expected lat_deg, lon_deg and height_m of one shape, got {lat_d.shape}, {lon.shape}, {h.shape}"
+        ) from exc
+    lat = np.radians(lat_d)
     n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
     return np.stack(
         np.broadcast_arrays(
@@ -119,29 +158,76 @@ def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike
     )
 
 
+def _latitudes(name: str, lat_deg: NDArray[np.float64]) -> NDArray[np.float64]:
+    if lat_deg.size and np.max(np.abs(lat_deg)) > 90.0:
+        raise InvalidInputError(
+            f"expected {name} in [-90, 90] deg, got {lat_deg.flat[np.argmax(np.abs(lat_deg))]}"
+        )
+    return lat_deg
+
+
 def ecef_to_geodetic(r_ecef: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any]]:
     """Geodetic WGS-84 latitude (deg), longitude (deg) and height (m) of ECEF positions (..., 3).
 
-    Fixed-point iteration on the latitude (converges to < 1e-12 rad within 10 iterations away from the
-    Earth's centre).
+    Fixed-point iteration on the latitude, until it changes by less than 1e-13 rad (4 iterations at the
+    surface, about 40 at 100 km from the centre).
+
+    Raises
+    ------
+    InvalidInputError
+        A position within ``MIN_GEODETIC_RADIUS_M`` (100 km) of the Earth's centre, where geodetic
+        coordinates are not unique, or a non-finite one.
+    ConvergenceError
+        The iteration did not converge or produced a non-finite value (not expected outside that sphere).
     """
-    r = float_array("r_ecef", r_ecef, ndim=(1, 2), shape="(3,) or (n, 3)")
+    r = vector_array("r_ecef", r_ecef, ndim=(1, 2), shape="(3,) or (n, 3)")
+    radius = np.linalg.norm(r, axis=-1)
+    if radius.size and radius.min() < MIN_GEODETIC_RADIUS_M:
+        raise InvalidInputError(
+            f"expected r_ecef at least {MIN_GEODETIC_RADIUS_M} m from the Earth's centre (geodetic "
+            f"coordinates are not unique near it), got a position {radius.min()} m from it"
+        )
     x, y, z = r[..., 0], r[..., 1], r[..., 2]
     p = np.hypot(x, y)
     lon = np.arctan2(y, x)
     lat = np.arctan2(z, p * (1.0 - WGS84_E2))
-    for _ in range(10):
-        n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
-        h = np.where(np.abs(lat) < np.pi / 4, p / np.cos(lat) - n, z / np.sin(lat) - n * (1.0 - WGS84_E2))
-        lat = np.arctan2(z, p * (1.0 - WGS84_E2 * n / (n + h)))
-    n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
-    h = np.where(np.abs(lat) < np.pi / 4, p / np.cos(lat) - n, z / np.sin(lat) - n * (1.0 - WGS84_E2))
+    for _ in range(_GEODETIC_ITERATIONS):
+        n = _prime_vertical(lat)
+        new = np.arctan2(z, p * (1.0 - WGS84_E2 * n / (n + _height(lat, p, z))))
+        change = np.max(np.abs(new - lat), initial=0.0)
+        lat = new
+        if change < 1e-13:  # a few ulp of pi/2: rounding keeps the last digits moving
+            break
+    else:
+        raise ConvergenceError(f"ecef_to_geodetic: the latitude still changed by {change} rad")
+    h = finite_result("the geodetic height", _height(lat, p, z), f"r_ecef of shape {r.shape}")
     return np.degrees(lat), np.degrees(lon), h
 
 
+def _prime_vertical(lat: NDArray[np.float64]) -> NDArray[np.float64]:
+    return WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)
+
+
+def _height(lat: NDArray[np.float64], p: NDArray[np.float64], z: NDArray[np.float64]) -> NDArray[np.float64]:
+    # h from the horizontal distance near the equator, from z near the poles (each formula divides by a
+    # cosine or sine that vanishes in the other region; only the well-conditioned one is evaluated).
+    n = _prime_vertical(lat)
+    equatorial = np.abs(lat) < np.pi / 4
+    safe_cos = np.where(equatorial, np.cos(lat), 1.0)
+    safe_sin = np.where(equatorial, 1.0, np.sin(lat))
+    return np.where(equatorial, p / safe_cos - n, z / safe_sin - n * (1.0 - WGS84_E2))
+
+
 def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
-    """Rotation ENU -> ECEF at a geodetic point: columns are the E, N, U unit vectors, shape (3, 3)."""
-    lat, lon = np.radians(float(lat_deg)), np.radians(float(lon_deg))
+    """Rotation ENU -> ECEF at a geodetic point: columns are the E, N, U unit vectors, shape (3, 3).
+
+    Raises
+    ------
+    InvalidInputError
+        ``lat_deg`` outside [-90, 90], non-finite or non-numeric arguments.
+    """
+    lat = np.radians(scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0, unit="deg"))
+    lon = np.radians(scalar("lon_deg", lon_deg))
     sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
     east = [-so, co, 0.0]
     north = [-sl * co, -sl * so, cl]

@@ -19,9 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array
-from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array, readonly
+from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.sim._util import checked_array, instance, readonly, real_array, text, vector_array
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver
 
@@ -62,8 +61,31 @@ class Geometry:
     satellites_eci_m: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        for name in ("los", "range_m", "range_rate_mps", "t", "receiver_eci_m", "satellites_eci_m"):
-            object.__setattr__(self, name, np.array(getattr(self, name), dtype=np.float64))
+        los = vector_array("los", self.los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)").copy()
+        lead = los.shape[:-1]
+        text("frame", self.frame)
+        ids = tuple(instance("ids", self.ids, tuple | list, "a tuple of str"))
+        if len(ids) != lead[-1] or not all(isinstance(i, str) for i in ids):
+            raise InvalidInputError(f"expected ids as {lead[-1]} str (one per satellite), got {ids!r}"[:300])
+        arrays = {"los": los}
+        for name, want, finite in (
+            ("range_m", lead, True),
+            ("range_rate_mps", lead, True),
+            ("t", lead[:-1], True),
+            ("receiver_eci_m", (*lead[:-1], 3), False),
+            ("satellites_eci_m", (*lead, 3), False),
+        ):
+            value = getattr(self, name)
+            if finite:
+                arr = checked_array(name, value, ndim=(0, 1, 2), shape=str(want)).copy()
+            else:  # NaN where unknown
+                arr = real_array(name, value)
+            if arr.shape != want:
+                raise InvalidInputError(f"expected {name} of shape {want}, got {arr.shape}")
+            arrays[name] = arr
+        object.__setattr__(self, "ids", ids)
+        for name, arr in arrays.items():
+            object.__setattr__(self, name, arr)
         readonly(self.los, self.range_m, self.range_rate_mps, self.t)
         readonly(self.receiver_eci_m, self.satellites_eci_m)
 
@@ -90,13 +112,12 @@ class Geometry:
         ids
             Satellite ids; default ``"S01"``, ``"S02"``, ...
         """
-        g = float_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
-        if g.shape[-1] != 3:
-            raise InvalidInputError(f"expected los of shape (n_sat, 3) or (n_t, n_sat, 3), got {g.shape}")
+        g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
         norm = np.linalg.norm(g, axis=-1, keepdims=True)
         if np.any(norm < 1e-12):
-            raise InvalidInputError("expected non-zero lines of sight, got a zero vector")
+            raise InvalidInputError("expected non-zero lines of sight in los, got a zero vector")
         g = g / norm
+        text("frame", frame)
         lead = g.shape[:-1]
         n_sat = lead[-1]
         try:
@@ -106,10 +127,15 @@ class Geometry:
             rr = np.broadcast_to(
                 checked_array("range_rate_mps", range_rate_mps, ndim=(0, 1, 2), shape=str(lead)), lead
             ).copy()
+        except InvalidInputError:
+            raise
         except ValueError as exc:
             raise InvalidInputError(f"expected range_m and range_rate_mps broadcastable to {lead}") from exc
+        if np.any(rho <= 0):
+            raise InvalidInputError(f"expected range_m > 0, got minimum {rho.min()}")
         if ids is None:
             ids = tuple(f"S{k + 1:02d}" for k in range(n_sat))
+        instance("ids", ids, tuple | list, "a tuple of str")
         if len(ids) != n_sat:
             raise InvalidInputError(f"expected {n_sat} ids, got {len(ids)}")
         t = np.zeros(lead[:-1])
@@ -144,8 +170,12 @@ class Geometry:
             idx = np.flatnonzero(m)
         elif m.dtype.kind in "iu":
             idx = m.reshape(-1)
+            if idx.size and (idx.min() < -self.n_sat or idx.max() >= self.n_sat):
+                raise InvalidInputError(
+                    f"expected mask indices in [-{self.n_sat}, {self.n_sat}), got [{idx.min()}, {idx.max()}]"
+                )
         else:
-            raise TypeError(f"expected a boolean mask or integer indices, got dtype {m.dtype}")
+            raise InvalidTypeError(f"expected mask as a boolean mask or integer indices, got dtype {m.dtype}")
         return replace(
             self,
             los=self.los[..., idx, :],
@@ -157,13 +187,14 @@ class Geometry:
 
 
 def _attitude_matrices(attitude: Any, n_t: int | None) -> NDArray[np.float64]:
-    if not isinstance(attitude, Rotation):
-        raise TypeError(f"expected attitude as a scipy Rotation, got {type(attitude).__name__}")
+    instance("attitude", attitude, Rotation, "a scipy Rotation")
     m = attitude.as_matrix()
     if m.ndim == 3:
         if n_t is None or m.shape[0] != n_t:
             want = "a single Rotation" if n_t is None else f"a single Rotation or {n_t} rotations"
-            raise InvalidInputError(f"expected {want} (one per epoch), got {m.shape[0]} rotations")
+            raise InvalidInputError(
+                f"expected attitude as {want} (one per epoch), got {m.shape[0]} rotations"
+            )
     return m
 
 
@@ -181,7 +212,7 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     -------
     Body-frame unit vectors, shape of ``los``.
     """
-    g = float_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
+    g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
     m = _attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
     if m.ndim == 3:
         return np.einsum("tji,tkj->tki", m, g)
@@ -196,7 +227,7 @@ def elevation_azimuth(los_enu: ArrayLike) -> tuple[NDArray[np.float64], NDArray[
     los_enu
         (..., 3) unit lines of sight in ENU.
     """
-    g = float_array("los_enu", los_enu, ndim=(1, 2, 3), shape="(..., 3)")
+    g = vector_array("los_enu", los_enu, ndim=(1, 2, 3), shape="(..., 3)", nonzero=True)
     el = np.arcsin(np.clip(g[..., 2] / np.linalg.norm(g, axis=-1), -1.0, 1.0))
     az = np.arctan2(g[..., 0], g[..., 1]) % (2.0 * np.pi)
     return el, az
@@ -222,15 +253,15 @@ def line_of_sight(
     Geometry
         Unbatched for a scalar ``t``, with a leading epoch axis for an array.
     """
-    if not isinstance(receiver, GroundReceiver | OrbitalReceiver):
-        raise TypeError(f"expected a GroundReceiver or OrbitalReceiver, got {type(receiver).__name__}")
-    if not isinstance(constellation, Constellation):
-        raise TypeError(f"expected a Constellation, got {type(constellation).__name__}")
+    instance("receiver", receiver, GroundReceiver | OrbitalReceiver, "a GroundReceiver or OrbitalReceiver")
+    instance("constellation", constellation, Constellation, "a Constellation")
     tt = np.asarray(checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)"))
     r_s, v_s = constellation.state_eci(tt)
     r_r, v_r = receiver.state_eci(tt)
     d = r_s - r_r[..., None, :]
     rho = np.linalg.norm(d, axis=-1)
+    if np.any(rho == 0.0):
+        raise InvalidInputError("receiver coincides with a satellite: the line of sight is undefined")
     g_eci = d / rho[..., None]
     rate = np.sum(g_eci * (v_s - v_r[..., None, :]), axis=-1)
     m = receiver.dcm_eci_from_reference(tt)  # (..., 3, 3) reference -> ECI

@@ -15,11 +15,17 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt.errors import ConvergenceError, InvalidInputError
+from gnssatt._arrays import integer, scalar
+from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError
 from gnssatt.sim._util import checked_array, matvec, readonly, rot_x, rot_z, time_array
 from gnssatt.sim.constants import GM_M3_S2
 
 __all__ = ["KeplerOrbits", "solve_kepler"]
+
+#: Most Newton iterations :func:`solve_kepler` accepts (it converges in under 10 for e < 0.99).
+MAX_KEPLER_ITERATIONS = 10_000
+#: Largest semi-major axis accepted by :class:`KeplerOrbits`, m (about 6700 astronomical units).
+MAX_SEMI_MAJOR_AXIS_M = 1e15
 
 
 def solve_kepler(
@@ -36,7 +42,7 @@ def solve_kepler(
     tol
         Convergence threshold on the Newton step, rad.
     max_iter
-        Newton iterations allowed.
+        Newton iterations allowed, 1 to ``MAX_KEPLER_ITERATIONS`` (10,000).
 
     Returns
     -------
@@ -45,7 +51,9 @@ def solve_kepler(
     Raises
     ------
     InvalidInputError
-        Eccentricity outside [0, 1) or non-finite input.
+        Eccentricity outside [0, 1), non-finite input, shapes that do not broadcast, ``tol`` <= 0.
+    WorkLimitError
+        ``max_iter`` above ``MAX_KEPLER_ITERATIONS``.
     ConvergenceError
         Newton's method did not reach ``tol`` within ``max_iter`` iterations.
     """
@@ -53,6 +61,14 @@ def solve_kepler(
     e = checked_array("eccentricity", eccentricity, ndim=(0, 1, 2, 3), shape="(...)")
     if np.any((e < 0) | (e >= 1)):
         raise InvalidInputError(f"expected eccentricity in [0, 1), got values in [{e.min()}, {e.max()}]")
+    tol = scalar("tol", tol, minimum=0.0, strict=True)
+    max_iter = integer("max_iter", max_iter, minimum=1, maximum=MAX_KEPLER_ITERATIONS)
+    try:
+        np.broadcast_shapes(m.shape, e.shape)
+    except ValueError as exc:
+        raise InvalidInputError(
+            f"expected eccentricity broadcastable against mean_anomaly_rad {m.shape}, got {e.shape}"
+        ) from exc
     m_red = np.remainder(m + np.pi, 2 * np.pi) - np.pi  # in [-pi, pi)
     big = np.broadcast_to(e, np.broadcast(m_red, e).shape) > 0.8
     ecc = np.broadcast_to(e, big.shape)
@@ -72,7 +88,7 @@ class KeplerOrbits:
     Attributes
     ----------
     semi_major_axis_m
-        (n,) semi-major axes, m.
+        (n,) semi-major axes, m, in (0, ``MAX_SEMI_MAJOR_AXIS_M``].
     eccentricity
         (n,) eccentricities in [0, 1).
     inclination_rad, raan_rad, arg_perigee_rad, mean_anomaly_rad
@@ -104,10 +120,14 @@ class KeplerOrbits:
             ) from exc
         if np.any(arrays[0] <= 0):
             raise InvalidInputError(f"expected semi_major_axis_m > 0, got minimum {arrays[0].min()}")
+        if np.any(arrays[0] > MAX_SEMI_MAJOR_AXIS_M):
+            # beyond it a^3 overflows the mean motion and the period
+            raise InvalidInputError(
+                f"expected semi_major_axis_m <= {MAX_SEMI_MAJOR_AXIS_M} m, got maximum {arrays[0].max()}"
+            )
         if np.any((arrays[1] < 0) | (arrays[1] >= 1)):
             raise InvalidInputError(f"expected eccentricity in [0, 1), got maximum {arrays[1].max()}")
-        if not self.gm_m3_s2 > 0:
-            raise InvalidInputError(f"expected gm_m3_s2 > 0, got {self.gm_m3_s2}")
+        object.__setattr__(self, "gm_m3_s2", scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True))
         for name, arr in zip((*names, "mean_anomaly_rad"), arrays, strict=True):
             readonly(arr)
             object.__setattr__(self, name, arr)
@@ -121,10 +141,8 @@ class KeplerOrbits:
         arg_latitude_rad: ArrayLike,
     ) -> KeplerOrbits:
         """Circular orbits (e = 0, argument of perigee 0) from the argument of latitude at ``t = 0``."""
-        u = np.atleast_1d(np.asarray(arg_latitude_rad, dtype=np.float64))
-        args = (semi_major_axis_m, inclination_rad, raan_rad)
-        a, inc, raan = (np.asarray(x, dtype=np.float64) for x in args)
-        return cls(a, np.zeros_like(u), inc, raan, np.zeros_like(u), u)
+        u = np.atleast_1d(checked_array("arg_latitude_rad", arg_latitude_rad, ndim=(0, 1), shape="(n,)"))
+        return cls(semi_major_axis_m, np.zeros_like(u), inclination_rad, raan_rad, np.zeros_like(u), u)
 
     def __len__(self) -> int:
         return int(self.semi_major_axis_m.shape[0])
@@ -142,6 +160,18 @@ class KeplerOrbits:
     def subset(self, index: ArrayLike) -> KeplerOrbits:
         """The orbits selected by an integer index array or a boolean mask of shape (n,)."""
         idx = np.asarray(index)
+        n = len(self)
+        if idx.dtype == bool:
+            if idx.shape != (n,):
+                raise InvalidInputError(f"expected index as a boolean mask of shape ({n},), got {idx.shape}")
+        elif idx.dtype.kind in "iu" or idx.size == 0:
+            idx = idx.astype(np.int64).reshape(-1)
+            if idx.size and (idx.min() < -n or idx.max() >= n):
+                raise InvalidInputError(f"expected index in [-{n}, {n}), got [{idx.min()}, {idx.max()}]")
+        else:
+            raise InvalidTypeError(
+                f"expected index as integer indices or a boolean mask, got dtype {idx.dtype}"
+            )
         return KeplerOrbits(
             self.semi_major_axis_m[idx],
             self.eccentricity[idx],

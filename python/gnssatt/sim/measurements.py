@@ -35,13 +35,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array, readonly, wrap_rad
+from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.sim._util import checked_array, generator, instance, readonly, text, wrap_rad
 from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.sim.geometry import Geometry, _attitude_matrices
 
 __all__ = ["ArrayMeasurements", "correlator_amplitude", "phase_diffs", "simulate_array", "wrap_rad"]
+
+#: Range of C/N0 accepted, dB-Hz: far beyond any receiver (20-60 dB-Hz), inside what ``10^(C/10)`` holds.
+CN0_RANGE_DBHZ = (-100.0, 200.0)
+#: Largest ``ambiguity_max`` of :func:`simulate_array`: integers of 2^31 cycles are 400,000 km of L1.
+MAX_AMBIGUITY = 2**31
 
 
 @dataclass(frozen=True)
@@ -109,6 +114,7 @@ class ArrayMeasurements:
         ``source="phase"`` uses :attr:`carrier_phase_cycles`; ``source="correlator"`` the phases of the
         correlator outputs.
         """
+        text("source", source)
         if source == "phase":
             return phase_diffs(self.carrier_phase_rad(wrapped=True))
         if source == "correlator":
@@ -135,8 +141,13 @@ def phase_diffs(phases: ArrayLike) -> NDArray[np.float64]:
     -------
     (..., n_ant - 1, M) radians.
     """
-    arr = np.asarray(phases)
-    if np.iscomplexobj(arr):
+    try:
+        arr = np.asarray(phases)
+    except ValueError as exc:  # ragged nested sequences
+        raise InvalidTypeError(
+            f"expected phases as a numeric array of shape (..., n_ant, M), got {exc}"
+        ) from exc
+    if arr.dtype.kind == "c":
         if arr.ndim < 2 or arr.shape[-2] < 2 or not np.all(np.isfinite(arr)):
             raise InvalidInputError(f"expected finite phases of shape (..., n_ant >= 2, M), got {arr.shape}")
         return wrap_rad(np.angle(arr[..., 1:, :] * np.conj(arr[..., :1, :])))
@@ -152,12 +163,16 @@ def correlator_amplitude(cn0_dbhz: ArrayLike, integration_time_s: float) -> NDAr
     Parameters
     ----------
     cn0_dbhz
-        Carrier-to-noise density ratio, dB-Hz, any shape.
+        Carrier-to-noise density ratio, dB-Hz, () or (n_sat,), each in ``CN0_RANGE_DBHZ`` ([-100, 200]).
     integration_time_s
-        Coherent integration time ``T``, s, > 0.
+        Coherent integration time ``T``, s, in (0, 1e6].
     """
     c = checked_array("cn0_dbhz", cn0_dbhz, ndim=(0, 1), shape="() or (n_sat,)")
+    lo, hi = CN0_RANGE_DBHZ
+    if c.size and (c.min() < lo or c.max() > hi):
+        raise InvalidInputError(f"expected cn0_dbhz in [{lo}, {hi}] dB-Hz, got [{c.min()}, {c.max()}]")
     t = scalar("integration_time_s", integration_time_s, minimum=0.0, strict=True)
+    scalar("integration_time_s", t, maximum=1e6, unit="s")
     return np.sqrt(2.0 * 10.0 ** (c / 10.0) * t)
 
 
@@ -214,7 +229,7 @@ def simulate_array(
     ambiguities
         (n_ant, n_sat) integers; default uniform integers in ``[-ambiguity_max, ambiguity_max]``.
     ambiguity_max
-        Bound of the random ambiguities.
+        Bound of the random ambiguities, 0 to ``MAX_AMBIGUITY`` (2^31).
     oscillator_phases_rad
         (n_ant,) receiver oscillator phases; default uniform in [-pi, pi) for every antenna (pass
         ``[0, ...]`` to pin antenna 0 as in seed 001).
@@ -234,12 +249,14 @@ def simulate_array(
     TypeError
         ``geometry``, ``attitude`` or ``rng`` of the wrong type, non-numeric arrays, non-integer ambiguities.
     InvalidInputError
-        Wrong shapes, non-finite values, negative noise levels or non-positive wavelengths.
+        Wrong shapes, non-finite values, negative noise levels or non-positive wavelengths (an
+        :class:`~gnssatt.errors.InvalidTypeError`, also a ``TypeError``, for the wrong types above).
+    ConvergenceError
+        Finite but extreme inputs (noise levels, clock biases, ranges near the float limit) overflowed a
+        simulated measurement.
     """
-    if not isinstance(geometry, Geometry):
-        raise TypeError(f"expected geometry as a gnssatt.sim Geometry, got {type(geometry).__name__}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"expected rng as a numpy.random.Generator, got {type(rng).__name__}")
+    instance("geometry", geometry, Geometry, "a gnssatt.sim Geometry")
+    generator("rng", rng)
     los = geometry.los
     batched = los.ndim == 3
     n_sat = geometry.n_sat
@@ -263,16 +280,18 @@ def simulate_array(
     dt = _vector("clock_bias_s", clock_bias_s, n_ant, "n_ant")
 
     if ambiguities is None:
-        is_int = isinstance(ambiguity_max, int | np.integer) and not isinstance(ambiguity_max, bool)
-        if not is_int or ambiguity_max < 0:
-            raise InvalidInputError(f"expected ambiguity_max as an integer >= 0, got {ambiguity_max!r}")
-        amb = rng.integers(-ambiguity_max, ambiguity_max + 1, size=(n_ant, n_sat), dtype=np.int64)
+        amax = integer("ambiguity_max", ambiguity_max, minimum=0, maximum=MAX_AMBIGUITY)
+        amb = rng.integers(-amax, amax + 1, size=(n_ant, n_sat), dtype=np.int64)
     else:
         amb_in = np.asarray(ambiguities)
         if amb_in.dtype.kind not in "iu":
-            raise TypeError(f"expected integer ambiguities, got dtype {amb_in.dtype}")
+            raise InvalidTypeError(f"expected integer ambiguities, got dtype {amb_in.dtype}")
         if amb_in.shape != (n_ant, n_sat):
             raise InvalidInputError(f"expected ambiguities of shape ({n_ant}, {n_sat}), got {amb_in.shape}")
+        if amb_in.size and np.max(np.abs(amb_in.astype(np.float64))) > MAX_AMBIGUITY:
+            raise InvalidInputError(
+                f"expected ambiguities within +-{MAX_AMBIGUITY}, got {amb_in.min()}..{amb_in.max()}"
+            )
         amb = amb_in.astype(np.int64)
     if oscillator_phases_rad is None:
         osc = rng.uniform(-np.pi, np.pi, size=n_ant)
@@ -297,13 +316,14 @@ def simulate_array(
     phase_noise = rng.standard_normal(shape)
     dop_noise = rng.standard_normal(shape)
 
-    pseudorange = rho + SPEED_OF_LIGHT_M_S * dt[:, None] + sig_code * code_noise
-    sig_cycles = sig_rad / (2.0 * np.pi) if sig_rad > 0 else sig_m / lam
-    frac = np.remainder(rho / lam, 1.0) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
-    phase_free = (rho / lam + amb) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
-    phase = phase_free + sig_cycles * phase_noise
-    rate = np.broadcast_to(geometry.range_rate_mps[..., None, :], shape)
-    doppler = -rate / lam + sig_dop * dop_noise
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+        pseudorange = rho + SPEED_OF_LIGHT_M_S * dt[:, None] + sig_code * code_noise
+        sig_cycles = sig_rad / (2.0 * np.pi) if sig_rad > 0 else sig_m / lam
+        frac = np.remainder(rho / lam, 1.0) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
+        phase_free = (rho / lam + amb) + (osc[:, None] + alpha[None, :]) / (2.0 * np.pi)
+        phase = phase_free + sig_cycles * phase_noise
+        rate = np.broadcast_to(geometry.range_rate_mps[..., None, :], shape)
+        doppler = -rate / lam + sig_dop * dop_noise
 
     corr = None
     if cn0_dbhz is not None:
@@ -313,6 +333,13 @@ def simulate_array(
         noise = rng.standard_normal((*shape, 2))
         corr = amp * np.exp(2j * np.pi * frac) + (noise[..., 0] + 1j * noise[..., 1])
 
+    cause = "the inputs (noise levels, clock biases, ranges, wavelengths) are too large for float64"
+    for what, value in (
+        ("pseudorange_m", pseudorange),
+        ("carrier_phase_cycles", phase),
+        ("doppler_hz", doppler),
+    ):
+        finite_result(f"the simulated {what}", value, cause)
     out = ArrayMeasurements(
         pseudorange_m=pseudorange,
         carrier_phase_cycles=phase,

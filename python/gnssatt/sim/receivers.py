@@ -29,6 +29,7 @@ from gnssatt.errors import InvalidInputError
 from gnssatt.sim._util import rot_x, rot_z, time_array
 from gnssatt.sim.constants import GM_M3_S2, WGS84_A_M
 from gnssatt.sim.frames import (
+    MAX_DEPTH_M,
     dcm_ecef_from_enu,
     dcm_eci_from_ecef,
     ecef_to_eci,
@@ -37,6 +38,9 @@ from gnssatt.sim.frames import (
 )
 
 __all__ = ["GroundReceiver", "OrbitalReceiver", "Receiver"]
+
+#: Largest orbit radius of an :class:`OrbitalReceiver`, m (beyond it ``r^3`` overflows the mean motion).
+MAX_ORBIT_RADIUS_M = 1e15
 
 
 @dataclass(frozen=True)
@@ -48,7 +52,7 @@ class GroundReceiver:
     lat_deg, lon_deg
         Geodetic WGS-84 latitude and longitude, degrees.
     height_m
-        Height above the WGS-84 ellipsoid, m.
+        Height above the WGS-84 ellipsoid, m, in [-6e6, 1e12] (see :func:`~gnssatt.sim.geodetic_to_ecef`).
     theta0_rad
         Earth rotation angle at ``t = 0`` (ECEF = ECI rotated by ``theta0 + OMEGA_E t``).
     """
@@ -67,6 +71,7 @@ class GroundReceiver:
         for name in ("lon_deg", "height_m", "theta0_rad"):
             object.__setattr__(self, name, scalar(name, getattr(self, name)))
         object.__setattr__(self, "lat_deg", lat)
+        scalar("height_m", self.height_m, minimum=-MAX_DEPTH_M, maximum=1e12, unit="m")
 
     @property
     def position_ecef_m(self) -> NDArray[np.float64]:
@@ -105,7 +110,8 @@ class OrbitalReceiver:
     Attributes
     ----------
     altitude_m
-        Orbit radius minus the WGS-84 equatorial radius (6378137 m), m.
+        Orbit radius minus the WGS-84 equatorial radius (6378137 m), m; the radius must lie in
+        (0, ``MAX_ORBIT_RADIUS_M``].
     inclination_deg, raan_deg
         Inclination and right ascension of the ascending node (ECI), degrees.
     arg_latitude_deg
@@ -127,6 +133,7 @@ class OrbitalReceiver:
 
     def __post_init__(self) -> None:
         scalar("altitude_m", self.altitude_m, minimum=-WGS84_A_M, strict=True)
+        scalar("altitude_m", self.altitude_m, maximum=MAX_ORBIT_RADIUS_M - WGS84_A_M, unit="m")
         scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True)
         names = ("altitude_m", "inclination_deg", "raan_deg", "arg_latitude_deg", "theta0_rad", "gm_m3_s2")
         for name in names:

@@ -25,8 +25,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array, scalar
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt.errors import InvalidInputError, WorkLimitError
+from gnssatt.sim._util import generator, instance, real_array, text, vector_array
 from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.sim.constellation import Constellation
 from gnssatt.sim.visibility import antenna_cone_mask, earth_occlusion_mask
@@ -35,6 +36,8 @@ __all__ = ["SpaceborneMeasurements", "simulate_spaceborne"]
 
 #: System index of each satellite id prefix (the filters difference within a system only).
 SYSTEM_INDEX = {"G": 0, "R": 1}
+#: Most ``outages`` windows of :func:`simulate_spaceborne` (each is a Python loop over its epochs).
+MAX_OUTAGES = 10_000
 
 
 @dataclass(frozen=True)
@@ -80,12 +83,61 @@ class SpaceborneMeasurements:
     clock_drift: NDArray[np.float64]
     isb_m: float
 
+    def __post_init__(self) -> None:
+        # Also the intake of real receivers' data in this layout (gnssatt.orbit_nav): every field is checked
+        # for shape and type, the truth and the satellite states for finiteness, the measurements where
+        # tracked (NaN elsewhere).
+        t = float_array("times_s", self.times_s, ndim=1, shape="(n_t,)")
+        if t.size == 0 or np.any(np.diff(t) <= 0):
+            raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
+        ids = instance("ids", self.ids, tuple, "a tuple of str")
+        if not all(isinstance(i, str) and i[:1] in SYSTEM_INDEX for i in ids):
+            raise InvalidInputError(
+                f"expected ids as str starting with one of {list(SYSTEM_INDEX)}, got {ids!r}"[:300]
+            )
+        n_t, n_sat = t.size, len(ids)
+        system = np.asarray(self.system)
+        if system.dtype.kind not in "iu" or system.shape != (n_sat,):
+            raise InvalidInputError(
+                f"expected system as ({n_sat},) integers, got {system.dtype} {system.shape}"
+            )
+        if np.any((system < 0) | (system >= len(SYSTEM_INDEX))):
+            raise InvalidInputError(
+                f"expected system indices in [0, {len(SYSTEM_INDEX)}), got {np.unique(system).tolist()}"
+            )
+        lam = float_array("wavelength_m", self.wavelength_m, ndim=1, shape=f"({n_sat},)")
+        if lam.shape != (n_sat,) or np.any(lam <= 0):
+            raise InvalidInputError(f"expected wavelength_m of shape ({n_sat},), each > 0")
+        visible = np.asarray(self.visible)
+        if visible.dtype != bool or visible.shape != (n_t, n_sat):
+            raise InvalidInputError(
+                f"expected visible as booleans of shape ({n_t}, {n_sat}), got {visible.dtype} {visible.shape}"
+            )
+        for name in ("sat_position_m", "sat_velocity_m_s"):
+            arr = vector_array(name, getattr(self, name), ndim=3, shape=f"({n_t}, {n_sat}, 3)")
+            if arr.shape != (n_t, n_sat, 3):
+                raise InvalidInputError(f"expected {name} of shape ({n_t}, {n_sat}, 3), got {arr.shape}")
+        for name in ("pseudorange_m", "doppler_hz"):
+            arr = real_array(name, getattr(self, name))
+            if arr.shape != (n_t, n_sat):
+                raise InvalidInputError(f"expected {name} of shape ({n_t}, {n_sat}), got {arr.shape}")
+            if not np.all(np.isfinite(arr[visible])):
+                raise InvalidInputError(f"{name} contains a non-finite value where visible")
+        for name in ("clock_bias_s", "clock_drift"):
+            arr = float_array(name, getattr(self, name), ndim=1, shape=f"({n_t},)")
+            if arr.shape != (n_t,):
+                raise InvalidInputError(f"expected {name} of shape ({n_t},), got {arr.shape}")
+        scalar("code_sigma_m", self.code_sigma_m, minimum=0.0, strict=True)
+        scalar("doppler_sigma_hz", self.doppler_sigma_hz, minimum=0.0, strict=True)
+        scalar("isb_m", self.isb_m)
+
     def select_systems(self, prefixes: str) -> SpaceborneMeasurements:
         """Only the satellites whose id starts with one of ``prefixes`` (e.g. ``"G"`` or ``"GR"``)."""
+        text("prefixes", prefixes)
         keep = np.array([i[0] in prefixes for i in self.ids], dtype=bool)
         if not keep.any():
             raise InvalidInputError(
-                f"expected systems among {sorted({i[0] for i in self.ids})}, got {prefixes!r}"
+                f"expected prefixes naming systems among {sorted({i[0] for i in self.ids})}, got {prefixes!r}"
             )
         return SpaceborneMeasurements(
             self.times_s,
@@ -103,6 +155,22 @@ class SpaceborneMeasurements:
             self.clock_drift,
             self.isb_m,
         )
+
+
+def _outages(outages: Sequence[tuple[float, float, int]]) -> list[tuple[float, float, int]]:
+    windows = list(instance("outages", outages, Sequence, "a sequence of (t_start_s, t_end_s, max_sats)"))
+    if len(windows) > MAX_OUTAGES:
+        raise WorkLimitError(f"{len(windows)} outages windows exceed the limit of {MAX_OUTAGES}")
+    out = []
+    for k, window in enumerate(windows):
+        if not isinstance(window, Sequence | np.ndarray) or len(window) != 3:
+            raise InvalidInputError(
+                f"expected outages[{k}] as (t_start_s, t_end_s, max_sats), got {window!r}"
+            )
+        name = f"outages[{k}]"
+        t0, t1 = scalar(f"{name}[0]", window[0]), scalar(f"{name}[1]", window[1])
+        out.append((t0, t1, integer(f"{name}[2]", window[2], minimum=0)))
+    return out
 
 
 def _zenith_attitudes(r: NDArray[np.float64], v: NDArray[np.float64]) -> Rotation:
@@ -159,21 +227,29 @@ def simulate_spaceborne(
     isb_m
         GLONASS minus GPS inter-system bias, m.
     outages
-        ``(t_start_s, t_end_s, max_sats)`` windows (inclusive) that keep at most ``max_sats`` satellites.
+        ``(t_start_s, t_end_s, max_sats)`` windows (inclusive) that keep at most ``max_sats`` satellites;
+        at most ``MAX_OUTAGES`` (10,000) windows.
+
+    Raises
+    ------
+    InvalidInputError
+        Bad types, shapes or values (an :class:`~gnssatt.errors.InvalidTypeError` for wrong types), a
+        receiver at the Earth's centre or at a satellite.
+    ConvergenceError
+        Finite but extreme noise levels or clock parameters overflowed a measurement.
     """
-    r = float_array("receiver_position_m", receiver_position_m, ndim=2, shape="(n_t, 3)")
-    v = float_array("receiver_velocity_m_s", receiver_velocity_m_s, ndim=2, shape="(n_t, 3)")
+    r = vector_array("receiver_position_m", receiver_position_m, ndim=2, shape="(n_t, 3)", nonzero=True)
+    v = vector_array("receiver_velocity_m_s", receiver_velocity_m_s, ndim=2, shape="(n_t, 3)")
     t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
     if r.shape != (t.size, 3) or v.shape != r.shape:
         raise InvalidInputError(
-            f"expected receiver states of shape ({t.size}, 3) (one per epoch), got {r.shape} and {v.shape}"
+            f"expected receiver_position_m and receiver_velocity_m_s of shape ({t.size}, 3) (one per epoch "
+            f"of times_s), got {r.shape} and {v.shape}"
         )
     if t.size == 0 or np.any(np.diff(t) <= 0):
         raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
-    if not isinstance(constellation, Constellation):
-        raise TypeError(f"expected a gnssatt.sim Constellation, got {type(constellation).__name__}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"expected rng as a numpy.random.Generator, got {type(rng).__name__}")
+    instance("constellation", constellation, Constellation, "a gnssatt.sim Constellation")
+    generator("rng", rng)
     unknown = sorted({i[0] for i in constellation.ids} - set(SYSTEM_INDEX))
     if unknown:
         raise InvalidInputError(f"expected GPS (G) or GLONASS (R) satellites, got systems {unknown}")
@@ -182,39 +258,41 @@ def simulate_spaceborne(
     q_b = scalar("q_bias_s2_s", q_bias_s2_s, minimum=0.0)
     q_d = scalar("q_drift_1_s", q_drift_1_s, minimum=0.0)
     isb = scalar("isb_m", isb_m)
+    windows = _outages(outages)
 
     sat_r, sat_v = constellation.state_ecef(t, theta0_rad)  # (n_t, n_sat, 3)
     d = sat_r - r[:, None, :]
     rho = np.linalg.norm(d, axis=-1)
+    if np.any(rho == 0.0):
+        raise InvalidInputError(
+            "receiver_position_m coincides with a satellite: the line of sight is undefined"
+        )
     los = d / rho[..., None]
     rate = np.sum(los * (sat_v - v[:, None, :]), axis=-1)
     visible = antenna_cone_mask(los, _zenith_attitudes(r, v), (0.0, 0.0, 1.0), half_angle_deg)
     visible &= earth_occlusion_mask(r, sat_r, atmosphere_m=atmosphere_m)
     cos_boresight = np.sum(los * (r / np.linalg.norm(r, axis=-1, keepdims=True))[:, None, :], axis=-1)
-    for k, window in enumerate(outages):
-        if len(window) != 3:
-            raise InvalidInputError(
-                f"expected outages[{k}] as (t_start_s, t_end_s, max_sats), got {window!r}"
-            )
-        t0, t1, n_max = float(window[0]), float(window[1]), int(window[2])
+    for t0, t1, n_max in windows:
         for i in np.flatnonzero((t >= t0) & (t <= t1)):
             order = np.argsort(-np.where(visible[i], cos_boresight[i], -np.inf), kind="stable")
             visible[i, order[n_max:]] = False
 
     dt = np.diff(t, prepend=t[0])
-    bias = np.empty(t.size)
-    drift = np.empty(t.size)
-    bias[0], drift[0] = scalar("clock_bias0_s", clock_bias0_s), scalar("clock_drift0", clock_drift0)
+    bias0, drift0 = scalar("clock_bias0_s", clock_bias0_s), scalar("clock_drift0", clock_drift0)
     noise = rng.standard_normal((t.size, 2))
-    for k in range(1, t.size):
-        bias[k] = bias[k - 1] + drift[k - 1] * dt[k] + np.sqrt(q_b * dt[k]) * noise[k, 0]
-        drift[k] = drift[k - 1] + np.sqrt(q_d * dt[k]) * noise[k, 1]
+    # The random walks b[k] = b[k-1] + d[k-1] dt[k] + w_b[k], d[k] = d[k-1] + w_d[k] as cumulative sums
+    # (dt[0] = 0: the first epoch carries the initial values).
+    drift = drift0 + np.cumsum(np.sqrt(q_d * dt) * noise[:, 1])
+    bias = bias0 + np.cumsum(np.r_[0.0, drift[:-1]] * dt + np.sqrt(q_b * dt) * noise[:, 0])
 
     system = np.array([SYSTEM_INDEX[i[0]] for i in constellation.ids], dtype=np.uint32)
     lam = constellation.wavelengths_m("L1")
     c = SPEED_OF_LIGHT_M_S
     pr = rho + c * bias[:, None] + isb * (system == 1) + sig_c * rng.standard_normal(rho.shape)
     dop = -(rate + c * drift[:, None]) / lam + sig_d * rng.standard_normal(rho.shape)
+    cause = "the noise levels or clock parameters are too large for float64"
+    for what, value in (("pseudorange", pr), ("Doppler", dop), ("clock bias", bias), ("clock drift", drift)):
+        finite_result(f"the simulated {what}", value, cause)
     pr[~visible] = np.nan
     dop[~visible] = np.nan
     return SpaceborneMeasurements(

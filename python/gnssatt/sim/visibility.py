@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import float_array, scalar
 from gnssatt.errors import InvalidInputError
+from gnssatt.sim._util import vector_array
 from gnssatt.sim.constants import WGS84_A_M
 from gnssatt.sim.geometry import los_body
 
@@ -29,7 +30,7 @@ def elevation_mask(los_ref: ArrayLike, mask_deg: float = 0.0) -> NDArray[np.bool
     mask_deg
         Elevation mask, degrees, in [-90, 90].
     """
-    g = float_array("los_ref", los_ref, ndim=(1, 2, 3), shape="(..., 3)")
+    g = vector_array("los_ref", los_ref, ndim=(1, 2, 3), shape="(..., 3)", nonzero=True)
     m = scalar("mask_deg", mask_deg)
     if abs(m) > 90:
         raise InvalidInputError(f"expected mask_deg in [-90, 90], got {m}")
@@ -62,6 +63,7 @@ def antenna_cone_mask(
     h = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True)
     if h > 180:
         raise InvalidInputError(f"expected half_angle_deg in (0, 180], got {h}")
+    vector_array("los_ref", los_ref, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)", nonzero=True)
     g_body = los_body(los_ref, attitude)
     cos_angle = g_body @ (b / np.linalg.norm(b)) / np.linalg.norm(g_body, axis=-1)
     return cos_angle >= np.cos(np.radians(h)) - 1e-12

@@ -1,0 +1,943 @@
+"""Bad input to every public function of the models and the simulator (issue 15, part C).
+
+Each case calls one function with valid arguments but one, which is replaced by a bad value of one
+category: wrong shape, complex, boolean / object / text, None, NaN / inf, out of range, absurd size. The
+call must raise :class:`~gnssatt.errors.InvalidInputError` (or a subclass: ``InvalidTypeError`` for the
+wrong kinds, ``WorkLimitError`` for absurd sizes) before doing the work, with a message naming the
+parameter. A second part checks the finite inputs that used to give NaN.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from gnssatt import magnetic, orbit, orbit_nav, sim, tumble
+from gnssatt.errors import (
+    ConvergenceError,
+    DegenerateGeometryError,
+    InvalidInputError,
+    InvalidTypeError,
+    WorkLimitError,
+)
+from gnssatt.sim import attitude_scenario as scen
+from gnssatt.sim import constants
+from gnssatt.sim.spaceborne import SpaceborneMeasurements
+
+RNG = np.random.default_rng(0)
+GPS = sim.gps_nominal()
+GROUND = sim.GroundReceiver(lat_deg=50.0, lon_deg=36.2, height_m=150.0)
+LEO = sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=97.0)
+GEOM = sim.line_of_sight(GROUND, GPS, t=0.0)
+KEPLER = GPS.orbits
+T3 = np.array([0.0, 10.0, 20.0])
+ATT3 = Rotation.from_rotvec(np.zeros((3, 3)))
+BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+X0 = np.array([7.0e6, 0.0, 0.0, 0.0, 7.5e3, 0.0])
+P0 = np.diag([100.0, 100.0, 100.0, 1.0, 1.0, 1.0])
+
+
+def _spaceborne() -> SpaceborneMeasurements:
+    times = np.arange(0.0, 30.0, 10.0)
+    r, v = LEO.state_ecef(times)
+    return sim.simulate_spaceborne(r, v, times, GPS, np.random.default_rng(1))
+
+
+MEAS = _spaceborne()
+PHASES = scen.phase_observations(
+    LEO, GPS, T3, ATT3, BASELINES, np.random.default_rng(2), sigma_cycles=0.01, half_angle_deg=180.0
+)
+FILTERED = orbit_nav.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
+
+# name -> (callable taking keyword arguments, valid keyword arguments)
+FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
+    # gnssatt.magnetic
+    "dipole_orbital": (
+        magnetic.dipole_orbital,
+        {"u": np.array([0.0, 1.0]), "inclination": 1.0, "radius": 7e6, "strength": 7.7e15},
+    ),
+    "dipole_coefficients": (magnetic.dipole_coefficients, {"decimal_year": 2020.0}),
+    "magnetic.geodetic_to_ecef": (
+        magnetic.geodetic_to_ecef,
+        {"latitude_deg": np.array([10.0, 20.0]), "longitude_deg": 5.0, "height_m": 100.0},
+    ),
+    "dcm_ned_from_ecef": (magnetic.dcm_ned_from_ecef, {"latitude_deg": 10.0, "longitude_deg": 5.0}),
+    "dipole_field_ecef": (
+        magnetic.dipole_field_ecef,
+        {"position_ecef_m": np.array([[7e6, 0.0, 0.0]]), "decimal_year": 2020.0},
+    ),
+    "dipole_field_eci": (
+        magnetic.dipole_field_eci,
+        {
+            "position_eci_m": np.array([7e6, 0.0, 0.0]),
+            "decimal_year": 2020.0,
+            "earth_rotation_angle_rad": 0.3,
+        },
+    ),
+    "dipole_field_ned": (
+        magnetic.dipole_field_ned,
+        {"latitude_deg": 10.0, "longitude_deg": 5.0, "height_m": 100.0, "decimal_year": 2020.0},
+    ),
+    "igrf_field_ecef": (
+        magnetic.igrf_field_ecef,
+        {"position_ecef_m": np.array([7e6, 0.0, 0.0]), "decimal_year": 2020.0, "max_degree": 13},
+    ),
+    # gnssatt.sim.frames
+    "earth_rotation_angle": (sim.earth_rotation_angle, {"t": T3, "theta0_rad": 0.1}),
+    "dcm_eci_from_ecef": (sim.dcm_eci_from_ecef, {"t": T3, "theta0_rad": 0.1}),
+    "dcm_ecef_from_eci": (sim.dcm_ecef_from_eci, {"t": 1.0, "theta0_rad": 0.1}),
+    "eci_to_ecef": (
+        sim.eci_to_ecef,
+        {"r_eci": np.array([7e6, 0, 0.0]), "v_eci": np.array([0, 7e3, 0.0]), "t": 1.0, "theta0_rad": 0.0},
+    ),
+    "ecef_to_eci": (
+        sim.ecef_to_eci,
+        {"r_ecef": np.array([7e6, 0, 0.0]), "v_ecef": np.array([0, 7e3, 0.0]), "t": 1.0, "theta0_rad": 0.0},
+    ),
+    "sim.geodetic_to_ecef": (sim.geodetic_to_ecef, {"lat_deg": 10.0, "lon_deg": 20.0, "height_m": 0.0}),
+    "ecef_to_geodetic": (sim.ecef_to_geodetic, {"r_ecef": np.array([7e6, 0.0, 1e6])}),
+    "dcm_ecef_from_enu": (sim.dcm_ecef_from_enu, {"lat_deg": 10.0, "lon_deg": 20.0}),
+    # gnssatt.sim.geometry
+    "Geometry.from_los": (
+        sim.Geometry.from_los,
+        {"los": np.array([[0, 0, 1.0], [0, 1, 1.0]]), "range_m": 2e7, "range_rate_mps": 0.0, "frame": "enu"},
+    ),
+    "Geometry": (
+        sim.Geometry,
+        {
+            "los": np.array([[0, 0, 1.0]]),
+            "range_m": np.array([2e7]),
+            "range_rate_mps": np.array([0.0]),
+            "frame": "enu",
+            "ids": ("G01",),
+            "t": np.array(0.0),
+            "receiver_eci_m": np.full(3, np.nan),
+            "satellites_eci_m": np.full((1, 3), np.nan),
+        },
+    ),
+    "Geometry.select": (GEOM.select, {"mask": np.array([0, 1])}),
+    "los_body": (sim.los_body, {"los": np.array([[0, 0, 1.0]]), "attitude": Rotation.identity()}),
+    "elevation_azimuth": (sim.elevation_azimuth, {"los_enu": np.array([[0, 0.6, 0.8]])}),
+    "line_of_sight": (sim.line_of_sight, {"receiver": GROUND, "constellation": GPS, "t": T3}),
+    # gnssatt.sim.kepler
+    "solve_kepler": (
+        sim.solve_kepler,
+        {"mean_anomaly_rad": np.array([0.1, 2.0]), "eccentricity": 0.1, "tol": 1e-14, "max_iter": 50},
+    ),
+    "KeplerOrbits": (
+        sim.KeplerOrbits,
+        {
+            "semi_major_axis_m": np.array([2.6e7]),
+            "eccentricity": np.array([0.01]),
+            "inclination_rad": np.array([1.0]),
+            "raan_rad": np.array([0.0]),
+            "arg_perigee_rad": np.array([0.0]),
+            "mean_anomaly_rad": np.array([0.0]),
+            "gm_m3_s2": 3.986e14,
+        },
+    ),
+    "KeplerOrbits.circular": (
+        sim.KeplerOrbits.circular,
+        {"semi_major_axis_m": 2.6e7, "inclination_rad": 1.0, "raan_rad": 0.0, "arg_latitude_rad": [0.0, 1.0]},
+    ),
+    "KeplerOrbits.state_eci": (KEPLER.state_eci, {"t": T3}),
+    "KeplerOrbits.subset": (KEPLER.subset, {"index": np.array([0, 1])}),
+    # gnssatt.sim.visibility
+    "elevation_mask": (sim.elevation_mask, {"los_ref": np.array([[0, 0.6, 0.8]]), "mask_deg": 10.0}),
+    "antenna_cone_mask": (
+        sim.antenna_cone_mask,
+        {
+            "los_ref": np.array([[0, 0.6, 0.8]]),
+            "attitude": Rotation.identity(),
+            "boresight_body": np.array([0, 0, 1.0]),
+            "half_angle_deg": 80.0,
+        },
+    ),
+    "earth_occlusion_mask": (
+        sim.earth_occlusion_mask,
+        {
+            "receiver_m": np.array([7e6, 0, 0.0]),
+            "satellites_m": np.array([[2e7, 0, 0.0]]),
+            "atmosphere_m": 1e5,
+            "radius_m": 6.4e6,
+        },
+    ),
+    # gnssatt.sim.arrays
+    "equilateral_triangle": (sim.equilateral_triangle, {"side_m": 1.0, "plane": "xy"}),
+    "random_attitude": (sim.random_attitude, {"rng": RNG, "n": 3}),
+    "random_los": (sim.random_los, {"rng": RNG, "n_sat": 3, "min_elevation_deg": 10.0}),
+    # gnssatt.sim.constellation
+    "Constellation": (
+        sim.Constellation,
+        {
+            "ids": ("G01",),
+            "orbits": KEPLER.subset(np.array([0])),
+            "frequencies_hz": {"L1": np.array([1.57542e9])},
+            "slots": ("",),
+            "glonass_channels": np.array([0]),
+        },
+    ),
+    "Constellation.select": (GPS.select, {"which": np.array([0, 1])}),
+    "Constellation.wavelengths_m": (GPS.wavelengths_m, {"band": "L1"}),
+    "Constellation.state_ecef": (GPS.state_ecef, {"t": T3, "theta0_rad": 0.0}),
+    "gps_nominal": (sim.gps_nominal, {"extra_slots_deg": [(10.0, 20.0)]}),
+    "glonass_nominal": (sim.glonass_nominal, {"raan0_deg": 0.0, "arg_latitude0_deg": 0.0}),
+    "walker": (
+        sim.walker,
+        {
+            "n_sat": 24,
+            "n_planes": 3,
+            "phasing": 1,
+            "inclination_deg": 56.0,
+            "semi_major_axis_m": 2.96e7,
+            "prefix": "E",
+            "frequency_hz": 1.57542e9,
+            "raan0_deg": 0.0,
+        },
+    ),
+    # gnssatt.sim.constants
+    "glonass_frequency_hz": (constants.glonass_frequency_hz, {"k": np.array([-7, 6]), "band": "L1"}),
+    "glonass_wavelength_m": (constants.glonass_wavelength_m, {"k": 1, "band": "L2"}),
+    # gnssatt.sim.measurements
+    "phase_diffs": (sim.phase_diffs, {"phases": np.zeros((3, 4))}),
+    "correlator_amplitude": (sim.correlator_amplitude, {"cn0_dbhz": 45.0, "integration_time_s": 1e-3}),
+    "wrap_rad": (sim.wrap_rad, {"x": np.array([4.0, -4.0])}),
+    "simulate_array": (
+        sim.simulate_array,
+        {
+            "geometry": GEOM,
+            "attitude": Rotation.identity(),
+            "antennas_body_m": sim.equilateral_triangle(1.0),
+            "wavelengths_m": GPS.wavelengths_m(),
+            "rng": RNG,
+            "code_sigma_m": 0.5,
+            "phase_sigma_rad": 0.1,
+            "doppler_sigma_hz": 0.1,
+            "clock_bias_s": 1e-4,
+            "ambiguity_max": 10,
+            "cn0_dbhz": 45.0,
+            "integration_time_s": 1e-3,
+        },
+    ),
+    # gnssatt.sim.receivers
+    "GroundReceiver": (
+        sim.GroundReceiver,
+        {"lat_deg": 10.0, "lon_deg": 20.0, "height_m": 0.0, "theta0_rad": 0.0},
+    ),
+    "OrbitalReceiver": (
+        sim.OrbitalReceiver,
+        {
+            "altitude_m": 5e5,
+            "inclination_deg": 97.0,
+            "raan_deg": 0.0,
+            "arg_latitude_deg": 0.0,
+            "theta0_rad": 0.0,
+            "gm_m3_s2": 3.986e14,
+        },
+    ),
+    "OrbitalReceiver.state_eci": (LEO.state_eci, {"t": T3}),
+    "GroundReceiver.dcm_eci_from_enu": (GROUND.dcm_eci_from_enu, {"t": T3}),
+    # gnssatt.sim.spaceborne
+    "simulate_spaceborne": (
+        sim.simulate_spaceborne,
+        {
+            "receiver_position_m": MEAS.sat_position_m[:, 0] * 0.3,
+            "receiver_velocity_m_s": np.tile([0.0, 7.5e3, 0.0], (3, 1)),
+            "times_s": MEAS.times_s,
+            "constellation": GPS,
+            "rng": RNG,
+            "half_angle_deg": 85.0,
+            "atmosphere_m": 5e4,
+            "code_sigma_m": 1.0,
+            "doppler_sigma_hz": 0.2,
+            "clock_bias0_s": 1e-4,
+            "clock_drift0": 1e-8,
+            "q_bias_s2_s": 1e-20,
+            "q_drift_1_s": 1e-20,
+            "isb_m": 20.0,
+            "outages": [(0.0, 10.0, 3)],
+        },
+    ),
+    "SpaceborneMeasurements": (SpaceborneMeasurements, dict(MEAS.__dict__)),
+    "SpaceborneMeasurements.select_systems": (MEAS.select_systems, {"prefixes": "G"}),
+    # gnssatt.sim.attitude_scenario
+    "right_jacobian": (scen.right_jacobian, {"a": np.array([0.1, 0.2, 0.3])}),
+    "orbital_hold_motion": (
+        scen.orbital_hold_motion,
+        {
+            "receiver": LEO,
+            "t": T3,
+            "amplitude_rad": np.full(3, 0.01),
+            "period_s": np.full(3, 300.0),
+            "phase_rad": np.zeros(3),
+        },
+    ),
+    "gyro_output": (
+        scen.gyro_output,
+        {
+            "t": T3,
+            "attitude": ATT3,
+            "rng": RNG,
+            "drift_rad_s": np.zeros(3),
+            "arw": 1e-5,
+            "rrw": 1e-7,
+            "misalignment_rad": np.zeros(3),
+        },
+    ),
+    "phase_observations": (
+        scen.phase_observations,
+        {
+            "receiver": LEO,
+            "gnss": GPS,
+            "t": T3,
+            "attitude": ATT3,
+            "baselines_m": BASELINES,
+            "rng": RNG,
+            "sigma_cycles": 0.01,
+            "half_angle_deg": 80.0,
+            "atmosphere_m": 1e5,
+            "max_satellites": 8,
+            "new_arcs_after": np.array([5.0]),
+            "slips": np.array([[10.0, 3.0, 1.0]]),
+        },
+    ),
+    "attitude_fixes": (
+        scen.attitude_fixes,
+        {
+            "phases": PHASES,
+            "attitude": ATT3,
+            "baselines_m": BASELINES,
+            "rng": RNG,
+            "sigma_cycles": 0.01,
+            "min_satellites": 3,
+        },
+    ),
+    "PhaseObservations": (scen.PhaseObservations, dict(PHASES.__dict__)),
+    "GyroOutput": (scen.GyroOutput, {"t": T3, "rates": np.zeros((3, 3)), "drift": np.zeros((3, 3))}),
+    "AttitudeFixes": (
+        scen.AttitudeFixes,
+        {"t": T3, "rotation": ATT3, "covariance": np.tile(np.eye(3), (3, 1, 1))},
+    ),
+    # gnssatt.orbit
+    "GlonassModel": (
+        orbit.GlonassModel,
+        {
+            "gm_m3_s2": 3.986e14,
+            "j2": 1e-3,
+            "equatorial_radius_m": 6.378e6,
+            "omega_rad_s": 7.29e-5,
+            "lunisolar_m_s2": (0.0, 0.0, 1e-6),
+        },
+    ),
+    "glonass_propagate": (
+        orbit.glonass_propagate,
+        {
+            "position_m": np.array([2.5e7, 0.0, 0.0]),
+            "velocity_m_s": np.array([0.0, 3.0e3, 1.0e3]),
+            "duration_s": 100.0,
+            "step_s": 10.0,
+            "lunisolar_m_s2": np.zeros(3),
+            "model": orbit.GlonassModel(),
+        },
+    ),
+    "CircularOrbit": (
+        orbit.CircularOrbit,
+        {
+            "radius_m": 7e6,
+            "inclination_rad": 1.7,
+            "raan_rad": 0.0,
+            "arg_latitude0_rad": 0.0,
+            "gm_m3_s2": 3.986e14,
+        },
+    ),
+    "CircularOrbit.state_ecef": (
+        orbit.CircularOrbit(7e6, 1.7, 0.0, 0.0).state_ecef,
+        {"times_s": T3, "theta0_rad": 0.0, "omega_rad_s": 7.29e-5},
+    ),
+    "gmst_rad": (orbit.gmst_rad, {"jd_ut1": np.array([2451545.0, 2460000.5])}),
+    "teme_to_ecef": (
+        orbit.teme_to_ecef,
+        {"r_teme_m": np.array([[7e6, 0, 0.0]]), "v_teme_m_s": np.array([[0, 7e3, 0.0]]), "jd_ut1": 2460000.5},
+    ),
+    "tle_states": (
+        orbit.tle_states,
+        {
+            "line1": "1 25544U 98067A   20062.59097222  .00016717  00000-0  10270-3 0  9006",
+            "line2": "2 25544  51.6442 147.0064 0004607  95.6506 329.8285 15.49249062 35087",
+            "times": np.array(["2020-03-02T12:00"], dtype="datetime64[ns]"),
+            "dut1_s": 0.1,
+        },
+    ),
+    # gnssatt.orbit_nav
+    "white_acceleration_noise": (
+        orbit_nav.white_acceleration_noise,
+        {"accel_psd_m2_s3": 1e-8, "dt_s": 10.0},
+    ),
+    "noisy_orbit": (
+        orbit_nav.noisy_orbit,
+        {"x0": X0, "times_s": T3, "rng": RNG, "accel_psd_m2_s3": 1e-8, "step_s": 10.0, "model": None},
+    ),
+    "receiver_fix": (orbit_nav.receiver_fix, {"measurements": MEAS}),
+    "orbit_filter": (
+        orbit_nav.orbit_filter,
+        {
+            "data": MEAS,
+            "x0": FILTERED.states[0],
+            "p0": P0,
+            "coupling": "tight",
+            "accel_psd_m2_s3": 1e-8,
+            "step_s": 10.0,
+            "use_doppler": True,
+        },
+    ),
+    "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
+    # gnssatt.tumble
+    "TumbleModel": (
+        tumble.TumbleModel,
+        {
+            "orbital_rate_rad_s": 1.1e-3,
+            "speed_m_s": 7.6e3,
+            "inertia_kg_m2": (0.035, 0.008, 0.030),
+            "gravity_gradient": True,
+            "density_kg_m3": 5e-13,
+            "drag_coefficient": 2.2,
+            "area_m2": 0.03,
+            "cp_offset_m": (0.0, -0.02, 0.0),
+        },
+    ),
+    "TumbleModel.circular": (tumble.TumbleModel.circular, {"altitude_m": 5e5}),
+    "propagate_axes": (
+        tumble.propagate_axes,
+        {"params": np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03]), "t": T3, "step_s": 1.0},
+    ),
+    "axis_cost": (
+        tumble.axis_cost,
+        {
+            "params": np.array([[0.1, 0.2, 0.3, 0.01, 0.02, 0.03]]),
+            "t": T3,
+            "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
+            "step_s": 1.0,
+        },
+    ),
+    "propagate": (
+        tumble.propagate,
+        {"params": np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03]), "t": T3, "step_s": 1.0},
+    ),
+    "fold_symmetric": (tumble.fold_symmetric, {"params": np.zeros(6), "reference": np.ones(6)}),
+    "noise_cost_threshold": (
+        tumble.noise_cost_threshold,
+        {"n_epochs": 10, "axis_sigma_deg": 5.0, "false_restart": 1e-3},
+    ),
+    "fit_rotation": (
+        tumble.fit_rotation,
+        {
+            "t": T3,
+            "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
+            "seed": 1,
+            "axis_sigma_deg": 5.0,
+            "max_restarts": 1,
+            "min_restarts": 0,
+            "false_restart": 1e-3,
+            "popsize": 2,
+            "mutation": (0.5, 1.0),
+            "recombination": 0.9,
+            "tol_abs": 1e-3,
+            "patience": 2,
+            "maxiter": 2,
+            "max_rate_rad_s": 0.05,
+            "step_s": 1.0,
+        },
+    ),
+}
+
+# Parameters that are objects of the library (receivers, rotations, generators, ...) rather than numbers.
+OBJECTS = {
+    "receiver",
+    "constellation",
+    "gnss",
+    "attitude",
+    "rng",
+    "geometry",
+    "orbits",
+    "phases",
+    "rotation",
+    "measurements",
+    "data",
+    "model",
+}
+# Parameters that take text.
+TEXT = {"frame", "plane", "band", "prefix", "coupling", "prefixes", "line1", "line2"}
+# Parameters that take integers (counts, indices, channels).
+INTEGERS = {
+    "max_degree",
+    "max_iter",
+    "n",
+    "n_sat",
+    "n_planes",
+    "phasing",
+    "ambiguity_max",
+    "max_satellites",
+    "min_satellites",
+    "n_epochs",
+    "max_restarts",
+    "min_restarts",
+    "popsize",
+    "patience",
+    "maxiter",
+    "seed",
+}
+# Containers of integers or mixed records, covered by the specific cases below.
+SKIP = {
+    "ids",
+    "slots",
+    "frequencies_hz",
+    "glonass_channels",
+    "extra_slots_deg",
+    "outages",
+    "mask",
+    "index",
+    "which",
+    "k",
+    "times",
+    "system",
+    "visible",
+    "gravity_gradient",
+    "use_doppler",
+    "mutation",
+    "satellites_eci_m",
+    "receiver_eci_m",
+    "lunisolar_m_s2",
+    "slips",
+    "new_arcs_after",
+    "epoch",
+    "track",
+    "satellite",
+    "ambiguity",
+}
+
+
+# Parameters for which None is valid (a default or "none given").
+NONE_OK = {
+    ("random_attitude", "n"),
+    ("phase_observations", "max_satellites"),
+    ("glonass_propagate", "model"),
+    ("fit_rotation", "seed"),
+    ("fit_rotation", "axis_sigma_deg"),
+    ("simulate_array", "cn0_dbhz"),
+}
+# Arrays that hold NaN where a value is unknown or not measured (checked by the specific cases).
+NAN_OK = {("SpaceborneMeasurements", "pseudorange_m"), ("SpaceborneMeasurements", "doppler_hz")}
+
+
+def _bad_values(fname: str, name: str, value: Any) -> list[tuple[str, Any]]:
+    """The generic bad values of each category for one parameter (its kind from its valid value)."""
+    kinds: list[tuple[str, Any]] = [] if (fname, name) in NONE_OK else [("none", None)]
+    if name in OBJECTS and not isinstance(value, np.ndarray):
+        return [*kinds, ("text", "abc"), ("number", 3.0)]
+    if name in TEXT:
+        return [*kinds, ("number", 3.0), ("bytes", b"L1")]
+    if name in INTEGERS:
+        return [*kinds, ("float", 2.5), ("bool", True), ("text", "3"), ("complex", 3 + 0j)]
+    kinds += [("text", "abc"), ("object", np.array([object()], dtype=object))]
+    if np.ndim(value) == 0 and not isinstance(value, np.ndarray):
+        return [*kinds, ("bool", True), ("complex", 1 + 1j), ("nan", math.nan), ("inf", math.inf)]
+    arr = np.asarray(value, dtype=np.float64)
+    nan = arr.copy().reshape(-1)
+    if nan.size:
+        nan[0] = np.nan
+    inf = -nan.copy()
+    if inf.size:
+        inf[0] = np.inf
+    if (fname, name) != ("phase_diffs", "phases"):  # complex correlator outputs are valid phases there
+        kinds.append(("complex", arr.astype(np.complex128) + 1j))
+    kinds += [
+        ("bool", np.ones(arr.shape, dtype=bool)),
+        ("ragged", [[1.0, 2.0], [3.0]]),
+    ]
+    if (fname, name) not in NAN_OK:
+        kinds += [("nan", nan.reshape(arr.shape)), ("inf", inf.reshape(arr.shape))]
+    return kinds
+
+
+def _generic_cases() -> list[Any]:
+    cases = []
+    for fname, (_, kwargs) in FUNCTIONS.items():
+        for param, value in kwargs.items():
+            if param in SKIP or value is None:
+                continue
+            for category, bad in _bad_values(fname, param, value):
+                cases.append(pytest.param(fname, param, category, bad, id=f"{fname}-{param}-{category}"))
+    return cases
+
+
+def _call(fname: str, **overrides: Any) -> Any:
+    fn, kwargs = FUNCTIONS[fname]
+    return fn(**{**kwargs, **overrides})
+
+
+@pytest.mark.parametrize("fname", list(FUNCTIONS))
+def test_valid_arguments_are_accepted(fname: str) -> None:
+    # the baseline of every case below; a failing baseline would make the bad-input cases meaningless
+    if fname == "igrf_field_ecef":
+        pytest.importorskip("ppigrf")
+    _call(fname)
+
+
+@pytest.mark.parametrize(("fname", "param", "category", "bad"), _generic_cases())
+def test_bad_kind_or_value_names_the_parameter(fname: str, param: str, category: str, bad: Any) -> None:
+    # a value of the wrong kind is an InvalidTypeError (also a TypeError); NaN and inf an InvalidInputError
+    error = InvalidInputError if category in ("nan", "inf") else InvalidTypeError
+    with pytest.raises(error) as info:
+        _call(fname, **{param: bad})
+    assert param in str(info.value)
+
+
+# (function, parameter, bad value, expected class): wrong shapes, out-of-range values, absurd sizes.
+SPECIFIC = [
+    # wrong shapes
+    ("dipole_field_ecef", "position_ecef_m", np.zeros((2, 2)), InvalidInputError),
+    ("dipole_field_eci", "position_eci_m", np.full((2, 4), 7e6), InvalidInputError),
+    ("magnetic.geodetic_to_ecef", "height_m", np.zeros(3), InvalidInputError),
+    ("dipole_orbital", "radius", np.full(3, 7e6), InvalidInputError),
+    ("eci_to_ecef", "v_eci", np.zeros(2), InvalidInputError),
+    ("eci_to_ecef", "r_eci", np.zeros((3, 2)), InvalidInputError),
+    ("ecef_to_eci", "r_ecef", np.full((2, 3), 7e6), InvalidInputError),
+    ("ecef_to_geodetic", "r_ecef", np.zeros((2, 2)), InvalidInputError),
+    ("sim.geodetic_to_ecef", "lon_deg", np.zeros(3) + np.zeros((2, 1)), InvalidInputError),
+    ("Geometry.from_los", "los", np.zeros((2, 2)), InvalidInputError),
+    ("Geometry", "range_m", np.zeros(2), InvalidInputError),
+    ("Geometry", "ids", ("G01", "G02"), InvalidInputError),
+    ("los_body", "los", np.zeros((2, 2)), InvalidInputError),
+    ("los_body", "attitude", Rotation.identity(2), InvalidInputError),
+    ("elevation_azimuth", "los_enu", np.zeros((1, 2)), InvalidInputError),
+    ("line_of_sight", "t", np.zeros((2, 2)), InvalidInputError),
+    ("solve_kepler", "eccentricity", np.zeros(3), InvalidInputError),
+    ("KeplerOrbits", "raan_rad", np.zeros((2, 2)), InvalidInputError),
+    ("elevation_mask", "los_ref", np.zeros((2, 4)), InvalidInputError),
+    ("antenna_cone_mask", "boresight_body", np.zeros(2) + 1, InvalidInputError),
+    ("earth_occlusion_mask", "satellites_m", np.zeros((2, 2)), InvalidInputError),
+    ("phase_diffs", "phases", np.zeros((1, 4)), InvalidInputError),
+    ("simulate_array", "antennas_body_m", np.zeros((3, 2)), InvalidInputError),
+    ("simulate_array", "wavelengths_m", np.full(2, 0.19), InvalidInputError),
+    ("simulate_array", "clock_bias_s", np.zeros(5), InvalidInputError),
+    ("simulate_spaceborne", "receiver_velocity_m_s", np.zeros((2, 3)), InvalidInputError),
+    ("simulate_spaceborne", "times_s", np.zeros(3), InvalidInputError),
+    ("gyro_output", "attitude", Rotation.identity(), InvalidInputError),
+    ("gyro_output", "drift_rad_s", np.zeros(2), InvalidInputError),
+    ("phase_observations", "baselines_m", np.zeros((2, 2)), InvalidInputError),
+    ("phase_observations", "attitude", Rotation.identity(2), InvalidInputError),
+    ("attitude_fixes", "attitude", Rotation.identity(), InvalidInputError),
+    ("right_jacobian", "a", np.zeros(2), InvalidInputError),
+    ("orbital_hold_motion", "period_s", np.ones(2), InvalidInputError),
+    ("glonass_propagate", "velocity_m_s", np.zeros(4), InvalidInputError),
+    ("GlonassModel", "lunisolar_m_s2", (0.0, 0.0), InvalidInputError),
+    ("teme_to_ecef", "jd_ut1", np.full(3, 2460000.5), InvalidInputError),
+    ("noisy_orbit", "x0", np.zeros(5), InvalidInputError),
+    ("orbit_filter", "p0", np.eye(5), InvalidInputError),
+    ("OrbitFilterResult.nees", "truth", np.zeros((2, 6)), InvalidInputError),
+    ("propagate_axes", "params", np.zeros(5), InvalidInputError),
+    ("axis_cost", "measured_axes", np.zeros((2, 3)), InvalidInputError),
+    ("fold_symmetric", "reference", np.zeros(5), InvalidInputError),
+    ("TumbleModel", "inertia_kg_m2", (1.0, 1.0), InvalidInputError),
+    ("fit_rotation", "measured_axes", np.ones((4, 3)), InvalidInputError),
+    # out of range
+    ("dipole_orbital", "radius", 0.0, InvalidInputError),
+    ("dipole_orbital", "inclination", 4.0, InvalidInputError),
+    ("dipole_orbital", "strength", -1.0, InvalidInputError),
+    ("dipole_coefficients", "decimal_year", 1999.0, InvalidInputError),
+    ("magnetic.geodetic_to_ecef", "latitude_deg", 91.0, InvalidInputError),
+    ("magnetic.geodetic_to_ecef", "height_m", -6.0e6, InvalidInputError),
+    ("dcm_ned_from_ecef", "latitude_deg", -90.5, InvalidInputError),
+    ("dipole_field_ecef", "position_ecef_m", np.zeros(3), InvalidInputError),
+    ("dipole_field_ecef", "position_ecef_m", np.array([1e300, 0, 0]), InvalidInputError),
+    ("dipole_field_ned", "latitude_deg", 100.0, InvalidInputError),
+    ("igrf_field_ecef", "max_degree", 14, InvalidInputError),
+    ("igrf_field_ecef", "position_ecef_m", np.zeros(3), InvalidInputError),
+    ("sim.geodetic_to_ecef", "lat_deg", 90.5, InvalidInputError),
+    ("sim.geodetic_to_ecef", "height_m", -7e6, InvalidInputError),
+    ("ecef_to_geodetic", "r_ecef", np.zeros(3), InvalidInputError),
+    ("dcm_ecef_from_enu", "lat_deg", 95.0, InvalidInputError),
+    ("Geometry.from_los", "los", np.zeros((2, 3)), InvalidInputError),
+    ("Geometry.from_los", "range_m", -1.0, InvalidInputError),
+    ("Geometry.select", "mask", np.array([99]), InvalidInputError),
+    ("elevation_azimuth", "los_enu", np.zeros((1, 3)), InvalidInputError),
+    ("solve_kepler", "eccentricity", 1.0, InvalidInputError),
+    ("solve_kepler", "tol", 0.0, InvalidInputError),
+    ("solve_kepler", "max_iter", 0, InvalidInputError),
+    ("KeplerOrbits", "semi_major_axis_m", np.array([-1.0]), InvalidInputError),
+    ("KeplerOrbits", "semi_major_axis_m", np.array([1e300]), InvalidInputError),
+    ("KeplerOrbits", "gm_m3_s2", 0.0, InvalidInputError),
+    ("KeplerOrbits.subset", "index", np.array([100]), InvalidInputError),
+    ("KeplerOrbits.subset", "index", np.array([0.5]), InvalidTypeError),
+    ("elevation_mask", "mask_deg", 91.0, InvalidInputError),
+    ("elevation_mask", "los_ref", np.zeros((1, 3)), InvalidInputError),
+    ("antenna_cone_mask", "half_angle_deg", 0.0, InvalidInputError),
+    ("antenna_cone_mask", "half_angle_deg", 181.0, InvalidInputError),
+    ("antenna_cone_mask", "boresight_body", np.zeros(3), InvalidInputError),
+    ("earth_occlusion_mask", "atmosphere_m", -1.0, InvalidInputError),
+    ("earth_occlusion_mask", "radius_m", 0.0, InvalidInputError),
+    ("equilateral_triangle", "side_m", 0.0, InvalidInputError),
+    ("equilateral_triangle", "plane", "xx", InvalidInputError),
+    ("random_attitude", "n", 0, InvalidInputError),
+    ("random_los", "n_sat", 0, InvalidInputError),
+    ("random_los", "min_elevation_deg", 90.0, InvalidInputError),
+    ("Constellation", "frequencies_hz", {"L1": np.array([-1.0])}, InvalidInputError),
+    ("Constellation", "frequencies_hz", {"L1": np.array([1j])}, InvalidTypeError),
+    ("Constellation", "ids", ("G01", "G02"), InvalidInputError),
+    ("Constellation", "glonass_channels", np.array([0.5]), InvalidTypeError),
+    ("Constellation", "orbits", "abc", InvalidTypeError),
+    ("Constellation.select", "which", np.array([99]), InvalidInputError),
+    ("Constellation.select", "which", ["G99"], InvalidInputError),
+    ("Constellation.wavelengths_m", "band", "L5", InvalidInputError),
+    ("gps_nominal", "extra_slots_deg", [(1.0, None)], InvalidTypeError),
+    ("gps_nominal", "extra_slots_deg", [(1.0, math.nan)], InvalidInputError),
+    ("gps_nominal", "extra_slots_deg", [(1.0, 2.0, 3.0)], InvalidInputError),
+    ("walker", "n_planes", 5, InvalidInputError),
+    ("walker", "inclination_deg", 181.0, InvalidInputError),
+    ("walker", "frequency_hz", 0.0, InvalidInputError),
+    ("walker", "prefix", "GPS", InvalidInputError),
+    ("glonass_frequency_hz", "k", np.array([7]), InvalidInputError),
+    ("glonass_frequency_hz", "k", np.array([0.5]), InvalidTypeError),
+    ("glonass_frequency_hz", "k", np.array([1j]), InvalidTypeError),
+    ("glonass_frequency_hz", "k", np.array([True]), InvalidTypeError),
+    ("glonass_frequency_hz", "band", "L5", InvalidInputError),
+    ("correlator_amplitude", "cn0_dbhz", 1e3, InvalidInputError),
+    ("correlator_amplitude", "integration_time_s", 0.0, InvalidInputError),
+    ("simulate_array", "wavelengths_m", np.zeros(len(GPS)), InvalidInputError),
+    ("simulate_array", "code_sigma_m", -1.0, InvalidInputError),
+    ("simulate_array", "ambiguity_max", -1, InvalidInputError),
+    ("simulate_array", "ambiguities", np.zeros((3, len(GPS))), InvalidTypeError),
+    ("simulate_array", "ambiguities", np.full((3, len(GPS)), 2**40), InvalidInputError),
+    ("GroundReceiver", "lat_deg", 91.0, InvalidInputError),
+    ("GroundReceiver", "height_m", -7e6, InvalidInputError),
+    ("OrbitalReceiver", "altitude_m", -7e6, InvalidInputError),
+    ("OrbitalReceiver", "altitude_m", 1e300, InvalidInputError),
+    ("OrbitalReceiver", "gm_m3_s2", 0.0, InvalidInputError),
+    ("simulate_spaceborne", "half_angle_deg", 0.0, InvalidInputError),
+    ("simulate_spaceborne", "code_sigma_m", 0.0, InvalidInputError),
+    ("simulate_spaceborne", "q_bias_s2_s", -1.0, InvalidInputError),
+    ("simulate_spaceborne", "outages", [(0.0, 1.0, -1)], InvalidInputError),
+    ("simulate_spaceborne", "outages", [(0.0, None, 1)], InvalidTypeError),
+    ("simulate_spaceborne", "outages", [(0.0, 1.0)], InvalidInputError),
+    ("simulate_spaceborne", "receiver_position_m", np.zeros((3, 3)), InvalidInputError),
+    ("SpaceborneMeasurements", "times_s", np.zeros(3), InvalidInputError),
+    ("SpaceborneMeasurements", "visible", np.ones((3, 2), dtype=bool), InvalidInputError),
+    ("SpaceborneMeasurements", "system", np.full(len(GPS), 7, dtype=np.uint32), InvalidInputError),
+    ("SpaceborneMeasurements", "code_sigma_m", -1.0, InvalidInputError),
+    ("SpaceborneMeasurements", "pseudorange_m", np.where(MEAS.visible, np.nan, 0.0), InvalidInputError),
+    ("SpaceborneMeasurements", "doppler_hz", np.where(MEAS.visible, np.inf, 0.0), InvalidInputError),
+    ("SpaceborneMeasurements.select_systems", "prefixes", "E", InvalidInputError),
+    ("orbital_hold_motion", "period_s", np.zeros(3), InvalidInputError),
+    ("gyro_output", "t", np.array([0.0, 0.0, 1.0]), InvalidInputError),
+    ("gyro_output", "arw", -1.0, InvalidInputError),
+    ("phase_observations", "half_angle_deg", 181.0, InvalidInputError),
+    ("phase_observations", "atmosphere_m", -1.0, InvalidInputError),
+    ("phase_observations", "max_satellites", -1, InvalidInputError),
+    ("phase_observations", "slips", np.array([[0.0, 99.0, 1.0]]), InvalidInputError),
+    ("phase_observations", "slips", np.array([[0.0, 1.0, 0.5]]), InvalidInputError),
+    ("phase_observations", "slips", np.array([[0.0, 1.0j, 1.0]]), InvalidTypeError),
+    ("phase_observations", "new_arcs_after", np.array([math.nan]), InvalidInputError),
+    ("attitude_fixes", "sigma_cycles", 0.0, InvalidInputError),
+    ("PhaseObservations", "epoch", PHASES.epoch + 100, InvalidInputError),
+    ("PhaseObservations", "epoch", PHASES.epoch + 0.5, InvalidTypeError),
+    ("PhaseObservations", "track", PHASES.track[:-1], InvalidInputError),
+    ("PhaseObservations", "ambiguity", PHASES.ambiguity[:, :1], InvalidInputError),
+    ("PhaseObservations", "wavelength", -PHASES.wavelength, InvalidInputError),
+    ("PhaseObservations", "los", PHASES.los[:, :2], InvalidInputError),
+    ("GyroOutput", "rates", np.zeros((2, 3)), InvalidInputError),
+    ("AttitudeFixes", "rotation", Rotation.identity(), InvalidInputError),
+    ("AttitudeFixes", "covariance", np.zeros((3, 2, 2)), InvalidInputError),
+    ("attitude_fixes", "min_satellites", 0, InvalidInputError),
+    ("GlonassModel", "gm_m3_s2", 0.0, InvalidInputError),
+    ("GlonassModel", "lunisolar_m_s2", (0.0, 0.0, math.nan), InvalidInputError),
+    ("glonass_propagate", "position_m", np.array([1e5, 0.0, 0.0]), InvalidInputError),
+    ("glonass_propagate", "duration_s", -1.0, InvalidInputError),
+    ("glonass_propagate", "step_s", 0.0, InvalidInputError),
+    ("glonass_propagate", "model", orbit.CircularOrbit(7e6, 0.0, 0.0, 0.0), InvalidTypeError),
+    ("CircularOrbit", "radius_m", 0.0, InvalidInputError),
+    ("CircularOrbit", "gm_m3_s2", -1.0, InvalidInputError),
+    ("gmst_rad", "jd_ut1", 1e300, InvalidInputError),
+    ("tle_states", "dut1_s", 5.0, InvalidInputError),
+    ("tle_states", "times", np.array([1.0]), InvalidTypeError),
+    ("tle_states", "times", np.array(["NaT"], dtype="datetime64[ns]"), InvalidInputError),
+    ("white_acceleration_noise", "dt_s", -1.0, InvalidInputError),
+    ("white_acceleration_noise", "accel_psd_m2_s3", -1.0, InvalidInputError),
+    ("noisy_orbit", "times_s", np.array([0.0, 0.0]), InvalidInputError),
+    ("noisy_orbit", "step_s", 0.0, InvalidInputError),
+    ("orbit_filter", "coupling", "ultra", InvalidInputError),
+    ("orbit_filter", "use_doppler", 1, InvalidTypeError),
+    ("orbit_filter", "step_s", -1.0, InvalidInputError),
+    ("TumbleModel", "inertia_kg_m2", (1.0, 1.0, 3.0), InvalidInputError),
+    ("TumbleModel", "speed_m_s", -1.0, InvalidInputError),
+    ("TumbleModel", "gravity_gradient", 1, InvalidTypeError),
+    ("TumbleModel.circular", "altitude_m", -7e6, InvalidInputError),
+    ("propagate_axes", "t", np.array([0.0, 2.0, 1.0]), InvalidInputError),
+    ("propagate_axes", "t", np.array([-1.0]), InvalidInputError),
+    ("propagate_axes", "step_s", 0.0, InvalidInputError),
+    ("propagate_axes", "model", "abc", InvalidTypeError),
+    ("axis_cost", "measured_axes", np.zeros((3, 2)), InvalidInputError),
+    ("noise_cost_threshold", "false_restart", 1.0, InvalidInputError),
+    ("noise_cost_threshold", "n_epochs", 0, InvalidInputError),
+    ("noise_cost_threshold", "axis_sigma_deg", 0.0, InvalidInputError),
+    ("fit_rotation", "max_restarts", -1, InvalidInputError),
+    ("fit_rotation", "min_restarts", 2, InvalidInputError),
+    ("fit_rotation", "recombination", 1.5, InvalidInputError),
+    ("fit_rotation", "mutation", (0.5, 3.0), InvalidInputError),
+    ("fit_rotation", "mutation", (0.5,), InvalidInputError),
+    ("fit_rotation", "max_rate_rad_s", 0.0, InvalidInputError),
+    ("fit_rotation", "restart", "again", InvalidInputError),
+    ("fit_rotation", "polish", "yes", InvalidTypeError),
+    ("fit_rotation", "t", np.array([0.0, 1.0]), InvalidInputError),
+    # absurd sizes: refused before any work
+    ("igrf_field_ecef", "max_degree", 10**12, InvalidInputError),
+    ("solve_kepler", "max_iter", 10**12, WorkLimitError),
+    ("random_attitude", "n", 10**12, WorkLimitError),
+    ("random_los", "n_sat", 10**12, WorkLimitError),
+    ("walker", "n_sat", 10**12, WorkLimitError),
+    ("simulate_array", "ambiguity_max", 2**62, WorkLimitError),
+    ("simulate_spaceborne", "outages", [(0.0, 1.0, 1)] * 20_000, WorkLimitError),
+    ("glonass_propagate", "step_s", 1e-300, WorkLimitError),
+    ("glonass_propagate", "duration_s", 1e300, WorkLimitError),
+    ("noisy_orbit", "step_s", 1e-300, WorkLimitError),
+    ("noisy_orbit", "times_s", np.arange(2_000_000.0), WorkLimitError),
+    ("orbit_filter", "step_s", 1e-300, WorkLimitError),
+    ("propagate_axes", "step_s", 1e-300, WorkLimitError),
+    ("propagate_axes", "t", np.array([0.0, 1e300]), WorkLimitError),
+    ("axis_cost", "step_s", 1e-300, WorkLimitError),
+    ("propagate", "step_s", 1e-300, WorkLimitError),
+    ("fit_rotation", "popsize", 10**9, WorkLimitError),
+    ("fit_rotation", "maxiter", 10**12, WorkLimitError),
+    ("fit_rotation", "patience", 10**12, WorkLimitError),
+    ("fit_rotation", "max_restarts", 10**6, WorkLimitError),
+    ("fit_rotation", "step_s", 1e-300, WorkLimitError),
+]
+
+
+@pytest.mark.parametrize(
+    ("fname", "param", "bad", "error"),
+    [pytest.param(*case, id=f"{case[0]}-{case[1]}-{i}") for i, case in enumerate(SPECIFIC)],
+)
+def test_shape_range_and_size_names_the_parameter(fname: str, param: str, bad: Any, error: type) -> None:
+    with pytest.raises(error) as info:
+        _call(fname, **{param: bad})
+    assert param in str(info.value)
+
+
+def test_batch_size_counts_in_the_work_limit() -> None:
+    # 10^4 initial states x 10^5 one-second steps: 10^9 RK4 steps, refused before any is taken
+    with pytest.raises(WorkLimitError, match="10000 initial states"):
+        tumble.propagate_axes(np.zeros((10_000, 6)), [0.0, 1e5])
+
+
+def test_every_public_function_has_cases() -> None:
+    # every name in the modules' __all__ that is a function or a class with a constructor is covered
+    covered = {name.split(".")[-1] for name in FUNCTIONS} | {name.split(".")[0] for name in FUNCTIONS}
+    modules = [magnetic, orbit, orbit_nav, tumble, sim, scen, constants]
+    missing = set()
+    for module in modules:
+        for name in module.__all__:
+            obj = getattr(module, name)
+            if callable(obj) and not isinstance(obj, type(np.float64)) and name not in covered:
+                missing.add(f"{module.__name__}.{name}")
+    # results (no user input of their own), aliases and re-exports of covered names
+    not_inputs = {
+        "gnssatt.sim.ArrayMeasurements",
+        "gnssatt.orbit.PropagatedState",
+        "gnssatt.orbit_nav.OrbitFilterResult",
+        "gnssatt.orbit_nav.ReceiverFixes",
+        "gnssatt.tumble.RotationFit",
+        "gnssatt.tumble.TumbleTrajectory",
+        "gnssatt.sim.SpaceborneMeasurements",
+        "gnssatt.sim.Receiver",
+        "gnssatt.sim.constants",
+    }
+    assert missing - not_inputs == set()
+
+
+# --- finite input that used to give NaN or infinity -------------------------------------------------
+
+
+def test_ecef_to_geodetic_of_the_centre_is_refused_and_poles_are_finite() -> None:
+    with pytest.raises(InvalidInputError, match="Earth's centre"):
+        sim.ecef_to_geodetic([0.0, 0.0, 0.0])
+    lat, _, h = sim.ecef_to_geodetic(np.array([[0.0, 0.0, 6.4e6], [0.0, 0.0, -6.4e6], [1e5, 0.0, 0.0]]))
+    # closed forms on the axis (h = |z| - b) and in the equatorial plane (h = p - a), down to the limit
+    np.testing.assert_allclose(h, [6.4e6 - constants.WGS84_B_M] * 2 + [1e5 - constants.WGS84_A_M], atol=1e-6)
+    np.testing.assert_allclose(lat, [90.0, -90.0, 0.0], atol=1e-12)
+
+
+@pytest.mark.parametrize("radius_m", [1.0001e5, 1e6, 6.4e6, 1e12])
+def test_ecef_to_geodetic_converges_down_to_its_limit(radius_m: float) -> None:
+    # the closed-form forward map takes the answer back to the position (the iteration slows near the centre)
+    d = np.random.default_rng(5).normal(size=(2000, 3))
+    p = radius_m * d / np.linalg.norm(d, axis=1, keepdims=True)
+    lat, lon, h = sim.ecef_to_geodetic(p)
+    np.testing.assert_allclose(sim.geodetic_to_ecef(lat, lon, h), p, rtol=0, atol=1e-13 * radius_m)
+
+
+def test_magnetic_field_refuses_the_centre_and_nan() -> None:
+    with pytest.raises(InvalidInputError, match="position_ecef_m"):
+        magnetic.dipole_field_ecef([1.0, 0.0, 0.0], 2020.0)
+    with pytest.raises(InvalidInputError, match="radius"):
+        magnetic.dipole_orbital(0.0, 1.0, 1e-100)
+    with pytest.raises(InvalidInputError, match="non-finite"):
+        magnetic.dipole_field_ned(np.nan, 0.0, 0.0, 2020.0)
+
+
+def test_fast_tumbling_is_refused_not_nan() -> None:
+    # 1000 rad/s in 1 s steps gave NaN axes; now refused with the step that would do
+    with pytest.raises(InvalidInputError, match=r"step_s <= 0\.001"):
+        tumble.propagate_axes([0.0, 0.0, 0.0, 1e3, 0.0, 0.0], [0.0, 10.0])
+    # the same rate with the suggested step is finite and keeps unit axes
+    axes = tumble.propagate_axes([0.0, 0.0, 0.0, 1e3, 0.0, 0.0], [0.0, 0.5], step_s=1e-3)
+    np.testing.assert_allclose(np.linalg.norm(axes, axis=1), 1.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("rate", [0.5, 3.0, 30.0])
+def test_tumbling_at_the_rotation_bound_stays_finite(rate: float) -> None:
+    # |omega| h at the documented bound over many steps: finite unit axes (or a ConvergenceError, never NaN)
+    h = tumble.MAX_ROTATION_PER_STEP_RAD / rate
+    params = np.array([[0.3, 1.0, 0.2, rate / math.sqrt(3)] + [rate / math.sqrt(3)] * 2])
+    axes = tumble.propagate_axes(params, np.linspace(0.0, 200 * h, 5), step_s=h)
+    assert np.all(np.isfinite(axes))
+
+
+def test_glonass_propagate_with_absurd_velocity_raises_not_nan() -> None:
+    with pytest.raises(ConvergenceError, match="not finite"):
+        orbit.glonass_propagate([2.5e7, 0.0, 0.0], [0.0, 3e200, 1e3], 100.0, step_s=10.0)
+
+
+def test_gmst_of_huge_julian_dates_is_refused_not_nan() -> None:
+    with pytest.raises(InvalidInputError, match="jd_ut1"):
+        orbit.gmst_rad(1e300)
+
+
+def test_simulated_measurements_overflow_raises_not_inf() -> None:
+    with pytest.raises(ConvergenceError, match="pseudorange"):
+        _call("simulate_array", clock_bias_s=1e301)
+    with pytest.raises(ConvergenceError, match="gyro output"):
+        _call("gyro_output", arw=1e300, t=np.array([0.0, 1e-300, 1.0]))
+
+
+def test_white_acceleration_noise_overflow_raises_not_inf() -> None:
+    with pytest.raises(ConvergenceError, match="process noise"):
+        orbit_nav.white_acceleration_noise(1e300, 1e10)
+
+
+def test_attitude_fixes_with_one_baseline_and_one_satellite_is_degenerate() -> None:
+    with pytest.raises(DegenerateGeometryError, match="min_satellites"):
+        scen.attitude_fixes(PHASES, ATT3, BASELINES[:1], RNG, sigma_cycles=0.01, min_satellites=1)
+
+
+def test_receiver_fix_skips_collinear_satellites_instead_of_nan() -> None:
+    # every satellite on one line through the receiver: no fix (was a NaN/inf solution or LinAlgError)
+    pos = MEAS.sat_position_m.copy()
+    pos[:] = np.linspace(1.0, 2.0, pos.shape[1])[None, :, None] * np.array([2.0e7, 0.0, 0.0])
+    flat = SpaceborneMeasurements(**{**MEAS.__dict__, "sat_position_m": pos})
+    fixes = orbit_nav.receiver_fix(flat)
+    assert np.all(np.isfinite(fixes.position_m[fixes.valid]))
