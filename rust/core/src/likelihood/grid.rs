@@ -112,9 +112,9 @@ impl Grid {
     pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?;
         Grid {
-            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
-            phi: g.phi.window("window phi", ranges[2].0, ranges[2].1)?,
+            psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
+            phi: g.phi.window("window_deg (phi)", ranges[2].0, ranges[2].1)?,
         }
         .checked()
     }
@@ -134,8 +134,8 @@ impl Grid {
     pub fn two_dimensional_window(step_rad: f64, ranges: [(f64, f64); 2]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?.without_roll();
         Grid {
-            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
+            psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             ..g
         }
         .checked()
@@ -255,12 +255,12 @@ mod tests {
             let e = Grid::window(0.01, [(lo, hi), (0.0, 0.1), (0.0, 0.1)]).unwrap_err();
             let text = e.to_string();
             assert!(
-                text.contains("window psi") && text.contains("3600 deg"),
+                text.contains("window_deg (psi)") && text.contains("3600 deg"),
                 "{text}"
             );
         }
         let e = Grid::two_dimensional_window(0.01, [(0.0, 0.1), (-huge, huge)]).unwrap_err();
-        assert!(e.to_string().contains("window theta"), "{e}");
+        assert!(e.to_string().contains("window_deg (theta)"), "{e}");
         // The limit itself is accepted: a window of ten turns is the whole heading axis.
         let limit = MAX_WINDOW_RAD;
         let g = Grid::window(0.01, [(-limit, limit), (0.0, 0.1), (0.0, 0.1)]).unwrap();
