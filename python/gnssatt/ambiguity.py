@@ -7,6 +7,19 @@ unimodular and integer: the decorrelated ambiguities are ``Z.T @ a`` with covari
 
 The fixed-failure-rate ratio test runs a seeded simulation on rayon's thread pool; set ``RAYON_NUM_THREADS``
 before the first call to choose the thread count (results do not depend on it).
+
+Guarantee: every integer vector returned is the exact integer least-squares (ILS) solution, or the call
+raises :class:`~gnssatt.errors.ConvergenceError`; there is no silently wrong integer. ``Z`` is kept integer
+and unimodular in checked integer arithmetic (entries up to 2^52), ``Z.T @ Q @ Z == L.T @ diag(D) @ L`` is
+verified entry by entry to 64 n eps times the rounding scale ``|Z|.T |Q| |Z| + |L|.T D |L|``, and each
+squared norm is recomputed from the original ``a`` and ``Q`` (Cholesky) and must agree with the search's to
+``1e-6 (1 + norm)``; candidates within that of each other are ties, ordered by the recomputed norm. Returned
+integers are bounded by :data:`MAX_ABS_AMBIGUITY` so that they are exact in int64 and float64.
+
+Limits (each refused before any work with :class:`~gnssatt.errors.WorkLimitError`): n <= :data:`MAX_DIMENSION`
+ambiguities, ``candidates <= MAX_CANDIDATES``, ``samples <= MAX_SAMPLES``. One search visits at most
+:data:`MAX_NODES` nodes (about a second at n = 64) before raising ``ConvergenceError``; the simulations of
+the fixed-failure-rate threshold share 1e9 nodes between their samples.
 """
 
 from __future__ import annotations
@@ -18,10 +31,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import float_array
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import float_array, integer, scalar
+from gnssatt.errors import InvalidInputError, WorkLimitError
 
 __all__ = [
+    "MAX_ABS_AMBIGUITY",
+    "MAX_CANDIDATES",
+    "MAX_DIMENSION",
+    "MAX_NODES",
+    "MAX_SAMPLES",
     "PartialFixResult",
     "RatioTestResult",
     "bootstrap_success_rate",
@@ -31,6 +49,19 @@ __all__ = [
     "ratio_test",
     "ratio_threshold_fixed_failure_rate",
 ]
+
+
+MAX_CANDIDATES: int = _core.LAMBDA_MAX_CANDIDATES
+"""Most ``candidates`` one :func:`lambda_ils` call may ask for (10,000)."""
+MAX_SAMPLES: int = _core.LAMBDA_MAX_SAMPLES
+"""Most simulated ``samples`` of the fixed-failure-rate threshold (1,000,000)."""
+MAX_DIMENSION: int = _core.LAMBDA_MAX_DIMENSION
+"""Most ambiguities n of one problem (256; exact answers are tested up to n = 128)."""
+MAX_NODES: int = _core.LAMBDA_MAX_NODES
+"""Nodes one integer search may visit before it raises ``ConvergenceError`` (2e7)."""
+MAX_ABS_AMBIGUITY: float = _core.LAMBDA_MAX_ABS_AMBIGUITY
+"""Largest magnitude of a float ambiguity and of any integer returned, cycles (4.5e15 < 2^53)."""
+_MAX_SEED = 2**64 - 1
 
 
 def _problem(float_ambiguities: Any, covariance: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -48,13 +79,30 @@ def _covariance(covariance: Any) -> NDArray[np.float64]:
     q = float_array("covariance", covariance, ndim=2, shape="(n, n)")
     if q.shape[0] != q.shape[1] or q.shape[0] == 0:
         raise InvalidInputError(f"expected covariance of shape (n, n) with n >= 1, got {q.shape}")
+    if q.shape[0] > MAX_DIMENSION:
+        raise WorkLimitError(
+            f"covariance of shape {q.shape} has {q.shape[0]} ambiguities, more than the limit of "
+            f"{MAX_DIMENSION}"
+        )
     return q
 
 
-def _count(name: str, value: int, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InvalidInputError(f"expected {name} as an integer >= {minimum}, got {value!r}")
-    return int(value)
+def _threshold(
+    threshold: Any, failure_rate: Any, samples: Any, seed: Any
+) -> tuple[float | None, float | None, int, int]:
+    """The ratio-test settings, checked and named (the Rust core checks them again)."""
+    if threshold is not None and failure_rate is not None:
+        raise InvalidInputError(
+            f"expected either threshold or failure_rate, got both ({threshold!r} and {failure_rate!r})"
+        )
+    return (
+        None if threshold is None else scalar("threshold", threshold, minimum=1.0),
+        None
+        if failure_rate is None
+        else scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True),
+        integer("samples", samples, minimum=1, maximum=MAX_SAMPLES),
+        integer("seed", seed, minimum=0, maximum=_MAX_SEED),
+    )
 
 
 def lambda_ils(
@@ -69,25 +117,37 @@ def lambda_ils(
     covariance
         (n, n) symmetric positive-definite covariance ``Q`` of ``a``, cycles².
     candidates
-        Number m >= 1 of solutions wanted.
+        Number m of solutions wanted, 1 <= m <= :data:`MAX_CANDIDATES` (10,000).
 
     Returns
     -------
     fixed
         (m, n) int64 integer vectors, best first.
     squared_norms
-        (m,) ``(a - z) @ inv(Q) @ (a - z)`` of each row, ascending.
+        (m,) ``(a - z) @ inv(Q) @ (a - z)`` of each row recomputed from the original ``a`` and ``Q``,
+        ascending.
+
+    Notes
+    -----
+    Exact ILS or ``ConvergenceError``: see the module documentation for the checks behind the guarantee.
+    Valid covariances of n <= 64 and condition number <= 1e8 are solved exactly (tested against an
+    independent search); a refusal means the problem cannot be solved exactly in double precision.
 
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-finite values, an asymmetric or non-positive-definite covariance (the message
-        says which), ``candidates < 1``.
+        Wrong shapes, non-finite values, an asymmetric covariance or one not positive definite to working
+        precision (the message gives the smallest pivot), ``candidates < 1``, ``|a| >= MAX_ABS_AMBIGUITY``.
+    InvalidTypeError
+        ``candidates`` not an integer; arrays not real.
+    WorkLimitError
+        ``candidates > MAX_CANDIDATES`` or n > :data:`MAX_DIMENSION`.
     ConvergenceError
-        The search exceeded its node cap (2e8 nodes), which only a badly conditioned problem does.
+        The search exceeded :data:`MAX_NODES`, or an exactness check failed (the message gives the numbers).
     """
     a, q = _problem(float_ambiguities, covariance)
-    fixed, norms, _ = _core.lambda_ils(a, q, _count("candidates", candidates, 1))
+    m = integer("candidates", candidates, minimum=1, maximum=MAX_CANDIDATES)
+    fixed, norms, _ = _core.lambda_ils(a, q, m)
     return fixed, norms
 
 
@@ -110,6 +170,13 @@ def lambda_decorrelate(
     D
         (n,) conditional variances, cycles²: ``Z.T @ Q @ Z == L.T @ np.diag(D) @ L``; ``D[-1]`` is the
         variance of the last decorrelated ambiguity, ``D[i]`` that of ambiguity i given those after it.
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`lambda_ils` for the covariance.
+    ConvergenceError
+        ``Z`` would need entries beyond 2^52, or the identity ``Z.T Q Z = L.T D L`` fails its check.
     """
     return _core.lambda_decorrelate(_covariance(covariance))
 
@@ -146,14 +213,20 @@ def ratio_threshold_fixed_failure_rate(
     failure_rate
         Tolerated probability of accepting a wrong integer vector, in (0, 1).
     samples
-        Simulated float vectors, at least ``1 / failure_rate``.
+        Simulated float vectors, at least ``1 / failure_rate`` and at most :data:`MAX_SAMPLES`.
     seed
-        Seed of the simulation (one independent stream per sample).
+        Seed of the simulation (one independent stream per sample), 0 <= seed < 2^64.
+
+    Raises
+    ------
+    WorkLimitError
+        ``samples > MAX_SAMPLES``.
+    ConvergenceError
+        A simulated search exceeded its share of the 1e9 nodes of the whole simulation.
     """
     q = _covariance(covariance)
-    return _core.lambda_ffrt_threshold(
-        q, float(failure_rate), _count("samples", samples, 1), _count("seed", seed, 0)
-    )
+    _, rate, n_samples, seed_ = _threshold(None, failure_rate, samples, seed)
+    return _core.lambda_ffrt_threshold(q, rate, n_samples, seed_)
 
 
 @dataclass(frozen=True)
@@ -207,10 +280,13 @@ def ratio_test(
     InvalidInputError
         As :func:`lambda_ils`; both ``threshold`` and ``failure_rate`` given; threshold < 1; failure rate
         outside (0, 1); fewer than ``1 / failure_rate`` samples.
+    WorkLimitError, ConvergenceError
+        As :func:`lambda_ils` and :func:`ratio_threshold_fixed_failure_rate`; the two candidates are exact
+        or the call raises.
     """
     a, q = _problem(float_ambiguities, covariance)
     accepted, ratio, c, fixed, norms = _core.lambda_ratio_test(
-        a, q, threshold, failure_rate, _count("samples", samples, 1), _count("seed", seed, 0)
+        a, q, *_threshold(threshold, failure_rate, samples, seed)
     )
     return RatioTestResult(bool(accepted), ratio, c, fixed, norms)
 
@@ -273,15 +349,16 @@ def partial_fix(
         In [0, 1]; e.g. 0.999.
     threshold, failure_rate, samples, seed
         The ratio test applied to each subset, as in :func:`ratio_test`.
+
+    Raises
+    ------
+    InvalidInputError, WorkLimitError, ConvergenceError
+        As :func:`ratio_test`; the norms of each subset are recomputed from ``Z_k.T @ a`` and
+        ``Z_k.T @ Q @ Z_k`` and checked, and the fixed values are exact integers within
+        :data:`MAX_ABS_AMBIGUITY`, or the call raises.
     """
     a, q = _problem(float_ambiguities, covariance)
-    k, combos, values, ratio, c, sr, amb, cov = _core.lambda_partial_fix(
-        a,
-        q,
-        threshold,
-        failure_rate,
-        _count("samples", samples, 1),
-        _count("seed", seed, 0),
-        float(min_success_rate),
-    )
+    settings = _threshold(threshold, failure_rate, samples, seed)
+    rate = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
+    k, combos, values, ratio, c, sr, amb, cov = _core.lambda_partial_fix(a, q, *settings, rate)
     return PartialFixResult(int(k), combos, values, ratio, c, sr, amb, cov)

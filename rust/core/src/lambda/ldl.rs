@@ -11,6 +11,11 @@ use crate::error::{ensure_finite, Error, Result};
 /// Largest allowed `|Q_ij - Q_ji|`, relative to the largest `|Q_ij|`.
 pub const SYMMETRY_TOLERANCE: f64 = 1e-9;
 
+/// Largest number of ambiguities accepted. The reduction and its checks cost O(n^3) per pass and the
+/// tests verify exact answers up to n = 128 (condition numbers up to 1e8 at n <= 64); 256 bounds the work
+/// and memory of one call (a few MB) while leaving room above every GNSS use (n < 100).
+pub const MAX_DIMENSION: usize = 256;
+
 /// A pivot `d_i` at or below this many machine epsilons times `Q_ii` (times n) counts as not positive.
 const PIVOT_EPSILONS: f64 = 1.0;
 
@@ -43,12 +48,14 @@ impl Ltdl {
     }
 }
 
-/// Checks that `q` is a usable covariance: non-empty, square, finite, symmetric.
+/// Checks that `q` is a usable covariance: non-empty, square, at most [`MAX_DIMENSION`], finite,
+/// symmetric.
 ///
 /// Positive definiteness is checked by [`ltdl`], which needs the factorisation anyway.
 ///
 /// # Errors
-/// [`Error::Shape`] for an empty or non-square matrix, [`Error::NonFinite`], and [`Error::OutOfRange`]
+/// [`Error::Shape`] for an empty or non-square matrix, [`Error::TooLarge`] beyond [`MAX_DIMENSION`],
+/// [`Error::NonFinite`], and [`Error::OutOfRange`]
 /// naming the worst asymmetric pair when `|Q_ij - Q_ji| > SYMMETRY_TOLERANCE * max|Q|`.
 pub fn check_covariance(q: &DMatrix<f64>) -> Result<()> {
     let (r, c) = q.shape();
@@ -58,6 +65,14 @@ pub fn check_covariance(q: &DMatrix<f64>) -> Result<()> {
             expected: "(n, n) with n >= 1".into(),
             actual: format!("({r}, {c})"),
         });
+    }
+    if r > MAX_DIMENSION {
+        return Err(Error::too_large(
+            "covariance",
+            r as f64,
+            MAX_DIMENSION as f64,
+            "ambiguities",
+        ));
     }
     // Row-major flat index in the message, as numpy users count.
     ensure_finite("covariance", q.transpose().iter())?;
@@ -106,12 +121,16 @@ pub fn ltdl(q: &DMatrix<f64>) -> Result<Ltdl> {
     for i in (0..n).rev() {
         let pivot = a[(i, i)];
         let floor = PIVOT_EPSILONS * n as f64 * f64::EPSILON * q[(i, i)].abs();
-        if pivot.is_nan() || pivot <= floor {
+        // A subnormal pivot has lost its precision (and 1 / pivot overflows): not positive definite to
+        // working precision, whatever the scale of Q.
+        if pivot.is_nan() || pivot <= floor || pivot < f64::MIN_POSITIVE {
             return Err(Error::out_of_range(
                 "covariance",
                 format!(
-                    "not positive definite: the conditional variance of ambiguity {i} given those \
-                     after it is {pivot:.3e} (Q[{i}, {i}] = {:.3e})",
+                    "not positive definite to working precision: the conditional variance of ambiguity \
+                     {i} given those after it (its pivot) is {pivot:.3e}, needs to exceed {:.3e} (Q[{i}, \
+                     {i}] = {:.3e})",
+                    floor.max(f64::MIN_POSITIVE),
                     q[(i, i)]
                 ),
             ));
@@ -184,5 +203,20 @@ mod tests {
         let q = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
         let e = ltdl(&q).unwrap_err().to_string();
         assert!(e.contains("not positive definite"), "{e}");
+        // Subnormal: positive, but not to working precision (the former index-out-of-bounds panic).
+        let e = ltdl(&DMatrix::from_element(1, 1, 1e-320))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("working precision") && e.contains("1.000e-320"),
+            "{e}"
+        );
+        // Tiny but normal is fine: the factorisation is scale invariant.
+        assert_eq!(
+            ltdl(&DMatrix::from_element(1, 1, 1e-300)).unwrap().d[0],
+            1e-300
+        );
+        let big = DMatrix::<f64>::identity(MAX_DIMENSION + 1, MAX_DIMENSION + 1);
+        assert!(matches!(ltdl(&big), Err(Error::TooLarge { .. })));
     }
 }

@@ -6,12 +6,21 @@
 //! `Z^-T`, which is integer too, so the answer is the exact ILS solution of the original problem.
 //! Teunissen (1995), "The least-squares ambiguity decorrelation adjustment", J. Geodesy 70:65-82;
 //! de Jonge & Tiberius (1996), LGR-12; Chang, Yang & Zhou (2005), "MLAMBDA", J. Geodesy 79:552-565.
+//!
+//! Guarantee: the answer is the exact ILS solution (up to ties within [`verify::NORM_TOLERANCE`]) or an
+//! error. `Z` is integer and unimodular by checked integer arithmetic ([`reduction::MAX_Z_ENTRY`]),
+//! `Z^T Q Z = L^T D L` is verified ([`reduction::IDENTITY_TOLERANCE`]), every returned squared norm is
+//! recomputed from the original `a` and `Q` and must agree with the search's, and every returned integer
+//! is exact (`|z| <= MAX_ABS_AMBIGUITY`); a failure of any of these is [`Error::Numerical`].
+//! Limits: n <= [`ldl::MAX_DIMENSION`], at most [`MAX_CANDIDATES`] candidates, [`DEFAULT_MAX_NODES`]
+//! search nodes.
 
 pub mod bootstrap;
 pub mod ldl;
 pub mod reduction;
 pub mod search;
 pub mod validation;
+pub mod verify;
 
 #[cfg(test)]
 pub(crate) mod test_support;
@@ -23,9 +32,11 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{ensure_finite, Error, Result};
 pub use bootstrap::bootstrap_success_rate;
 pub use reduction::{reduce, Reduction};
-pub use search::{search, Candidates, DEFAULT_MAX_NODES};
+pub use search::{search, Candidates, DEFAULT_MAX_NODES, MAX_CANDIDATES};
+use verify::{agreeing_order, Metric};
 
-/// Float ambiguities beyond this magnitude (cycles) cannot be returned exactly as `i64` via `f64`.
+/// Largest `|a_i|` of a float ambiguity, and of any integer returned, in cycles: below 2^53, so that the
+/// integers are exact as `f64` as well as `i64` and `a - round(a)` is exact.
 pub const MAX_ABS_AMBIGUITY: f64 = 4.5e15;
 
 /// The ILS solutions of one problem, in the original ambiguity space.
@@ -33,21 +44,25 @@ pub const MAX_ABS_AMBIGUITY: f64 = 4.5e15;
 pub struct IlsSolution {
     /// Integer ambiguity vectors, one per column (n x m), best first.
     pub fixed: DMatrix<i64>,
-    /// `(a - z)^T Q^-1 (a - z)` of each column, ascending.
+    /// `(a - z)^T Q^-1 (a - z)` of each column recomputed from the original `a` and `Q`, ascending.
     pub squared_norms: Vec<f64>,
     /// Nodes the search visited (see [`Candidates::nodes_visited`]).
     pub nodes_visited: u64,
 }
 
 /// A checked, decorrelated ambiguity problem, ready to be searched (possibly several times).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Problem {
     /// The decorrelation of `Q`.
     pub reduction: Reduction,
     /// `round(a)`: the search runs on `a - round(a)`, so that integer shifts of `a` are exact.
-    pub offset: DVector<f64>,
+    pub offset: DVector<i64>,
+    /// `a - round(a)` (exact), cycles.
+    pub frac: DVector<f64>,
     /// Decorrelated float ambiguities `Z^T (a - round(a))`, cycles.
     pub zhat: DVector<f64>,
+    /// The original covariance, for recomputing norms.
+    metric: Metric,
 }
 
 impl Problem {
@@ -55,11 +70,12 @@ impl Problem {
     ///
     /// # Arguments
     /// * `a` - n float ambiguities, cycles (|a_i| < [`MAX_ABS_AMBIGUITY`]).
-    /// * `q` - n x n symmetric positive-definite covariance of `a`, cycles^2.
+    /// * `q` - n x n symmetric positive-definite covariance of `a`, cycles^2, n <= [`ldl::MAX_DIMENSION`].
     ///
     /// # Errors
     /// [`Error::Shape`] for n = 0 or mismatched sizes, [`Error::NonFinite`], [`Error::OutOfRange`] for an
-    /// asymmetric or not positive-definite `q` or a float ambiguity too large for `i64`.
+    /// asymmetric or not positive-definite `q` or a float ambiguity too large, [`Error::TooLarge`] for
+    /// n beyond the limit, [`Error::Numerical`] when the decorrelation cannot be done exactly.
     pub fn new(a: &DVector<f64>, q: &DMatrix<f64>) -> Result<Problem> {
         ensure_finite("float ambiguities", a.iter())?;
         ldl::check_covariance(q)?;
@@ -80,12 +96,16 @@ impl Problem {
             ));
         }
         let reduction = reduce(q)?;
-        let offset = a.map(f64::round);
-        let zhat = reduction.z.tr_mul(&(a - &offset));
+        let metric = Metric::new("LAMBDA", q)?;
+        let rounded = a.map(f64::round);
+        let frac = a - &rounded;
+        let zhat = reduction.z_f64().tr_mul(&frac);
         Ok(Problem {
             reduction,
-            offset,
+            offset: rounded.map(|v| v as i64),
+            frac,
             zhat,
+            metric,
         })
     }
 
@@ -99,49 +119,106 @@ impl Problem {
         self.offset.is_empty()
     }
 
-    /// The `m` best integer vectors.
+    /// The `m` best integer vectors, with their squared norms recomputed from the original `a` and `Q`.
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] for `m = 0`; [`Error::Convergence`] past `max_nodes` nodes.
+    /// [`Error::OutOfRange`] for `m = 0`, [`Error::TooLarge`] for `m > MAX_CANDIDATES`;
+    /// [`Error::Convergence`] past `max_nodes` nodes; [`Error::Numerical`] when a recomputed norm
+    /// disagrees with the search's or an integer is beyond [`MAX_ABS_AMBIGUITY`].
     pub fn solve(&self, m: usize, max_nodes: u64) -> Result<IlsSolution> {
         let found = search(&self.reduction.factor, &self.zhat, m, max_nodes)?;
         let n = self.len();
-        let mut fixed = DMatrix::<i64>::zeros(n, m);
-        for c in 0..m {
-            let a = self.to_original(&found.z.column(c).into_owned());
-            fixed.set_column(c, &a);
+        let fixed = (0..m)
+            .map(|c| self.to_original(&found.z.column(c).into_owned()))
+            .collect::<Result<Vec<_>>>()?;
+        let recomputed: Vec<f64> = fixed.iter().map(|z| self.original_norm(z)).collect();
+        let order = agreeing_order("LAMBDA", &found.squared_norms, &recomputed)?;
+        let mut out = DMatrix::<i64>::zeros(n, m);
+        for (c, &k) in order.iter().enumerate() {
+            out.set_column(c, &fixed[k]);
         }
         Ok(IlsSolution {
-            fixed,
-            squared_norms: found.squared_norms,
+            fixed: out,
+            squared_norms: order.iter().map(|&k| recomputed[k]).collect(),
             nodes_visited: found.nodes_visited,
         })
     }
 
-    /// Maps integers of the decorrelated (shifted) space back: `round(a) + Z^-T z`.
-    pub fn to_original(&self, z: &DVector<f64>) -> DVector<i64> {
-        let back = self.reduction.z_inv.tr_mul(z);
-        DVector::from_fn(self.len(), |i, _| {
-            (self.offset[i] as i64) + back[i].round() as i64
+    /// `(a - z)^T Q^-1 (a - z)` from the original float vector and covariance.
+    pub fn original_norm(&self, z: &DVector<i64>) -> f64 {
+        // a - z = (a - round(a)) - (z - round(a)): the integer difference is small and exact.
+        let r = DVector::from_fn(self.len(), |i, _| {
+            self.frac[i] - z[i].saturating_sub(self.offset[i]) as f64
+        });
+        self.metric.squared_norm(&r)
+    }
+
+    /// Maps integers of the decorrelated (shifted) space back: `round(a) + Z^-T z`, in exact integer
+    /// arithmetic.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] for a non-integer or too large `z`, or a result beyond
+    /// [`MAX_ABS_AMBIGUITY`].
+    pub fn to_original(&self, z: &DVector<f64>) -> Result<DVector<i64>> {
+        let zi = exact_integers(z)?;
+        let n = self.len();
+        let mut out = DVector::zeros(n);
+        for i in 0..n {
+            // |Z^-1| <= 2^52, |z| <= 2^53, n <= 256: every sum stays below 2^114, inside i128.
+            let back: i128 = (0..n)
+                .map(|k| self.reduction.z_inv[(k, i)] as i128 * zi[k] as i128)
+                .sum();
+            out[i] = bounded_integer(i, self.offset[i] as i128 + back)?;
+        }
+        Ok(out)
+    }
+}
+
+/// `z` as exact integers: each entry integer-valued with `|z_k| <= 2^53`.
+fn exact_integers(z: &DVector<f64>) -> Result<Vec<i64>> {
+    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+    z.iter()
+        .enumerate()
+        .map(|(k, &v)| {
+            if v.fract() == 0.0 && v.abs() <= EXACT {
+                Ok(v as i64)
+            } else {
+                Err(Error::numerical(
+                    "LAMBDA",
+                    format!("decorrelated integer {k} = {v:e} is not an exact integer"),
+                ))
+            }
         })
+        .collect()
+}
+
+/// An integer to be returned, refused beyond [`MAX_ABS_AMBIGUITY`] (element `i` in the message).
+pub(crate) fn bounded_integer(i: usize, v: i128) -> Result<i64> {
+    if (v.unsigned_abs() as f64) <= MAX_ABS_AMBIGUITY {
+        Ok(v as i64)
+    } else {
+        Err(Error::numerical(
+            "LAMBDA",
+            format!(
+                "integer {i} of the solution is {v}, beyond the exactly representable \
+                 {MAX_ABS_AMBIGUITY:e} cycles"
+            ),
+        ))
     }
 }
 
 /// The `m` best integer least-squares solutions of float ambiguities `a` with covariance `q`.
 ///
+/// Exact ILS or an error: see the module docs.
+///
 /// # Arguments
 /// * `a` - n float ambiguities, cycles.
 /// * `q` - n x n symmetric positive-definite covariance of `a`, cycles^2.
-/// * `m` - number of candidates, >= 1.
+/// * `m` - number of candidates, 1 ..= [`MAX_CANDIDATES`].
 ///
 /// # Errors
 /// Those of [`Problem::new`] and [`Problem::solve`] (with [`DEFAULT_MAX_NODES`]).
 pub fn ils(a: &DVector<f64>, q: &DMatrix<f64>, m: usize) -> Result<IlsSolution> {
-    if m == 0 {
-        return Err(Error::out_of_range(
-            "candidates",
-            "expected at least 1, got 0",
-        ));
-    }
+    search::check_candidates(m)?;
     Problem::new(a, q)?.solve(m, DEFAULT_MAX_NODES)
 }

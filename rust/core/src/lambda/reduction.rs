@@ -2,28 +2,57 @@
 //! size-reduced `L` (`|L_ij| <= 1/2` below the diagonal) and conditional variances `d` as close to sorted
 //! decreasing as the swap rule of LAMBDA allows, which makes the search tree narrow.
 //! Teunissen (1995), J. Geodesy 70:65-82; integer Gauss transformations and permutations as in
-//! de Jonge & Tiberius (1996), LGR-12, section 3.4, with the symmetric pivoting and deferred size
-//! reduction of Chang, Yang & Zhou (2005), "MLAMBDA", J. Geodesy 79:552-565, section 3.2.
+//! de Jonge & Tiberius (1996), LGR-12, section 3.4 (the column-wise reduction also used by RTKLIB's
+//! `reduction`).
+//!
+//! Right or refusing: `Z` and `Z^-1` are kept in `i64` with checked arithmetic and bounded by
+//! [`MAX_Z_ENTRY`] (so they are exact as `f64` too); an overflow stops the reduction with
+//! [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
+//! [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer Gauss
+//! transformations (unit triangular) and permutations, and `Z Z^-1 = I` is verified in exact integer
+//! arithmetic.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 use super::ldl::{ltdl, Ltdl};
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 /// A swap is made only when it lowers `d_{k+1}` by more than this relative amount, so that rounding
 /// cannot make the reduction cycle.
 pub const SWAP_TOLERANCE: f64 = 1e-12;
 
+/// Largest `|Z_ij|` and `|(Z^-1)_ij|` allowed (2^52): integers up to here are exact in `f64`, so `Z^T Q Z`
+/// and `Z^T a` are computed from the exact `Z`. Valid covariances of dimension <= 64 and condition number
+/// <= 1e8 stay far below it (the tests see entries of a few hundred at most).
+pub const MAX_Z_ENTRY: i64 = 1 << 52;
+
+/// `|Z^T Q Z - L^T D L|_ij` may be at most this many `n eps` times `(|Z|^T |Q| |Z| + |L|^T D |L|)_ij`.
+///
+/// Forming either product in floating point commits an error of at most `gamma_{2n} ~ 2 n eps` times
+/// those absolute products (Higham 2002, section 3.5); the reduction's updates of `L` and `D` (one
+/// rank-two rotation per swap) add errors of the same kind. A factor of 64 on `n eps` leaves room for
+/// that accumulation (the random test covariances up to n = 64 and condition 1e8 stay below 4) while
+/// still catching any loss of accuracy that matters: a violation means `L^T D L` no longer
+/// represents the covariance of `Z^T a` to about 1e-11 relative at n = 64.
+pub const IDENTITY_TOLERANCE: f64 = 64.0;
+
 /// The decorrelating transformation and the factors of the decorrelated covariance.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Reduction {
-    /// Unimodular integer `Z` (n x n, integer entries stored as `f64`): decorrelated ambiguities are
-    /// `z = Z^T a` with covariance `Z^T Q Z`.
-    pub z: DMatrix<f64>,
+    /// Unimodular integer `Z` (n x n): decorrelated ambiguities are `z = Z^T a` with covariance
+    /// `Z^T Q Z`; `|Z_ij| <= MAX_Z_ENTRY`.
+    pub z: DMatrix<i64>,
     /// `Z^-1`, also integer: `a = Z^-T z`.
-    pub z_inv: DMatrix<f64>,
+    pub z_inv: DMatrix<i64>,
     /// `Z^T Q Z = L^T D L`.
     pub factor: Ltdl,
+}
+
+impl Reduction {
+    /// `Z` as `f64`, exact since `|Z_ij| <= MAX_Z_ENTRY = 2^52`.
+    pub fn z_f64(&self) -> DMatrix<f64> {
+        self.z.map(|v| v as f64)
+    }
 }
 
 /// Decorrelates the covariance of float ambiguities.
@@ -32,83 +61,130 @@ pub struct Reduction {
 /// * `q` - n x n symmetric positive-definite covariance, cycles^2.
 ///
 /// # Errors
-/// Those of [`ltdl`]: bad shape, non-finite, asymmetric or not positive-definite covariance.
+/// Those of [`ltdl`]: bad shape, non-finite, asymmetric or not positive-definite covariance;
+/// [`Error::Numerical`] when `Z` would exceed [`MAX_Z_ENTRY`] or the identity check fails.
 pub fn reduce(q: &DMatrix<f64>) -> Result<Reduction> {
-    Ok(reduce_factor(ltdl(q)?))
+    let r = reduce_factor(ltdl(q)?)?;
+    verify(q, &r)?;
+    Ok(r)
 }
 
-/// Decorrelates an already factorised covariance `Q = L^T D L` (no checks).
-pub fn reduce_factor(factor: Ltdl) -> Reduction {
+/// Decorrelates an already factorised covariance `Q = L^T D L` (checked arithmetic on `Z`, but no
+/// identity check: [`reduce`] does that against `Q`).
+///
+/// # Errors
+/// [`Error::Numerical`] when `Z` would exceed [`MAX_Z_ENTRY`] or `L` becomes non-finite.
+pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
     let Ltdl { mut l, mut d } = factor;
     let n = d.len();
-    let mut r = Reduction {
+    let mut z = Transform {
         z: DMatrix::identity(n, n),
         z_inv: DMatrix::identity(n, n),
-        factor: Ltdl {
-            l: DMatrix::zeros(0, 0),
-            d: d.clone(),
-        },
+        steps: 0,
     };
     if n >= 2 {
-        // Symmetric pivoting (MLAMBDA): k walks from the second-to-last column towards the first; only
-        // the subdiagonal entry that decides a swap is reduced in the loop, and only when column k may
-        // have changed since it was last reduced (k <= `touched`). A swap at k changes the subdiagonal
-        // entries of columns k and k+1 (it exchanges L[k+2, k] and L[k+2, k+1]), so touched = k+1.
+        // de Jonge & Tiberius (1996), fig. 3.5: j walks from the second-to-last column towards the first;
+        // column j is size-reduced whole while it may have changed since the last swap (j <= k). Reducing
+        // the whole column, not only the subdiagonal entry that decides the swap, keeps every |L_ij|
+        // <= 1/2 throughout, so the swap updates cannot make L (and with it Z) grow.
+        let mut j = n - 2;
         let mut k = n - 2;
-        let mut touched = n - 2;
         loop {
-            if k <= touched {
-                gauss(&mut l, &mut r, k + 1, k);
+            if j <= k {
+                for i in (j + 1)..n {
+                    z.gauss(&mut l, i, j)?;
+                }
             }
-            let lk = l[(k + 1, k)];
-            let delta = d[k] + lk * lk * d[k + 1];
-            if delta < d[k + 1] * (1.0 - SWAP_TOLERANCE) {
-                swap(&mut l, &mut d, &mut r, k, delta);
-                touched = (k + 1).min(n - 2);
-                k = n - 2;
-            } else if k == 0 {
+            let lj = l[(j + 1, j)];
+            let delta = d[j] + lj * lj * d[j + 1];
+            if delta < d[j + 1] * (1.0 - SWAP_TOLERANCE) {
+                swap(&mut l, &mut d, &mut z, j, delta);
+                k = j;
+                j = n - 2;
+            } else if j == 0 {
                 break;
             } else {
-                k -= 1;
-            }
-        }
-        // Deferred size reduction of the whole of L (it changes no d, so no swap becomes admissible).
-        for j in (0..n - 1).rev() {
-            for i in (j + 1)..n {
-                gauss(&mut l, &mut r, i, j);
+                j -= 1;
             }
         }
     }
-    r.factor = Ltdl { l, d };
-    r
+    Ok(Reduction {
+        z: z.z,
+        z_inv: z.z_inv,
+        factor: Ltdl { l, d },
+    })
 }
 
-/// Integer Gauss transformation `Z <- Z (I - mu e_i e_j^T)` with `mu = round(L_ij)`, `i > j`: makes
-/// `|L_ij| <= 1/2`.
-fn gauss(l: &mut DMatrix<f64>, r: &mut Reduction, i: usize, j: usize) {
-    let mu = l[(i, j)].round();
-    if mu == 0.0 {
-        return;
-    }
-    let n = l.nrows();
-    for k in i..n {
-        l[(k, j)] -= mu * l[(k, i)];
-    }
-    for k in 0..n {
-        r.z[(k, j)] -= mu * r.z[(k, i)];
-        r.z_inv[(i, k)] += mu * r.z_inv[(j, k)];
+/// `Z` and `Z^-1` under construction, with the number of integer Gauss transformations applied.
+struct Transform {
+    z: DMatrix<i64>,
+    z_inv: DMatrix<i64>,
+    steps: usize,
+}
+
+impl Transform {
+    /// Integer Gauss transformation `Z <- Z (I - mu e_i e_j^T)` with `mu = round(L_ij)`, `i > j`: makes
+    /// `|L_ij| <= 1/2`. `Z^-1 <- (I + mu e_i e_j^T) Z^-1`.
+    fn gauss(&mut self, l: &mut DMatrix<f64>, i: usize, j: usize) -> Result<()> {
+        let n = l.nrows();
+        let lij = l[(i, j)];
+        let mu = lij.round();
+        if mu == 0.0 {
+            return Ok(());
+        }
+        self.steps += 1;
+        let overflow = |what: &str, value: String| {
+            Error::numerical(
+                "LAMBDA decorrelation",
+                format!(
+                    "the integer transformation overflows at dimension {n}, Gauss step {} (column {j}, \
+                     row {i}, L[{i}, {j}] = {lij:e}): {what} {value} exceeds {MAX_Z_ENTRY:e}; the \
+                     covariance is too ill-conditioned to decorrelate exactly",
+                    self.steps
+                ),
+            )
+        };
+        if !(mu.abs() <= MAX_Z_ENTRY as f64) {
+            return Err(overflow("the multiplier", format!("{mu:e}")));
+        }
+        let m = mu as i64;
+        // An update x - m y (or x + m y) in i64, refused beyond MAX_Z_ENTRY.
+        let step = |x: i64, y: i64, sign: i64| -> Option<i64> {
+            let v = m.checked_mul(y)?.checked_mul(sign)?.checked_add(x)?;
+            (v.abs() <= MAX_Z_ENTRY).then_some(v)
+        };
+        for r in 0..n {
+            let (zc, zi) = (self.z[(r, j)], self.z[(r, i)]);
+            self.z[(r, j)] = step(zc, zi, -1).ok_or_else(|| {
+                overflow(
+                    "Z entry",
+                    format!(
+                        "{zc} - {m} x {zi} = {}",
+                        zc as i128 - m as i128 * zi as i128
+                    ),
+                )
+            })?;
+            let (ri, rj) = (self.z_inv[(i, r)], self.z_inv[(j, r)]);
+            self.z_inv[(i, r)] = step(ri, rj, 1).ok_or_else(|| {
+                overflow(
+                    "Z^-1 entry",
+                    format!(
+                        "{ri} + {m} x {rj} = {}",
+                        ri as i128 + m as i128 * rj as i128
+                    ),
+                )
+            })?;
+        }
+        for r in i..n {
+            l[(r, j)] -= mu * l[(r, i)];
+        }
+        Ok(())
     }
 }
 
 /// Swaps ambiguities `k` and `k+1`, updating `L` and `D` so that `L^T D L` stays the transformed
 /// covariance; `delta` is the new `d_{k+1} = d_k + L_{k+1,k}^2 d_{k+1}`.
-fn swap(
-    l: &mut DMatrix<f64>,
-    d: &mut nalgebra::DVector<f64>,
-    r: &mut Reduction,
-    k: usize,
-    delta: f64,
-) {
+fn swap(l: &mut DMatrix<f64>, d: &mut DVector<f64>, t: &mut Transform, k: usize, delta: f64) {
     let n = l.nrows();
     let lk = l[(k + 1, k)];
     let eta = d[k] / delta;
@@ -124,29 +200,107 @@ fn swap(
     for i in (k + 2)..n {
         l.swap((i, k), (i, k + 1));
     }
-    r.z.swap_columns(k, k + 1);
-    r.z_inv.swap_rows(k, k + 1);
+    t.z.swap_columns(k, k + 1);
+    t.z_inv.swap_rows(k, k + 1);
+}
+
+/// Checks a reduction of `q`: `Z Z^-1 = I` exactly, `D` positive and finite, `L` finite, and
+/// `Z^T Q Z = L^T D L` within [`IDENTITY_TOLERANCE`].
+///
+/// # Errors
+/// [`Error::Numerical`] naming the failed check and its numbers.
+pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<()> {
+    let n = q.nrows();
+    let what = "LAMBDA decorrelation";
+    // Exact: entries <= 2^52 in magnitude, n <= MAX_DIMENSION terms, so the i128 sums cannot overflow.
+    for i in 0..n {
+        for j in 0..n {
+            let s: i128 = (0..n)
+                .map(|k| r.z[(i, k)] as i128 * r.z_inv[(k, j)] as i128)
+                .sum();
+            if s != (i == j) as i128 {
+                return Err(Error::numerical(
+                    what,
+                    format!("Z Z^-1 is not the identity at [{i}, {j}] ({s}) for dimension {n}"),
+                ));
+            }
+        }
+    }
+    let Ltdl { l, d } = &r.factor;
+    if let Some(i) = d
+        .iter()
+        .position(|v| !(v.is_finite() && *v >= f64::MIN_POSITIVE))
+    {
+        return Err(Error::numerical(
+            what,
+            format!(
+                "conditional variance D[{i}] = {:e} of the decorrelated covariance is not positive and \
+                 finite (dimension {n})",
+                d[i]
+            ),
+        ));
+    }
+    if let Some(i) = l.iter().position(|v| !v.is_finite()) {
+        return Err(Error::numerical(
+            what,
+            format!("L[{}, {}] is not finite (dimension {n})", i % n, i / n),
+        ));
+    }
+    let zf = r.z_f64();
+    let za = zf.abs();
+    let qz = zf.transpose() * q * &zf;
+    let bound_q = za.transpose() * q.abs() * &za;
+    let la = l.abs();
+    let bound_l = la.transpose() * DMatrix::from_diagonal(d) * &la;
+    let ltdl = r.factor.reconstruct();
+    let scale = n as f64 * f64::EPSILON;
+    let mut worst = (0.0, 0, 0);
+    for j in 0..n {
+        for i in 0..n {
+            let gap = (qz[(i, j)] - ltdl[(i, j)]).abs();
+            let ratio = if gap == 0.0 {
+                0.0
+            } else {
+                gap / (scale * (bound_q[(i, j)] + bound_l[(i, j)]))
+            };
+            // NaN (an overflowed product) counts as a failure too.
+            if !(ratio <= worst.0) {
+                worst = (ratio, i, j);
+                if ratio.is_nan() {
+                    break;
+                }
+            }
+        }
+    }
+    let (ratio, i, j) = worst;
+    if !(ratio <= IDENTITY_TOLERANCE) {
+        return Err(Error::numerical(
+            what,
+            format!(
+                "Z^T Q Z differs from L^T D L at [{i}, {j}] by {:.3e} (= {ratio:.3e} n eps times the \
+                 rounding scale |Z|^T|Q||Z| + |L|^T D|L|, allowed {IDENTITY_TOLERANCE}) for dimension \
+                 {n}, max|Z| = {}",
+                (qz[(i, j)] - ltdl[(i, j)]).abs(),
+                r.z.amax()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lambda::test_support::{random_covariance, Lcg};
+    use crate::lambda::test_support::{random_covariance, spectrum_covariance, Lcg};
 
     fn check(q: &DMatrix<f64>) -> Reduction {
         let red = reduce(q).unwrap();
         let n = q.nrows();
-        // Z and its inverse are integer and inverse to each other, so |det Z| = 1.
-        for v in red.z.iter().chain(red.z_inv.iter()) {
-            assert_eq!(*v, v.round());
-        }
-        let eye = &red.z * &red.z_inv;
-        assert!((eye - DMatrix::<f64>::identity(n, n)).amax() == 0.0);
-        assert!((red.z.determinant().abs() - 1.0).abs() < 1e-6);
-        // The factors are those of Z^T Q Z, and they match a fresh factorisation.
-        let qz = red.z.transpose() * q * &red.z;
-        let scale = qz.amax();
-        assert!((red.factor.reconstruct() - &qz).amax() < 1e-9 * scale);
+        // |det Z| = 1, by an independent (floating LU) determinant.
+        assert!((red.z_f64().determinant().abs() - 1.0).abs() < 1e-6);
+        // The factors match a fresh factorisation of Z^T Q Z.
+        let zf = red.z_f64();
+        let qz = zf.transpose() * q * &zf;
         let fresh = ltdl(&((&qz + qz.transpose()) * 0.5)).unwrap();
         assert!((&fresh.d - &red.factor.d).amax() < 1e-7 * red.factor.d.amax());
         // Size-reduced, and no admissible swap left.
@@ -193,5 +347,80 @@ mod tests {
                 assert!(red.factor.d.min() >= before.d.min() * (1.0 - 1e-9));
             }
         }
+    }
+
+    /// The covariances on which the former reduction saturated Z at 2^63 and put NaN in L.
+    #[test]
+    fn ill_conditioned_spectra_up_to_64_are_decorrelated() {
+        let mut rng = Lcg(3);
+        let mut worst = 0i64;
+        for n in [20usize, 40, 64] {
+            for cond in [1e4, 1e6, 1e8] {
+                for _ in 0..3 {
+                    let q = spectrum_covariance(&mut rng, n, cond);
+                    worst = worst.max(check(&q).z.amax());
+                }
+            }
+        }
+        assert!(worst < 1 << 20, "max |Z| = {worst}");
+    }
+
+    #[test]
+    fn overflow_of_z_is_refused() {
+        // L[1, 0] = 2^60: the multiplier alone is beyond 2^52.
+        let mut l = DMatrix::<f64>::identity(2, 2);
+        l[(1, 0)] = 2f64.powi(60);
+        let e = reduce_factor(Ltdl {
+            l,
+            d: DVector::from_vec(vec![1.0, 1.0]),
+        })
+        .unwrap_err();
+        let Error::Numerical { detail, .. } = &e else {
+            panic!("{e:?}")
+        };
+        assert!(
+            detail.contains("dimension 2") && detail.contains("step 1"),
+            "{detail}"
+        );
+        // A multiplier within range whose product with an existing entry is not.
+        let mut t = Transform {
+            z: DMatrix::from_row_slice(2, 2, &[1, 1 << 40, 0, 1]),
+            z_inv: DMatrix::identity(2, 2),
+            steps: 0,
+        };
+        let mut l = DMatrix::<f64>::identity(2, 2);
+        l[(1, 0)] = 2f64.powi(20);
+        assert!(matches!(
+            t.gauss(&mut l, 1, 0),
+            Err(Error::Numerical { .. })
+        ));
+        // A NaN in L is refused, not cast to 0.
+        let mut l = DMatrix::<f64>::identity(2, 2);
+        l[(1, 0)] = f64::NAN;
+        assert!(matches!(
+            t.gauss(&mut l, 1, 0),
+            Err(Error::Numerical { .. })
+        ));
+    }
+
+    #[test]
+    fn identity_check_catches_a_wrong_factor() {
+        let q = DMatrix::from_row_slice(2, 2, &[4.0, 1.9, 1.9, 1.0]);
+        let mut red = reduce(&q).unwrap();
+        verify(&q, &red).unwrap();
+        // One ulp-level change passes; a 1e-9 relative change of a pivot does not.
+        red.factor.d[0] *= 1.0 + f64::EPSILON;
+        verify(&q, &red).unwrap();
+        red.factor.d[0] *= 1.0 + 1e-9;
+        let e = verify(&q, &red).unwrap_err().to_string();
+        assert!(e.contains("differs from L^T D L"), "{e}");
+        // A Z that is not unimodular with its stored inverse.
+        let mut red = reduce(&q).unwrap();
+        red.z_inv[(0, 0)] += 1;
+        let e = verify(&q, &red).unwrap_err().to_string();
+        assert!(e.contains("not the identity"), "{e}");
+        let mut red = reduce(&q).unwrap();
+        red.factor.d[1] = 0.0;
+        assert!(verify(&q, &red).is_err());
     }
 }

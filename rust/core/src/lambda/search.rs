@@ -4,13 +4,65 @@
 //! Chang, Yang & Zhou (2005), "MLAMBDA", J. Geodesy 79:552-565, section 4; de Jonge & Tiberius (1996),
 //! LGR-12, section 4.
 
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
 use nalgebra::{DMatrix, DVector};
 
 use super::ldl::Ltdl;
 use crate::error::{Error, Result};
 
-/// Default cap on the nodes one search may visit (see [`search`]).
-pub const DEFAULT_MAX_NODES: u64 = 200_000_000;
+/// Default cap on the nodes one search may visit (see [`search`]): a node costs O(n) flops, so 2e7
+/// nodes take about a second at n = 64 on one core (benches/lambda.rs). Decorrelated problems need
+/// far fewer (hundreds to thousands); the cap stops the search of a problem that the decorrelation
+/// could not make tractable, with [`Error::Convergence`].
+pub const DEFAULT_MAX_NODES: u64 = 20_000_000;
+
+/// Largest number of candidates one search may be asked for: they are held in memory (n x m values)
+/// and each costs at least one node.
+pub const MAX_CANDIDATES: usize = 10_000;
+
+/// Checks a number of candidates: 1 ..= [`MAX_CANDIDATES`], before anything is allocated.
+///
+/// # Errors
+/// [`Error::OutOfRange`] for 0, [`Error::TooLarge`] beyond the limit.
+pub fn check_candidates(m: usize) -> Result<()> {
+    if m == 0 {
+        return Err(Error::out_of_range(
+            "candidates",
+            "expected at least 1, got 0",
+        ));
+    }
+    if m > MAX_CANDIDATES {
+        return Err(Error::too_large(
+            "candidates",
+            m as f64,
+            MAX_CANDIDATES as f64,
+            "integer vectors",
+        ));
+    }
+    Ok(())
+}
+
+/// A candidate kept by the search, ordered by its squared norm (a max-heap keeps the worst on top).
+struct Kept(f64, Vec<f64>);
+
+impl PartialEq for Kept {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Kept {}
+impl PartialOrd for Kept {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Kept {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
 
 /// The best integer vectors of one search, in the space where it ran.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,12 +80,14 @@ pub struct Candidates {
 /// # Arguments
 /// * `factor` - `L` and `d` of the (preferably decorrelated) covariance, cycles^2.
 /// * `zhat` - the float ambiguities in the same space, cycles.
-/// * `m` - number of candidates, >= 1.
+/// * `m` - number of candidates, 1 ..= [`MAX_CANDIDATES`].
 /// * `max_nodes` - give up after visiting this many nodes.
 ///
 /// # Errors
-/// [`Error::Shape`] when `zhat` does not match `factor`, [`Error::OutOfRange`] for `m = 0`,
-/// [`Error::Convergence`] when the node cap is reached (a badly conditioned, undecorrelated problem).
+/// [`Error::Shape`] when `zhat` does not match `factor`, those of [`check_candidates`],
+/// [`Error::Convergence`] when the node cap is reached (a badly conditioned, undecorrelated problem),
+/// [`Error::Numerical`] when fewer than `m` candidates have a finite norm (norms beyond the `f64` range:
+/// a covariance tiny compared with the distances to the integers).
 pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> Result<Candidates> {
     let Ltdl { l, d } = factor;
     let n = d.len();
@@ -44,20 +98,14 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
             actual: format!("({},)", zhat.len()),
         });
     }
-    if m == 0 {
-        return Err(Error::out_of_range(
-            "candidates",
-            "expected at least 1, got 0",
-        ));
-    }
+    check_candidates(m)?;
     // acc[(k, j)], j <= k: sum over i > k of (z_i - zb_i) L_ij, so that zb_k = zhat_k + acc[(k, k)].
     let mut acc = DMatrix::<f64>::zeros(n, n);
     let mut dist = vec![0.0; n];
     let mut zb = vec![0.0; n];
     let mut z = vec![0.0; n];
     let mut step = vec![0.0; n];
-    let mut best: Vec<(f64, Vec<f64>)> = Vec::with_capacity(m);
-    let mut worst = 0usize; // index in `best` of the largest norm kept
+    let mut best = BinaryHeap::<Kept>::with_capacity(m);
     let mut radius = f64::INFINITY;
     let mut nodes = 0u64;
 
@@ -96,16 +144,12 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
                 let value = zhat[k] + acc[(k, k)];
                 y = start(k, &mut zb, &mut z, &mut step, value);
             } else {
-                if best.len() < m {
-                    best.push((newdist, z.clone()));
-                    if best.len() == m {
-                        worst = argmax(&best);
-                        radius = best[worst].0;
-                    }
-                } else {
-                    best[worst] = (newdist, z.clone());
-                    worst = argmax(&best);
-                    radius = best[worst].0;
+                if best.len() == m {
+                    best.pop();
+                }
+                best.push(Kept(newdist, z.clone()));
+                if best.len() == m {
+                    radius = best.peek().map_or(f64::INFINITY, |w| w.0);
                 }
                 y = next(0, &zb, &mut z, &mut step);
             }
@@ -117,9 +161,21 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
             y = next(k, &zb, &mut z, &mut step);
         }
     }
-    best.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Only an overflow of the partial norms (inf is never < inf) leaves fewer than m candidates.
+    if best.len() < m {
+        return Err(Error::numerical(
+            "integer least-squares search",
+            format!(
+                "only {} of {m} candidates have a finite squared norm (dimension {n}, smallest \
+                 conditional variance {:.3e}): the norms exceed the f64 range",
+                best.len(),
+                d.min()
+            ),
+        ));
+    }
+    let best = best.into_sorted_vec();
     let mut out = DMatrix::zeros(n, m);
-    for (c, (_, v)) in best.iter().enumerate() {
+    for (c, Kept(_, v)) in best.iter().enumerate() {
         out.set_column(c, &DVector::from_column_slice(v));
     }
     Ok(Candidates {
@@ -127,12 +183,6 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
         squared_norms: best.iter().map(|b| b.0).collect(),
         nodes_visited: nodes,
     })
-}
-
-fn argmax(best: &[(f64, Vec<f64>)]) -> usize {
-    (0..best.len())
-        .max_by(|&a, &b| best[a].0.total_cmp(&best[b].0))
-        .unwrap_or(0)
 }
 
 #[cfg(test)]
@@ -224,6 +274,17 @@ mod tests {
             search(&f, &a, 50, 10),
             Err(Error::Convergence { .. })
         ));
+        // Refused before allocating (2^58 used to panic, 1e11 to abort on allocation failure).
+        for m in [MAX_CANDIDATES + 1, 100_000_000_000, 1 << 58, usize::MAX] {
+            assert!(matches!(search(&f, &a, m, 10), Err(Error::TooLarge { .. })));
+        }
+        // Norms beyond the f64 range: refused, not an empty or short answer.
+        // d = 1e-307: (0.4 + 4)^2 / d = 1.9e308 overflows.
+        let tiny = ltdl(&(DMatrix::identity(1, 1) * 1e-307)).unwrap();
+        let far = DVector::from_vec(vec![0.4]);
+        assert!(search(&tiny, &far, 2, 10).is_ok());
+        let e = search(&tiny, &far, 20, 100_000).unwrap_err();
+        assert!(matches!(e, Error::Numerical { .. }), "{e:?}");
         let b = DVector::from_vec(vec![0.2]);
         assert!(matches!(search(&f, &b, 1, 10), Err(Error::Shape { .. })));
     }

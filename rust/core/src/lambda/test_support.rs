@@ -29,3 +29,15 @@ pub fn random_covariance(rng: &mut Lcg, n: usize, floor: f64) -> DMatrix<f64> {
     let q = &a * a.transpose() / n as f64 + DMatrix::identity(n, n) * floor;
     (&q + q.transpose()) * 0.5
 }
+
+/// `U diag(s) U^T` with a random orthogonal `U` (Gram-Schmidt of a normal matrix) and `s` log-spaced
+/// from 1 down to `1 / condition`: a covariance of exactly that condition number.
+pub fn spectrum_covariance(rng: &mut Lcg, n: usize, condition: f64) -> DMatrix<f64> {
+    let a = DMatrix::from_fn(n, n, |_, _| rng.normal());
+    let u = a.qr().q();
+    let s = nalgebra::DVector::from_fn(n, |i, _| {
+        condition.powf(-(i as f64) / (n.max(2) - 1) as f64)
+    });
+    let q = &u * DMatrix::from_diagonal(&s) * u.transpose();
+    (&q + q.transpose()) * 0.5
+}

@@ -19,7 +19,7 @@
 //! success rate reaches `min_success_rate` and whose ratio test passes (Teunissen, Joosten & Tiberius
 //! 1999, "Geometry-free ambiguity success rates in case of partial fixing", ION NTM; LAMBDA 3.0 PAR).
 
-use nalgebra::{Cholesky, DMatrix, DVector};
+use nalgebra::{DMatrix, DVector};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -27,8 +27,18 @@ use rayon::prelude::*;
 use super::bootstrap::success_rate;
 use super::ldl::Ltdl;
 use super::search::{search, DEFAULT_MAX_NODES};
-use super::Problem;
+use super::verify::{agreeing_order, Metric};
+use super::{bounded_integer, Problem};
 use crate::error::{Error, Result};
+
+/// Largest number of simulated samples of the fixed-failure-rate threshold (enough for a failure rate of
+/// 1e-4 at the recommended `100 / failure_rate`).
+pub const MAX_SAMPLES: usize = 1_000_000;
+
+/// Nodes all the simulated searches of one threshold may visit together: each sample gets
+/// `min(DEFAULT_MAX_NODES, SIMULATION_MAX_NODES / samples)`, which bounds the simulation to about a
+/// minute of one core at n = 64 whatever `samples` is, and keeps the result independent of threads.
+pub const SIMULATION_MAX_NODES: u64 = 1_000_000_000;
 
 /// How the ratio-test threshold `c` (accept when `R >= c`) is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,6 +71,14 @@ impl RatioThreshold {
                     return Err(Error::out_of_range(
                         "failure_rate",
                         format!("expected 0 < failure_rate < 1, got {failure_rate}"),
+                    ));
+                }
+                if samples > MAX_SAMPLES {
+                    return Err(Error::too_large(
+                        "samples",
+                        samples as f64,
+                        MAX_SAMPLES as f64,
+                        "simulated draws",
                     ));
                 }
                 if (samples as f64) * failure_rate < 1.0 {
@@ -112,9 +130,12 @@ pub struct RatioTest {
 /// * `a` - n float ambiguities, cycles; `q` - their n x n covariance, cycles^2.
 /// * `threshold` - fixed, or for a fixed failure rate.
 ///
+/// The two best candidates and their norms are those of [`super::ils`] (exact or an error).
+///
 /// # Errors
-/// Those of [`Problem::new`]; [`Error::OutOfRange`] for a threshold below 1, a failure rate outside
-/// (0, 1) or fewer than `1 / failure_rate` samples.
+/// Those of [`Problem::new`] and [`Problem::solve`]; [`Error::OutOfRange`] for a threshold below 1, a
+/// failure rate outside (0, 1) or fewer than `1 / failure_rate` samples; [`Error::TooLarge`] beyond
+/// [`MAX_SAMPLES`].
 pub fn ratio_test(
     a: &DVector<f64>,
     q: &DMatrix<f64>,
@@ -122,15 +143,16 @@ pub fn ratio_test(
 ) -> Result<RatioTest> {
     threshold.check()?;
     let p = Problem::new(a, q)?;
-    let found = search(&p.reduction.factor, &p.zhat, 2, DEFAULT_MAX_NODES)?;
+    let found = p.solve(2, DEFAULT_MAX_NODES)?;
     let c = threshold.value(&p.reduction.factor)?;
-    let ratio = ratio_of(&found.squared_norms);
+    let norms = [found.squared_norms[0], found.squared_norms[1]];
+    let ratio = ratio_of(norms);
     Ok(RatioTest {
         accepted: ratio >= c,
         ratio,
         threshold: c,
-        fixed: p.to_original(&found.z.column(0).into_owned()),
-        squared_norms: [found.squared_norms[0], found.squared_norms[1]],
+        fixed: found.fixed.column(0).into_owned(),
+        squared_norms: norms,
     })
 }
 
@@ -165,6 +187,7 @@ pub fn fixed_failure_threshold(
     }
     let n = factor.d.len();
     let sd = factor.d.map(f64::sqrt);
+    let max_nodes = DEFAULT_MAX_NODES.min(SIMULATION_MAX_NODES / samples.max(1) as u64);
     let trials: Vec<Option<f64>> = (0..samples)
         .into_par_iter()
         .map(|t| {
@@ -172,9 +195,10 @@ pub fn fixed_failure_threshold(
             rng.set_stream(t as u64);
             let w = DVector::from_fn(n, |i, _| sd[i] * normal(&mut rng));
             let e = factor.l.tr_mul(&w);
-            let found = search(factor, &e, 2, DEFAULT_MAX_NODES)?;
+            let found = search(factor, &e, 2, max_nodes)?;
             let wrong = found.z.column(0).iter().any(|&v| v != 0.0);
-            Ok(wrong.then(|| ratio_of(&found.squared_norms)))
+            let norms = [found.squared_norms[0], found.squared_norms[1]];
+            Ok(wrong.then(|| ratio_of(norms)))
         })
         .collect::<Result<_>>()?;
     let mut wrong: Vec<f64> = trials.into_iter().flatten().collect();
@@ -237,13 +261,14 @@ pub fn partial_fix(
         if sr < min_success_rate {
             continue;
         }
-        let zsub = p.zhat.rows(n - k, k).into_owned();
-        let found = search(&sub, &zsub, 2, DEFAULT_MAX_NODES)?;
-        let ratio = ratio_of(&found.squared_norms);
+        let subset = Subset::new(&p, q, k)?;
+        let found = search(&sub, &subset.zhat, 2, DEFAULT_MAX_NODES)?;
+        let norms = subset.verified_norms(&found.z, &found.squared_norms)?;
+        let ratio = ratio_of([norms[0].0, norms[1].0]);
         let c = threshold.value(&sub)?;
         if ratio >= c {
-            let best = found.z.column(0).into_owned();
-            return Ok(conditioned(&p, q, a, k, &sub, &zsub, &best, ratio, c, sr));
+            let best = found.z.column(norms[0].1).into_owned();
+            return conditioned(&p, q, a, &subset, &best, ratio, c, sr);
         }
     }
     Ok(PartialFix {
@@ -258,56 +283,93 @@ pub fn partial_fix(
     })
 }
 
-/// The float solution conditioned on `Z_k^T a = offset-part + best`.
+/// The last `k` decorrelated ambiguities as a problem of their own, formed from the original `Q`:
+/// `Z_k^T (a - round(a))` with covariance `Z_k^T Q Z_k`, for recomputing the search's norms.
+struct Subset {
+    /// The last k columns of `Z`, as `f64` (exact).
+    zk: DMatrix<f64>,
+    zhat: DVector<f64>,
+    metric: Metric,
+}
+
+impl Subset {
+    fn new(p: &Problem, q: &DMatrix<f64>, k: usize) -> Result<Subset> {
+        let n = p.len();
+        let zk = p.reduction.z_f64().columns(n - k, k).into_owned();
+        let qk = zk.transpose() * q * &zk;
+        let qk = (&qk + qk.transpose()) * 0.5;
+        let metric = Metric::new("LAMBDA partial fix", &qk)?;
+        Ok(Subset {
+            zhat: p.zhat.rows(n - k, k).into_owned(),
+            zk,
+            metric,
+        })
+    }
+
+    /// The norms of the candidate columns of `z` recomputed from `Z_k^T a` and `Z_k^T Q Z_k`, each with
+    /// its column, ascending; refused when they disagree with the search's `searched`.
+    fn verified_norms(&self, z: &DMatrix<f64>, searched: &[f64]) -> Result<Vec<(f64, usize)>> {
+        let recomputed: Vec<f64> = z
+            .column_iter()
+            .map(|c| self.metric.squared_norm(&(&self.zhat - c)))
+            .collect();
+        let order = agreeing_order("LAMBDA partial fix", searched, &recomputed)?;
+        Ok(order.into_iter().map(|c| (recomputed[c], c)).collect())
+    }
+}
+
+/// The float solution conditioned on `Z_k^T a = Z_k^T round(a) + best`.
 #[allow(clippy::too_many_arguments)]
 fn conditioned(
     p: &Problem,
     q: &DMatrix<f64>,
     a: &DVector<f64>,
-    k: usize,
-    sub: &Ltdl,
-    zsub: &DVector<f64>,
+    s: &Subset,
     best: &DVector<f64>,
     ratio: f64,
     threshold: f64,
     success_rate: f64,
-) -> PartialFix {
+) -> Result<PartialFix> {
     let n = p.len();
-    let zk = p.reduction.z.columns(n - k, k).into_owned();
-    let shift = zk.tr_mul(&p.offset);
-    let values = DVector::from_fn(k, |i, _| (shift[i] + best[i]).round() as i64);
+    let k = best.len();
+    let combinations = p.reduction.z.columns(n - k, k).into_owned();
+    // Z_k^T round(a) + best in exact integer arithmetic: |Z| <= 2^52, |round(a)| < 2^53, n <= 256.
+    let values = (0..k)
+        .map(|c| {
+            let shift: i128 = (0..n)
+                .map(|l| combinations[(l, c)] as i128 * p.offset[l] as i128)
+                .sum();
+            bounded_integer(c, shift + best[c] as i128)
+        })
+        .collect::<Result<Vec<_>>>()?;
     let (ambiguities, covariance) = if k == n {
-        (p.to_original(best).map(|v| v as f64), DMatrix::zeros(n, n))
+        (p.to_original(best)?.map(|v| v as f64), DMatrix::zeros(n, n))
     } else {
-        let qz = sub.reconstruct();
-        let chol = Cholesky::new((&qz + qz.transpose()) * 0.5)
-            .expect("a block of a positive-definite matrix");
-        let qzk = q * &zk; // n x k
-        let gain = chol.solve(&qzk.transpose()).transpose(); // Q Z_k (Z_k^T Q Z_k)^-1
-        let amb = a - &gain * (zsub - best);
+        let qzk = q * &s.zk; // n x k
+        let gain = s.metric.solve(&qzk.transpose()).transpose(); // Q Z_k (Z_k^T Q Z_k)^-1
+        let amb = a - &gain * (&s.zhat - best);
         let cov = q - &gain * qzk.transpose();
         (amb, (&cov + cov.transpose()) * 0.5)
     };
-    PartialFix {
+    Ok(PartialFix {
         fixed_count: k,
-        combinations: zk.map(|v| v.round() as i64),
-        values,
+        combinations,
+        values: DVector::from_vec(values),
         ratio,
         threshold,
         success_rate,
         ambiguities,
         covariance,
-    }
+    })
 }
 
-fn ratio_of(norms: &[f64]) -> f64 {
+fn ratio_of(norms: [f64; 2]) -> f64 {
     if norms[0] > 0.0 {
         norms[1] / norms[0]
     } else {
         f64::INFINITY
     }
 }
-
 /// Standard normal draw (Box-Muller, one of the pair).
 fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>();

@@ -33,6 +33,18 @@ impl Axis {
                 format!("expected a window lo <= hi, got [{lo}, {hi}] rad"),
             ));
         }
+        if !(lo.abs() <= MAX_WINDOW_RAD && hi.abs() <= MAX_WINDOW_RAD) {
+            return Err(Error::out_of_range(
+                name,
+                format!(
+                    "expected window limits within +-{:.0} deg, got [{:e}, {:e}] deg",
+                    MAX_WINDOW_RAD.to_degrees(),
+                    lo.to_degrees(),
+                    hi.to_degrees()
+                ),
+            ));
+        }
+        // |(angle - origin) / step| <= (20 pi + pi) / (pi / 2^31) < 2^36: exact in f64 and i64.
         let a = ((lo - self.origin) / self.step - 1e-9).ceil() as i64;
         let b = ((hi - self.origin) / self.step + 1e-9).floor() as i64;
         let (a, b) = match self.period {
@@ -70,6 +82,10 @@ pub struct Grid {
     pub phi: Axis,
 }
 
+/// Largest magnitude of a window limit: ten turns (3600 deg), far beyond any meaningful window, and small
+/// enough that node indices stay exact (a limit of 1e20 deg used to overflow them).
+const MAX_WINDOW_RAD: f64 = 20.0 * PI;
+
 /// Most cells one grid may hold: the flat index and the per-cell work stay bounded (2^31 cells of f32 are
 /// 8 GiB). Counted over the cells a grid actually holds, so a window makes fine steps possible.
 const MAX_CELLS: f64 = 2147483648.0;
@@ -96,9 +112,9 @@ impl Grid {
     pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?;
         Grid {
-            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
-            phi: g.phi.window("window phi", ranges[2].0, ranges[2].1)?,
+            psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
+            phi: g.phi.window("window_deg (phi)", ranges[2].0, ranges[2].1)?,
         }
         .checked()
     }
@@ -118,8 +134,8 @@ impl Grid {
     pub fn two_dimensional_window(step_rad: f64, ranges: [(f64, f64); 2]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?.without_roll();
         Grid {
-            psi: g.psi.window("window psi", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window theta", ranges[1].0, ranges[1].1)?,
+            psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
+            theta: g.theta.window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             ..g
         }
         .checked()
@@ -224,5 +240,34 @@ impl Grid {
             self.theta.angle(idx[1]),
             self.phi.angle(idx[2]),
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn absurd_windows_are_refused_by_name() {
+        // 1e20 deg used to overflow the i64 node index (then a remainder by zero).
+        let huge = 1e20f64.to_radians();
+        for (lo, hi) in [(-huge, huge), (huge, huge + 1.0), (-huge, 0.1)] {
+            let e = Grid::window(0.01, [(lo, hi), (0.0, 0.1), (0.0, 0.1)]).unwrap_err();
+            let text = e.to_string();
+            assert!(
+                text.contains("window_deg (psi)") && text.contains("3600 deg"),
+                "{text}"
+            );
+        }
+        let e = Grid::two_dimensional_window(0.01, [(0.0, 0.1), (-huge, huge)]).unwrap_err();
+        assert!(e.to_string().contains("window_deg (theta)"), "{e}");
+        // The limit itself is accepted: a window of ten turns is the whole heading axis.
+        let limit = MAX_WINDOW_RAD;
+        let g = Grid::window(0.01, [(-limit, limit), (0.0, 0.1), (0.0, 0.1)]).unwrap();
+        assert_eq!(Some(g.psi.len), g.psi.period);
+        // Just inside the limit, a narrow window far from zero holds the nodes it should: 0.1 rad at
+        // step 2 pi / 630 spans 10 or 11 nodes.
+        let g = Grid::window(0.01, [(limit - 0.2, limit - 0.1), (0.0, 0.1), (0.0, 0.1)]).unwrap();
+        assert!((10..=11).contains(&g.psi.len), "{}", g.psi.len);
     }
 }

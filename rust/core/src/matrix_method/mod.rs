@@ -71,7 +71,7 @@ pub fn solve(
     let (g_cond, g_cond2) = conditions(&g);
     let (n_cond, n_cond2) = conditions(&nn);
     let need = |cond: f64, matrix: &'static str, what: &str| -> Result<()> {
-        if cond > MAX_CONDITION {
+        if !(cond <= MAX_CONDITION) {
             return Err(Error::DegenerateGeometry {
                 what: what.into(),
                 matrix,
@@ -80,29 +80,31 @@ pub fn solve(
         }
         Ok(())
     };
-    let invert = |x: &Matrix3<f64>| x.try_inverse().expect("condition checked");
 
     let raw = match method {
         Method::ClosedForm | Method::Paper => {
             let why = format!("{method:?} needs {{}} (got {m} baselines, {n} lines of sight)");
             need(
                 g_cond,
-                "baseline matrix G = B B^T",
+                G_NAME,
                 &why.replace("{}", "3 non-coplanar baselines"),
             )?;
             need(
                 n_cond,
-                "line-of-sight matrix N = S S^T",
+                N_NAME,
                 &why.replace("{}", "3 non-coplanar lines of sight"),
             )?;
-            let k = invert(&g) * &b * r;
+            let k = invert(&g, G_NAME, (m, n))? * &b * r;
             if method == Method::ClosedForm {
-                k * s.transpose() * invert(&nn)
+                k * s.transpose() * invert(&nn, N_NAME, (m, n))?
             } else {
                 let q = &s * k.transpose();
                 let qqt = q * q.transpose();
                 let eig = SymmetricEigen::new(qqt);
+                // Q Q^T is positive semi-definite; rounding can make its smallest eigenvalue slightly
+                // negative, and the ratio is then NaN or negative: both mean singular.
                 let cond = eig.eigenvalues.max() / eig.eigenvalues.min();
+                let cond = if cond >= 1.0 { cond } else { f64::INFINITY };
                 need(
                     cond.sqrt(),
                     "matrix Q = S K^T",
@@ -127,14 +129,14 @@ pub fn solve(
             // Both profile matrices equal (PSD) x A or A x (PSD) without noise, so the proper polar
             // factor is A itself; which side is inverted depends on which side has full rank.
             let h = if g_cond <= MAX_CONDITION && n_cond2 <= MAX_CONDITION {
-                invert(&g) * &b * r * s.transpose()
+                invert(&g, G_NAME, (m, n))? * &b * r * s.transpose()
             } else if g_cond2 <= MAX_CONDITION && n_cond <= MAX_CONDITION {
-                &b * r * s.transpose() * invert(&nn)
+                &b * r * s.transpose() * invert(&nn, N_NAME, (m, n))?
             } else {
                 let (matrix, condition) = if g_cond2 > MAX_CONDITION {
-                    ("baseline matrix G = B B^T", g_cond2)
+                    (G_NAME, g_cond2)
                 } else {
-                    ("line-of-sight matrix N = S S^T", n_cond)
+                    (N_NAME, n_cond)
                 };
                 return Err(Error::DegenerateGeometry {
                     what: format!(
@@ -270,11 +272,46 @@ fn validate(baselines: &[Vector3<f64>], los: &[Vector3<f64>], r: &DMatrix<f64>) 
     Ok(())
 }
 
+const G_NAME: &str = "baseline matrix G = B B^T";
+const N_NAME: &str = "line-of-sight matrix N = S S^T";
+
 /// `(s1/s3, s1/s2)` of a symmetric positive semi-definite matrix: full-rank and rank->=2 conditions.
+///
+/// Scale invariant: the matrix is divided by its largest entry first, so baselines of 1e-60 m are as
+/// good as baselines of 1 m; a matrix that underflowed to zero (or holds no positive eigenvalue) is
+/// infinitely ill-conditioned, never NaN.
 fn conditions(x: &Matrix3<f64>) -> (f64, f64) {
-    let mut e = SymmetricEigen::new(*x).eigenvalues.map(|l| l.max(0.0));
+    let scale = x.amax();
+    if !(scale > 0.0 && scale.is_finite()) {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let mut e = SymmetricEigen::new(x / scale)
+        .eigenvalues
+        .map(|l| l.max(0.0));
     e.as_mut_slice().sort_by(|a, b| b.total_cmp(a));
-    (e[0] / e[2], e[0] / e[1])
+    let ratio = |d: f64| if d > 0.0 { e[0] / d } else { f64::INFINITY };
+    (ratio(e[2]), ratio(e[1]))
+}
+
+/// `x^-1` of a matrix whose condition was checked, computed on `x / max|x|` so that a tiny or huge scale
+/// cannot underflow the determinant.
+///
+/// # Errors
+/// [`Error::DegenerateGeometry`] naming `matrix` when the inverse fails or is not finite anyway.
+fn invert(x: &Matrix3<f64>, matrix: &'static str, (m, n): (usize, usize)) -> Result<Matrix3<f64>> {
+    let scale = x.amax();
+    let inv = (x / scale)
+        .try_inverse()
+        .map(|i| i / scale)
+        .filter(|i| i.iter().all(|v| v.is_finite()));
+    inv.ok_or_else(|| Error::DegenerateGeometry {
+        what: format!(
+            "the {matrix} cannot be inverted in floating point (got {m} baselines, {n} lines of sight, \
+             max entry {scale:.3e})"
+        ),
+        matrix,
+        condition: f64::INFINITY,
+    })
 }
 
 #[cfg(test)]

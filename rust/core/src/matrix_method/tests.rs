@@ -101,3 +101,60 @@ fn bad_input_is_named() {
         Err(Error::NonFinite { .. })
     ));
 }
+
+#[test]
+fn tiny_and_underflowing_baselines_never_panic() {
+    // The condition is scale invariant: baselines of 1e-60 m give the same attitude as of 1 m.
+    let truth = ZYX.to_dcm([0.4, -0.2, 1.1]);
+    let tiny: Vec<Vector3<f64>> = tetra().iter().map(|b| b * 1e-60).collect();
+    let r = scenario(&tiny, &sats(), &truth);
+    for method in [
+        Method::ClosedForm,
+        Method::Paper,
+        Method::Svd,
+        Method::MaxLikelihood,
+    ] {
+        let sol = solve(&tiny, &sats(), &r, method).unwrap();
+        assert!((sol.dcm_ref_from_body - truth).amax() < 1e-9, "{method:?}");
+    }
+    // The hostile case of issue 15 (used to panic in `expect("condition checked")`): an answer or a
+    // geometry error, for every method.
+    let eye: Vec<Vector3<f64>> = (0..3).map(|i| Vector3::ith(i, 1e-60)).collect();
+    let los: Vec<Vector3<f64>> = (0..3).map(|i| Vector3::ith(i, 1.0)).collect();
+    let zeros = DMatrix::zeros(3, 3);
+    for method in [
+        Method::ClosedForm,
+        Method::Paper,
+        Method::Svd,
+        Method::MaxLikelihood,
+    ] {
+        match solve(&eye, &los, &zeros, method) {
+            Ok(sol) => assert!(sol.dcm_ref_from_body.iter().all(|v| v.is_finite())),
+            Err(e) => assert!(
+                matches!(
+                    e,
+                    Error::DegenerateGeometry { .. } | Error::Degenerate { .. }
+                ),
+                "{method:?}: {e:?}"
+            ),
+        }
+    }
+    // Baselines whose squares underflow (1e-170 m: G = B B^T is subnormal, 1e-200 m: zero, as is their
+    // norm): refused as a degenerate geometry or a zero-length baseline, never a panic or NaN.
+    for scale in [1e-170, 1e-200] {
+        let under: Vec<Vector3<f64>> = tetra().iter().map(|b| b * scale).collect();
+        let r = scenario(&under, &sats(), &truth);
+        for method in [Method::ClosedForm, Method::Svd] {
+            match solve(&under, &sats(), &r, method) {
+                Ok(sol) => assert!((sol.dcm_ref_from_body - truth).amax() < 1e-6),
+                Err(e) => assert!(
+                    matches!(
+                        e,
+                        Error::DegenerateGeometry { .. } | Error::OutOfRange { .. }
+                    ),
+                    "{scale} {method:?}: {e:?}"
+                ),
+            }
+        }
+    }
+}
