@@ -67,9 +67,9 @@ def _write(tmp_path: Path, name: str, text: str) -> Path:
 def test_truncated_obs_names_file_and_line(tmp_path: Path) -> None:
     lines = (DATA / "07590920.05o").read_text().splitlines()
     bad = _write(tmp_path, "trunc.05o", "\n".join(lines[:22]) + "\n")
-    with pytest.raises(RinexError, match=r"trunc\.05o, line \d+: file truncated") as info:
+    # the fault is the epoch line (line 18) whose 8 satellites the file does not hold
+    with pytest.raises(RinexError, match=r"trunc\.05o, line 18: the epoch announces 8 satellites, but the file ends"):
         read_obs(bad)
-    assert info.value.line is not None
 
 
 @needs_data
@@ -82,10 +82,10 @@ def test_unknown_version_and_missing_header_lines(tmp_path: Path) -> None:
     )
     with pytest.raises(RinexError, match=r"v9\.05o, line 1: unknown RINEX version 9\.1"):
         read_obs(bad)
-    no_types = "\n".join(ln for ln in text.splitlines() if "TYPES OF OBSERV" not in ln)
+    no_types = "".join(ln for ln in text.splitlines(keepends=True) if "TYPES OF OBSERV" not in ln)
     with pytest.raises(RinexError, match=r"missing header line '# / TYPES OF OBSERV'"):
         read_obs(_write(tmp_path, "notypes.05o", no_types))
-    no_end = "\n".join(text.splitlines()[:10])
+    no_end = "".join(text.splitlines(keepends=True)[:10])
     with pytest.raises(RinexError, match=r"missing header line 'END OF HEADER'"):
         read_obs(_write(tmp_path, "noend.05o", no_end))
     garbled = text.replace("  55923622.160  ", "  5592x622.160  ", 1)
