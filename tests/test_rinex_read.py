@@ -68,7 +68,9 @@ def test_truncated_obs_names_file_and_line(tmp_path: Path) -> None:
     lines = (DATA / "07590920.05o").read_text().splitlines()
     bad = _write(tmp_path, "trunc.05o", "\n".join(lines[:22]) + "\n")
     # the fault is the epoch line (line 18) whose 8 satellites the file does not hold
-    with pytest.raises(RinexError, match=r"trunc\.05o, line 18: the epoch announces 8 satellites, but the file ends"):
+    with pytest.raises(
+        RinexError, match=r"trunc\.05o, line 18: the epoch announces 8 satellites, but the file ends"
+    ):
         read_obs(bad)
 
 
