@@ -139,6 +139,8 @@ _PRN = re.compile(r"[ 0]?[1-9]|[1-9]\d")
 _OBS_CHARS = np.zeros(256, dtype=bool)
 _OBS_CHARS[[ord(c) for c in "0123456789+-. "]] = True
 _OBS_NUMBER = re.compile(r" *[+-]?(?:\d+\.?\d*|\.\d+)")
+#: A continuation of a RINEX 2 satellite list (an observation line always holds a decimal point).
+_SAT_LIST = re.compile(r" {32}(?:[A-Z ][ \d]\d)+ *")
 _FLAG_NAMES = "0 (OK), 1 (power failure), 2-5 (events followed by special records) or 6 (cycle slip records)"
 
 
@@ -500,6 +502,10 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
                     f"the epoch announces {n} satellites, but lists {listed.strip()!r}",
                 )
             ids = [_sat_id(p, lineno + j // 12, listed[3 * j : 3 * j + 3], default_sys) for j in range(n)]
+        if not v3 and n % 12 == 0 and i + n_head < n_lines and _SAT_LIST.fullmatch(lines[i + n_head]):
+            raise RinexError(
+                p, lineno, f"the epoch announces {n} satellites, but line {i + n_head + 1} continues the list"
+            )
         if flag == 6:  # cycle-slip records repeat observations of an epoch already given
             i += n_head + n_body
             block = None
@@ -570,7 +576,9 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
         sys_types = types[key] if key != "*" else next(iter(types.values()))
         nt = len(sys_types)
         # RINEX 2 puts five fields on a line; RINEX 3 a whole record on one
-        line_of = rec_l[sel][:, None] + (np.arange(nt)[None, :] // 5 if key == "*" else 0)
+        line_of = rec_l[sel][:, None] + (
+            np.arange(nt)[None, :] // 5 if key == "*" else np.zeros((1, nt), np.int64)
+        )
         values, l_flags, s_flags = _convert(p, texts, nt, line_of)
         cols = np.array([codes.index(c) for c in sys_types])[None, :]
         ee, ss = rec_e[sel][:, None], rec_s[sel][:, None]
