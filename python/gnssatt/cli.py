@@ -12,7 +12,7 @@ import os
 import re
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 __all__ = ["main"]
@@ -26,7 +26,22 @@ _OPTION_NAMES = {
     "n_trials": "--runs",
     "seed": "--seed",
 }
-_OPTION_PATTERN = re.compile(r"\b(" + "|".join(_OPTION_NAMES) + r")\b")
+_OPTION_PATTERN = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_NAMES) + r")\b")
+
+
+def _integer(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``minimum`` (checked before any work starts)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {value}")
+        return value
+
+    return parse
 
 
 class _UsageError(Exception):
@@ -44,7 +59,7 @@ def _one_line(exc: BaseException) -> str:
     from gnssatt.errors import GnssattError, InternalError, RinexError
 
     text = " ".join(str(exc).split()) or type(exc).__name__
-    if not isinstance(exc, RinexError):
+    if not isinstance(exc, RinexError | _UsageError):
         text = _OPTION_PATTERN.sub(lambda m: _OPTION_NAMES[m.group(1)], text)
     if isinstance(exc, OSError) and exc.filename is not None:
         return f"{exc.filename}: {exc.strerror or text}"
@@ -151,8 +166,10 @@ def _main(argv: Sequence[str] | None) -> int:
     rep.add_argument("names", nargs="*", help="experiment names (see --list)")
     rep.add_argument("--list", action="store_true", help="list the experiments")
     rep.add_argument("--all", action="store_true", help="run every experiment with quick defaults")
-    rep.add_argument("--runs", type=int, default=None, help="Monte Carlo runs (default: per experiment)")
-    rep.add_argument("--seed", type=int, default=2026, help="root random seed (default 2026)")
+    rep.add_argument(
+        "--runs", type=_integer(1), default=None, help="Monte Carlo runs (default: per experiment)"
+    )
+    rep.add_argument("--seed", type=_integer(0), default=2026, help="root random seed (default 2026)")
     rep.add_argument("--out", type=Path, default=Path("out"), help="output folder (default ./out)")
     rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
     att = sub.add_parser("attitude", help="attitude or baseline direction from RINEX files")
@@ -211,8 +228,6 @@ def _main(argv: Sequence[str] | None) -> int:
     args = parser.parse_args(argv)
     if args.command == "attitude":
         return _attitude(args)
-    if args.runs is not None and args.runs < 1:
-        parser.error("--runs must be >= 1")
     return _reproduce(args)
 
 
