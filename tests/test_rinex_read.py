@@ -112,3 +112,29 @@ def test_rinex_error_pickles() -> None:
 
     err = pickle.loads(pickle.dumps(RinexError("a.05o", 7, "expected a number")))
     assert isinstance(err, RinexError) and err.line == 7 and str(err) == "a.05o, line 7: expected a number"
+
+
+def test_path_of_the_wrong_kind_or_a_folder(tmp_path: Path) -> None:
+    from gnssatt.errors import InvalidTypeError
+
+    for reader in (read_obs, read_nav):
+        for bad in (None, 3, b"file.05o"):
+            with pytest.raises(InvalidTypeError, match=r"expected path as a str or os\.PathLike"):
+                reader(bad)  # type: ignore[arg-type]
+        with pytest.raises(RinexError, match="cannot open"):
+            reader(tmp_path)
+
+
+def test_dense_arrays_have_a_limit(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from gnssatt.rinex import obs as obs_module
+    from gnssatt.rinex.writer import write_obs
+
+    path = tmp_path / "small.24o"
+    t = np.datetime64("2024-01-01T00:00:00", "ns") + np.arange(3) * np.timedelta64(1, "s")
+    write_obs(path, t, ["G01", "G02"], {"C1C": np.full((3, 2), 2.2e7), "L1C": np.full((3, 2), 1.1e8)})
+    assert read_obs(path).data.shape == (3, 2, 2)
+    monkeypatch.setattr(obs_module, "MAX_CELLS", 11)
+    with pytest.raises(
+        RinexError, match=r"3 epochs x 2 satellites x 2 codes = 12 values exceed the limit of 11"
+    ):
+        read_obs(path)

@@ -30,7 +30,12 @@ from gnssatt.errors import RinexError
 from gnssatt.rinex import _fields
 from gnssatt.rinex._fields import Cursor, epoch_ns, integer, number, read_lines, reading
 
-__all__ = ["RinexObs", "read_obs"]
+__all__ = ["MAX_CELLS", "RinexObs", "read_obs"]
+
+#: Most epochs x satellites x codes :func:`read_obs` holds in its dense arrays (8 GiB of float64 values and
+#: 2 GiB of indicators): a day at 1 Hz of 120 satellites with 40 codes is 4.1e8; a hostile file scattering
+#: one record per epoch over every satellite id could otherwise ask for hundreds of GiB.
+MAX_CELLS = 2**30
 
 _CODE_PRIORITY = "CPWYXSLQIDBZMNA"
 
@@ -144,14 +149,21 @@ _SAT_LIST = re.compile(r" {32}(?:[A-Z ][ \d]\d)+ *")
 _FLAG_NAMES = "0 (OK), 1 (power failure), 2-5 (events followed by special records) or 6 (cycle slip records)"
 
 
+_SAT_IDS: dict[tuple[str, str | None], str] = {}  # valid tokens seen: a few hundred at most
+
+
 def _sat_id(path: str, lineno: int, token: str, default: str | None) -> str:
     """``"G03"`` from a satellite field (RINEX 2 allows a blank system letter, meaning the file's system)."""
+    known = _SAT_IDS.get((token, default))
+    if known is not None:
+        return known
     letter = token[0:1]
     if letter == " " and default is not None:
         letter = default
     if len(token) < 3 or letter not in _SYSTEMS or not _PRN.fullmatch(token[1:3]):
         raise RinexError(path, lineno, f"expected a satellite id such as 'G03', got {token!r}")
-    return f"{letter}{int(token[1:3]):02d}"
+    sat = _SAT_IDS[(token, default)] = f"{letter}{int(token[1:3]):02d}"
+    return sat
 
 
 def _blank(line: str, spans: tuple[tuple[int, int], ...]) -> bool:
@@ -410,7 +422,9 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     RinexError
         Any fault above, a missing file, an unknown version or file type, a missing header line; the
         message names the file and the line. Every other failure while reading becomes a ``RinexError``
-        naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``.
+        naming the line being read. A file whose epochs x satellites x codes exceed :data:`MAX_CELLS`
+        (the size of the dense arrays returned) is refused before they are allocated.
+        ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``.
     """
     p, lines = read_lines(path)
     with reading(p) as cursor:
@@ -563,6 +577,13 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
         codes_list += [c for c in t if c not in codes_list]
     codes = tuple(codes_list)
     n_ep, n_sat, n_code = len(ep_time), len(sats), len(codes)
+    if n_ep * n_sat * n_code > MAX_CELLS:
+        raise RinexError(
+            p,
+            None,
+            f"{n_ep} epochs x {n_sat} satellites x {n_code} codes = {n_ep * n_sat * n_code} values exceed "
+            f"the limit of {MAX_CELLS} (gnssatt.rinex.obs.MAX_CELLS); split the file by time or system",
+        )
     data = np.full((n_ep, n_sat, n_code), np.nan)
     lli = np.zeros((n_ep, n_sat, n_code), dtype=np.uint8)
     ssi = np.zeros((n_ep, n_sat, n_code), dtype=np.uint8)
