@@ -19,7 +19,7 @@ from pathlib import Path
 
 from gnssatt.errors import InvalidTypeError, RinexError
 
-__all__ = ["Cursor", "epoch_ns", "integer", "number", "read_lines", "reading"]
+__all__ = ["HEADER_LABELS", "Cursor", "epoch_ns", "integer", "number", "path_text", "read_lines", "reading"]
 
 _NUMBER = re.compile(r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?\s*")
 _INTEGER = re.compile(r"\s*[+-]?\d+\s*")
@@ -51,17 +51,21 @@ def reading(path: str) -> Iterator[Cursor]:
         ) from exc
 
 
-def read_lines(path: object) -> tuple[str, list[str]]:
-    """The path as text and the file's lines without their line ends.
+def path_text(path: object) -> str:
+    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor)."""
+    if not isinstance(path, str | PathLike):
+        raise InvalidTypeError(f"expected path as a str or os.PathLike, got {type(path).__name__}")
+    return str(path)
+
+
+def read_lines(p: str) -> list[str]:
+    """The lines of file ``p`` without their line ends.
 
     Hatanaka (``.crx``, ``.??d``) and gzip / Unix-compress / zip / bzip2 files are decompressed with the
     optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``). Lines are split at ``\\n`` only (a
     ``\\r`` before it is dropped): a stray form feed or other control byte stays inside its line, where the
     field check sees it, instead of shifting every later line number.
     """
-    if not isinstance(path, str | PathLike):
-        raise InvalidTypeError(f"expected path as a str or os.PathLike, got {type(path).__name__}")
-    p = str(path)
     try:
         raw = Path(p).read_bytes()
     except OSError as exc:
@@ -85,7 +89,7 @@ def read_lines(path: object) -> tuple[str, list[str]]:
         lines.pop()
     else:  # even blanks: a RINEX 2 record line may be blank, so a cut one could pass for complete
         raise RinexError(p, len(lines), "the last line has no line end: the file was cut inside this line")
-    return p, [ln[:-1] if ln.endswith("\r") else ln for ln in lines]
+    return [ln[:-1] if ln.endswith("\r") else ln for ln in lines]
 
 
 def number(path: str, lineno: int, text: str, what: str) -> float:

@@ -17,7 +17,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
-from gnssatt.rinex._fields import HEADER_LABELS, Cursor, epoch_ns, integer, number, read_lines, reading
+from gnssatt.rinex._fields import (
+    HEADER_LABELS,
+    Cursor,
+    epoch_ns,
+    integer,
+    number,
+    path_text,
+    read_lines,
+    reading,
+)
 
 __all__ = ["GPS_EPOCH", "GlonassEphemerides", "KeplerEphemerides", "RinexNav", "gps_ns", "read_nav"]
 
@@ -214,9 +223,9 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
         ``os.PathLike``.
     """
-    p, lines = read_lines(path)
+    p = path_text(path)
     with reading(p) as cursor:
-        return _read_nav(p, lines, cursor)
+        return _read_nav(p, read_lines(p), cursor)
 
 
 def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:

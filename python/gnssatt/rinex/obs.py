@@ -27,8 +27,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
-from gnssatt.rinex import _fields
-from gnssatt.rinex._fields import Cursor, epoch_ns, integer, number, read_lines, reading
+from gnssatt.rinex._fields import (
+    HEADER_LABELS,
+    Cursor,
+    epoch_ns,
+    integer,
+    number,
+    path_text,
+    read_lines,
+    reading,
+)
 
 __all__ = ["MAX_CELLS", "RinexObs", "read_obs"]
 
@@ -303,7 +311,7 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         line = lines[i]
         label = line[60:80].strip()
         lineno = i + 1
-        if label in _fields.HEADER_LABELS:
+        if label in HEADER_LABELS:
             last_known = lineno
         if label == "END OF HEADER":
             if version < 3:
@@ -426,9 +434,9 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
         (the size of the dense arrays returned) is refused before they are allocated.
         ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``.
     """
-    p, lines = read_lines(path)
+    p = path_text(path)
     with reading(p) as cursor:
-        return _read_obs(p, lines, cursor)
+        return _read_obs(p, read_lines(p), cursor)
 
 
 def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
@@ -478,7 +486,7 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
             )
         if 2 <= flag <= 5:
             for j in range(i + 1, i + 1 + n):
-                if lines[j][60:80].strip() not in _fields.HEADER_LABELS or lines[j][0:1] == ">":
+                if lines[j][60:80].strip() not in HEADER_LABELS or lines[j][0:1] == ">":
                     raise RinexError(
                         p,
                         lineno,
