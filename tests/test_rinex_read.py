@@ -68,9 +68,11 @@ def _write(tmp_path: Path, name: str, text: str) -> Path:
 def test_truncated_obs_names_file_and_line(tmp_path: Path) -> None:
     lines = (DATA / "07590920.05o").read_text().splitlines()
     bad = _write(tmp_path, "trunc.05o", "\n".join(lines[:22]) + "\n")
-    with pytest.raises(RinexError, match=r"trunc\.05o, line \d+: file truncated") as info:
+    # the fault is the epoch line (line 18) whose 8 satellites the file does not hold
+    with pytest.raises(
+        RinexError, match=r"trunc\.05o, line 18: the epoch announces 8 satellites, but the file ends"
+    ):
         read_obs(bad)
-    assert info.value.line is not None
 
 
 @needs_data
@@ -83,10 +85,10 @@ def test_unknown_version_and_missing_header_lines(tmp_path: Path) -> None:
     )
     with pytest.raises(RinexError, match=r"v9\.05o, line 1: unknown RINEX version 9\.1"):
         read_obs(bad)
-    no_types = "\n".join(ln for ln in text.splitlines() if "TYPES OF OBSERV" not in ln)
+    no_types = "".join(ln for ln in text.splitlines(keepends=True) if "TYPES OF OBSERV" not in ln)
     with pytest.raises(RinexError, match=r"missing header line '# / TYPES OF OBSERV'"):
         read_obs(_write(tmp_path, "notypes.05o", no_types))
-    no_end = "\n".join(text.splitlines()[:10])
+    no_end = "".join(text.splitlines(keepends=True)[:10])
     with pytest.raises(RinexError, match=r"missing header line 'END OF HEADER'"):
         read_obs(_write(tmp_path, "noend.05o", no_end))
     garbled = text.replace("  55923622.160  ", "  5592x622.160  ", 1)
@@ -111,3 +113,29 @@ def test_rinex_error_pickles() -> None:
 
     err = pickle.loads(pickle.dumps(RinexError("a.05o", 7, "expected a number")))
     assert isinstance(err, RinexError) and err.line == 7 and str(err) == "a.05o, line 7: expected a number"
+
+
+def test_path_of_the_wrong_kind_or_a_folder(tmp_path: Path) -> None:
+    from gnssatt.errors import InvalidTypeError
+
+    for reader in (read_obs, read_nav):
+        for bad in (None, 3, b"file.05o"):
+            with pytest.raises(InvalidTypeError, match=r"expected path as a str or os\.PathLike"):
+                reader(bad)  # type: ignore[arg-type]
+        with pytest.raises(RinexError, match="cannot open"):
+            reader(tmp_path)
+
+
+def test_dense_arrays_have_a_limit(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from gnssatt.rinex import obs as obs_module
+    from gnssatt.rinex.writer import write_obs
+
+    path = tmp_path / "small.24o"
+    t = np.datetime64("2024-01-01T00:00:00", "ns") + np.arange(3) * np.timedelta64(1, "s")
+    write_obs(path, t, ["G01", "G02"], {"C1C": np.full((3, 2), 2.2e7), "L1C": np.full((3, 2), 1.1e8)})
+    assert read_obs(path).data.shape == (3, 2, 2)
+    monkeypatch.setattr(obs_module, "MAX_CELLS", 11)
+    with pytest.raises(
+        RinexError, match=r"3 epochs x 2 satellites x 2 codes = 12 values exceed the limit of 11"
+    ):
+        read_obs(path)

@@ -1,15 +1,86 @@
 """The ``gnssatt`` command: ``gnssatt reproduce ...`` runs the source papers' experiments;
-``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform."""
+``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform.
+
+Every failure is one line on stderr, ``gnssatt: error: ...``, naming what was wrong with the command-line
+option names, and exit status 2 (130 after Ctrl-C); no traceback is printed.
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
+import re
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 __all__ = ["main"]
+
+#: Library parameter names as the command line spells them, for messages raised below the CLI.
+#: (Only names that are not also plain words of other messages, and never inside RINEX messages.)
+_OPTION_NAMES = {
+    "window_deg": "--window",
+    "baseline_length_m": "--baseline-length",
+    "elevation_mask_deg": "--elevation-mask",
+    "n_trials": "--runs",
+    "seed": "--seed",
+}
+_OPTION_PATTERN = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_NAMES) + r")\b")
+
+
+def _integer(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``minimum`` (checked before any work starts)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {value}")
+        return value
+
+    return parse
+
+
+class _UsageError(Exception):
+    """A command line that argparse or a check here refuses."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]
+        # argparse would print the usage and exit; main prints one line instead
+        raise _UsageError(message)
+
+
+def _one_line(exc: BaseException) -> str:
+    """The error message on one line, library parameter names replaced by the CLI's option names."""
+    from gnssatt.errors import GnssattError, InternalError, RinexError
+
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    if not isinstance(exc, RinexError | _UsageError):
+        text = _OPTION_PATTERN.sub(lambda m: _OPTION_NAMES[m.group(1)], text)
+    if isinstance(exc, OSError) and exc.filename is not None:
+        return f"{exc.filename}: {exc.strerror or text}"
+    if isinstance(exc, InternalError):
+        return f"internal error, please report it with the command line: {text}"
+    if isinstance(exc, GnssattError | ValueError | _UsageError):
+        return text
+    return f"unexpected {type(exc).__name__}, please report it with the command line: {text}"
+
+
+def _writable(option: str, path: Path, *, folder: bool) -> None:
+    """Refuse an output path that cannot be written before the work starts (not after it)."""
+    target = path if folder else path.parent
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _UsageError(f"{option} {path}: cannot create folder {target}: {exc.strerror or exc}") from exc
+    if not folder and path.is_dir():
+        raise _UsageError(f"{option} {path}: is a folder, expected a file name")
+    if not os.access(target, os.W_OK):
+        raise _UsageError(f"{option} {path}: folder {target} is not writable")
 
 
 def _reproduce(args: argparse.Namespace) -> int:
@@ -21,13 +92,12 @@ def _reproduce(args: argparse.Namespace) -> int:
             print(f"{exp.name.ljust(width)}  {exp.summary}  (default runs {exp.default_runs})")
         return 0
     if args.all == bool(args.names):
-        print("gnssatt reproduce: give experiment names, --all, or --list", file=sys.stderr)
-        return 2
+        raise _UsageError("reproduce: give experiment names, --all, or --list")
     try:
         chosen = list(EXPERIMENTS.values()) if args.all else [get(n) for n in args.names]
     except KeyError as exc:
-        print(f"gnssatt reproduce: {exc.args[0]}", file=sys.stderr)
-        return 2
+        raise _UsageError(f"reproduce: {exc.args[0]}") from None
+    _writable("--out", args.out, folder=True)
     for exp in chosen:
         runs = args.runs or (exp.quick_runs if args.all else exp.default_runs)
         t0 = time.perf_counter()
@@ -40,50 +110,66 @@ def _reproduce(args: argparse.Namespace) -> int:
 def _attitude(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gnssatt.errors import GnssattError
     from gnssatt.plots import attitude_series
     from gnssatt.rinex.attitude import attitude_from_rinex
 
-    try:
-        baselines = None
-        if args.baselines is not None:
-            try:
-                baselines = np.atleast_2d(np.loadtxt(args.baselines, ndmin=2))
-            except (OSError, ValueError) as exc:
-                print(f"gnssatt attitude: {args.baselines}: cannot read baselines: {exc}", file=sys.stderr)
-                return 2
-        series = attitude_from_rinex(
-            args.obs,
-            args.nav,
-            baselines,
-            method=args.method,
-            motion=args.motion,
-            continuity=args.continuity,
-            window_deg=args.window,
-            baseline_length_m=args.baseline_length,
-            systems=args.systems,
-            elevation_mask_deg=args.elevation_mask,
-        )
-    except GnssattError as exc:
-        print(f"gnssatt attitude: {exc}", file=sys.stderr)
-        return 2
-    args.out.parent.mkdir(parents=True, exist_ok=True)
+    png = args.out.with_suffix(".png")
+    if png == args.out:
+        raise _UsageError(f"--out {args.out}: expected a CSV file name (the plot goes to the same name .png)")
+    _writable("--out", args.out, folder=False)
+    baselines = None
+    if args.baselines is not None:
+        try:
+            baselines = np.atleast_2d(np.loadtxt(args.baselines, ndmin=2))
+        except (OSError, ValueError) as exc:
+            raise _UsageError(
+                f"--baselines {args.baselines}: cannot read rows 'x y z': {_one_line(exc)}"
+            ) from exc
+    series = attitude_from_rinex(
+        args.obs,
+        args.nav,
+        baselines,
+        method=args.method,
+        motion=args.motion,
+        continuity=args.continuity,
+        window_deg=args.window,
+        baseline_length_m=args.baseline_length,
+        systems=args.systems,
+        elevation_mask_deg=args.elevation_mask,
+    )
     series.to_csv(args.out)
-    png = attitude_series(series, args.out.with_suffix(".png"))
+    attitude_series(series, png)
     print(series.summary())
     print(f"wrote {args.out} and {png}")
     return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="gnssatt", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); the exit status: 0, 2 on any failure
+    (one line on stderr), 130 when interrupted."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("gnssatt: error: interrupted", file=sys.stderr)
+        return 130
+    except SystemExit as exc:  # --help
+        return exc.code if isinstance(exc.code, int) else 0 if exc.code is None else 2
+    except Exception as exc:
+        print(f"gnssatt: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+
+
+def _main(argv: Sequence[str] | None) -> int:
+    parser = _Parser(prog="gnssatt", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     rep = sub.add_parser("reproduce", help="run the source papers' experiments")
     rep.add_argument("names", nargs="*", help="experiment names (see --list)")
     rep.add_argument("--list", action="store_true", help="list the experiments")
     rep.add_argument("--all", action="store_true", help="run every experiment with quick defaults")
-    rep.add_argument("--runs", type=int, default=None, help="Monte Carlo runs (default: per experiment)")
-    rep.add_argument("--seed", type=int, default=2026, help="root random seed (default 2026)")
+    rep.add_argument(
+        "--runs", type=_integer(1), default=None, help="Monte Carlo runs (default: per experiment)"
+    )
+    rep.add_argument("--seed", type=_integer(0), default=2026, help="root random seed (default 2026)")
     rep.add_argument("--out", type=Path, default=Path("out"), help="output folder (default ./out)")
     rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
     att = sub.add_parser("attitude", help="attitude or baseline direction from RINEX files")
@@ -142,8 +228,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.command == "attitude":
         return _attitude(args)
-    if args.runs is not None and args.runs < 1:
-        parser.error("--runs must be >= 1")
     return _reproduce(args)
 
 

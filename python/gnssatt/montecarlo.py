@@ -3,22 +3,31 @@
 Each trial gets its own :class:`numpy.random.Generator` from ``SeedSequence(seed).spawn(n_trials)``, so a
 trial's random stream depends only on ``seed`` and its index: results are identical serially, in a process
 pool, or on a Dask cluster (``client.get_executor()``), whatever the number of workers.
+
+Process pools must not start their workers with ``fork``: gnssatt's Rust core runs its parallel loops on a
+rayon thread pool, and a forked child inherits that pool's state but none of its threads, so its first
+parallel call waits forever. :func:`run` therefore starts its own pool with ``spawn`` and refuses a
+``ProcessPoolExecutor`` that forks (the default on Linux before Python 3.14).
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from typing import Any, TypeVar
 
 import numpy as np
 from tqdm.auto import tqdm
 
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import integer
+from gnssatt.errors import InvalidInputError, InvalidTypeError
 
-__all__ = ["SerialExecutor", "run", "trial_generators"]
+__all__ = ["MAX_TRIALS", "SerialExecutor", "run", "trial_generators"]
+
+#: Most trials one :func:`run` takes: the results are held in one list, and each trial has its own seed.
+MAX_TRIALS = 100_000_000
 
 T = TypeVar("T")
 
@@ -37,11 +46,31 @@ class SerialExecutor(Executor):
 
 def trial_generators(seed: int, n_trials: int) -> list[np.random.Generator]:
     """The generators :func:`run` hands to trials ``0 .. n_trials-1``, for reproducing one trial alone."""
+    seed = integer("seed", seed, minimum=0)
+    n_trials = integer("n_trials", n_trials, minimum=1, maximum=MAX_TRIALS)
     return [np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(n_trials)]
 
 
-def _run_chunk(trial: Callable[[np.random.Generator], T], seeds: Sequence[np.random.SeedSequence]) -> list[T]:
-    return [trial(np.random.default_rng(s)) for s in seeds]
+def _start_method(executor: Executor) -> str | None:
+    """The start method of a ``ProcessPoolExecutor``'s workers, None for other executors or if unknown.
+
+    ``_mp_context`` is private to CPython's executor, so it is read defensively: an executor without it,
+    or a context that cannot say, is not refused.
+    """
+    if not isinstance(executor, ProcessPoolExecutor):
+        return None
+    context = getattr(executor, "_mp_context", None)
+    try:
+        method = context.get_start_method() if context is not None else None
+    except Exception:  # a foreign context object: nothing to conclude
+        return None
+    return method if isinstance(method, str) else None
+
+
+def _run_chunk(trial: Callable[[np.random.Generator], T], seed: int, trials: range) -> list[T]:
+    # SeedSequence(seed, spawn_key=(i,)) is the i-th child of SeedSequence(seed).spawn(...), made here so
+    # that no list of n_trials seeds is built or pickled
+    return [trial(np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i,)))) for i in trials]
 
 
 def run(
@@ -65,28 +94,56 @@ def run(
     seed
         Root seed; trial ``i`` uses the ``i``-th child of ``numpy.random.SeedSequence(seed)``.
     executor
-        Any :class:`concurrent.futures.Executor`: a ``ProcessPoolExecutor``, a Dask
-        ``distributed.Client(...).get_executor()``, or :class:`SerialExecutor`. Default: a process pool
-        with one worker per CPU (``os.cpu_count()``), created and shut down here; it uses the ``spawn``
-        start method so that worker processes never inherit the parent's native thread pools.
+        Any :class:`concurrent.futures.Executor`: a ``ProcessPoolExecutor`` started with ``spawn`` or
+        ``forkserver``, a Dask ``distributed.Client(...).get_executor()``, or :class:`SerialExecutor`.
+        Default: a process pool with one worker per CPU (``os.cpu_count()``), created and shut down here;
+        it uses the ``spawn`` start method so that worker processes never inherit the parent's native
+        thread pools.
     progress
         Show a tqdm progress bar of completed trials.
     chunksize
         Trials per submitted task (default: about 64 tasks in all), to amortise the per-task overhead.
+
+    Raises
+    ------
+    InvalidInputError
+        ``n_trials`` or ``chunksize`` below 1 or not integers, ``seed`` negative or not an integer, ``trial``
+        not callable, ``executor`` without ``submit``, or a ``ProcessPoolExecutor`` whose workers start with
+        ``fork``. That last one is an error and not a warning: once the Rust core's thread pool has run in
+        this process (any earlier gnssatt call may have started it, and nothing tells whether one did), a
+        forked worker hangs on its first parallel call, with no message and no way to interrupt it; the
+        remedy is one argument, ``ProcessPoolExecutor(mp_context=multiprocessing.get_context("spawn"))``
+        (or ``"forkserver"``).
+    WorkLimitError
+        ``n_trials`` above :data:`MAX_TRIALS`.
     """
-    if isinstance(n_trials, bool) or not isinstance(n_trials, int | np.integer) or n_trials < 1:
-        raise InvalidInputError(f"expected n_trials as an integer >= 1, got {n_trials!r}")
+    n_trials = integer("n_trials", n_trials, minimum=1, maximum=MAX_TRIALS)
+    seed = integer("seed", seed, minimum=0)
+    if not callable(trial):
+        raise InvalidTypeError(
+            f"expected trial as a callable taking a numpy Generator, got {type(trial).__name__}"
+        )
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise InvalidTypeError(
+            f"expected executor as a concurrent.futures.Executor (with submit), got {type(executor).__name__}"
+        )
+    if executor is not None and _start_method(executor) == "fork":
+        raise InvalidInputError(
+            "executor is a ProcessPoolExecutor whose workers start with fork, which hangs once gnssatt's "
+            "Rust thread pool has run in this process: pass "
+            'ProcessPoolExecutor(mp_context=multiprocessing.get_context("spawn")) (or "forkserver"), '
+            "or leave executor=None"
+        )
     if chunksize is None:
         chunksize = max(1, -(-n_trials // 64))
-    elif chunksize < 1:
-        raise InvalidInputError(f"expected chunksize >= 1, got {chunksize}")
-    seeds = np.random.SeedSequence(seed).spawn(n_trials)
-    chunks = [seeds[i : i + chunksize] for i in range(0, n_trials, chunksize)]
+    else:
+        chunksize = integer("chunksize", chunksize, minimum=1)
+    chunks = [range(i, min(i + chunksize, n_trials)) for i in range(0, n_trials, chunksize)]
     owned = executor is None
     if executor is None:
         executor = ProcessPoolExecutor(os.cpu_count(), mp_context=multiprocessing.get_context("spawn"))
     try:
-        futures = {executor.submit(_run_chunk, trial, chunk): k for k, chunk in enumerate(chunks)}
+        futures = {executor.submit(_run_chunk, trial, seed, chunk): k for k, chunk in enumerate(chunks)}
         results: list[list[T] | None] = [None] * len(chunks)
         with tqdm(total=n_trials, disable=not progress, unit="trial") as bar:
             for future in as_completed(futures):

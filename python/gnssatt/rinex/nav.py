@@ -17,7 +17,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
-from gnssatt.rinex.obs import _epoch_ns, _float, _int, _read_lines
+from gnssatt.rinex._fields import (
+    HEADER_LABELS,
+    Cursor,
+    epoch_ns,
+    integer,
+    number,
+    path_text,
+    read_lines,
+    reading,
+)
 
 __all__ = ["GPS_EPOCH", "GlonassEphemerides", "KeplerEphemerides", "RinexNav", "gps_ns", "read_nav"]
 
@@ -167,128 +176,179 @@ class RinexNav:
         )
 
 
+#: Record-start layout (0-based slices): year, month, day, hour, minute, second; separators; first field.
+_HEAD_V3 = (((4, 8), (9, 11), (12, 14), (15, 17), (18, 20), (21, 23)), (3, 8, 11, 14, 17, 20), 23)
+_HEAD_V2 = (((3, 5), (6, 8), (9, 11), (12, 14), (15, 17), (17, 22)), (2, 5, 8, 11, 14), 22)
+#: Lines of a record per system letter (GLONASS: 5 lines from RINEX 3.05 on).
+_RECORD_LINES = {"G": 8, "E": 8, "C": 8, "J": 8, "I": 8, "S": 4, "R": 4}
+
+
 def _values(path: str, lineno: int, line: str, start: int, count: int) -> list[float]:
+    """``count`` D19.12 fields from column ``start``; a blank field is 0, a field the line ends inside is
+    refused (a cut number would read as another value)."""
     out = []
     for k in range(count):
         text = line[start + 19 * k : start + 19 * (k + 1)]
-        out.append(_float(path, lineno, text, f"broadcast field {k + 1}") if text.strip() else 0.0)
+        if not text.strip():
+            out.append(0.0)
+            continue
+        if len(text) < 19:
+            raise RinexError(
+                path, lineno, f"the line ends inside broadcast field {k + 1} (a field cut short)"
+            )
+        out.append(number(path, lineno, text, f"broadcast field {k + 1}"))
     return out
+
+
+def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) -> None:
+    """Refuse a broadcast value that must be an integer in [lo, hi] (it becomes one in int64 arithmetic)."""
+    if value != round(value) or not lo <= value <= hi:
+        raise RinexError(path, lineno, f"expected {what} as a whole number in [{lo}, {hi}], got {value}")
 
 
 def read_nav(path: str | PathLike[str]) -> RinexNav:
     """Read a RINEX 2.xx (GPS ``N`` or GLONASS ``G``) or 3.xx (any system) navigation file.
 
-    SBAS, IRNSS and RINEX 4 message records are not read (RINEX 4 files are refused).
+    SBAS, IRNSS and RINEX 4 message records are not read (RINEX 4 files are refused). Records are kept in
+    file order, repeated ones included: navigation files are grouped by satellite, not sorted in time, and
+    merged files carry one record per message type (Galileo I/NAV and F/NAV share a time of clock).
 
     Raises
     ------
     RinexError
-        Unknown version or file type, a missing ``END OF HEADER``, a truncated record, a malformed number;
-        the message names the file and line.
+        Unknown version or file type, a missing ``END OF HEADER``, a record with fewer lines than its system
+        has, a line cut inside a field or a file cut inside its last line, a malformed or non-finite number,
+        a date or time that does not exist, a week, time of week or GLONASS channel that is not a whole
+        number in its range; the message names the file and line. Every other failure while reading becomes
+        a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
+        ``os.PathLike``.
     """
-    p, lines = _read_lines(path)
+    p = path_text(path)
+    with reading(p) as cursor:
+        return _read_nav(p, read_lines(p), cursor)
+
+
+def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
     if not lines or lines[0][60:80].strip() != "RINEX VERSION / TYPE":
         raise RinexError(p, 1, "expected 'RINEX VERSION / TYPE' in columns 61-80")
-    version = _float(p, 1, lines[0][0:9], "the RINEX version")
+    version = number(p, 1, lines[0][0:9], "the RINEX version")
     if not (2.0 <= version < 4.0):
         raise RinexError(p, 1, f"unknown navigation file version {version}: expected 2.xx or 3.xx")
     ftype = lines[0][20:21]
-    if version < 3 and ftype not in "NG":
+    if version < 3 and ftype not in ("N", "G"):
         raise RinexError(p, 1, f"expected a GPS ('N') or GLONASS ('G') navigation file, got type {ftype!r}")
     if version >= 3 and ftype != "N":
         raise RinexError(p, 1, f"expected a navigation file (type 'N'), got {ftype!r}")
-    v2_system = "R" if (version < 3 and ftype == "G") else "G"
-    if version >= 3:
-        v2_system = lines[0][40:41].strip() or "G"
+    v2_system = "R" if ftype == "G" else "G"
     alpha = np.full(4, np.nan)
     beta = np.full(4, np.nan)
     leaps: int | None = None
     body = None
+    last_known = 1
     for i, line in enumerate(lines[1:], start=1):
+        cursor.line = i + 1
         label = line[60:80].strip()
+        if label in HEADER_LABELS:
+            last_known = i + 1
         if label == "END OF HEADER":
             body = i + 1
             break
         if label == "ION ALPHA":
             alpha = np.array(
-                [_float(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION ALPHA") for k in range(4)]
+                [number(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION ALPHA") for k in range(4)]
             )
         elif label == "ION BETA":
-            beta = np.array([_float(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION BETA") for k in range(4)])
+            beta = np.array([number(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION BETA") for k in range(4)])
         elif label == "IONOSPHERIC CORR" and line[0:4] in ("GPSA", "GPSB"):
             vals = np.array(
-                [_float(p, i + 1, line[5 + 12 * k : 17 + 12 * k], "IONOSPHERIC CORR") for k in range(4)]
+                [number(p, i + 1, line[5 + 12 * k : 17 + 12 * k], "IONOSPHERIC CORR") for k in range(4)]
             )
             if line[3] == "A":
                 alpha = vals
             else:
                 beta = vals
         elif label == "LEAP SECONDS":
-            leaps = _int(p, i + 1, line[0:6], "LEAP SECONDS")
+            leaps = integer(p, i + 1, line[0:6], "LEAP SECONDS")
     if body is None:
-        raise RinexError(p, len(lines), "missing header line 'END OF HEADER'")
+        raise RinexError(
+            p,
+            min(last_known + 1, len(lines)),
+            "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
+            "label",
+        )
     v3 = version >= 3
     start = 4 if v3 else 3
+    dates, seps, first_field = _HEAD_V3 if v3 else _HEAD_V2
     kep_rows: list[list[float]] = []
     kep_sats: list[str] = []
-    kep_epoch: list[tuple[int, int, int, int, int, float]] = []
+    kep_epoch: list[int] = []
     glo_rows: list[list[float]] = []
     glo_sats: list[str] = []
-    glo_epoch: list[tuple[int, int, int, int, int, float]] = []
+    glo_epoch: list[int] = []
     i = body
     n = len(lines)
     while i < n:
         line = lines[i]
+        lineno = i + 1
+        cursor.line = lineno
         if not line.strip():
             i += 1
             continue
-        lineno = i + 1
         if v3:
             sysc = line[0]
-            prn = _int(p, lineno, line[1:3], "the satellite number")
-            date = line[3:23].split()
+            prn = integer(p, lineno, line[1:3], "the satellite number")
         else:
             sysc = v2_system
-            prn = _int(p, lineno, line[0:2], "the satellite number")
-            date = line[2:22].split()
-        if sysc in "GECJI":
-            n_lines = 8
-        elif sysc == "R":
-            n_lines = 5 if version >= 3.05 else 4
-        elif sysc == "S":
-            n_lines = 4
-        else:
+            prn = integer(p, lineno, line[0:2], "the satellite number")
+        if sysc not in _RECORD_LINES:
             raise RinexError(p, lineno, f"unknown satellite system {sysc!r} in a navigation record")
+        if not 1 <= prn <= 99:
+            raise RinexError(p, lineno, f"expected a satellite number 1-99, got {prn}")
+        n_lines = 5 if sysc == "R" and version >= 3.05 else _RECORD_LINES[sysc]
         if i + n_lines > n:
             raise RinexError(p, n, f"file truncated inside the record that starts at line {lineno}")
-        if len(date) != 6:
-            raise RinexError(p, lineno, f"expected an epoch 'yy mm dd hh mm ss', got {' '.join(date)!r}")
-        y, mo, d, hh, mi = (_int(p, lineno, x, "the epoch") for x in date[:5])
-        sec = _float(p, lineno, date[5], "the epoch seconds")
+        for q in range(1, n_lines):
+            if lines[i + q][:start].strip():
+                raise RinexError(
+                    p,
+                    lineno,
+                    f"the record has {q} line(s), but a {sysc} record has {n_lines}: line {lineno + q} "
+                    f"does not continue it (columns 1-{start} not blank)",
+                )
+        if any(line[c] != " " for c in seps) or len(line) < first_field:
+            raise RinexError(p, lineno, f"expected a record start 'sat yy mm dd hh mm ss', got {line[:23]!r}")
+        y, mo, d, hh, mi = (integer(p, lineno, line[a:b], "the epoch") for a, b in dates[:5])
+        sec = number(p, lineno, line[dates[5][0] : dates[5][1]], "the epoch seconds")
         if not v3:
+            if not 0 <= y <= 99:
+                raise RinexError(p, lineno, f"expected a two-digit year, got {y}")
             y += 1900 if y >= 80 else 2000
-        head = _values(p, lineno, line, 23 if v3 else 22, 3)
+        t_ns = epoch_ns(p, lineno, y, mo, d, hh, mi, sec)
+        head = _values(p, lineno, line, first_field, 3)
         orbit: list[float] = []
         for q in range(1, n_lines):
+            cursor.line = lineno + q
             orbit += _values(p, lineno + q, lines[i + q], start, 4)
         sat = f"{sysc}{prn:02d}"
         if sysc in "GECJ":
+            _whole(p, lineno + 5, orbit[18], 0, 9999, "the week")
+            if not 0.0 <= orbit[8] <= 604_800.0:
+                raise RinexError(
+                    p, lineno + 3, f"expected a time of ephemeris in [0, 604800] s, got {orbit[8]}"
+                )
             kep_rows.append(head + orbit[:26])
             kep_sats.append(sat)
-            kep_epoch.append((y, mo, d, hh, mi, sec))
+            kep_epoch.append(t_ns)
         elif sysc == "R":
+            _whole(p, lineno + 2, orbit[7], -7, 13, "the GLONASS frequency channel")
             glo_rows.append(head + orbit[:12])
             glo_sats.append(sat)
-            glo_epoch.append((y, mo, d, hh, mi, sec))
+            glo_epoch.append(t_ns)
         i += n_lines
+    cursor.line = n
 
-    def epochs_ns(ep: list[tuple[int, int, int, int, int, float]]) -> NDArray[np.int64]:
-        if not ep:
-            return np.zeros(0, dtype=np.int64)
-        a = np.array([e[:5] for e in ep], dtype=np.int64)
-        s = np.array([e[5] for e in ep])
-        sod = (a[:, 3] * 3600 + a[:, 4] * 60) * 1_000_000_000 + np.round(s * 1e9).astype(np.int64)
-        return gps_ns(_epoch_ns(a[:, 0], a[:, 1], a[:, 2], sod))
+    def epochs_ns(ep: list[int]) -> NDArray[np.int64]:
+        return gps_ns(np.array(ep, dtype=np.int64).astype("datetime64[ns]"))
 
     kr = np.array(kep_rows, dtype=np.float64).reshape(-1, 29)
     ks = np.array(kep_sats, dtype="U3")

@@ -19,16 +19,31 @@ Conventions
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from os import PathLike
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
+from gnssatt.rinex._fields import (
+    HEADER_LABELS,
+    Cursor,
+    epoch_ns,
+    integer,
+    number,
+    path_text,
+    read_lines,
+    reading,
+)
 
-__all__ = ["RinexObs", "read_obs"]
+__all__ = ["MAX_CELLS", "RinexObs", "read_obs"]
+
+#: Most epochs x satellites x codes :func:`read_obs` holds in its dense arrays (8 GiB of float64 values and
+#: 2 GiB of indicators): a day at 1 Hz of 120 satellites with 40 codes is 4.1e8; a hostile file scattering
+#: one record per epoch over every satellite id could otherwise ask for hundreds of GiB.
+MAX_CELLS = 2**30
 
 _CODE_PRIORITY = "CPWYXSLQIDBZMNA"
 
@@ -131,46 +146,132 @@ class RinexObs:
         return np.array([lookup[s] for s in sats], dtype=np.int64)
 
 
-def _float(path: str, lineno: int, text: str, what: str) -> float:
+_SYSTEMS = "GRESJCI"
+_PRN = re.compile(r"[ 0]?[1-9]|[1-9]\d")
+#: Characters of an F14.3 observation: digits, sign, point, leading blanks.
+_OBS_CHARS = np.zeros(256, dtype=bool)
+_OBS_CHARS[[ord(c) for c in "0123456789+-. "]] = True
+_OBS_NUMBER = re.compile(r" *[+-]?(?:\d+\.?\d*|\.\d+)")
+#: A continuation of a RINEX 2 satellite list (an observation line always holds a decimal point).
+_SAT_LIST = re.compile(r" {32}(?:[A-Z ][ \d]\d)+ *")
+_FLAG_NAMES = "0 (OK), 1 (power failure), 2-5 (events followed by special records) or 6 (cycle slip records)"
+
+
+_SAT_IDS: dict[tuple[str, str | None], str] = {}  # valid tokens seen: a few hundred at most
+
+
+def _sat_id(path: str, lineno: int, token: str, default: str | None) -> str:
+    """``"G03"`` from a satellite field (RINEX 2 allows a blank system letter, meaning the file's system)."""
+    known = _SAT_IDS.get((token, default))
+    if known is not None:
+        return known
+    letter = token[0:1]
+    if letter == " " and default is not None:
+        letter = default
+    if len(token) < 3 or letter not in _SYSTEMS or not _PRN.fullmatch(token[1:3]):
+        raise RinexError(path, lineno, f"expected a satellite id such as 'G03', got {token!r}")
+    sat = _SAT_IDS[(token, default)] = f"{letter}{int(token[1:3]):02d}"
+    return sat
+
+
+def _blank(line: str, spans: tuple[tuple[int, int], ...]) -> bool:
+    return all(not line[a:b].strip() for a, b in spans)
+
+
+#: Epoch-line layout (0-based slices): year, month, day, hour, minute, second; separators; flag; count;
+#: clock offset; the shortest valid line.
+_EPOCH_V3 = (((2, 6), (7, 9), (10, 12), (13, 15), (16, 18), (18, 29)), ((1, 2), (6, 7), (9, 10), (12, 13),
+             (15, 16), (29, 31)), 31, (32, 35), (41, 56), 35)  # fmt: skip
+_EPOCH_V2 = (((1, 3), (4, 6), (7, 9), (10, 12), (13, 15), (15, 26)), ((0, 1), (3, 4), (6, 7), (9, 10),
+             (12, 13), (26, 28)), 28, (29, 32), (68, 80), 32)  # fmt: skip
+
+
+def _epoch_line(path: str, lineno: int, line: str, v3: bool) -> tuple[int, int, int | None, float]:
+    """Flag, count, label (ns since 1970, None for an event epoch without a time) and clock offset (s, NaN
+    if blank) of an epoch line."""
+    dates, seps, flag_col, (n0, n1), (c0, c1), shortest = _EPOCH_V3 if v3 else _EPOCH_V2
+    if len(line) < shortest:
+        raise RinexError(
+            path, lineno, f"epoch line cut short: expected at least {shortest} columns, got {len(line)}"
+        )
+    flag_text = line[flag_col]
+    if flag_text not in "0123456":
+        raise RinexError(path, lineno, f"unknown epoch flag {flag_text!r}: expected {_FLAG_NAMES}")
+    flag = int(flag_text)
+    n = integer(path, lineno, line[n0:n1], "the number of satellites (or special records)")
+    if n < 0:
+        raise RinexError(path, lineno, f"expected a number of satellites >= 0, got {n}")
+    clk_text = line[c0:c1]
+    clk = number(path, lineno, clk_text, "the receiver clock offset") if clk_text.strip() else float("nan")
+    date_area = line[dates[0][0] : dates[-1][1]]
+    if 2 <= flag <= 5 and not date_area.strip():
+        return flag, n, None, clk  # an event whose time is not significant
+    if not _blank(line, seps):
+        raise RinexError(path, lineno, f"expected an epoch 'yyyy mm dd hh mm ss.sssssss', got {date_area!r}")
+    y, mo, d, hh, mi = (integer(path, lineno, line[a:b], "the epoch") for a, b in dates[:5])
+    sec = number(path, lineno, line[dates[5][0] : dates[5][1]], "the epoch seconds")
+    if not v3:
+        if not 0 <= y <= 99:
+            raise RinexError(path, lineno, f"expected a two-digit year, got {y}")
+        y += 1900 if y >= 80 else 2000
+    return flag, n, epoch_ns(path, lineno, y, mo, d, hh, mi, sec), clk
+
+
+def _check_fields(path: str, lineno: int, text: str, n_fields: int, what: str) -> None:
+    """Refuse a record line that ends inside a number (a cut field) or holds more fields than announced.
+
+    Observations are F14.3 right-justified in 16 columns (then the LLI and signal-strength digits), so a
+    line whose blanks at the end were stripped still ends at column 14, 15 or 16 of a field.
+    """
+    content = text.rstrip(" ")
+    if len(content) > 16 * n_fields:
+        raise RinexError(
+            path, lineno, f"{what}: more than the {n_fields} observation fields the header announces"
+        )
+    cut = len(content) % 16
+    if 1 <= cut <= 13:
+        field = len(content) // 16 + 1
+        raise RinexError(
+            path, lineno, f"{what}: the line ends inside observation field {field} (a field cut short)"
+        )
+
+
+def _convert(
+    path: str, texts: list[str], n_types: int, line_of: NDArray[np.int64]
+) -> tuple[NDArray[np.float64], NDArray[np.uint8], NDArray[np.uint8]]:
+    """Values, LLI and signal-strength digits of records (one text of ``16 n_types`` columns each), checked
+    as a whole; ``line_of[r, k]`` is the line of field ``k`` of record ``r``, to name the first bad one."""
+    n_rec = len(texts)
+    raw = np.frombuffer("".join(texts).encode("ascii", errors="replace"), dtype=np.uint8)
+    raw = raw.reshape(n_rec, n_types, 16)
+    num = np.ascontiguousarray(raw[:, :, :14])
+    space = num == 32
+    blank = space.all(axis=2)
+    # a number is right-justified with no blank inside: no blank follows a non-blank
+    shaped = _OBS_CHARS[num].all(axis=2) & ~np.any(space[:, :, 1:] & ~space[:, :, :-1], axis=2)
+    digits = raw[:, :, 14:16]
+    is_digit = (digits >= 48) & (digits <= 57)
+    bad = (~blank & ~shaped) | ~np.all(is_digit | (digits == 32), axis=2)
+    strings = num.view("S14").reshape(n_rec, n_types).copy()
+    strings[blank | bad] = b"nan"
     try:
-        return float(text.replace("D", "E").replace("d", "e"))
-    except ValueError:
-        raise RinexError(path, lineno, f"expected a number for {what}, got {text.strip()!r}") from None
-
-
-def _int(path: str, lineno: int, text: str, what: str) -> int:
-    try:
-        return int(text)
-    except ValueError:
-        raise RinexError(path, lineno, f"expected an integer for {what}, got {text.strip()!r}") from None
-
-
-_COMPRESSED_MAGIC = (b"\x1f\x8b", b"\x1f\x9d", b"PK\x03\x04", b"BZh")
-
-
-def _read_lines(path: str | PathLike[str]) -> tuple[str, list[str]]:
-    """Lines of a RINEX file; Hatanaka (``.crx``, ``.??d``) and gzip / Unix-compress / zip / bzip2 files are
-    decompressed with the optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``)."""
-    p = str(path)
-    try:
-        raw = Path(p).read_bytes()
-    except OSError as exc:
-        raise RinexError(p, None, f"cannot open: {exc.strerror}") from exc
-    if raw.startswith(_COMPRESSED_MAGIC) or raw[60:80].startswith(b"CRINEX VERS"):
-        try:
-            import hatanaka
-        except ImportError:
-            raise RinexError(
-                p,
-                None,
-                "compressed (Hatanaka or gzip/Z/zip/bz2) file: install the optional 'hatanaka' package "
-                "(pip install gnssatt[hatanaka]) or decompress it first (crx2rnx)",
-            ) from None
-        try:
-            raw = hatanaka.decompress(raw)
-        except Exception as exc:  # the package raises ValueError and its own errors on corrupt input
-            raise RinexError(p, None, f"cannot decompress: {exc}") from exc
-    return p, raw.decode("ascii", errors="replace").splitlines()
+        values = strings.astype(np.float64)
+    except ValueError:  # "1-2", "1.2.3": the right characters in a wrong order
+        for r, k in np.argwhere(~blank & ~bad):
+            bad[r, k] = not _OBS_NUMBER.fullmatch(strings[r, k].decode())
+        strings[bad] = b"nan"
+        values = strings.astype(np.float64)
+    if bad.any():
+        r, k = min(np.argwhere(bad), key=lambda rk: (line_of[rk[0], rk[1]], rk[1]))
+        text = raw[r, k].tobytes().decode("ascii", errors="replace")
+        raise RinexError(
+            path,
+            int(line_of[r, k]),
+            f"expected a number (F14.3) with blank or digit indicators in observation field {k + 1}, "
+            f"got {text!r}",
+        )
+    flags = np.where(is_digit, digits - 48, 0).astype(np.uint8)
+    return values, flags[:, :, 0], flags[:, :, 1]
 
 
 def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
@@ -180,13 +281,15 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
     first = lines[0]
     if first[60:80].strip() != "RINEX VERSION / TYPE":
         raise RinexError(path, 1, f"expected 'RINEX VERSION / TYPE' in columns 61-80, got {first[60:80]!r}")
-    version = _float(path, 1, first[0:9], "the RINEX version")
+    version = number(path, 1, first[0:9], "the RINEX version")
     if not (2.0 <= version < 5.0):
         raise RinexError(path, 1, f"unknown RINEX version {version}: expected 2.xx, 3.xx or 4.xx")
     ftype = first[20:21]
     if ftype != "O":
         raise RinexError(path, 1, f"expected an observation file (type 'O' in column 21), got {ftype!r}")
     sysletter = first[40:41].strip() or "G"
+    if sysletter not in _SYSTEMS + "M":
+        raise RinexError(path, 1, f"expected a satellite system letter in column 41, got {sysletter!r}")
     hdr: dict[str, object] = {
         "version": version,
         "system": sysletter,
@@ -201,39 +304,44 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
     types2: list[str] = []
     n_types2 = 0
     sys3 = ""
-    n3 = 0
     types3: dict[str, list[str]] = {}
+    announced: dict[str, tuple[int, int]] = {}  # system -> (count, line of its last types line)
+    last_known = 1
     for i in range(1, len(lines)):
         line = lines[i]
         label = line[60:80].strip()
         lineno = i + 1
+        if label in HEADER_LABELS:
+            last_known = lineno
         if label == "END OF HEADER":
             if version < 3:
                 if not types2:
-                    raise RinexError(path, None, "missing header line '# / TYPES OF OBSERV'")
-                if len(types2) != n_types2:
-                    raise RinexError(
-                        path, lineno, f"'# / TYPES OF OBSERV' announced {n_types2} types, got {len(types2)}"
-                    )
+                    raise RinexError(path, lineno, "missing header line '# / TYPES OF OBSERV'")
                 systems = "GRESJCI" if sysletter == "M" else sysletter
                 hdr["types"] = {s: tuple(types2) for s in systems}
             else:
                 if not types3:
-                    raise RinexError(path, None, "missing header line 'SYS / # / OBS TYPES'")
+                    raise RinexError(path, lineno, "missing header line 'SYS / # / OBS TYPES'")
                 hdr["types"] = {s: tuple(v) for s, v in types3.items()}
+            for s, (count, at) in announced.items():
+                got = types2 if version < 3 else types3[s]
+                if len(got) != count:
+                    raise RinexError(
+                        path, at, f"system {s}: announced {count} observation types, got {len(got)}"
+                    )
             return hdr, i + 1
         if label == "MARKER NAME":
             hdr["marker"] = line[0:60].strip()
         elif label == "APPROX POSITION XYZ":
             hdr["pos"] = np.array(
-                [_float(path, lineno, line[k : k + 14], "APPROX POSITION") for k in (0, 14, 28)]
+                [number(path, lineno, line[k : k + 14], "APPROX POSITION") for k in (0, 14, 28)]
             )
         elif label == "ANTENNA: DELTA H/E/N":
             hdr["delta"] = np.array(
-                [_float(path, lineno, line[k : k + 14], "ANTENNA DELTA") for k in (0, 14, 28)]
+                [number(path, lineno, line[k : k + 14], "ANTENNA DELTA") for k in (0, 14, 28)]
             )
         elif label == "INTERVAL":
-            hdr["interval"] = _float(path, lineno, line[0:10], "INTERVAL")
+            hdr["interval"] = number(path, lineno, line[0:10], "INTERVAL")
         elif label == "TIME OF FIRST OBS":
             ts = line[48:51].strip()
             if ts:
@@ -242,16 +350,22 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
                 hdr["time_system"] = {"R": "GLO", "E": "GAL", "C": "BDT", "J": "QZS"}[sysletter]
         elif label == "# / TYPES OF OBSERV":
             if line[0:6].strip():
-                n_types2 = _int(path, lineno, line[0:6], "the number of observation types")
-            types2 += line[6:60].split()
+                n_types2 = integer(path, lineno, line[0:6], "the number of observation types")
+            types2 += _codes(path, lineno, line[6:60], types2, 2)
+            announced[sysletter] = (n_types2, lineno)
+            if len(types2) > n_types2:
+                raise RinexError(path, lineno, f"announced {n_types2} observation types, got {len(types2)}")
         elif label == "SYS / # / OBS TYPES":
             if line[0:1].strip():
                 sys3 = line[0]
-                n3 = _int(path, lineno, line[3:6], "the number of observation types")
+                if sys3 not in _SYSTEMS or sys3 in types3:
+                    raise RinexError(path, lineno, f"expected a new satellite system letter, got {sys3!r}")
+                n3 = integer(path, lineno, line[3:6], "the number of observation types")
                 types3[sys3] = []
             elif not sys3:
                 raise RinexError(path, lineno, "continuation of 'SYS / # / OBS TYPES' without a system")
-            types3[sys3] += line[7:58].split()
+            types3[sys3] += _codes(path, lineno, line[7:58], types3[sys3], 3)
+            announced[sys3] = (n3, lineno)
             if len(types3[sys3]) > n3:
                 raise RinexError(
                     path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}"
@@ -263,52 +377,44 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
             for k in range(0, len(body) - 6, 7):
                 sat, frq = body[k : k + 3].strip(), body[k + 4 : k + 6].strip()
                 if sat and frq:
-                    glo[sat] = _int(path, lineno, frq, "a GLONASS channel")
-    raise RinexError(path, len(lines), "missing header line 'END OF HEADER' (file truncated in the header?)")
+                    glo[sat] = integer(path, lineno, frq, "a GLONASS channel")
+    raise RinexError(
+        path,
+        min(last_known + 1, len(lines)),
+        "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
+        "label (file truncated in the header?)",
+    )
 
 
-def _epoch_ns(
-    y: NDArray[np.int64], mo: NDArray[np.int64], d: NDArray[np.int64], sod_ns: NDArray[np.int64]
-) -> NDArray[np.datetime64]:
-    months = (y - 1970) * 12 + (mo - 1)
-    days = months.astype("datetime64[M]").astype("datetime64[D]") + (d - 1).astype("timedelta64[D]")
-    return days.astype("datetime64[ns]") + sod_ns.astype("timedelta64[ns]")
-
-
-def _sat_id(token: str, default: str) -> str:
-    s = token[0] if token[0] != " " else default
-    return f"{s}{int(token[1:3] or 0):02d}"
-
-
-def _convert(
-    path: str, buf: bytearray, n_rec: int, n_types: int, linenos: list[int]
-) -> tuple[NDArray[np.float64], NDArray[np.uint8], NDArray[np.uint8]]:
-    raw = np.frombuffer(bytes(buf), dtype=np.uint8).reshape(n_rec, n_types, 16)
-    num = np.ascontiguousarray(raw[:, :, :14])
-    blank = np.all((num == 32) | (num == 0), axis=2)
-    strings = num.view("S14").reshape(n_rec, n_types).copy()
-    strings[blank] = b"nan"
-    try:
-        values = strings.astype(np.float64)
-    except ValueError:
-        for r in range(n_rec):
-            for k in range(n_types):
-                try:
-                    float(strings[r, k])
-                except ValueError:
-                    raise RinexError(
-                        path,
-                        linenos[r] + (k // 5 if linenos else 0),
-                        f"expected a number in observation field {k + 1}, got {strings[r, k].decode()!r}",
-                    ) from None
-        raise
-    digits = raw[:, :, 14:16]
-    flags = np.where((digits >= 48) & (digits <= 57), digits - 48, 0).astype(np.uint8)
-    return values, flags[:, :, 0], flags[:, :, 1]
+def _codes(path: str, lineno: int, text: str, before: list[str], length: int) -> list[str]:
+    """Observation codes of a types line, each new in its system (a repeated code would overwrite data)."""
+    codes = text.split()
+    for k, c in enumerate(codes):
+        if len(c) != length or not c[0].isalpha() or c in before or c in codes[:k]:
+            raise RinexError(
+                path, lineno, f"expected distinct {length}-character observation codes, got {c!r}"
+            )
+    return codes
 
 
 def read_obs(path: str | PathLike[str]) -> RinexObs:
-    """Read a RINEX 2.xx, 3.xx or 4.xx observation file (uncompressed, not Hatanaka).
+    """Read a RINEX 2.xx, 3.xx or 4.xx observation file (plain, or compressed with the optional
+    ``hatanaka`` package).
+
+    The reader refuses what a careful reader refuses, naming the file and the line of the fault: a date or
+    time that does not exist (month 13, hour 24, minute 60, second 60 except a leap second at 23:59), epochs
+    that do not increase strictly, a number that is not a finite F14.3 value (``nan``, ``inf``, ``1e999``),
+    a line cut inside a field or a file cut inside its last line, a satellite count that differs from the
+    satellites listed or the records that follow, a satellite twice in one epoch, and an unknown epoch flag.
+
+    Epoch flags are handled as RINEX defines them: 0 and 1 (power failure before the epoch) are observation
+    epochs; 2-5 (antenna moving, new occupation, header information, external event) announce that many
+    header records, which are checked to be header records and skipped; 6 announces that many cycle-slip
+    records (observation records repeating an epoch), which are skipped; any other flag is an error.
+
+    Duplicated epochs are refused, with no option to merge them: a repeated label comes from concatenated
+    files or a corrupted clock label, and any silent choice (first, last, union) can pair wrong data. Merge
+    such files with a RINEX tool (``gfzrnx -splice``, ``teqc``) first.
 
     Parameters
     ----------
@@ -322,105 +428,170 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     Raises
     ------
     RinexError
-        A missing file, an unknown version or file type, a missing header line, a malformed epoch line or
-        observation field, or a file truncated inside an epoch; the message names the file and line.
+        Any fault above, a missing file, an unknown version or file type, a missing header line; the
+        message names the file and the line. Every other failure while reading becomes a ``RinexError``
+        naming the line being read. A file whose epochs x satellites x codes exceed :data:`MAX_CELLS`
+        (the size of the dense arrays returned) is refused before they are allocated.
+        ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``.
     """
-    p, lines = _read_lines(path)
+    p = path_text(path)
+    with reading(p) as cursor:
+        return _read_obs(p, read_lines(p), cursor)
+
+
+def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
     hdr, i = _parse_header(p, lines)
     version = float(hdr["version"])  # type: ignore[arg-type]
     types: dict[str, tuple[str, ...]] = hdr["types"]  # type: ignore[assignment]
     default_sys = str(hdr["system"]) if hdr["system"] != "M" else "G"
     v3 = version >= 3
     n_lines = len(lines)
-    ep_fields: list[tuple[int, int, int, int, int, float, int, float]] = []
+    ep_time: list[int] = []
+    ep_flag: list[int] = []
+    ep_clock: list[float] = []
     rec_epoch: list[int] = []
     rec_sat: list[str] = []
     rec_line: list[int] = []
     chunks: dict[str, list[str]] = {}
-    n_types_max = max(len(t) for t in types.values())
-    width = n_types_max * 16
-    sat_lines2 = (n_types_max + 4) // 5
+    n_types2 = len(next(iter(types.values())))
+    sat_lines2 = (n_types2 + 4) // 5
+    previous: tuple[int, int] | None = None  # (label, line) of the last observation epoch
+    block: tuple[int, int] | None = None  # (line, count) of the last epoch block read
     while i < n_lines:
         line = lines[i]
         lineno = i + 1
+        cursor.line = lineno
         if not line.strip():
             i += 1
             continue
-        if v3:
-            if line[0] != ">":
-                raise RinexError(p, lineno, f"expected an epoch line starting with '>', got {line[:40]!r}")
-            flag = _int(p, lineno, line[31:32] or "0", "the epoch flag")
-            n = _int(p, lineno, line[32:35], "the number of satellites")
-            date = line[2:29]
-        else:
-            flag = _int(p, lineno, line[28:29] or "0", "the epoch flag")
-            n = _int(p, lineno, line[29:32], "the number of satellites")
-            date = line[0:26]
-        if flag > 1:  # events: n header/record lines follow (flag 6: cycle slip records, skipped)
-            skip = n if flag != 6 else n * (1 if v3 else sat_lines2)
-            i += 1 + skip
-            continue
-        parts = date.split()
-        if len(parts) != 6:
-            raise RinexError(p, lineno, f"expected an epoch 'yy mm dd hh mm ss', got {date.strip()!r}")
-        y, mo, d, hh, mi = (_int(p, lineno, x, "the epoch") for x in parts[:5])
-        sec = _float(p, lineno, parts[5], "the epoch seconds")
-        if not v3:
-            y += 1900 if y >= 80 else 2000
-        clk_text = line[41:56] if v3 else line[68:80]
-        clk = _float(p, lineno, clk_text, "the clock offset") if clk_text.strip() else float("nan")
-        e = len(ep_fields)
-        ep_fields.append((y, mo, d, hh, mi, sec, flag, clk))
-        if v3:
-            if i + n >= n_lines:
-                raise RinexError(
-                    p, n_lines, f"file truncated: epoch at line {lineno} announces {n} satellites"
-                )
-            for j in range(1, n + 1):
-                rl = lines[i + j]
-                sat = _sat_id(rl[0:3], default_sys)
-                if rl[0:1] == ">" or len(rl) < 3:
-                    raise RinexError(p, i + j + 1, f"expected {n} satellite records after line {lineno}")
-                rec_epoch.append(e)
-                rec_sat.append(sat)
-                rec_line.append(i + j + 1)
-                chunks.setdefault(sat[0], []).append(rl[3 : 3 + width].ljust(width))
-            i += n + 1
-        else:
-            n_cont = (n - 1) // 12 if n > 0 else 0
-            if i + n_cont >= n_lines:
-                raise RinexError(p, n_lines, f"file truncated in the satellite list of line {lineno}")
-            sats_text = "".join(lines[i + c][32:68].ljust(36) for c in range(n_cont + 1))
-            k = i + n_cont
-            ids = [_sat_id(sats_text[3 * j : 3 * j + 3], default_sys) for j in range(n)]
-            start = k + 1
-            if start + n * sat_lines2 > n_lines:
+        if v3 and line[0] != ">":
+            if block is not None and line[0:1] in _SYSTEMS:
                 raise RinexError(
                     p,
-                    n_lines,
-                    f"file truncated: epoch at line {lineno} announces {n} satellites with "
-                    f"{sat_lines2} line(s) each",
+                    block[0],
+                    f"the epoch announces {block[1]} satellites, but line {lineno} holds one more record",
                 )
-            for j, sat in enumerate(ids):
-                base = start + j * sat_lines2
-                rec = "".join(lines[base + q][:80].ljust(80) for q in range(sat_lines2))
-                rec_epoch.append(e)
-                rec_sat.append(sat)
-                rec_line.append(base + 1)
-                chunks.setdefault("*", []).append(rec[:width])
-            i = start + n * sat_lines2
-    if not ep_fields:
+            raise RinexError(p, lineno, f"expected an epoch line starting with '>', got {line[:40]!r}")
+        flag, n, t_ns, clk = _epoch_line(p, lineno, line, v3)
+        # RINEX 2 lists the satellites on the epoch line and its continuation lines (12 per line)
+        n_head = 1 + ((n - 1) // 12 if n > 0 and not v3 and not 2 <= flag <= 5 else 0)
+        per_sat = 1 if v3 else sat_lines2
+        n_body = n if (v3 or 2 <= flag <= 5) else n * sat_lines2
+        if i + n_head + n_body > n_lines:
+            raise RinexError(
+                p,
+                lineno,
+                f"the epoch announces {n} {'special records' if 2 <= flag <= 5 else 'satellites'}, but "
+                f"the file ends {n_lines - i - 1} line(s) later (file truncated?)",
+            )
+        if 2 <= flag <= 5:
+            for j in range(i + 1, i + 1 + n):
+                if lines[j][60:80].strip() not in HEADER_LABELS or lines[j][0:1] == ">":
+                    raise RinexError(
+                        p,
+                        lineno,
+                        f"epoch flag {flag} announces {n} header records, but line {j + 1} is not one "
+                        f"(no header label in columns 61-80)",
+                    )
+            i += 1 + n
+            block = None
+            continue
+        if v3:
+            ids = []
+            for j in range(i + 1, i + 1 + n):
+                if lines[j][0:1] == ">":
+                    raise RinexError(
+                        p,
+                        lineno,
+                        f"the epoch announces {n} satellites, but line {j + 1} starts the next epoch "
+                        f"after {j - i - 1}",
+                    )
+                ids.append(_sat_id(p, j + 1, lines[j][0:3], None))
+        else:
+            listed = "".join(lines[i + c][32:68].ljust(36) for c in range(n_head))
+            for c in range(1, n_head):
+                if lines[i + c][:32].strip():
+                    raise RinexError(
+                        p,
+                        lineno,
+                        f"the epoch lists {n} satellites, but line {i + c + 1} does not continue "
+                        f"the list (columns 1-32 not blank)",
+                    )
+            if listed[3 * n :].strip() or len(listed[: 3 * n].rstrip()) < 3 * n - 2:
+                raise RinexError(
+                    p,
+                    lineno,
+                    f"the epoch announces {n} satellites, but lists {listed.strip()!r}",
+                )
+            ids = [_sat_id(p, lineno + j // 12, listed[3 * j : 3 * j + 3], default_sys) for j in range(n)]
+        if not v3 and n % 12 == 0 and i + n_head < n_lines and _SAT_LIST.fullmatch(lines[i + n_head]):
+            raise RinexError(
+                p, lineno, f"the epoch announces {n} satellites, but line {i + n_head + 1} continues the list"
+            )
+        if flag == 6:  # cycle-slip records repeat observations of an epoch already given
+            i += n_head + n_body
+            block = None
+            continue
+        if t_ns is None:
+            raise RinexError(p, lineno, "an observation epoch needs its date and time")
+        if previous is not None and t_ns <= previous[0]:
+            what = "repeats" if t_ns == previous[0] else "comes before"
+            raise RinexError(
+                p,
+                lineno,
+                f"epoch {np.datetime64(t_ns, 'ns')} {what} the epoch at line {previous[1]}: epochs must "
+                "increase strictly (merge duplicated files with a RINEX tool first)",
+            )
+        previous = (t_ns, lineno)
+        e = len(ep_time)
+        ep_time.append(t_ns)
+        ep_flag.append(flag)
+        ep_clock.append(clk)
+        seen: dict[str, int] = {}
+        start = i + n_head
+        for j, sat in enumerate(ids):
+            base = start + j * per_sat
+            if sat in seen:
+                raise RinexError(p, base + 1, f"satellite {sat} appears twice in the epoch of line {lineno}")
+            seen[sat] = base
+            if v3:
+                sys_types = types.get(sat[0])
+                if sys_types is None:
+                    raise RinexError(
+                        p, base + 1, f"satellite system {sat[0]!r} has no 'SYS / # / OBS TYPES' header line"
+                    )
+                cursor.line = base + 1
+                _check_fields(p, base + 1, lines[base][3:], len(sys_types), f"satellite {sat}")
+                width = 16 * len(sys_types)
+                chunks.setdefault(sat[0], []).append(lines[base][3 : 3 + width].ljust(width))
+            else:
+                for q in range(sat_lines2):
+                    cursor.line = base + q + 1
+                    fields = min(5, n_types2 - 5 * q)
+                    _check_fields(p, base + q + 1, lines[base + q], fields, f"satellite {sat}")
+                rec = "".join(lines[base + q].ljust(80) for q in range(sat_lines2))
+                chunks.setdefault("*", []).append(rec[: 16 * n_types2])
+            rec_epoch.append(e)
+            rec_sat.append(sat)
+            rec_line.append(base + 1)
+        i = start + n * per_sat
+        block = (lineno, n)
+    cursor.line = n_lines
+    if not ep_time:
         raise RinexError(p, n_lines, "no observation epochs after the header")
-    ep = np.array([f[:5] for f in ep_fields], dtype=np.int64)
-    sec_arr = np.array([f[5] for f in ep_fields])
-    sod_ns = (ep[:, 3] * 3600 + ep[:, 4] * 60) * 1_000_000_000 + np.round(sec_arr * 1e9).astype(np.int64)
-    time = _epoch_ns(ep[:, 0], ep[:, 1], ep[:, 2], sod_ns)
     sats = tuple(sorted(set(rec_sat)))
     codes_list: list[str] = []
     for t in types.values():
         codes_list += [c for c in t if c not in codes_list]
     codes = tuple(codes_list)
-    n_ep, n_sat, n_code = len(ep_fields), len(sats), len(codes)
+    n_ep, n_sat, n_code = len(ep_time), len(sats), len(codes)
+    if n_ep * n_sat * n_code > MAX_CELLS:
+        raise RinexError(
+            p,
+            None,
+            f"{n_ep} epochs x {n_sat} satellites x {n_code} codes = {n_ep * n_sat * n_code} values exceed "
+            f"the limit of {MAX_CELLS} (gnssatt.rinex.obs.MAX_CELLS); split the file by time or system",
+        )
     data = np.full((n_ep, n_sat, n_code), np.nan)
     lli = np.zeros((n_ep, n_sat, n_code), dtype=np.uint8)
     ssi = np.zeros((n_ep, n_sat, n_code), dtype=np.uint8)
@@ -428,22 +599,21 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     rec_e = np.array(rec_epoch, dtype=np.int64)
     rec_s = np.array([sat_idx[s] for s in rec_sat], dtype=np.int64)
     rec_l = np.array(rec_line, dtype=np.int64)
-    rec_sys = np.array([s[0] for s in rec_sat]) if v3 else None
+    rec_sys = np.array([s[0] for s in rec_sat])
     for key, texts in chunks.items():
         sel = np.arange(len(rec_sat)) if key == "*" else np.flatnonzero(rec_sys == key)
-        sys_types = types.get(key) if key != "*" else next(iter(types.values()))
-        if sys_types is None:
-            raise RinexError(
-                p, int(rec_l[sel[0]]), f"satellite system {key!r} has no 'SYS / # / OBS TYPES' line"
-            )
-        buf = bytearray("".join(texts), "ascii", errors="replace")
-        values, l_flags, s_flags = _convert(p, buf, len(texts), n_types_max, list(rec_l[sel]))
-        cols = [codes.index(c) for c in sys_types]
+        sys_types = types[key] if key != "*" else next(iter(types.values()))
         nt = len(sys_types)
+        # RINEX 2 puts five fields on a line; RINEX 3 a whole record on one
+        line_of = rec_l[sel][:, None] + (
+            np.arange(nt)[None, :] // 5 if key == "*" else np.zeros((1, nt), np.int64)
+        )
+        values, l_flags, s_flags = _convert(p, texts, nt, line_of)
+        cols = np.array([codes.index(c) for c in sys_types])[None, :]
         ee, ss = rec_e[sel][:, None], rec_s[sel][:, None]
-        data[ee, ss, np.array(cols)[None, :]] = values[:, :nt]
-        lli[ee, ss, np.array(cols)[None, :]] = l_flags[:, :nt]
-        ssi[ee, ss, np.array(cols)[None, :]] = s_flags[:, :nt]
+        data[ee, ss, cols] = values
+        lli[ee, ss, cols] = l_flags
+        ssi[ee, ss, cols] = s_flags
     return RinexObs(
         path=p,
         version=version,
@@ -453,9 +623,9 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
         time_system=str(hdr["time_system"]),
         interval_s=float(hdr["interval"]),  # type: ignore[arg-type]
         obs_types=types,
-        time=time,
-        epoch_flag=np.array([f[6] for f in ep_fields], dtype=np.uint8),
-        clock_offset_s=np.array([f[7] for f in ep_fields]),
+        time=np.array(ep_time, dtype=np.int64).astype("datetime64[ns]"),
+        epoch_flag=np.array(ep_flag, dtype=np.uint8),
+        clock_offset_s=np.array(ep_clock),
         sats=sats,
         codes=codes,
         data=data,

@@ -1,0 +1,151 @@
+"""Fixed-width field reading shared by the observation and navigation readers: lines, numbers, integers,
+epoch labels, and the guard that turns any unexpected failure into a :class:`~gnssatt.errors.RinexError`.
+
+A careful reader refuses rather than guesses: a number must look like a Fortran number (no ``nan``, ``inf``,
+underscores or overflow to infinity), an epoch label must be a real calendar date and time, and a file must
+end with a line end (a file cut inside its last line can otherwise lose the fields after the cut unseen).
+"""
+
+from __future__ import annotations
+
+import datetime
+import math
+import re
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from os import PathLike
+from pathlib import Path
+
+from gnssatt.errors import InvalidTypeError, RinexError
+
+__all__ = ["HEADER_LABELS", "Cursor", "epoch_ns", "integer", "number", "path_text", "read_lines", "reading"]
+
+_NUMBER = re.compile(r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?\s*")
+_INTEGER = re.compile(r"\s*[+-]?\d+\s*")
+_COMPRESSED_MAGIC = (b"\x1f\x8b", b"\x1f\x9d", b"PK\x03\x04", b"BZh")
+#: Years a label may carry: datetime64[ns] holds 1678-2262; GNSS data start in 1980.
+YEARS = (1980, 2200)
+_EPOCH_1970 = datetime.date(1970, 1, 1).toordinal()
+
+
+@dataclass
+class Cursor:
+    """The line being read (1-based), so that an unexpected failure can still name it."""
+
+    line: int | None = None
+
+
+@contextmanager
+def reading(path: str) -> Iterator[Cursor]:
+    """Run a reader's body; any exception other than :class:`RinexError` becomes one naming ``path`` and the
+    cursor's line, so that no ``IndexError`` or ``OverflowError`` from a hostile file reaches the caller."""
+    cursor = Cursor()
+    try:
+        yield cursor
+    except RinexError:
+        raise
+    except Exception as exc:
+        raise RinexError(
+            path, cursor.line, f"cannot read this line ({type(exc).__name__}: {exc}); the file is malformed"
+        ) from exc
+
+
+def path_text(path: object) -> str:
+    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor)."""
+    if not isinstance(path, str | PathLike):
+        raise InvalidTypeError(f"expected path as a str or os.PathLike, got {type(path).__name__}")
+    return str(path)
+
+
+def read_lines(p: str) -> list[str]:
+    """The lines of file ``p`` without their line ends.
+
+    Hatanaka (``.crx``, ``.??d``) and gzip / Unix-compress / zip / bzip2 files are decompressed with the
+    optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``). Lines are split at ``\\n`` only (a
+    ``\\r`` before it is dropped): a stray form feed or other control byte stays inside its line, where the
+    field check sees it, instead of shifting every later line number.
+    """
+    try:
+        raw = Path(p).read_bytes()
+    except OSError as exc:
+        raise RinexError(p, None, f"cannot open: {exc.strerror or exc}") from exc
+    if raw.startswith(_COMPRESSED_MAGIC) or raw[60:80].startswith(b"CRINEX VERS"):
+        try:
+            import hatanaka
+        except ImportError:
+            raise RinexError(
+                p,
+                None,
+                "compressed (Hatanaka or gzip/Z/zip/bz2) file: install the optional 'hatanaka' package "
+                "(pip install gnssatt[hatanaka]) or decompress it first (crx2rnx)",
+            ) from None
+        try:
+            raw = hatanaka.decompress(raw)
+        except Exception as exc:  # the package raises ValueError and its own errors on corrupt input
+            raise RinexError(p, None, f"cannot decompress: {exc}") from exc
+    lines = raw.decode("ascii", errors="replace").split("\n")
+    if lines[-1] == "":
+        lines.pop()
+    else:  # even blanks: a RINEX 2 record line may be blank, so a cut one could pass for complete
+        raise RinexError(p, len(lines), "the last line has no line end: the file was cut inside this line")
+    return [ln[:-1] if ln.endswith("\r") else ln for ln in lines]
+
+
+def number(path: str, lineno: int, text: str, what: str) -> float:
+    """A finite Fortran number (``D`` or ``E`` exponent) from a fixed-width field."""
+    if not _NUMBER.fullmatch(text):
+        raise RinexError(path, lineno, f"expected a number for {what}, got {text.strip()!r}")
+    value = float(text.replace("D", "E").replace("d", "e"))
+    if not math.isfinite(value):
+        raise RinexError(path, lineno, f"expected a finite number for {what}, got {text.strip()!r}")
+    return value
+
+
+def integer(path: str, lineno: int, text: str, what: str) -> int:
+    """An integer (digits with an optional sign) from a fixed-width field."""
+    if not _INTEGER.fullmatch(text):
+        raise RinexError(path, lineno, f"expected an integer for {what}, got {text.strip()!r}")
+    return int(text)
+
+
+def epoch_ns(path: str, lineno: int, y: int, mo: int, d: int, hh: int, mi: int, sec: float) -> int:
+    """Nanoseconds since 1970-01-01 of a calendar label, after checking that it is one.
+
+    Seconds lie in [0, 60); a label of 23:59:60.x (a UTC leap second, as in GLONASS files) is allowed and
+    maps onto the first second of the next day, as ``datetime64`` has no leap seconds.
+    """
+    label = f"{y:04d}-{mo:02d}-{d:02d} {hh:02d}:{mi:02d}:{sec:g}"
+    if not YEARS[0] <= y <= YEARS[1]:
+        raise RinexError(path, lineno, f"epoch {label}: expected a year in {YEARS[0]}-{YEARS[1]}, got {y}")
+    try:
+        day = datetime.date(y, mo, d).toordinal() - _EPOCH_1970
+    except ValueError:
+        raise RinexError(path, lineno, f"epoch {label}: not a calendar date (month {mo}, day {d})") from None
+    if not (0 <= hh <= 23 and 0 <= mi <= 59):
+        raise RinexError(path, lineno, f"epoch {label}: expected hour 0-23 and minute 0-59")
+    leap = hh == 23 and mi == 59
+    if not (0.0 <= sec < (61.0 if leap else 60.0)):
+        limit = "61 (a leap second at 23:59)" if leap else "60 (61 only at 23:59, a leap second)"
+        raise RinexError(path, lineno, f"epoch {label}: expected seconds in [0, {limit}), got {sec}")
+    return (day * 86_400 + hh * 3600 + mi * 60) * 1_000_000_000 + round(sec * 1e9)
+
+
+#: Header labels of RINEX 2.11, 3.05 and 4.00 observation and navigation files. A label outside this set is
+#: skipped (writers add their own), but it does not extend the header: when ``END OF HEADER`` is missing,
+#: the fault is reported at the first line after the last known label, where the header should have ended.
+HEADER_LABELS = frozenset(
+    {
+        "RINEX VERSION / TYPE", "PGM / RUN BY / DATE", "COMMENT", "MARKER NAME", "MARKER NUMBER",
+        "MARKER TYPE", "OBSERVER / AGENCY", "REC # / TYPE / VERS", "ANT # / TYPE", "APPROX POSITION XYZ",
+        "ANTENNA: DELTA H/E/N", "ANTENNA: DELTA X/Y/Z", "ANTENNA:PHASECENTER", "ANTENNA: PHASECENTER",
+        "ANTENNA: B.SIGHT XYZ", "ANTENNA: ZERODIR AZI", "ANTENNA: ZERODIR XYZ", "CENTER OF MASS: XYZ",
+        "WAVELENGTH FACT L1/2", "# / TYPES OF OBSERV", "SYS / # / OBS TYPES", "SIGNAL STRENGTH UNIT",
+        "INTERVAL", "TIME OF FIRST OBS", "TIME OF LAST OBS", "RCV CLOCK OFFS APPL", "SYS / DCBS APPLIED",
+        "SYS / PCVS APPLIED", "SYS / SCALE FACTOR", "SYS / PHASE SHIFT", "SYS / PHASE SHIFTS",
+        "GLONASS SLOT / FRQ #", "GLONASS COD/PHS/BIS", "LEAP SECONDS", "# OF SATELLITES", "PRN / # OF OBS",
+        "DOI", "LICENSE OF USE", "STATION INFORMATION", "ION ALPHA", "ION BETA", "DELTA-UTC: A0,A1,T,W",
+        "CORR TO SYSTEM TIME", "D-UTC A0,A1,T,W,S,U", "IONOSPHERIC CORR", "TIME SYSTEM CORR",
+        "MERGED FILE", "END OF HEADER",
+    }
+)  # fmt: skip
