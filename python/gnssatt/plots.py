@@ -118,6 +118,8 @@ def attitude_series(series: AttitudeSeries, path: Path) -> Path:
     fig.suptitle(f"{series.mode} mode, method {', '.join(sorted(set(series.method)))}")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
 
 
 def error_histograms(errors: Mapping[str, ArrayLike], path: Path, *, title: str, unit: str) -> Path:

@@ -18,10 +18,31 @@ def write_report(
     Quantity names carry their unit (``heading_rms_deg``); a quantity the paper does not give is ``None``
     in ``paper``.
     """
-    doc = {"experiment": experiment, "paper": paper, "measured": measured, "runs": runs, "seed": seed}
+    doc = {
+        "experiment": experiment,
+        "paper": _json_safe(paper),
+        "measured": _json_safe(measured),
+        "runs": runs,
+        "seed": seed,
+    }
     out.mkdir(parents=True, exist_ok=True)
     (out / f"{experiment}.json").write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
     return doc
+
+
+def _json_safe(value: Any) -> Any:
+    """``value`` with every NaN or infinity replaced by ``None`` (JSON ``null``), recursively.
+
+    A statistic of a study can be undefined (no fix in any run, a quick run count of one): JSON has no NaN, and
+    strict readers refuse Python's ``NaN`` token, so such a value is written as ``null``.
+    """
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_json_safe(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _fmt(value: Any) -> str:
