@@ -33,7 +33,7 @@ def write_report(
 def _json_safe(value: Any) -> Any:
     """``value`` with every NaN or infinity replaced by ``None`` (JSON ``null``), recursively.
 
-    A statistic of a study can be undefined (no fix in any run, a quick run count of one): JSON has no NaN, and
+    A statistic of a study can be undefined (no fix in any run, a run count of one): JSON has no NaN, and
     strict readers refuse Python's ``NaN`` token, so such a value is written as ``null``.
     """
     if isinstance(value, dict):
