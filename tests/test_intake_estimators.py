@@ -20,6 +20,9 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
@@ -839,3 +842,43 @@ def test_attitude_dop_is_finite_or_refused() -> None:
     assert np.isfinite(dop) and dop == pytest.approx(geometry.attitude_dop(BASELINES, LOS, TRUTH) * 1e6)
     with pytest.raises(InvalidInputError, match="baselines"):
         geometry.attitude_dop(BASELINES * 1e-160, LOS, TRUTH)
+
+
+# --- random hostile values (hypothesis) --------------------------------------------------------------------
+
+HOSTILE_FLOATS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 1e-320, 1e-160, 1e160, 1e308, -1e308]),
+)
+HOSTILE_ARRAYS = st.one_of(
+    hnp.arrays(
+        st.sampled_from([np.float64, np.float32, np.int64, np.uint8, np.complex128, np.bool_]),
+        hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=4),
+        elements=None,
+    ),
+    hnp.arrays(np.float64, hnp.array_shapes(min_dims=1, max_dims=3, max_side=6), elements=HOSTILE_FLOATS),
+    st.sampled_from([None, "x", [], [[1.0, 2.0], [3.0]], object(), 1 + 2j, True, 10**30]),
+)
+ARGUMENTS = [(f, arg) for f in FUNCTIONS for arg in f.args if arg.kind in ("array", "scalar")]
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(case=st.sampled_from(ARGUMENTS), value=HOSTILE_ARRAYS)
+def test_hostile_values_give_finite_output_or_a_gnssatt_error(case: tuple[Function, Arg], value: Any) -> None:
+    # Any value in any argument: a gnssatt error (an InvalidInputError for the wrong kind of value, naming the
+    # argument), or finite output; never another exception, a defect (InternalError) or a NaN.
+    f, arg = case
+    kwargs = f.valid()
+    kwargs[arg.name] = value
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearDegenerateWarning)
+        try:
+            result = f.call(**kwargs)
+        except InternalError:
+            raise
+        except InvalidTypeError as exc:
+            assert arg.name in str(exc)
+            return
+        except GnssattError:
+            return
+    assert all(np.all(np.isfinite(v)) for v in _leaves(result))
