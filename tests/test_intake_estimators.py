@@ -836,6 +836,14 @@ def test_phases_shifted_by_whole_cycles_give_the_same_attitude_until_the_limit()
         likelihood.ml_attitude(**{**kw, "phase_diffs": kw["phase_diffs"] + 1e20})
 
 
+def test_visibility_axis_refuses_more_lines_of_sight_than_its_limit_before_any_work() -> None:
+    many = np.tile(LOS[:3], (visibility.MAX_SATELLITES // 3 + 1, 1))
+    with pytest.raises(
+        WorkLimitError, match=r"visible_los\) \+ len\(invisible_los\) = 2003 exceeds the limit of 2000"
+    ):
+        visibility.visibility_axis(many, -LOS[3:], method="centroid")
+
+
 def test_attitude_dop_is_finite_or_refused() -> None:
     # baselines at the 1e-6 m limit: a DOP of order 1e6, finite; below it, refused before any work
     dop = geometry.attitude_dop(BASELINES * 1e-6, LOS, TRUTH)
