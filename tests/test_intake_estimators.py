@@ -6,7 +6,10 @@ gives a NaN.
 The table ``FUNCTIONS`` lists, per public function, a valid call (checked to run) and the arguments with
 their kind; ``bad_values`` derives the categories from the valid value (wrong shape, complex, boolean, object,
 text, ``None``, NaN, infinity, out of range, absurd sizes), so that a function or argument added to the table
-is covered in every category.
+is covered in every category. ``EXTRA`` covers the fields of measurement containers. The NaN section scales
+every argument by 1e-300 to 1e300 (finite output or a gnssatt error, never ``InternalError``), checks scale
+invariance against the unscaled answer and the gyro step against its closed form; a derandomized hypothesis
+test throws random hostile values (dtypes, shapes, NaN, huge, ragged, objects) at every argument.
 """
 
 from __future__ import annotations
