@@ -6,7 +6,10 @@ gives a NaN.
 The table ``FUNCTIONS`` lists, per public function, a valid call (checked to run) and the arguments with
 their kind; ``bad_values`` derives the categories from the valid value (wrong shape, complex, boolean, object,
 text, ``None``, NaN, infinity, out of range, absurd sizes), so that a function or argument added to the table
-is covered in every category.
+is covered in every category. ``EXTRA`` covers the fields of measurement containers. The NaN section scales
+every argument by 1e-300 to 1e300 (finite output or a gnssatt error, never ``InternalError``), checks scale
+invariance against the unscaled answer and the gyro step against its closed form; a derandomized hypothesis
+test throws random hostile values (dtypes, shapes, NaN, huge, ragged, objects) at every argument.
 """
 
 from __future__ import annotations
@@ -20,6 +23,9 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
@@ -833,9 +839,57 @@ def test_phases_shifted_by_whole_cycles_give_the_same_attitude_until_the_limit()
         likelihood.ml_attitude(**{**kw, "phase_diffs": kw["phase_diffs"] + 1e20})
 
 
+def test_visibility_axis_refuses_more_lines_of_sight_than_its_limit_before_any_work() -> None:
+    many = np.tile(LOS[:3], (visibility.MAX_SATELLITES // 3 + 1, 1))
+    with pytest.raises(
+        WorkLimitError, match=r"visible_los\) \+ len\(invisible_los\) = 2003 exceeds the limit of 2000"
+    ):
+        visibility.visibility_axis(many, -LOS[3:], method="centroid")
+
+
 def test_attitude_dop_is_finite_or_refused() -> None:
     # baselines at the 1e-6 m limit: a DOP of order 1e6, finite; below it, refused before any work
     dop = geometry.attitude_dop(BASELINES * 1e-6, LOS, TRUTH)
     assert np.isfinite(dop) and dop == pytest.approx(geometry.attitude_dop(BASELINES, LOS, TRUTH) * 1e6)
     with pytest.raises(InvalidInputError, match="baselines"):
         geometry.attitude_dop(BASELINES * 1e-160, LOS, TRUTH)
+
+
+# --- random hostile values (hypothesis) --------------------------------------------------------------------
+
+HOSTILE_FLOATS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 1e-320, 1e-160, 1e160, 1e308, -1e308]),
+)
+HOSTILE_ARRAYS = st.one_of(
+    hnp.arrays(
+        st.sampled_from([np.float64, np.float32, np.int64, np.uint8, np.complex128, np.bool_]),
+        hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=4),
+        elements=None,
+    ),
+    hnp.arrays(np.float64, hnp.array_shapes(min_dims=1, max_dims=3, max_side=6), elements=HOSTILE_FLOATS),
+    st.sampled_from([None, "x", [], [[1.0, 2.0], [3.0]], object(), 1 + 2j, True, 10**30]),
+)
+ARGUMENTS = [(f, arg) for f in FUNCTIONS for arg in f.args if arg.kind in ("array", "scalar")]
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(case=st.sampled_from(ARGUMENTS), value=HOSTILE_ARRAYS)
+def test_hostile_values_give_finite_output_or_a_gnssatt_error(case: tuple[Function, Arg], value: Any) -> None:
+    # Any value in any argument: a gnssatt error (an InvalidInputError for the wrong kind of value, naming the
+    # argument), or finite output; never another exception, a defect (InternalError) or a NaN.
+    f, arg = case
+    kwargs = f.valid()
+    kwargs[arg.name] = value
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearDegenerateWarning)
+        try:
+            result = f.call(**kwargs)
+        except InternalError:
+            raise
+        except InvalidTypeError as exc:
+            assert arg.name in str(exc)
+            return
+        except GnssattError:
+            return
+    assert all(np.all(np.isfinite(v)) for v in _leaves(result))

@@ -20,6 +20,7 @@ from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError
 
 __all__ = [
     "choice",
+    "finite_outputs",
     "finite_result",
     "flag",
     "float_array",
@@ -130,7 +131,7 @@ def integer(name: str, value: Any, *, minimum: int | None = None, maximum: int |
     return n
 
 
-# --- the intake of options, flags and objects (added for the estimators, issue 15 part C) ------------------
+# --- exact shapes, unit rows, integer arrays, options, flags, objects, finite outputs (issue 15, part C) ---
 
 
 def shaped(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.float64]:
@@ -242,3 +243,22 @@ def finite_result(what: str, value: Any, cause: str) -> Any:
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise ConvergenceError(f"{what} is not finite (at index {bad}); {cause}")
     return value
+
+
+def finite_outputs(what: str, **outputs: Any) -> None:
+    """The counterpart of the intake on the way out: every output of ``what`` finite, or
+    :class:`~gnssatt.errors.ConvergenceError` naming the output and its first non-finite entry.
+
+    Raises
+    ------
+    ConvergenceError
+        An output holds NaN or infinity although every input was finite.
+    """
+    for name, value in outputs.items():
+        arr = np.asarray(value, dtype=np.float64)
+        if not np.all(np.isfinite(arr)):
+            k = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0]) if arr.ndim else ()
+            raise ConvergenceError(
+                f"{what} gave a non-finite {name} from finite input: {arr[k]} at index {k} of shape "
+                f"{arr.shape}"
+            )

@@ -31,8 +31,8 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import flag, instance, integer, integer_array, scalar, shaped
-from gnssatt.errors import ConvergenceError, InvalidInputError
+from gnssatt._arrays import finite_outputs, flag, instance, integer, integer_array, scalar, shaped
+from gnssatt.errors import InvalidInputError
 from gnssatt.geometry import checked_baselines
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
 
@@ -66,12 +66,6 @@ def _times_and_rates(
     return tt, w
 
 
-def _finite(what: str, **outputs: Any) -> None:
-    for name, value in outputs.items():
-        if not np.all(np.isfinite(value)):
-            raise ConvergenceError(f"{what} gave a non-finite {name} from finite input")
-
-
 def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.float64]:
     """Attitude quaternions (n, 4) scalar-last, body -> reference, at ``t`` (s) from ``q0`` with the body
     rates ``rates`` (n, 3) rad/s, ``rates[k]`` held over ``[t[k], t[k+1]]`` (exact for constant rates).
@@ -86,7 +80,7 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.
     q = shaped("q0", q0, "(4,)", (4,))
     tt, w = _times_and_rates("t", t, "rates", rates)
     out = _core.gyro_propagate(q, tt, w)
-    _finite("gyro_propagate", quaternions=out)
+    finite_outputs("gyro_propagate", quaternions=out)
     return out
 
 
@@ -347,7 +341,7 @@ def gyro_gnss_filter(
         *fx,
         *ph,
     )
-    _finite(
+    finite_outputs(
         "gyro_gnss_filter",
         quaternions=d["quaternion"],
         drift=d["drift"],

@@ -358,11 +358,10 @@ def ml_attitude(
         :data:`~gnssatt.geometry.MAX_BASELINE_M`, phase differences beyond :data:`MAX_PHASE_RAD`, wavelengths
         outside [:data:`MIN_WAVELENGTH_M`, :data:`MAX_WAVELENGTH_M`], a step that is not in
         (0, :data:`MAX_STEP_DEG`] or is coarser than the main lobe, a window with ``lo > hi``, beyond
-        +-:data:`WINDOW_LIMIT_DEG` or holding no node, an unknown ``statistic``, ``search`` or ``refine``
+        +-:data:`WINDOW_LIMIT_DEG` or holding no node, a step giving a grid of more than 2^31 cells (the
+        core's documented limit, checked before any cell is evaluated: coarsen the step or narrow the
+        window), an unknown ``statistic``, ``search`` or ``refine``
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
-    WorkLimitError
-        A step that gives a grid of more than 2^31 cells (the core's documented limit): coarsen it or
-        narrow the window.
     DegenerateGeometryError
         Collinear baselines.
     """
@@ -397,7 +396,7 @@ def likelihood_grid(
 
     Raises
     ------
-    InvalidInputError, WorkLimitError, DegenerateGeometryError
+    InvalidInputError, DegenerateGeometryError
         As :func:`ml_attitude` (one baseline suffices here).
     """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=1)
@@ -451,7 +450,7 @@ def ml_baseline(
 
     Raises
     ------
-    InvalidInputError, WorkLimitError, DegenerateGeometryError
+    InvalidInputError, DegenerateGeometryError
         As :func:`ml_attitude`.
     """
     p = float_array("phase_diffs", phase_diffs, ndim=(1, 2), shape="(M,) or (epochs, M)")

@@ -14,9 +14,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import flag, float_array
+from gnssatt._arrays import finite_outputs, flag, float_array
 from gnssatt.errors import InvalidInputError
-from gnssatt.vector_attitude import _check_finite, _vectors, _warn_small
+from gnssatt.vector_attitude import _vectors, _warn_small
 
 __all__ = ["YawResult", "yaw_from_magnetometer"]
 
@@ -114,7 +114,7 @@ def yaw_from_magnetometer(
     vec = [np.ascontiguousarray(v / np.where(scale > 0.0, scale, 1.0)) for v in vec]
     ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
     yaw, cos_pitch, horizontal = _core.yaw_batch(*vec, *ang)
-    _check_finite("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
+    finite_outputs("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
     _warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
     _warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
     rotation = Rotation.from_euler("ZYX", np.column_stack([yaw, ang[0], ang[1]]))

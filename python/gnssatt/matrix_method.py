@@ -10,8 +10,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, shaped
-from gnssatt.errors import ConvergenceError, InvalidInputError
+from gnssatt._arrays import choice, finite_outputs, shaped
+from gnssatt.errors import InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
@@ -104,9 +104,5 @@ def matrix_attitude(
             f"expected range_diffs at most {MAX_BASELINE_M:g} m in magnitude, got {r[k]:.6g} m at index {k}"
         )
     dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
-    if not (np.all(np.isfinite(dcm)) and np.all(np.isfinite(raw)) and np.isfinite(rms)):
-        raise ConvergenceError(
-            f"matrix_attitude ({method!r}) gave a non-finite result from finite input: rotation "
-            f"{dcm.tolist()}, residual RMS {rms} m"
-        )
+    finite_outputs(f"matrix_attitude ({method!r})", rotation=dcm, raw_matrix=raw, residual_rms_m=rms)
     return MatrixAttitudeResult(Rotation.from_matrix(dcm), rms, raw, method)

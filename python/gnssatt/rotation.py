@@ -39,31 +39,71 @@ def _dcm(dcm: ArrayLike) -> NDArray[np.float64]:
 
 def euler_to_dcm(seq: str, angles: ArrayLike, *, degrees: bool = False) -> NDArray[np.float64]:
     """Body -> reference matrix ``R_a1(angle1) R_a2(angle2) R_a3(angle3)`` of an intrinsic sequence such
-    as ``"ZYX"`` (seeds 000, 002), ``"YZX"`` (seed 001, GOST normal frame) or ``"YZY"`` (seed 004)."""
+    as ``"ZYX"`` (seeds 000, 002), ``"YZX"`` (seed 001, GOST normal frame) or ``"YZY"`` (seed 004).
+
+    Raises
+    ------
+    InvalidInputError
+        ``seq`` not one of :data:`SEQUENCES`, a wrong shape or non-finite values
+        (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind, a ``degrees`` that is not a
+        bool).
+    """
     return _core.euler_to_dcm(_seq(seq), _angles(angles, degrees))
 
 
 def dcm_to_euler(seq: str, dcm: ArrayLike, *, degrees: bool = False) -> NDArray[np.float64]:
     """Angles of an intrinsic sequence; the middle one in [-90, 90] deg (Tait-Bryan) or [0, 180] deg
-    (proper Euler), the others in (-180, 180]."""
+    (proper Euler), the others in (-180, 180].
+
+    Raises
+    ------
+    InvalidInputError
+        ``seq`` not one of :data:`SEQUENCES`, a wrong shape or non-finite values, a ``dcm`` that is not
+        orthogonal to 1e-6
+        (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind, a ``degrees`` that is not a
+        bool).
+    """
     seq, m, degrees = _seq(seq), _dcm(dcm), flag("degrees", degrees)
     angles = np.array(_core.dcm_to_euler(seq, m))
     return np.degrees(angles) if degrees else angles
 
 
 def quat_to_dcm(quat: ArrayLike) -> NDArray[np.float64]:
-    """Matrix of a scalar-last quaternion ``[x, y, z, w]`` (normalised first)."""
+    """Matrix of a scalar-last quaternion ``[x, y, z, w]`` (normalised first).
+
+    Raises
+    ------
+    InvalidInputError
+        A wrong shape, non-finite values or a zero quaternion (:class:`~gnssatt.errors.InvalidTypeError`
+        for values that are not real numbers).
+    """
     q = shaped("quat", quat, "(4,)", (4,))
     return _core.quat_to_dcm((float(q[0]), float(q[1]), float(q[2]), float(q[3])))
 
 
 def dcm_to_quat(dcm: ArrayLike) -> NDArray[np.float64]:
-    """Scalar-last unit quaternion ``[x, y, z, w]`` with ``w >= 0``."""
+    """Scalar-last unit quaternion ``[x, y, z, w]`` with ``w >= 0``.
+
+    Raises
+    ------
+    InvalidInputError
+        A wrong shape, non-finite values or a ``dcm`` that is not orthogonal to 1e-6
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+    """
     return np.array(_core.dcm_to_quat(_dcm(dcm)))
 
 
 def nearest_rotation(matrix: ArrayLike) -> NDArray[np.float64]:
-    """The proper rotation closest to a 3 x 3 matrix in the Frobenius norm (determinant fixed to +1)."""
+    """The proper rotation closest to a 3 x 3 matrix in the Frobenius norm (determinant fixed to +1).
+
+    Raises
+    ------
+    InvalidInputError
+        A wrong shape or non-finite values (:class:`~gnssatt.errors.InvalidTypeError` for values that are
+        not real numbers).
+    DegenerateGeometryError
+        A matrix whose nearest rotation is not unique (rank below 2, e.g. zero).
+    """
     m = shaped("matrix", matrix, "(3, 3)", (3, 3))
     # the nearest rotation of c M is that of M for any c > 0: scale to entries of order one, so that the
     # core's products neither overflow nor underflow

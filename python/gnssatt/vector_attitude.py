@@ -11,15 +11,15 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, float_array, shaped
-from gnssatt.errors import ConvergenceError, InvalidInputError, NearDegenerateWarning
+from gnssatt._arrays import choice, finite_outputs, float_array, shaped
+from gnssatt.errors import InvalidInputError, NearDegenerateWarning
 
 __all__ = ["TriadResult", "WahbaResult", "triad", "wahba"]
 
@@ -55,12 +55,6 @@ def rescaled(v: NDArray[np.float64], *, axes: int | tuple[int, ...] = -1) -> NDA
     weights, are what the estimators use."""
     scale = np.max(np.abs(v), axis=axes, keepdims=True)
     return v / np.where(scale > 0.0, scale, 1.0)
-
-
-def _check_finite(what: str, **outputs: Any) -> None:
-    for name, value in outputs.items():
-        if not np.all(np.isfinite(value)):
-            raise ConvergenceError(f"{what} gave a non-finite {name} from finite input: {value}")
 
 
 @dataclass(frozen=True)
@@ -118,7 +112,7 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
             f"expected b1, b2, r1, r2 of one shape (epochs, 3), got {[a.shape for a in arrs]}"
         ) from None
     quat, sb, sr = _core.triad_batch(*arrs)
-    _check_finite("triad", quaternion=quat, sine=np.concatenate([sb, sr]))
+    finite_outputs("triad", quaternion=quat, sine=np.concatenate([sb, sr]))
     _warn_small(np.minimum(sb, sr), TRIAD_WARN_SIN, "the sine of the angle between the TRIAD vectors")
     if single:
         return TriadResult(Rotation.from_quat(quat[0]), float(sb[0]), float(sr[0]))
@@ -233,7 +227,7 @@ def wahba(
     )
     with np.errstate(over="ignore"):
         cov, loss = cov / scale[:, None, None], loss * scale
-    _check_finite("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)
+    finite_outputs("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)
     _warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")
     if single:
         return WahbaResult(Rotation.from_quat(quat[0]), cov[0], float(ratio[0]), float(loss[0]), method)

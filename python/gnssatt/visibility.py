@@ -29,12 +29,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize
 
-from gnssatt._arrays import choice, instance, scalar, shaped, unit_rows
+from gnssatt._arrays import choice, instance, integer, scalar, shaped, unit_rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
-__all__ = ["visibility_axis", "visibility_sets"]
+__all__ = ["MAX_SATELLITES", "visibility_axis", "visibility_sets"]
 
 Method = Literal["paper", "margin", "centroid"]
+
+#: Most lines of sight (visible and invisible together) one epoch may hold: every GNSS constellation together
+#: has under 150 satellites, and the centroid method forms all pairs of constraints (memory grows with the
+#: square of the count).
+MAX_SATELLITES = 2000
 
 # The 3x3 normal matrix of eq. (5) is refused above this condition number.
 _MAX_CONDITION = 1e10
@@ -154,12 +159,15 @@ def visibility_axis(
     InvalidInputError
         Wrong shapes, non-finite or non-unit lines of sight, or an empty set (every satellite visible or
         none), an unknown ``method``.
+    WorkLimitError
+        More than :data:`MAX_SATELLITES` lines of sight in all.
     DegenerateGeometryError
         Coplanar lines of sight (eq. (5) singular).
     """
     method = choice("method", method, get_args(Method))
     vis = _los("visible_los", visible_los)
     inv = _los("invisible_los", invisible_los)
+    integer("len(visible_los) + len(invisible_los)", len(vis) + len(inv), maximum=MAX_SATELLITES)
     a = _paper_axis(vis, inv)
     if method in ("margin", "centroid"):
         a = _margin_axis(vis, inv, a)
