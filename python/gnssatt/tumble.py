@@ -167,7 +167,7 @@ def _checked_work(n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_r
     """``step_s`` as a float after checking the work and the rotation per step, before any propagation.
 
     The RK4 steps between output times are ``ceil(span / step_s)`` each, no longer than ``step_s`` nor
-    than the longest span; ``max_rate_rad_s`` is the fastest initial rate (norm) of the batch.
+    than the longest span; ``max_rate_rad_s`` is the fastest rate of the batch (:func:`_max_rate`).
     """
     h = scalar("step_s", step_s, minimum=0.0, strict=True, unit="s")
     spans = np.diff(t, prepend=0.0)
@@ -181,8 +181,8 @@ def _checked_work(n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_r
     if max_rate_rad_s * h_eff > MAX_ROTATION_PER_STEP_RAD:
         raise InvalidInputError(
             f"expected |omega| * step <= {MAX_ROTATION_PER_STEP_RAD} rad for a stable RK4 integration, got "
-            f"rates up to {max_rate_rad_s} rad/s in params with steps of {h_eff} s; use step_s <= "
-            f"{MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
+            f"rates up to {max_rate_rad_s} rad/s (params plus the orbital rate) in steps of {h_eff} s; "
+            f"use step_s <= {MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
         )
     return h
 
@@ -191,8 +191,12 @@ def _finite(what: str, value: NDArray[np.float64], step_s: float) -> NDArray[np.
     return finite_result(what, value, f"the integration diverged (step_s = {step_s} s); try a shorter step_s")
 
 
-def _max_rate(p: NDArray[np.float64]) -> float:
-    return float(np.max(np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1), initial=0.0))
+def _max_rate(p: NDArray[np.float64], model: TumbleModel) -> float:
+    """Fastest initial rate (norm) of the batch plus the orbital frame's rate (the body's rate relative
+    to the orbital frame is what the quaternion kinematics integrate)."""
+    return (
+        float(np.max(np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1), initial=0.0)) + model.orbital_rate_rad_s
+    )
 
 
 def _params(p: Any, ndim: int | tuple[int, ...]) -> NDArray[np.float64]:
@@ -238,10 +242,9 @@ def propagate_axes(
     """
     p = _params(params, (1, 2))
     tt = _times(t)
-    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p))
-    out = _finite(
-        "the propagated axes", _core.tumble_axes(np.atleast_2d(p), tt, _default(model)._kwargs(), step_s=h), h
-    )
+    mdl = _default(model)
+    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p, mdl))
+    out = _finite("the propagated axes", _core.tumble_axes(np.atleast_2d(p), tt, mdl._kwargs(), step_s=h), h)
     return out[0] if p.ndim == 1 else out
 
 
@@ -262,8 +265,9 @@ def axis_cost(
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
     if m.shape != (tt.size, 3):
         raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
-    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p))
-    out = _core.tumble_cost(np.atleast_2d(p), tt, m, _default(model)._kwargs(), step_s=h)
+    mdl = _default(model)
+    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p, mdl))
+    out = _core.tumble_cost(np.atleast_2d(p), tt, m, mdl._kwargs(), step_s=h)
     out = _finite("the objective", out, h)
     return out if p.ndim == 2 else out[:1]
 
@@ -297,8 +301,9 @@ def propagate(
     :func:`propagate_axes`."""
     p = _params(params, 1)
     tt = _times(t)
-    h = _checked_work(1, tt, step_s, _max_rate(p))
-    out = _finite("the propagated state", _core.tumble_states(p, tt, _default(model)._kwargs(), step_s=h), h)
+    mdl = _default(model)
+    h = _checked_work(1, tt, step_s, _max_rate(p, mdl))
+    out = _finite("the propagated state", _core.tumble_states(p, tt, mdl._kwargs(), step_s=h), h)
     rot = Rotation.from_matrix(DCM_ORBITAL_FROM_ORB0) * Rotation.from_quat(out[:, :4])
     return TumbleTrajectory(t=tt, rotation=rot, omega_rad_s=out[:, 4:], axis=rot.apply([0.0, 1.0, 0.0]))
 
@@ -648,7 +653,7 @@ def fit_rotation(
     m = np.ascontiguousarray(m / norm[:, None])
     mdl = _default(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
-    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w)
+    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w + mdl.orbital_rate_rad_s)
     obj = _Objective(tt, m, mdl, step_s)
 
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
