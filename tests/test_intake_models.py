@@ -793,6 +793,19 @@ SPECIFIC = [
     ("fit_rotation", "restart", "again", InvalidInputError),
     ("fit_rotation", "polish", "yes", InvalidTypeError),
     ("fit_rotation", "t", np.array([0.0, 1.0]), InvalidInputError),
+    # finite but extreme: refused, or reported as an overflow, instead of NaN or a numpy/scipy error
+    ("right_jacobian", "a", np.full(3, 1e300), InvalidInputError),
+    ("orbital_hold_motion", "amplitude_rad", np.full(3, 4.0), InvalidInputError),
+    ("attitude_fixes", "baselines_m", np.full((2, 3), 1e20), InvalidInputError),
+    ("attitude_fixes", "baselines_m", np.zeros((2, 3)), InvalidInputError),
+    ("attitude_fixes", "sigma_cycles", 1e300, InvalidInputError),
+    ("attitude_fixes", "sigma_cycles", 1e-300, InvalidInputError),
+    ("simulate_spaceborne", "receiver_velocity_m_s", np.full((3, 3), 1e300), InvalidInputError),
+    ("simulate_spaceborne", "receiver_position_m", np.full((3, 3), 1e300), InvalidInputError),
+    ("noise_cost_threshold", "n_epochs", 2**63, InvalidInputError),
+    ("noise_cost_threshold", "axis_sigma_deg", 1e300, InvalidInputError),
+    ("white_acceleration_noise", "dt_s", 1e300, ConvergenceError),
+    ("OrbitFilterResult.nees", "truth", np.full((3, 6), 1e300), ConvergenceError),
     # absurd sizes: refused before any work
     ("igrf_field_ecef", "max_degree", 10**12, InvalidInputError),
     ("solve_kepler", "max_iter", 10**12, WorkLimitError),
@@ -906,6 +919,15 @@ def test_tumbling_at_the_rotation_bound_stays_finite(rate: float) -> None:
     params = np.array([[0.3, 1.0, 0.2, rate / math.sqrt(3)] + [rate / math.sqrt(3)] * 2])
     axes = tumble.propagate_axes(params, np.linspace(0.0, 200 * h, 5), step_s=h)
     assert np.all(np.isfinite(axes))
+
+
+@pytest.mark.parametrize("velocity", [(0.0, 0.0, 0.0), (1e3, 0.0, 0.0)])
+def test_spaceborne_receiver_without_horizontal_velocity_is_simulated(velocity: tuple[float, ...]) -> None:
+    # at rest or moving radially: the antenna azimuth is arbitrary, the visibility is not (was a scipy error)
+    r = np.tile([7.0e6, 0.0, 0.0], (3, 1))
+    meas = sim.simulate_spaceborne(r, np.tile(velocity, (3, 1)), T3, GPS, np.random.default_rng(4))
+    assert meas.visible.any()
+    assert np.all(np.isfinite(meas.pseudorange_m[meas.visible]))
 
 
 def test_glonass_propagate_with_absurd_velocity_raises_not_nan() -> None:

@@ -342,14 +342,17 @@ def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: fl
     Parameters
     ----------
     n_epochs
-        Number of measured axes, >= 1.
+        Number of measured axes, 1 to 1e12.
     axis_sigma_deg
-        Per-component standard deviation of the axis error, degrees, > 0.
+        Per-component standard deviation of the axis error, degrees, in (0, 180].
     false_restart
         Probability that the truth itself lies above the threshold, in (0, 1).
     """
     n_epochs = integer("n_epochs", n_epochs, minimum=1)
+    if n_epochs > 10**12:  # beyond scipy's chi-square quantile (and any measurement campaign)
+        raise InvalidInputError(f"expected n_epochs <= 1e12, got {n_epochs}")
     sigma = scalar("axis_sigma_deg", axis_sigma_deg, minimum=0.0, strict=True)
+    sigma = scalar("axis_sigma_deg", sigma, maximum=180.0, unit="deg")
     p = scalar("false_restart", false_restart)
     if not 0.0 < p < 1.0:
         raise InvalidInputError(f"expected false_restart in (0, 1), got {false_restart!r}")
