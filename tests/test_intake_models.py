@@ -847,6 +847,12 @@ def test_batch_size_counts_in_the_work_limit() -> None:
         tumble.propagate_axes(np.zeros((10_000, 6)), [0.0, 1e5])
 
 
+def test_fit_rotation_counts_its_whole_work_before_starting() -> None:
+    # each generation is within the per-call limit (12 states x 1e6 steps), the fit at its cap is not
+    with pytest.raises(WorkLimitError, match="maxiter"):
+        _call("fit_rotation", t=np.array([0.0, 5e5, 1e6]), maxiter=100_000)
+
+
 def test_every_public_function_has_cases() -> None:
     # every name in the modules' __all__ that is a function or a class with a constructor is covered
     covered = {name.split(".")[-1] for name in FUNCTIONS} | {name.split(".")[0] for name in FUNCTIONS}

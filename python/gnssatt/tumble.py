@@ -71,6 +71,9 @@ MAX_ROTATION_PER_STEP_RAD = 1.0
 MAX_GENERATIONS = 100_000
 MAX_POPSIZE = 1_000
 MAX_RESTARTS = 100
+#: Most RK4 steps of one :func:`fit_rotation` at its generation cap, all runs together (about 20 minutes
+#: of one core; the default settings on 1500 one-second epochs need 5.4e8).
+MAX_FIT_RK4_STEPS = 10_000_000_000
 
 
 @dataclass(frozen=True)
@@ -607,8 +610,9 @@ def fit_rotation(
         more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
     WorkLimitError
         ``popsize`` above ``MAX_POPSIZE`` (1000), ``maxiter`` or ``patience`` above ``MAX_GENERATIONS``
-        (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), or one generation needing more than
-        ``MAX_RK4_STEPS`` RK4 steps.
+        (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), one generation needing more than
+        ``MAX_RK4_STEPS`` RK4 steps, or the whole fit at its generation cap more than ``MAX_FIT_RK4_STEPS``
+        (1e10).
     """
     tt = _times(t)
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
@@ -657,6 +661,15 @@ def fit_rotation(
     mdl = _default(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
     step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w + mdl.orbital_rate_rad_s)
+    # The whole fit at its generation cap: every run, every generation, the whole population.
+    per_state = float(np.sum(np.ceil(np.diff(tt, prepend=0.0) / step_s)))
+    total = (opts["maxiter"] + 1) * opts["popsize"] * 6 * (max_restarts + 1) * per_state
+    if total > MAX_FIT_RK4_STEPS:
+        raise WorkLimitError(
+            f"fit_rotation may need {total:.3g} RK4 steps ((maxiter + 1) * popsize * 6 * (max_restarts + 1) "
+            f"propagations of {per_state:.3g} steps), beyond the limit of {MAX_FIT_RK4_STEPS:.3g}; lower "
+            "maxiter, popsize or max_restarts, or use a longer step_s"
+        )
     obj = _Objective(tt, m, mdl, step_s)
 
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
