@@ -789,6 +789,10 @@ SPECIFIC = [
     ("fit_rotation", "recombination", 1.5, InvalidInputError),
     ("fit_rotation", "mutation", (0.5, 3.0), InvalidInputError),
     ("fit_rotation", "mutation", (0.5,), InvalidInputError),
+    ("fit_rotation", "mutation", 2.0, InvalidInputError),
+    ("fit_rotation", "mutation", (1.0, 0.5), InvalidInputError),
+    ("fit_rotation", "seed", 2**70, InvalidInputError),
+    ("fit_rotation", "seed", -1, InvalidInputError),
     ("fit_rotation", "max_rate_rad_s", 0.0, InvalidInputError),
     ("fit_rotation", "restart", "again", InvalidInputError),
     ("fit_rotation", "polish", "yes", InvalidTypeError),
@@ -851,6 +855,13 @@ def test_fit_rotation_counts_its_whole_work_before_starting() -> None:
     # each generation is within the per-call limit (12 states x 1e6 steps), the fit at its cap is not
     with pytest.raises(WorkLimitError, match="maxiter"):
         _call("fit_rotation", t=np.array([0.0, 5e5, 1e6]), maxiter=100_000)
+
+
+def test_fit_rotation_takes_directions_of_any_scale() -> None:
+    # measured axes of norm 1e300 are the same directions (their norm overflowed to inf: all-zero axes)
+    axes = np.array([[0.0, 1.0, 0.0], [0.1, 1.0, 0.0], [0.2, 1.0, 0.1]])
+    small, huge = (_call("fit_rotation", measured_axes=axes * k) for k in (1.0, 1e300))
+    np.testing.assert_array_equal(small.params, huge.params)
 
 
 def test_every_public_function_has_cases() -> None:

@@ -606,7 +606,7 @@ def fit_rotation(
         Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times, a
         non-positive ``axis_sigma_deg``, a negative ``max_restarts``, ``min_restarts`` outside
         ``[0, max_restarts]``, optimiser settings out of range (``recombination`` in [0, 1], ``mutation``
-        in [0, 2], ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and step that turn the body by
+        in [0, 2), ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and step that turn the body by
         more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
     WorkLimitError
         ``popsize`` above ``MAX_POPSIZE`` (1000), ``maxiter`` or ``patience`` above ``MAX_GENERATIONS``
@@ -620,9 +620,13 @@ def fit_rotation(
         raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
     if tt.size < MIN_EPOCHS:
         raise InvalidInputError(f"expected at least {MIN_EPOCHS} epochs to fit 6 parameters, got {tt.size}")
-    norm = np.linalg.norm(m, axis=1)
+    with np.errstate(over="ignore"):  # an infinite norm is rescaled below
+        norm = np.linalg.norm(m, axis=1)
     if np.any(norm < 1e-9):
         raise InvalidInputError(f"measured_axes row {int(np.argmin(norm))} is zero")
+    scale = np.max(np.abs(m), axis=1, keepdims=True)  # directions only: rescaled first so no norm overflows
+    m = m / scale
+    norm = np.linalg.norm(m, axis=1)
     max_restarts = integer("max_restarts", max_restarts, minimum=0, maximum=MAX_RESTARTS)
     min_restarts = integer("min_restarts", min_restarts, minimum=0)
     if min_restarts > max_restarts:
@@ -638,14 +642,21 @@ def fit_rotation(
         raise InvalidTypeError(f"expected polish as a bool, got {type(polish).__name__}")
     if seed is not None and not isinstance(seed, np.random.SeedSequence):
         seed = integer("seed", seed, minimum=0)
+        if seed > 2**32 - 1:  # scipy's integer seeds; a SeedSequence takes any entropy
+            raise InvalidInputError(f"expected seed in [0, 2**32 - 1] or a numpy SeedSequence, got {seed}")
     if isinstance(mutation, tuple | list):
         if len(mutation) != 2:
             raise InvalidInputError(f"expected mutation as F or a (low, high) pair, got {mutation!r}")
-        mutation = tuple(
-            scalar(f"mutation[{k}]", f, minimum=0.0, maximum=2.0) for k, f in enumerate(mutation)
-        )
+        lo, hi = (scalar(f"mutation[{k}]", f, minimum=0.0) for k, f in enumerate(mutation))
+        if not lo < hi < 2.0:
+            raise InvalidInputError(
+                f"expected mutation (low, high) with 0 <= low < high < 2, got {mutation!r}"
+            )
+        mutation = (lo, hi)
     else:
-        mutation = scalar("mutation", mutation, minimum=0.0, maximum=2.0)
+        mutation = scalar("mutation", mutation, minimum=0.0)
+        if mutation >= 2.0:
+            raise InvalidInputError(f"expected mutation in [0, 2), got {mutation}")
     opts = {
         "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
         "mutation": mutation,
