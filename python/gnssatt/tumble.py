@@ -431,6 +431,9 @@ class _Objective:
     def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         batch = np.ascontiguousarray(np.atleast_2d(x.T) if x.ndim == 2 else x[None, :])
         cost = _core.tumble_cost(batch, self.t, self.measured, self.kwargs, step_s=self.step_s)
+        # A trial whose integration diverged (Nelder-Mead may leave the search box's rates) is infinitely
+        # bad, never a NaN that the optimisers would compare wrongly.
+        cost = np.where(np.isfinite(cost), cost, np.inf)
         self.nfev += len(batch)
         if x.ndim == 2 and batch.shape[0] > 1:
             if self.population is None or self.population.shape != cost.shape:
@@ -698,6 +701,7 @@ def fit_rotation(
             fraction = HORIZON_FRACTIONS[k % len(HORIZON_FRACTIONS)]
             runs.append(_horizon_run(obj, bounds, rng, opts, fraction))
     best, cost, _, stopped_by = min(runs, key=lambda r: r[1])
+    finite_result("the fitted objective", cost, f"every run diverged; step_s = {step_s} s")
     fitted = propagate_axes(best, tt, mdl, step_s=step_s)
     ang = np.arccos(np.clip(np.sum(fitted * m, axis=1), -1.0, 1.0))
     return RotationFit(
