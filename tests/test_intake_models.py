@@ -789,10 +789,27 @@ SPECIFIC = [
     ("fit_rotation", "recombination", 1.5, InvalidInputError),
     ("fit_rotation", "mutation", (0.5, 3.0), InvalidInputError),
     ("fit_rotation", "mutation", (0.5,), InvalidInputError),
+    ("fit_rotation", "mutation", 2.0, InvalidInputError),
+    ("fit_rotation", "mutation", (1.0, 0.5), InvalidInputError),
+    ("fit_rotation", "seed", 2**70, InvalidInputError),
+    ("fit_rotation", "seed", -1, InvalidInputError),
     ("fit_rotation", "max_rate_rad_s", 0.0, InvalidInputError),
     ("fit_rotation", "restart", "again", InvalidInputError),
     ("fit_rotation", "polish", "yes", InvalidTypeError),
     ("fit_rotation", "t", np.array([0.0, 1.0]), InvalidInputError),
+    # finite but extreme: refused, or reported as an overflow, instead of NaN or a numpy/scipy error
+    ("right_jacobian", "a", np.full(3, 1e300), InvalidInputError),
+    ("orbital_hold_motion", "amplitude_rad", np.full(3, 4.0), InvalidInputError),
+    ("attitude_fixes", "baselines_m", np.full((2, 3), 1e20), InvalidInputError),
+    ("attitude_fixes", "baselines_m", np.zeros((2, 3)), InvalidInputError),
+    ("attitude_fixes", "sigma_cycles", 1e300, InvalidInputError),
+    ("attitude_fixes", "sigma_cycles", 1e-300, InvalidInputError),
+    ("simulate_spaceborne", "receiver_velocity_m_s", np.full((3, 3), 1e300), InvalidInputError),
+    ("simulate_spaceborne", "receiver_position_m", np.full((3, 3), 1e300), InvalidInputError),
+    ("noise_cost_threshold", "n_epochs", 2**63, InvalidInputError),
+    ("noise_cost_threshold", "axis_sigma_deg", 1e300, InvalidInputError),
+    ("white_acceleration_noise", "dt_s", 1e300, ConvergenceError),
+    ("OrbitFilterResult.nees", "truth", np.full((3, 6), 1e300), ConvergenceError),
     # absurd sizes: refused before any work
     ("igrf_field_ecef", "max_degree", 10**12, InvalidInputError),
     ("solve_kepler", "max_iter", 10**12, WorkLimitError),
@@ -832,6 +849,19 @@ def test_batch_size_counts_in_the_work_limit() -> None:
     # 10^4 initial states x 10^5 one-second steps: 10^9 RK4 steps, refused before any is taken
     with pytest.raises(WorkLimitError, match="10000 initial states"):
         tumble.propagate_axes(np.zeros((10_000, 6)), [0.0, 1e5])
+
+
+def test_fit_rotation_counts_its_whole_work_before_starting() -> None:
+    # each generation is within the per-call limit (12 states x 1e6 steps), the fit at its cap is not
+    with pytest.raises(WorkLimitError, match="maxiter"):
+        _call("fit_rotation", t=np.array([0.0, 5e5, 1e6]), maxiter=100_000)
+
+
+def test_fit_rotation_takes_directions_of_any_scale() -> None:
+    # measured axes of norm 1e300 are the same directions (their norm overflowed to inf: all-zero axes)
+    axes = np.array([[0.0, 1.0, 0.0], [0.1, 1.0, 0.0], [0.2, 1.0, 0.1]])
+    small, huge = (_call("fit_rotation", measured_axes=axes * k) for k in (1.0, 1e300))
+    np.testing.assert_array_equal(small.params, huge.params)
 
 
 def test_every_public_function_has_cases() -> None:
@@ -893,18 +923,28 @@ def test_fast_tumbling_is_refused_not_nan() -> None:
     # 1000 rad/s in 1 s steps gave NaN axes; now refused with the step that would do
     with pytest.raises(InvalidInputError, match=r"step_s <= 0\.001"):
         tumble.propagate_axes([0.0, 0.0, 0.0, 1e3, 0.0, 0.0], [0.0, 10.0])
-    # the same rate with the suggested step is finite and keeps unit axes
-    axes = tumble.propagate_axes([0.0, 0.0, 0.0, 1e3, 0.0, 0.0], [0.0, 0.5], step_s=1e-3)
+    # the same rate with a step below the suggested one is finite and keeps unit axes
+    axes = tumble.propagate_axes([0.0, 0.0, 0.0, 1e3, 0.0, 0.0], [0.0, 0.5], step_s=0.99e-3)
     np.testing.assert_allclose(np.linalg.norm(axes, axis=1), 1.0, atol=1e-9)
 
 
 @pytest.mark.parametrize("rate", [0.5, 3.0, 30.0])
 def test_tumbling_at_the_rotation_bound_stays_finite(rate: float) -> None:
     # |omega| h at the documented bound over many steps: finite unit axes (or a ConvergenceError, never NaN)
-    h = tumble.MAX_ROTATION_PER_STEP_RAD / rate
+    # the bound counts the body rate plus the orbital frame's
+    h = tumble.MAX_ROTATION_PER_STEP_RAD / (rate + tumble.TumbleModel.circular().orbital_rate_rad_s)
     params = np.array([[0.3, 1.0, 0.2, rate / math.sqrt(3)] + [rate / math.sqrt(3)] * 2])
     axes = tumble.propagate_axes(params, np.linspace(0.0, 200 * h, 5), step_s=h)
     assert np.all(np.isfinite(axes))
+
+
+@pytest.mark.parametrize("velocity", [(0.0, 0.0, 0.0), (1e3, 0.0, 0.0)])
+def test_spaceborne_receiver_without_horizontal_velocity_is_simulated(velocity: tuple[float, ...]) -> None:
+    # at rest or moving radially: the antenna azimuth is arbitrary, the visibility is not (was a scipy error)
+    r = np.tile([7.0e6, 0.0, 0.0], (3, 1))
+    meas = sim.simulate_spaceborne(r, np.tile(velocity, (3, 1)), T3, GPS, np.random.default_rng(4))
+    assert meas.visible.any()
+    assert np.all(np.isfinite(meas.pseudorange_m[meas.visible]))
 
 
 def test_glonass_propagate_with_absurd_velocity_raises_not_nan() -> None:

@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import integer, scalar
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array
+from gnssatt.sim._util import checked_array, vector_array
 
 __all__ = [
     "EARTH_DIPOLE_T_M3",
@@ -239,9 +239,7 @@ def dipole_field_ecef(position_ecef_m: ArrayLike, decimal_year: float) -> NDArra
 
 
 def _positions(name: str, value: ArrayLike) -> NDArray[np.float64]:
-    r = checked_array(name, value, ndim=_ANY_NDIM[1:], shape="(..., 3)")
-    if r.shape[-1] != 3:
-        raise InvalidInputError(f"expected {name} of shape (..., 3), got {r.shape}")
+    r = vector_array(name, value, ndim=_ANY_NDIM[1:], shape="(..., 3)")
     with np.errstate(over="ignore"):  # a radius beyond float64 is refused as out of range
         _radii(name, np.linalg.norm(r, axis=-1))
     return r

@@ -350,18 +350,18 @@ def tle_states(
     InvalidInputError
         Unparsable TLE, or SGP4 reports an error (e.g. decayed orbit) at some time.
     """
+    instance("line1", line1, str, "a str")
+    instance("line2", line2, str, "a str")
+    jd, fr = _julian_dates(times)
+    d = scalar("dut1_s", dut1_s, minimum=-1.0, maximum=1.0, unit="s")  # |UT1 - UTC| < 0.9 s by definition
     try:
         from sgp4.api import Satrec
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise ImportError("tle_states needs the sgp4 package: pip install 'gnssatt[tle]'") from exc
-    instance("line1", line1, str, "a str")
-    instance("line2", line2, str, "a str")
     try:
         sat = Satrec.twoline2rv(line1, line2)
     except (ValueError, IndexError) as exc:
         raise InvalidInputError(f"could not parse the TLE: {exc}") from exc
-    jd, fr = _julian_dates(times)
-    d = scalar("dut1_s", dut1_s, minimum=-1.0, maximum=1.0, unit="s")  # |UT1 - UTC| < 0.9 s by definition
     err, r_km, v_km_s = sat.sgp4_array(jd, fr)
     if np.any(err != 0):
         k = int(np.flatnonzero(err)[0])

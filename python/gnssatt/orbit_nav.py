@@ -47,7 +47,7 @@ def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.
         The covariance overflows (``q dt^3`` beyond float64).
     """
     q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
-    dt = scalar("dt_s", dt_s, minimum=0.0)
+    dt = np.float64(scalar("dt_s", dt_s, minimum=0.0))  # numpy floats overflow to inf, reported below
     i3 = np.eye(3)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
         out = q * np.block([[dt**3 / 3 * i3, dt**2 / 2 * i3], [dt**2 / 2 * i3, dt * i3]])
@@ -251,7 +251,9 @@ class OrbitFilterResult:
         if x.shape != self.states.shape:
             raise InvalidInputError(f"expected truth of shape {self.states.shape}, got {x.shape}")
         e = self.states - x
-        return np.einsum("ki,ki->k", e, np.linalg.solve(self.covariances, e[..., None])[..., 0])
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, by name
+            out = np.einsum("ki,ki->k", e, np.linalg.solve(self.covariances, e[..., None])[..., 0])
+        return finite_result("the NEES", out, "truth is too far from the estimates for float64")
 
     def sigma(self) -> NDArray[np.float64]:
         """(n_t, 6) standard deviations of the state."""

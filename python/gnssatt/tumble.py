@@ -71,6 +71,9 @@ MAX_ROTATION_PER_STEP_RAD = 1.0
 MAX_GENERATIONS = 100_000
 MAX_POPSIZE = 1_000
 MAX_RESTARTS = 100
+#: Most RK4 steps of one :func:`fit_rotation` at its generation cap, all runs together (about 20 minutes
+#: of one core; the default settings on 1500 one-second epochs need 5.4e8).
+MAX_FIT_RK4_STEPS = 10_000_000_000
 
 
 @dataclass(frozen=True)
@@ -167,7 +170,7 @@ def _checked_work(n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_r
     """``step_s`` as a float after checking the work and the rotation per step, before any propagation.
 
     The RK4 steps between output times are ``ceil(span / step_s)`` each, no longer than ``step_s`` nor
-    than the longest span; ``max_rate_rad_s`` is the fastest initial rate (norm) of the batch.
+    than the longest span; ``max_rate_rad_s`` is the fastest rate of the batch (:func:`_max_rate`).
     """
     h = scalar("step_s", step_s, minimum=0.0, strict=True, unit="s")
     spans = np.diff(t, prepend=0.0)
@@ -181,8 +184,8 @@ def _checked_work(n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_r
     if max_rate_rad_s * h_eff > MAX_ROTATION_PER_STEP_RAD:
         raise InvalidInputError(
             f"expected |omega| * step <= {MAX_ROTATION_PER_STEP_RAD} rad for a stable RK4 integration, got "
-            f"rates up to {max_rate_rad_s} rad/s in params with steps of {h_eff} s; use step_s <= "
-            f"{MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
+            f"rates up to {max_rate_rad_s} rad/s (params plus the orbital rate) in steps of {h_eff} s; "
+            f"use step_s <= {MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
         )
     return h
 
@@ -191,8 +194,12 @@ def _finite(what: str, value: NDArray[np.float64], step_s: float) -> NDArray[np.
     return finite_result(what, value, f"the integration diverged (step_s = {step_s} s); try a shorter step_s")
 
 
-def _max_rate(p: NDArray[np.float64]) -> float:
-    return float(np.max(np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1), initial=0.0))
+def _max_rate(p: NDArray[np.float64], model: TumbleModel) -> float:
+    """Fastest initial rate (norm) of the batch plus the orbital frame's rate (the body's rate relative
+    to the orbital frame is what the quaternion kinematics integrate)."""
+    return (
+        float(np.max(np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1), initial=0.0)) + model.orbital_rate_rad_s
+    )
 
 
 def _params(p: Any, ndim: int | tuple[int, ...]) -> NDArray[np.float64]:
@@ -238,10 +245,9 @@ def propagate_axes(
     """
     p = _params(params, (1, 2))
     tt = _times(t)
-    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p))
-    out = _finite(
-        "the propagated axes", _core.tumble_axes(np.atleast_2d(p), tt, _default(model)._kwargs(), step_s=h), h
-    )
+    mdl = _default(model)
+    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p, mdl))
+    out = _finite("the propagated axes", _core.tumble_axes(np.atleast_2d(p), tt, mdl._kwargs(), step_s=h), h)
     return out[0] if p.ndim == 1 else out
 
 
@@ -262,8 +268,9 @@ def axis_cost(
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
     if m.shape != (tt.size, 3):
         raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
-    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p))
-    out = _core.tumble_cost(np.atleast_2d(p), tt, m, _default(model)._kwargs(), step_s=h)
+    mdl = _default(model)
+    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p, mdl))
+    out = _core.tumble_cost(np.atleast_2d(p), tt, m, mdl._kwargs(), step_s=h)
     out = _finite("the objective", out, h)
     return out if p.ndim == 2 else out[:1]
 
@@ -297,8 +304,9 @@ def propagate(
     :func:`propagate_axes`."""
     p = _params(params, 1)
     tt = _times(t)
-    h = _checked_work(1, tt, step_s, _max_rate(p))
-    out = _finite("the propagated state", _core.tumble_states(p, tt, _default(model)._kwargs(), step_s=h), h)
+    mdl = _default(model)
+    h = _checked_work(1, tt, step_s, _max_rate(p, mdl))
+    out = _finite("the propagated state", _core.tumble_states(p, tt, mdl._kwargs(), step_s=h), h)
     rot = Rotation.from_matrix(DCM_ORBITAL_FROM_ORB0) * Rotation.from_quat(out[:, :4])
     return TumbleTrajectory(t=tt, rotation=rot, omega_rad_s=out[:, 4:], axis=rot.apply([0.0, 1.0, 0.0]))
 
@@ -337,14 +345,17 @@ def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: fl
     Parameters
     ----------
     n_epochs
-        Number of measured axes, >= 1.
+        Number of measured axes, 1 to 1e12.
     axis_sigma_deg
-        Per-component standard deviation of the axis error, degrees, > 0.
+        Per-component standard deviation of the axis error, degrees, in (0, 180].
     false_restart
         Probability that the truth itself lies above the threshold, in (0, 1).
     """
     n_epochs = integer("n_epochs", n_epochs, minimum=1)
+    if n_epochs > 10**12:  # beyond scipy's chi-square quantile (and any measurement campaign)
+        raise InvalidInputError(f"expected n_epochs <= 1e12, got {n_epochs}")
     sigma = scalar("axis_sigma_deg", axis_sigma_deg, minimum=0.0, strict=True)
+    sigma = scalar("axis_sigma_deg", sigma, maximum=180.0, unit="deg")
     p = scalar("false_restart", false_restart)
     if not 0.0 < p < 1.0:
         raise InvalidInputError(f"expected false_restart in (0, 1), got {false_restart!r}")
@@ -420,6 +431,9 @@ class _Objective:
     def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         batch = np.ascontiguousarray(np.atleast_2d(x.T) if x.ndim == 2 else x[None, :])
         cost = _core.tumble_cost(batch, self.t, self.measured, self.kwargs, step_s=self.step_s)
+        # A trial whose integration diverged (Nelder-Mead may leave the search box's rates) is infinitely
+        # bad, never a NaN that the optimisers would compare wrongly.
+        cost = np.where(np.isfinite(cost), cost, np.inf)
         self.nfev += len(batch)
         if x.ndim == 2 and batch.shape[0] > 1:
             if self.population is None or self.population.shape != cost.shape:
@@ -595,12 +609,13 @@ def fit_rotation(
         Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times, a
         non-positive ``axis_sigma_deg``, a negative ``max_restarts``, ``min_restarts`` outside
         ``[0, max_restarts]``, optimiser settings out of range (``recombination`` in [0, 1], ``mutation``
-        in [0, 2], ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and step that turn the body by
+        in [0, 2), ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and step that turn the body by
         more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
     WorkLimitError
         ``popsize`` above ``MAX_POPSIZE`` (1000), ``maxiter`` or ``patience`` above ``MAX_GENERATIONS``
-        (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), or one generation needing more than
-        ``MAX_RK4_STEPS`` RK4 steps.
+        (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), one generation needing more than
+        ``MAX_RK4_STEPS`` RK4 steps, or the whole fit at its generation cap more than ``MAX_FIT_RK4_STEPS``
+        (1e10).
     """
     tt = _times(t)
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
@@ -608,9 +623,13 @@ def fit_rotation(
         raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
     if tt.size < MIN_EPOCHS:
         raise InvalidInputError(f"expected at least {MIN_EPOCHS} epochs to fit 6 parameters, got {tt.size}")
-    norm = np.linalg.norm(m, axis=1)
+    with np.errstate(over="ignore"):  # an infinite norm is rescaled below
+        norm = np.linalg.norm(m, axis=1)
     if np.any(norm < 1e-9):
         raise InvalidInputError(f"measured_axes row {int(np.argmin(norm))} is zero")
+    scale = np.max(np.abs(m), axis=1, keepdims=True)  # directions only: rescaled first so no norm overflows
+    m = m / scale
+    norm = np.linalg.norm(m, axis=1)
     max_restarts = integer("max_restarts", max_restarts, minimum=0, maximum=MAX_RESTARTS)
     min_restarts = integer("min_restarts", min_restarts, minimum=0)
     if min_restarts > max_restarts:
@@ -626,14 +645,21 @@ def fit_rotation(
         raise InvalidTypeError(f"expected polish as a bool, got {type(polish).__name__}")
     if seed is not None and not isinstance(seed, np.random.SeedSequence):
         seed = integer("seed", seed, minimum=0)
+        if seed > 2**32 - 1:  # scipy's integer seeds; a SeedSequence takes any entropy
+            raise InvalidInputError(f"expected seed in [0, 2**32 - 1] or a numpy SeedSequence, got {seed}")
     if isinstance(mutation, tuple | list):
         if len(mutation) != 2:
             raise InvalidInputError(f"expected mutation as F or a (low, high) pair, got {mutation!r}")
-        mutation = tuple(
-            scalar(f"mutation[{k}]", f, minimum=0.0, maximum=2.0) for k, f in enumerate(mutation)
-        )
+        lo, hi = (scalar(f"mutation[{k}]", f, minimum=0.0) for k, f in enumerate(mutation))
+        if not lo < hi < 2.0:
+            raise InvalidInputError(
+                f"expected mutation (low, high) with 0 <= low < high < 2, got {mutation!r}"
+            )
+        mutation = (lo, hi)
     else:
-        mutation = scalar("mutation", mutation, minimum=0.0, maximum=2.0)
+        mutation = scalar("mutation", mutation, minimum=0.0)
+        if mutation >= 2.0:
+            raise InvalidInputError(f"expected mutation in [0, 2), got {mutation}")
     opts = {
         "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
         "mutation": mutation,
@@ -648,7 +674,16 @@ def fit_rotation(
     m = np.ascontiguousarray(m / norm[:, None])
     mdl = _default(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
-    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w)
+    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w + mdl.orbital_rate_rad_s)
+    # The whole fit at its generation cap: every run, every generation, the whole population.
+    per_state = float(np.sum(np.ceil(np.diff(tt, prepend=0.0) / step_s)))
+    total = (opts["maxiter"] + 1) * opts["popsize"] * 6 * (max_restarts + 1) * per_state
+    if total > MAX_FIT_RK4_STEPS:
+        raise WorkLimitError(
+            f"fit_rotation may need {total:.3g} RK4 steps ((maxiter + 1) * popsize * 6 * (max_restarts + 1) "
+            f"propagations of {per_state:.3g} steps), beyond the limit of {MAX_FIT_RK4_STEPS:.3g}; lower "
+            "maxiter, popsize or max_restarts, or use a longer step_s"
+        )
     obj = _Objective(tt, m, mdl, step_s)
 
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
@@ -666,6 +701,7 @@ def fit_rotation(
             fraction = HORIZON_FRACTIONS[k % len(HORIZON_FRACTIONS)]
             runs.append(_horizon_run(obj, bounds, rng, opts, fraction))
     best, cost, _, stopped_by = min(runs, key=lambda r: r[1])
+    finite_result("the fitted objective", cost, f"every run diverged; step_s = {step_s} s")
     fitted = propagate_axes(best, tt, mdl, step_s=step_s)
     ang = np.arccos(np.clip(np.sum(fitted * m, axis=1), -1.0, 1.0))
     return RotationFit(

@@ -49,7 +49,8 @@ def vector_array(
     if arr.shape[-1:] != (3,):
         raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
     if nonzero and arr.size:
-        norm = np.linalg.norm(arr, axis=-1)
+        with np.errstate(over="ignore"):  # only zero matters here
+            norm = np.linalg.norm(arr, axis=-1)
         if np.any(norm == 0.0):
             bad = tuple(int(i) for i in np.argwhere(norm == 0.0)[0])
             raise InvalidInputError(f"expected non-zero vectors in {name}, got a zero vector at index {bad}")

@@ -44,6 +44,15 @@ __all__ = [
     "right_jacobian",
 ]
 
+#: Longest baseline accepted, m (antenna arrays span metres; 1e7 m keeps every product finite).
+MAX_BASELINE_M = 1.0e7
+#: Phase noise standard deviations accepted by :func:`attitude_fixes`, cycles: from far below any
+#: receiver's noise to far above a wrapped phase's range (keeps ``sigma^2`` and its inverse finite).
+SIGMA_RANGE_CYCLES = (1e-12, 1e3)
+#: Largest rotation-vector norm and oscillation amplitude accepted, rad: beyond 1e12 rad an angle has no
+#: significant digits left modulo 2 pi.
+MAX_ANGLE_RAD = 1.0e12
+
 
 def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
     z = np.zeros(v.shape[:-1])
@@ -54,6 +63,10 @@ def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
 def right_jacobian(a: ArrayLike) -> NDArray[np.float64]:
     """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``."""
     v = vector_array("a", a, ndim=(1, 2, 3), shape="(..., 3)")
+    if v.size and np.max(np.abs(v)) > MAX_ANGLE_RAD:
+        raise InvalidInputError(
+            f"expected a with components within +-{MAX_ANGLE_RAD} rad, got {np.max(np.abs(v))}"
+        )
     th = np.linalg.norm(v, axis=-1)[..., None, None]
     k = _skew(v)
     small = th < 1e-6
@@ -80,6 +93,10 @@ def orbital_hold_motion(
     ph = float_array("phase_rad", phase_rad, ndim=1, shape="(3,)")
     if amp.shape != (3,) or per.shape != (3,) or ph.shape != (3,) or np.any(per <= 0):
         raise InvalidInputError("expected amplitude_rad, period_s (> 0) and phase_rad of shape (3,)")
+    if np.max(np.abs(amp)) > np.pi:
+        raise InvalidInputError(
+            f"expected amplitude_rad within +-pi (an oscillation of the attitude), got {amp}"
+        )
     w = 2.0 * np.pi / per
     a = amp * np.sin(w * tt[:, None] + ph)
     a_dot = amp * w * np.cos(w * tt[:, None] + ph)
@@ -87,6 +104,7 @@ def orbital_hold_motion(
     orbital = Rotation.from_matrix(receiver.dcm_eci_from_orbital(tt))
     omega_orb = np.array([0.0, receiver.mean_motion_rad_s, 0.0])
     rate = osc.inv().apply(omega_orb) + np.einsum("kij,kj->ki", right_jacobian(a), a_dot)
+    finite_result("the body rate", rate, f"amplitude_rad {amp} over period_s {per}")
     return orbital * osc, rate
 
 
@@ -163,6 +181,17 @@ def _rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = Fal
     if (shape and arr.shape != shape) or (not shape and arr.ndim != 1):
         raise InvalidInputError(f"expected {name} of shape {shape or '(n,)'}, got {arr.shape}")
     return int(arr.shape[0])
+
+
+def _baselines(value: ArrayLike) -> NDArray[np.float64]:
+    b = vector_array("baselines_m", value, ndim=2, shape="(m, 3)", nonzero=True)
+    norm = np.linalg.norm(b, axis=1)
+    if len(b) == 0 or norm.max() > MAX_BASELINE_M:
+        raise InvalidInputError(
+            f"expected baselines_m of shape (m >= 1, 3), each at most {MAX_BASELINE_M} m, got shape {b.shape}"
+            + (f", longest {norm.max()} m" if len(b) else "")
+        )
+    return b
 
 
 def _per_epoch(name: str, attitude: Any, n: int) -> Rotation:
@@ -294,9 +323,7 @@ def phase_observations(
     tt = float_array("t", t, ndim=1, shape="(n_e,)")
     _per_epoch("attitude", attitude, len(tt))
     generator("rng", rng)
-    b = vector_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
-    if len(b) == 0:
-        raise InvalidInputError(f"expected baselines_m of shape (m, 3), got {b.shape}")
+    b = _baselines(baselines_m)
     db = (
         np.zeros_like(b)
         if baseline_errors_m is None
@@ -401,22 +428,24 @@ def attitude_fixes(
     instance("phases", phases, PhaseObservations, "gnssatt.sim PhaseObservations")
     _per_epoch("attitude", attitude, len(phases.epoch_t))
     generator("rng", rng)
-    b = vector_array("baselines_m", baselines_m, ndim=2, shape="(m, 3)")
+    b = _baselines(baselines_m)
     sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
+    sigma = scalar("sigma_cycles", sigma, minimum=SIGMA_RANGE_CYCLES[0], maximum=SIGMA_RANGE_CYCLES[1])
     count = phases.n_visible()
     keep = np.nonzero(count >= integer("min_satellites", min_satellites, minimum=1))[0]
     s_body = attitude[phases.epoch].inv().apply(phases.los)
     h = np.cross(s_body[:, None, :], b[None]) / phases.wavelength[:, None, None]  # (rows, m, 3)
-    info = np.zeros((len(phases.epoch_t), 3, 3))
-    np.add.at(info, phases.epoch, np.einsum("rim,rin->rmn", h, h) / sigma**2)
+    info = np.zeros((len(phases.epoch_t), 3, 3))  # per unit variance: cov = sigma^2 info^-1
+    np.add.at(info, phases.epoch, np.einsum("rim,rin->rmn", h, h))
     try:
         np.linalg.cholesky(info[keep])
+        cov = sigma**2 * np.linalg.inv(info[keep])
+        root = np.linalg.cholesky(cov)
     except np.linalg.LinAlgError as exc:
         bad = [int(k) for k in keep if np.linalg.matrix_rank(info[k]) < 3][:5]
         raise DegenerateGeometryError(
             f"the lines of sight and baselines_m do not fix the attitude at epochs {bad}; "
             f"raise min_satellites (now {min_satellites}) or add baselines"
         ) from exc
-    cov = np.linalg.inv(info[keep])
-    eta = np.einsum("kij,kj->ki", np.linalg.cholesky(cov), rng.standard_normal((len(keep), 3)))
+    eta = np.einsum("kij,kj->ki", root, rng.standard_normal((len(keep), 3)))
     return AttitudeFixes(phases.epoch_t[keep], attitude[keep] * Rotation.from_rotvec(eta), cov)

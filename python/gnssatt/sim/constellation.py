@@ -255,6 +255,13 @@ def gps_nominal(*, extra_slots_deg: Sequence[tuple[float, float]] = ()) -> Const
     Constellation
         ``G01``..``G24`` for slots A1..A4, B1..B4, ..., F1..F4 (module docstring for the source), with L1
         and L2 frequencies.
+
+    Raises
+    ------
+    InvalidInputError
+        A pair that is not two finite numbers (:class:`~gnssatt.errors.InvalidTypeError` for non-numbers).
+    WorkLimitError
+        More than ``MAX_SATELLITES - 24`` extra satellites.
     """
     pairs = list(GPS_BASELINE_SLOTS.values())
     extra = list(instance("extra_slots_deg", extra_slots_deg, Sequence, "a sequence of (raan, u) pairs"))

@@ -105,6 +105,8 @@ class ArrayMeasurements:
     def carrier_phase_rad(self, *, wrapped: bool = True) -> NDArray[np.float64]:
         """Carrier phases in radians, wrapped to [-pi, pi) (as a receiver without cycle count gives them)
         or not."""
+        if not isinstance(wrapped, bool | np.bool_):
+            raise InvalidTypeError(f"expected wrapped as a bool, got {type(wrapped).__name__}")
         phase = 2.0 * np.pi * self.carrier_phase_cycles
         return wrap_rad(phase) if wrapped else phase
 

@@ -177,6 +177,11 @@ def _zenith_attitudes(r: NDArray[np.float64], v: NDArray[np.float64]) -> Rotatio
     """Body -> ECEF rotations with body z along the radius and body x along the velocity's horizontal part."""
     z = r / np.linalg.norm(r, axis=-1, keepdims=True)
     x = v - np.sum(v * z, axis=-1, keepdims=True) * z
+    # No horizontal velocity (a vertical or resting receiver): any horizontal x will do, as only the
+    # boresight z decides the visibility.
+    other = np.where(np.abs(z[..., :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    flat = np.linalg.norm(x, axis=-1, keepdims=True) <= 1e-9 * np.linalg.norm(v, axis=-1, keepdims=True)
+    x = np.where(flat, np.cross(z, other), x)
     x /= np.linalg.norm(x, axis=-1, keepdims=True)
     return Rotation.from_matrix(np.stack([x, np.cross(z, x), z], axis=-1))
 
@@ -205,7 +210,8 @@ def simulate_spaceborne(
     Parameters
     ----------
     receiver_position_m, receiver_velocity_m_s
-        (n_t, 3) true receiver states, ECEF (m, m/s relative to the Earth).
+        (n_t, 3) true receiver states, ECEF (m, m/s relative to the Earth): positions 1e5 to 1e12 m from
+        the centre, speeds below the speed of light.
     times_s
         (n_t,) strictly increasing epochs, s from the scenario epoch (the constellation's ``t``).
     constellation
@@ -240,6 +246,17 @@ def simulate_spaceborne(
     """
     r = vector_array("receiver_position_m", receiver_position_m, ndim=2, shape="(n_t, 3)", nonzero=True)
     v = vector_array("receiver_velocity_m_s", receiver_velocity_m_s, ndim=2, shape="(n_t, 3)")
+    with np.errstate(over="ignore"):  # a norm beyond float64 is refused as out of range
+        radius, speed = np.linalg.norm(r, axis=1), np.linalg.norm(v, axis=1)
+    if r.size and (radius.min() < 1e5 or radius.max() > 1e12):
+        raise InvalidInputError(
+            f"expected receiver_position_m 1e5 to 1e12 m from the Earth's centre, got [{radius.min()}, "
+            f"{radius.max()}] m"
+        )
+    if v.size and speed.max() > SPEED_OF_LIGHT_M_S:
+        raise InvalidInputError(
+            f"expected receiver_velocity_m_s below the speed of light, got {speed.max()} m/s"
+        )
     t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
     if r.shape != (t.size, 3) or v.shape != r.shape:
         raise InvalidInputError(
