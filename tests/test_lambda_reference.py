@@ -163,7 +163,8 @@ def test_reference_solver_matches_brute_force() -> None:
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_small_ill_conditioned_problems_match_brute_force(n: int) -> None:
     rng = np.random.default_rng(100 + n)
-    for cond in (1e2, 1e4, 1e6):
+    # the box that brute force enumerates grows as sqrt(cond)^n: condition 1e6 only where n <= 2
+    for cond in (1e2, 1e4, 1e6)[: 3 if n <= 2 else 2]:
         for _ in range(6):
             q = spectrum_covariance(rng, n, cond) * 0.05
             a = rng.uniform(-50, 50, n)
