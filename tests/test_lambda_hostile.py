@@ -147,7 +147,7 @@ def test_ill_conditioned_decorrelation_is_exact(n: int) -> None:
         np.testing.assert_allclose(lower.T @ np.diag(d) @ lower, qz, atol=1e-9 * np.abs(qz).max())
 
 
-@pytest.mark.parametrize("n", [20, 30, 40])
+@pytest.mark.parametrize("n", [10, 20, 30])
 def test_ratio_test_and_partial_fix_return_exact_integers(n: int) -> None:
     # used to accept integers of +-9.2e18 and fix them
     rng = np.random.default_rng(7 * n)

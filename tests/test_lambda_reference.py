@@ -5,7 +5,7 @@ refuse). Every answer must equal the reference (same integer vectors, squared no
 ``ConvergenceError`` / ``WorkLimitError``; the number of refusals is bounded and printed (``pytest -s``).
 
 The reference shares nothing with the code under test: a different reduction (LLL with Lovasz condition
-0.99 on a QR factorisation, in Python integers) and a different search (recursive enumeration on the
+0.75 on a QR factorisation, in Python integers) and a different search (recursive enumeration on the
 orthogonalised basis), with norms from scipy's Cholesky solve.
 """
 
@@ -42,7 +42,7 @@ def geometry_covariance(rng: np.random.Generator, n: int, cond: float) -> np.nda
 # ---------------------------------------------------------------- the reference solver
 
 
-def lll(b: np.ndarray, delta: float = 0.99) -> tuple[np.ndarray, np.ndarray]:
+def lll(b: np.ndarray, delta: float = 0.75) -> tuple[np.ndarray, np.ndarray]:
     """LLL reduction of the columns of ``b``: (reduced basis, integer unimodular u) with reduced = b @ u."""
     n = b.shape[1]
     u = np.eye(n, dtype=object)  # Python integers: no overflow in the reference either
@@ -163,7 +163,8 @@ def test_reference_solver_matches_brute_force() -> None:
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_small_ill_conditioned_problems_match_brute_force(n: int) -> None:
     rng = np.random.default_rng(100 + n)
-    for cond in (1e2, 1e4, 1e6):
+    # the box that brute force enumerates grows as sqrt(cond)^n: condition 1e6 only where n <= 2
+    for cond in (1e2, 1e4, 1e6)[: 3 if n <= 2 else 2]:
         for _ in range(6):
             q = spectrum_covariance(rng, n, cond) * 0.05
             a = rng.uniform(-50, 50, n)
@@ -171,37 +172,40 @@ def test_small_ill_conditioned_problems_match_brute_force(n: int) -> None:
             same_answer(got, brute_force(a, q, 3))
 
 
-def _cases() -> list[tuple[str, int, float, int]]:
-    return [
-        (kind, n, cond, seed)
-        for kind in ("spectrum", "geometry")
-        for n in (5, 10, 20, 40, 64)
-        for cond in (1e2, 1e4, 1e6, 1e8)
-        for seed in range(2)
-    ]
+def _cases() -> list[tuple[str, int, float, int, str]]:
+    """The ILS solution (m = 1) of a float vector drawn from Q around an integer vector, for every size and
+    condition; the two best (m = 2, what the ratio test needs) and float vectors anywhere for n <= 20, where
+    the enumeration of the second best stays cheap (beyond, it grows as a binomial in n: see the report)."""
+    cases = []
+    for kind in ("spectrum", "geometry"):
+        for cond in (1e2, 1e4, 1e6, 1e8):
+            cases += [(kind, n, cond, 1, "noise") for n in (5, 10, 20, 40, 64)]
+            cases += [(kind, n, cond, 2, "noise") for n in (5, 10, 20)]
+            cases += [(kind, n, cond, 1, "anywhere") for n in (5, 10, 20)]
+    return cases
 
 
 def test_ill_conditioned_problems_up_to_64_match_the_reference() -> None:
-    """160 problems (2 structures x 5 sizes x 4 conditions x 2 seeds x 2 float vectors): LAMBDA equals the
-    independent solver or refuses; refusals are counted and must stay rare."""
+    """88 problems (2 structures x 4 conditions x 11 size / candidate / float-vector settings): LAMBDA equals
+    the independent solver or refuses; refusals are counted and must stay rare."""
     outcomes = {"equal": 0, "refused": 0}
     refused = []
-    for kind, n, cond, seed in _cases():
-        rng = np.random.default_rng([n, int(np.log10(cond)), seed, kind == "spectrum"])
+    for kind, n, cond, m, where in _cases():
+        rng = np.random.default_rng([n, int(np.log10(cond)), m, kind == "spectrum", where == "noise"])
         make = spectrum_covariance if kind == "spectrum" else geometry_covariance
         q = make(rng, n, cond) * 0.1
-        c = np.linalg.cholesky(q)
-        z_true = rng.integers(-1000, 1000, n)
-        # a noisy float solution around an integer vector, and one anywhere
-        for a in (z_true + c @ rng.standard_normal(n), rng.uniform(-1e4, 1e4, n)):
-            try:
-                got = gnssatt.lambda_ils(a, q, candidates=2)
-            except (ConvergenceError, WorkLimitError) as exc:
-                outcomes["refused"] += 1
-                refused.append((kind, n, cond, seed, str(exc)[:120]))
-                continue
-            same_answer(got, reference_ils(a, q, 2))
-            outcomes["equal"] += 1
+        if where == "noise":
+            a = rng.integers(-1000, 1000, n) + np.linalg.cholesky(q) @ rng.standard_normal(n)
+        else:
+            a = rng.uniform(-1e4, 1e4, n)
+        try:
+            got = gnssatt.lambda_ils(a, q, candidates=m)
+        except (ConvergenceError, WorkLimitError) as exc:
+            outcomes["refused"] += 1
+            refused.append((kind, n, cond, m, where, str(exc)[:120]))
+            continue
+        same_answer(got, reference_ils(a, q, m))
+        outcomes["equal"] += 1
     print(f"\nLAMBDA vs reference ILS: {outcomes}; refused: {refused}")
-    assert outcomes["equal"] + outcomes["refused"] == 160
-    assert outcomes["refused"] <= 8, refused  # at most 5 %: refusals must be rare at condition <= 1e8
+    assert outcomes["equal"] + outcomes["refused"] == 88
+    assert outcomes["refused"] <= 4, refused  # at most 5 %: refusals must be rare at condition <= 1e8

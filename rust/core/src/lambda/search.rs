@@ -12,11 +12,12 @@ use nalgebra::{DMatrix, DVector};
 use super::ldl::Ltdl;
 use crate::error::{Error, Result};
 
-/// Default cap on the nodes one search may visit (see [`search`]): a node costs O(n) flops, so 2e7
-/// nodes take about a second at n = 64 on one core (benches/lambda.rs). Decorrelated problems need
-/// far fewer (hundreds to thousands); the cap stops the search of a problem that the decorrelation
-/// could not make tractable, with [`Error::Convergence`].
-pub const DEFAULT_MAX_NODES: u64 = 20_000_000;
+/// Default cap on the nodes one search may visit (see [`search`]): measured at about 16 million nodes a
+/// second on one core at n = 40, so 1e8 nodes bound one search to about 6 s. The best candidate of a
+/// float vector drawn from its covariance needs about 2n nodes; the second best (the ratio test) grows
+/// roughly binomially with n where the decorrelated variances are flat (1e5 to beyond 1e8 nodes at
+/// n = 40 to 64). Past the cap the search stops with [`Error::Convergence`].
+pub const DEFAULT_MAX_NODES: u64 = 100_000_000;
 
 /// Largest number of candidates one search may be asked for: they are held in memory (n x m values)
 /// and each costs at least one node.

@@ -113,7 +113,9 @@ impl Grid {
         let g = Grid::lattice(step_rad)?;
         Grid {
             psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
+            theta: g
+                .theta
+                .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             phi: g.phi.window("window_deg (phi)", ranges[2].0, ranges[2].1)?,
         }
         .checked()
@@ -135,7 +137,9 @@ impl Grid {
         let g = Grid::lattice(step_rad)?.without_roll();
         Grid {
             psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
-            theta: g.theta.window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
+            theta: g
+                .theta
+                .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             ..g
         }
         .checked()
