@@ -10,7 +10,8 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReado
 use pyo3::prelude::*;
 
 use crate::convert::{dvector, vectors};
-use crate::errors::{invalid_input, IntoPyResult};
+use crate::errors::invalid_input;
+use crate::interruptible;
 
 /// The model parameters, passed as one dict (`gnssatt.tumble.TumbleModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
@@ -70,9 +71,7 @@ fn tumble_axes<'py>(
     let m = TumbleModel::from(model);
     let b = param_rows(py, &params)?;
     let t: Vec<f64> = times_s.as_array().iter().copied().collect();
-    let axes = py
-        .detach(|| propagate_axes_batch(&m, &b, &t, step_s))
-        .into_py_result(py)?;
+    let axes = interruptible::run(py, || propagate_axes_batch(&m, &b, &t, step_s))?;
     let out = Array3::from_shape_fn((b.len(), t.len(), 3), |(i, k, j)| axes[i][k][j]);
     Ok(out.into_pyarray(py))
 }
@@ -95,9 +94,7 @@ fn tumble_cost<'py>(
         .iter()
         .map(|v| [v.x, v.y, v.z])
         .collect();
-    let cost = py
-        .detach(|| axis_cost_batch(&m, &b, &t, &meas, step_s))
-        .into_py_result(py)?;
+    let cost = interruptible::run(py, || axis_cost_batch(&m, &b, &t, &meas, step_s))?;
     Ok(cost.into_pyarray(py))
 }
 
@@ -122,9 +119,7 @@ fn tumble_states<'py>(
     }
     let s0 = State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
     let t: Vec<f64> = times_s.as_array().iter().copied().collect();
-    let states = py
-        .detach(|| propagate(&m, s0, &t, step_s))
-        .into_py_result(py)?;
+    let states = interruptible::run(py, || propagate(&m, s0, &t, step_s))?;
     let out = Array2::from_shape_fn((t.len(), 7), |(k, j)| {
         let s = &states[k];
         match j {

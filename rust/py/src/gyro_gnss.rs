@@ -13,7 +13,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::convert::{quats_to_numpy, values, vectors};
-use crate::errors::{invalid_input, IntoPyResult};
+use crate::errors::invalid_input;
+use crate::interruptible;
 
 fn quat(py: Python<'_>, name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<[f64; 4]> {
     let v = values(py, name, a)?;
@@ -50,7 +51,7 @@ fn gyro_propagate<'py>(
     let q0 = quat(py, "q0", &q0)?;
     let t = values(py, "t", &t)?;
     let rates = vectors(py, "rates", &rates)?;
-    let q = py.detach(|| propagate(q0, &t, &rates)).into_py_result(py)?;
+    let q = interruptible::run(py, || propagate(q0, &t, &rates))?;
     Ok(quats_to_numpy(py, &q))
 }
 
@@ -276,9 +277,9 @@ fn gyro_gnss_filter<'py>(
         &phase_wavelength,
         &phase,
     )?;
-    let result = py
-        .detach(|| run(&settings, &initial, &gyro_t, &gyro_rates, &fixes, &epochs))
-        .into_py_result(py)?;
+    let result = interruptible::run(py, || {
+        run(&settings, &initial, &gyro_t, &gyro_rates, &fixes, &epochs)
+    })?;
     to_dict(py, result)
 }
 

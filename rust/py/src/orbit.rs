@@ -14,6 +14,7 @@ use numpy::{
 use pyo3::prelude::*;
 
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::interruptible;
 
 /// The ICD model constants, passed as one dict (`gnssatt.orbit.GlonassModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
@@ -93,9 +94,7 @@ fn glonass_propagate<'py>(
 ) -> PyResult<StateAndStm<'py>> {
     let s = state6(py, "state", &state)?;
     let m = GlonassModel::from(model);
-    let (x, phi) = py
-        .detach(|| propagate_with_stm(&m, &s, duration_s, step_s))
-        .into_py_result(py)?;
+    let (x, phi) = interruptible::run(py, || propagate_with_stm(&m, &s, duration_s, step_s))?;
     Ok((
         Array1::from_vec(x.to_vec()).into_pyarray(py),
         to_numpy6(&phi).into_pyarray(py),
@@ -127,9 +126,7 @@ fn glonass_ephemeris_states<'py>(
     let acc = rows3(py, "lunisolar_m_s2", &lunisolar_m_s2, n)?;
     let dt = dt_s.as_array().to_vec();
     let m = GlonassModel::from(model);
-    let out = py
-        .detach(|| ephemeris_states(&m, &s, &acc, &dt, max_step_s))
-        .into_py_result(py)?;
+    let out = interruptible::run(py, || ephemeris_states(&m, &s, &acc, &dt, max_step_s))?;
     Ok(Array2::from_shape_fn((n, 6), |(i, j)| out[i][j]).into_pyarray(py))
 }
 
@@ -250,9 +247,9 @@ fn orbit_filter_loose<'py>(
         covariance: &cov,
         valid: &valid,
     };
-    let out = py
-        .detach(|| run_filter(&cfg, &t, &x0, &p0, &Corrections::Loose(fixes)))
-        .into_py_result(py)?;
+    let out = interruptible::run(py, || {
+        run_filter(&cfg, &t, &x0, &p0, &Corrections::Loose(fixes))
+    })?;
     Ok(output(py, out))
 }
 
@@ -336,9 +333,9 @@ fn orbit_filter_tight<'py>(
         code_sigma_m,
         doppler_sigma_hz,
     };
-    let out = py
-        .detach(|| run_filter(&cfg, &t, &x0, &p0, &Corrections::Tight(ranges)))
-        .into_py_result(py)?;
+    let out = interruptible::run(py, || {
+        run_filter(&cfg, &t, &x0, &p0, &Corrections::Tight(ranges))
+    })?;
     Ok(output(py, out))
 }
 
