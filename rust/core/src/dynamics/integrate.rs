@@ -69,7 +69,7 @@ fn substeps(span_s: f64, step_s: f64) -> f64 {
 /// Checks output times (seconds from the initial epoch: finite, >= 0, non-decreasing) and the step, and
 /// counts the RK4 steps of one trajectory.
 pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<Plan> {
-    ensure_finite("times", times_s.iter())?;
+    ensure_finite("t", times_s.iter())?;
     if !(step_s.is_finite() && step_s > 0.0) {
         return Err(Error::out_of_range(
             "step_s",
@@ -79,14 +79,14 @@ pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<Plan> {
     if let Some(&t) = times_s.first() {
         if t < 0.0 {
             return Err(Error::out_of_range(
-                "times",
+                "t",
                 format!("expected times >= 0 s from the initial epoch, got {t}"),
             ));
         }
     }
     if let Some(i) = times_s.windows(2).position(|w| w[1] < w[0]) {
         return Err(Error::out_of_range(
-            "times",
+            "t",
             format!(
                 "expected non-decreasing times, got {} after {} at index {}",
                 times_s[i + 1],
@@ -123,7 +123,7 @@ pub(crate) fn check_work(plan: &Plan, states: usize, values_per_state: usize) ->
         "RK4 steps (over all initial states)",
     )?;
     guard::check_work(
-        "times",
+        "t",
         values_per_state as f64 * n,
         MAX_OUTPUT_VALUES,
         "output values",

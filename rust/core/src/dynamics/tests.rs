@@ -184,7 +184,7 @@ fn bad_input_is_an_error_not_a_panic() {
     let s = tumbling_state();
     assert!(matches!(
         propagate(&m, s, &[0.0, 2.0, 1.0], 1.0),
-        Err(Error::OutOfRange { name: "times", .. })
+        Err(Error::OutOfRange { name: "t", .. })
     ));
     assert!(matches!(
         propagate(&m, s, &[-1.0], 1.0),
@@ -246,7 +246,7 @@ fn work_beyond_the_limits_is_refused_before_it_starts() {
     let t = times(1000, 0.0);
     assert!(matches!(
         propagate_axes_batch(&m, &params, &t, 1.0),
-        Err(Error::TooLarge { name: "times", .. })
+        Err(Error::TooLarge { name: "t", .. })
     ));
 }
 

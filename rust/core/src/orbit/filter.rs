@@ -105,7 +105,7 @@ fn check_len(name: &'static str, len: usize, expected: usize, what: &str) -> Res
 impl Ranges<'_> {
     fn validate(&self, n_t: usize) -> Result<()> {
         guard::check_work(
-            "sat_position_m",
+            "data",
             self.n_sat as f64,
             MAX_SATELLITES as f64,
             "satellites",

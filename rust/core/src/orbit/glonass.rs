@@ -214,7 +214,7 @@ fn checked_state(
     let r_min = min_radius(model);
     if !(r >= r_min) {
         return Err(Error::out_of_range(
-            name,
+            "position_m",
             format!(
                 "expected a position away from the Earth's centre, at least {r_min:.0} m \
                  ({MIN_RADIUS_FRACTION} equatorial radius), got |r| = {r:.6e} m"
@@ -225,7 +225,7 @@ fn checked_state(
     let v_max = MAX_ESCAPE_SPEEDS * (2.0 * model.gm_m3_s2 / r).sqrt() + model.omega_rad_s.abs() * r;
     if !(v <= v_max) {
         return Err(Error::out_of_range(
-            name,
+            "velocity_m_s",
             format!(
                 "expected a bound orbit: |v| = {v:.6e} m/s at |r| = {r:.6e} m exceeds {MAX_ESCAPE_SPEEDS} \
                  escape speeds plus the axes' rotation, {v_max:.6e} m/s"
