@@ -212,7 +212,7 @@ fn checked_state(
     let x = Vector6::from_column_slice(state);
     let r = x.fixed_rows::<3>(0).norm();
     let r_min = min_radius(model);
-    if !(r >= r_min) {
+    if !r.is_finite() || r < r_min {
         return Err(Error::out_of_range(
             "position_m",
             format!(
@@ -223,7 +223,7 @@ fn checked_state(
     }
     let v = x.fixed_rows::<3>(3).norm();
     let v_max = MAX_ESCAPE_SPEEDS * (2.0 * model.gm_m3_s2 / r).sqrt() + model.omega_rad_s.abs() * r;
-    if !(v <= v_max) {
+    if v.is_nan() || v > v_max {
         return Err(Error::out_of_range(
             "velocity_m_s",
             format!(
