@@ -238,8 +238,8 @@ fn work_beyond_the_limits_is_refused_before_it_starts() {
         axis_cost_batch(&m, &params, &[1e5], &[[1.0, 0.0, 0.0]], 1.0),
         Err(Error::TooLarge { name: "step_s", .. })
     ));
-    // Exactly at the limit is allowed: 1e8 steps are counted, not refused (not run: step check first).
-    let plan = super::integrate::check_times(&[1e8], 1.0).unwrap();
+    // Exactly at the limit is allowed: the steps are counted, not refused (not run here).
+    let plan = super::integrate::check_times(&[MAX_RK4_STEPS], 1.0).unwrap();
     assert_eq!(plan.steps, MAX_RK4_STEPS);
     // Output values: 1e5 states x 1e3 times x 3.
     let params = vec![[0.7, 1.1, -2.0, d, -d, d]; 100_000];

@@ -254,7 +254,7 @@ fn orbit_filter_refuses_too_many_prediction_steps_and_satellites() {
             name: "step_s",
             requested,
             ..
-        }) => assert_eq!(requested, 1e7),
+        }) => assert_eq!(requested, 1e7), // 1e4 s in steps of 1e-3 s
         other => panic!("{other:?}"),
     }
     let n_sat = MAX_SATELLITES + 1;
