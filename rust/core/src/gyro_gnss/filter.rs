@@ -455,7 +455,10 @@ impl<'a> Filter<'a> {
         r: &DMatrix<f64>,
     ) {
         let m = self.m();
-        let py = self.py.as_mut().expect("sensitivity on");
+        // Called only with the sensitivity analysis on, when the augmented covariance exists.
+        let Some(py) = self.py.as_mut() else {
+            return;
+        };
         let ny = py.nrows();
         let nr = h.nrows();
         // Truth-model measurement matrix over [e (6), mu (3), beta (3m)].
