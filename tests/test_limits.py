@@ -247,3 +247,8 @@ def test_sigint_stops_a_long_rust_call() -> None:
     # CLOCK_MONOTONIC is system-wide on Linux: the child's clock reading is comparable with ours. The
     # worker polls every 1024 steps (~0.3 ms) and the caller checks signals every 50 ms.
     assert float(words[1]) - sent < 1.0
+
+
+def test_non_finite_euler_angles_are_refused_not_nan() -> None:
+    with pytest.raises(InvalidInputError, match="angles_rad"):
+        _core.euler_to_dcm("ZYX", [np.nan, 0.0, 0.0])
