@@ -7,7 +7,9 @@
 
 pub mod dynamics;
 pub mod error;
+pub mod guard;
 pub mod gyro_gnss;
+pub mod interrupt;
 pub mod kalman;
 pub mod lambda;
 pub mod likelihood;

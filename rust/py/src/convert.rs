@@ -1,22 +1,150 @@
-//! Checked intake of numpy arrays: dtype float64 (pyo3 raises TypeError otherwise), shape and finiteness
-//! checked here with expected-versus-actual messages. numpy is row-major, nalgebra column-major: every
-//! conversion goes element by element through explicit indices.
+//! Checked intake of numpy arrays, the one used by every binding: dtype float64 (pyo3 raises TypeError
+//! otherwise), shape and finiteness checked here with expected-versus-actual messages naming the
+//! parameter. numpy is row-major, nalgebra column-major: every conversion goes element by element through
+//! explicit indices.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-use numpy::ndarray::ArrayView2;
-use numpy::{PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
+use numpy::ndarray::{Dimension, IntoDimension};
+use numpy::{
+    Element, PyArray2, PyArray3, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadonlyArray3, ToPyArray,
+};
 use pyo3::prelude::*;
 
 use crate::errors::invalid_input;
 
-fn check_finite(py: Python<'_>, name: &str, a: &ArrayView2<'_, f64>) -> PyResult<()> {
-    if let Some(((i, j), _)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
-        return Err(invalid_input(
+/// `expected {name} of shape {expected}, got {actual}`.
+pub fn shape_error(py: Python<'_>, name: &str, expected: &str, actual: &[usize]) -> PyErr {
+    invalid_input(
+        py,
+        format!("expected {name} of shape {expected}, got {actual:?}"),
+    )
+}
+
+/// Refuses the first non-finite value, naming its index.
+fn finite<D: Dimension>(
+    py: Python<'_>,
+    name: &str,
+    a: &numpy::ndarray::ArrayView<'_, f64, D>,
+) -> PyResult<()> {
+    match a.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        Some((i, _)) => {
+            let index: Vec<String> = i
+                .into_dimension()
+                .slice()
+                .iter()
+                .map(|k| k.to_string())
+                .collect();
+            Err(invalid_input(
+                py,
+                format!(
+                    "{name} contains a non-finite value at [{}]",
+                    index.join(", ")
+                ),
+            ))
+        }
+        None => Ok(()),
+    }
+}
+
+/// A (N,) array of finite values.
+pub fn fixed<const N: usize>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray1<'_, f64>,
+) -> PyResult<[f64; N]> {
+    let v = a.as_array();
+    if v.len() != N {
+        return Err(shape_error(py, name, &format!("({N},)"), v.shape()));
+    }
+    finite(py, name, &v)?;
+    Ok(std::array::from_fn(|i| v[i]))
+}
+
+/// An (N, N) array of finite values.
+pub fn square<const N: usize>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<SMatrix<f64, N, N>> {
+    let v = a.as_array();
+    if v.shape() != [N, N] {
+        return Err(shape_error(py, name, &format!("({N}, {N})"), v.shape()));
+    }
+    finite(py, name, &v)?;
+    Ok(SMatrix::from_fn(|i, j| v[[i, j]]))
+}
+
+/// An (n, N) array as n rows, `n` given or any; finite unless `masked` (values a mask marks unused may
+/// be NaN: the core checks the used ones).
+pub fn rows<const N: usize>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray2<'_, f64>,
+    n: Option<usize>,
+    masked: bool,
+) -> PyResult<Vec<[f64; N]>> {
+    let v = a.as_array();
+    if v.ncols() != N || n.is_some_and(|n| v.nrows() != n) {
+        let rows = n.map_or("n".to_string(), |n| n.to_string());
+        return Err(shape_error(py, name, &format!("({rows}, {N})"), v.shape()));
+    }
+    if !masked {
+        finite(py, name, &v)?;
+    }
+    Ok(v.rows()
+        .into_iter()
+        .map(|r| std::array::from_fn(|j| r[j]))
+        .collect())
+}
+
+/// An (n, m, N) array as `n * m` rows, epoch-major; finite unless `masked` (see [`rows`]).
+pub fn rows3<const N: usize>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray3<'_, f64>,
+    n: usize,
+    m: usize,
+    masked: bool,
+) -> PyResult<Vec<[f64; N]>> {
+    let v = a.as_array();
+    if v.shape() != [n, m, N] {
+        return Err(shape_error(
             py,
-            format!("{name} contains a non-finite value at [{i}, {j}]"),
+            name,
+            &format!("({n}, {m}, {N})"),
+            v.shape(),
         ));
     }
-    Ok(())
+    if !masked {
+        finite(py, name, &v)?;
+    }
+    Ok((0..n * m)
+        .map(|i| std::array::from_fn(|j| v[[i / m, i % m, j]]))
+        .collect())
+}
+
+/// An array of exactly `shape`, flattened row-major, any element type (flags, integers; floats are
+/// not checked for finiteness here: the caller's mask decides).
+pub fn exact<T: Element + Copy, D: Dimension>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray<'_, T, D>,
+    shape: &[usize],
+) -> PyResult<Vec<T>> {
+    let v = a.as_array();
+    if v.shape() != shape {
+        let expected = format!(
+            "({})",
+            shape
+                .iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        return Err(shape_error(py, name, &expected, v.shape()));
+    }
+    Ok(v.iter().copied().collect())
 }
 
 /// An (n, 3) array as n vectors.
@@ -32,7 +160,7 @@ pub fn vectors(
             format!("expected {name} of shape (n, 3), got {:?}", a.shape()),
         ));
     }
-    check_finite(py, name, &a)?;
+    finite(py, name, &a)?;
     Ok(a.rows()
         .into_iter()
         .map(|r| Vector3::new(r[0], r[1], r[2]))
@@ -52,7 +180,7 @@ pub fn matrix3(
             format!("expected {name} of shape (3, 3), got {:?}", a.shape()),
         ));
     }
-    check_finite(py, name, &a)?;
+    finite(py, name, &a)?;
     Ok(Matrix3::from_fn(|i, j| a[[i, j]]))
 }
 
@@ -63,7 +191,7 @@ pub fn dmatrix(
     a: &PyReadonlyArray2<'_, f64>,
 ) -> PyResult<DMatrix<f64>> {
     let a = a.as_array();
-    check_finite(py, name, &a)?;
+    finite(py, name, &a)?;
     Ok(DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[[i, j]]))
 }
 
@@ -74,12 +202,7 @@ pub fn dvector(
     a: &PyReadonlyArray1<'_, f64>,
 ) -> PyResult<DVector<f64>> {
     let a = a.as_array();
-    if let Some((i, _)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
-        return Err(invalid_input(
-            py,
-            format!("{name} contains a non-finite value at [{i}]"),
-        ));
-    }
+    finite(py, name, &a)?;
     Ok(DVector::from_iterator(a.len(), a.iter().copied()))
 }
 
@@ -91,12 +214,7 @@ pub fn to_numpy<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f
 /// A 1-D array as a vector of finite values.
 pub fn values(py: Python<'_>, name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vec<f64>> {
     let a = a.as_array();
-    if let Some((i, _)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
-        return Err(invalid_input(
-            py,
-            format!("{name} contains a non-finite value at [{i}]"),
-        ));
-    }
+    finite(py, name, &a)?;
     Ok(a.to_vec())
 }
 
@@ -105,18 +223,8 @@ pub fn matrices_to_numpy<'py>(
     py: Python<'py>,
     m: impl ExactSizeIterator<Item = Matrix3<f64>>,
 ) -> Bound<'py, PyArray3<f64>> {
-    let n = m.len();
-    let mut flat = Vec::with_capacity(9 * n);
-    for m in m {
-        for i in 0..3 {
-            for j in 0..3 {
-                flat.push(m[(i, j)]);
-            }
-        }
-    }
-    numpy::ndarray::Array3::from_shape_vec((n, 3, 3), flat)
-        .expect("length is 9 n")
-        .to_pyarray(py)
+    let m: Vec<Matrix3<f64>> = m.collect();
+    numpy::ndarray::Array3::from_shape_fn((m.len(), 3, 3), |(k, i, j)| m[k][(i, j)]).to_pyarray(py)
 }
 
 /// `n` quaternions `[x, y, z, w]` as a new (n, 4) numpy array.

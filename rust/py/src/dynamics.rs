@@ -9,8 +9,8 @@ use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use crate::convert::{dvector, vectors};
-use crate::errors::{invalid_input, IntoPyResult};
+use crate::convert::{fixed, rows, values};
+use crate::interruptible;
 
 /// The model parameters, passed as one dict (`gnssatt.tumble.TumbleModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
@@ -43,20 +43,6 @@ impl From<ModelArgs> for TumbleModel {
     }
 }
 
-fn param_rows(py: Python<'_>, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 6]>> {
-    let a = a.as_array();
-    if a.ncols() != 6 {
-        return Err(invalid_input(
-            py,
-            format!("expected params of shape (n, 6), got {:?}", a.shape()),
-        ));
-    }
-    Ok(a.rows()
-        .into_iter()
-        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
-        .collect())
-}
-
 /// Antenna axes (n, m, 3) of n initial states at m times.
 #[pyfunction]
 #[pyo3(signature = (params, times_s, model, *, step_s))]
@@ -68,11 +54,9 @@ fn tumble_axes<'py>(
     step_s: f64,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let m = TumbleModel::from(model);
-    let b = param_rows(py, &params)?;
-    let t: Vec<f64> = times_s.as_array().iter().copied().collect();
-    let axes = py
-        .detach(|| propagate_axes_batch(&m, &b, &t, step_s))
-        .into_py_result(py)?;
+    let b = rows::<6>(py, "params", &params, None, false)?;
+    let t = values(py, "t", &times_s)?;
+    let axes = interruptible::run(py, || propagate_axes_batch(&m, &b, &t, step_s))?;
     let out = Array3::from_shape_fn((b.len(), t.len(), 3), |(i, k, j)| axes[i][k][j]);
     Ok(out.into_pyarray(py))
 }
@@ -89,15 +73,10 @@ fn tumble_cost<'py>(
     step_s: f64,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let m = TumbleModel::from(model);
-    let b = param_rows(py, &params)?;
-    let t: Vec<f64> = times_s.as_array().iter().copied().collect();
-    let meas: Vec<[f64; 3]> = vectors(py, "measured", &measured)?
-        .iter()
-        .map(|v| [v.x, v.y, v.z])
-        .collect();
-    let cost = py
-        .detach(|| axis_cost_batch(&m, &b, &t, &meas, step_s))
-        .into_py_result(py)?;
+    let b = rows::<6>(py, "params", &params, None, false)?;
+    let t = values(py, "t", &times_s)?;
+    let meas = rows::<3>(py, "measured_axes", &measured, None, false)?;
+    let cost = interruptible::run(py, || axis_cost_batch(&m, &b, &t, &meas, step_s))?;
     Ok(cost.into_pyarray(py))
 }
 
@@ -113,18 +92,10 @@ fn tumble_states<'py>(
     step_s: f64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let m = TumbleModel::from(model);
-    let b = dvector(py, "param", &param)?;
-    if b.len() != 6 {
-        return Err(invalid_input(
-            py,
-            format!("expected param of shape (6,), got ({},)", b.len()),
-        ));
-    }
+    let b = fixed::<6>(py, "params", &param)?;
     let s0 = State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
-    let t: Vec<f64> = times_s.as_array().iter().copied().collect();
-    let states = py
-        .detach(|| propagate(&m, s0, &t, step_s))
-        .into_py_result(py)?;
+    let t = values(py, "t", &times_s)?;
+    let states = interruptible::run(py, || propagate(&m, s0, &t, step_s))?;
     let out = Array2::from_shape_fn((t.len(), 7), |(k, j)| {
         let s = &states[k];
         match j {

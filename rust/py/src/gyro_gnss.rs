@@ -12,32 +12,9 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonl
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{quats_to_numpy, values, vectors};
-use crate::errors::{invalid_input, IntoPyResult};
-
-fn quat(py: Python<'_>, name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<[f64; 4]> {
-    let v = values(py, name, a)?;
-    v.try_into().map_err(|v: Vec<f64>| {
-        invalid_input(
-            py,
-            format!("expected {name} of shape (4,), got ({},)", v.len()),
-        )
-    })
-}
-
-fn quats(py: Python<'_>, name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 4]>> {
-    let a = a.as_array();
-    if a.ncols() != 4 {
-        return Err(invalid_input(
-            py,
-            format!("expected {name} of shape (n, 4), got {:?}", a.shape()),
-        ));
-    }
-    Ok(a.rows()
-        .into_iter()
-        .map(|r| [r[0], r[1], r[2], r[3]])
-        .collect())
-}
+use crate::convert::{exact, fixed, quats_to_numpy, rows, square, values, vectors};
+use crate::errors::invalid_input;
+use crate::interruptible;
 
 /// Attitude (n, 4) at the time stamps `t` from `q0` and the body rates held over each interval.
 #[pyfunction]
@@ -47,10 +24,10 @@ fn gyro_propagate<'py>(
     t: PyReadonlyArray1<'_, f64>,
     rates: PyReadonlyArray2<'_, f64>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let q0 = quat(py, "q0", &q0)?;
+    let q0 = fixed::<4>(py, "q0", &q0)?;
     let t = values(py, "t", &t)?;
     let rates = vectors(py, "rates", &rates)?;
-    let q = py.detach(|| propagate(q0, &t, &rates)).into_py_result(py)?;
+    let q = interruptible::run(py, || propagate(q0, &t, &rates))?;
     Ok(quats_to_numpy(py, &q))
 }
 
@@ -207,20 +184,8 @@ fn gyro_gnss_filter<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let gyro_t = values(py, "gyro_t", &gyro_t)?;
     let gyro_rates = vectors(py, "gyro_rates", &gyro_rates)?;
-    let drift0 = values(py, "drift0", &drift0)?;
-    if drift0.len() != 3 {
-        return Err(invalid_input(
-            py,
-            format!("expected drift0 of shape (3,), got ({},)", drift0.len()),
-        ));
-    }
-    let p0v = p0.as_array();
-    if p0v.shape() != [6, 6] {
-        return Err(invalid_input(
-            py,
-            format!("expected p0 of shape (6, 6), got {:?}", p0v.shape()),
-        ));
-    }
+    let drift0 = fixed::<3>(py, "drift0", &drift0)?;
+    let p0 = square::<6>(py, "p0", &p0)?;
     let baselines = vectors(py, "baselines", &baselines)?;
     let settings = Settings {
         noise: GyroNoise { arw, rrw },
@@ -241,29 +206,18 @@ fn gyro_gnss_filter<'py>(
         baselines,
     };
     let initial = Initial {
-        quaternion: quat(py, "q0", &q0)?,
+        quaternion: fixed::<4>(py, "q0", &q0)?,
         drift: Vector3::new(drift0[0], drift0[1], drift0[2]),
-        covariance: Matrix6::from_fn(|i, j| p0v[[i, j]]),
+        covariance: p0,
     };
     let fix_t = values(py, "fix_t", &fix_t)?;
-    let fix_q = quats(py, "fix_q", &fix_q)?;
-    let fix_cov = fix_cov.as_array();
-    if fix_q.len() != fix_t.len() || fix_cov.shape() != [fix_t.len(), 3, 3] {
-        return Err(invalid_input(
-            py,
-            format!(
-                "expected fix_q ({n}, 4) and fix_cov ({n}, 3, 3) for {n} fix times, got {} and {:?}",
-                fix_q.len(),
-                fix_cov.shape(),
-                n = fix_t.len()
-            ),
-        ));
-    }
+    let fix_q = rows::<4>(py, "fix_q", &fix_q, Some(fix_t.len()), false)?;
+    let fix_cov = exact(py, "fix_cov", &fix_cov, &[fix_t.len(), 3, 3])?;
     let fixes: Vec<AttitudeFix> = (0..fix_t.len())
         .map(|k| AttitudeFix {
             t: fix_t[k],
             quaternion: fix_q[k],
-            covariance: Matrix3::from_fn(|i, j| fix_cov[[k, i, j]]),
+            covariance: Matrix3::from_fn(|i, j| fix_cov[9 * k + 3 * i + j]),
         })
         .collect();
     let epochs = phase_epochs(
@@ -276,9 +230,9 @@ fn gyro_gnss_filter<'py>(
         &phase_wavelength,
         &phase,
     )?;
-    let result = py
-        .detach(|| run(&settings, &initial, &gyro_t, &gyro_rates, &fixes, &epochs))
-        .into_py_result(py)?;
+    let result = interruptible::run(py, || {
+        run(&settings, &initial, &gyro_t, &gyro_rates, &fixes, &epochs)
+    })?;
     to_dict(py, result)
 }
 

@@ -7,6 +7,7 @@ mod convert;
 mod dynamics;
 mod errors;
 mod gyro_gnss;
+mod interruptible;
 mod lambda;
 mod likelihood;
 mod matrix_method;

@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 
 use crate::convert::vectors;
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::interruptible;
 
 fn model(
     py: Python<'_>,
@@ -114,9 +115,7 @@ fn ml_search(
     };
     let model = model(py, &phase_diffs, &los, &wavelengths, &baselines, statistic)?;
     let grid = grid(py, &model, step_rad, window_rad, two_dimensional)?;
-    let est = py
-        .detach(|| estimate(&model, &grid, search, refine))
-        .into_py_result(py)?;
+    let est = interruptible::run(py, || estimate(&model, &grid, search, refine))?;
     Ok((
         est.angles_rad,
         est.grid_angles_rad,
@@ -143,9 +142,7 @@ fn bnb_stats(
 ) -> PyResult<(u64, u64, u64)> {
     let model = model(py, &phase_diffs, &los, &wavelengths, &baselines, statistic)?;
     let grid = grid(py, &model, step_rad, window_rad, false)?;
-    let (_, s) = py
-        .detach(|| branch_and_bound(&model, &grid))
-        .into_py_result(py)?;
+    let (_, s) = interruptible::run(py, || branch_and_bound(&model, &grid))?;
     Ok((s.boxes_bounded, s.leaf_cells, grid.len() as u64))
 }
 
@@ -171,7 +168,7 @@ fn likelihood_grid<'py>(
 )> {
     let model = model(py, &phase_diffs, &los, &wavelengths, &baselines, statistic)?;
     let g = grid(py, &model, step_rad, window_rad, two_dimensional)?;
-    let z = py.detach(|| evaluate_grid(&model, &g)).into_py_result(py)?;
+    let z = interruptible::run(py, || evaluate_grid(&model, &g))?;
     let z = Array3::from_shape_vec((g.theta.len, g.phi.len, g.psi.len), z)
         .map_err(|e| invalid_input(py, e.to_string()))?;
     let axis = |a: &gnssatt_core::likelihood::Axis| {

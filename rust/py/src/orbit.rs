@@ -13,7 +13,9 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
+use crate::convert::{exact, fixed, rows, rows3, square, values};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::interruptible;
 
 /// The ICD model constants, passed as one dict (`gnssatt.orbit.GlonassModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
@@ -38,42 +40,6 @@ impl From<ModelArgs> for GlonassModel {
     }
 }
 
-fn shape_error(py: Python<'_>, name: &str, expected: String, actual: &[usize]) -> PyErr {
-    invalid_input(
-        py,
-        format!("expected {name} of shape {expected}, got {actual:?}"),
-    )
-}
-
-fn state6(py: Python<'_>, name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<[f64; 6]> {
-    let a = a.as_array();
-    if a.len() != 6 {
-        return Err(shape_error(py, name, "(6,)".into(), a.shape()));
-    }
-    Ok([a[0], a[1], a[2], a[3], a[4], a[5]])
-}
-
-fn matrix6(py: Python<'_>, name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Matrix6<f64>> {
-    let a = a.as_array();
-    if a.shape() != [6, 6] {
-        return Err(shape_error(py, name, "(6, 6)".into(), a.shape()));
-    }
-    Ok(Matrix6::from_fn(|i, j| a[[i, j]]))
-}
-
-fn rows3(
-    py: Python<'_>,
-    name: &str,
-    a: &PyReadonlyArray2<'_, f64>,
-    n: usize,
-) -> PyResult<Vec<[f64; 3]>> {
-    let a = a.as_array();
-    if a.shape() != [n, 3] {
-        return Err(shape_error(py, name, format!("({n}, 3)"), a.shape()));
-    }
-    Ok(a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
-}
-
 fn to_numpy6(m: &Matrix6<f64>) -> Array2<f64> {
     Array2::from_shape_fn((6, 6), |(i, j)| m[(i, j)])
 }
@@ -91,11 +57,9 @@ fn glonass_propagate<'py>(
     model: ModelArgs,
     step_s: f64,
 ) -> PyResult<StateAndStm<'py>> {
-    let s = state6(py, "state", &state)?;
+    let s = fixed::<6>(py, "state", &state)?;
     let m = GlonassModel::from(model);
-    let (x, phi) = py
-        .detach(|| propagate_with_stm(&m, &s, duration_s, step_s))
-        .into_py_result(py)?;
+    let (x, phi) = interruptible::run(py, || propagate_with_stm(&m, &s, duration_s, step_s))?;
     Ok((
         Array1::from_vec(x.to_vec()).into_pyarray(py),
         to_numpy6(&phi).into_pyarray(py),
@@ -114,22 +78,12 @@ fn glonass_ephemeris_states<'py>(
     model: ModelArgs,
     max_step_s: f64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let a = states.as_array();
-    if a.ncols() != 6 {
-        return Err(shape_error(py, "states", "(n, 6)".into(), a.shape()));
-    }
-    let n = a.nrows();
-    let s: Vec<[f64; 6]> = a
-        .rows()
-        .into_iter()
-        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
-        .collect();
-    let acc = rows3(py, "lunisolar_m_s2", &lunisolar_m_s2, n)?;
-    let dt = dt_s.as_array().to_vec();
+    let s = rows::<6>(py, "states", &states, None, false)?;
+    let n = s.len();
+    let acc = rows::<3>(py, "lunisolar_m_s2", &lunisolar_m_s2, Some(n), false)?;
+    let dt = values(py, "dt_s", &dt_s)?;
     let m = GlonassModel::from(model);
-    let out = py
-        .detach(|| ephemeris_states(&m, &s, &acc, &dt, max_step_s))
-        .into_py_result(py)?;
+    let out = interruptible::run(py, || ephemeris_states(&m, &s, &acc, &dt, max_step_s))?;
     Ok(Array2::from_shape_fn((n, 6), |(i, j)| out[i][j]).into_pyarray(py))
 }
 
@@ -157,13 +111,7 @@ fn circular_orbit_ecef<'py>(
             format!("expected finite theta0_rad and omega_rad_s, got {theta0_rad}, {omega_rad_s}"),
         ));
     }
-    let t = times_s.as_array();
-    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
-        return Err(invalid_input(
-            py,
-            format!("times_s contains a non-finite value at [{i}]"),
-        ));
-    }
+    let t = values(py, "times_s", &times_s)?;
     let states: Vec<_> = t
         .iter()
         .map(|&ti| o.state_ecef(ti, theta0_rad, omega_rad_s))
@@ -224,25 +172,19 @@ fn orbit_filter_loose<'py>(
     model: ModelArgs,
     settings: FilterArgs,
 ) -> PyResult<FilterArrays<'py>> {
-    let t = times_s.as_array().to_vec();
+    let t = values(py, "times_s", &times_s)?;
     let n = t.len();
-    let x0 = state6(py, "x0", &x0)?;
-    let p0 = matrix6(py, "p0", &p0)?;
-    let pos = rows3(py, "fix_position_m", &fix_position_m, n)?;
-    let vel = rows3(py, "fix_velocity_m_s", &fix_velocity_m_s, n)?;
-    let c = fix_covariance.as_array();
-    if c.shape() != [n, 6, 6] {
-        return Err(shape_error(
-            py,
-            "fix_covariance",
-            format!("({n}, 6, 6)"),
-            c.shape(),
-        ));
-    }
-    let cov: Vec<Matrix6<f64>> = (0..n)
-        .map(|k| Matrix6::from_fn(|i, j| c[[k, i, j]]))
+    let x0 = fixed::<6>(py, "x0", &x0)?;
+    let p0 = square::<6>(py, "p0", &p0)?;
+    // Epochs without a fix may hold NaN: the core checks the valid ones.
+    let pos = rows::<3>(py, "fix_position_m", &fix_position_m, Some(n), true)?;
+    let vel = rows::<3>(py, "fix_velocity_m_s", &fix_velocity_m_s, Some(n), true)?;
+    let c = exact(py, "fix_covariance", &fix_covariance, &[n, 6, 6])?;
+    let cov: Vec<Matrix6<f64>> = c
+        .chunks_exact(36)
+        .map(|k| Matrix6::from_fn(|i, j| k[6 * i + j]))
         .collect();
-    let valid = fix_valid.as_array().to_vec();
+    let valid = exact(py, "fix_valid", &fix_valid, &[n])?;
     let cfg = config(settings, model);
     let fixes = Fixes {
         position_m: &pos,
@@ -250,43 +192,10 @@ fn orbit_filter_loose<'py>(
         covariance: &cov,
         valid: &valid,
     };
-    let out = py
-        .detach(|| run_filter(&cfg, &t, &x0, &p0, &Corrections::Loose(fixes)))
-        .into_py_result(py)?;
+    let out = interruptible::run(py, || {
+        run_filter(&cfg, &t, &x0, &p0, &Corrections::Loose(fixes))
+    })?;
     Ok(output(py, out))
-}
-
-fn flat3(
-    py: Python<'_>,
-    name: &str,
-    a: &PyReadonlyArray3<'_, f64>,
-    n: usize,
-    m: usize,
-) -> PyResult<Vec<[f64; 3]>> {
-    let a = a.as_array();
-    if a.shape() != [n, m, 3] {
-        return Err(shape_error(py, name, format!("({n}, {m}, 3)"), a.shape()));
-    }
-    Ok((0..n * m)
-        .map(|i| {
-            let (k, j) = (i / m, i % m);
-            [a[[k, j, 0]], a[[k, j, 1]], a[[k, j, 2]]]
-        })
-        .collect())
-}
-
-fn flat2<T: numpy::Element + Copy>(
-    py: Python<'_>,
-    name: &str,
-    a: &PyReadonlyArray2<'_, T>,
-    n: usize,
-    m: usize,
-) -> PyResult<Vec<T>> {
-    let a = a.as_array();
-    if a.shape() != [n, m] {
-        return Err(shape_error(py, name, format!("({n}, {m})"), a.shape()));
-    }
-    Ok(a.iter().copied().collect())
 }
 
 /// Tightly coupled run: satellite states (n_t, n_sat, 3) x2, pseudoranges, Doppler and tracking (n_t,
@@ -311,18 +220,19 @@ fn orbit_filter_tight<'py>(
     model: ModelArgs,
     settings: FilterArgs,
 ) -> PyResult<FilterArrays<'py>> {
-    let t = times_s.as_array().to_vec();
+    let t = values(py, "times_s", &times_s)?;
     let n = t.len();
-    let x0 = state6(py, "x0", &x0)?;
-    let p0 = matrix6(py, "p0", &p0)?;
-    let lam = wavelength_m.as_array().to_vec();
+    let x0 = fixed::<6>(py, "x0", &x0)?;
+    let p0 = square::<6>(py, "p0", &p0)?;
+    let lam = values(py, "wavelength_m", &wavelength_m)?;
     let m = lam.len();
-    let sys = system.as_array().to_vec();
-    let pos = flat3(py, "sat_position_m", &sat_position_m, n, m)?;
-    let vel = flat3(py, "sat_velocity_m_s", &sat_velocity_m_s, n, m)?;
-    let pr = flat2(py, "pseudorange_m", &pseudorange_m, n, m)?;
-    let dop = flat2(py, "doppler_hz", &doppler_hz, n, m)?;
-    let vis = flat2(py, "visible", &visible, n, m)?;
+    let sys = exact(py, "system", &system, &[m])?;
+    // Untracked satellites may hold NaN: the core checks the tracked ones.
+    let pos = rows3::<3>(py, "sat_position_m", &sat_position_m, n, m, true)?;
+    let vel = rows3::<3>(py, "sat_velocity_m_s", &sat_velocity_m_s, n, m, true)?;
+    let pr = exact(py, "pseudorange_m", &pseudorange_m, &[n, m])?;
+    let dop = exact(py, "doppler_hz", &doppler_hz, &[n, m])?;
+    let vis = exact(py, "visible", &visible, &[n, m])?;
     let cfg = config(settings, model);
     let ranges = Ranges {
         n_sat: m,
@@ -336,9 +246,9 @@ fn orbit_filter_tight<'py>(
         code_sigma_m,
         doppler_sigma_hz,
     };
-    let out = py
-        .detach(|| run_filter(&cfg, &t, &x0, &p0, &Corrections::Tight(ranges)))
-        .into_py_result(py)?;
+    let out = interruptible::run(py, || {
+        run_filter(&cfg, &t, &x0, &p0, &Corrections::Tight(ranges))
+    })?;
     Ok(output(py, out))
 }
 

@@ -1,6 +1,7 @@
 //! Rotation utilities: Euler sequences and quaternions of the core, for round-trip checks and users who
 //! want the papers' sequences without scipy's naming.
 
+use gnssatt_core::error::ensure_finite;
 use gnssatt_core::rotation::{euler::EulerSeq, quaternion};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -16,6 +17,7 @@ fn euler_to_dcm<'py>(
     angles_rad: [f64; 3],
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let seq = EulerSeq::parse(seq).into_py_result(py)?;
+    ensure_finite("angles_rad", &angles_rad).into_py_result(py)?;
     Ok(to_numpy(py, &seq.to_dcm(angles_rad)))
 }
 

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{matrices_to_numpy, quats_to_numpy, values, vectors};
 use crate::errors::IntoPyResult;
+use crate::interruptible;
 
 type Arr1<'py> = Bound<'py, PyArray1<f64>>;
 type Arr2<'py> = Bound<'py, PyArray2<f64>>;
@@ -31,9 +32,7 @@ fn wahba_batch<'py>(
     let b = vectors(py, "body", &body)?;
     let r = vectors(py, "reference", &reference)?;
     let w = values(py, "weights", &weights)?;
-    let sols = py
-        .detach(|| solve_batch(&b, &r, &w, pairs, method))
-        .into_py_result(py)?;
+    let sols = interruptible::run(py, || solve_batch(&b, &r, &w, pairs, method))?;
     let quats: Vec<_> = py.detach(|| {
         sols.iter()
             .map(|s| quaternion::from_dcm(&s.dcm_ref_from_body))
@@ -62,9 +61,7 @@ fn triad_batch_py<'py>(
 ) -> PyResult<(Arr2<'py>, Arr1<'py>, Arr1<'py>)> {
     let (b1, b2) = (vectors(py, "b1", &b1)?, vectors(py, "b2", &b2)?);
     let (r1, r2) = (vectors(py, "r1", &r1)?, vectors(py, "r2", &r2)?);
-    let sols = py
-        .detach(|| triad_batch(&b1, &b2, &r1, &r2))
-        .into_py_result(py)?;
+    let sols = interruptible::run(py, || triad_batch(&b1, &b2, &r1, &r2))?;
     let quats: Vec<_> = sols
         .iter()
         .map(|s| quaternion::from_dcm(&s.dcm_ref_from_body))
@@ -93,7 +90,7 @@ fn yaw_batch_py<'py>(
     let o = vectors(py, "b_orbital", &b_orbital)?;
     let p = values(py, "pitch", &pitch_rad)?;
     let r = values(py, "roll", &roll_rad)?;
-    let sols = py.detach(|| yaw_batch(&b, &o, &p, &r)).into_py_result(py)?;
+    let sols = interruptible::run(py, || yaw_batch(&b, &o, &p, &r))?;
     let yaw: Vec<f64> = sols.iter().map(|s| s.yaw_rad).collect();
     let cp: Vec<f64> = sols.iter().map(|s| s.cos_pitch).collect();
     let hf: Vec<f64> = sols.iter().map(|s| s.horizontal_fraction).collect();

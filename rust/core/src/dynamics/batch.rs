@@ -3,8 +3,9 @@
 use rayon::prelude::*;
 
 use crate::error::{ensure_finite, Result};
+use crate::guard;
 
-use super::integrate::{check_state, check_times, walk};
+use super::integrate::{check_stable, check_state, check_times, check_work, walk, Plan};
 use super::model::{State, TumbleModel};
 
 /// The initial state of a parameter vector `b = (psi, alpha, phi, wx, wy, wz)` (rad, rad/s).
@@ -13,10 +14,12 @@ fn state_of(b: &[f64; 6]) -> State {
     State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]])
 }
 
-fn check_params(params: &[[f64; 6]]) -> Result<()> {
+fn check_params(model: &TumbleModel, params: &[[f64; 6]], plan: &Plan) -> Result<()> {
     ensure_finite("params", params.iter().flatten())?;
-    for b in params {
-        check_state(&state_of(b))?;
+    for (i, b) in params.iter().enumerate() {
+        let s = state_of(b);
+        check_state(&s)?;
+        check_stable(model, &s, plan, Some(i))?;
     }
     Ok(())
 }
@@ -31,7 +34,10 @@ fn check_params(params: &[[f64; 6]]) -> Result<()> {
 /// Runs on rayon's global pool (set its size with `RAYON_NUM_THREADS`).
 ///
 /// # Errors
-/// [`crate::Error::NonFinite`] or [`crate::Error::OutOfRange`] for invalid inputs.
+/// As [`super::propagate`]: [`crate::Error::NonFinite`] or [`crate::Error::OutOfRange`] for invalid
+/// inputs or a step too long for a row's rate; [`crate::Error::TooLarge`] for more than
+/// [`super::MAX_RK4_STEPS`] steps over all rows or [`super::MAX_OUTPUT_VALUES`] output values;
+/// [`crate::Error::Numerical`] if a row's integration diverges; [`crate::Error::Interrupted`].
 pub fn propagate_axes_batch(
     model: &TumbleModel,
     params: &[[f64; 6]],
@@ -39,18 +45,19 @@ pub fn propagate_axes_batch(
     step_s: f64,
 ) -> Result<Vec<Vec<[f64; 3]>>> {
     model.validate()?;
-    check_params(params)?;
-    check_times(times_s, step_s)?;
-    Ok(params
+    let plan = check_times(times_s, step_s)?;
+    check_work(&plan, params.len(), 3 * times_s.len())?;
+    check_params(model, params, &plan)?;
+    params
         .par_iter()
         .map(|b| {
             let mut out = Vec::with_capacity(times_s.len());
             walk(model, state_of(b), times_s, step_s, |_, s| {
                 out.push(s.axis_orbital())
-            });
-            out
+            })?;
+            Ok(out)
         })
-        .collect())
+        .collect()
 }
 
 /// The paper's objective (1) for each parameter vector: the sum over times of the squared distance
@@ -60,7 +67,8 @@ pub fn propagate_axes_batch(
 /// * `measured` - measured axis directions (library orbital frame), one per time.
 ///
 /// # Errors
-/// As [`propagate_axes_batch`]; [`crate::Error::Shape`] unless one measurement per time.
+/// As [`propagate_axes_batch`] (the output is one value per row); [`crate::Error::Shape`] unless one
+/// measurement per time; [`crate::Error::Numerical`] for a cost that overflows.
 pub fn axis_cost_batch(
     model: &TumbleModel,
     params: &[[f64; 6]],
@@ -69,8 +77,9 @@ pub fn axis_cost_batch(
     step_s: f64,
 ) -> Result<Vec<f64>> {
     model.validate()?;
-    check_params(params)?;
-    check_times(times_s, step_s)?;
+    let plan = check_times(times_s, step_s)?;
+    check_work(&plan, params.len(), 1)?;
+    check_params(model, params, &plan)?;
     if measured.len() != times_s.len() {
         return Err(crate::Error::Shape {
             name: "measured",
@@ -79,7 +88,7 @@ pub fn axis_cost_batch(
         });
     }
     ensure_finite("measured", measured.iter().flatten())?;
-    Ok(params
+    let cost = params
         .par_iter()
         .map(|b| {
             let mut cost = 0.0;
@@ -87,8 +96,15 @@ pub fn axis_cost_batch(
                 let a = s.axis_orbital();
                 let m = measured[k];
                 cost += (a[0] - m[0]).powi(2) + (a[1] - m[1]).powi(2) + (a[2] - m[2]).powi(2);
-            });
-            cost
+            })?;
+            Ok(cost)
         })
-        .collect())
+        .collect::<Result<Vec<f64>>>()?;
+    // Unit axes against finite measurements: only measurements near the f64 limit overflow the squares.
+    guard::finite_output(
+        "tumble objective",
+        &cost,
+        "the measured axes are expected as unit vectors",
+    )?;
+    Ok(cost)
 }

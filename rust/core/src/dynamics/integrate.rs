@@ -1,6 +1,7 @@
 //! Classical fixed-step fourth-order Runge-Kutta integration of [`TumbleModel::derivative`].
 
 use crate::error::{ensure_finite, Error, Result};
+use crate::{guard, interrupt};
 
 use super::model::{State, TumbleModel};
 
@@ -39,9 +40,37 @@ pub fn rk4_step(model: &TumbleModel, s: &State, h: f64) -> State {
     out.normalized()
 }
 
-/// Checks output times (seconds from the initial epoch: finite, >= 0, non-decreasing) and the step.
-pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<()> {
-    ensure_finite("times", times_s.iter())?;
+/// Most RK4 steps of one call, summed over every initial state of a batch: about 10 s on a loaded core
+/// (a step measured 320 ns through Python on the shared 2-core build machine); the paper's fits need
+/// 1.4e5 per call (a population of 90 over 1500 s at 1 s).
+pub const MAX_RK4_STEPS: f64 = 3e7;
+
+/// Most output values (`states x times x 3` axes, or `times x 7` state components) of one call: 800 MB.
+pub const MAX_OUTPUT_VALUES: f64 = 1e8;
+
+/// Most rotation per RK4 step, `h (|omega| + 2 w0)` in rad: RK4 is stable on rotations up to `2 sqrt(2)`
+/// rad per step and accurate to ~1e-3 rad per step at 1 rad (local error `(omega h)^5 / 120`); legitimate
+/// steps turn 0.05 rad (3 deg/s, 1 s). Beyond it the integration is refused, or stopped if the rate grows
+/// there during the run.
+pub const MAX_ROTATION_PER_STEP_RAD: f64 = 1.0;
+
+/// The sub-steps of a run: `steps` RK4 steps per initial state, none longer than `longest_s`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Plan {
+    pub steps: f64,
+    pub longest_s: f64,
+}
+
+/// Number of equal sub-steps of a `span_s` interval with steps no longer than `step_s`.
+#[inline]
+fn substeps(span_s: f64, step_s: f64) -> f64 {
+    (span_s / step_s - 1e-9).ceil().max(1.0)
+}
+
+/// Checks output times (seconds from the initial epoch: finite, >= 0, non-decreasing) and the step, and
+/// counts the RK4 steps of one trajectory.
+pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<Plan> {
+    ensure_finite("t", times_s.iter())?;
     if !(step_s.is_finite() && step_s > 0.0) {
         return Err(Error::out_of_range(
             "step_s",
@@ -51,14 +80,14 @@ pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<()> {
     if let Some(&t) = times_s.first() {
         if t < 0.0 {
             return Err(Error::out_of_range(
-                "times",
+                "t",
                 format!("expected times >= 0 s from the initial epoch, got {t}"),
             ));
         }
     }
     if let Some(i) = times_s.windows(2).position(|w| w[1] < w[0]) {
         return Err(Error::out_of_range(
-            "times",
+            "t",
             format!(
                 "expected non-decreasing times, got {} after {} at index {}",
                 times_s[i + 1],
@@ -67,10 +96,77 @@ pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<()> {
             ),
         ));
     }
-    Ok(())
+    let mut plan = Plan {
+        steps: 0.0,
+        longest_s: 0.0,
+    };
+    let mut t = 0.0;
+    for &target in times_s {
+        let span = target - t;
+        if span > 0.0 {
+            let n = substeps(span, step_s);
+            plan.steps += n;
+            plan.longest_s = plan.longest_s.max(span / n);
+            t = target;
+        }
+    }
+    Ok(plan)
 }
 
-/// Calls `visit(k, state)` at every output time `times_s[k]` (unchecked inputs).
+/// Refuses a batch of `states` trajectories of `plan` and `values_per_state` output values each above
+/// [`MAX_RK4_STEPS`] or [`MAX_OUTPUT_VALUES`].
+pub(crate) fn check_work(plan: &Plan, states: usize, values_per_state: usize) -> Result<()> {
+    let n = states as f64;
+    guard::check_work(
+        "step_s",
+        plan.steps * n,
+        MAX_RK4_STEPS,
+        "RK4 steps (over all initial states)",
+    )?;
+    guard::check_work(
+        "t",
+        values_per_state as f64 * n,
+        MAX_OUTPUT_VALUES,
+        "output values",
+    )
+}
+
+/// The rate that sets the RK4 step limit: the body rate plus the orbital frame's turn and the
+/// gravity-gradient libration (`sqrt(3) w0` at most), rad/s.
+#[inline]
+fn rate_bound(model: &TumbleModel, s: &State) -> f64 {
+    let w = s.omega;
+    (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt() + 2.0 * model.orbital_rate_rad_s
+}
+
+/// Refuses an initial state that turns more than [`MAX_ROTATION_PER_STEP_RAD`] per step of `plan`;
+/// `row` names the parameter row of a batch.
+pub(crate) fn check_stable(
+    model: &TumbleModel,
+    s: &State,
+    plan: &Plan,
+    row: Option<usize>,
+) -> Result<()> {
+    let rate = rate_bound(model, s);
+    let turn = rate * plan.longest_s;
+    if turn <= MAX_ROTATION_PER_STEP_RAD {
+        return Ok(());
+    }
+    let of = row.map_or(String::new(), |i| format!(" (params row {i})"));
+    Err(Error::out_of_range(
+        "step_s",
+        format!(
+            "|omega| + 2 w0 = {rate:.3e} rad/s{of} turns {turn:.3e} rad per RK4 step of {:.3e} s, more \
+             than the stable {MAX_ROTATION_PER_STEP_RAD} rad; use step_s <= {:.3e} s",
+            plan.longest_s,
+            MAX_ROTATION_PER_STEP_RAD / rate
+        ),
+    ))
+}
+
+/// Calls `visit(k, state)` at every output time `times_s[k]` (inputs checked by the caller), polling for
+/// interruption and stopping with [`Error::Numerical`] if the state stops being finite or its rate grows
+/// beyond [`MAX_ROTATION_PER_STEP_RAD`] per step.
 #[inline]
 pub(crate) fn walk(
     model: &TumbleModel,
@@ -78,21 +174,38 @@ pub(crate) fn walk(
     times_s: &[f64],
     step_s: f64,
     mut visit: impl FnMut(usize, &State),
-) {
+) -> Result<()> {
     let mut s = initial.normalized();
     let mut t = 0.0;
+    let mut done = 0usize;
     for (k, &target) in times_s.iter().enumerate() {
         let span = target - t;
         if span > 0.0 {
-            let n = (span / step_s - 1e-9).ceil().max(1.0) as usize;
+            let n = substeps(span, step_s) as usize;
             let h = span / n as f64;
-            for _ in 0..n {
+            for i in 0..n {
+                interrupt::check_every(done, "tumble propagation")?;
+                done += 1;
                 s = rk4_step(model, &s, h);
+                let turn = rate_bound(model, &s) * h;
+                // NaN fails both comparisons: a non-finite quaternion or rate stops here too.
+                if !(turn <= MAX_ROTATION_PER_STEP_RAD && s.q.iter().all(|v| v.is_finite())) {
+                    return Err(Error::numerical(
+                        "tumble propagation",
+                        format!(
+                            "diverged at t = {:.6e} s: the state turns {turn:.3e} rad per step of {h:.3e} s \
+                             (stable up to {MAX_ROTATION_PER_STEP_RAD}); the torques spin the body up \
+                             beyond what step_s resolves",
+                            t + (i + 1) as f64 * h
+                        ),
+                    ));
+                }
             }
             t = target;
         }
         visit(k, &s);
     }
+    Ok(())
 }
 
 /// The state at each output time.
@@ -103,7 +216,10 @@ pub(crate) fn walk(
 /// * `step_s` - the longest RK4 step, s.
 ///
 /// # Errors
-/// [`Error::NonFinite`] or [`Error::OutOfRange`] for invalid parameters, state, times or step.
+/// [`Error::NonFinite`] or [`Error::OutOfRange`] for invalid parameters, state, times or step, and for a
+/// step that turns the body more than [`MAX_ROTATION_PER_STEP_RAD`]; [`Error::TooLarge`] for more than
+/// [`MAX_RK4_STEPS`] steps or [`MAX_OUTPUT_VALUES`] values; [`Error::Numerical`] if the integration
+/// diverges; [`Error::Interrupted`] on [`crate::interrupt::request`].
 pub fn propagate(
     model: &TumbleModel,
     initial: State,
@@ -112,9 +228,11 @@ pub fn propagate(
 ) -> Result<Vec<State>> {
     model.validate()?;
     check_state(&initial)?;
-    check_times(times_s, step_s)?;
+    let plan = check_times(times_s, step_s)?;
+    check_work(&plan, 1, 7 * times_s.len())?;
+    check_stable(model, &initial, &plan, None)?;
     let mut out = Vec::with_capacity(times_s.len());
-    walk(model, initial, times_s, step_s, |_, s| out.push(*s));
+    walk(model, initial, times_s, step_s, |_, s| out.push(*s))?;
     Ok(out)
 }
 
@@ -130,11 +248,13 @@ pub fn propagate_axes(
 ) -> Result<Vec<[f64; 3]>> {
     model.validate()?;
     check_state(&initial)?;
-    check_times(times_s, step_s)?;
+    let plan = check_times(times_s, step_s)?;
+    check_work(&plan, 1, 3 * times_s.len())?;
+    check_stable(model, &initial, &plan, None)?;
     let mut out = Vec::with_capacity(times_s.len());
     walk(model, initial, times_s, step_s, |_, s| {
         out.push(s.axis_orbital())
-    });
+    })?;
     Ok(out)
 }
 

@@ -23,7 +23,10 @@ mod integrate;
 mod model;
 
 pub use batch::{axis_cost_batch, propagate_axes_batch};
-pub use integrate::{propagate, propagate_axes, rk4_step};
+pub use integrate::{
+    propagate, propagate_axes, rk4_step, MAX_OUTPUT_VALUES, MAX_RK4_STEPS,
+    MAX_ROTATION_PER_STEP_RAD,
+};
 pub use model::{Aerodynamics, State, TumbleModel};
 
 #[cfg(test)]

@@ -184,7 +184,7 @@ fn bad_input_is_an_error_not_a_panic() {
     let s = tumbling_state();
     assert!(matches!(
         propagate(&m, s, &[0.0, 2.0, 1.0], 1.0),
-        Err(Error::OutOfRange { name: "times", .. })
+        Err(Error::OutOfRange { name: "t", .. })
     ));
     assert!(matches!(
         propagate(&m, s, &[-1.0], 1.0),
@@ -215,4 +215,91 @@ fn bad_input_is_an_error_not_a_panic() {
         propagate_axes_batch(&m, &[[0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0]], &t, 1.0),
         Err(Error::NonFinite { .. })
     ));
+}
+
+#[test]
+fn work_beyond_the_limits_is_refused_before_it_starts() {
+    let m = model([0.035, 0.008, 0.03], w0_500km(), true);
+    let s = tumbling_state();
+    // 1 s in steps of 1e-300 s: 1e300 steps (the call used to run forever).
+    match propagate_axes(&m, s, &[1.0], 1e-300) {
+        Err(Error::TooLarge {
+            name: "step_s",
+            requested,
+            limit,
+            ..
+        }) => assert!(requested >= 1e299 && limit == MAX_RK4_STEPS),
+        other => panic!("{other:?}"),
+    }
+    // 1e4 initial states x 1e5 steps each: 1e9 steps over the batch.
+    let d = 1f64.to_radians();
+    let params = vec![[0.7, 1.1, -2.0, d, -d, d]; 10_000];
+    assert!(matches!(
+        axis_cost_batch(&m, &params, &[1e5], &[[1.0, 0.0, 0.0]], 1.0),
+        Err(Error::TooLarge { name: "step_s", .. })
+    ));
+    // Exactly at the limit is allowed: the steps are counted, not refused (not run here).
+    let plan = super::integrate::check_times(&[MAX_RK4_STEPS], 1.0).unwrap();
+    assert_eq!(plan.steps, MAX_RK4_STEPS);
+    // Output values: 1e5 states x 1e3 times x 3.
+    let params = vec![[0.7, 1.1, -2.0, d, -d, d]; 100_000];
+    let t = times(1000, 0.0);
+    assert!(matches!(
+        propagate_axes_batch(&m, &params, &t, 1.0),
+        Err(Error::TooLarge { name: "t", .. })
+    ));
+}
+
+#[test]
+fn a_rate_too_fast_for_the_step_is_refused_with_the_step_that_works() {
+    let m = model([0.035, 0.008, 0.03], w0_500km(), true);
+    // 10 rad/s with 1 s steps: 10 rad per step (RK4 returned NaN here before).
+    let fast = State::from_angles([0.7, 1.1, -2.0], [6.0, -8.0, 0.0]);
+    let e = propagate_axes(&m, fast, &times(11, 1.0), 1.0).unwrap_err();
+    match &e {
+        Error::OutOfRange {
+            name: "step_s",
+            detail,
+        } => assert!(detail.contains("use step_s <= 9.99"), "{detail}"),
+        other => panic!("{other:?}"),
+    }
+    // A step within the limit works: torque-free, energy and |L| are conserved to RK4 accuracy
+    // (0.5 rad per step: local error (0.5)^5 / 120 ~ 3e-4 relative, far less in the invariants).
+    let free = model([0.035, 0.008, 0.03], 0.0, false);
+    let out = propagate(&free, fast, &times(11, 1.0), 0.05).unwrap();
+    let (e0, l0) = (
+        free.kinetic_energy(&fast),
+        free.angular_momentum_orb0(&fast).norm(),
+    );
+    for s in &out {
+        assert!(((free.kinetic_energy(s) - e0) / e0).abs() < 1e-3);
+        assert!(((free.angular_momentum_orb0(s).norm() - l0) / l0).abs() < 1e-3);
+    }
+    // In a batch the error names the row.
+    let rows = [[0.0; 6], [0.7, 1.1, -2.0, 6.0, -8.0, 0.0]];
+    match propagate_axes_batch(&m, &rows, &[1.0], 1.0) {
+        Err(Error::OutOfRange { detail, .. }) => {
+            assert!(detail.contains("params row 1"), "{detail}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_torque_that_spins_the_body_up_stops_the_run_instead_of_returning_nan() {
+    let mut m = model([0.035, 0.008, 0.03], 0.0, false);
+    // 1e11 N of drag 1 m from the centre of mass: 3e12 rad/s^2, so the rate leaves the stable range
+    // within the first second although it starts at rest.
+    m.aero = Aerodynamics {
+        density_kg_m3: 1e3,
+        drag_coefficient: 2.0,
+        area_m2: 1.0,
+        cp_offset_m: [1.0, 0.0, 1.0],
+        speed_m_s: 1e4,
+    };
+    let rest = State::from_angles([0.1, 0.2, 0.3], [0.0; 3]);
+    match propagate_axes(&m, rest, &times(100, 1.0), 1.0) {
+        Err(Error::Numerical { detail, .. }) => assert!(detail.contains("diverged"), "{detail}"),
+        other => panic!("{other:?}"),
+    }
 }

@@ -11,6 +11,7 @@ use crate::error::{ensure_finite, Error, Result};
 use crate::kalman::{discretize, predict_covariance, symmetrize, update};
 use crate::lambda::bootstrap::success_rate;
 use crate::lambda::Problem;
+use crate::{guard, interrupt};
 
 /// Attitude error and drift error: the states every configuration has.
 const CORE: usize = 6;
@@ -19,6 +20,16 @@ const DYN: usize = 9;
 /// Search nodes allowed per fix attempt.
 const MAX_FIX_NODES: u64 = 1_000_000;
 
+/// Most gyro samples of one run: a sample measured 21 us on the loaded build machine (the covariance
+/// propagation), so about 10 s; 100 Hz for 83 minutes. The recorded outputs (about 100 values each, at
+/// most one per sample) stay below 400 MB with it.
+pub const MAX_FILTER_SAMPLES: f64 = 5e5;
+
+/// Most error states (attitude, drift, misalignment, then one float ambiguity per baseline and tracked
+/// satellite, or 3 per baseline in the sensitivity analysis): an update is cubic in them, 512^3 ~ 1e8
+/// flops; 4 baselines and 40 satellites need 169.
+pub const MAX_FILTER_STATES: usize = 512;
+
 /// Runs the filter over the gyro record `gyro_t`, `gyro_rates` (`rates[k]` holds over
 /// `[t_k, t_{k+1}]`, body axes, rad/s) with the loosely coupled `attitude_fixes` and/or the tightly coupled
 /// `phase_epochs`, each sorted by time within `[t_0, t_last]`.
@@ -26,7 +37,11 @@ const MAX_FIX_NODES: u64 = 1_000_000;
 /// # Errors
 /// [`Error::OutOfRange`], [`Error::NonFinite`] or [`Error::Shape`] for bad settings or inputs (time
 /// stamps out of order or outside the gyro record, zero-length baselines, ...);
-/// [`Error::DegenerateGeometry`] if an innovation covariance is not positive definite.
+/// [`Error::DegenerateGeometry`] if an innovation covariance is not positive definite;
+/// [`Error::TooLarge`] for more than [`MAX_FILTER_SAMPLES`] gyro samples (`gyro_t`),
+/// [`MAX_FILTER_STATES`] error states (`phases`: baselines x satellites of an epoch; `baselines` with the
+/// sensitivity analysis); [`Error::Numerical`] for an
+/// estimate that is not finite; [`Error::Interrupted`] on [`crate::interrupt::request`].
 pub fn run(
     settings: &Settings,
     initial: &Initial,
@@ -40,8 +55,9 @@ pub fn run(
         !phase_epochs.is_empty(),
         !attitude_fixes.is_empty(),
     )?;
+    check_work(settings, gyro_t.len(), phase_epochs)?;
     check_times("gyro_t", gyro_t, 2)?;
-    check_rates(gyro_rates, gyro_t.len())?;
+    check_rates("gyro_rates", gyro_rates, gyro_t)?;
     let (t0, t1) = (gyro_t[0], gyro_t[gyro_t.len() - 1]);
     check_attitude_fixes(attitude_fixes, t0, t1)?;
     check_phase_epochs(phase_epochs, settings.baselines.len(), t0, t1)?;
@@ -50,6 +66,7 @@ pub fn run(
     f.record(&mut out, t0);
     let (mut ia, mut ip) = (0, 0);
     for k in 0..gyro_t.len() - 1 {
+        interrupt::check("gyro + GNSS filter")?;
         let rate = gyro_rates[k];
         loop {
             let ta = attitude_fixes.get(ia).map_or(f64::INFINITY, |a| a.t);
@@ -74,7 +91,51 @@ pub fn run(
             f.record(&mut out, gyro_t[k + 1]);
         }
     }
+    check_outputs(&out)?;
     Ok(out)
+}
+
+/// Refuses more than [`MAX_FILTER_SAMPLES`] samples or [`MAX_FILTER_STATES`] states before the run
+/// starts.
+fn check_work(settings: &Settings, samples: usize, phase_epochs: &[PhaseEpoch]) -> Result<()> {
+    let limit = MAX_FILTER_STATES as f64;
+    guard::check_work("gyro_t", samples as f64, MAX_FILTER_SAMPLES, "gyro samples")?;
+    let m = settings.baselines.len() as f64;
+    let most_obs = phase_epochs.iter().map(|e| e.obs.len()).max().unwrap_or(0) as f64;
+    let fixed = (if settings.misalignment_sigma.is_some() {
+        DYN
+    } else {
+        CORE
+    }) as f64;
+    guard::check_work("phases", fixed + m * most_obs, limit, "error states")?;
+    if settings.sensitivity.is_some() {
+        guard::check_work(
+            "baselines",
+            DYN as f64 + 3.0 * m,
+            limit,
+            "sensitivity states",
+        )?;
+    }
+    Ok(())
+}
+
+/// Every recorded estimate is finite, or the run is refused.
+fn check_outputs(out: &FilterRun) -> Result<()> {
+    let hint = "the filter diverged; check the covariances, noise densities and gyro rates";
+    guard::finite_output("gyro + GNSS filter", out.quaternion.iter().flatten(), hint)?;
+    guard::finite_output("gyro + GNSS filter", out.drift.iter().flatten(), hint)?;
+    guard::finite_output(
+        "gyro + GNSS filter",
+        out.misalignment.iter().flatten(),
+        hint,
+    )?;
+    for m in out.covariance.iter().chain(&out.true_covariance) {
+        guard::finite_output("gyro + GNSS filter", m.iter(), hint)?;
+    }
+    for m in &out.misalignment_covariance {
+        guard::finite_output("gyro + GNSS filter", m.iter(), hint)?;
+    }
+    Ok(())
 }
 
 /// The filter's state between events.
@@ -394,7 +455,10 @@ impl<'a> Filter<'a> {
         r: &DMatrix<f64>,
     ) {
         let m = self.m();
-        let py = self.py.as_mut().expect("sensitivity on");
+        // Called only with the sensitivity analysis on, when the augmented covariance exists.
+        let Some(py) = self.py.as_mut() else {
+            return;
+        };
         let ny = py.nrows();
         let nr = h.nrows();
         // Truth-model measurement matrix over [e (6), mu (3), beta (3m)].

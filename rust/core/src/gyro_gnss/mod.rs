@@ -27,7 +27,7 @@ mod tests;
 
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
-pub use filter::run;
+pub use filter::{run, MAX_FILTER_SAMPLES, MAX_FILTER_STATES};
 
 /// Gyro noise densities.
 #[derive(Debug, Clone, Copy, PartialEq)]

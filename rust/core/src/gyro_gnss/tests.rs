@@ -1,6 +1,6 @@
 use nalgebra::{Matrix3, Matrix6, UnitQuaternion, Vector3};
 
-use super::kinematics::{propagate, skew, unit};
+use super::kinematics::{propagate, skew, unit, MAX_ANGLE_PER_SAMPLE_RAD};
 use super::*;
 use crate::error::Error;
 
@@ -122,4 +122,92 @@ fn gyro_only_covariance_matches_closed_form() {
     let expected = 1e-4 + 1e-4 * 100.0f64.powi(2) + 1e-10 * 100.0;
     assert!((p[(0, 0)] - expected).abs() < 1e-12 * expected.max(1.0));
     assert!((p[(0, 3)] - 1e-4 * 100.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_rate_that_turns_beyond_the_limit_per_sample_is_refused() {
+    let t = [0.0, 1.0, 2.0];
+    let mut w = vec![Vector3::zeros(); 3];
+    // 1e200 rad/s: its angle per sample overflowed the quaternion exponential into NaN before.
+    w[1] = Vector3::new(1e200, 1e200, 0.0);
+    match propagate([0.0, 0.0, 0.0, 1.0], &t, &w) {
+        Err(Error::OutOfRange {
+            name: "rates",
+            detail,
+        }) => assert!(
+            detail.contains("rates[1]") && detail.contains("1.414e200"),
+            "{detail}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    // At the limit the step is still the exact rotation: 1e6 rad about z is 1e6 mod 2 pi.
+    let w = vec![Vector3::new(0.0, 0.0, MAX_ANGLE_PER_SAMPLE_RAD); 2];
+    let q = propagate([0.0, 0.0, 0.0, 1.0], &[0.0, 1.0], &w).unwrap()[1];
+    let angle = 2.0 * q[2].atan2(q[3]);
+    let expected = MAX_ANGLE_PER_SAMPLE_RAD.rem_euclid(2.0 * std::f64::consts::PI);
+    let diff = (angle - expected).rem_euclid(2.0 * std::f64::consts::PI);
+    assert!(
+        diff.min(2.0 * std::f64::consts::PI - diff) < 1e-9,
+        "{angle} {expected}"
+    );
+}
+
+#[test]
+fn filter_work_beyond_the_limits_is_refused_before_it_starts() {
+    let s = settings(vec![Vector3::new(1.0, 0.0, 0.0)]);
+    // Samples: the count is refused before the (here invalid) time stamps are even read.
+    let n = MAX_FILTER_SAMPLES as usize + 1;
+    let err = run(
+        &s,
+        &initial(),
+        &vec![0.0; n],
+        &vec![Vector3::zeros(); n],
+        &[],
+        &[],
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, Error::TooLarge { name: "gyro_t", .. }),
+        "{err}"
+    );
+    // States: one baseline and 600 satellites at one epoch, 606 error states.
+    let obs = (0..600)
+        .map(|j| PhaseObs {
+            track: j,
+            los: Vector3::z(),
+            wavelength: 0.19,
+            phase: vec![0.0],
+        })
+        .collect();
+    let epochs = [PhaseEpoch { t: 0.5, obs }];
+    let err = run(
+        &s,
+        &initial(),
+        &[0.0, 1.0],
+        &[Vector3::zeros(); 2],
+        &[],
+        &epochs,
+    )
+    .unwrap_err();
+    match err {
+        Error::TooLarge {
+            name: "phases",
+            requested,
+            ..
+        } => assert_eq!(requested, 606.0),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_covariance_that_overflows_is_an_error_not_an_infinite_output() {
+    let s = settings(vec![Vector3::new(1.0, 0.0, 0.0)]);
+    let mut init = initial();
+    // Drift variance 1e300 (rad/s)^2 grows the attitude variance as 1e300 t^2: infinite after 1e4 s.
+    init.covariance = Matrix6::identity() * 1e300;
+    let t = [0.0, 1e3, 1e5];
+    match run(&s, &init, &t, &[Vector3::zeros(); 3], &[], &[]) {
+        Err(Error::Numerical { .. }) | Err(Error::DegenerateGeometry { .. }) => {}
+        other => panic!("{other:?}"),
+    }
 }

@@ -62,6 +62,10 @@ pub fn yaw_from_magnetometer(
             });
         }
     }
+    // Eq. (3) is homogeneous in the two fields together: dividing both by their largest component keeps
+    // fields near the f64 limit (1e300 nT) from overflowing, and changes nothing else.
+    let scale = b_body.amax().max(b_orb.amax());
+    let (b_body, b_orb) = (b_body / scale, b_orb / scale);
     let (st, ct) = pitch_rad.sin_cos();
     let (sp, cp) = roll_rad.sin_cos();
     if ct.abs() <= COS_PITCH_LIMIT {
@@ -159,5 +163,15 @@ mod tests {
         assert!(e.to_string().contains("cos(pitch)"), "{e}");
         let e = yaw_from_magnetometer(&b, &Vector3::z(), 0.1, 0.0).unwrap_err();
         assert!(e.to_string().contains("horizontal fraction"), "{e}");
+    }
+
+    #[test]
+    fn fields_near_the_f64_limit_give_the_yaw_of_their_directions() {
+        let (psi, theta, phi) = (0.7, 0.2, -0.4);
+        let b_orb = Vector3::new(0.3, -0.5, 0.8);
+        let b_body = ZYX.to_dcm([psi, theta, phi]).transpose() * b_orb;
+        // |b| of 1e300-sized fields overflows; the yaw only depends on their directions.
+        let s = yaw_from_magnetometer(&(b_body * 1e300), &(b_orb * 1e300), theta, phi).unwrap();
+        assert!((s.yaw_rad - psi).abs() < 1e-12, "{}", s.yaw_rad);
     }
 }

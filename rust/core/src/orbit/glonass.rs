@@ -8,6 +8,20 @@
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::error::{ensure_finite, Error, Result};
+use crate::{guard, interrupt};
+
+/// Most RK4 steps of one call (summed over the states of [`ephemeris_states`]): a step with the
+/// state-transition matrix measured 1.5 us on the loaded build machine, so about 8 s; a day in 1 s steps
+/// is 86 400.
+pub const MAX_RK4_STEPS: f64 = 5e6;
+
+/// Lowest radius a trajectory may have, as a fraction of the model's equatorial radius: below the Earth's
+/// surface (the polar radius is 0.9966 of the equatorial one) the model no longer describes the motion.
+pub const MIN_RADIUS_FRACTION: f64 = 0.99;
+
+/// Highest speed of an initial state, in escape speeds `sqrt(2 GM / r)` at its radius, on top of the
+/// rotating axes' own speed `omega r`: anything faster leaves the Earth at once and is not an orbit.
+pub const MAX_ESCAPE_SPEEDS: f64 = 2.0;
 
 /// PZ-90 constants and the constant perturbing acceleration of the ICD model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -155,10 +169,11 @@ impl GlonassModel {
     }
 }
 
-/// Number of equal RK4 steps for `duration_s` with steps no longer than `step_s`, after checking both.
-fn steps_for(duration_s: f64, step_s: f64) -> Result<usize> {
+/// Number of equal RK4 steps for `duration_s` with steps no longer than `step_s`, after checking both
+/// (`step_name` names the step parameter in errors).
+fn steps_for(duration_s: f64, step_s: f64, step_name: &'static str) -> Result<f64> {
     ensure_finite("duration_s", [&duration_s])?;
-    ensure_finite("step_s", [&step_s])?;
+    ensure_finite(step_name, [&step_s])?;
     if duration_s < 0.0 {
         return Err(Error::out_of_range(
             "duration_s",
@@ -167,47 +182,90 @@ fn steps_for(duration_s: f64, step_s: f64) -> Result<usize> {
     }
     if step_s <= 0.0 {
         return Err(Error::out_of_range(
-            "step_s",
+            step_name,
             format!("expected a step > 0 s, got {step_s}"),
         ));
     }
     if duration_s == 0.0 {
-        return Ok(0);
+        return Ok(0.0);
     }
     if step_s > duration_s {
         return Err(Error::out_of_range(
-            "step_s",
+            step_name,
             format!("expected a step no longer than the duration {duration_s} s, got {step_s} s"),
         ));
     }
-    let n = (duration_s / step_s).ceil();
-    if n > 1e9 {
-        return Err(Error::out_of_range(
-            "step_s",
-            format!("{duration_s} s in steps of {step_s} s needs {n:.3e} steps (at most 1e9)"),
-        ));
-    }
-    Ok(n as usize)
+    Ok((duration_s / step_s).ceil())
 }
 
-fn checked_state(state: &[f64; 6]) -> Result<Vector6<f64>> {
-    ensure_finite("state", state)?;
+/// The lowest radius the model accepts, m.
+fn min_radius(model: &GlonassModel) -> f64 {
+    MIN_RADIUS_FRACTION * model.equatorial_radius_m
+}
+
+/// A finite initial state above the surface and below [`MAX_ESCAPE_SPEEDS`]; `name` is the parameter.
+fn checked_state(
+    model: &GlonassModel,
+    name: &'static str,
+    state: &[f64; 6],
+) -> Result<Vector6<f64>> {
+    ensure_finite(name, state)?;
     let x = Vector6::from_column_slice(state);
     let r = x.fixed_rows::<3>(0).norm();
-    if r < 1.0 {
+    let r_min = min_radius(model);
+    if !r.is_finite() || r < r_min {
         return Err(Error::out_of_range(
             "position_m",
-            format!("expected a position away from the Earth's centre, got |r| = {r} m"),
+            format!(
+                "expected a position away from the Earth's centre, at least {r_min:.0} m \
+                 ({MIN_RADIUS_FRACTION} equatorial radius), got |r| = {r:.6e} m"
+            ),
+        ));
+    }
+    let v = x.fixed_rows::<3>(3).norm();
+    let v_max = MAX_ESCAPE_SPEEDS * (2.0 * model.gm_m3_s2 / r).sqrt() + model.omega_rad_s.abs() * r;
+    if v.is_nan() || v > v_max {
+        return Err(Error::out_of_range(
+            "velocity_m_s",
+            format!(
+                "expected a bound orbit: |v| = {v:.6e} m/s at |r| = {r:.6e} m exceeds {MAX_ESCAPE_SPEEDS} \
+                 escape speeds plus the axes' rotation, {v_max:.6e} m/s"
+            ),
         ));
     }
     Ok(x)
+}
+
+/// After step `k` (of length `h`): polls for interruption and stops a trajectory that left the finite
+/// numbers or went below the surface (a step far too long for the orbit, or a plunging state).
+#[inline]
+fn check_step(model: &GlonassModel, x: &Vector6<f64>, k: usize, h: f64) -> Result<()> {
+    interrupt::check_every(k, "GLONASS propagation")?;
+    let r = x.fixed_rows::<3>(0).norm();
+    // NaN fails the comparison: a non-finite state stops here too.
+    if !(r >= min_radius(model) && x.iter().all(|v| v.is_finite())) {
+        return Err(Error::numerical(
+            "GLONASS propagation",
+            format!(
+                "diverged at t = {:.6e} s: |r| = {r:.6e} m, below the Earth's surface ({:.0} m) or not \
+                 finite; the step {h:.3e} s is too long for this orbit, or the orbit meets the Earth",
+                (k + 1) as f64 * h,
+                min_radius(model)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Propagates `state = (x, y, z, vx, vy, vz)` (m, m/s, Earth-fixed) forward by `duration_s` with
 /// `ceil(duration / step_s)` equal RK4 steps.
 ///
 /// # Errors
-/// Non-finite state or model, negative duration, step <= 0 or longer than a non-zero duration.
+/// [`Error::NonFinite`] or [`Error::OutOfRange`] for a non-finite state or model, a negative duration, a
+/// step <= 0 or longer than a non-zero duration, a position below [`MIN_RADIUS_FRACTION`] of the
+/// equatorial radius or a speed above [`MAX_ESCAPE_SPEEDS`]; [`Error::TooLarge`] for more than
+/// [`MAX_RK4_STEPS`] steps; [`Error::Numerical`] if the trajectory leaves the finite numbers or goes
+/// below the surface; [`Error::Interrupted`] on [`crate::interrupt::request`].
 pub fn propagate(
     model: &GlonassModel,
     state: &[f64; 6],
@@ -215,17 +273,23 @@ pub fn propagate(
     step_s: f64,
 ) -> Result<[f64; 6]> {
     model.validate()?;
-    let mut x = checked_state(state)?;
-    let n = steps_for(duration_s, step_s)?;
+    let mut x = checked_state(model, "state", state)?;
+    let n = steps_for(duration_s, step_s, "step_s")?;
+    guard::check_work("step_s", n, MAX_RK4_STEPS, "RK4 steps")?;
+    let n = n as usize;
     let h = if n > 0 { duration_s / n as f64 } else { 0.0 };
-    for _ in 0..n {
+    for k in 0..n {
         x = model.rk4_step(&x, h);
+        check_step(model, &x, k, h)?;
     }
     Ok(x.into())
 }
 
 /// As [`propagate`], also returning the 6 x 6 state-transition matrix `d x(t + duration) / d x(t)` (row-major
 /// rows) integrated from the variational equations.
+///
+/// # Errors
+/// As [`propagate`]; [`Error::Numerical`] also for a state-transition matrix that overflows.
 pub fn propagate_with_stm(
     model: &GlonassModel,
     state: &[f64; 6],
@@ -233,21 +297,33 @@ pub fn propagate_with_stm(
     step_s: f64,
 ) -> Result<([f64; 6], Matrix6<f64>)> {
     model.validate()?;
-    let mut x = checked_state(state)?;
-    let n = steps_for(duration_s, step_s)?;
+    let mut x = checked_state(model, "state", state)?;
+    let n = steps_for(duration_s, step_s, "step_s")?;
+    guard::check_work("step_s", n, MAX_RK4_STEPS, "RK4 steps")?;
+    let n = n as usize;
     let h = if n > 0 { duration_s / n as f64 } else { 0.0 };
     let mut phi = Matrix6::identity();
-    for _ in 0..n {
+    for k in 0..n {
         let (xn, step_phi) = model.rk4_step_with_stm(&x, h);
         x = xn;
         phi = step_phi * phi;
+        check_step(model, &x, k, h)?;
     }
+    guard::finite_output(
+        "GLONASS state-transition matrix",
+        phi.iter(),
+        "the propagation is too long for its sensitivities to stay representable",
+    )?;
     Ok((x.into(), phi))
 }
 
 /// Broadcast-ephemeris evaluation: each state at its reference time `t_b` is moved by its own signed offset
 /// `dt_s[i]` (before or after `t_b`, as receivers evaluate GLONASS ephemerides), in equal RK4 steps no
 /// longer than `max_step_s`. `lunisolar_m_s2[i]` replaces the model's constant acceleration for state `i`.
+///
+/// # Errors
+/// As [`propagate`] for each state (the error names the state's index); [`Error::TooLarge`] for more than
+/// [`MAX_RK4_STEPS`] steps over all states.
 pub fn ephemeris_states(
     model: &GlonassModel,
     states: &[[f64; 6]],
@@ -269,21 +345,43 @@ pub fn ephemeris_states(
             format!("expected a step > 0 s, got {max_step_s}"),
         ));
     }
+    ensure_finite("dt_s", dt_s)?;
+    // Every count first, so that the total is refused before any work.
+    let steps = dt_s
+        .iter()
+        .map(|dt| {
+            steps_for(
+                dt.abs(),
+                max_step_s.min(dt.abs().max(f64::MIN_POSITIVE)),
+                "max_step_s",
+            )
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    guard::check_work(
+        "max_step_s",
+        steps.iter().sum(),
+        MAX_RK4_STEPS,
+        "RK4 steps (over all states)",
+    )?;
+    let mut done = 0;
     states
         .iter()
         .zip(lunisolar_m_s2)
-        .zip(dt_s)
-        .map(|((s, acc), &dt)| {
+        .zip(dt_s.iter().zip(steps))
+        .enumerate()
+        .map(|(i, ((s, acc), (&dt, n)))| {
             let m = GlonassModel {
                 lunisolar_m_s2: *acc,
                 ..*model
             };
-            m.validate()?;
-            let mut x = checked_state(s)?;
-            let n = steps_for(dt.abs(), max_step_s.min(dt.abs().max(f64::MIN_POSITIVE)))?;
+            m.validate().map_err(|e| e.at_epoch(i))?;
+            let mut x = checked_state(&m, "states", s).map_err(|e| e.at_epoch(i))?;
+            let n = n as usize;
             let h = if n > 0 { dt / n as f64 } else { 0.0 };
             for _ in 0..n {
                 x = m.rk4_step(&x, h);
+                check_step(&m, &x, done, h).map_err(|e| e.at_epoch(i))?;
+                done += 1;
             }
             Ok(x.into())
         })

@@ -13,5 +13,11 @@ pub mod glonass;
 mod tests;
 
 pub use circular::CircularOrbit;
-pub use filter::{run as run_filter, Corrections, FilterConfig, FilterOutput, Fixes, Ranges};
-pub use glonass::{ephemeris_states, propagate, propagate_with_stm, GlonassModel};
+pub use filter::{
+    run as run_filter, Corrections, FilterConfig, FilterOutput, Fixes, Ranges, MAX_FILTER_STEPS,
+    MAX_SATELLITES,
+};
+pub use glonass::{
+    ephemeris_states, propagate, propagate_with_stm, GlonassModel, MAX_ESCAPE_SPEEDS,
+    MAX_RK4_STEPS, MIN_RADIUS_FRACTION,
+};

@@ -163,3 +163,120 @@ fn ephemeris_states_go_both_ways() {
         assert!((back[i] - ICD_STATE[i]).abs() < 1e-4);
     }
 }
+
+#[test]
+fn work_beyond_the_step_limit_is_refused_before_it_starts() {
+    let m = GlonassModel::pz90();
+    // 1e9 steps of 1e-6 s (the call used to take minutes without a way to stop it).
+    match propagate_with_stm(&m, &ICD_STATE, 1000.0, 1e-6) {
+        Err(Error::TooLarge {
+            name: "step_s",
+            requested,
+            limit,
+            ..
+        }) => assert!(requested == 1e9 && limit == MAX_RK4_STEPS),
+        other => panic!("{other:?}"),
+    }
+    // Over a batch: 200 states x 1 day in 1 s steps = 1.7e7 steps.
+    let n = 200;
+    assert!(matches!(
+        ephemeris_states(
+            &m,
+            &vec![ICD_STATE; n],
+            &vec![[0.0; 3]; n],
+            &vec![86_400.0; n],
+            1.0
+        ),
+        Err(Error::TooLarge {
+            name: "max_step_s",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn states_that_are_not_orbits_are_refused_with_their_numbers() {
+    let m = GlonassModel::pz90();
+    let mut fast = ICD_STATE;
+    fast[3] = 1e7;
+    match propagate(&m, &fast, 10.0, 1.0) {
+        Err(Error::OutOfRange {
+            name: "velocity_m_s",
+            detail,
+        }) => assert!(
+            detail.contains("escape") && detail.contains("1.000"),
+            "{detail}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    let inside = [1e6, 0.0, 0.0, 0.0, 1000.0, 0.0];
+    assert!(matches!(
+        propagate(&m, &inside, 10.0, 1.0),
+        Err(Error::OutOfRange {
+            name: "position_m",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn a_trajectory_that_meets_the_earth_stops_with_an_error() {
+    let m = GlonassModel::pz90();
+    // 300 km up, falling at 7 km/s: the surface is reached after about 40 s.
+    let falling = [6_678_137.0, 0.0, 0.0, -7000.0, 0.0, 0.0];
+    match propagate_with_stm(&m, &falling, 600.0, 1.0) {
+        Err(Error::Numerical { detail, .. }) => {
+            assert!(detail.contains("below the Earth's surface"), "{detail}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn orbit_filter_refuses_too_many_prediction_steps_and_satellites() {
+    let cfg = FilterConfig {
+        model: GlonassModel::pz90(),
+        accel_psd_m2_s3: 1e-6,
+        step_s: 1e-3,
+    };
+    let t = [0.0, 1e4];
+    let pos = [[0.0; 3]; 2];
+    let cov = [Matrix6::identity(); 2];
+    let fixes = Fixes {
+        position_m: &pos,
+        velocity_m_s: &pos,
+        covariance: &cov,
+        valid: &[true, true],
+    };
+    let p0 = Matrix6::identity();
+    match run_filter(&cfg, &t, &ICD_STATE, &p0, &Corrections::Loose(fixes)) {
+        Err(Error::TooLarge {
+            name: "step_s",
+            requested,
+            ..
+        }) => assert_eq!(requested, 1e7), // 1e4 s in steps of 1e-3 s
+        other => panic!("{other:?}"),
+    }
+    let n_sat = MAX_SATELLITES + 1;
+    let sats = vec![[0.0; 3]; n_sat];
+    let ranges = Ranges {
+        n_sat,
+        sat_position_m: &sats,
+        sat_velocity_m_s: &sats,
+        pseudorange_m: &vec![0.0; n_sat],
+        doppler_hz: &vec![0.0; n_sat],
+        visible: &vec![false; n_sat],
+        wavelength_m: &vec![0.19; n_sat],
+        system: &vec![0; n_sat],
+        code_sigma_m: 1.0,
+        doppler_sigma_hz: 0.0,
+    };
+    let cfg = FilterConfig {
+        step_s: 10.0,
+        ..cfg
+    };
+    assert!(matches!(
+        run_filter(&cfg, &[0.0], &ICD_STATE, &p0, &Corrections::Tight(ranges)),
+        Err(Error::TooLarge { name: "data", .. })
+    ));
+}

@@ -11,8 +11,17 @@ use crate::error::{ensure_finite, Error, Result};
 /// [`Error::NonFinite`], or [`Error::OutOfRange`] for a quaternion of norm below 1e-12.
 pub fn to_dcm(q: [f64; 4]) -> Result<Matrix3<f64>> {
     ensure_finite("quaternion", q.iter())?;
+    // Scaled by the largest component first: a quaternion of 1e300 would overflow its norm to infinity.
+    let scale = q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if scale == 0.0 {
+        return Err(Error::out_of_range(
+            "quaternion",
+            "expected a non-zero quaternion, got norm 0",
+        ));
+    }
+    let q = q.map(|v| v / scale);
     let quat = Quaternion::new(q[3], q[0], q[1], q[2]);
-    let norm = quat.norm();
+    let norm = quat.norm() * scale;
     if norm < 1e-12 {
         return Err(Error::out_of_range(
             "quaternion",
@@ -48,5 +57,12 @@ mod tests {
     #[test]
     fn zero_quaternion_is_rejected() {
         assert!(matches!(to_dcm([0.0; 4]), Err(Error::OutOfRange { .. })));
+    }
+
+    #[test]
+    fn a_quaternion_near_the_f64_limit_is_normalised_not_zeroed() {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let big = to_dcm([0.0, 0.0, 1e300, 1e300]).unwrap();
+        assert!((big - to_dcm([0.0, 0.0, h, h]).unwrap()).norm() < 1e-15);
     }
 }

@@ -4,6 +4,7 @@
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
 use crate::error::{ensure_finite, Error, Result};
+use crate::guard;
 use crate::wahba::{davenport, quest, svd};
 
 /// Smallest accepted ratio of the smallest to the largest eigenvalue of the information matrix
@@ -56,18 +57,24 @@ pub struct Solution {
     pub loss: f64,
 }
 
-/// `v / |v|`, or [`Error::Degenerate`] naming `what` for a zero vector.
+/// `v / |v|`, or [`Error::Degenerate`] naming `what` for a zero vector. A vector whose norm over- or
+/// underflows (components near 1e300 or 1e-300) is scaled by its largest component first.
 pub fn unit(v: &Vector3<f64>, what: impl FnOnce() -> String) -> Result<Vector3<f64>> {
     let n = v.norm();
-    if n.is_nan() || n <= f64::MIN_POSITIVE {
+    if n.is_finite() && n > f64::MIN_POSITIVE {
+        return Ok(v / n);
+    }
+    let scale = v.amax();
+    if scale.is_nan() || scale == 0.0 {
         return Err(Error::Degenerate {
             what: what(),
             quantity: "vector norm",
-            value: n,
+            value: scale,
             limit: f64::MIN_POSITIVE,
         });
     }
-    Ok(v / n)
+    let u = v / scale;
+    Ok(u / u.norm())
 }
 
 /// Shuster's `B = sum_i w_i b_i r_i^T` (body x reference), whose `tr(A B^T)` the reference -> body
@@ -100,7 +107,8 @@ pub fn shuster_attitude(q: &[f64; 4]) -> Matrix3<f64> {
 /// # Errors
 /// [`Error::Shape`] for mismatched lengths, [`Error::NonFinite`], [`Error::OutOfRange`] for a negative
 /// weight, [`Error::Degenerate`] for a zero vector, [`Error::DegenerateGeometry`] when the reference
-/// vectors with positive weight are all parallel, [`Error::Convergence`] if QUEST's Newton iteration fails.
+/// vectors with positive weight are all parallel, [`Error::Convergence`] if QUEST's Newton iteration fails,
+/// [`Error::Numerical`] for a result that is not finite (weights near the f64 limit).
 ///
 /// Wahba (1965); covariance from Shuster (1989).
 pub fn solve(
@@ -174,6 +182,13 @@ pub fn solve(
             .zip(weights)
             .map(|((b, r), w)| w * (r - dcm * b).norm_squared())
             .sum::<f64>();
+    guard::finite_output(
+        "Wahba solution",
+        dcm.iter()
+            .chain(covariance_ref.iter())
+            .chain([&ratio, &loss]),
+        "scale the weights down (only their ratios matter to the attitude)",
+    )?;
     Ok(Solution {
         dcm_ref_from_body: dcm,
         covariance_ref,

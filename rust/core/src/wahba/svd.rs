@@ -19,7 +19,13 @@ pub const RANK_TOLERANCE: f64 = 1e-10;
 pub fn solve(h: &Matrix3<f64>) -> Result<Matrix3<f64>> {
     ensure_finite("attitude profile matrix", h.iter())?;
     let svd = SVD::new(*h, true, true);
-    let (u, v_t) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
+    // Both were requested above; nalgebra returns them then, but a missing one is an error, not a panic.
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        return Err(Error::numerical(
+            "Wahba SVD",
+            "the decomposition returned no singular vectors",
+        ));
+    };
     let s = svd.singular_values;
     // nalgebra does not promise an order; sort indices by decreasing singular value.
     let mut order = [0usize, 1, 2];

@@ -155,3 +155,25 @@ fn widely_spread_weights_keep_full_accuracy() {
         assert!(e < 1e-7, "QUEST at 1e5: {e:e}");
     }
 }
+
+#[test]
+fn vectors_near_the_f64_limit_give_the_attitude_of_their_directions() {
+    // |v| of 1e300-sized vectors overflows to infinity; the directions are what matter.
+    let b = [
+        Vector3::new(1e300, 1e300, 0.0),
+        Vector3::new(0.0, 0.0, 1e-300),
+    ];
+    let r = [Vector3::new(1.0, 1.0, 0.0), Vector3::new(0.0, 0.0, 1.0)];
+    let s = solve(&b, &r, &[1.0, 1.0], Method::Svd).unwrap();
+    assert!((s.dcm_ref_from_body - Matrix3::identity()).norm() < 1e-12);
+}
+
+#[test]
+fn weights_that_overflow_the_covariance_are_an_error_not_infinity() {
+    let b = [Vector3::x(), Vector3::y()];
+    // The information matrix overflows to infinity: the covariance would be 0 and the loss NaN.
+    match solve(&b, &b, &[f64::MAX, f64::MAX], Method::Svd) {
+        Err(Error::Numerical { .. }) | Err(Error::DegenerateGeometry { .. }) => {}
+        other => panic!("{other:?}"),
+    }
+}
