@@ -229,3 +229,8 @@ def gyro_gnss_filter(
     phase_wavelength: NDArray[np.float64],
     phase: NDArray[np.float64],
 ) -> dict[str, object]: ...
+
+# Work limits of the core, read by the Python layer (tumble, orbit).
+DYNAMICS_MAX_RK4_STEPS: float
+DYNAMICS_MAX_ROTATION_PER_STEP_RAD: float
+ORBIT_MAX_RK4_STEPS: float

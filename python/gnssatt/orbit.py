@@ -32,9 +32,9 @@ __all__ = [
 #: Earth rotation rate of the GLONASS CDMA ICD (2016) and WGS-84, rad/s.
 OMEGA_E_RAD_S = 7.2921151467e-5
 #: Most RK4 steps of one :func:`glonass_propagate` call (and of all the steps of one
-#: :func:`gnssatt.orbit_nav.noisy_orbit` or :func:`gnssatt.orbit_nav.orbit_filter` call): 116 days in 1 s
-#: steps, about 6 s of work.
-MAX_RK4_STEPS = 10_000_000
+#: :func:`gnssatt.orbit_nav.noisy_orbit` or :func:`gnssatt.orbit_nav.orbit_filter` call): the core's
+#: limit, about 58 days in 1 s steps, some 8 s of work.
+MAX_RK4_STEPS = int(_core.ORBIT_MAX_RK4_STEPS)
 #: Closest distance to the Earth's centre of a propagated position, m (central gravity ``GM / r^2`` grows
 #: without bound below it; every orbit lies far above).
 MIN_ORBIT_RADIUS_M = 1.0e6

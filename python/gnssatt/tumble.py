@@ -59,13 +59,13 @@ DCM_ORBITAL_FROM_ORB0 = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0
 MAX_RATE_RAD_S = math.radians(3.0)
 # Fewest epochs accepted by the fit: six unknowns, two independent components per axis direction.
 MIN_EPOCHS = 3
-#: Most RK4 steps of one propagation call, all initial states together (about 12 s of one core at
-#: 8e6 steps/s); a fit's population (``popsize * 6`` states) counts once per generation.
-MAX_RK4_STEPS = 100_000_000
+#: Most RK4 steps of one propagation call, all initial states together (the core's limit, about 10 s of
+#: one core); a fit's population (``popsize * 6`` states) counts once per generation.
+MAX_RK4_STEPS = int(_core.DYNAMICS_MAX_RK4_STEPS)
 #: Largest rotation per RK4 step, ``|omega| h`` in rad, at the initial rates: RK4 on a rotation loses
 #: stability near 2.8 rad per step and accuracy long before (this bound keeps the angle error per step
 #: below about 1e-2 rad); beyond it the integration is refused rather than left to produce NaN.
-MAX_ROTATION_PER_STEP_RAD = 1.0
+MAX_ROTATION_PER_STEP_RAD = float(_core.DYNAMICS_MAX_ROTATION_PER_STEP_RAD)
 #: Most differential-evolution generations per run, population multiplier and restarts of
 #: :func:`fit_rotation`.
 MAX_GENERATIONS = 100_000

@@ -111,5 +111,14 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tumble_axes, m)?)?;
     m.add_function(wrap_pyfunction!(tumble_cost, m)?)?;
     m.add_function(wrap_pyfunction!(tumble_states, m)?)?;
+    // The limits live in the core; Python reads them from here instead of restating them.
+    m.add(
+        "DYNAMICS_MAX_RK4_STEPS",
+        gnssatt_core::dynamics::integrate::MAX_RK4_STEPS,
+    )?;
+    m.add(
+        "DYNAMICS_MAX_ROTATION_PER_STEP_RAD",
+        gnssatt_core::dynamics::integrate::MAX_ROTATION_PER_STEP_RAD,
+    )?;
     Ok(())
 }

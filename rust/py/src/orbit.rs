@@ -258,5 +258,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(circular_orbit_ecef, m)?)?;
     m.add_function(wrap_pyfunction!(orbit_filter_loose, m)?)?;
     m.add_function(wrap_pyfunction!(orbit_filter_tight, m)?)?;
+    // The limit lives in the core; Python reads it from here instead of restating it.
+    m.add(
+        "ORBIT_MAX_RK4_STEPS",
+        gnssatt_core::orbit::glonass::MAX_RK4_STEPS,
+    )?;
     Ok(())
 }
