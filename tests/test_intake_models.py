@@ -931,11 +931,20 @@ def test_fast_tumbling_is_refused_not_nan() -> None:
 @pytest.mark.parametrize("rate", [0.5, 3.0, 30.0])
 def test_tumbling_at_the_rotation_bound_stays_finite(rate: float) -> None:
     # |omega| h at the documented bound over many steps: finite unit axes (or a ConvergenceError, never NaN)
-    # the bound counts the body rate plus the orbital frame's
-    h = tumble.MAX_ROTATION_PER_STEP_RAD / (rate + tumble.TumbleModel.circular().orbital_rate_rad_s)
+    # the bound counts the body rate plus twice the orbital frame's (as the core does)
+    # (just inside it: at the bound itself rounding decides)
+    h = (
+        0.999
+        * tumble.MAX_ROTATION_PER_STEP_RAD
+        / (rate + 2.0 * tumble.TumbleModel.circular().orbital_rate_rad_s)
+    )
     params = np.array([[0.3, 1.0, 0.2, rate / math.sqrt(3)] + [rate / math.sqrt(3)] * 2])
-    axes = tumble.propagate_axes(params, np.linspace(0.0, 200 * h, 5), step_s=h)
-    assert np.all(np.isfinite(axes))
+    try:
+        axes = tumble.propagate_axes(params, np.linspace(0.0, 200 * h, 5), step_s=h)
+    except ConvergenceError as exc:  # the gravity-gradient torque spun the body past the bound: said so
+        assert "diverged" in str(exc)
+    else:
+        assert np.all(np.isfinite(axes))
 
 
 @pytest.mark.parametrize("velocity", [(0.0, 0.0, 0.0), (1e3, 0.0, 0.0)])
@@ -948,7 +957,8 @@ def test_spaceborne_receiver_without_horizontal_velocity_is_simulated(velocity: 
 
 
 def test_glonass_propagate_with_absurd_velocity_raises_not_nan() -> None:
-    with pytest.raises(ConvergenceError, match="not finite"):
+    # refused before integrating (not a bound orbit), or stopped when a state stops being finite
+    with pytest.raises((ConvergenceError, InvalidInputError), match=r"not finite|velocity_m_s"):
         orbit.glonass_propagate([2.5e7, 0.0, 0.0], [0.0, 3e200, 1e3], 100.0, step_s=10.0)
 
 

@@ -183,8 +183,9 @@ def _checked_work(n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_r
     h_eff = min(h, float(spans.max(initial=0.0)))
     if max_rate_rad_s * h_eff > MAX_ROTATION_PER_STEP_RAD:
         raise InvalidInputError(
-            f"expected |omega| * step <= {MAX_ROTATION_PER_STEP_RAD} rad for a stable RK4 integration, got "
-            f"rates up to {max_rate_rad_s} rad/s (params plus the orbital rate) in steps of {h_eff} s; "
+            f"step_s: expected |omega| * step <= {MAX_ROTATION_PER_STEP_RAD} rad for a stable RK4 "
+            f"integration, got rates up to {max_rate_rad_s} rad/s (params plus twice the orbital rate) in "
+            f"steps of {h_eff} s; "
             f"use step_s <= {MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
         )
     return h
@@ -195,11 +196,11 @@ def _finite(what: str, value: NDArray[np.float64], step_s: float) -> NDArray[np.
 
 
 def _max_rate(p: NDArray[np.float64], model: TumbleModel) -> float:
-    """Fastest initial rate (norm) of the batch plus the orbital frame's rate (the body's rate relative
-    to the orbital frame is what the quaternion kinematics integrate)."""
-    return (
-        float(np.max(np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1), initial=0.0)) + model.orbital_rate_rad_s
-    )
+    """Fastest initial rate (norm) of the batch plus twice the orbital frame's rate: the bound the core
+    applies (``|omega| + 2 w0``, the body's rate relative to the rotating orbital frame with margin), checked
+    here first so that a fit is refused before its first generation."""
+    rates = np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1)
+    return float(np.max(rates, initial=0.0)) + 2.0 * model.orbital_rate_rad_s
 
 
 def _params(p: Any, ndim: int | tuple[int, ...]) -> NDArray[np.float64]:
@@ -674,7 +675,7 @@ def fit_rotation(
     m = np.ascontiguousarray(m / norm[:, None])
     mdl = _default(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
-    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w + mdl.orbital_rate_rad_s)
+    step_s = _checked_work(opts["popsize"] * 6, tt, step_s, math.sqrt(3.0) * w + 2.0 * mdl.orbital_rate_rad_s)
     # The whole fit at its generation cap: every run, every generation, the whole population.
     per_state = float(np.sum(np.ceil(np.diff(tt, prepend=0.0) / step_s)))
     total = (opts["maxiter"] + 1) * opts["popsize"] * 6 * (max_restarts + 1) * per_state

@@ -114,11 +114,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // The limits live in the core; Python reads them from here instead of restating them.
     m.add(
         "DYNAMICS_MAX_RK4_STEPS",
-        gnssatt_core::dynamics::integrate::MAX_RK4_STEPS,
+        gnssatt_core::dynamics::MAX_RK4_STEPS,
     )?;
     m.add(
         "DYNAMICS_MAX_ROTATION_PER_STEP_RAD",
-        gnssatt_core::dynamics::integrate::MAX_ROTATION_PER_STEP_RAD,
+        gnssatt_core::dynamics::MAX_ROTATION_PER_STEP_RAD,
     )?;
     Ok(())
 }
