@@ -73,8 +73,9 @@ pub fn agreeing_order(
     recomputed: &[f64],
 ) -> Result<Vec<usize>> {
     for (c, (&s, &r)) in searched.iter().zip(recomputed).enumerate() {
-        let gap = (s - r).abs();
-        if !(gap <= NORM_TOLERANCE * (1.0 + s.max(r))) {
+        let agree =
+            s.is_finite() && r.is_finite() && (s - r).abs() <= NORM_TOLERANCE * (1.0 + s.max(r));
+        if !agree {
             return Err(Error::numerical(
                 what,
                 format!(
@@ -111,6 +112,7 @@ mod tests {
             .to_string();
         assert!(e.contains("8.0") && e.contains("candidate 0"), "{e}");
         assert!(agreeing_order("t", &[1.0], &[f64::NAN]).is_err());
+        assert!(agreeing_order("t", &[f64::INFINITY], &[f64::INFINITY]).is_err());
         let singular = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
         assert!(matches!(
             Metric::new("t", &singular),
