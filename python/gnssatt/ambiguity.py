@@ -58,7 +58,7 @@ MAX_CANDIDATES: int = 10_000
 MAX_SAMPLES: int = 1_000_000
 """Most simulated ``samples`` of the fixed-failure-rate threshold (1,000,000)."""
 MAX_DIMENSION: int = 256
-"""Most ambiguities n of one problem (256; exact answers are tested up to n = 128)."""
+"""Most ambiguities n of one problem (256; answers are tested against an independent solver up to 64)."""
 MAX_NODES: int = 100_000_000
 """Nodes one integer search may visit before it raises ``ConvergenceError`` (1e8, about 6 s). The best
 candidate of a float vector drawn from its covariance takes about 2n nodes; the second best (ratio

