@@ -99,6 +99,19 @@ def test_dimension_beyond_the_limit() -> None:
     n = ambiguity.MAX_DIMENSION + 1
     with pytest.raises(WorkLimitError, match=r"covariance .* 257 ambiguities.*limit of 256"):
         gnssatt.lambda_ils(np.zeros(n), np.eye(n))
+    # the core's own limit is the same: it serves n = 256 and refuses 257 by itself
+    fixed, _ = gnssatt.lambda_ils(np.full(256, 0.1), np.eye(256) * 0.01, candidates=1)
+    assert not fixed.any()
+    with pytest.raises(WorkLimitError, match="257"):
+        gnssatt._core.lambda_ils(np.zeros(257), np.eye(257), 1)
+
+
+def test_the_core_checks_its_limits_itself() -> None:
+    # the Python constants are the core's: one more than each is refused by the core too
+    with pytest.raises(WorkLimitError, match="10001"):
+        gnssatt._core.lambda_ils(A3, Q3, ambiguity.MAX_CANDIDATES + 1)
+    with pytest.raises(WorkLimitError, match="1000001"):
+        gnssatt._core.lambda_ffrt_threshold(Q3, 0.01, ambiguity.MAX_SAMPLES + 1, 0)
 
 
 @pytest.mark.parametrize(

@@ -51,18 +51,20 @@ __all__ = [
 ]
 
 
-MAX_CANDIDATES: int = _core.LAMBDA_MAX_CANDIDATES
+# The limits of the Rust core (gnssatt_core::lambda), which checks them again; the tests of
+# tests/test_lambda_hostile.py serve each limit and refuse one more.
+MAX_CANDIDATES: int = 10_000
 """Most ``candidates`` one :func:`lambda_ils` call may ask for (10,000)."""
-MAX_SAMPLES: int = _core.LAMBDA_MAX_SAMPLES
+MAX_SAMPLES: int = 1_000_000
 """Most simulated ``samples`` of the fixed-failure-rate threshold (1,000,000)."""
-MAX_DIMENSION: int = _core.LAMBDA_MAX_DIMENSION
-"""Most ambiguities n of one problem (256; exact answers are tested up to n = 128)."""
-MAX_NODES: int = _core.LAMBDA_MAX_NODES
+MAX_DIMENSION: int = 256
+"""Most ambiguities n of one problem (256; answers are tested against an independent solver up to 64)."""
+MAX_NODES: int = 100_000_000
 """Nodes one integer search may visit before it raises ``ConvergenceError`` (1e8, about 6 s). The best
 candidate of a float vector drawn from its covariance takes about 2n nodes; the second best (ratio
 test) grows roughly binomially with n when the decorrelated variances are flat, and may reach the cap for
 n >= 40."""
-MAX_ABS_AMBIGUITY: float = _core.LAMBDA_MAX_ABS_AMBIGUITY
+MAX_ABS_AMBIGUITY: float = 4.5e15
 """Largest magnitude of a float ambiguity and of any integer returned, cycles (4.5e15 < 2^53)."""
 _MAX_SEED = 2**64 - 1
 

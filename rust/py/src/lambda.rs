@@ -1,13 +1,10 @@
 //! Bindings of LAMBDA integer ambiguity resolution (`gnssatt_core::lambda`). The GIL is released around
 //! every decorrelation and search; the fixed-failure-rate simulation runs on rayon's global pool.
 
-use gnssatt_core::lambda::ldl::MAX_DIMENSION;
 use gnssatt_core::lambda::validation::{
-    fixed_failure_rate_threshold, partial_fix, ratio_test, RatioThreshold, MAX_SAMPLES,
+    fixed_failure_rate_threshold, partial_fix, ratio_test, RatioThreshold,
 };
-use gnssatt_core::lambda::{
-    bootstrap_success_rate, ils, reduce, DEFAULT_MAX_NODES, MAX_ABS_AMBIGUITY, MAX_CANDIDATES,
-};
+use gnssatt_core::lambda::{bootstrap_success_rate, ils, reduce};
 use nalgebra::DMatrix;
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -195,12 +192,6 @@ fn lambda_partial_fix<'py>(
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    // The documented limits, so that Python checks and documents the same numbers.
-    m.add("LAMBDA_MAX_CANDIDATES", MAX_CANDIDATES)?;
-    m.add("LAMBDA_MAX_SAMPLES", MAX_SAMPLES)?;
-    m.add("LAMBDA_MAX_DIMENSION", MAX_DIMENSION)?;
-    m.add("LAMBDA_MAX_NODES", DEFAULT_MAX_NODES)?;
-    m.add("LAMBDA_MAX_ABS_AMBIGUITY", MAX_ABS_AMBIGUITY)?;
     m.add_function(wrap_pyfunction!(lambda_ils, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_decorrelate, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_bootstrap_success_rate, m)?)?;

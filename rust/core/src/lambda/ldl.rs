@@ -11,9 +11,10 @@ use crate::error::{ensure_finite, Error, Result};
 /// Largest allowed `|Q_ij - Q_ji|`, relative to the largest `|Q_ij|`.
 pub const SYMMETRY_TOLERANCE: f64 = 1e-9;
 
-/// Largest number of ambiguities accepted. The reduction and its checks cost O(n^3) per pass and the
-/// tests verify exact answers up to n = 128 (condition numbers up to 1e8 at n <= 64); 256 bounds the work
-/// and memory of one call (a few MB) while leaving room above every GNSS use (n < 100).
+/// Largest number of ambiguities accepted. The reduction and its checks cost O(n^3) per pass; the tests
+/// verify exact answers against an independent solver up to n = 64 (condition numbers up to 1e8) and serve
+/// n = 256 itself; 256 bounds the work and memory of one call (a few MB) while leaving room above every
+/// GNSS use (n < 100).
 pub const MAX_DIMENSION: usize = 256;
 
 /// A pivot `d_i` at or below this many machine epsilons times `Q_ii` (times n) counts as not positive.

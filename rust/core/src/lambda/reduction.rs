@@ -151,7 +151,7 @@ impl Transform {
                 ),
             )
         };
-        if !(mu.abs() <= MAX_Z_ENTRY as f64) {
+        if mu.is_nan() || mu.abs() > MAX_Z_ENTRY as f64 {
             return Err(overflow("the multiplier", format!("{mu:e}")));
         }
         let m = mu as i64;
@@ -272,7 +272,7 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<()> {
                 gap / (scale * (b(i) * b(j)).sqrt())
             };
             // NaN (an overflowed product) counts as a failure too.
-            if !(ratio <= worst.0) {
+            if ratio.is_nan() || ratio > worst.0 {
                 worst = (ratio, i, j);
                 if ratio.is_nan() {
                     break;
@@ -281,7 +281,7 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<()> {
         }
     }
     let (ratio, i, j) = worst;
-    if !(ratio <= IDENTITY_TOLERANCE) {
+    if ratio.is_nan() || ratio > IDENTITY_TOLERANCE {
         return Err(Error::numerical(
             what,
             format!(

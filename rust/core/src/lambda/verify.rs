@@ -16,8 +16,8 @@ use crate::error::{Error, Result};
 ///
 /// Both computations are backward stable; the recomputed one is accurate to about `n eps sqrt(cond Q)`
 /// relative (1e-10 at n = 64, condition 1e8), the search's to the identity tolerance of the reduction
-/// amplified by the conditioning of the decorrelated covariance (the tests see at most about 1e-9).
-/// 1e-6 leaves a factor of 1000 above what valid problems show, and is still far below anything that
+/// amplified by the conditioning of the decorrelated covariance. 1e-6 is passed by every valid problem
+/// of the reference test (88 of 88, n <= 64, condition <= 1e8) and is still far below anything that
 /// could change an accepted ratio test. Candidates whose norms agree to it are ties; they are returned in
 /// the order of the recomputed norms.
 pub const NORM_TOLERANCE: f64 = 1e-6;
@@ -73,8 +73,9 @@ pub fn agreeing_order(
     recomputed: &[f64],
 ) -> Result<Vec<usize>> {
     for (c, (&s, &r)) in searched.iter().zip(recomputed).enumerate() {
-        let gap = (s - r).abs();
-        if !(gap <= NORM_TOLERANCE * (1.0 + s.max(r))) {
+        let agree =
+            s.is_finite() && r.is_finite() && (s - r).abs() <= NORM_TOLERANCE * (1.0 + s.max(r));
+        if !agree {
             return Err(Error::numerical(
                 what,
                 format!(
@@ -111,6 +112,7 @@ mod tests {
             .to_string();
         assert!(e.contains("8.0") && e.contains("candidate 0"), "{e}");
         assert!(agreeing_order("t", &[1.0], &[f64::NAN]).is_err());
+        assert!(agreeing_order("t", &[f64::INFINITY], &[f64::INFINITY]).is_err());
         let singular = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
         assert!(matches!(
             Metric::new("t", &singular),

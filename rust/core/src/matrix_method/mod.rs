@@ -71,7 +71,7 @@ pub fn solve(
     let (g_cond, g_cond2) = conditions(&g);
     let (n_cond, n_cond2) = conditions(&nn);
     let need = |cond: f64, matrix: &'static str, what: &str| -> Result<()> {
-        if !(cond <= MAX_CONDITION) {
+        if cond.is_nan() || cond > MAX_CONDITION {
             return Err(Error::DegenerateGeometry {
                 what: what.into(),
                 matrix,
