@@ -51,20 +51,20 @@ __all__ = [
 ]
 
 
-# The limits of the Rust core (gnssatt_core::lambda), which checks them again; the tests of
-# tests/test_lambda_hostile.py serve each limit and refuse one more.
-MAX_CANDIDATES: int = 10_000
+# The limits of the Rust core (gnssatt_core::lambda), read from it and checked here first so that the
+# message names the Python parameter; tests/test_lambda_hostile.py serves each limit and refuses one more.
+MAX_CANDIDATES: int = int(_core.LAMBDA_MAX_CANDIDATES)
 """Most ``candidates`` one :func:`lambda_ils` call may ask for (10,000)."""
-MAX_SAMPLES: int = 1_000_000
+MAX_SAMPLES: int = int(_core.LAMBDA_MAX_SAMPLES)
 """Most simulated ``samples`` of the fixed-failure-rate threshold (1,000,000)."""
-MAX_DIMENSION: int = 256
+MAX_DIMENSION: int = int(_core.LAMBDA_MAX_DIMENSION)
 """Most ambiguities n of one problem (256; answers are tested against an independent solver up to 64)."""
-MAX_NODES: int = 100_000_000
+MAX_NODES: int = int(_core.LAMBDA_MAX_NODES)
 """Nodes one integer search may visit before it raises ``ConvergenceError`` (1e8, about 6 s). The best
 candidate of a float vector drawn from its covariance takes about 2n nodes; the second best (ratio
 test) grows roughly binomially with n when the decorrelated variances are flat, and may reach the cap for
 n >= 40."""
-MAX_ABS_AMBIGUITY: float = 4.5e15
+MAX_ABS_AMBIGUITY: float = float(_core.LAMBDA_MAX_ABS_AMBIGUITY)
 """Largest magnitude of a float ambiguity and of any integer returned, cycles (4.5e15 < 2^53)."""
 _MAX_SEED = 2**64 - 1
 

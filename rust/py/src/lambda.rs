@@ -198,5 +198,23 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lambda_ffrt_threshold, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_ratio_test, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_partial_fix, m)?)?;
+    // The limits live in the core; Python reads them from here instead of restating them.
+    m.add(
+        "LAMBDA_MAX_CANDIDATES",
+        gnssatt_core::lambda::MAX_CANDIDATES,
+    )?;
+    m.add(
+        "LAMBDA_MAX_SAMPLES",
+        gnssatt_core::lambda::validation::MAX_SAMPLES,
+    )?;
+    m.add(
+        "LAMBDA_MAX_DIMENSION",
+        gnssatt_core::lambda::ldl::MAX_DIMENSION,
+    )?;
+    m.add("LAMBDA_MAX_NODES", gnssatt_core::lambda::DEFAULT_MAX_NODES)?;
+    m.add(
+        "LAMBDA_MAX_ABS_AMBIGUITY",
+        gnssatt_core::lambda::MAX_ABS_AMBIGUITY,
+    )?;
     Ok(())
 }

@@ -539,7 +539,13 @@ impl<'a> Filter<'a> {
         let na = n - nc;
         let a = self.x.rows(nc, na).into_owned();
         let qa = symmetrize(self.p.view((nc, nc), (na, na)).into_owned());
-        let problem = Problem::new(&a, &qa)?;
+        // A covariance the reduction cannot decorrelate exactly is not fixable at this epoch: the filter
+        // goes on with float ambiguities rather than stop the run.
+        let problem = match Problem::new(&a, &qa) {
+            Ok(problem) => problem,
+            Err(Error::Numerical { .. } | Error::Convergence { .. }) => return Ok(()),
+            Err(e) => return Err(e),
+        };
         let success_rate = success_rate(problem.reduction.factor.d.as_slice());
         let label = |v: &DVector<i64>| -> Vec<(i64, usize, i64)> {
             (0..na)
@@ -557,10 +563,11 @@ impl<'a> Filter<'a> {
             out.fixes.push(attempt);
             return Ok(());
         }
-        // A float solution too vague for the search is not fixable yet; the cap keeps one epoch cheap.
+        // A float solution too vague for the search, or one the search cannot answer exactly (the LAMBDA
+        // refuses rather than return a wrong integer), is not fixable yet; the cap keeps one epoch cheap.
         let best = match problem.solve(2, MAX_FIX_NODES) {
             Ok(best) => best,
-            Err(Error::Convergence { .. }) => {
+            Err(Error::Convergence { .. } | Error::Numerical { .. }) => {
                 out.fixes.push(attempt);
                 return Ok(());
             }
