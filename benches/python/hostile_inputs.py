@@ -22,14 +22,14 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
 
-from hostile import cli_cases, harness, scenario  # noqa: E402
-from hostile import inventory as inv  # noqa: E402
-from hostile import lambda_reference as ref  # noqa: E402
-from hostile import outcomes as oc  # noqa: E402
-from hostile import rinex_mutations as rm  # noqa: E402
-from hostile.test_lambda_reference import judge  # noqa: E402
-from hostile.test_properties import run_drawn  # noqa: E402
-from hostile.worker import Job, Pool  # noqa: E402
+from hostile import cli_cases, harness, scenario
+from hostile import inventory as inv
+from hostile import lambda_reference as ref
+from hostile import outcomes as oc
+from hostile import rinex_mutations as rm
+from hostile.test_lambda_reference import judge
+from hostile.test_properties import run_drawn
+from hostile.worker import Job, Pool
 
 
 def rinex_records(pool: Pool, n_random: int, seed: int) -> list[harness.Record]:
@@ -38,9 +38,18 @@ def rinex_records(pool: Pool, n_random: int, seed: int) -> list[harness.Record]:
     for i, m in enumerate(rm.file_mutants(rm.default_sources(s.obs_paths[0], s.nav_path), n_random, seed)):
         path = scenario.folder() / f"mutant-{i}-{m.source}"
         path.write_bytes(m.text)
-        a = pool.run(Job(m.reader, kwargs={"path": path}, names=(path.name,), must_refuse=m.must_refuse,
-                         nan_output_ok=True))  # fmt: skip
-        out.append(harness.Record("rinex files", m.reader, m.source, m.category, m.label, a.outcome, a.detail))
+        a = pool.run(
+            Job(
+                m.reader,
+                kwargs={"path": path},
+                names=(path.name,),
+                must_refuse=m.must_refuse,
+                nan_output_ok=True,
+            )
+        )
+        out.append(
+            harness.Record("rinex files", m.reader, m.source, m.category, m.label, a.outcome, a.detail)
+        )
     return out
 
 
@@ -53,7 +62,9 @@ def lambda_records(pool: Pool, n_cases: int, seed: int) -> list[harness.Record]:
         outcome, detail = judge(pool, ref.make_case(seed * 100_000 + k, n, cond))
         if outcome != "skip":
             label = f"n={n} cond={cond:.1e} seed={seed * 100_000 + k}"
-            out.append(harness.Record("lambda", "gnssatt.lambda_ils", "-", "lambda-ils", label, outcome, detail))
+            out.append(
+                harness.Record("lambda", "gnssatt.lambda_ils", "-", "lambda-ils", label, outcome, detail)
+            )
     return out
 
 
@@ -65,7 +76,11 @@ def cli_records() -> list[harness.Record]:
     out = []
     for case in cli_cases.cases(s.obs_paths, s.nav_path, bad, scenario.folder()):
         outcome, detail, _ = cli_cases.run_case(case)
-        out.append(harness.Record("cli", "gnssatt " + " ".join(case.argv)[:60], "-", "cli", case.label, outcome, detail))
+        out.append(
+            harness.Record(
+                "cli", "gnssatt " + " ".join(case.argv)[:60], "-", "cli", case.label, outcome, detail
+            )
+        )
     return out
 
 
@@ -87,11 +102,15 @@ def table(records: list[harness.Record], key: str) -> str:
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--examples", type=int, default=20, help="hypothesis draws per function (default 20)")
-    p.add_argument("--seed", type=int, default=15, help="seed of RINEX mutations and LAMBDA cases (default 15)")
+    p.add_argument(
+        "--seed", type=int, default=15, help="seed of RINEX mutations and LAMBDA cases (default 15)"
+    )
     p.add_argument("--rinex-mutations", type=int, default=10, help="random mutations of each kind per file")
     p.add_argument("--lambda-cases", type=int, default=40, help="random LAMBDA problems (default 40)")
     p.add_argument("--only", default="", help="run only entries whose name contains this text")
-    p.add_argument("--skip", default="", help="comma-separated parts to skip: fixed,hypothesis,rinex,lambda,cli")
+    p.add_argument(
+        "--skip", default="", help="comma-separated parts to skip: fixed,hypothesis,rinex,lambda,cli"
+    )
     args = p.parse_args()
     skip = set(filter(None, args.skip.split(",")))
     names = [n for n in sorted(inv.ENTRIES) if args.only in n]
@@ -101,7 +120,10 @@ def main() -> int:
     try:
         if "fixed" not in skip:
             records += harness.run_fixed(pool, names)
-            print(f"fixed categories: {len(records)} calls, {time.perf_counter() - start:.0f} s", file=sys.stderr)
+            print(
+                f"fixed categories: {len(records)} calls, {time.perf_counter() - start:.0f} s",
+                file=sys.stderr,
+            )
         if "hypothesis" not in skip and args.examples > 0:
             for name in names:
                 records += run_drawn(pool, name, args.examples)
@@ -115,8 +137,10 @@ def main() -> int:
     finally:
         pool.close()
     fails = harness.failures(records)
-    print(f"# hostile inputs: {len(records)} calls in {time.perf_counter() - start:.0f} s, "
-          f"{pool.restarts} worker restarts, {len(fails)} contract failures\n")  # fmt: skip
+    print(
+        f"# hostile inputs: {len(records)} calls in {time.perf_counter() - start:.0f} s, "
+        f"{pool.restarts} worker restarts, {len(fails)} contract failures\n"
+    )
     print("## Outcomes per category\n")
     print(table(records, "category"))
     print("\n## Outcomes per module\n")

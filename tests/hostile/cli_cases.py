@@ -29,8 +29,12 @@ def cases(obs: tuple[Path, ...], nav: Path, bad_obs: Path, folder: Path) -> list
         CliCase("no arguments", ()),
         CliCase("unknown command", ("frobnicate",)),
         CliCase("attitude without files", ("attitude",)),
-        CliCase("missing nav file", ("attitude", "--nav", "/nonexistent/x.24n", "--obs", o[0], "--obs", o[1])),
-        CliCase("missing obs file", ("attitude", "--nav", str(nav), "--obs", "/nonexistent/x.24o", "--obs", o[1])),
+        CliCase(
+            "missing nav file", ("attitude", "--nav", "/nonexistent/x.24n", "--obs", o[0], "--obs", o[1])
+        ),
+        CliCase(
+            "missing obs file", ("attitude", "--nav", str(nav), "--obs", "/nonexistent/x.24o", "--obs", o[1])
+        ),
         CliCase("a folder as obs", ("attitude", "--nav", str(nav), "--obs", str(folder), "--obs", o[1])),
         CliCase("one obs file", ("attitude", "--nav", str(nav), "--obs", o[0])),
         CliCase("mutated obs file", ("attitude", "--nav", str(nav), "--obs", str(bad_obs), "--obs", o[1])),
@@ -49,8 +53,12 @@ def cases(obs: tuple[Path, ...], nav: Path, bad_obs: Path, folder: Path) -> list
         CliCase("reproduce unknown experiment", ("reproduce", "no-such-experiment")),
         CliCase("reproduce --runs -1", ("reproduce", "--runs", "-1", "--no-progress", "matrix-method")),
         CliCase("reproduce --runs 0", ("reproduce", "--runs", "0", "--no-progress", "matrix-method")),
-        CliCase("reproduce --runs 10**12", ("reproduce", "--runs", str(10**12), "--no-progress", "matrix-method")),
-        CliCase("reproduce --out unwritable", ("reproduce", "--runs", "1", "--out", unwritable, "matrix-method")),
+        CliCase(
+            "reproduce --runs 10**12", ("reproduce", "--runs", str(10**12), "--no-progress", "matrix-method")
+        ),
+        CliCase(
+            "reproduce --out unwritable", ("reproduce", "--runs", "1", "--out", unwritable, "matrix-method")
+        ),
     ]
 
 

@@ -24,14 +24,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import magnetic, montecarlo, orbit, orbit_nav, rinex, rotation, sim, tumble
-from gnssatt import geometry as geometry_mod
-from gnssatt import visibility as visibility_mod
-from gnssatt.rinex import epoch_lambda as epoch_lambda_mod
-from gnssatt.rinex import iono, spp
-from gnssatt.rinex import scenario as rinex_scenario
-from gnssatt.sim import attitude_scenario as sc
-from gnssatt.sim import constants
+from gnssatt import montecarlo, rinex, sim, tumble
 
 from . import scenario as s
 
@@ -445,7 +438,12 @@ ENTRIES: dict[str, Entry] = {
         }
     ),
     "gnssatt.orbit.tle_states": _e(
-        lambda: {"line1": s.TLE[0], "line2": s.TLE[1], "times": np.array(["2008-09-20T12:25:40", "2008-09-20T12:26:40"], dtype="datetime64[ns]"), "dut1_s": 0.1}
+        lambda: {
+            "line1": s.TLE[0],
+            "line2": s.TLE[1],
+            "times": np.array(["2008-09-20T12:25:40", "2008-09-20T12:26:40"], dtype="datetime64[ns]"),
+            "dut1_s": 0.1,
+        }
     ),
     # --- gnssatt.orbit_nav ---
     "gnssatt.orbit_nav.noisy_orbit": _e(
@@ -477,7 +475,9 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.tumble.axis_cost": _e(
         lambda: {
             **_tumble_args(),
-            "measured_axes": tumble.propagate_axes(s.TUMBLE_TRUTH, np.arange(0.0, 31.0, 10.0), s.TUMBLE_MODEL),
+            "measured_axes": tumble.propagate_axes(
+                s.TUMBLE_TRUTH, np.arange(0.0, 31.0, 10.0), s.TUMBLE_MODEL
+            ),
             "step_s": 1.0,
         },
         work={"step_s": WORK_TINY_STEP},
@@ -488,7 +488,9 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.tumble.noise_cost_threshold": _e(
         lambda: {"n_epochs": 100, "axis_sigma_deg": 1.0, "false_restart": 1e-3}, counts={"n_epochs"}
     ),
-    "gnssatt.tumble.propagate": _e(lambda: {**_tumble_args(), "step_s": 1.0}, work={"step_s": WORK_TINY_STEP}),
+    "gnssatt.tumble.propagate": _e(
+        lambda: {**_tumble_args(), "step_s": 1.0}, work={"step_s": WORK_TINY_STEP}
+    ),
     "gnssatt.tumble.propagate_axes": _e(
         lambda: {**_tumble_args(), "step_s": 1.0}, work={"step_s": WORK_TINY_STEP}
     ),
@@ -664,7 +666,9 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.rotation.dcm_to_euler": _e(
         lambda: {"seq": "ZYX", "dcm": Rotation.from_euler("ZYX", [0.3, 0.2, 0.1]).as_matrix()}
     ),
-    "gnssatt.rotation.dcm_to_quat": _e(lambda: {"dcm": Rotation.from_euler("ZYX", [0.3, 0.2, 0.1]).as_matrix()}),
+    "gnssatt.rotation.dcm_to_quat": _e(
+        lambda: {"dcm": Rotation.from_euler("ZYX", [0.3, 0.2, 0.1]).as_matrix()}
+    ),
     "gnssatt.rotation.euler_to_dcm": _e(lambda: {"seq": "ZYX", "angles": np.array([0.3, 0.2, 0.1])}),
     "gnssatt.rotation.nearest_rotation": _e(lambda: {"matrix": np.eye(3) + 0.01}),
     "gnssatt.rotation.quat_to_dcm": _e(lambda: {"quat": np.array([0.1, 0.2, 0.3, 0.9])}),
@@ -675,11 +679,6 @@ ENTRIES: dict[str, Entry] = {
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}
     ),
 }
-
-_MODULES_USED = (
-    geometry_mod, magnetic, orbit, orbit_nav, rotation, sc, constants, iono, spp, epoch_lambda_mod,
-    rinex_scenario, visibility_mod,
-)  # fmt: skip
 
 
 def public_modules() -> list[str]:
@@ -706,7 +705,11 @@ def public_functions() -> dict[str, Callable[..., Any]]:
         mod = importlib.import_module(name)
         names = getattr(mod, "__all__", None)
         if names is None:
-            names = [n for n, v in vars(mod).items() if not n.startswith("_") and getattr(v, "__module__", "") == name]
+            names = [
+                n
+                for n, v in vars(mod).items()
+                if not n.startswith("_") and getattr(v, "__module__", "") == name
+            ]
         for attr in names:
             obj = getattr(mod, attr)
             if inspect.isroutine(obj) and id(obj) not in seen:

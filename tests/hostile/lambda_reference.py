@@ -51,7 +51,9 @@ def squared_norm(a: NDArray[np.float64], q: NDArray[np.float64], z: NDArray[np.i
     return float(d @ cho_solve(cho_factor(q), d))
 
 
-def _lll(r: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], list]:
+def _lll(
+    r: NDArray[np.float64], y: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], list]:
     """LLL-reduce the columns of upper-triangular ``r`` with Givens rotations (carried into ``y``); returns
     the reduced ``r``, rotated ``y`` and the unimodular ``Z`` as a list of Python-integer rows."""
     n = r.shape[0]
@@ -142,4 +144,3 @@ def reference_best(case: Case, budget: int = 200_000) -> NDArray[np.int64] | Non
     if max(abs(v) for v in zi) > 2**52:
         return None
     return np.array(zi, dtype=np.int64)
-

@@ -75,7 +75,9 @@ def kind(value: Any) -> str:
 
 def _poke(arr: np.ndarray, x: Any) -> np.ndarray:
     """A copy of ``arr`` (float or complex) with its middle element replaced by ``x``."""
-    out = arr.astype(np.result_type(arr, type(x)) if not isinstance(x, np.datetime64) else arr.dtype, copy=True)
+    out = arr.astype(
+        np.result_type(arr, type(x)) if not isinstance(x, np.datetime64) else arr.dtype, copy=True
+    )
     if out.size:
         out.flat[out.size // 2] = x
     return out
@@ -164,7 +166,9 @@ def _other(value: Any, k: str) -> list[Mutant]:
     return out
 
 
-def mutants(value: Any, *, counts: bool, work: tuple[Any, ...], nonfinite_ok: bool, none_ok: bool) -> list[Mutant]:
+def mutants(
+    value: Any, *, counts: bool, work: tuple[Any, ...], nonfinite_ok: bool, none_ok: bool
+) -> list[Mutant]:
     """Every fixed mutation of one valid argument ``value``, in a fixed order."""
     k = kind(value)
     if k == "numeric":

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any
 
 import numpy as np
@@ -100,7 +99,3 @@ def classify_result(result: Any, *, must_refuse: bool, nan_output_ok: bool) -> t
 def describe(exc: BaseException) -> str:
     text = str(exc).splitlines()[0] if str(exc) else ""
     return f"{type(exc).__name__}: {text[:160]}"
-
-
-def finite_float(x: float) -> bool:
-    return math.isfinite(x)

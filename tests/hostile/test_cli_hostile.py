@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from . import cli_cases
+from . import cli_cases, scenario
 from . import outcomes as oc
-from . import scenario
 from .conftest import report
 
 SUBSET = (

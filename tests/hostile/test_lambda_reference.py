@@ -29,8 +29,11 @@ def judge(pool: Pool, case: ref.Case) -> tuple[str, str]:
     best = ref.reference_best(case)
     if best is None:
         return "skip", "reference budget exhausted"
-    job = Job("gnssatt.lambda_ils", kwargs={"float_ambiguities": case.a, "covariance": case.q, "candidates": 2},
-              want_result=True)
+    job = Job(
+        "gnssatt.lambda_ils",
+        kwargs={"float_ambiguities": case.a, "covariance": case.q, "candidates": 2},
+        want_result=True,
+    )
     a = pool.run(job)
     if a.outcome != oc.ACCEPTED:
         if a.outcome == oc.REFUSED and a.detail.startswith(("ConvergenceError", "WorkLimitError")):
@@ -62,8 +65,12 @@ def test_reference_matches_brute_force() -> None:
 
 
 @pytest.mark.parametrize(("seed", "n", "condition"), CASES)
-def test_lambda_ils_finds_the_best_integer_or_refuses(pool: Pool, seed: int, n: int, condition: float) -> None:
+def test_lambda_ils_finds_the_best_integer_or_refuses(
+    pool: Pool, seed: int, n: int, condition: float
+) -> None:
     outcome, detail = judge(pool, ref.make_case(seed, n, condition))
     if outcome == "skip":
         pytest.skip(detail)
-    assert outcome in (oc.ACCEPTED, oc.REFUSED), f"n={n} condition={condition:.0e} seed={seed}: {outcome}: {detail}"
+    assert outcome in (oc.ACCEPTED, oc.REFUSED), (
+        f"n={n} condition={condition:.0e} seed={seed}: {outcome}: {detail}"
+    )

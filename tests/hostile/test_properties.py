@@ -51,7 +51,9 @@ def run_drawn(pool: Pool, name: str, examples: int) -> list[harness.Record]:
         job, param, value = drawn_job(name, data)
         a = pool.run(job)
         label = f"{type(value).__name__} {getattr(value, 'dtype', '')} {getattr(value, 'shape', '')}".strip()
-        records.append(harness.Record(harness.module_of(name), name, param, "hypothesis", label, a.outcome, a.detail))
+        records.append(
+            harness.Record(harness.module_of(name), name, param, "hypothesis", label, a.outcome, a.detail)
+        )
 
     draw()
     return records

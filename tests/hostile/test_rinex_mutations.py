@@ -19,8 +19,9 @@ def run_mutant(pool: Pool, m: rm.FileMutant, index: int) -> tuple[str, str]:
     path = scenario.folder() / f"mutant-{index}-{m.source}"
     path.write_bytes(m.text)
     a = pool.run(
-        Job(m.reader, kwargs={"path": path}, names=(path.name,), must_refuse=m.must_refuse,
-            nan_output_ok=True)  # fmt: skip
+        Job(
+            m.reader, kwargs={"path": path}, names=(path.name,), must_refuse=m.must_refuse, nan_output_ok=True
+        )
     )
     # missing observations and absent header fields are NaN by design: finiteness is checked through the
     # field edits instead (a non-finite value must be refused)

@@ -95,8 +95,10 @@ def _execute(job: Job) -> Answer:
                 value, must_refuse = m.value, m.must_refuse
             else:
                 value = job.value
+            # a file argument may be named by its path (a RinexError names the file, not the parameter)
+            is_path = isinstance(kwargs[job.param], os.PathLike) and isinstance(value, str | os.PathLike)
+            names = (job.param, *((str(value),) if is_path and str(value) else ()))
             kwargs[job.param] = value
-            names = (job.param, *((str(value),) if isinstance(value, str | os.PathLike) and value else ()))
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -167,7 +169,9 @@ class Pool:
     def _start(self) -> subprocess.Popen[bytes]:
         code = f"import sys; sys.path.insert(0, {str(TESTS_DIR)!r}); from hostile.worker import main; main()"
         env = {**os.environ, "PYTHONFAULTHANDLER": ""}
-        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+        proc = subprocess.Popen(
+            [sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env
+        )
         assert proc.stdout is not None
         ready, _, _ = select.select([proc.stdout], [], [], 300.0)
         if not ready or _read(proc.stdout) != "ready":
