@@ -35,7 +35,7 @@ CATEGORIES = (
     "work",
 )
 
-COUNTS = (2**31, 10**11, 2**58, 2**63)
+COUNTS = {"2**31": 2**31, "10**11": 10**11, "2**58": 2**58, "2**63": 2**63}
 MISSING_PATH = "/nonexistent-gnssatt-hostile/dir/file.24o"
 
 
@@ -130,8 +130,8 @@ def _numeric(value: Any, counts: bool, nonfinite_ok: bool) -> list[Mutant]:
         add("negative", "-|x|", -np.abs(a) - (a == 0))
         add("zero", "zeros", np.zeros_like(a))
     if counts:
-        for c in COUNTS:
-            add("count", str(c) if c < 10**9 or c in (10**11,) else f"2**{c.bit_length() - 1}", c)
+        for label, c in COUNTS.items():
+            add("count", label, c)
     return out
 
 

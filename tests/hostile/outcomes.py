@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gnssatt.errors import ConvergenceError, GnssattError, InternalError, InvalidInputError
+from gnssatt.errors import ConvergenceError, InternalError, InvalidInputError
 
 ACCEPTED = "accepted-finite"
 REFUSED = "refused-ok"
@@ -40,9 +40,7 @@ def classify_exception(exc: BaseException, names: tuple[str, ...]) -> str:
     if isinstance(exc, InvalidInputError):
         text = str(exc)
         return REFUSED if not names or any(n in text for n in names) else UNNAMED
-    if isinstance(exc, GnssattError):
-        return WRONG  # a GnssattError that is neither an input error nor a refusal to answer
-    return WRONG
+    return WRONG  # including a GnssattError that is neither an input error nor a refusal to answer
 
 
 def nonfinite_path(value: Any, depth: int = 0, seen: set[int] | None = None) -> str | None:

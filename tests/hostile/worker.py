@@ -19,7 +19,7 @@ import subprocess
 import sys
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, BinaryIO
 
@@ -56,7 +56,6 @@ class Answer:
     detail: str = ""
     result: Any = None
     seconds: float = 0.0
-    extra: dict[str, Any] = field(default_factory=dict)
 
 
 def fixed_mutants(entry_name: str, param: str) -> list[Any]:
@@ -128,8 +127,9 @@ def _write(stream: BinaryIO, obj: Any) -> None:
     stream.flush()
 
 
-def main() -> None:
-    """Worker loop: answer jobs until stdin closes."""
+def main(prewarm: bool = True) -> None:
+    """Worker loop: answer jobs until stdin closes. ``prewarm`` builds every valid example first, so that
+    no job's time limit pays for the shared scenario (simulated RINEX files, orbits)."""
     inp = os.fdopen(os.dup(0), "rb")
     out = os.fdopen(os.dup(1), "wb")
     null = os.open(os.devnull, os.O_RDWR)
@@ -138,10 +138,12 @@ def main() -> None:
     from . import inventory as inv
     from . import scenario
 
-    for build in (scenario.rinex_read, scenario.static, scenario.phases, scenario.spaceborne, scenario.gyro):
-        build()
-    for entry in inv.ENTRIES.values():
-        entry.build()
+    if prewarm:
+        shared = (scenario.rinex_read, scenario.static, scenario.phases, scenario.spaceborne, scenario.gyro)
+        for build in shared:
+            build()
+        for entry in inv.ENTRIES.values():
+            entry.build()
     _write(out, "ready")
     while True:
         try:
@@ -161,13 +163,17 @@ def main() -> None:
 class Pool:
     """One worker subprocess at a time, restarted after an abort or a hang."""
 
-    def __init__(self, hang_s: float = HANG_S) -> None:
+    def __init__(self, hang_s: float = HANG_S, *, prewarm: bool = True) -> None:
         self.hang_s = hang_s
+        self.prewarm = prewarm
         self.proc: subprocess.Popen[bytes] | None = None
         self.restarts = 0
 
     def _start(self) -> subprocess.Popen[bytes]:
-        code = f"import sys; sys.path.insert(0, {str(TESTS_DIR)!r}); from hostile.worker import main; main()"
+        code = (
+            f"import sys; sys.path.insert(0, {str(TESTS_DIR)!r}); "
+            f"from hostile.worker import main; main({self.prewarm})"
+        )
         env = {**os.environ, "PYTHONFAULTHANDLER": ""}
         proc = subprocess.Popen(
             [sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env
@@ -190,16 +196,21 @@ class Pool:
             ready, _, _ = select.select([proc.stdout], [], [], self.hang_s)
             if ready:
                 return _read(proc.stdout)
+            died = False
         except (BrokenPipeError, EOFError):
-            pass
+            died = True
         elapsed = time.perf_counter() - start
         self.proc = None
         self.restarts += 1
-        if proc.poll() is None:
+        try:
+            # the pipe closes a moment before the process is reaped: wait for its status
+            rc = proc.wait(timeout=5.0) if died else None
+        except subprocess.TimeoutExpired:
+            rc = None
+        if rc is None:
             proc.kill()
             proc.wait()
             return Answer(oc.HANG, f"no answer in {self.hang_s:.0f} s", seconds=elapsed)
-        rc = proc.returncode
         what = f"killed by {signal.Signals(-rc).name}" if rc < 0 else f"exited with status {rc}"
         return Answer(oc.ABORT, what, seconds=elapsed)
 
