@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from scipy.linalg import cho_factor, cho_solve
 
 LLL_DELTA = 0.99
+Z_LIMIT = 2**40
 GEOMETRIC_MEAN = 0.005  # cycles^2: conditional standard deviations of about 0.07 cycle
 
 
@@ -53,28 +54,32 @@ def squared_norm(a: NDArray[np.float64], q: NDArray[np.float64], z: NDArray[np.i
 
 def _lll(
     r: NDArray[np.float64], y: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], list]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]] | None:
     """LLL-reduce the columns of upper-triangular ``r`` with Givens rotations (carried into ``y``); returns
-    the reduced ``r``, rotated ``y`` and the unimodular ``Z`` as a list of Python-integer rows."""
+    the reduced ``r``, rotated ``y`` and the unimodular integer ``Z`` with ``r_in Z = Q r_out``, or None if
+    an entry of ``Z`` leaves ``Z_LIMIT`` (where int64 arithmetic would no longer be exact)."""
     n = r.shape[0]
     r = r.copy()
     y = y.copy()
-    z = [[int(i == j) for j in range(n)] for i in range(n)]
+    z = np.eye(n, dtype=np.int64)
 
-    def reduce(i: int, k: int) -> None:
-        mu = round(r[i, k] / r[i, i])
+    def reduce(i: int, k: int) -> bool:
+        mu = np.rint(r[i, k] / r[i, i])
         if mu:
+            if abs(mu) > Z_LIMIT:
+                return False
             r[: i + 1, k] -= mu * r[: i + 1, i]
-            for row in z:
-                row[k] -= mu * row[i]
+            z[:, k] -= np.int64(mu) * z[:, i]
+            return bool(np.abs(z[:, k]).max() <= Z_LIMIT)
+        return True
 
     k = 1
     while k < n:
-        reduce(k - 1, k)
+        if not reduce(k - 1, k):
+            return None
         if LLL_DELTA * r[k - 1, k - 1] ** 2 > r[k - 1, k] ** 2 + r[k, k] ** 2:
             r[:, [k - 1, k]] = r[:, [k, k - 1]]
-            for row in z:
-                row[k - 1], row[k] = row[k], row[k - 1]
+            z[:, [k - 1, k]] = z[:, [k, k - 1]]
             a, b = r[k - 1, k - 1], r[k, k - 1]
             h = np.hypot(a, b)
             g = np.array([[a / h, b / h], [-b / h, a / h]])
@@ -84,7 +89,8 @@ def _lll(
             k = max(k - 1, 1)
         else:
             for i in range(k - 2, -1, -1):
-                reduce(i, k)
+                if not reduce(i, k):
+                    return None
             k += 1
     return r, y, z
 
@@ -134,13 +140,15 @@ def reference_best(case: Case, budget: int = 200_000) -> NDArray[np.int64] | Non
     w = np.linalg.inv(case.q)
     w = 0.5 * (w + w.T)
     r = np.linalg.cholesky(w).T  # w = r' r
-    rr, yy, z = _lll(r, r @ case.a)
-    if max(abs(v) for row in z for v in row) > 2**40:
+    reduced = _lll(r, r @ case.a)
+    if reduced is None:
         return None
+    rr, yy, z = reduced
     u = _search(rr, yy, budget)
     if u is None:
         return None
-    zi = [sum(row[j] * int(u[j]) for j in range(len(u))) for row in z]
-    if max(abs(v) for v in zi) > 2**52:
+    # exact in Python integers: Z u with |Z| <= 2^40 and |u| far below 2^53
+    best = [sum(int(z[i, j]) * int(u[j]) for j in range(len(u))) for i in range(len(u))]
+    if max(abs(v) for v in best) > 2**62:
         return None
-    return np.array(zi, dtype=np.int64)
+    return np.array(best, dtype=np.int64)
