@@ -150,7 +150,10 @@ def _other(value: Any, k: str) -> list[Mutant]:
         out.append(Mutant("str", "'abc'", "abc", True))
     if k == "path":
         out.append(Mutant("str", "missing path", MISSING_PATH, True))
-        out.append(Mutant("shape", "a folder", str(Path(value).parent), True))
+        if Path(value).is_dir():  # a folder argument gets a file, a file argument a folder
+            out.append(Mutant("shape", "a file", __file__, True))
+        else:
+            out.append(Mutant("shape", "a folder", str(Path(value).parent), True))
     if k == "datetime":
         a = np.asarray(value)
         out.append(Mutant("nan", "NaT at middle", _poke(a, np.datetime64("NaT")), True))
