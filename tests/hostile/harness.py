@@ -38,13 +38,12 @@ def module_of(function: str) -> str:
 def fixed_jobs(entry_name: str) -> Iterator[tuple[Job, str, str, str]]:
     """(job, parameter, category, label) for every fixed mutant of every argument of one entry."""
     entry = inv.ENTRIES[entry_name]
-    nan_ok = entry.nan_output is not None
     for param in entry.build():
         seen: Counter[str] = Counter()
         for m in fixed_mutants(entry_name, param):
             index = seen[m.category]
             seen[m.category] += 1
-            job = Job(entry_name, entry_name, param, (m.category, index), nan_output_ok=nan_ok)
+            job = Job(entry_name, entry_name, param, (m.category, index))
             yield job, param, m.category, m.label
 
 

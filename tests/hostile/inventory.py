@@ -63,6 +63,8 @@ class Entry:
         Arguments where NaN/inf is documented input (e.g. missing observations).
     nan_output
         Why the result may hold NaN (documented "not available" fields), or None: all outputs must be finite.
+    nan_fields
+        Result attributes documented as possibly non-finite (the rest is checked).
     """
 
     build: Callable[[], dict[str, Any]]
@@ -70,10 +72,11 @@ class Entry:
     work: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
     nonfinite_ok: frozenset[str] = frozenset()
     nan_output: str | None = None
+    nan_fields: frozenset[str] = frozenset()
 
 
 def _e(build: Callable[[], dict[str, Any]], **kw: Any) -> Entry:
-    for key in ("counts", "nonfinite_ok"):
+    for key in ("counts", "nonfinite_ok", "nan_fields"):
         if key in kw:
             kw[key] = frozenset(kw[key])
     return Entry(build, **kw)
@@ -239,7 +242,10 @@ ENTRIES: dict[str, Entry] = {
         }
     ),
     "gnssatt.fit_rotation": _e(
-        _fit_args, counts={"max_restarts", "popsize", "maxiter", "patience"}, work={"step_s": WORK_TINY_STEP}
+        _fit_args,
+        counts={"max_restarts", "popsize", "maxiter", "patience"},
+        work={"step_s": WORK_TINY_STEP},
+        nan_fields={"cost_threshold"},  # inf when axis_sigma_deg is None (no restart test), documented
     ),
     "gnssatt.visibility_axis": _e(
         lambda: {

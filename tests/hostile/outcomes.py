@@ -20,8 +20,23 @@ HANG = "hang"
 SILENT_NAN = "silent-nan"
 ACCEPTED_INVALID = "accepted-invalid"  # input the contract says must be refused (complex, NaN, ...) was used
 LAMBDA_WRONG = "lambda-wrong"
+HARNESS = (
+    "harness-error"  # the harness itself failed (e.g. a value that cannot be sent): counted, to be fixed
+)
 
-ORDER = (ACCEPTED, REFUSED, UNNAMED, WRONG, PANIC, ABORT, HANG, SILENT_NAN, ACCEPTED_INVALID, LAMBDA_WRONG)
+ORDER = (
+    ACCEPTED,
+    REFUSED,
+    UNNAMED,
+    WRONG,
+    PANIC,
+    ABORT,
+    HANG,
+    SILENT_NAN,
+    ACCEPTED_INVALID,
+    LAMBDA_WRONG,
+    HARNESS,
+)
 FAILURES = frozenset(ORDER) - {ACCEPTED, REFUSED}
 
 
@@ -43,10 +58,13 @@ def classify_exception(exc: BaseException, names: tuple[str, ...]) -> str:
     return WRONG  # including a GnssattError that is neither an input error nor a refusal to answer
 
 
-def nonfinite_path(value: Any, depth: int = 0, seen: set[int] | None = None) -> str | None:
+def nonfinite_path(
+    value: Any, depth: int = 0, seen: set[int] | None = None, skip: frozenset[str] = frozenset()
+) -> str | None:
     """Where in a result a NaN or infinity sits ("" for the value itself), or None if all is finite.
 
-    Walks arrays, floats, tuples/lists/dicts, dataclasses, Rotations and gnssatt objects' attributes."""
+    Walks arrays, floats, tuples/lists/dicts, dataclasses, Rotations and gnssatt objects' attributes;
+    top-level attributes named in ``skip`` are documented as possibly non-finite and not looked at."""
     seen = set() if seen is None else seen
     if depth > 5 or id(value) in seen:
         return None
@@ -77,18 +95,23 @@ def nonfinite_path(value: Any, depth: int = 0, seen: set[int] | None = None) -> 
     else:
         return None
     for key, v in items:
+        if depth == 0 and key in skip:
+            continue
         p = nonfinite_path(v, depth + 1, seen)
         if p is not None:
             return f"[{key!r}]{p}" if not isinstance(key, str) else f".{key}{p}"
     return None
 
 
-def classify_result(result: Any, *, must_refuse: bool, nan_output_ok: bool) -> tuple[str, str]:
-    """(outcome, detail) of a call that returned ``result``."""
+def classify_result(
+    result: Any, *, must_refuse: bool, nan_output_ok: bool, nan_fields: frozenset[str] = frozenset()
+) -> tuple[str, str]:
+    """(outcome, detail) of a call that returned ``result``; ``nan_fields``: result attributes documented
+    as possibly non-finite."""
     if must_refuse:
         return ACCEPTED_INVALID, f"returned {type(result).__name__}"
     if not nan_output_ok:
-        where = nonfinite_path(result)
+        where = nonfinite_path(result, skip=nan_fields)
         if where is not None:
             return SILENT_NAN, f"non-finite at result{where}"
     return ACCEPTED, ""

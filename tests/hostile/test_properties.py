@@ -30,7 +30,7 @@ def drawn_job(name: str, data: st.DataObject) -> tuple[Job, str, Any]:
     refuse = mu.must_refuse_drawn(
         value, mu.kind(valid[param]), nonfinite_ok=param in entry.nonfinite_ok, none_ok=none_ok
     )
-    job = Job(name, name, param, value=value, must_refuse=refuse, nan_output_ok=entry.nan_output is not None)
+    job = Job(name, name, param, value=value, must_refuse=refuse)
     return job, param, value
 
 

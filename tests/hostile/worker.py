@@ -36,7 +36,8 @@ class Job:
 
     ``mutant`` (category, index) names a fixed mutation, recomputed in the worker; otherwise ``value`` is
     the replacement. ``kwargs`` replaces the valid arguments altogether (RINEX files, LAMBDA cases), with
-    ``names`` the words an input error must contain; ``want_result`` returns the result (pickled)."""
+    ``names`` the words an input error must contain and ``nan_output_ok`` whether the result may hold NaN
+    (for an entry, the entry says); ``want_result`` returns the result (pickled)."""
 
     function: str
     entry: str | None = None
@@ -109,7 +110,13 @@ def _execute(job: Job) -> Answer:
             return Answer(oc.WRONG, oc.describe(exc), seconds=seconds)
         return Answer(oc.classify_exception(exc, names), oc.describe(exc), seconds=seconds)
     seconds = time.perf_counter() - start
-    outcome, detail = oc.classify_result(result, must_refuse=must_refuse, nan_output_ok=job.nan_output_ok)
+    nan_ok, nan_fields = job.nan_output_ok, frozenset[str]()
+    if job.entry is not None:  # an inventory entry says which outputs may be non-finite
+        entry = inv.ENTRIES[job.entry]
+        nan_ok, nan_fields = entry.nan_output is not None, entry.nan_fields
+    outcome, detail = oc.classify_result(
+        result, must_refuse=must_refuse, nan_output_ok=nan_ok, nan_fields=nan_fields
+    )
     return Answer(outcome, detail, result if job.want_result else None, seconds)
 
 
@@ -153,7 +160,7 @@ def main(prewarm: bool = True) -> None:
         try:
             answer = _execute(job)
         except Exception as exc:  # a fault of the harness itself (e.g. an unpicklable value)
-            answer = Answer("harness-error", oc.describe(exc))
+            answer = Answer(oc.HARNESS, oc.describe(exc))
         try:
             _write(out, answer)
         except (pickle.PicklingError, TypeError, AttributeError) as exc:
