@@ -146,6 +146,8 @@ def _other(value: Any, k: str) -> list[Mutant]:
     if k == "text":
         out.append(Mutant("str", "'not-a-valid-name'", "not-a-valid-name", True))
         out.append(Mutant("shape", "''", "", True))
+    elif k == "path":  # any relative name is a valid path; an empty one is not
+        out.append(Mutant("str", "''", "", True))
     else:
         out.append(Mutant("str", "'abc'", "abc", True))
     if k == "path":

@@ -145,6 +145,8 @@ def main(prewarm: bool = True) -> None:
     from . import inventory as inv
     from . import scenario
 
+    # hostile text values ("abc") reach file-writing functions as relative paths: keep them out of the tree
+    os.chdir(scenario.folder())
     if prewarm:
         shared = (scenario.rinex_read, scenario.static, scenario.phases, scenario.spaceborne, scenario.gyro)
         for build in shared:
