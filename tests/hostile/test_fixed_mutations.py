@@ -1,0 +1,20 @@
+"""Every argument of every public function, replaced by each fixed hostile value of issue 15 (wrong shape,
+complex, bool, object, text, None, NaN, +-inf, 1e300, 1e-300, subnormal, negative, zero, overflow-size
+counts, absurd work): the answer is a finite result or a refusal of the right class naming the argument."""
+
+from __future__ import annotations
+
+import pytest
+
+from . import harness
+from . import inventory as inv
+from .conftest import report
+from .worker import Pool
+
+
+@pytest.mark.parametrize("name", sorted(inv.ENTRIES))
+def test_fixed_mutations_keep_the_contract(pool: Pool, name: str) -> None:
+    records = harness.run_fixed(pool, [name])
+    assert records, "no mutation generated"
+    bad = [r.line() for r in harness.failures(records)]
+    assert not bad, report(bad)

@@ -1,0 +1,67 @@
+"""Property-based: hypothesis draws, for one argument at a time, arrays of nearby shapes and random dtypes
+holding any floats (NaN, infinities, subnormals, 1e308), or junk scalars (None, text, huge integers,
+complex). Derandomized with a bounded number of examples per function, so the run is deterministic."""
+
+from __future__ import annotations
+
+import inspect
+from typing import Any
+
+import pytest
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
+
+from . import harness
+from . import inventory as inv
+from . import mutations as mu
+from . import outcomes as oc
+from .conftest import report
+from .worker import Job, Pool
+
+EXAMPLES = 8
+
+
+def drawn_job(name: str, data: st.DataObject) -> tuple[Job, str, Any]:
+    entry = inv.ENTRIES[name]
+    valid = entry.build()
+    param = data.draw(st.sampled_from(sorted(valid)), label="param")
+    value = data.draw(mu.hostile_value(valid[param]), label="value")
+    none_ok = inspect.signature(inv.resolve(name)).parameters[param].default is None
+    refuse = mu.must_refuse_drawn(
+        value, mu.kind(valid[param]), nonfinite_ok=param in entry.nonfinite_ok, none_ok=none_ok
+    )
+    job = Job(name, name, param, value=value, must_refuse=refuse)
+    return job, param, value
+
+
+def run_drawn(pool: Pool, name: str, examples: int) -> list[harness.Record]:
+    """``examples`` hypothesis draws for one function (no shrinking: every outcome is recorded instead)."""
+    records: list[harness.Record] = []
+
+    @settings(
+        max_examples=examples,
+        derandomize=True,
+        database=None,
+        deadline=None,
+        phases=[Phase.generate],
+        suppress_health_check=list(HealthCheck),
+    )
+    @given(st.data())
+    def draw(data: st.DataObject) -> None:
+        job, param, value = drawn_job(name, data)
+        a = pool.run(job)
+        label = f"{type(value).__name__} {getattr(value, 'dtype', '')} {getattr(value, 'shape', '')}".strip()
+        records.append(
+            harness.Record(harness.module_of(name), name, param, "hypothesis", label, a.outcome, a.detail)
+        )
+
+    draw()
+    return records
+
+
+@pytest.mark.parametrize("name", sorted(inv.ENTRIES))
+def test_hypothesis_inputs_keep_the_contract(pool: Pool, name: str) -> None:
+    records = run_drawn(pool, name, EXAMPLES)
+    assert len(records) >= EXAMPLES // 2
+    bad = [r.line() for r in records if r.outcome in oc.FAILURES]
+    assert not bad, report(bad)
