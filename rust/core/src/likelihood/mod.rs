@@ -35,6 +35,8 @@
 //! lambda_k`, which is what eqs. (11), (14), (18) become when `lambda` is per satellite.
 
 mod bnb;
+mod bound;
+mod direction;
 mod grid;
 mod kernel;
 mod model;
@@ -43,7 +45,7 @@ mod search;
 #[cfg(test)]
 mod tests;
 
-pub use bnb::{branch_and_bound, BnbStats};
+pub use bnb::{box_limit, branch_and_bound, BnbStats};
 pub use grid::{Axis, Grid};
 pub use kernel::{sincos_f32, SINCOS_ABS_ERROR};
 pub use model::{dcm_enu_from_body, dcm_normal_from_body, Epoch, Model, Statistic};
