@@ -40,7 +40,7 @@ use rayon::prelude::*;
 use crate::error::Result;
 use crate::rotation::{elementary, Axis as RotAxis};
 
-use super::direction::{direction_set, row_direction, Budget, DirBox};
+use super::direction::{direction_set, row_direction, top_bins, Budget, DirBox, Reach};
 use super::grid::{Axis, Grid};
 use super::kernel::{heading_tables, kernel_margin};
 use super::model::{Grouping, Model};
@@ -59,14 +59,19 @@ pub struct BnbStats {
 
 /// Rows per side of a block in step 3.
 const BLOCK: usize = 8;
+/// Coarse stride of the incumbent pass, in units of the coarsest accepted step (half the main lobe).
+/// Coarser strides were tried: at 3x the incumbent of a 5 m array landed in a side lobe and the search
+/// fell back.
+const STRIDE: f64 = 1.5;
 /// Coarse cells the hill climb starts from.
-const STARTS: usize = 4;
+const STARTS: usize = 8;
 
-/// Most direction boxes the search tests before it falls back to the exhaustive pass: a box test costs
-/// about as much as 10 kernel cells, so this keeps the bounding work under a tenth of the exhaustive
-/// pass (and at least 2^14 boxes, enough for the arrays of the tests and benchmarks).
+/// Most direction boxes [`branch_and_bound`] tests before it falls back to the exhaustive pass: one per
+/// 256 cells. A box costs about as much as 10 to 150 kernel cells (arc test or relaxed bound), so the
+/// bounding work stays under about half the exhaustive pass; small grids (under about 10^6 cells
+/// for the paper's array) are searched exhaustively.
 pub fn box_limit(grid: &Grid) -> u64 {
-    (grid.len() as u64 / 128).max(1 << 14)
+    grid.len() as u64 / 256
 }
 
 /// Local indices of the nodes next to `j` (and `j`) on `axis`, wrapping when it is a full turn.
@@ -111,7 +116,7 @@ fn climb(rn: &mut RowNodes, grid: &Grid, start: (f32, usize)) -> (f32, usize) {
 
 /// Step 1 of the module docs: the incumbent `(z, flat index)` and the cells it cost.
 fn incumbent(model: &Model, grid: &Grid, cps: &[f32], sps: &[f32]) -> ((f32, usize), u64) {
-    let c = ((model.max_step() / grid.step()).floor() as usize).max(2);
+    let c = ((STRIDE * model.max_step() / grid.step()).floor() as usize).max(2);
     let ps: Vec<usize> = (0..grid.psi.len).step_by(c).collect();
     let rows: Vec<(usize, usize)> = (0..grid.theta.len)
         .step_by(c)
@@ -145,24 +150,49 @@ fn incumbent(model: &Model, grid: &Grid, cps: &[f32], sps: &[f32]) -> ((f32, usi
     (best, cells)
 }
 
-/// Per-thread state of step 3: a node marker that needs no clearing between rows.
+/// Per-thread state of step 3: a node marker that needs no clearing between rows, and per node the
+/// bound of the current baseline and the summed deficit `sum_i (n - U_i)` so far.
 struct Scan {
     level: Vec<u64>,
     base: u64,
+    u: Vec<f64>,
+    deficit: Vec<f64>,
     nodes: Vec<usize>,
-    keep: Vec<usize>,
 }
 
 impl Scan {
-    /// Heading nodes whose baseline-`i` direction falls in one of `boxes`, intersected with those of the
-    /// previous baselines of the row (`i = 0` starts a row).
-    fn mark(&mut self, psi: &Axis, (i, nb): (usize, usize), beta: f64, e: f64, boxes: &[DirBox]) {
+    fn new(len: usize) -> Self {
+        Scan {
+            level: vec![0; len],
+            base: 0,
+            u: vec![0.0; len],
+            deficit: vec![0.0; len],
+            nodes: vec![],
+        }
+    }
+
+    /// Heading nodes whose baseline-`i` direction falls in one of `boxes`, among those the previous
+    /// baselines of the row kept (`i = 0` starts a row), and whose summed deficit stays within `slack`:
+    /// `Z <= sum_i U_i` must reach `Z*`, i.e. `sum_i (n - U_i) <= m n - Z*`. A node may be marked by a
+    /// box that only its one-node rounding slack reaches; the largest bound of its boxes is used, which
+    /// is at least the bound of the box that holds it.
+    #[allow(clippy::too_many_arguments)]
+    fn mark(
+        &mut self,
+        psi: &Axis,
+        (i, nb): (usize, usize),
+        beta: f64,
+        e: f64,
+        boxes: &[DirBox],
+        n: f64,
+        slack: f64,
+    ) {
         if i == 0 {
             self.base += nb as u64 + 1;
         }
         let (want, set) = (self.base + i as u64, self.base + i as u64 + 1);
-        let full = psi.period == Some(psi.len);
-        self.keep.clear();
+        let mut kept = std::mem::take(&mut self.nodes);
+        let prev = kept.len();
         for b in boxes {
             if e < b.e0 - 1e-9 || e > b.e1 + 1e-9 {
                 continue;
@@ -182,19 +212,89 @@ impl Scan {
                     continue;
                 }
                 let j = j as usize;
-                if (i == 0 && self.level[j] != set) || self.level[j] == want {
+                if self.level[j] == set {
+                    self.u[j] = self.u[j].max(b.bound);
+                } else if (i == 0) || self.level[j] == want {
                     self.level[j] = set;
-                    self.keep.push(j);
+                    self.u[j] = b.bound;
+                    if i == 0 {
+                        self.deficit[j] = 0.0;
+                        kept.push(j);
+                    }
                 }
             }
-            if full && span >= psi.len as i64 {
-                break;
+        }
+        // For i > 0 the candidates are the previous baselines' nodes that this one marked too.
+        let start = if i == 0 { prev } else { 0 };
+        let mut out = Vec::with_capacity(kept.len());
+        for &j in &kept[start..] {
+            if self.level[j] != set {
+                continue;
+            }
+            self.deficit[j] += n - self.u[j];
+            if self.deficit[j] <= slack {
+                out.push(j);
+            } else {
+                self.level[j] = 0;
             }
         }
-        self.nodes.clear();
-        self.nodes.extend_from_slice(&self.keep);
+        self.nodes = out;
     }
 }
+
+/// Centre row of a block and how far (radians) any baseline direction of its rows can be from the
+/// centre's: each rotation moves a direction by at most its angle.
+fn block_centre(grid: &Grid, tr: (usize, usize), fr: (usize, usize)) -> (usize, usize, f64) {
+    let tc = (tr.0 + tr.1 - 1) / 2;
+    let fc = (fr.0 + fr.1 - 1) / 2;
+    let ht = (tc - tr.0).max(tr.1 - 1 - tc) as f64 * grid.theta.step;
+    let hf = (fc - fr.0).max(fr.1 - 1 - fc) as f64 * grid.phi.step;
+    (tc, fc, ht + hf + 1e-9)
+}
+
+/// `Rz(theta) Rx(phi)` of row `(t, f)`, as the kernel's row coefficients build it.
+fn row_rotation(grid: &Grid, t: usize, f: usize) -> nalgebra::Matrix3<f64> {
+    elementary(RotAxis::Z, grid.theta.angle(t as i64))
+        * elementary(RotAxis::X, grid.phi.angle(f as i64))
+}
+
+/// Per baseline, the top direction boxes some cell of the grid points it into: around each block's
+/// centre direction, elevation +- the block's reach and azimuth +- reach / cos(latitude bound), over
+/// the headings of the grid.
+fn reaches(model: &Model, grid: &Grid, blocks: &[Block]) -> Vec<Reach> {
+    let psi = &grid.psi;
+    let full = psi.period == Some(psi.len);
+    let (p_lo, p_hi) = (psi.angle(0), psi.angle(psi.len as i64 - 1));
+    let whole = full
+        && grid.phi.period == Some(grid.phi.len)
+        && grid.theta.angle(0) <= -std::f64::consts::FRAC_PI_2 + 1e-12
+        && grid.theta.angle(grid.theta.len as i64 - 1) >= std::f64::consts::FRAC_PI_2 - 1e-12;
+    let mut out: Vec<Reach> = (0..model.n_baselines())
+        .map(|i| Reach::new(top_bins(model, i), whole))
+        .collect();
+    if whole {
+        return out;
+    }
+    for &(tr, fr) in blocks {
+        let (tc, fc, reach) = block_centre(grid, tr, fr);
+        let m = row_rotation(grid, tc, fc);
+        for (r, set) in model.baselines.iter().zip(out.iter_mut()) {
+            let (beta, e) = row_direction(&(m * r), r.norm());
+            let lat = e.abs() + reach;
+            let (a_lo, a_hi) = if full || lat >= std::f64::consts::FRAC_PI_2 - 1e-6 {
+                (0.0, std::f64::consts::TAU)
+            } else {
+                let ra = reach / lat.cos();
+                (p_lo + beta - ra, p_hi + beta + ra)
+            };
+            set.add(a_lo, a_hi, e - reach, e + reach);
+        }
+    }
+    out
+}
+
+/// Pitch and roll index ranges of a block of rows.
+type Block = ((usize, usize), (usize, usize));
 
 /// Step 3 over one block of rows: the best candidate cell and the cells evaluated.
 #[allow(clippy::too_many_arguments)]
@@ -202,22 +302,15 @@ fn scan_block(
     model: &Model,
     grid: &Grid,
     sets: &[Vec<DirBox>],
+    slack: f64,
     rn: &mut RowNodes,
     scan: &mut Scan,
     t_range: (usize, usize),
     f_range: (usize, usize),
 ) -> (f32, usize) {
     let mut best = (f32::NEG_INFINITY, usize::MAX);
-    let tc = (t_range.0 + t_range.1 - 1) / 2;
-    let fc = (f_range.0 + f_range.1 - 1) / 2;
-    let ht = (tc - t_range.0).max(t_range.1 - 1 - tc) as f64 * grid.theta.step;
-    let hf = (fc - f_range.0).max(f_range.1 - 1 - fc) as f64 * grid.phi.step;
-    let reach = ht + hf + 1e-9;
-    let rot = |t: usize, f: usize| {
-        elementary(RotAxis::Z, grid.theta.angle(t as i64))
-            * elementary(RotAxis::X, grid.phi.angle(f as i64))
-    };
-    let mc = rot(tc, fc);
+    let (tc, fc, reach) = block_centre(grid, t_range, f_range);
+    let mc = row_rotation(grid, tc, fc);
     let mut local: Vec<Vec<DirBox>> = Vec::with_capacity(sets.len());
     for (r, set) in model.baselines.iter().zip(sets) {
         let (_, ec) = row_direction(&(mc * r), r.norm());
@@ -233,10 +326,11 @@ fn scan_block(
     }
     for t in t_range.0..t_range.1 {
         for f in f_range.0..f_range.1 {
-            let m = rot(t, f);
+            let m = row_rotation(grid, t, f);
             for (i, (r, near)) in model.baselines.iter().zip(&local).enumerate() {
                 let (beta, e) = row_direction(&(m * r), r.norm());
-                scan.mark(&grid.psi, (i, local.len()), beta, e, near);
+                let n = model.n_terms() as f64;
+                scan.mark(&grid.psi, (i, local.len()), beta, e, near, n, slack);
                 if scan.nodes.is_empty() {
                     break;
                 }
@@ -260,6 +354,15 @@ fn scan_block(
 /// # Errors
 /// [`crate::Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
 pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats)> {
+    branch_and_bound_limited(model, grid, box_limit(grid))
+}
+
+/// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback.
+pub(crate) fn branch_and_bound_limited(
+    model: &Model,
+    grid: &Grid,
+    limit: u64,
+) -> Result<(GridMax, BnbStats)> {
     check_step(model, grid)?;
     let exhaustive = |boxes: u64, cells: u64| -> Result<(GridMax, BnbStats)> {
         let gm = exhaustive_max(model, grid)?;
@@ -285,16 +388,8 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
     let (nb, n) = (model.n_baselines(), model.n_terms() as f64);
     // 1e-6: f64 rounding of the direction of a node (|dF| <= n |g| |r| 1e-15) with room to spare.
     let tau = inc.0 as f64 - margin - (nb - 1) as f64 * n - 1e-6;
-    let budget = Budget::new(box_limit(grid));
-    let h_min = 0.5 * grid.step();
-    let mut sets = Vec::with_capacity(nb);
-    for i in 0..nb {
-        match direction_set(model, i, tau, h_min, &budget) {
-            Some(s) => sets.push(s),
-            None => return exhaustive(budget.used(), cells),
-        }
-    }
-    let blocks: Vec<((usize, usize), (usize, usize))> = (0..grid.theta.len)
+    let slack = n - tau;
+    let blocks: Vec<Block> = (0..grid.theta.len)
         .step_by(BLOCK)
         .flat_map(|t| {
             (0..grid.phi.len).step_by(BLOCK).map(move |f| {
@@ -305,23 +400,28 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
             })
         })
         .collect();
+    let reach = reaches(model, grid, &blocks);
+    let budget = Budget::new(limit);
+    let h_min = 0.5 * grid.step();
+    let mut sets = Vec::with_capacity(nb);
+    for (i, r) in reach.iter().enumerate() {
+        match direction_set(model, i, tau, h_min, r, &budget) {
+            Some(s) => sets.push(s),
+            None => return exhaustive(budget.used(), cells),
+        }
+    }
     let (best, leaf) = blocks
         .par_iter()
         .map_init(
             || {
                 (
                     RowNodes::new(model, grid, &cps, &sps),
-                    Scan {
-                        level: vec![0; grid.psi.len],
-                        base: 0,
-                        nodes: vec![],
-                        keep: vec![],
-                    },
+                    Scan::new(grid.psi.len),
                 )
             },
             |(rn, scan), &(tr, fr)| {
                 let before = rn.cells;
-                let b = scan_block(model, grid, &sets, rn, scan, tr, fr);
+                let b = scan_block(model, grid, &sets, slack, rn, scan, tr, fr);
                 (b, rn.cells - before)
             },
         )

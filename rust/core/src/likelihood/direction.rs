@@ -27,13 +27,15 @@ use rayon::prelude::*;
 use super::bound::modulus_bound;
 use super::model::Model;
 
-/// A closed box of direction parameters (radians): azimuth `a0..=a1`, elevation `e0..=e1`.
+/// A closed box of direction parameters (radians): azimuth `a0..=a1`, elevation `e0..=e1`, and an upper
+/// bound of `F_i` over it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct DirBox {
     pub a0: f64,
     pub a1: f64,
     pub e0: f64,
     pub e1: f64,
+    pub bound: f64,
 }
 
 /// Unit direction of parameters `(a, e)` in the normal frame.
@@ -47,6 +49,57 @@ pub(crate) fn unit(a: f64, e: f64) -> Vector3<f64> {
 /// along `u(psi + beta, e)`.
 pub(crate) fn row_direction(w: &Vector3<f64>, len: f64) -> (f64, f64) {
     ((-w.z).atan2(w.x), (w.y / len).clamp(-1.0, 1.0).asin())
+}
+
+/// Top boxes of the direction search for baseline `i`: `(na, ne)` azimuth and elevation bins, wide
+/// enough that the phases move about 1.5 rad across a box (where the test starts to prune), at least
+/// 16 x 8 (to spread over threads and follow a window).
+pub(crate) fn top_bins(model: &Model, i: usize) -> (usize, usize) {
+    let g_max = model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
+    let h = 1.5 / (g_max * model.baselines[i].norm()).max(1e-9);
+    let ne = ((PI / (2.0 * h)).ceil() as usize).clamp(8, 1 << 12);
+    (2 * ne, ne)
+}
+
+/// Which top boxes a baseline's direction can reach from the grid's cells.
+pub(crate) struct Reach {
+    bins: Vec<bool>,
+    na: usize,
+    ne: usize,
+}
+
+impl Reach {
+    /// No bin reached yet, `(na, ne)` from [`top_bins`]; every bin when `all`.
+    pub fn new((na, ne): (usize, usize), all: bool) -> Self {
+        Reach {
+            bins: vec![all; na * ne],
+            na,
+            ne,
+        }
+    }
+
+    /// Marks the directions within `a_lo..=a_hi` (any length; a span of a turn or more is every azimuth)
+    /// and `e_lo..=e_hi`, with one bin of slack for rounding.
+    pub fn add(&mut self, a_lo: f64, a_hi: f64, e_lo: f64, e_hi: f64) {
+        let (na, ne) = (self.na as i64, self.ne as i64);
+        let wa = TAU / na as f64;
+        let we = PI / ne as f64;
+        let e0 = (((e_lo + FRAC_PI_2) / we).floor() as i64 - 1).max(0);
+        let e1 = (((e_hi + FRAC_PI_2) / we).floor() as i64 + 1).min(ne - 1);
+        let (a0, a1) = if a_hi - a_lo >= TAU - 2.0 * wa {
+            (0, na - 1)
+        } else {
+            (
+                (a_lo / wa).floor() as i64 - 1,
+                (a_hi / wa).floor() as i64 + 1,
+            )
+        };
+        for e in e0..=e1 {
+            for a in a0..=a1 {
+                self.bins[(e * na + a.rem_euclid(na)) as usize] = true;
+            }
+        }
+    }
 }
 
 /// Work shared by the searches of all baselines: boxes tested, against a limit.
@@ -99,8 +152,7 @@ fn arcs_meet(x: &[f64], r: &[f64]) -> bool {
         }
         partial = true;
         let w = (xk - rk).rem_euclid(TAU);
-        if x
-            .iter()
+        if x.iter()
             .zip(r)
             .all(|(&xj, &rj)| rj >= PI || circ_dist(w, xj) <= rj + 1e-9)
         {
@@ -115,8 +167,9 @@ struct Tester<'a> {
     i: usize,
     tau: f64,
     /// `acos(1 - s)`, `s = n - tau`.
-    reach: f64,
+    arc: f64,
     xs: Vec<f64>,
+    radii: Vec<f64>,
     ds: Vec<f64>,
     scratch: Vec<f64>,
     members: Vec<[f64; 6]>,
@@ -153,31 +206,35 @@ impl Tester<'_> {
 
     /// Whether `F_i` may reach `tau` in the box (module docs).
     fn may_reach(&mut self) -> bool {
-        let reach = self.reach;
-        let r: Vec<f64> = self.ds.iter().map(|d| d + reach).collect();
-        arcs_meet(&self.xs, &r)
+        self.radii.clear();
+        self.radii.extend(self.ds.iter().map(|d| d + self.arc));
+        arcs_meet(&self.xs, &self.radii)
     }
 }
 
 /// Boxes of direction parameters covering every direction where `F_i >= tau` (module docs), each of
 /// half-width at most `h_min` (radians) on both axes. `None` when `budget` ran
-/// out (the caller falls back to the exhaustive pass) or `tau` leaves the test powerless (`n - tau >= 2`).
+/// out (the caller falls back to the exhaustive pass). With `n - tau >= 2` the arc test is powerless
+/// and every box is bounded by [`modulus_bound`].
 pub(crate) fn direction_set(
     model: &Model,
     i: usize,
     tau: f64,
     h_min: f64,
+    reach: &Reach,
     budget: &Budget,
 ) -> Option<Vec<DirBox>> {
     let n = model.n_terms() as f64;
     let s = n - tau;
-    if s >= 2.0 {
-        return None;
-    }
-    let reach = if s <= 0.0 { 0.0 } else { (1.0 - s).acos() };
-    // Top boxes about 0.1 rad wide: small enough to spread over threads, large enough to prune early.
-    let (na, ne) = (64usize, 32usize);
+    // The arc test needs s < 2; beyond, every box gets the relaxed bound (slower, still exact).
+    let arc = if s <= 0.0 {
+        0.0
+    } else {
+        (1.0 - s.min(2.0)).acos()
+    };
+    let (na, ne) = (reach.na, reach.ne);
     let tops: Vec<DirBox> = (0..na * ne)
+        .filter(|&j| reach.bins[j])
         .map(|j| {
             let (ja, je) = ((j % na) as f64, (j / na) as f64);
             DirBox {
@@ -185,6 +242,7 @@ pub(crate) fn direction_set(
                 a1: TAU * (ja + 1.0) / na as f64,
                 e0: -FRAC_PI_2 + PI * je / ne as f64,
                 e1: -FRAC_PI_2 + PI * (je + 1.0) / ne as f64,
+                bound: n,
             }
         })
         .collect();
@@ -195,30 +253,41 @@ pub(crate) fn direction_set(
                 model,
                 i,
                 tau,
-                reach,
+                arc,
                 xs: vec![],
+                radii: vec![],
                 ds: vec![],
                 scratch: vec![],
                 members: vec![],
             },
             |t, top| {
                 let mut out = vec![];
+                if budget.exceeded() {
+                    return out;
+                }
                 let mut stack = vec![*top];
+                let mut tested = 0u64;
                 while let Some(b) = stack.pop() {
-                    if !budget.spend(1) {
+                    // Counted in batches: one shared atomic per box would serialise the threads.
+                    tested += 1;
+                    if tested.is_multiple_of(64) && !budget.spend(64) {
                         return out;
                     }
                     let (share_a, share_e) = t.phases(&b);
-                    if !t.may_reach() {
+                    if s < 2.0 && !t.may_reach() {
                         continue;
                     }
                     let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
-                    if ha <= h_min && he <= h_min {
+                    let last = ha <= h_min && he <= h_min;
+                    if last || s >= 2.0 {
                         let bound = modulus_bound(&t.xs, &t.ds, &mut t.scratch, &mut t.members);
-                        if bound >= t.tau {
-                            out.push(b);
+                        if bound < t.tau {
+                            continue;
                         }
-                        continue;
+                        if last {
+                            out.push(DirBox { bound, ..b });
+                            continue;
+                        }
                     }
                     let split_a = he <= h_min || (ha > h_min && share_a >= share_e);
                     let (mut l, mut h) = (b, b);
@@ -232,6 +301,7 @@ pub(crate) fn direction_set(
                     stack.push(l);
                     stack.push(h);
                 }
+                budget.spend(tested % 64);
                 out
             },
         )

@@ -220,8 +220,7 @@ pub(crate) fn kernel_margin(model: &Model) -> Option<f64> {
     let (groups, members) = model.groups();
     let (g, n) = (groups as f64, members as f64);
     let per_term = 5.0 * eps * x + std::f64::consts::SQRT_2 * f64::from(SINCOS_ABS_ERROR);
-    let per_group = n * per_term
-        + std::f64::consts::SQRT_2 * n * (n + 1.0) * eps
-        + 3.0 * eps * (n + 1.0);
+    let per_group =
+        n * per_term + std::f64::consts::SQRT_2 * n * (n + 1.0) * eps + 3.0 * eps * (n + 1.0);
     Some(2.0 * (g * per_group + g * eps * model.z_upper()))
 }

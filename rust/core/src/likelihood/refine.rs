@@ -18,10 +18,19 @@ use crate::rotation::euler::YZX;
 pub enum Search {
     /// Every cell, in parallel.
     Exhaustive,
-    /// Best-first branch-and-bound with a proven upper bound of `Z` over boxes of cells: the same grid
-    /// maximum from far fewer cells.
+    /// Branch-and-bound through per-baseline direction sets ([`branch_and_bound`]): the same grid maximum
+    /// from far fewer cells; falls back to the exhaustive pass where it cannot gain.
     BranchAndBound,
+    /// Whichever is faster: [`Search::BranchAndBound`] for the ambiguity function on grids of at least
+    /// [`AUTO_MIN_CELLS`] cells, [`Search::Exhaustive`] otherwise (same result either way).
+    Auto,
 }
+
+/// Smallest grid [`Search::Auto`] searches by branch-and-bound. Measured (`benches/likelihood.rs`,
+/// `docs/likelihood_search.md`): on the paper's 0.71 m triangle the 1.5 deg grid (7.0e6 cells) is 20-100x
+/// faster by branch-and-bound, the 3 deg grid (8.8e5 cells) slower (its lobes span few cells, the
+/// direction test is weaker and the search falls back).
+pub const AUTO_MIN_CELLS: usize = 1 << 22;
 
 /// How the grid maximum is refined between grid nodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -181,15 +190,22 @@ pub fn polish(model: &Model, grid: &Grid, start: [f64; 3]) -> ([f64; 3], u64) {
 /// # Arguments
 /// * `model` - preprocessed measurements and statistic.
 /// * `grid` - the cells (radians); its step must not exceed [`Model::max_step`].
-/// * `search` - exhaustive or branch-and-bound (same grid maximum).
+/// * `search` - exhaustive, branch-and-bound or the faster of the two (same grid maximum).
 /// * `refine` - none, eq. (16), or eq. (16) then Newton.
 ///
 /// # Errors
 /// [`crate::Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
 pub fn estimate(model: &Model, grid: &Grid, search: Search, refine: Refine) -> Result<Estimate> {
+    let search = match search {
+        Search::Auto if model.statistic_splits_by_baseline() && grid.len() >= AUTO_MIN_CELLS => {
+            Search::BranchAndBound
+        }
+        Search::Auto => Search::Exhaustive,
+        s => s,
+    };
     let mut gm = match search {
-        Search::Exhaustive => exhaustive_max(model, grid)?,
         Search::BranchAndBound => branch_and_bound(model, grid)?.0,
+        _ => exhaustive_max(model, grid)?,
     };
     let g = grid.angles(gm.index.map(|i| i as i64));
     let grid_angles_rad = [wrap_pi(g[0]), g[1], wrap_pi(g[2])];

