@@ -271,11 +271,12 @@ def ml_attitude(
         ``None`` (the whole attitude domain), a (3, 2) array of ``[lo, hi]`` degrees for psi, theta, phi,
         or an :class:`AttitudePrior` (:func:`prior_from_velocity`).
     search
-        ``"auto"`` (default): branch-and-bound for the ambiguity function on grids of at least 2**22 cells,
-        the exhaustive pass otherwise. ``"exhaustive"``: every cell, in parallel. ``"branch_and_bound"``:
-        exact (the same grid cell and ``z_max`` as the exhaustive pass, bit for bit), parallel, through
-        per-baseline direction sets; it falls back to the exhaustive pass for the per-satellite statistics
-        and where its bounding work would exceed one box per 256 cells (``docs/likelihood_search.md``).
+        ``"auto"`` (default): branch-and-bound for the ambiguity function on grids of at least 2**22 cells
+        with a step of at most ``lambda_min / (8 L_max)``, the exhaustive pass otherwise.
+        ``"exhaustive"``: every cell, in parallel. ``"branch_and_bound"``: exact (the same grid cell and
+        ``z_max`` as the exhaustive pass, bit for bit), parallel, through per-baseline direction sets; it
+        falls back to the exhaustive pass for the per-satellite statistics and where its bounding work
+        would exceed one box per 256 cells (``docs/likelihood_search.md``).
     refine
         ``True`` or ``"newton"`` (default): the parabolic interpolation (16), then Newton's method on the
         statistic (float64, full Hessian, trust region of one grid step), i.e. the continuous maximum of
