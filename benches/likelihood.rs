@@ -1,5 +1,8 @@
 //! Criterion benchmarks of the seed-001 likelihood grid: exhaustive maximum over grid size, satellites and
-//! threads; branch-and-bound; and the per-node-vector variant of eq. (19) that the row kernel replaces.
+//! threads; branch-and-bound against the exhaustive pass (`likelihood/bnb_vs_grid`, which also prints the
+//! ratio of medians per scenario and thread count).
+//!
+//! `cargo bench -p gnssatt-core --bench likelihood -- bnb_vs_grid`
 use std::f64::consts::TAU;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -11,7 +14,11 @@ use nalgebra::Vector3;
 const L1: f64 = 0.190_293_672_798_364_9;
 
 fn scenario(m: usize) -> Model {
-    let l = 0.71;
+    scenario_sized(0.71, m)
+}
+
+/// The equilateral triangle of side `l` metres, noise-free wrapped phases at (0.7, 0.1, -0.2) rad.
+fn scenario_sized(l: f64, m: usize) -> Model {
     let b = vec![
         Vector3::new(l, 0.0, 0.0),
         Vector3::new(l / 2.0, 0.0, l * 3f64.sqrt() / 2.0),
@@ -71,19 +78,78 @@ fn exhaustive(c: &mut Criterion) {
     group.finish();
 }
 
-fn bnb(c: &mut Criterion) {
-    let mut group = c.benchmark_group("likelihood/branch_and_bound");
-    group.sample_size(10);
-    for step in [3.0f64, 1.5] {
-        let grid = Grid::full(step.to_radians()).unwrap();
-        let model = scenario(8);
-        let id = BenchmarkId::new(format!("step{step}deg"), "M8");
-        group.bench_with_input(id, &step, |b, _| {
-            b.iter(|| branch_and_bound(&model, &grid).unwrap())
-        });
-    }
-    group.finish();
+fn median_ms(mut f: impl FnMut(), reps: usize) -> f64 {
+    let mut t: Vec<f64> = (0..reps)
+        .map(|_| {
+            let s = std::time::Instant::now();
+            f();
+            s.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[reps / 2]
 }
 
-criterion_group!(benches, exhaustive, bnb);
+fn bnb_vs_grid(c: &mut Criterion) {
+    let mut group = c.benchmark_group("likelihood/bnb_vs_grid");
+    group.sample_size(10);
+    // The paper's 0.71 m triangle at 1.5 deg (7.0e6 cells), and a 5 m triangle at 0.5 deg (1.9e8 cells;
+    // eq. (15)'s lambda / (10 L) = 0.22 deg would exceed the 2^31-cell limit of the exhaustive pass).
+    let cases = [("paper_0.71m_1.5deg", 0.71, 1.5), ("5m_0.5deg", 5.0, 0.5)];
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut ratios = vec![];
+    for (name, l, step) in cases {
+        let model = scenario_sized(l, 8);
+        let grid = Grid::full(f64::to_radians(step)).unwrap();
+        for threads in [1usize, 2, 16] {
+            if threads > cores {
+                continue;
+            }
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let ex = pool.install(|| exhaustive_max(&model, &grid).unwrap());
+            let (bb, stats) = pool.install(|| branch_and_bound(&model, &grid).unwrap());
+            assert_eq!(
+                (ex.index, ex.z),
+                (bb.index, bb.z),
+                "{name}: not the grid maximum"
+            );
+            let id = format!("threads{threads}");
+            group.bench_with_input(
+                BenchmarkId::new(format!("{name}/exhaustive"), &id),
+                &(),
+                |b, _| b.iter(|| pool.install(|| exhaustive_max(&model, &grid).unwrap())),
+            );
+            group.bench_with_input(BenchmarkId::new(format!("{name}/bnb"), &id), &(), |b, _| {
+                b.iter(|| pool.install(|| branch_and_bound(&model, &grid).unwrap()))
+            });
+            let reps = if grid.len() > 50_000_000 { 3 } else { 11 };
+            let te = median_ms(
+                || drop(pool.install(|| exhaustive_max(&model, &grid))),
+                reps,
+            );
+            let tb = median_ms(
+                || drop(pool.install(|| branch_and_bound(&model, &grid))),
+                reps,
+            );
+            ratios.push(format!(
+                "{name} threads {threads}: exhaustive {te:.2} ms, branch-and-bound {tb:.2} ms, ratio \
+                 {:.1}x ({} boxes, {} kernel cells of {}, fallback {})",
+                te / tb,
+                stats.boxes_bounded,
+                stats.leaf_cells,
+                grid.len(),
+                stats.fallback
+            ));
+        }
+    }
+    group.finish();
+    for r in ratios {
+        println!("{r}");
+    }
+}
+
+criterion_group!(benches, exhaustive, bnb_vs_grid);
 criterion_main!(benches);

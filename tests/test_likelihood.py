@@ -181,11 +181,23 @@ def test_branch_and_bound_saves_cells_on_paper_scenario():
     los = sky(rng, 8)
     truth = [25.0, 3.0, -4.0]
     p = phases(rng, TRIANGLE, los, L1, truth, noise=0.1)
-    ex = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=1.5, refine=False)
+    ex = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=1.5, refine=False, search="exhaustive")
     bb = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=1.5, refine=False, search="branch_and_bound")
-    assert bb.z_max == ex.z_max
+    auto = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=1.5, refine=False)
+    assert bb.z_max == ex.z_max == auto.z_max
     np.testing.assert_array_equal(bb.euler_deg, ex.euler_deg)
-    assert bb.cells_evaluated * 20 < ex.cells_evaluated
+    np.testing.assert_array_equal(auto.euler_deg, ex.euler_deg)
+    # 7.0e6 cells: the default search is the branch-and-bound, which evaluates well under 1% of them.
+    assert bb.cells_evaluated * 100 < ex.cells_evaluated
+    assert auto.cells_evaluated == bb.cells_evaluated
+
+
+def test_unknown_search_is_refused():
+    rng = np.random.default_rng(8)
+    los = sky(rng, 6)
+    p = phases(rng, TRIANGLE, los, L1, [0.0, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match="'auto', 'exhaustive' or 'branch_and_bound'"):
+        gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=6.0, search="fastest")
 
 
 def test_window_and_prior_from_velocity():
@@ -200,7 +212,7 @@ def test_window_and_prior_from_velocity():
     truth = east.euler_deg + np.array([3.0, -2.0, 4.0])
     p = phases(rng, TRIANGLE, los, L1, truth)
     res = gnssatt.ml_attitude(p, los, TRIANGLE, L1, window_deg=east)
-    full = gnssatt.ml_attitude(p, los, TRIANGLE, L1)
+    full = gnssatt.ml_attitude(p, los, TRIANGLE, L1, search="exhaustive")
     np.testing.assert_allclose(res.euler_deg, full.euler_deg, atol=1e-9)
     assert res.cells_evaluated < full.cells_evaluated / 1000
 

@@ -1,8 +1,10 @@
-"""Times the full 1.5 deg likelihood grid (3 antennas, 0.71 m triangle, M = 8) three ways in one run: the
-gnssatt Python API, a plain numpy evaluation, and the reference native kernel ../shared/perf/run.sh; prints
-the ratios, thread scaling (RAYON_NUM_THREADS = 1, 2, and 16 when available) and branch-and-bound cells.
+"""Times the full 1.5 deg likelihood grid (3 antennas, 0.71 m triangle, M = 8) in one run: the gnssatt
+Python API (exhaustive pass), a plain numpy evaluation, optionally a reference native kernel (``--reference
+PATH``: a script run as ``bash PATH STEP M`` that prints ``cells N ... threads T ... seconds S``), thread
+scaling (RAYON_NUM_THREADS = 1, 2, and 16 when available), and branch-and-bound against the exhaustive
+pass on the paper's scenario and on a 5 m triangle (0.5 deg grid) at 1 and 2 threads, as ratios of medians.
 
-Run from anywhere: ``python benches/python/likelihood_speed.py [--reps 5]``.
+Run from anywhere: ``python benches/python/likelihood_speed.py [--reps 5] [--reference PATH]``.
 """
 
 from __future__ import annotations
@@ -22,19 +24,21 @@ import gnssatt
 from gnssatt import _core
 from gnssatt.likelihood import rotation_from_euler
 
-HERE = Path(__file__).resolve().parent
-RUN_SH = HERE.parents[2] / "shared" / "perf" / "run.sh"  # ../shared/perf/run.sh from the repository root
 L1 = 0.19029367279836487
 STEP = 1.5
-TRIANGLE = 0.71 * np.array([[1.0, 0.0, 0.0], [0.5, 0.0, np.sqrt(3) / 2]])
+UNIT_TRIANGLE = np.array([[1.0, 0.0, 0.0], [0.5, 0.0, np.sqrt(3) / 2]])
+TRIANGLE = 0.71 * UNIT_TRIANGLE
+# (name, side of the triangle in metres, grid step in degrees) for branch-and-bound vs exhaustive.
+BNB_CASES = [("paper 0.71 m, 1.5 deg", 0.71, 1.5), ("5 m, 0.5 deg", 5.0, 0.5)]
 
 
-def scenario(m: int = 8, seed: int = 1):
+def scenario(m: int = 8, seed: int = 1, side: float = 0.71):
     rng = np.random.default_rng(seed)
     az, el = rng.uniform(0, 2 * np.pi, m), rng.uniform(0.2, 1.4, m)
     los = np.stack([np.sin(az) * np.cos(el), np.cos(az) * np.cos(el), np.sin(el)], axis=1)
     r = rotation_from_euler([40.0, 3.0, -5.0])
-    p = np.mod(-2 * np.pi / L1 * (r.apply(TRIANGLE) @ los.T) + rng.uniform(-3, 3, (2, 1)), 2 * np.pi)
+    tri = side * UNIT_TRIANGLE
+    p = np.mod(-2 * np.pi / L1 * (r.apply(tri) @ los.T) + rng.uniform(-3, 3, (2, 1)), 2 * np.pi)
     return p + 0.1 * rng.standard_normal(p.shape), los
 
 
@@ -77,11 +81,11 @@ def timed(fn, reps):
     return statistics.median(out)
 
 
-def reference_kernel(reps):
+def reference_kernel(path, reps, env=None):
     times = []
     for _ in range(reps):
         out = subprocess.run(
-            ["bash", str(RUN_SH), str(STEP), "8"], capture_output=True, text=True, check=True
+            ["bash", str(path), str(STEP), "8"], env=env, capture_output=True, text=True, check=True
         )
         m = re.search(r"cells (\d+).*threads (\d+).*seconds ([0-9.]+)", out.stdout)
         if m is None:
@@ -91,83 +95,108 @@ def reference_kernel(reps):
     return statistics.median(times), cells, threads
 
 
-def child(reps):
-    p, los = scenario()
-    t = timed(lambda: gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=STEP), reps)
-    print(f"{t:.6f}")
+def child(reps, search, side, step):
+    p, los = scenario(side=side)
+    tri = side * UNIT_TRIANGLE
+
+    def run():
+        return gnssatt.ml_attitude(p, los, tri, L1, step_deg=step, search=search, refine=False)
+
+    run()  # warm-up
+    t = timed(run, reps)
+    r = run()
+    print(f"{t:.6f} {r.z_max!r} {' '.join(repr(float(a)) for a in r.grid_euler_deg)}")
+
+
+def in_child(n, reps, search, side=0.71, step=STEP):
+    """Median seconds, z_max and grid angles of one search in a fresh process with ``n`` threads."""
+    env = {**os.environ, "RAYON_NUM_THREADS": str(n), "OMP_NUM_THREADS": str(n)}
+    args = ["--child", "--reps", str(reps), "--search", search, "--side", str(side), "--step", str(step)]
+    out = subprocess.run(
+        [sys.executable, __file__, *args], env=env, capture_output=True, text=True, check=True
+    )
+    t, z, *angles = out.stdout.split()
+    return float(t), float(z), tuple(float(a) for a in angles)
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument(
+        "--reference",
+        type=Path,
+        default=None,
+        help="optional native reference kernel script, run as `bash PATH STEP M`",
+    )
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--search", default="exhaustive", help=argparse.SUPPRESS)
+    ap.add_argument("--side", type=float, default=0.71, help=argparse.SUPPRESS)
+    ap.add_argument("--step", type=float, default=STEP, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
-        child(args.reps)
+        child(args.reps, args.search, args.side, args.step)
         return
     p, los = scenario()
-    gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=STEP)  # warm-up
-    res = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=STEP)
+    kw = {"step_deg": STEP, "search": "exhaustive"}
+    gnssatt.ml_attitude(p, los, TRIANGLE, L1, **kw)  # warm-up
+    res = gnssatt.ml_attitude(p, los, TRIANGLE, L1, **kw)
     cells = res.cells_evaluated
-    t_api = timed(lambda: gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=STEP), args.reps)
+    t_api = timed(lambda: gnssatt.ml_attitude(p, los, TRIANGLE, L1, **kw), args.reps)
     t_np = timed(lambda: numpy_grid(p, los), max(1, args.reps // 2))
-    t_ref, ref_cells, ref_threads = reference_kernel(args.reps)
     threads = os.cpu_count() or 1
     print(f"machine: {threads} CPUs; grid step {STEP} deg, M = 8, 3 antennas (0.71 m triangle)")
     print(
         f"gnssatt API (exhaustive, {cells} cells incl. refinement): {t_api * 1e3:8.1f} ms  "
         f"{cells * 8 / t_api:.3e} cell-satellite/s"
     )
-    print(f"numpy reference (float64):                  {t_np * 1e3:8.1f} ms")
     print(
-        f"reference kernel run.sh ({ref_cells} cells, {ref_threads} threads): {t_ref * 1e3:8.1f} ms  "
-        f"{ref_cells * 8 / t_ref:.3e} cell-satellite/s"
+        f"numpy reference (float64):                  {t_np * 1e3:8.1f} ms   numpy / API: {t_np / t_api:.1f}x"
     )
-    print(
-        f"ratio API / reference kernel: {t_api / t_ref:.2f}  "
-        f"(per cell: {t_api / cells / (t_ref / ref_cells):.2f})"
-        f"   numpy / API: {t_np / t_api:.1f}x"
-    )
+    if args.reference is not None:
+        t_ref, ref_cells, ref_threads = reference_kernel(args.reference, args.reps)
+        print(
+            f"reference kernel ({ref_cells} cells, {ref_threads} threads): {t_ref * 1e3:8.1f} ms  "
+            f"{ref_cells * 8 / t_ref:.3e} cell-satellite/s   ratio API / reference: {t_api / t_ref:.2f}"
+        )
     for n in [1, 2, 16]:
         if n > threads:
             print(f"threads {n:2d}: not available on this machine")
             continue
-        env = {**os.environ, "RAYON_NUM_THREADS": str(n), "OMP_NUM_THREADS": str(n)}
-        out = subprocess.run(
-            [sys.executable, __file__, "--child", "--reps", str(args.reps)],
-            env=env,
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-        t = float(out.stdout.strip())
-        ref = subprocess.run(
-            ["bash", str(RUN_SH), str(STEP), "8"], env=env, capture_output=True, text=True, check=True
-        )
-        t_r = float(re.search(r"seconds ([0-9.]+)", ref.stdout).group(1))
-        print(
-            f"threads {n:2d}: API {t * 1e3:7.1f} ms   reference kernel {t_r * 1e3:7.1f} ms   "
-            f"ratio {t / t_r:.2f}"
-        )
+        t, _, _ = in_child(n, args.reps, "exhaustive")
+        line = f"threads {n:2d}: API exhaustive {t * 1e3:7.1f} ms"
+        if args.reference is not None:
+            env = {**os.environ, "RAYON_NUM_THREADS": str(n), "OMP_NUM_THREADS": str(n)}
+            t_r, _, _ = reference_kernel(args.reference, 1, env)
+            line += f"   reference kernel {t_r * 1e3:7.1f} ms   ratio {t / t_r:.2f}"
+        print(line)
     b = np.ascontiguousarray
-    boxes, leaves, grid_cells = _core.bnb_stats(
-        b(p[None]),
-        b(los[None]),
-        b(np.full((1, 8), L1)),
-        b(TRIANGLE),
-        "ambiguity_function",
-        np.radians(STEP),
-        None,
-    )
-    t_bb = timed(
-        lambda: gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=STEP, search="branch_and_bound"), 3
-    )
-    bb = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=STEP, search="branch_and_bound")
-    print(
-        f"branch-and-bound: {boxes} boxes bounded + {leaves} leaf cells = {boxes + leaves} of {grid_cells} "
-        f"({grid_cells / (boxes + leaves):.1f}x fewer), {t_bb * 1e3:.0f} ms sequential; "
-        f"same maximum as exhaustive: {bb.z_max == res.z_max and np.array_equal(bb.euler_deg, res.euler_deg)}"
-    )
+    print("branch-and-bound vs exhaustive (grid maximum only, refine=False; medians, fresh process each):")
+    for name, side, step in BNB_CASES:
+        ps, ls = scenario(side=side)
+        boxes, leaves, grid_cells = _core.bnb_stats(
+            b(ps[None]),
+            b(ls[None]),
+            b(np.full((1, 8), L1)),
+            b(side * UNIT_TRIANGLE),
+            "ambiguity_function",
+            np.radians(step),
+            None,
+        )
+        reps = args.reps if grid_cells < 5e7 else max(1, min(args.reps, 3))
+        for n in [1, 2, 16]:
+            if n > threads:
+                continue
+            t_ex, z_ex, a_ex = in_child(n, reps, "exhaustive", side, step)
+            t_bb, z_bb, a_bb = in_child(n, reps, "branch_and_bound", side, step)
+            same = z_ex == z_bb and a_ex == a_bb
+            print(
+                f"  {name}, threads {n:2d}: exhaustive {t_ex * 1e3:9.1f} ms   branch-and-bound "
+                f"{t_bb * 1e3:7.1f} ms   ratio {t_ex / t_bb:6.1f}x   same cell: {same}"
+            )
+        print(
+            f"  {name}: {boxes} boxes + {leaves} kernel cells of {grid_cells} "
+            f"({grid_cells / (boxes + leaves):.0f}x fewer)"
+        )
 
 
 if __name__ == "__main__":

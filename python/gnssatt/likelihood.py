@@ -58,7 +58,7 @@ __all__ = [
 ]
 
 StatisticName = Literal["ambiguity_function", "mean", "double_difference"]
-SearchName = Literal["exhaustive", "branch_and_bound"]
+SearchName = Literal["auto", "exhaustive", "branch_and_bound"]
 RefineName = bool | Literal["parabolic", "newton"]
 
 #: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U).
@@ -156,8 +156,8 @@ class LikelihoodAttitude:
     z_max
         The statistic at the grid maximum.
     cells_evaluated
-        Grid cells whose statistic was evaluated (branch-and-bound: leaf cells plus one per bounded box;
-        refinement adds up to 6).
+        Grid cells whose statistic was evaluated (branch-and-bound: kernel cells plus one per direction box
+        and row block tested; refinement adds up to 6).
     step_deg
         The grid step actually used, degrees (``360 / n`` with ``n`` even).
     """
@@ -316,7 +316,7 @@ def ml_attitude(
     statistic: StatisticName = "ambiguity_function",
     step_deg: float | None = None,
     window_deg: ArrayLike | AttitudePrior | None = None,
-    search: SearchName = "exhaustive",
+    search: SearchName = "auto",
     refine: RefineName = True,
 ) -> LikelihoodAttitude:
     """Maximum-likelihood attitude over a grid of Euler angles (seed 001).
@@ -342,7 +342,12 @@ def ml_attitude(
         ``None`` (the whole attitude domain), a (3, 2) array of ``[lo, hi]`` degrees for psi, theta, phi,
         or an :class:`AttitudePrior` (:func:`prior_from_velocity`).
     search
-        ``"exhaustive"`` (parallel) or ``"branch_and_bound"`` (sequential, exact: the same grid maximum).
+        ``"auto"`` (default): branch-and-bound for the ambiguity function on grids of at least 2**22 cells
+        with a step of at most ``lambda_min / (8 L_max)``, the exhaustive pass otherwise.
+        ``"exhaustive"``: every cell, in parallel. ``"branch_and_bound"``: exact (the same grid cell and
+        ``z_max`` as the exhaustive pass, bit for bit), parallel, through per-baseline direction sets; it
+        falls back to the exhaustive pass for the per-satellite statistics and where its bounding work
+        would exceed one box per 256 cells (``docs/likelihood_search.md``).
     refine
         ``True`` or ``"newton"`` (default): the parabolic interpolation (16), then Newton's method on the
         statistic (float64, full Hessian, trust region of one grid step), i.e. the continuous maximum of

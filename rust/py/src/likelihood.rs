@@ -106,10 +106,13 @@ fn ml_search(
     let search = match search {
         "exhaustive" => Search::Exhaustive,
         "branch_and_bound" => Search::BranchAndBound,
+        "auto" => Search::Auto,
         other => {
             return Err(invalid_input(
                 py,
-                format!("expected search 'exhaustive' or 'branch_and_bound', got {other:?}"),
+                format!(
+                    "expected search 'auto', 'exhaustive' or 'branch_and_bound', got {other:?}"
+                ),
             ))
         }
     };

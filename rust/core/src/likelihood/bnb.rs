@@ -1,259 +1,351 @@
-//! Exact best-first branch-and-bound over boxes of grid cells.
+//! Exact branch-and-bound for the grid maximum of the ambiguity function, through per-baseline
+//! direction sets.
 //!
-//! Bound. Over a box with centre node `c` and half-extents `h_a` (radians, a = psi, theta, phi), every
-//! phase obeys `|x_ik(chi) - x_ik(c)| <= delta_ik = sum_a |g_k . d_a R(c) r_i| h_a + |g_k| |r_i| (sum_a
-//! h_a)^2 / 2` (Taylor with the exact gradient at the centre; every second derivative of `R r_i` has norm
-//! at most `|r_i|`, as each factor `Ry`, `Rz`, `Rx` and its derivatives has operator norm <= 1). One
-//! modulus `|sum_j exp(j x_j)| = max_w sum_j cos(x_j - w)` is then at most `max_w sum_j h_j(w)`, where
-//! `h_j(w) = 1` if `|x_j(c) - w| <= delta_j` (mod 2 pi) and `cos(|x_j(c) - w| - delta_j)` otherwise.
-//! Between consecutive breakpoints `x_j(c) +- delta_j`, `x_j(c) + pi` each term is either 1 or
-//! `Re(exp(j(x_j(c) -+ delta_j - w)))`, so the sum is `P + Re(exp(-j w) C)` <= `P + |C|`; the bound is
-//! the largest `P + |C|` over the segments (and never above the triangle bound
-//! `|sum_j exp(j x_j(c))| + sum_j 2 sin(delta_j / 2)` nor the number of terms). A margin covers the
-//! float32 kernel's error ([`super::SINCOS_ABS_ERROR`]), so the search returns exactly the grid maximum of
-//! the exhaustive pass (same kernel at the leaves, same tie rule). This is the ambiguity-function
-//! branch-and-bound idea of Teunissen & Massarweh (2025, J. Geodesy 99:28) on Euler-angle boxes.
+//! With the per-baseline grouping `Z(R) = sum_i F_i(R r_i)`, each `F_i` a modulus of `n` unit terms, so
+//! `F_i <= n`. A cell can only match an incumbent `Z*` if, for every baseline, `F_i(R r_i) >= tau_i =
+//! Z* - margin - (m - 1) n` (the `m - 1` other moduli give at most `n` each; `margin` is the float32
+//! kernel's error, [`super::kernel::kernel_margin`]). Near the maximum `Z*` is close to `m n`, so `tau_i`
+//! is close to `n`: each baseline must point almost exactly where all its terms align, a set of tiny
+//! spots on its sphere. The search:
+//! 1. incumbent, coarse to fine: the kernel on every `c`-th node of each axis (`c` steps span about
+//!    half the main lobe, `lambda / (2 L)`), then a hill climb on the fine grid from the best coarse
+//!    cells; the incumbent is a real cell with its kernel value;
+//! 2. per baseline and in parallel, [`direction_set`]: a 2-D branch-and-bound over direction parameters
+//!    that keeps every direction where `F_i` may reach `tau_i` (bound in the module docs there);
+//! 3. rows `(theta, phi)` in parallel blocks: a block is dropped when some baseline's elevation range
+//!    over it (the centre's elevation +- the block's half-extents in pitch and roll, since each rotation
+//!    moves a direction by at most its angle) meets none of that baseline's boxes; in the remaining rows
+//!    each box maps to a few heading nodes (`psi = a - beta`), the nodes every baseline allows are
+//!    evaluated by the kernel with the full pass's tables.
+//!
+//! Every cell with kernel `Z >= Z*` is evaluated, by the same kernel code with the same inputs as the
+//! exhaustive pass, so the result is the exhaustive maximum bit for bit: the same float32 `Z` and, among
+//! equal values, the lowest flat index ([`super::search::better`]). No tolerance enters the comparison.
+//!
+//! Falls back to [`exhaustive_max`] (same result, [`BnbStats::fallback`]) for the per-satellite
+//! statistics (no per-baseline decomposition), when the incumbent leaves the direction test powerless
+//! (`n - tau_i >= 2`, i.e. `Z*` more than about 2 below `m n`: very noisy phases), when a phase may
+//! exceed the kernel's checked range, or when the direction search tests more than
+//! [`box_limit`] boxes.
+//!
+//! Compared with Teunissen & Massarweh (2025, J. Geodesy 99:28), whose globally convergent ambiguity
+//! function algorithm (from the abstract: branch-and-bound with a convex relaxation of the multimodal
+//! ambiguity function, bounds obtained by projected gradient descent) bounds the whole function over a
+//! region of the unknowns, the bound here is per baseline and combinatorial (an arc-intersection test,
+//! then a relaxed modulus with each phase free in its arc), needs no inner optimisation, and is tied to
+//! the float32 grid so that the answer is the grid's maximum cell rather than a continuous optimum.
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-use std::f64::consts::{PI, TAU};
-
-use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::rotation::{elementary, Axis as RotAxis};
 
-use super::grid::Grid;
-use super::kernel::{eval_row, heading_tables, RowCoef};
+use super::direction::{direction_set, row_direction, top_bins, Budget, DirBox, Reach};
+use super::grid::{Axis, Grid};
+use super::kernel::{heading_tables, kernel_margin};
 use super::model::{Grouping, Model};
-use super::search::{better, check_step, GridMax};
+use super::search::{better, check_step, exhaustive_max, GridMax, RowNodes};
 
 /// Work done by [`branch_and_bound`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct BnbStats {
-    /// Boxes whose bound was computed (each also evaluates `Z` at its centre node, in f64).
+    /// Direction boxes tested plus row blocks tested.
     pub boxes_bounded: u64,
-    /// Cells evaluated by the float32 kernel at the leaves.
+    /// Cells evaluated by the float32 kernel (coarse pass, hill climb, candidates).
     pub leaf_cells: u64,
+    /// Whether the search fell back to the exhaustive pass (module docs say when).
+    pub fallback: bool,
 }
 
-/// Boxes with at most this many cells are evaluated cell by cell.
-const LEAF_CELLS: usize = 8;
+/// Rows per side of a block in step 3.
+const BLOCK: usize = 8;
+/// Coarse stride of the incumbent pass, in units of the coarsest accepted step (half the main lobe).
+/// Coarser strides were tried: at 3x the incumbent of a 5 m array landed in a side lobe and the search
+/// fell back.
+const STRIDE: f64 = 1.5;
+/// Coarse cells the hill climb starts from.
+const STARTS: usize = 8;
 
-#[derive(Debug, Clone, Copy)]
-struct Cube {
-    lo: [usize; 3],
-    hi: [usize; 3],
-    bound: f64,
-    split: usize,
-}
-
-impl PartialEq for Cube {
-    fn eq(&self, o: &Self) -> bool {
-        self.bound.total_cmp(&o.bound) == Ordering::Equal
-    }
-}
-impl Eq for Cube {}
-impl PartialOrd for Cube {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Cube {
-    fn cmp(&self, o: &Self) -> Ordering {
-        self.bound.total_cmp(&o.bound)
-    }
+/// Most direction boxes [`branch_and_bound`] tests before it falls back to the exhaustive pass: one per
+/// 256 cells. A box costs about as much as 10 to 150 kernel cells (arc test or relaxed bound), so the
+/// bounding work stays under about half the exhaustive pass; small grids (under about 10^6 cells
+/// for the paper's array) are searched exhaustively.
+pub fn box_limit(grid: &Grid) -> u64 {
+    grid.len() as u64 / 256
 }
 
-fn dy(a: f64) -> Matrix3<f64> {
-    let (s, c) = a.sin_cos();
-    Matrix3::new(-s, 0.0, c, 0.0, 0.0, 0.0, -c, 0.0, -s)
-}
-fn dz(a: f64) -> Matrix3<f64> {
-    let (s, c) = a.sin_cos();
-    Matrix3::new(-s, -c, 0.0, c, -s, 0.0, 0.0, 0.0, 0.0)
-}
-fn dx(a: f64) -> Matrix3<f64> {
-    let (s, c) = a.sin_cos();
-    Matrix3::new(0.0, 0.0, 0.0, 0.0, -s, -c, 0.0, c, -s)
-}
-
-fn wrap2pi(x: f64) -> f64 {
-    x.rem_euclid(TAU)
-}
-
-/// Upper bound of `|sum_j exp(j x_j')|` over `|x_j' - x_j| <= delta_j` (module docs). `scratch` holds
-/// the breakpoints, `members` per member `(x, delta, cos(x - delta), sin(x - delta), cos(x + delta),
-/// sin(x + delta))`.
-pub(crate) fn modulus_bound(
-    xs: &[f64],
-    deltas: &[f64],
-    scratch: &mut Vec<f64>,
-    members: &mut Vec<[f64; 6]>,
-) -> f64 {
-    let n = xs.len() as f64;
-    let (mut s, mut c, mut tri) = (0.0, 0.0, 0.0);
-    let mut always = 0.0;
-    scratch.clear();
-    members.clear();
-    for (&x, &d) in xs.iter().zip(deltas) {
-        let x = x.rem_euclid(TAU);
-        let (sx, cx) = x.sin_cos();
-        s += sx;
-        c += cx;
-        tri += 2.0 * (d.min(PI) / 2.0).sin();
-        if d >= PI {
-            always += 1.0;
-        } else {
-            let (sm, cm) = (x - d).sin_cos();
-            let (sp, cp) = (x + d).sin_cos();
-            members.push([x, d, cm, sm, cp, sp]);
-            scratch.extend([wrap2pi(x - d), wrap2pi(x + d), wrap2pi(x + PI)]);
-        }
-    }
-    let triangle = s.hypot(c) + tri;
-    if scratch.is_empty() || triangle <= always + 1e-12 {
-        return n.min(triangle);
-    }
-    scratch.sort_by(f64::total_cmp);
-    let nb = scratch.len();
-    let mut sweep: f64 = 0.0;
-    for b in 0..nb {
-        let (a0, a1) = (
-            scratch[b],
-            if b + 1 < nb {
-                scratch[b + 1]
+/// Local indices of the nodes next to `j` (and `j`) on `axis`, wrapping when it is a full turn.
+fn around(axis: &Axis, j: usize) -> Vec<usize> {
+    let full = axis.period == Some(axis.len);
+    let mut v: Vec<usize> = [-1i64, 0, 1]
+        .iter()
+        .filter_map(|d| {
+            let k = j as i64 + d;
+            if full {
+                Some(k.rem_euclid(axis.len as i64) as usize)
             } else {
-                scratch[0] + TAU
-            },
-        );
-        let w = 0.5 * (a0 + a1);
-        let (mut p, mut cs, mut sn) = (always, 0.0, 0.0);
-        for m in members.iter() {
-            // x - w in (-pi, pi]: both are in [0, 2 pi + pi).
-            let mut a = m[0] - w;
-            if a > PI {
-                a -= TAU;
-            } else if a <= -PI {
-                a += TAU;
+                (0..axis.len as i64).contains(&k).then_some(k as usize)
             }
-            if a <= -PI {
-                a += TAU;
-            }
-            if a.abs() <= m[1] {
-                p += 1.0;
-            } else if a > 0.0 {
-                cs += m[2];
-                sn += m[3];
-            } else {
-                cs += m[4];
-                sn += m[5];
+        })
+        .collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// Steepest ascent over the 26 neighbours on the fine grid.
+fn climb(rn: &mut RowNodes, grid: &Grid, start: (f32, usize)) -> (f32, usize) {
+    let mut cur = start;
+    // Each move raises (z, -index) strictly, so the climb ends; the cap only bounds pathological plateaus.
+    for _ in 0..grid.len().min(1 << 16) {
+        let [p, t, f] = grid.unflatten(cur.1);
+        let ps = around(&grid.psi, p);
+        let mut best = cur;
+        for t2 in around(&grid.theta, t) {
+            for &f2 in &around(&grid.phi, f) {
+                best = better(best, rn.best(t2, f2, &ps));
             }
         }
-        sweep = sweep.max(p + cs.hypot(sn));
+        if best == cur {
+            break;
+        }
+        cur = best;
     }
-    n.min(triangle).min(sweep)
+    cur
 }
 
-struct Bounder<'a> {
-    model: &'a Model,
-    grid: &'a Grid,
-    margin: f64,
-    xs: Vec<f64>,
-    ds: Vec<f64>,
-    scratch: Vec<f64>,
-    members: Vec<[f64; 6]>,
+/// Step 1 of the module docs: the incumbent `(z, flat index)` and the cells it cost.
+fn incumbent(model: &Model, grid: &Grid, cps: &[f32], sps: &[f32]) -> ((f32, usize), u64) {
+    let c = ((STRIDE * model.max_step() / grid.step()).floor() as usize).max(2);
+    let ps: Vec<usize> = (0..grid.psi.len).step_by(c).collect();
+    let rows: Vec<(usize, usize)> = (0..grid.theta.len)
+        .step_by(c)
+        .flat_map(|t| (0..grid.phi.len).step_by(c).map(move |f| (t, f)))
+        .collect();
+    let mut coarse: Vec<((f32, usize), u64)> = rows
+        .par_iter()
+        .map_init(
+            || RowNodes::new(model, grid, cps, sps),
+            |rn, &(t, f)| (rn.best(t, f, &ps), ps.len() as u64),
+        )
+        .collect();
+    let mut cells: u64 = coarse.iter().map(|r| r.1).sum();
+    coarse.sort_by(|a, b| b.0 .0.total_cmp(&a.0 .0).then(a.0 .1.cmp(&b.0 .1)));
+    let climbed: Vec<((f32, usize), u64)> = coarse
+        .iter()
+        .take(STARTS)
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|s| {
+            let mut rn = RowNodes::new(model, grid, cps, sps);
+            let best = climb(&mut rn, grid, s.0);
+            (best, rn.cells)
+        })
+        .collect();
+    let mut best = (f32::NEG_INFINITY, usize::MAX);
+    for (b, n) in climbed {
+        best = better(best, b);
+        cells += n;
+    }
+    (best, cells)
 }
 
-impl Bounder<'_> {
-    /// (upper bound over the box, `Z` at the centre node in f64, axis to split).
-    fn bound(&mut self, lo: [usize; 3], hi: [usize; 3]) -> (f64, f64, usize) {
-        let g = self.grid;
-        let axes = [g.psi, g.theta, g.phi];
-        let mut c = [0i64; 3];
-        let mut h = [0.0; 3];
-        for a in 0..3 {
-            let cc = (lo[a] + hi[a] - 1) / 2;
-            c[a] = cc as i64;
-            h[a] = (cc - lo[a]).max(hi[a] - 1 - cc) as f64 * axes[a].step;
+/// Per-thread state of step 3: a node marker that needs no clearing between rows, and per node the
+/// bound of the current baseline and the summed deficit `sum_i (n - U_i)` so far.
+struct Scan {
+    level: Vec<u64>,
+    base: u64,
+    u: Vec<f64>,
+    deficit: Vec<f64>,
+    nodes: Vec<usize>,
+}
+
+impl Scan {
+    fn new(len: usize) -> Self {
+        Scan {
+            level: vec![0; len],
+            base: 0,
+            u: vec![0.0; len],
+            deficit: vec![0.0; len],
+            nodes: vec![],
         }
-        let [psi, theta, phi] = g.angles(c);
-        let (ry, rz, rx) = (
-            elementary(RotAxis::Y, psi),
-            elementary(RotAxis::Z, theta),
-            elementary(RotAxis::X, phi),
-        );
-        let mats = [
-            ry * rz * rx,
-            dy(psi) * rz * rx,
-            ry * dz(theta) * rx,
-            ry * rz * dx(phi),
-        ];
-        let hs = h.iter().sum::<f64>();
-        let m = self.model;
-        let (nb, nt) = (m.n_baselines(), m.n_terms());
-        let mut score = [0.0; 3];
-        // Phases and deltas per (i, k), stored at i * nt + k.
-        self.xs.resize(nb * nt, 0.0);
-        self.ds.resize(nb * nt, 0.0);
-        for (i, r) in m.baselines.iter().enumerate() {
-            let v: [Vector3<f64>; 4] = mats.map(|mm| mm * r);
-            for a in 0..3 {
-                score[a] += v[a + 1].norm() * h[a];
-            }
-            let quad = 0.5 * r.norm() * hs * hs;
-            for (k, gk) in m.g.iter().enumerate() {
-                self.xs[i * nt + k] = m.phase(i, k, &v[0]);
-                self.ds[i * nt + k] = gk.dot(&v[1]).abs() * h[0]
-                    + gk.dot(&v[2]).abs() * h[1]
-                    + gk.dot(&v[3]).abs() * h[2]
-                    + gk.norm() * quad;
-            }
+    }
+
+    /// Heading nodes whose baseline-`i` direction falls in one of `boxes`, among those the previous
+    /// baselines of the row kept (`i = 0` starts a row), and whose summed deficit stays within `slack`:
+    /// `Z <= sum_i U_i` must reach `Z*`, i.e. `sum_i (n - U_i) <= m n - Z*`. A node may be marked by a
+    /// box that only its one-node rounding slack reaches; the largest bound of its boxes is used, which
+    /// is at least the bound of the box that holds it.
+    #[allow(clippy::too_many_arguments)]
+    fn mark(
+        &mut self,
+        psi: &Axis,
+        (i, nb): (usize, usize),
+        beta: f64,
+        e: f64,
+        boxes: &[DirBox],
+        n: f64,
+        slack: f64,
+    ) {
+        if i == 0 {
+            self.base += nb as u64 + 1;
         }
-        let (mut bound, mut zc) = (0.0, 0.0);
-        match m.grouping {
-            Grouping::PerBaseline => {
-                for i in 0..nb {
-                    let (x, d) = (
-                        &self.xs[i * nt..(i + 1) * nt],
-                        &self.ds[i * nt..(i + 1) * nt],
-                    );
-                    bound += modulus_bound(x, d, &mut self.scratch, &mut self.members);
-                    let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| {
-                        let (sx, cx) = x.sin_cos();
-                        (s + sx, c + cx)
-                    });
-                    zc += s.hypot(cc);
+        let (want, set) = (self.base + i as u64, self.base + i as u64 + 1);
+        let mut kept = std::mem::take(&mut self.nodes);
+        let prev = kept.len();
+        for b in boxes {
+            if e < b.e0 - 1e-9 || e > b.e1 + 1e-9 {
+                continue;
+            }
+            // Node g (global) has heading origin + g step; floor and ceil keep one node of slack for
+            // rounding (an extra cell is evaluated, never one missed).
+            let g0 = ((b.a0 - beta - psi.origin) / psi.step).floor() as i64;
+            let g1 = ((b.a1 - beta - psi.origin) / psi.step).ceil() as i64;
+            let span = (g1 - g0 + 1).min(psi.period.unwrap_or(usize::MAX) as i64);
+            for g in g0..g0 + span {
+                let j = g - psi.first;
+                let j = match psi.period {
+                    Some(p) => j.rem_euclid(p as i64),
+                    None => j,
+                };
+                if !(0..psi.len as i64).contains(&j) {
+                    continue;
                 }
-            }
-            Grouping::PerSatellite => {
-                let mut x = vec![0.0; nb + 1];
-                let mut d = vec![0.0; nb + 1];
-                for k in 0..nt {
-                    for i in 0..nb {
-                        x[i + 1] = self.xs[i * nt + k];
-                        d[i + 1] = self.ds[i * nt + k];
+                let j = j as usize;
+                if self.level[j] == set {
+                    self.u[j] = self.u[j].max(b.bound);
+                } else if (i == 0) || self.level[j] == want {
+                    self.level[j] = set;
+                    self.u[j] = b.bound;
+                    if i == 0 {
+                        self.deficit[j] = 0.0;
+                        kept.push(j);
                     }
-                    bound += modulus_bound(&x, &d, &mut self.scratch, &mut self.members);
-                    let (s, cc) = x.iter().fold((0.0, 0.0), |(s, c), x| {
-                        let (sx, cx) = x.sin_cos();
-                        (s + sx, c + cx)
-                    });
-                    zc += s.hypot(cc);
                 }
             }
         }
-        let split = (0..3)
-            .filter(|&a| hi[a] - lo[a] > 1)
-            .max_by(|&a, &b| score[a].total_cmp(&score[b]))
-            .unwrap_or(0);
-        (bound + self.margin, zc, split)
+        // For i > 0 the candidates are the previous baselines' nodes that this one marked too.
+        let start = if i == 0 { prev } else { 0 };
+        let mut out = Vec::with_capacity(kept.len());
+        for &j in &kept[start..] {
+            if self.level[j] != set {
+                continue;
+            }
+            self.deficit[j] += n - self.u[j];
+            if self.deficit[j] <= slack {
+                out.push(j);
+            } else {
+                self.level[j] = 0;
+            }
+        }
+        self.nodes = out;
     }
 }
 
-/// The grid maximum by best-first branch-and-bound: the same cell and `Z` as
-/// [`super::exhaustive_max`] (same float32 kernel at the leaves, same tie rule), usually from far fewer
-/// cells. Sequential.
+/// Centre row of a block and how far (radians) any baseline direction of its rows can be from the
+/// centre's: each rotation moves a direction by at most its angle.
+fn block_centre(grid: &Grid, tr: (usize, usize), fr: (usize, usize)) -> (usize, usize, f64) {
+    let tc = (tr.0 + tr.1 - 1) / 2;
+    let fc = (fr.0 + fr.1 - 1) / 2;
+    let ht = (tc - tr.0).max(tr.1 - 1 - tc) as f64 * grid.theta.step;
+    let hf = (fc - fr.0).max(fr.1 - 1 - fc) as f64 * grid.phi.step;
+    (tc, fc, ht + hf + 1e-9)
+}
+
+/// `Rz(theta) Rx(phi)` of row `(t, f)`, as the kernel's row coefficients build it.
+fn row_rotation(grid: &Grid, t: usize, f: usize) -> nalgebra::Matrix3<f64> {
+    elementary(RotAxis::Z, grid.theta.angle(t as i64))
+        * elementary(RotAxis::X, grid.phi.angle(f as i64))
+}
+
+/// Per baseline, the top direction boxes some cell of the grid points it into: around each block's
+/// centre direction, elevation +- the block's reach and azimuth +- reach / cos(latitude bound), over
+/// the headings of the grid.
+fn reaches(model: &Model, grid: &Grid, blocks: &[Block]) -> Vec<Reach> {
+    let psi = &grid.psi;
+    let full = psi.period == Some(psi.len);
+    let (p_lo, p_hi) = (psi.angle(0), psi.angle(psi.len as i64 - 1));
+    let whole = full
+        && grid.phi.period == Some(grid.phi.len)
+        && grid.theta.angle(0) <= -std::f64::consts::FRAC_PI_2 + 1e-12
+        && grid.theta.angle(grid.theta.len as i64 - 1) >= std::f64::consts::FRAC_PI_2 - 1e-12;
+    let mut out: Vec<Reach> = (0..model.n_baselines())
+        .map(|i| Reach::new(top_bins(model, i), whole))
+        .collect();
+    if whole {
+        return out;
+    }
+    for &(tr, fr) in blocks {
+        let (tc, fc, reach) = block_centre(grid, tr, fr);
+        let m = row_rotation(grid, tc, fc);
+        for (r, set) in model.baselines.iter().zip(out.iter_mut()) {
+            let (beta, e) = row_direction(&(m * r), r.norm());
+            let lat = e.abs() + reach;
+            let (a_lo, a_hi) = if full || lat >= std::f64::consts::FRAC_PI_2 - 1e-6 {
+                (0.0, std::f64::consts::TAU)
+            } else {
+                let ra = reach / lat.cos();
+                (p_lo + beta - ra, p_hi + beta + ra)
+            };
+            set.add(a_lo, a_hi, e - reach, e + reach);
+        }
+    }
+    out
+}
+
+/// Pitch and roll index ranges of a block of rows.
+type Block = ((usize, usize), (usize, usize));
+
+/// Step 3 over one block of rows: the best candidate cell and the cells evaluated.
+#[allow(clippy::too_many_arguments)]
+fn scan_block(
+    model: &Model,
+    grid: &Grid,
+    sets: &[Vec<DirBox>],
+    slack: f64,
+    rn: &mut RowNodes,
+    scan: &mut Scan,
+    t_range: (usize, usize),
+    f_range: (usize, usize),
+) -> (f32, usize) {
+    let mut best = (f32::NEG_INFINITY, usize::MAX);
+    let (tc, fc, reach) = block_centre(grid, t_range, f_range);
+    let mc = row_rotation(grid, tc, fc);
+    let mut local: Vec<Vec<DirBox>> = Vec::with_capacity(sets.len());
+    for (r, set) in model.baselines.iter().zip(sets) {
+        let (_, ec) = row_direction(&(mc * r), r.norm());
+        let near: Vec<DirBox> = set
+            .iter()
+            .filter(|b| b.e1 >= ec - reach && b.e0 <= ec + reach)
+            .copied()
+            .collect();
+        if near.is_empty() {
+            return best;
+        }
+        local.push(near);
+    }
+    for t in t_range.0..t_range.1 {
+        for f in f_range.0..f_range.1 {
+            let m = row_rotation(grid, t, f);
+            for (i, (r, near)) in model.baselines.iter().zip(&local).enumerate() {
+                let (beta, e) = row_direction(&(m * r), r.norm());
+                let n = model.n_terms() as f64;
+                scan.mark(&grid.psi, (i, local.len()), beta, e, near, n, slack);
+                if scan.nodes.is_empty() {
+                    break;
+                }
+            }
+            if !scan.nodes.is_empty() {
+                scan.nodes.sort_unstable();
+                best = better(best, rn.best(t, f, &scan.nodes));
+            }
+        }
+    }
+    best
+}
+
+/// The grid maximum by branch-and-bound (module docs): the same cell and `Z` as [`exhaustive_max`],
+/// bit for bit, from far fewer cells. Parallel (rayon: the thread count follows `RAYON_NUM_THREADS`).
 ///
 /// # Arguments
 /// * `model` - preprocessed measurements and statistic.
@@ -262,86 +354,88 @@ impl Bounder<'_> {
 /// # Errors
 /// [`crate::Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
 pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats)> {
+    branch_and_bound_limited(model, grid, box_limit(grid))
+}
+
+/// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback.
+pub(crate) fn branch_and_bound_limited(
+    model: &Model,
+    grid: &Grid,
+    limit: u64,
+) -> Result<(GridMax, BnbStats)> {
     check_step(model, grid)?;
-    let xmax = PI
-        + model.baselines.iter().map(|r| r.norm()).fold(0.0, f64::max)
-            * model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
-    let (groups, members) = model.groups();
-    let n_exp = (groups * members) as f64;
-    let margin = n_exp * (1e-5 + 1e-6 * xmax);
-    let mut b = Bounder {
-        model,
-        grid,
-        margin,
-        xs: vec![],
-        ds: vec![],
-        scratch: vec![],
-        members: vec![],
+    let exhaustive = |boxes: u64, cells: u64| -> Result<(GridMax, BnbStats)> {
+        let gm = exhaustive_max(model, grid)?;
+        let stats = BnbStats {
+            boxes_bounded: boxes,
+            leaf_cells: cells + gm.cells_evaluated,
+            fallback: true,
+        };
+        Ok((
+            GridMax {
+                cells_evaluated: stats.boxes_bounded + stats.leaf_cells,
+                ..gm
+            },
+            stats,
+        ))
     };
-    let mut stats = BnbStats::default();
-    let mut lower = f64::NEG_INFINITY;
-    let mut best = (f32::NEG_INFINITY, usize::MAX);
-    let mut heap = BinaryHeap::new();
-    let root_hi = [grid.psi.len, grid.theta.len, grid.phi.len];
-    let (bound, zc, split) = b.bound([0; 3], root_hi);
-    stats.boxes_bounded += 1;
-    lower = lower.max(zc - margin);
-    heap.push(Cube {
-        lo: [0; 3],
-        hi: root_hi,
-        bound,
-        split,
-    });
+    let margin = match (model.grouping, kernel_margin(model)) {
+        (Grouping::PerBaseline, Some(m)) => m,
+        _ => return exhaustive(0, 0),
+    };
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
-    let mut coef = RowCoef::new(model);
-    let mut buf = Vec::new();
-    let np = grid.psi.len;
-    while let Some(cube) = heap.pop() {
-        if cube.bound < lower {
-            break;
-        }
-        let size: usize = (0..3).map(|a| cube.hi[a] - cube.lo[a]).product();
-        if size <= LEAF_CELLS {
-            let (p0, p1) = (cube.lo[0], cube.hi[0]);
-            let (c, s) = (&cps[p0..p1], &sps[p0..p1]);
-            let mut cl = c.to_vec();
-            let mut sl = s.to_vec();
-            let padded = cl.len().div_ceil(super::kernel::LANES) * super::kernel::LANES;
-            cl.resize(padded, 1.0);
-            sl.resize(padded, 0.0);
-            buf.resize(p1 - p0, 0.0);
-            for t in cube.lo[1]..cube.hi[1] {
-                for f in cube.lo[2]..cube.hi[2] {
-                    coef.fill(model, grid.theta.angle(t as i64), grid.phi.angle(f as i64));
-                    eval_row(&coef, &cl, &sl, &mut buf);
-                    for (j, &z) in buf.iter().enumerate() {
-                        best = better(best, (z, (t * grid.phi.len + f) * np + p0 + j));
-                    }
-                }
-            }
-            stats.leaf_cells += size as u64;
-            lower = lower.max(best.0 as f64);
-            continue;
-        }
-        let a = cube.split;
-        let mid = (cube.lo[a] + cube.hi[a]) / 2;
-        let (mut hi1, mut lo2) = (cube.hi, cube.lo);
-        hi1[a] = mid;
-        lo2[a] = mid;
-        for (lo, hi) in [(cube.lo, hi1), (lo2, cube.hi)] {
-            let (bound, zc, split) = b.bound(lo, hi);
-            stats.boxes_bounded += 1;
-            lower = lower.max(zc - margin);
-            if bound >= lower {
-                heap.push(Cube {
-                    lo,
-                    hi,
-                    bound,
-                    split,
-                });
-            }
+    let (inc, mut cells) = incumbent(model, grid, &cps, &sps);
+    let (nb, n) = (model.n_baselines(), model.n_terms() as f64);
+    // 1e-6: f64 rounding of the direction of a node (|dF| <= n |g| |r| 1e-15) with room to spare.
+    let tau = inc.0 as f64 - margin - (nb - 1) as f64 * n - 1e-6;
+    let slack = n - tau;
+    let blocks: Vec<Block> = (0..grid.theta.len)
+        .step_by(BLOCK)
+        .flat_map(|t| {
+            (0..grid.phi.len).step_by(BLOCK).map(move |f| {
+                (
+                    (t, (t + BLOCK).min(grid.theta.len)),
+                    (f, (f + BLOCK).min(grid.phi.len)),
+                )
+            })
+        })
+        .collect();
+    let reach = reaches(model, grid, &blocks);
+    let budget = Budget::new(limit);
+    let h_min = 0.5 * grid.step();
+    let mut sets = Vec::with_capacity(nb);
+    for (i, r) in reach.iter().enumerate() {
+        match direction_set(model, i, tau, h_min, r, &budget) {
+            Some(s) => sets.push(s),
+            None => return exhaustive(budget.used(), cells),
         }
     }
+    let (best, leaf) = blocks
+        .par_iter()
+        .map_init(
+            || {
+                (
+                    RowNodes::new(model, grid, &cps, &sps),
+                    Scan::new(grid.psi.len),
+                )
+            },
+            |(rn, scan), &(tr, fr)| {
+                let before = rn.cells;
+                let b = scan_block(model, grid, &sets, slack, rn, scan, tr, fr);
+                (b, rn.cells - before)
+            },
+        )
+        .reduce(
+            || ((f32::NEG_INFINITY, usize::MAX), 0),
+            |a, b| (better(a.0, b.0), a.1 + b.1),
+        );
+    cells += leaf;
+    let best = better(best, inc);
+    let stats = BnbStats {
+        boxes_bounded: budget.used() + blocks.len() as u64,
+        leaf_cells: cells,
+        fallback: false,
+    };
     Ok((
         GridMax {
             index: grid.unflatten(best.1),

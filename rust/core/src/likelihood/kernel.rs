@@ -196,3 +196,31 @@ pub(crate) fn heading_tables(angles: impl Iterator<Item = f64>) -> (Vec<f32>, Ve
     s.resize(n, 0.0);
     (c, s)
 }
+
+/// Largest phase magnitude the kernel's error analysis covers (the range [`SINCOS_ABS_ERROR`] is checked
+/// over), radians.
+pub(crate) const MAX_KERNEL_PHASE: f64 = 1e4;
+
+/// Bound on `|Z_kernel - Z|` at any cell: the float32 kernel against the exact statistic at the same
+/// node angles (f64 inputs), or `None` when a phase may exceed [`MAX_KERNEL_PHASE`].
+///
+/// Per term, with `X = |A| + |B| + |C| <= pi + 3 |g_k| |r_i|` (|d| <= pi): rounding A, B, C and the
+/// heading tables to f32 and the two fused multiply-adds give a phase error of at most `5 * 2^-24 X`;
+/// the polynomial adds `SINCOS_ABS_ERROR` to each of cosine and sine (`sqrt 2` of that to the complex
+/// term). Accumulating `n` terms whose partial sums stay below `n + 1` rounds each component by at most
+/// `n (n + 1) 2^-24`; the modulus (`fma`, product, square root) is within `3 * 2^-24 (n + 1)`; adding
+/// the `G` moduli rounds by at most `G 2^-24 Z_upper`. The bound returned is twice the sum.
+pub(crate) fn kernel_margin(model: &Model) -> Option<f64> {
+    let eps = f64::from(f32::EPSILON) / 2.0; // 2^-24
+    let g_max = model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
+    let x = std::f64::consts::PI + 3.0 * g_max * model.l_max;
+    if x > MAX_KERNEL_PHASE {
+        return None;
+    }
+    let (groups, members) = model.groups();
+    let (g, n) = (groups as f64, members as f64);
+    let per_term = 5.0 * eps * x + std::f64::consts::SQRT_2 * f64::from(SINCOS_ABS_ERROR);
+    let per_group =
+        n * per_term + std::f64::consts::SQRT_2 * n * (n + 1.0) * eps + 3.0 * eps * (n + 1.0);
+    Some(2.0 * (g * per_group + g * eps * model.z_upper()))
+}

@@ -35,6 +35,8 @@
 //! lambda_k`, which is what eqs. (11), (14), (18) become when `lambda` is per satellite.
 
 mod bnb;
+mod bound;
+mod direction;
 mod grid;
 mod kernel;
 mod model;
@@ -43,9 +45,11 @@ mod search;
 #[cfg(test)]
 mod tests;
 
-pub use bnb::{branch_and_bound, BnbStats};
+pub use bnb::{box_limit, branch_and_bound, BnbStats};
 pub use grid::{Axis, Grid};
 pub use kernel::{sincos_f32, SINCOS_ABS_ERROR};
 pub use model::{dcm_enu_from_body, dcm_normal_from_body, Epoch, Model, Statistic};
-pub use refine::{estimate, parabolic, polish, Estimate, Refine, Search};
+pub use refine::{
+    estimate, parabolic, polish, Estimate, Refine, Search, AUTO_MAX_STEP, AUTO_MIN_CELLS,
+};
 pub use search::{evaluate_cells, evaluate_grid, exhaustive_max, GridMax};

@@ -263,6 +263,12 @@ impl Model {
         }
     }
 
+    /// Whether `Z` is a sum of one modulus per baseline (the ambiguity function), the structure the
+    /// branch-and-bound decomposes.
+    pub fn statistic_splits_by_baseline(&self) -> bool {
+        self.grouping == Grouping::PerBaseline
+    }
+
     /// Largest possible `Z`: every exponential aligned.
     pub fn z_upper(&self) -> f64 {
         match self.grouping {

@@ -18,10 +18,25 @@ use crate::rotation::euler::YZX;
 pub enum Search {
     /// Every cell, in parallel.
     Exhaustive,
-    /// Best-first branch-and-bound with a proven upper bound of `Z` over boxes of cells: the same grid
-    /// maximum from far fewer cells.
+    /// Branch-and-bound through per-baseline direction sets ([`branch_and_bound`]): the same grid maximum
+    /// from far fewer cells; falls back to the exhaustive pass where it cannot gain.
     BranchAndBound,
+    /// Whichever is faster: [`Search::BranchAndBound`] for the ambiguity function on grids of at least
+    /// [`AUTO_MIN_CELLS`] cells whose step is at most [`AUTO_MAX_STEP`] times [`Model::max_step`],
+    /// [`Search::Exhaustive`] otherwise (same result either way).
+    Auto,
 }
+
+/// Smallest grid [`Search::Auto`] searches by branch-and-bound. Measured (`benches/likelihood.rs`,
+/// `docs/likelihood_search.md`): on the paper's 0.71 m triangle the 1.5 deg grid (7.0e6 cells) is 30-70x
+/// faster by branch-and-bound, the 3 deg grid (8.8e5 cells) slower (the search falls back).
+pub const AUTO_MIN_CELLS: usize = 1 << 22;
+
+/// Coarsest step, as a fraction of [`Model::max_step`] (`lambda / (2 L)`), that [`Search::Auto`] searches
+/// by branch-and-bound. Coarser grids leave their best cell further from the perfect alignment, which
+/// weakens the direction test: a 5 m triangle at 0.5 deg (0.46 of the coarsest step, 0.1 rad noise) fell
+/// back after its full work limit, 0.6-0.9x the exhaustive speed; the paper's 1.5 deg grid is 0.2.
+pub const AUTO_MAX_STEP: f64 = 0.25;
 
 /// How the grid maximum is refined between grid nodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -181,15 +196,26 @@ pub fn polish(model: &Model, grid: &Grid, start: [f64; 3]) -> ([f64; 3], u64) {
 /// # Arguments
 /// * `model` - preprocessed measurements and statistic.
 /// * `grid` - the cells (radians); its step must not exceed [`Model::max_step`].
-/// * `search` - exhaustive or branch-and-bound (same grid maximum).
+/// * `search` - exhaustive, branch-and-bound or the faster of the two (same grid maximum).
 /// * `refine` - none, eq. (16), or eq. (16) then Newton.
 ///
 /// # Errors
 /// [`crate::Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
 pub fn estimate(model: &Model, grid: &Grid, search: Search, refine: Refine) -> Result<Estimate> {
+    let search = match search {
+        Search::Auto
+            if model.statistic_splits_by_baseline()
+                && grid.len() >= AUTO_MIN_CELLS
+                && grid.step() <= AUTO_MAX_STEP * model.max_step() =>
+        {
+            Search::BranchAndBound
+        }
+        Search::Auto => Search::Exhaustive,
+        s => s,
+    };
     let mut gm = match search {
-        Search::Exhaustive => exhaustive_max(model, grid)?,
         Search::BranchAndBound => branch_and_bound(model, grid)?.0,
+        _ => exhaustive_max(model, grid)?,
     };
     let g = grid.angles(gm.index.map(|i| i as i64));
     let grid_angles_rad = [wrap_pi(g[0]), g[1], wrap_pi(g[2])];

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 
 use super::grid::Grid;
-use super::kernel::{eval_row, heading_tables, RowCoef};
+use super::kernel::{eval_row, heading_tables, RowCoef, LANES};
 use super::model::Model;
 
 /// The grid maximum: cell `(p, t, f)` (indices into the grid's axes), its `Z` (float32, as evaluated by
@@ -123,4 +123,63 @@ pub fn evaluate_cells(model: &Model, grid: &Grid, cells: &[[i64; 3]]) -> Vec<f32
             out[0]
         })
         .collect()
+}
+
+/// The kernel over chosen heading nodes of one row, with the heading tables of the full pass: each cell's
+/// `Z` is bit for bit the value [`exhaustive_max`] sees (the kernel works lane by lane).
+pub(crate) struct RowNodes<'a> {
+    model: &'a Model,
+    grid: &'a Grid,
+    cps: &'a [f32],
+    sps: &'a [f32],
+    coef: RowCoef,
+    c: Vec<f32>,
+    s: Vec<f32>,
+    out: Vec<f32>,
+    /// Cells evaluated so far.
+    pub cells: u64,
+}
+
+impl<'a> RowNodes<'a> {
+    /// `cps`, `sps`: [`heading_tables`] of the grid's heading axis.
+    pub fn new(model: &'a Model, grid: &'a Grid, cps: &'a [f32], sps: &'a [f32]) -> Self {
+        RowNodes {
+            model,
+            grid,
+            cps,
+            sps,
+            coef: RowCoef::new(model),
+            c: vec![],
+            s: vec![],
+            out: vec![],
+            cells: 0,
+        }
+    }
+
+    /// The best `(z, flat index)` among heading nodes `nodes` (local indices) of row `(t, f)`, by
+    /// [`better`]; `(-inf, usize::MAX)` for no node.
+    pub fn best(&mut self, t: usize, f: usize, nodes: &[usize]) -> (f32, usize) {
+        let mut best = (f32::NEG_INFINITY, usize::MAX);
+        if nodes.is_empty() {
+            return best;
+        }
+        let g = self.grid;
+        self.coef
+            .fill(self.model, g.theta.angle(t as i64), g.phi.angle(f as i64));
+        let padded = nodes.len().div_ceil(LANES) * LANES;
+        self.c.clear();
+        self.s.clear();
+        self.c.extend(nodes.iter().map(|&p| self.cps[p]));
+        self.s.extend(nodes.iter().map(|&p| self.sps[p]));
+        self.c.resize(padded, 1.0);
+        self.s.resize(padded, 0.0);
+        self.out.resize(nodes.len(), 0.0);
+        eval_row(&self.coef, &self.c, &self.s, &mut self.out);
+        let base = (t * g.phi.len + f) * g.psi.len;
+        for (&p, &z) in nodes.iter().zip(&self.out) {
+            best = better(best, (z, base + p));
+        }
+        self.cells += nodes.len() as u64;
+        best
+    }
 }

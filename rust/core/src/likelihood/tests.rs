@@ -209,3 +209,168 @@ fn cell_limit_counts_the_cells_a_grid_holds() {
     let err = Grid::window(step, wide);
     assert!(matches!(err, Err(Error::OutOfRange { .. })));
 }
+
+/// GLONASS L1 FDMA wavelength of channel `k` (-7..=6), metres.
+fn glonass(k: i32) -> f64 {
+    299_792_458.0 / (1602e6 + k as f64 * 0.5625e6)
+}
+
+/// A random planar-or-not array of `m` antennas (m - 1 baselines) with longest baseline near `l` metres.
+fn array(rng: &mut ChaCha8Rng, m: usize, l: f64) -> Vec<Vector3<f64>> {
+    loop {
+        let b: Vec<Vector3<f64>> = (1..m)
+            .map(|_| {
+                let v = Vector3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-0.3..0.3),
+                    rng.random_range(-1.0..1.0),
+                );
+                v * (l / v.norm()) * rng.random_range(0.4..1.0)
+            })
+            .collect();
+        if b.len() == 1
+            || b.iter()
+                .any(|x| b.iter().any(|y| x.cross(y).norm() > 0.2 * l * l))
+        {
+            return b;
+        }
+    }
+}
+
+#[test]
+fn direction_parametrisation_follows_the_rotation() {
+    // R r = |r| u(psi + beta, e), beta and e from Rz(theta) Rx(phi) r: checked against eq. (5)'s matrix.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for _ in 0..1000 {
+        let r = Vector3::new(
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+        );
+        let (psi, theta, phi) = (
+            rng.random_range(-4.0..4.0),
+            rng.random_range(-1.6..1.6),
+            rng.random_range(-4.0..4.0),
+        );
+        let w = crate::rotation::elementary(crate::rotation::Axis::Z, theta)
+            * crate::rotation::elementary(crate::rotation::Axis::X, phi)
+            * r;
+        let (beta, e) = super::direction::row_direction(&w, r.norm());
+        let v = super::direction::unit(psi + beta, e) * r.norm();
+        let want = dcm_normal_from_body(psi, theta, phi) * r;
+        assert!((v - want).norm() < 1e-12 * r.norm(), "{v} vs {want}");
+    }
+}
+
+#[test]
+fn kernel_margin_covers_the_float32_error() {
+    // The margin is derived, not fitted: check it against the f64 statistic on long arrays (phases of
+    // hundreds of radians) where the f32 phase rounding dominates.
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let mut worst_ratio = 0.0f64;
+    for trial in 0..20 {
+        let l = [0.7, 3.0, 10.0][trial % 3];
+        let b = array(&mut rng, 2 + trial % 5, l);
+        let m = 5 + trial % 12;
+        let los = sky(&mut rng, m);
+        let lambdas: Vec<f64> = (0..m).map(|k| glonass(k as i32 % 14 - 7)).collect();
+        let e = epoch(&mut rng, &b, &los, &lambdas, [0.3, 0.1, -0.2], 0.1);
+        let model = Model::new(&b, &[e], Statistic::AmbiguityFunction).unwrap();
+        let margin = super::kernel::kernel_margin(&model).unwrap();
+        let grid = Grid::window(model.max_step(), [(0.0, 0.3), (0.0, 0.3), (0.0, 0.3)]).unwrap();
+        let z = evaluate_grid(&model, &grid).unwrap();
+        for (idx, &zk) in z.iter().enumerate() {
+            let [p, t, f] = grid.angles(grid.unflatten(idx).map(|i| i as i64));
+            let err = (zk as f64 - model.z_f64(p, t, f)).abs();
+            assert!(
+                err <= margin,
+                "trial {trial}: error {err:e} over margin {margin:e}"
+            );
+            worst_ratio = worst_ratio.max(err / margin);
+        }
+    }
+    // The margin is a bound, not an estimate: it should not be loose by more than a few thousand.
+    assert!(
+        worst_ratio > 1e-4,
+        "margin loose: worst error / margin {worst_ratio:e}"
+    );
+}
+
+/// One random scenario of the family and a grid of at most about `max_cells` cells over it: the
+/// whole domain when small enough, otherwise a window at a random offset from the truth.
+fn random_case(rng: &mut ChaCha8Rng, max_cells: f64) -> (Model, Grid) {
+    let antennas = rng.random_range(2..=6usize);
+    let l = (rng.random_range(0.3f64.ln()..10f64.ln())).exp();
+    let b = array(rng, antennas, l);
+    let m = rng.random_range(5..=16usize);
+    let los = sky(rng, m);
+    let lambdas: Vec<f64> = (0..m).map(|_| glonass(rng.random_range(-7..=6))).collect();
+    let truth = [
+        rng.random_range(-3.1..3.1),
+        rng.random_range(-1.4..1.4),
+        rng.random_range(-3.1..3.1),
+    ];
+    let noise = rng.random_range(0.0..0.2);
+    let e = epoch(rng, &b, &los, &lambdas, truth, noise);
+    let model = Model::new(&b, &[e], Statistic::AmbiguityFunction).unwrap();
+    // Eq. (15)'s step lambda / (10 L) up to lambda / (4 L).
+    let step = model.max_step() * rng.random_range(0.2..0.5);
+    let two_d = b.len() == 1;
+    let full = if two_d {
+        Grid::two_dimensional(step)
+    } else {
+        Grid::full(step)
+    };
+    if let Ok(g) = full {
+        if (g.len() as f64) <= max_cells {
+            return (model, g);
+        }
+    }
+    let dims = if two_d { 2.0 } else { 3.0 };
+    let half = 0.5 * max_cells.powf(1.0 / dims) * step;
+    let off = |rng: &mut ChaCha8Rng| rng.random_range(-0.8..0.8) * half;
+    let c = [
+        truth[0] + off(rng),
+        truth[1] + off(rng),
+        truth[2] + off(rng),
+    ];
+    let grid = if two_d {
+        Grid::two_dimensional_window(
+            step,
+            [(c[0] - half, c[0] + half), (c[1] - half, c[1] + half)],
+        )
+    } else {
+        Grid::window(step, c.map(|x| (x - half, x + half)))
+    }
+    .unwrap();
+    (model, grid)
+}
+
+#[test]
+fn branch_and_bound_equals_exhaustive_on_500_random_scenarios() {
+    // 2-6 antennas, 0.3-10 m, 5-16 satellites on GLONASS FDMA wavelengths, wrapped phases with noise up
+    // to 0.2 rad; steps from eq. (15)'s lambda / (10 L) to lambda / (4 L); whole-domain grids where they
+    // hold <= 40k cells, windows around the truth elsewhere. The same f32 Z and the same flat index
+    // (lowest among equal Z) as the exhaustive pass, compared exactly. Grids this small are below the
+    // default work limit's break-even, so the search runs with a fixed limit of 2^16 boxes.
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let (mut fallbacks, mut cells, mut bnb_cells) = (0, 0u64, 0u64);
+    for trial in 0..500 {
+        let (model, grid) = random_case(&mut rng, 4e4);
+        let ex = exhaustive_max(&model, &grid).unwrap();
+        let (bb, stats) = super::bnb::branch_and_bound_limited(&model, &grid, 1 << 16).unwrap();
+        assert_eq!(
+            (ex.index, ex.z),
+            (bb.index, bb.z),
+            "trial {trial}: {stats:?}"
+        );
+        fallbacks += stats.fallback as usize;
+        if !stats.fallback {
+            cells += grid.len() as u64;
+            bnb_cells += stats.leaf_cells;
+        }
+    }
+    eprintln!("fallbacks {fallbacks}/500; kernel cells {bnb_cells} of {cells} where it searched");
+    // The branch-and-bound itself (not its exhaustive fallback) must carry most of the comparison.
+    assert!(fallbacks < 125, "{fallbacks} fallbacks");
+}

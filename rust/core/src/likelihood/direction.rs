@@ -1,0 +1,313 @@
+//! Per-baseline direction sets: where on its sphere one baseline can point for the ambiguity function
+//! to reach a threshold.
+//!
+//! With the per-baseline grouping, `Z(R) = sum_i F_i(R r_i)` with `F_i(v) = |sum_k exp(j (d_ik + g_k .
+//! v))|`: baseline `i` enters only through the direction of `R r_i`. A heading turn `Ry(psi)` moves that
+//! direction along a parallel, so it is parametrised as `u(a, e) = (cos e cos a, sin e, -cos e sin a)`
+//! (normal frame N, U, E): elevation `e`, and "azimuth" `a = psi + beta` with `beta = atan2(-w_E, w_N)`
+//! of `w = Rz(theta) Rx(phi) r_i` (the pitch-roll part of the row, as in the kernel's row coefficients).
+//!
+//! [`direction_set`] covers `{(a, e) : F_i(u(a, e)) >= tau}` by closed parameter boxes: a 2-D
+//! branch-and-bound whose test needs no trigonometry. Over a box of centre `c` and half-widths `(h_a,
+//! h_e)` each phase stays within `delta_k = |r_i| (|g_k . d_a u| h_a + |g_k . d_e u| h_e + |g_k| (h_a +
+//! h_e)^2 / 2)` of its value at `c` (Taylor; every second derivative of `u` along a segment of the box
+//! has norm at most `(h_a + h_e)^2`, since `|u_aa| = cos e`, `|u_ae| = |sin e|`, `|u_ee| = 1`). If `F_i
+//! >= tau = n - s` somewhere in the box, one phase direction `w` makes every term contribute at least
+//! `1 - s` (the others contribute at most 1), i.e. every phase lies within `delta_k + acos(1 - s)` of
+//! `w`: the arcs of those radii around the centre phases share a point. A box whose arcs do not is
+//! dropped. Boxes at the grid's resolution are kept if the relaxed bound of [`modulus_bound`] (each
+//! phase free in its arc, maximised exactly) reaches `tau`.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use super::bound::modulus_bound;
+use super::model::Model;
+
+/// A closed box of direction parameters (radians): azimuth `a0..=a1`, elevation `e0..=e1`, and an upper
+/// bound of `F_i` over it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct DirBox {
+    pub a0: f64,
+    pub a1: f64,
+    pub e0: f64,
+    pub e1: f64,
+    pub bound: f64,
+}
+
+/// Unit direction of parameters `(a, e)` in the normal frame.
+pub(crate) fn unit(a: f64, e: f64) -> Vector3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (se, ce) = e.sin_cos();
+    Vector3::new(ce * ca, se, -ce * sa)
+}
+
+/// Parameters `(beta, e)` of `w = Rz(theta) Rx(phi) r` for a baseline of length `len`: `R r` points
+/// along `u(psi + beta, e)`.
+pub(crate) fn row_direction(w: &Vector3<f64>, len: f64) -> (f64, f64) {
+    ((-w.z).atan2(w.x), (w.y / len).clamp(-1.0, 1.0).asin())
+}
+
+/// Top boxes of the direction search for baseline `i`: `(na, ne)` azimuth and elevation bins, wide
+/// enough that the phases move about 1.5 rad across a box (where the test starts to prune), at least
+/// 16 x 8 (to spread over threads and follow a window).
+pub(crate) fn top_bins(model: &Model, i: usize) -> (usize, usize) {
+    let g_max = model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
+    let h = 1.5 / (g_max * model.baselines[i].norm()).max(1e-9);
+    let ne = ((PI / (2.0 * h)).ceil() as usize).clamp(8, 1 << 12);
+    (2 * ne, ne)
+}
+
+/// Which top boxes a baseline's direction can reach from the grid's cells.
+pub(crate) struct Reach {
+    bins: Vec<bool>,
+    na: usize,
+    ne: usize,
+}
+
+impl Reach {
+    /// No bin reached yet, `(na, ne)` from [`top_bins`]; every bin when `all`.
+    pub fn new((na, ne): (usize, usize), all: bool) -> Self {
+        Reach {
+            bins: vec![all; na * ne],
+            na,
+            ne,
+        }
+    }
+
+    /// Marks the directions within `a_lo..=a_hi` (any length; a span of a turn or more is every azimuth)
+    /// and `e_lo..=e_hi`, with one bin of slack for rounding.
+    pub fn add(&mut self, a_lo: f64, a_hi: f64, e_lo: f64, e_hi: f64) {
+        let (na, ne) = (self.na as i64, self.ne as i64);
+        let wa = TAU / na as f64;
+        let we = PI / ne as f64;
+        let e0 = (((e_lo + FRAC_PI_2) / we).floor() as i64 - 1).max(0);
+        let e1 = (((e_hi + FRAC_PI_2) / we).floor() as i64 + 1).min(ne - 1);
+        let (a0, a1) = if a_hi - a_lo >= TAU - 2.0 * wa {
+            (0, na - 1)
+        } else {
+            (
+                (a_lo / wa).floor() as i64 - 1,
+                (a_hi / wa).floor() as i64 + 1,
+            )
+        };
+        for e in e0..=e1 {
+            for a in a0..=a1 {
+                self.bins[(e * na + a.rem_euclid(na)) as usize] = true;
+            }
+        }
+    }
+}
+
+/// Work shared by the searches of all baselines: boxes tested, against a limit.
+pub(crate) struct Budget {
+    used: AtomicU64,
+    limit: u64,
+    over: AtomicBool,
+}
+
+impl Budget {
+    pub fn new(limit: u64) -> Self {
+        Budget {
+            used: AtomicU64::new(0),
+            limit,
+            over: AtomicBool::new(false),
+        }
+    }
+
+    /// Counts `n` boxes; false once the limit is passed (by any thread).
+    fn spend(&self, n: u64) -> bool {
+        if self.used.fetch_add(n, Ordering::Relaxed) + n > self.limit {
+            self.over.store(true, Ordering::Relaxed);
+        }
+        !self.over.load(Ordering::Relaxed)
+    }
+
+    pub fn used(&self) -> u64 {
+        self.used.load(Ordering::Relaxed)
+    }
+
+    pub fn exceeded(&self) -> bool {
+        self.over.load(Ordering::Relaxed)
+    }
+}
+
+/// Circular distance of two angles in `[0, 2 pi)`.
+fn circ_dist(a: f64, b: f64) -> f64 {
+    let d = (a - b).abs();
+    d.min(TAU - d)
+}
+
+/// Whether the closed arcs `x_k +- r_k` (centres in `[0, 2 pi)`) share a point. A non-empty
+/// intersection that is not the whole circle starts at the start of one of the arcs, so those `n` points
+/// are the only ones to try. The tolerance only ever keeps a box.
+fn arcs_meet(x: &[f64], r: &[f64]) -> bool {
+    let mut partial = false;
+    for (&xk, &rk) in x.iter().zip(r) {
+        if rk >= PI {
+            continue;
+        }
+        partial = true;
+        let w = (xk - rk).rem_euclid(TAU);
+        if x.iter()
+            .zip(r)
+            .all(|(&xj, &rj)| rj >= PI || circ_dist(w, xj) <= rj + 1e-9)
+        {
+            return true;
+        }
+    }
+    !partial
+}
+
+struct Tester<'a> {
+    model: &'a Model,
+    i: usize,
+    tau: f64,
+    /// `acos(1 - s)`, `s = n - tau`.
+    arc: f64,
+    xs: Vec<f64>,
+    radii: Vec<f64>,
+    ds: Vec<f64>,
+    scratch: Vec<f64>,
+    members: Vec<[f64; 6]>,
+}
+
+impl Tester<'_> {
+    /// Centre phases and their deviations over the box; returns the azimuth and elevation shares of the
+    /// deviation (which axis to split).
+    fn phases(&mut self, b: &DirBox) -> (f64, f64) {
+        let m = self.model;
+        let len = m.baselines[self.i].norm();
+        let (a, e) = (0.5 * (b.a0 + b.a1), 0.5 * (b.e0 + b.e1));
+        let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
+        let (sa, ca) = a.sin_cos();
+        let (se, ce) = e.sin_cos();
+        let u = unit(a, e);
+        let du_a = Vector3::new(-ce * sa, 0.0, -ce * ca);
+        let du_e = Vector3::new(-se * ca, ce, se * sa);
+        let quad = 0.5 * (ha + he) * (ha + he);
+        let nt = m.n_terms();
+        self.xs.clear();
+        self.ds.clear();
+        let (mut share_a, mut share_e) = (0.0, 0.0);
+        for (k, g) in m.g.iter().enumerate() {
+            let x = m.d[self.i * nt + k] + len * g.dot(&u);
+            let (da, de) = (len * g.dot(&du_a).abs() * ha, len * g.dot(&du_e).abs() * he);
+            share_a += da;
+            share_e += de;
+            self.xs.push(x.rem_euclid(TAU));
+            self.ds.push(da + de + len * g.norm() * quad);
+        }
+        (share_a, share_e)
+    }
+
+    /// Whether `F_i` may reach `tau` in the box (module docs).
+    fn may_reach(&mut self) -> bool {
+        self.radii.clear();
+        self.radii.extend(self.ds.iter().map(|d| d + self.arc));
+        arcs_meet(&self.xs, &self.radii)
+    }
+}
+
+/// Boxes of direction parameters covering every direction where `F_i >= tau` (module docs), each of
+/// half-width at most `h_min` (radians) on both axes. `None` when `budget` ran
+/// out (the caller falls back to the exhaustive pass). With `n - tau >= 2` the arc test is powerless
+/// and every box is bounded by [`modulus_bound`].
+pub(crate) fn direction_set(
+    model: &Model,
+    i: usize,
+    tau: f64,
+    h_min: f64,
+    reach: &Reach,
+    budget: &Budget,
+) -> Option<Vec<DirBox>> {
+    let n = model.n_terms() as f64;
+    let s = n - tau;
+    // The arc test needs s < 2; beyond, every box gets the relaxed bound (slower, still exact).
+    let arc = if s <= 0.0 {
+        0.0
+    } else {
+        (1.0 - s.min(2.0)).acos()
+    };
+    let (na, ne) = (reach.na, reach.ne);
+    let tops: Vec<DirBox> = (0..na * ne)
+        .filter(|&j| reach.bins[j])
+        .map(|j| {
+            let (ja, je) = ((j % na) as f64, (j / na) as f64);
+            DirBox {
+                a0: TAU * ja / na as f64,
+                a1: TAU * (ja + 1.0) / na as f64,
+                e0: -FRAC_PI_2 + PI * je / ne as f64,
+                e1: -FRAC_PI_2 + PI * (je + 1.0) / ne as f64,
+                bound: n,
+            }
+        })
+        .collect();
+    let found: Vec<Vec<DirBox>> = tops
+        .par_iter()
+        .map_init(
+            || Tester {
+                model,
+                i,
+                tau,
+                arc,
+                xs: vec![],
+                radii: vec![],
+                ds: vec![],
+                scratch: vec![],
+                members: vec![],
+            },
+            |t, top| {
+                let mut out = vec![];
+                if budget.exceeded() {
+                    return out;
+                }
+                let mut stack = vec![*top];
+                let mut tested = 0u64;
+                while let Some(b) = stack.pop() {
+                    // Counted in batches: one shared atomic per box would serialise the threads.
+                    tested += 1;
+                    if tested.is_multiple_of(64) && !budget.spend(64) {
+                        return out;
+                    }
+                    let (share_a, share_e) = t.phases(&b);
+                    if s < 2.0 && !t.may_reach() {
+                        continue;
+                    }
+                    let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
+                    let last = ha <= h_min && he <= h_min;
+                    if last || s >= 2.0 {
+                        let bound = modulus_bound(&t.xs, &t.ds, &mut t.scratch, &mut t.members);
+                        if bound < t.tau {
+                            continue;
+                        }
+                        if last {
+                            out.push(DirBox { bound, ..b });
+                            continue;
+                        }
+                    }
+                    let split_a = he <= h_min || (ha > h_min && share_a >= share_e);
+                    let (mut l, mut h) = (b, b);
+                    if split_a {
+                        let mid = 0.5 * (b.a0 + b.a1);
+                        (l.a1, h.a0) = (mid, mid);
+                    } else {
+                        let mid = 0.5 * (b.e0 + b.e1);
+                        (l.e1, h.e0) = (mid, mid);
+                    }
+                    stack.push(l);
+                    stack.push(h);
+                }
+                budget.spend(tested % 64);
+                out
+            },
+        )
+        .collect();
+    if budget.exceeded() {
+        return None;
+    }
+    Some(found.into_iter().flatten().collect())
+}
