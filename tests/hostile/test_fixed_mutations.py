@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import pytest
 
-from . import harness
+from . import harness, known_open
 from . import inventory as inv
 from .conftest import report
 from .worker import Pool
 
 
-@pytest.mark.parametrize("name", sorted(inv.ENTRIES))
+@pytest.mark.parametrize("name", known_open.params(sorted(inv.ENTRIES), known_open.FIXED))
 def test_fixed_mutations_keep_the_contract(pool: Pool, name: str) -> None:
     records = harness.run_fixed(pool, [name])
     assert records, "no mutation generated"
