@@ -540,7 +540,8 @@ ENTRIES: dict[str, Entry] = {
             "sats": list(s.rinex_read()["aligned"].sats[:3]),
             "t_ns": int(rinex.gps_ns(s.rinex_array().time[:1])[0]),
             "dt_s": 0.0,
-        }
+        },
+        nan_output="satellites without a valid ephemeris are NaN, flagged by valid",
     ),
     "gnssatt.rinex.single_point_positions": _e(
         lambda: {
@@ -571,7 +572,8 @@ ENTRIES: dict[str, Entry] = {
             "receiver_ecef_m": s.GROUND.position_ecef_m.copy(),
             "pseudorange_m": np.full(3, 2.2e7),
             "receiver_clock_s": 0.0,
-        }
+        },
+        nan_output="satellites without a valid ephemeris are NaN, flagged by valid",
     ),
     "gnssatt.rinex.write_nav_from_constellation": _e(
         lambda: {

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
-from gnssatt.rinex.ephemeris import C, satellite_states, transmit_states
+from gnssatt.rinex.ephemeris import C, _satellite_states, _transmit_states
 from gnssatt.rinex.nav import RinexNav, gps_ns
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.rinex.spp import PointSolution, code_observations, single_point_positions
@@ -241,7 +241,7 @@ def align_receivers(
         pr_all, _ = code_observations(o)
         for e in range(n_ep):
             pr = pr_all[ix[e], cols]
-            sp, _, _, valid = transmit_states(nav, list(sats), int(t_ns[e]), pos[r], pseudorange_m=pr)
+            sp, _, _, valid = _transmit_states(nav, list(sats), int(t_ns[e]), pos[r], pseudorange_m=pr)
             if not np.isfinite(clock[r, e]):
                 valid[:] = False
             sat_pos[r, e] = np.where(valid[:, None], sp, np.nan)
@@ -259,8 +259,8 @@ def align_receivers(
     rate = np.full((n_ep, n_sat), np.nan)
     t0 = gps_ns(observations[0].time)[idx[0]]
     for e in range(n_ep):
-        p1, _, _, _ = satellite_states(nav, list(sats), int(t0[e]), 0.5)
-        p0, _, _, _ = satellite_states(nav, list(sats), int(t0[e]), -0.5)
+        p1, _, _, _ = _satellite_states(nav, list(sats), int(t0[e]), 0.5)
+        p0, _, _, _ = _satellite_states(nav, list(sats), int(t0[e]), -0.5)
         u = d[e] / rng[e]
         rate[e] = np.sum((p1 - p0) * u, axis=1)  # a static receiver: ECEF satellite velocity along the line
     low = ~(elev >= np.radians(elevation_mask_deg)) | ~ok[:, None]

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
-from gnssatt.rinex.ephemeris import C, transmit_states
+from gnssatt.rinex.ephemeris import C, _transmit_states
 from gnssatt.rinex.iono import klobuchar_delay_m
 from gnssatt.rinex.nav import RinexNav, gps_ns
 from gnssatt.rinex.obs import RinexObs
@@ -131,7 +131,7 @@ def single_point_positions(
         if len(sats) < 4:
             continue
         p = pr[e, have]
-        sp, sclk, tgd, valid = transmit_states(nav, sats, int(t_ns[e]), x0, pseudorange_m=p)
+        sp, sclk, tgd, valid = _transmit_states(nav, sats, int(t_ns[e]), x0, pseudorange_m=p)
         if valid.sum() < 4:
             continue
         sp, sclk, tgd, p = sp[valid], sclk[valid], tgd[valid], p[valid]
