@@ -25,6 +25,7 @@ __all__ = [
     "HEADER_LABELS",
     "Cursor",
     "epoch_ns",
+    "folder_path",
     "integer",
     "number",
     "path_text",
@@ -66,11 +67,31 @@ def reading(path: str) -> Iterator[Cursor]:
         ) from exc
 
 
-def path_text(path: object) -> str:
-    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor)."""
+def path_text(path: object, name: str = "path") -> str:
+    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor),
+    and so is an empty name."""
     if not isinstance(path, str | PathLike):
-        raise InvalidTypeError(f"expected path as a str or os.PathLike, got {type(path).__name__}")
-    return str(path)
+        raise InvalidTypeError(f"expected {name} as a str or os.PathLike, got {type(path).__name__}")
+    text = str(path)
+    if not text:
+        raise InvalidInputError(f"expected {name} as a file name, got an empty one")
+    return text
+
+
+def folder_path(name: str, value: object) -> Path:
+    """An existing folder given as a str or os.PathLike (an empty name is refused, not read as ``.``).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a str or os.PathLike.
+    InvalidInputError
+        ``value`` is empty or not an existing folder.
+    """
+    p = Path(path_text(value, name))
+    if not p.is_dir():
+        raise InvalidInputError(f"expected {name} as an existing folder, got {str(p)!r}")
+    return p
 
 
 def sat_list(name: str, value: object) -> list[str]:

@@ -191,7 +191,9 @@ def _gps_time(name: str, value: object) -> int:
 def _offset(name: str, value: ArrayLike, n: int) -> None:
     off = float_array(name, value, ndim=(0, 1), shape="() or (n,)")
     if off.ndim == 1 and off.shape[0] not in (1, n):
-        raise InvalidInputError(f"expected {name} of shape (), (1,) or ({n},) (one per satellite), got {off.shape}")
+        raise InvalidInputError(
+            f"expected {name} of shape (), (1,) or ({n},) (one per satellite), got {off.shape}"
+        )
     if np.any(np.abs(off) > MAX_OFFSET_S):
         raise InvalidInputError(f"expected |{name}| <= {MAX_OFFSET_S} s, got {np.max(np.abs(off))} s")
 
