@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from gnssatt.errors import RinexError
 from gnssatt.rinex.ephemeris import C, _transmit_states
-from gnssatt.rinex.iono import klobuchar_delay_m
+from gnssatt.rinex.iono import _klobuchar_delay_m
 from gnssatt.rinex.nav import RinexNav, gps_ns
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
@@ -150,7 +150,7 @@ def single_point_positions(
                 delay = 2.3 * np.exp(-max(float(h), 0.0) / 8500.0) / np.maximum(np.sin(el), 0.05)
                 if klob:
                     freq = np.array([_F1.get(c, _F1["G"]) for c in sysc])
-                    iono = klobuchar_delay_m(
+                    iono = _klobuchar_delay_m(
                         nav.iono_alpha,
                         nav.iono_beta,
                         float(np.radians(lat)),
@@ -158,7 +158,7 @@ def single_point_positions(
                         az,
                         el,
                         (int(t_ns[e]) % week_ns) * 1e-9,
-                        frequency_hz=freq,
+                        freq,
                     )
                     delay = delay + np.where(single_freq, iono, 0.0)
                 use = el >= mask if it > 0 else np.ones(len(p), dtype=bool)
