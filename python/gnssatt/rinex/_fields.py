@@ -28,6 +28,7 @@ __all__ = [
     "folder_path",
     "integer",
     "number",
+    "output_path",
     "path_text",
     "read_lines",
     "reading",
@@ -76,6 +77,24 @@ def path_text(path: object, name: str = "path") -> str:
     if not text:
         raise InvalidInputError(f"expected {name} as a file name, got an empty one")
     return text
+
+
+def output_path(name: str, value: object) -> Path:
+    """A file to write: a non-empty path whose folder exists and which is not itself a folder.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a str or os.PathLike.
+    InvalidInputError
+        ``value`` is empty, a folder, or in a folder that does not exist.
+    """
+    p = Path(path_text(value, name))
+    if p.is_dir():
+        raise InvalidInputError(f"expected {name} as a file to write, got the folder {str(p)!r}")
+    if not p.parent.is_dir():
+        raise InvalidInputError(f"expected {name} in an existing folder, got {str(p)!r}")
+    return p
 
 
 def folder_path(name: str, value: object) -> Path:
