@@ -253,8 +253,8 @@ def attitude_from_rinex(
     if not systems or any(ch not in "GREJC" for ch in systems):
         raise InvalidInputError(f"expected systems as letters among 'GREJC', got {systems!r}")
     elevation_mask_deg = scalar("elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0)
-    nv = _as_nav(nav)
     obs = [_as_obs(o) for o in observations]
+    nv = _as_nav(nav)
     b = None
     if baselines is not None:
         b = np.asarray(baselines, dtype=np.float64)

@@ -26,12 +26,14 @@ MAX_GPS_TIME_S = 1e10
 MAX_AZIMUTH_RAD = 4.0 * np.pi
 
 
-def _broadcast(shape: tuple[int, ...], name: str, arr: NDArray[np.float64]) -> tuple[int, ...]:
+def _broadcast(
+    shape: tuple[int, ...], names: list[str], name: str, arr: NDArray[np.float64]
+) -> tuple[int, ...]:
     try:
         return np.broadcast_shapes(shape, arr.shape)
     except ValueError:
         raise InvalidInputError(
-            f"expected {name} broadcasting with the earlier arrays (shape {shape}), got {arr.shape}"
+            f"expected {name} and {', '.join(names)} broadcasting together, got {arr.shape} against {shape}"
         ) from None
 
 
@@ -99,7 +101,7 @@ def klobuchar_delay_m(
         lo, hi = ranges[name]
         if np.any((arr < lo) | (arr > hi)):
             raise InvalidInputError(f"expected {name} in [{lo:.6g}, {hi:.6g}], got a value outside")
-        shape = _broadcast(shape, name, arr)
+        shape = _broadcast(shape, list(arrays), name, arr)
         arrays[name] = arr
     out = _klobuchar_delay_m(a, b, lat_rad, lon_rad, *arrays.values())
     finite_outputs("klobuchar_delay_m", delay_m=out)

@@ -66,6 +66,8 @@ class PointSolution:
 #: Largest coordinate accepted for receivers and satellites, m; most iterations of the position solver.
 MAX_COORDINATE_M = 1e10
 MAX_ITERATIONS = 1000
+#: Smallest receiver distance from the Earth's centre accepted, m.
+MIN_RECEIVER_RADIUS_M = 1e5
 
 
 def elevation_azimuth_ecef(
@@ -80,13 +82,19 @@ def elevation_azimuth_ecef(
         An argument that is not a real array.
     InvalidInputError
         ``receiver_ecef_m`` not a finite (3,), ``sat_ecef_m`` not a finite (n, 3), coordinates beyond
-        ``MAX_COORDINATE_M``, or a satellite at the receiver (no line of sight).
+        ``MAX_COORDINATE_M``, a receiver within ``MIN_RECEIVER_RADIUS_M`` of the Earth's centre, or a
+        satellite at the receiver (no line of sight).
     """
     rx = shaped("receiver_ecef_m", receiver_ecef_m, "(3,)", (3,))
     sat = shaped("sat_ecef_m", sat_ecef_m, "(n, 3)", (None, 3))
     for name, a in (("receiver_ecef_m", rx), ("sat_ecef_m", sat)):
         if np.any(np.abs(a) > MAX_COORDINATE_M):
             raise InvalidInputError(f"expected |{name}| <= {MAX_COORDINATE_M} m per coordinate")
+    if np.linalg.norm(rx) < MIN_RECEIVER_RADIUS_M:
+        raise InvalidInputError(
+            f"expected receiver_ecef_m at least {MIN_RECEIVER_RADIUS_M} m from the Earth's centre (geodetic "
+            f"coordinates are not unique near it), got {rx.tolist()}"
+        )
     dist = np.linalg.norm(sat - rx, axis=-1)
     if np.any(dist < 1e-3):
         raise InvalidInputError(
