@@ -231,7 +231,7 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         a date or time that does not exist, a week, time of week or GLONASS channel that is not a whole
         number in its range; the message names the file and line. Every other failure while reading becomes
         a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
-        ``os.PathLike``.
+        ``os.PathLike``, ``InvalidInputError`` if it is empty.
     """
     p = path_text(path)
     with reading(p) as cursor:
