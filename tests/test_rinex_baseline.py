@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gnssatt.data import geonet_dir
-from gnssatt.errors import RinexError
+from gnssatt.errors import InvalidInputError, RinexError
 from gnssatt.rinex import align_receivers, epoch_baselines, read_nav, read_obs, static_baseline
 
 DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
@@ -57,7 +57,7 @@ def test_no_common_epochs_or_satellites(geonet) -> None:  # type: ignore[no-unty
         align_receivers([a, late], nav)
     with pytest.raises(RinexError, match="no common satellites"):
         align_receivers([a, b], nav, systems="E")
-    with pytest.raises(RinexError, match="two or more"):
+    with pytest.raises(InvalidInputError, match="two or more"):
         align_receivers([a], nav)
 
 

@@ -65,6 +65,9 @@ class Entry:
         Why the result may hold NaN (documented "not available" fields), or None: all outputs must be finite.
     nan_fields
         Result attributes documented as possibly non-finite (the rest is checked).
+    free_text
+        Text arguments where any (short, printable) text is valid, such as a marker name: no invalid-name
+        or empty-text mutants.
     """
 
     build: Callable[[], dict[str, Any]]
@@ -73,10 +76,11 @@ class Entry:
     nonfinite_ok: frozenset[str] = frozenset()
     nan_output: str | None = None
     nan_fields: frozenset[str] = frozenset()
+    free_text: frozenset[str] = frozenset()
 
 
 def _e(build: Callable[[], dict[str, Any]], **kw: Any) -> Entry:
-    for key in ("counts", "nonfinite_ok", "nan_fields"):
+    for key in ("counts", "nonfinite_ok", "nan_fields", "free_text"):
         if key in kw:
             kw[key] = frozenset(kw[key])
     return Entry(build, **kw)
@@ -540,7 +544,8 @@ ENTRIES: dict[str, Entry] = {
             "sats": list(s.rinex_read()["aligned"].sats[:3]),
             "t_ns": int(rinex.gps_ns(s.rinex_array().time[:1])[0]),
             "dt_s": 0.0,
-        }
+        },
+        nan_output="satellites without a valid ephemeris are NaN, flagged by valid",
     ),
     "gnssatt.rinex.single_point_positions": _e(
         lambda: {
@@ -571,7 +576,8 @@ ENTRIES: dict[str, Entry] = {
             "receiver_ecef_m": s.GROUND.position_ecef_m.copy(),
             "pseudorange_m": np.full(3, 2.2e7),
             "receiver_clock_s": 0.0,
-        }
+        },
+        nan_output="satellites without a valid ephemeris are NaN, flagged by valid",
     ),
     "gnssatt.rinex.write_nav_from_constellation": _e(
         lambda: {
@@ -590,6 +596,7 @@ ENTRIES: dict[str, Entry] = {
             "marker_name": "SIM",
         },
         nonfinite_ok={"observations"},
+        free_text={"marker_name"},
     ),
     "gnssatt.rinex.epoch_lambda.epoch_lambda": _e(
         lambda: {

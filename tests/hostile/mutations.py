@@ -135,7 +135,7 @@ def _numeric(value: Any, counts: bool, nonfinite_ok: bool) -> list[Mutant]:
     return out
 
 
-def _other(value: Any, k: str) -> list[Mutant]:
+def _other(value: Any, k: str, free_text: bool = False) -> list[Mutant]:
     """Values of the wrong kind for a non-numeric argument; each must be refused."""
     out = [
         Mutant("bool", "True", True, True),
@@ -143,7 +143,9 @@ def _other(value: Any, k: str) -> list[Mutant]:
         Mutant("zero", "0", 0, True),
         Mutant("complex", "1+1j", 1 + 1j, True),
     ]
-    if k == "text":
+    if k == "text" and free_text:  # any text is valid (a marker name)
+        pass
+    elif k == "text":
         out.append(Mutant("str", "'not-a-valid-name'", "not-a-valid-name", True))
         out.append(Mutant("shape", "''", "", True))
     elif k == "path":  # any relative name is a valid path; an empty one is not
@@ -172,7 +174,13 @@ def _other(value: Any, k: str) -> list[Mutant]:
 
 
 def mutants(
-    value: Any, *, counts: bool, work: tuple[Any, ...], nonfinite_ok: bool, none_ok: bool
+    value: Any,
+    *,
+    counts: bool,
+    work: tuple[Any, ...],
+    nonfinite_ok: bool,
+    none_ok: bool,
+    free_text: bool = False,
 ) -> list[Mutant]:
     """Every fixed mutation of one valid argument ``value``, in a fixed order."""
     k = kind(value)
@@ -181,7 +189,7 @@ def mutants(
     elif k == "bool":
         out = [Mutant("object", "object()", object(), True), Mutant("str", "'abc'", "abc", True)]
     else:
-        out = _other(value, k)
+        out = _other(value, k, free_text)
     if not none_ok:
         out.append(Mutant("none", "None", None, True))
     out.extend(Mutant("work", repr(w), w, True) for w in work)

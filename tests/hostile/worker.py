@@ -74,6 +74,7 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
         work=tuple(entry.work.get(param, ())),
         nonfinite_ok=param in entry.nonfinite_ok,
         none_ok=default is None,
+        free_text=param in entry.free_text,
     )
 
 

@@ -17,9 +17,27 @@ from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
 
-from gnssatt.errors import InvalidTypeError, RinexError
+import numpy as np
 
-__all__ = ["HEADER_LABELS", "Cursor", "epoch_ns", "integer", "number", "path_text", "read_lines", "reading"]
+from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
+
+__all__ = [
+    "HEADER_LABELS",
+    "Cursor",
+    "epoch_ns",
+    "folder_path",
+    "integer",
+    "number",
+    "output_path",
+    "path_text",
+    "read_lines",
+    "reading",
+    "sat_id",
+    "sat_list",
+    "time_labels",
+]
+
+_SAT_ID = re.compile(r"[GRECJSI](?:0[1-9]|[1-9]\d)")
 
 _NUMBER = re.compile(r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?\s*")
 _INTEGER = re.compile(r"\s*[+-]?\d+\s*")
@@ -51,11 +69,118 @@ def reading(path: str) -> Iterator[Cursor]:
         ) from exc
 
 
-def path_text(path: object) -> str:
-    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor)."""
+def path_text(path: object, name: str = "path") -> str:
+    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor),
+    and so is an empty name."""
     if not isinstance(path, str | PathLike):
-        raise InvalidTypeError(f"expected path as a str or os.PathLike, got {type(path).__name__}")
-    return str(path)
+        raise InvalidTypeError(f"expected {name} as a str or os.PathLike, got {type(path).__name__}")
+    text = str(path)
+    if not text:
+        raise InvalidInputError(f"expected {name} as a file name, got an empty one")
+    return text
+
+
+def output_path(name: str, value: object) -> Path:
+    """A file to write: a non-empty path whose folder exists and which is not itself a folder.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a str or os.PathLike.
+    InvalidInputError
+        ``value`` is empty, a folder, or in a folder that does not exist.
+    """
+    p = Path(path_text(value, name))
+    if p.is_dir():
+        raise InvalidInputError(f"expected {name} as a file to write, got the folder {str(p)!r}")
+    if not p.parent.is_dir():
+        raise InvalidInputError(f"expected {name} in an existing folder, got {str(p)!r}")
+    return p
+
+
+def folder_path(name: str, value: object) -> Path:
+    """An existing folder given as a str or os.PathLike (an empty name is refused, not read as ``.``).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a str or os.PathLike.
+    InvalidInputError
+        ``value`` is empty or not an existing folder.
+    """
+    p = Path(path_text(value, name))
+    if not p.is_dir():
+        raise InvalidInputError(f"expected {name} as an existing folder, got {str(p)!r}")
+    return p
+
+
+def sat_list(name: str, value: object) -> list[str]:
+    """Satellite ids (a list, tuple or 1-d array of texts such as ``"G01"``) as a list of str.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a sequence of texts (a single text too: ``"G01"`` would be three satellites).
+    InvalidInputError
+        No entry, or an entry that is not a satellite id (system letter GRECJSI and a two-digit PRN from 01).
+    """
+    if isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind == "U":
+        value = [str(v) for v in value]
+    if not isinstance(value, list | tuple) or not all(isinstance(v, str) for v in value):
+        raise InvalidTypeError(
+            f"expected {name} as a list of satellite ids such as 'G01', got {type(value).__name__}"
+        )
+    if not value:
+        raise InvalidInputError(f"expected at least one satellite id in {name}, got none")
+    for i, v in enumerate(value):
+        if not _SAT_ID.fullmatch(v):
+            raise InvalidInputError(f"expected satellite ids such as 'G01' in {name}, got {v!r} at index {i}")
+    return list(value)
+
+
+def sat_id(name: str, value: object) -> str:
+    """One satellite id such as ``"G01"``.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a str.
+    InvalidInputError
+        ``value`` is not a satellite id (system letter GRECJSI and a two-digit PRN from 01).
+    """
+    if not isinstance(value, str):
+        raise InvalidTypeError(f"expected {name} as a satellite id such as 'G01', got {type(value).__name__}")
+    if not _SAT_ID.fullmatch(value):
+        raise InvalidInputError(f"expected {name} as a satellite id such as 'G01', got {value!r}")
+    return value
+
+
+def time_labels(name: str, value: object) -> np.ndarray:
+    """GPST labels as a ``datetime64[ns]`` array (any shape): datetime64 input only, no NaT, years in
+    :data:`YEARS`.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not of a datetime64 dtype (numbers, texts, ``None`` are refused rather than guessed).
+    InvalidInputError
+        A NaT or a label outside the years :data:`YEARS`.
+    """
+    if isinstance(value, np.datetime64):
+        value = np.asarray(value)
+    if not isinstance(value, np.ndarray) or value.dtype.kind != "M":
+        kind = f"an array of dtype {value.dtype}" if isinstance(value, np.ndarray) else type(value).__name__
+        raise InvalidTypeError(f"expected {name} as datetime64 labels, got {kind}")
+    lo, hi = np.datetime64(f"{YEARS[0]}-01-01", "s"), np.datetime64(f"{YEARS[1]}-01-01", "s")
+    secs = value.astype("datetime64[s]")
+    bad = np.isnat(value) | (secs < lo) | (secs >= hi)
+    if np.any(bad):
+        k = tuple(int(i) for i in np.argwhere(bad)[0]) if value.ndim else ()
+        raise InvalidInputError(
+            f"expected {name} as labels in the years {YEARS[0]} to {YEARS[1] - 1}, "
+            f"got {value[k]} at index {k}"
+        )
+    return value.astype("datetime64[ns]")
 
 
 def read_lines(p: str) -> list[str]:

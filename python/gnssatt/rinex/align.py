@@ -16,8 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from gnssatt.errors import RinexError
-from gnssatt.rinex.ephemeris import C, satellite_states, transmit_states
+from gnssatt._arrays import instance, integer, scalar
+from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
+from gnssatt.rinex._fields import sat_id
+from gnssatt.rinex.ephemeris import C, _satellite_states, _transmit_states
 from gnssatt.rinex.nav import RinexNav, gps_ns
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.rinex.spp import PointSolution, code_observations, single_point_positions
@@ -33,8 +35,41 @@ _FREQ = {
 }  # fmt: skip
 
 
+#: GLONASS FDMA frequency channels (ICD: -7 to +6; +7 to +13 in older almanacs).
+GLONASS_CHANNELS = (-7, 13)
+
+
 def carrier_frequency_hz(sat: str, band: int, glonass_channel: int | None = None) -> float:
-    """Carrier frequency of a satellite's band, Hz (GLONASS FDMA from its channel)."""
+    """Carrier frequency of a satellite's band, Hz (GLONASS FDMA from its channel).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``sat`` not text, ``band`` or ``glonass_channel`` not an integer.
+    InvalidInputError
+        ``sat`` not a satellite id; ``band`` not a band of that system (GLONASS: 1 or 2); a GLONASS
+        satellite without ``glonass_channel``, or a channel outside ``GLONASS_CHANNELS``.
+    """
+    sat = sat_id("sat", sat)
+    band = integer("band", band)
+    if glonass_channel is not None:
+        glonass_channel = integer("glonass_channel", glonass_channel, minimum=GLONASS_CHANNELS[0])
+        if glonass_channel > GLONASS_CHANNELS[1]:
+            raise InvalidInputError(
+                f"expected glonass_channel <= {GLONASS_CHANNELS[1]}, got {glonass_channel}"
+            )
+    if sat[0] == "R":
+        if glonass_channel is None:
+            raise InvalidInputError(f"expected glonass_channel for the GLONASS satellite {sat}, got None")
+        if band not in (1, 2):
+            raise InvalidInputError(f"expected band 1 or 2 for the GLONASS satellite {sat}, got {band}")
+    elif (sat[0], band) not in _FREQ:
+        known = sorted(b for sy, b in _FREQ if sy == sat[0])
+        raise InvalidInputError(f"expected band among {known} for {sat}, got {band}")
+    return _carrier_frequency_hz(sat, band, glonass_channel)
+
+
+def _carrier_frequency_hz(sat: str, band: int, glonass_channel: int | None = None) -> float:
     if sat[0] == "R":
         if glonass_channel is None:
             raise RinexError("", None, f"no FDMA channel known for GLONASS satellite {sat}")
@@ -128,6 +163,25 @@ def _match(ref: NDArray[np.int64], other: NDArray[np.int64], tol_ns: int) -> NDA
     return np.where(np.abs(other[best] - ref) <= tol_ns, best, -1)
 
 
+#: Largest epoch-matching tolerance accepted, s.
+MAX_TOLERANCE_S = 3600.0
+
+
+def _observation_list(name: str, value: object) -> list[RinexObs]:
+    if isinstance(value, RinexObs) or not isinstance(value, list | tuple):
+        raise InvalidTypeError(
+            f"expected {name} as a list of RinexObs (from read_obs), got {type(value).__name__}"
+        )
+    for i, o in enumerate(value):
+        if not isinstance(o, RinexObs):
+            raise InvalidTypeError(
+                f"expected {name} as a list of RinexObs, got {type(o).__name__} at index {i}"
+            )
+    if len(value) < 2:
+        raise InvalidInputError(f"expected two or more {name} (receivers), got {len(value)}")
+    return list(value)
+
+
 def align_receivers(
     observations: Sequence[RinexObs],
     nav: RinexNav,
@@ -164,11 +218,41 @@ def align_receivers(
 
     Raises
     ------
+    InvalidTypeError
+        ``observations`` not a list of :class:`RinexObs`, ``nav`` not a :class:`RinexNav`, ``solutions``
+        not a list of :class:`PointSolution`, another argument of the wrong kind.
+    InvalidInputError
+        Fewer than two observations; ``band`` outside 1 to 9; ``systems`` empty or with letters other than
+        GREJC; ``tolerance_s`` not in ``(0, MAX_TOLERANCE_S]``; ``elevation_mask_deg`` outside [-90, 90];
+        slip thresholds not positive and finite; ``solutions`` not one per observation.
     RinexError
-        Fewer than two files, no common epochs, no common satellites (naming the files).
+        No common epochs, no common satellites (naming the files).
     """
-    if len(observations) < 2:
-        raise RinexError("", None, f"expected two or more observation files, got {len(observations)}")
+    observations = _observation_list("observations", observations)
+    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    band = integer("band", band, minimum=1)
+    if band > 9:
+        raise InvalidInputError(f"expected band <= 9 (a RINEX band digit), got {band}")
+    systems = instance("systems", systems, str, "system letters such as 'GE'")
+    if not systems or any(ch not in "GREJC" for ch in systems):
+        raise InvalidInputError(f"expected systems as letters among 'GREJC', got {systems!r}")
+    tolerance_s = scalar("tolerance_s", tolerance_s, minimum=0.0, strict=True, unit="s")
+    if tolerance_s > MAX_TOLERANCE_S:
+        raise InvalidInputError(f"expected tolerance_s <= {MAX_TOLERANCE_S} s, got {tolerance_s} s")
+    elevation_mask_deg = scalar("elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0)
+    slip_code_threshold_m = scalar("slip_code_threshold_m", slip_code_threshold_m, minimum=0.0, strict=True)
+    slip_geometry_free_m = scalar("slip_geometry_free_m", slip_geometry_free_m, minimum=0.0, strict=True)
+    if solutions is not None:
+        if not isinstance(solutions, list | tuple) or not all(
+            isinstance(x, PointSolution) for x in solutions
+        ):
+            raise InvalidTypeError(
+                f"expected solutions as a list of PointSolution, got {type(solutions).__name__}"
+            )
+        if len(solutions) != len(observations):
+            raise InvalidInputError(
+                f"expected one solution per observation ({len(observations)}), got {len(solutions)} solutions"
+            )
     paths = tuple(o.path for o in observations)
     sols = (
         list(solutions) if solutions is not None else [single_point_positions(o, nav) for o in observations]
@@ -199,7 +283,7 @@ def align_receivers(
         channels.update(o.glonass_channels)
     for s, ch in zip(nav.glonass.sats, nav.glonass.channel, strict=True):
         channels.setdefault(str(s), int(ch))
-    lam = np.array([C / carrier_frequency_hz(s, band, channels.get(s)) for s in sats])
+    lam = np.array([C / _carrier_frequency_hz(s, band, channels.get(s)) for s in sats])
     n_rx, n_ep, n_sat = len(observations), int(common.sum()), len(sats)
     phase = np.full((n_rx, n_ep, n_sat), np.nan)
     code = np.full((n_rx, n_ep, n_sat), np.nan)
@@ -220,7 +304,7 @@ def align_receivers(
             l2 = o.code_for(s[0], "L", b2) if b2 is not None else None
             if l2 is not None:
                 lam2 = (
-                    C / carrier_frequency_hz(s, b2, channels.get(s))
+                    C / _carrier_frequency_hz(s, b2, channels.get(s))
                     if (s[0] != "R" or s in channels)
                     else None
                 )
@@ -241,7 +325,7 @@ def align_receivers(
         pr_all, _ = code_observations(o)
         for e in range(n_ep):
             pr = pr_all[ix[e], cols]
-            sp, _, _, valid = transmit_states(nav, list(sats), int(t_ns[e]), pos[r], pseudorange_m=pr)
+            sp, _, _, valid = _transmit_states(nav, list(sats), int(t_ns[e]), pos[r], pseudorange_m=pr)
             if not np.isfinite(clock[r, e]):
                 valid[:] = False
             sat_pos[r, e] = np.where(valid[:, None], sp, np.nan)
@@ -259,8 +343,8 @@ def align_receivers(
     rate = np.full((n_ep, n_sat), np.nan)
     t0 = gps_ns(observations[0].time)[idx[0]]
     for e in range(n_ep):
-        p1, _, _, _ = satellite_states(nav, list(sats), int(t0[e]), 0.5)
-        p0, _, _, _ = satellite_states(nav, list(sats), int(t0[e]), -0.5)
+        p1, _, _, _ = _satellite_states(nav, list(sats), int(t0[e]), 0.5)
+        p0, _, _, _ = _satellite_states(nav, list(sats), int(t0[e]), -0.5)
         u = d[e] / rng[e]
         rate[e] = np.sum((p1 - p0) * u, axis=1)  # a static receiver: ECEF satellite velocity along the line
     low = ~(elev >= np.radians(elevation_mask_deg)) | ~ok[:, None]

@@ -33,8 +33,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import choice, flag, scalar, shaped
+from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.likelihood import euler_from_rotation, ml_attitude, ml_baseline
+from gnssatt.rinex._fields import path_text
 from gnssatt.rinex.align import Aligned, align_receivers
 from gnssatt.rinex.baseline import epoch_baselines, static_baseline
 from gnssatt.rinex.epoch_lambda import epoch_lambda
@@ -128,16 +130,41 @@ class AttitudeSeries:
         return "\n".join(lines)
 
 
+#: Largest search window, grid step (degrees) and baseline length (m) accepted.
+MAX_WINDOW_DEG = 3600.0
+MAX_STEP_DEG = 180.0
+MAX_BASELINE_LENGTH_M = 1e5
+
+
 def _as_obs(x: RinexObs | str | PathLike[str]) -> RinexObs:
     return x if isinstance(x, RinexObs) else read_obs(x)
+
+
+def _obs_list(name: str, value: object) -> list[RinexObs | str | PathLike[str]]:
+    if isinstance(value, str | PathLike | RinexObs) or not isinstance(value, list | tuple):
+        raise InvalidTypeError(
+            f"expected {name} as a list of observation files or RinexObs, got {type(value).__name__}"
+        )
+    for i, o in enumerate(value):
+        if not isinstance(o, RinexObs):
+            path_text(o, f"{name}[{i}]")
+    if len(value) < 2:
+        raise InvalidInputError(f"expected two or more {name} (antennas), got {len(value)}")
+    return list(value)
 
 
 def _as_nav(x: RinexNav | str | PathLike[str] | Sequence[str | PathLike[str]]) -> RinexNav:
     if isinstance(x, RinexNav):
         return x
     if isinstance(x, str | PathLike):
-        return read_nav(x)
-    navs = [read_nav(p) for p in x]
+        return read_nav(path_text(x, "nav"))
+    if not isinstance(x, list | tuple):
+        raise InvalidTypeError(
+            f"expected nav as a RinexNav, a navigation file or a list of them, got {type(x).__name__}"
+        )
+    if not x:
+        raise InvalidInputError("expected at least one navigation file in nav, got none")
+    navs = [read_nav(path_text(p, f"nav[{i}]")) for i, p in enumerate(x)]
     out = navs[0]
     for n in navs[1:]:
         out = out + n
@@ -195,15 +222,37 @@ def attitude_from_rinex(
     ------
     RinexError
         Unreadable files, no common epochs or satellites.
+    InvalidTypeError
+        ``observations`` not a list of files or :class:`RinexObs`, ``nav`` not a :class:`RinexNav`, file
+        or list of files, another argument of the wrong kind.
     InvalidInputError
-        Baselines of the wrong shape, a non-positive window, unknown method or motion.
+        Fewer than two observations, baselines of the wrong shape or not finite, unknown method or motion,
+        ``window_deg``, ``step_deg`` or ``baseline_length_m`` not positive or above ``MAX_WINDOW_DEG``,
+        ``MAX_STEP_DEG``, ``MAX_BASELINE_LENGTH_M``, ``ratio_threshold`` below 1; ``systems`` and
+        ``elevation_mask_deg`` as :func:`~gnssatt.rinex.align_receivers`.
     """
-    if method not in ("auto", "ml", "lambda"):
-        raise InvalidInputError(f"expected method 'auto', 'ml' or 'lambda', got {method!r}")
-    if motion not in ("static", "moving"):
-        raise InvalidInputError(f"expected motion 'static' or 'moving', got {motion!r}")
-    if window_deg is not None and not (np.isfinite(window_deg) and window_deg > 0):
-        raise InvalidInputError(f"expected a positive window_deg, got {window_deg}")
+    method = choice("method", method, ("auto", "ml", "lambda"))
+    motion = choice("motion", motion, ("static", "moving"))
+    continuity = flag("continuity", continuity)
+    if window_deg is not None:
+        window_deg = scalar("window_deg", window_deg, minimum=0.0, maximum=MAX_WINDOW_DEG, strict=True)
+    if step_deg is not None:
+        step_deg = scalar("step_deg", step_deg, minimum=0.0, maximum=MAX_STEP_DEG, strict=True)
+    ratio_threshold = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    if baseline_length_m is not None:
+        baseline_length_m = scalar(
+            "baseline_length_m", baseline_length_m, minimum=0.0, maximum=MAX_BASELINE_LENGTH_M, strict=True
+        )
+    observations = _obs_list("observations", observations)
+    if baselines is not None:
+        shaped("baselines", baselines, "(n_ant - 1, 3)", (len(observations) - 1, 3))
+    if not isinstance(systems, str):
+        raise InvalidTypeError(
+            f"expected systems as system letters such as 'G', got {type(systems).__name__}"
+        )
+    if not systems or any(ch not in "GREJC" for ch in systems):
+        raise InvalidInputError(f"expected systems as letters among 'GREJC', got {systems!r}")
+    elevation_mask_deg = scalar("elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0)
     obs = [_as_obs(o) for o in observations]
     nv = _as_nav(nav)
     b = None

@@ -21,12 +21,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from gnssatt._arrays import instance, integer, scalar
 from gnssatt.ambiguity import ratio_test
-from gnssatt.errors import RinexError
+from gnssatt.errors import InvalidInputError, RinexError
 from gnssatt.rinex.align import Aligned
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
 __all__ = ["EpochBaselines", "StaticBaseline", "epoch_baselines", "static_baseline"]
+
+#: Accepted carrier-phase noise, m: below, the weights overflow; above a metre, phase is no longer phase.
+SIGMA_PHASE_RANGE_M = (1e-6, 1.0)
+#: Accepted pseudorange noise, m.
+SIGMA_CODE_RANGE_M = (1e-4, 1e4)
 
 
 @dataclass(frozen=True)
@@ -102,10 +108,35 @@ def static_baseline(
 
     Raises
     ------
+    InvalidTypeError
+        ``aligned`` is not an :class:`Aligned`, or a number or count is of the wrong kind.
+    InvalidInputError
+        ``rover`` is not a receiver index other than 0, ``sigma_phase_m`` outside ``SIGMA_PHASE_RANGE_M``,
+        ``sigma_code_m`` outside ``SIGMA_CODE_RANGE_M``, ``ratio_threshold`` below 1 or not finite.
+    WorkLimitError
+        ``min_epochs_per_arc`` above the number of epochs.
     RinexError
         Mixed wavelengths (GLONASS FDMA), no satellite usable as the reference, too few double differences.
     """
-    al = aligned
+    al = instance("aligned", aligned, Aligned, "an Aligned (from align_receivers)")
+    n_rx = al.phase_cycles.shape[0]
+    rover = integer("rover", rover, minimum=1)
+    if rover >= n_rx:
+        raise InvalidInputError(f"expected rover < {n_rx} (the receivers of aligned), got {rover}")
+    sigma_phase_m = scalar(
+        "sigma_phase_m",
+        sigma_phase_m,
+        minimum=SIGMA_PHASE_RANGE_M[0],
+        maximum=SIGMA_PHASE_RANGE_M[1],
+        unit="m",
+    )
+    sigma_code_m = scalar(
+        "sigma_code_m", sigma_code_m, minimum=SIGMA_CODE_RANGE_M[0], maximum=SIGMA_CODE_RANGE_M[1], unit="m"
+    )
+    ratio_threshold = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    min_epochs_per_arc = integer(
+        "min_epochs_per_arc", min_epochs_per_arc, minimum=1, maximum=max(al.phase_cycles.shape[1], 1)
+    )
     if np.ptp(al.wavelength_m) > 1e-9:
         raise RinexError(
             " and ".join(al.paths),
@@ -266,7 +297,15 @@ def _partial(
 
 def epoch_baselines(aligned: Aligned, known: StaticBaseline | _Known) -> EpochBaselines:
     """Baseline at every epoch from the double-difference phases with the ambiguities of a static solution
-    (for a static pair: the time series the attitude command reports)."""
+    (for a static pair: the time series the attitude command reports).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``aligned`` is not an :class:`Aligned`, or ``known`` not a :class:`StaticBaseline`.
+    """
+    aligned = instance("aligned", aligned, Aligned, "an Aligned (from align_receivers)")
+    known = instance("known", known, (StaticBaseline, _Known), "a StaticBaseline (from static_baseline)")
     if isinstance(known, StaticBaseline):
         known = _Known(
             known.baseline_ecef_m,

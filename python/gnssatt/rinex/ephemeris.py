@@ -22,9 +22,22 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
+from gnssatt._arrays import finite_outputs, float_array, instance, integer, scalar, shaped
+from gnssatt.errors import InvalidInputError
+from gnssatt.rinex._fields import sat_list
 from gnssatt.rinex.nav import RinexNav
 
 __all__ = ["satellite_states", "transmit_states"]
+
+#: Largest time offset ``dt_s`` accepted, s: a week, far beyond any ephemeris validity.
+MAX_OFFSET_S = 604800.0
+#: Largest GPST nanosecond count accepted (2200-01-01, where datetime64[ns] labels end).
+MAX_GPS_NS = 6_942_355_200 * 10**9
+#: Largest receiver distance from the Earth's centre accepted, m (beyond the Moon).
+MAX_RECEIVER_RADIUS_M = 1e9
+#: Largest pseudorange accepted, m; largest receiver clock offset, s.
+MAX_PSEUDORANGE_M = 1e9
+MAX_RECEIVER_CLOCK_S = 1000.0
 
 C = 299792458.0
 OMEGA_E = 7.2921151467e-5
@@ -149,7 +162,45 @@ def satellite_states(
         (n,) broadcast group delay (GPS ``T_GD``, Galileo BGD E5a/E1, BeiDou ``T_GD1``), s; 0 for GLONASS.
     valid
         (n,) an ephemeris within its validity was found (healthy preferred).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``nav`` is not a :class:`RinexNav`, ``sats`` not a list of satellite ids, ``t_ns`` not an integer,
+        ``dt_s`` not real.
+    InvalidInputError
+        A malformed satellite id, ``t_ns`` outside ``[0, MAX_GPS_NS]``, ``dt_s`` not finite, of another
+        length than ``sats`` or beyond ``MAX_OFFSET_S``.
     """
+    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    sats = sat_list("sats", sats)
+    t_ns = _gps_time("t_ns", t_ns)
+    _offset("dt_s", dt_s, len(sats))
+    out = _satellite_states(nav, sats, t_ns, dt_s)
+    finite_outputs("satellite_states", position_m=out[0][out[3]], clock_s=out[1][out[3]])
+    return out
+
+
+def _gps_time(name: str, value: object) -> int:
+    t = integer(name, value, minimum=0)
+    if t > MAX_GPS_NS:
+        raise InvalidInputError(f"expected {name} <= {MAX_GPS_NS} (GPST ns of 2200-01-01), got {t}")
+    return t
+
+
+def _offset(name: str, value: ArrayLike, n: int) -> None:
+    off = float_array(name, value, ndim=(0, 1), shape="() or (n,)")
+    if off.ndim == 1 and off.shape[0] not in (1, n):
+        raise InvalidInputError(
+            f"expected {name} of shape (), (1,) or ({n},) (one per satellite), got {off.shape}"
+        )
+    if np.any(np.abs(off) > MAX_OFFSET_S):
+        raise InvalidInputError(f"expected |{name}| <= {MAX_OFFSET_S} s, got {np.max(np.abs(off))} s")
+
+
+def _satellite_states(
+    nav: RinexNav, sats: list[str] | tuple[str, ...], t_ns: int, dt_s: ArrayLike = 0.0
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
     n = len(sats)
     off = np.broadcast_to(np.asarray(dt_s, dtype=np.float64), (n,))
     pos = np.full((n, 3), np.nan)
@@ -208,19 +259,65 @@ def transmit_states(
     -------
     position_m, clock_s, tgd_s, valid
         As :func:`satellite_states`; positions rotated by ``omega_E tau`` into the reception frame.
+
+    Raises
+    ------
+    InvalidTypeError
+        As :func:`satellite_states` for ``nav``, ``sats`` and ``t_rx_ns``; ``receiver_ecef_m``,
+        ``pseudorange_m`` or ``receiver_clock_s`` not real.
+    InvalidInputError
+        ``t_rx_ns`` outside ``[0, MAX_GPS_NS]``; ``receiver_ecef_m`` not a finite (3,) vector within
+        ``MAX_RECEIVER_RADIUS_M``; ``pseudorange_m`` not finite (n,) in ``[0, MAX_PSEUDORANGE_M]``;
+        ``|receiver_clock_s|`` above ``MAX_RECEIVER_CLOCK_S``.
     """
+    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    sats = sat_list("sats", sats)
+    t_rx_ns = _gps_time("t_rx_ns", t_rx_ns)
+    rx = shaped("receiver_ecef_m", receiver_ecef_m, "(3,)", (3,))
+    if np.linalg.norm(rx / MAX_RECEIVER_RADIUS_M) > 1.0:
+        raise InvalidInputError(f"expected |receiver_ecef_m| <= {MAX_RECEIVER_RADIUS_M} m, got {rx.tolist()}")
+    if pseudorange_m is not None:
+        pr = shaped("pseudorange_m", pseudorange_m, f"({len(sats)},)", (len(sats),))
+        if np.any((pr < 0.0) | (pr > MAX_PSEUDORANGE_M)):
+            raise InvalidInputError(
+                f"expected pseudorange_m in [0, {MAX_PSEUDORANGE_M}] m, got {pr.tolist()}"
+            )
+    receiver_clock_s = scalar(
+        "receiver_clock_s",
+        receiver_clock_s,
+        minimum=-MAX_RECEIVER_CLOCK_S,
+        maximum=MAX_RECEIVER_CLOCK_S,
+        unit="s",
+    )
+    out = _transmit_states(
+        nav, sats, t_rx_ns, rx, pseudorange_m=pseudorange_m, receiver_clock_s=receiver_clock_s
+    )
+    valid = out[3]
+    finite_outputs("transmit_states", position_m=out[0][valid], clock_s=out[1][valid])
+    return out
+
+
+def _transmit_states(
+    nav: RinexNav,
+    sats: list[str] | tuple[str, ...],
+    t_rx_ns: int,
+    receiver_ecef_m: ArrayLike,
+    *,
+    pseudorange_m: ArrayLike | None = None,
+    receiver_clock_s: float = 0.0,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
     rx = np.asarray(receiver_ecef_m, dtype=np.float64)
     n = len(sats)
     if pseudorange_m is not None:
         pr = np.asarray(pseudorange_m, dtype=np.float64)
         tau0 = np.where(np.isfinite(pr), pr, 0.0) / C
-        _, clk, _, _ = satellite_states(nav, sats, t_rx_ns, -tau0)
-        pos, clk, tgd, valid = satellite_states(nav, sats, t_rx_ns, -tau0 - np.nan_to_num(clk))
+        _, clk, _, _ = _satellite_states(nav, sats, t_rx_ns, -tau0)
+        pos, clk, tgd, valid = _satellite_states(nav, sats, t_rx_ns, -tau0 - np.nan_to_num(clk))
         valid &= np.isfinite(pr)
     else:
         tau = np.full(n, 0.075)
         for _ in range(3):
-            pos, clk, tgd, valid = satellite_states(nav, sats, t_rx_ns, -receiver_clock_s - tau)
+            pos, clk, tgd, valid = _satellite_states(nav, sats, t_rx_ns, -receiver_clock_s - tau)
             tau = np.linalg.norm(_sagnac(np.nan_to_num(pos), tau) - rx, axis=1) / C
     rho_tau = np.linalg.norm(np.nan_to_num(pos) - rx, axis=1) / C
     return _sagnac(pos, rho_tau), clk, tgd, valid

@@ -51,13 +51,19 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gnssatt._arrays import flag, instance, integer, scalar, shaped
 from gnssatt.ambiguity import bootstrap_success_rate, lambda_ils, ratio_test
 from gnssatt.errors import InvalidInputError, NearDegenerateWarning, RinexError
 from gnssatt.rinex.align import Aligned
+from gnssatt.rinex.baseline import SIGMA_CODE_RANGE_M, SIGMA_PHASE_RANGE_M
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 from gnssatt.vector_attitude import wahba
 
 __all__ = ["EpochSolutions", "epoch_lambda"]
+
+#: Largest body coordinate and length tolerance accepted, m; most integer candidates per baseline.
+MAX_BODY_M = 1e4
+MAX_CANDIDATES = 100_000
 
 
 @dataclass(frozen=True)
@@ -276,32 +282,45 @@ def epoch_lambda(
     ------
     RinexError
         Mixed wavelengths (GLONASS FDMA).
+    InvalidTypeError
+        ``aligned`` not an :class:`~gnssatt.rinex.align.Aligned`, another argument of the wrong kind.
     InvalidInputError
-        Baselines of the wrong shape, non-positive sigmas or tolerances, ``candidates < 2``.
+        Baselines not finite (n_rx - 1, 3) within ``MAX_BODY_M``, sigmas outside
+        :data:`~gnssatt.rinex.baseline.SIGMA_PHASE_RANGE_M` / ``SIGMA_CODE_RANGE_M``, ``ratio_threshold``
+        below 1, ``length_tolerance_m`` not positive, ``min_success_rate`` outside [0, 1],
+        ``candidates < 2``.
+    WorkLimitError
+        ``candidates`` above ``MAX_CANDIDATES``.
     """
-    al = aligned
-    if np.ptp(al.wavelength_m) > 1e-9:
-        raise RinexError(
-            " and ".join(al.paths), None, "double differences need one wavelength: select CDMA systems"
-        )
+    al = instance("aligned", aligned, Aligned, "an Aligned (from align_receivers)")
     n_rx, n_ep, _ = al.phase_cycles.shape
     nb = n_rx - 1
     body = None
     if baselines_body is not None:
-        body = np.asarray(baselines_body, dtype=np.float64)
-        if body.shape != (nb, 3) or not np.all(np.isfinite(body)):
-            raise InvalidInputError(f"expected finite baselines_body of shape ({nb}, 3), got {body.shape}")
-    for name, v in (
-        ("sigma_phase_m", sigma_phase_m),
-        ("sigma_code_m", sigma_code_m),
-        ("length_tolerance_m", length_tolerance_m),
-    ):
-        if not (np.isfinite(v) and v > 0):
-            raise InvalidInputError(f"expected a positive {name}, got {v}")
-    if not (0.0 <= min_success_rate <= 1.0):
-        raise InvalidInputError(f"expected min_success_rate in [0, 1], got {min_success_rate}")
-    if isinstance(candidates, bool) or not isinstance(candidates, int | np.integer) or candidates < 2:
-        raise InvalidInputError(f"expected candidates as an integer >= 2, got {candidates!r}")
+        body = shaped("baselines_body", baselines_body, f"({nb}, 3)", (nb, 3))
+        if np.any(np.abs(body) > MAX_BODY_M):
+            raise InvalidInputError(f"expected |baselines_body| <= {MAX_BODY_M} m per coordinate")
+    continuity = flag("continuity", continuity)
+    sigma_phase_m = scalar(
+        "sigma_phase_m",
+        sigma_phase_m,
+        minimum=SIGMA_PHASE_RANGE_M[0],
+        maximum=SIGMA_PHASE_RANGE_M[1],
+        unit="m",
+    )
+    sigma_code_m = scalar(
+        "sigma_code_m", sigma_code_m, minimum=SIGMA_CODE_RANGE_M[0], maximum=SIGMA_CODE_RANGE_M[1], unit="m"
+    )
+    ratio_threshold = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    candidates = integer("candidates", candidates, minimum=2, maximum=MAX_CANDIDATES)
+    length_tolerance_m = scalar(
+        "length_tolerance_m", length_tolerance_m, minimum=0.0, maximum=MAX_BODY_M, strict=True, unit="m"
+    )
+    min_success_rate = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
+    if np.ptp(al.wavelength_m) > 1e-9:
+        raise RinexError(
+            " and ".join(al.paths), None, "double differences need one wavelength: select CDMA systems"
+        )
     lam = float(al.wavelength_m[0])
     phase = al.phase_at_common_time() * lam
     shift = -(al.clock_s - al.clock_s[:1])

@@ -11,12 +11,30 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gnssatt._arrays import finite_outputs, float_array, scalar, shaped
 from gnssatt.errors import InvalidInputError
 
 __all__ = ["klobuchar_delay_m"]
 
 C = 299792458.0
 F_L1 = 1575.42e6
+#: Largest magnitude of a broadcast coefficient accepted (alpha in s/sc^k, beta in s/sc^k).
+MAX_COEFFICIENT = 1e9
+#: Carrier frequencies accepted, Hz; largest |GPS time| accepted, s; largest |azimuth|, rad.
+FREQUENCY_RANGE_HZ = (1e6, 1e11)
+MAX_GPS_TIME_S = 1e10
+MAX_AZIMUTH_RAD = 4.0 * np.pi
+
+
+def _broadcast(
+    shape: tuple[int, ...], names: list[str], name: str, arr: NDArray[np.float64]
+) -> tuple[int, ...]:
+    try:
+        return np.broadcast_shapes(shape, arr.shape)
+    except ValueError:
+        raise InvalidInputError(
+            f"expected {name} and {', '.join(names)} broadcasting together, got {arr.shape} against {shape}"
+        ) from None
 
 
 def klobuchar_delay_m(
@@ -47,13 +65,59 @@ def klobuchar_delay_m(
 
     Raises
     ------
+    InvalidTypeError
+        An argument that is not real.
     InvalidInputError
-        Coefficients not of shape (4,) or not finite.
+        Coefficients not finite of shape (4,) or beyond ``MAX_COEFFICIENT``; ``lat_rad`` outside
+        [-pi/2, pi/2], ``lon_rad`` outside [-2 pi, 2 pi]; ``azimuth_rad``, ``elevation_rad``, ``gps_time_s``
+        and ``frequency_hz`` not finite or not broadcasting together; elevations outside [-pi/2, pi/2],
+        ``|azimuth_rad|`` above ``MAX_AZIMUTH_RAD``, ``|gps_time_s|`` above ``MAX_GPS_TIME_S``, frequencies
+        outside ``FREQUENCY_RANGE_HZ``.
     """
-    a = np.asarray(alpha, dtype=np.float64)
-    b = np.asarray(beta, dtype=np.float64)
-    if a.shape != (4,) or b.shape != (4,) or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-        raise InvalidInputError(f"expected finite alpha and beta of shape (4,), got {a.shape} and {b.shape}")
+    a = shaped("alpha", alpha, "(4,)", (4,))
+    b = shaped("beta", beta, "(4,)", (4,))
+    for name, c in (("alpha", a), ("beta", b)):
+        if np.any(np.abs(c) > MAX_COEFFICIENT):
+            raise InvalidInputError(f"expected |{name}| <= {MAX_COEFFICIENT}, got {c.tolist()}")
+    lat_rad = scalar("lat_rad", lat_rad, minimum=-np.pi / 2, maximum=np.pi / 2, unit="rad")
+    lon_rad = scalar("lon_rad", lon_rad, minimum=-2 * np.pi, maximum=2 * np.pi, unit="rad")
+    ranges = {
+        "azimuth_rad": (-MAX_AZIMUTH_RAD, MAX_AZIMUTH_RAD),
+        "elevation_rad": (-np.pi / 2, np.pi / 2),
+        "gps_time_s": (-MAX_GPS_TIME_S, MAX_GPS_TIME_S),
+        "frequency_hz": FREQUENCY_RANGE_HZ,
+    }
+    given = {
+        "azimuth_rad": azimuth_rad,
+        "elevation_rad": elevation_rad,
+        "gps_time_s": gps_time_s,
+        "frequency_hz": frequency_hz,
+    }
+    shape: tuple[int, ...] = ()
+    arrays = {}
+    for name, value in given.items():
+        arr = float_array(name, value, ndim=tuple(range(33)), shape="broadcasting together")
+        arr = arr.reshape(np.shape(value))  # float_array gives 0-d input one dimension
+        lo, hi = ranges[name]
+        if np.any((arr < lo) | (arr > hi)):
+            raise InvalidInputError(f"expected {name} in [{lo:.6g}, {hi:.6g}], got a value outside")
+        shape = _broadcast(shape, list(arrays), name, arr)
+        arrays[name] = arr
+    out = _klobuchar_delay_m(a, b, lat_rad, lon_rad, *arrays.values())
+    finite_outputs("klobuchar_delay_m", delay_m=out)
+    return out
+
+
+def _klobuchar_delay_m(
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    lat_rad: float,
+    lon_rad: float,
+    azimuth_rad: ArrayLike,
+    elevation_rad: ArrayLike,
+    gps_time_s: ArrayLike,
+    frequency_hz: ArrayLike,
+) -> NDArray[np.float64]:
     az = np.asarray(azimuth_rad, dtype=np.float64)
     el_sc = np.maximum(np.asarray(elevation_rad, dtype=np.float64), 0.0) / np.pi
     psi = 0.0137 / (el_sc + 0.11) - 0.022  # earth-centred angle, semicircles

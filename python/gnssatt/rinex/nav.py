@@ -26,6 +26,7 @@ from gnssatt.rinex._fields import (
     path_text,
     read_lines,
     reading,
+    time_labels,
 )
 
 __all__ = ["GPS_EPOCH", "GlonassEphemerides", "KeplerEphemerides", "RinexNav", "gps_ns", "read_nav"]
@@ -56,8 +57,17 @@ KEPLER_FIELDS = (
 
 
 def gps_ns(time: NDArray[np.datetime64]) -> NDArray[np.int64]:
-    """Nanoseconds since the GPS epoch of GPST ``datetime64`` labels."""
-    return (np.asarray(time, dtype="datetime64[ns]") - GPS_EPOCH).astype(np.int64)
+    """Nanoseconds since the GPS epoch of GPST ``datetime64`` labels.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``time`` is not of a datetime64 dtype.
+    InvalidInputError
+        ``time`` holds NaT or a label outside the years 1980 to 2199.
+    """
+    time = time_labels("time", time)
+    return (time - GPS_EPOCH).astype(np.int64)
 
 
 def leap_seconds(time_utc: np.datetime64) -> int:
@@ -221,7 +231,7 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         a date or time that does not exist, a week, time of week or GLONASS channel that is not a whole
         number in its range; the message names the file and line. Every other failure while reading becomes
         a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
-        ``os.PathLike``.
+        ``os.PathLike``, ``InvalidInputError`` if it is empty.
     """
     p = path_text(path)
     with reading(p) as cursor:

@@ -432,7 +432,8 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
         message names the file and the line. Every other failure while reading becomes a ``RinexError``
         naming the line being read. A file whose epochs x satellites x codes exceed :data:`MAX_CELLS`
         (the size of the dense arrays returned) is refused before they are allocated.
-        ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``.
+        ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``, ``InvalidInputError`` if it is
+        empty.
     """
     p = path_text(path)
     with reading(p) as cursor:

@@ -17,8 +17,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import sim
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import instance, integer, scalar, shaped
+from gnssatt.errors import InvalidInputError, WorkLimitError
 from gnssatt.likelihood import rotation_from_euler
+from gnssatt.rinex._fields import folder_path, sat_list
 from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
 
 __all__ = ["SimulatedRinex", "simulate_rinex_array", "write_array_rinex"]
@@ -52,6 +54,16 @@ class SimulatedRinex:
     euler_deg: NDArray[np.float64]
     baselines_enu_m: NDArray[np.float64]
     sats: tuple[str, ...]
+
+
+#: Accepted magnitudes: antenna coordinates (m), angles (degrees), noise (m), times after T0 (s, ten
+#: years), epoch spacing (s, a day) and number of epochs.
+MAX_ANTENNA_M = 1e4
+MAX_ANGLE_DEG = 3600.0
+MAX_SIGMA_M = 1e3
+MAX_START_S = 3.2e8
+MAX_INTERVAL_S = 86400.0
+MAX_EPOCHS = 100_000
 
 
 def simulate_rinex_array(
@@ -95,16 +107,44 @@ def simulate_rinex_array(
     start_s
         Time of the first epoch after the scenario epoch ``2024-03-01T10:00:00`` GPST, s (other
         satellite geometries).
+
+    Raises
+    ------
+    InvalidTypeError
+        An argument of the wrong kind (``folder`` not a path, arrays not real, counts not integers).
+    InvalidInputError
+        ``folder`` not an existing folder; ``antennas_body_m`` not (n_ant >= 2, 3) or beyond
+        ``MAX_ANTENNA_M``; ``euler_deg`` not (3,) or (n_ep >= 1, 3) within ``MAX_ANGLE_DEG``; ``interval_s``
+        not in ``(0, MAX_INTERVAL_S]``; ``seed`` negative; ``n_sats`` below 1; noise levels negative or
+        above ``MAX_SIGMA_M``; angles out of range; ``|start_s|`` above ``MAX_START_S``.
+    WorkLimitError
+        More than ``MAX_EPOCHS`` epochs.
     """
-    ant = np.asarray(antennas_body_m, dtype=np.float64)
-    eul = np.asarray(euler_deg, dtype=np.float64)
-    if ant.ndim != 2 or ant.shape[1] != 3 or ant.shape[0] < 2:
+    folder = folder_path("folder", folder)
+    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant >= 2, 3)", (None, 3))
+    if ant.shape[0] < 2:
         raise InvalidInputError(f"expected antennas_body_m of shape (n_ant >= 2, 3), got {ant.shape}")
+    if np.any(np.abs(ant) > MAX_ANTENNA_M):
+        raise InvalidInputError(f"expected |antennas_body_m| <= {MAX_ANTENNA_M} m per coordinate")
+    eul = shaped("euler_deg", euler_deg, "(3,) or (n_ep >= 1, 3)", (3,), (None, 3))
     if eul.shape == (3,):
         eul = np.tile(eul, (10, 1))
-    if eul.ndim != 2 or eul.shape[1] != 3:
-        raise InvalidInputError(f"expected euler_deg of shape (3,) or (n_ep, 3), got {eul.shape}")
-    folder = Path(folder)
+    if eul.shape[0] < 1:
+        raise InvalidInputError(f"expected euler_deg of shape (3,) or (n_ep >= 1, 3), got {eul.shape}")
+    if np.any(np.abs(eul) > MAX_ANGLE_DEG):
+        raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
+    if eul.shape[0] > MAX_EPOCHS:
+        raise WorkLimitError(f"euler_deg has {eul.shape[0]} epochs, above the limit of {MAX_EPOCHS}")
+    interval_s = scalar("interval_s", interval_s, minimum=0.0, maximum=MAX_INTERVAL_S, strict=True, unit="s")
+    seed = integer("seed", seed, minimum=0)
+    if n_sats is not None:
+        n_sats = integer("n_sats", n_sats, minimum=1)
+    code_sigma_m = scalar("code_sigma_m", code_sigma_m, minimum=0.0, maximum=MAX_SIGMA_M, unit="m")
+    phase_sigma_m = scalar("phase_sigma_m", phase_sigma_m, minimum=0.0, maximum=MAX_SIGMA_M, unit="m")
+    elevation_min_deg = scalar("elevation_min_deg", elevation_min_deg, minimum=-90.0, maximum=90.0)
+    lat_deg = scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0)
+    lon_deg = scalar("lon_deg", lon_deg, minimum=-360.0, maximum=360.0)
+    start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
     rng = np.random.default_rng(seed)
     rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=150.0)
     gps = sim.gps_nominal()
@@ -148,8 +188,29 @@ def write_array_rinex(
     ``constellation`` that reproduce its orbits. ``t_s`` (n_ep,) are seconds after ``T0`` (GPST).
 
     Returns the observation paths (reference antenna first) and the navigation path.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``folder`` not a path; ``measurements``, ``constellation`` or ``receiver`` not of their classes;
+        ``sat_ids`` not a list of satellite ids; ``t_s`` not real.
+    InvalidInputError
+        ``folder`` not an existing folder; ``sat_ids`` or ``t_s`` not matching the measurements' satellites
+        and epochs; ``t_s`` not finite or beyond ``MAX_START_S``.
     """
-    folder = Path(folder)
+    folder = folder_path("folder", folder)
+    measurements = instance("measurements", measurements, sim.ArrayMeasurements, "sim.ArrayMeasurements")
+    constellation = instance("constellation", constellation, sim.Constellation, "a sim.Constellation")
+    receiver = instance("receiver", receiver, sim.GroundReceiver, "a sim.GroundReceiver")
+    n_ep, _, n_sat = measurements.pseudorange_m.shape
+    sat_ids = sat_list("sat_ids", sat_ids)
+    if len(sat_ids) != n_sat:
+        raise InvalidInputError(
+            f"expected {n_sat} sat_ids (the measurements' satellites), got {len(sat_ids)}"
+        )
+    t_s = shaped("t_s", t_s, f"({n_ep},)", (n_ep,))
+    if np.any(np.abs(t_s) > MAX_START_S):
+        raise InvalidInputError(f"expected |t_s| <= {MAX_START_S} s, got {np.max(np.abs(t_s))} s")
     nav = folder / "sim.24n"
     write_nav_from_constellation(nav, constellation, T0)
     times = T0 + (np.asarray(t_s, dtype=np.float64) * 1e9).astype("timedelta64[ns]")

@@ -17,9 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from gnssatt.errors import RinexError
-from gnssatt.rinex.ephemeris import C, transmit_states
-from gnssatt.rinex.iono import klobuchar_delay_m
+from gnssatt._arrays import finite_outputs, flag, instance, integer, scalar, shaped
+from gnssatt.errors import InvalidInputError, RinexError
+from gnssatt.rinex.ephemeris import C, _transmit_states
+from gnssatt.rinex.iono import _klobuchar_delay_m
 from gnssatt.rinex.nav import RinexNav, gps_ns
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
@@ -62,11 +63,51 @@ class PointSolution:
         return np.isfinite(self.clock_s)
 
 
+#: Largest coordinate accepted for receivers and satellites, m; most iterations of the position solver.
+MAX_COORDINATE_M = 1e10
+MAX_ITERATIONS = 1000
+#: Smallest receiver distance from the Earth's centre accepted, m.
+MIN_RECEIVER_RADIUS_M = 1e5
+
+
 def elevation_azimuth_ecef(
     receiver_ecef_m: NDArray[np.float64], sat_ecef_m: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Elevation (rad), azimuth (rad, clockwise from North) and unit ENU line of sight (n, 3) receiver ->
-    satellites."""
+    satellites.
+
+    Raises
+    ------
+    InvalidTypeError
+        An argument that is not a real array.
+    InvalidInputError
+        ``receiver_ecef_m`` not a finite (3,), ``sat_ecef_m`` not a finite (n, 3), coordinates beyond
+        ``MAX_COORDINATE_M``, a receiver within ``MIN_RECEIVER_RADIUS_M`` of the Earth's centre, or a
+        satellite at the receiver (no line of sight).
+    """
+    rx = shaped("receiver_ecef_m", receiver_ecef_m, "(3,)", (3,))
+    sat = shaped("sat_ecef_m", sat_ecef_m, "(n, 3)", (None, 3))
+    for name, a in (("receiver_ecef_m", rx), ("sat_ecef_m", sat)):
+        if np.any(np.abs(a) > MAX_COORDINATE_M):
+            raise InvalidInputError(f"expected |{name}| <= {MAX_COORDINATE_M} m per coordinate")
+    if np.linalg.norm(rx) < MIN_RECEIVER_RADIUS_M:
+        raise InvalidInputError(
+            f"expected receiver_ecef_m at least {MIN_RECEIVER_RADIUS_M} m from the Earth's centre (geodetic "
+            f"coordinates are not unique near it), got {rx.tolist()}"
+        )
+    dist = np.linalg.norm(sat - rx, axis=-1)
+    if np.any(dist < 1e-3):
+        raise InvalidInputError(
+            f"expected sat_ecef_m away from receiver_ecef_m, row {int(np.argmin(dist))} is at the receiver"
+        )
+    out = _elevation_azimuth_ecef(rx, sat)
+    finite_outputs("elevation_azimuth_ecef", elevation_rad=out[0], azimuth_rad=out[1], los_enu=out[2])
+    return out
+
+
+def _elevation_azimuth_ecef(
+    receiver_ecef_m: NDArray[np.float64], sat_ecef_m: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     lat, lon, _ = ecef_to_geodetic(receiver_ecef_m)
     d = sat_ecef_m - receiver_ecef_m
     los = d / np.linalg.norm(d, axis=-1, keepdims=True)
@@ -75,7 +116,14 @@ def elevation_azimuth_ecef(
 
 
 def code_observations(obs: RinexObs) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """(n_epochs, n_sats) pseudoranges for positioning, m, and whether each is ionosphere-free."""
+    """(n_epochs, n_sats) pseudoranges for positioning, m, and whether each is ionosphere-free.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``obs`` is not a :class:`RinexObs`.
+    """
+    obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
     out = np.full(obs.data.shape[:2], np.nan)
     iono_free = np.zeros(obs.data.shape[:2], dtype=bool)
     for system in sorted({s[0] for s in obs.sats}):
@@ -111,9 +159,21 @@ def single_point_positions(
 
     Raises
     ------
+    InvalidTypeError
+        ``obs`` not a :class:`RinexObs`, ``nav`` not a :class:`RinexNav`, ``elevation_mask_deg`` not real,
+        ``max_iter`` not an integer, ``ionosphere`` not a bool.
+    InvalidInputError
+        ``elevation_mask_deg`` outside [-90, 90], ``max_iter`` below 1.
+    WorkLimitError
+        ``max_iter`` above ``MAX_ITERATIONS``.
     RinexError
         No epoch could be solved (fewer than 4 + systems - 1 satellites with ephemerides everywhere).
     """
+    obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
+    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    elevation_mask_deg = scalar("elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0)
+    max_iter = integer("max_iter", max_iter, minimum=1, maximum=MAX_ITERATIONS)
+    ionosphere = flag("ionosphere", ionosphere)
     pr, iono_free = code_observations(obs)
     t_ns = gps_ns(obs.time)
     n_ep = len(obs.time)
@@ -131,7 +191,7 @@ def single_point_positions(
         if len(sats) < 4:
             continue
         p = pr[e, have]
-        sp, sclk, tgd, valid = transmit_states(nav, sats, int(t_ns[e]), x0, pseudorange_m=p)
+        sp, sclk, tgd, valid = _transmit_states(nav, sats, int(t_ns[e]), x0, pseudorange_m=p)
         if valid.sum() < 4:
             continue
         sp, sclk, tgd, p = sp[valid], sclk[valid], tgd[valid], p[valid]
@@ -145,12 +205,12 @@ def single_point_positions(
             d = sp - x[:3]
             rho = np.linalg.norm(d, axis=1)
             if np.linalg.norm(x[:3]) > 6e6:
-                el, az, _ = elevation_azimuth_ecef(x[:3], sp)
+                el, az, _ = _elevation_azimuth_ecef(x[:3], sp)
                 lat, lon, h = ecef_to_geodetic(x[:3])
                 delay = 2.3 * np.exp(-max(float(h), 0.0) / 8500.0) / np.maximum(np.sin(el), 0.05)
                 if klob:
                     freq = np.array([_F1.get(c, _F1["G"]) for c in sysc])
-                    iono = klobuchar_delay_m(
+                    iono = _klobuchar_delay_m(
                         nav.iono_alpha,
                         nav.iono_beta,
                         float(np.radians(lat)),
@@ -158,7 +218,7 @@ def single_point_positions(
                         az,
                         el,
                         (int(t_ns[e]) % week_ns) * 1e-9,
-                        frequency_hz=freq,
+                        freq,
                     )
                     delay = delay + np.where(single_freq, iono, 0.0)
                 use = el >= mask if it > 0 else np.ones(len(p), dtype=bool)

@@ -9,13 +9,16 @@ reproduce them exactly: with the scenario epoch ``T0`` (GPST label of ``t = 0``,
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from os import PathLike
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import instance, shaped
+from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.rinex._fields import output_path, sat_list, time_labels
 from gnssatt.rinex.nav import gps_ns
 from gnssatt.sim.constellation import Constellation
 
@@ -24,6 +27,10 @@ __all__ = ["write_nav_from_constellation", "write_obs"]
 _MU_GPS = 3.986005e14
 _OMEGA_E = 7.2921151467e-5
 _WEEK_NS = 604_800 * 1_000_000_000
+_CODE = re.compile(r"[CLDS][1-9][A-Z]")
+#: Largest magnitude a 14.3f observation field holds; largest coordinate of APPROX POSITION XYZ (14.4f).
+MAX_OBSERVATION = 9.999e9
+MAX_POSITION_M = 9.999e8
 
 
 def _hdr(text: str, label: str) -> str:
@@ -67,19 +74,46 @@ def write_obs(
         MARKER NAME.
     lli
         Code -> (n_ep, n_sat) loss-of-lock digits (0-9), optional.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``path`` not a path, ``time`` not datetime64, ``sats`` not a list of satellite ids,
+        ``observations`` or ``lli`` not a mapping of codes to real arrays, ``marker_name`` not text.
+    InvalidInputError
+        ``path`` empty, a folder or in a missing folder; ``time`` empty, not 1-d, NaT or out of range;
+        malformed satellite ids or codes; arrays not (n_ep, n_sat); observations beyond
+        ``MAX_OBSERVATION``; ``approx_position_m`` not a finite (3,) within ``MAX_POSITION_M``;
+        ``marker_name`` longer than 60 characters or not printable ASCII; ``lli`` not digits 0-9 of
+        codes in ``observations``.
     """
-    t = np.asarray(time, dtype="datetime64[ns]")
+    path = output_path("path", path)
+    t = time_labels("time", time)
+    if t.ndim != 1 or t.size == 0:
+        raise InvalidInputError(f"expected time of shape (n_ep >= 1,), got {t.shape}")
+    sats = sat_list("sats", sats)
+    n_ep, n_sat = len(t), len(sats)
+    observations = _code_arrays("observations", observations, n_ep, n_sat, nonfinite=True)
     codes = list(observations)
-    data = np.stack([np.asarray(observations[c], dtype=np.float64) for c in codes], axis=-1)
-    if data.shape[:2] != (len(t), len(sats)):
-        raise InvalidInputError(
-            f"expected observations of shape ({len(t)}, {len(sats)}), got {data.shape[:2]}"
-        )
+    data = np.stack([observations[c] for c in codes], axis=-1)
+    if np.any(np.abs(np.where(np.isfinite(data), data, 0.0)) > MAX_OBSERVATION):
+        raise InvalidInputError(f"expected |observations| <= {MAX_OBSERVATION} (the 14.3f field)")
     flags = np.zeros(data.shape, dtype=np.int64)
     if lli is not None:
-        for c, v in lli.items():
-            flags[..., codes.index(c)] = np.asarray(v)
-    pos = np.asarray(approx_position_m, dtype=np.float64)
+        for c, v in _code_arrays("lli", lli, n_ep, n_sat, nonfinite=False).items():
+            if c not in codes:
+                raise InvalidInputError(f"expected lli codes among those of observations, got {c!r}")
+            if np.any((v != np.round(v)) | (v < 0) | (v > 9)):
+                raise InvalidInputError(f"expected lli[{c!r}] as digits 0 to 9")
+            flags[..., codes.index(c)] = v.astype(np.int64)
+    pos = shaped("approx_position_m", approx_position_m, "(3,)", (3,))
+    if np.any(np.abs(pos) > MAX_POSITION_M):
+        raise InvalidInputError(f"expected |approx_position_m| <= {MAX_POSITION_M} m, got {pos.tolist()}")
+    marker_name = instance("marker_name", marker_name, str, "text")
+    if len(marker_name) > 60 or not all(" " <= ch <= "~" for ch in marker_name):
+        raise InvalidInputError(
+            f"expected marker_name as at most 60 printable ASCII characters, got {marker_name!r}"
+        )
     systems = sorted({s[0] for s in sats})
     out = [
         _hdr(
@@ -114,6 +148,39 @@ def write_obs(
         fh.writelines(out)
 
 
+def _code_arrays(
+    name: str, value: object, n_ep: int, n_sat: int, *, nonfinite: bool
+) -> dict[str, NDArray[np.float64]]:
+    """``value`` as RINEX 3 code -> (n_ep, n_sat) float arrays (NaN and infinity kept if ``nonfinite``)."""
+    if not isinstance(value, Mapping):
+        raise InvalidTypeError(
+            f"expected {name} as a mapping of RINEX 3 codes to arrays, got {type(value).__name__}"
+        )
+    if not value:
+        raise InvalidInputError(f"expected at least one code in {name}, got none")
+    out = {}
+    for c, v in value.items():
+        if not isinstance(c, str) or not _CODE.fullmatch(c):
+            raise InvalidInputError(f"expected RINEX 3 codes such as 'C1C' as the keys of {name}, got {c!r}")
+        key = f"{name}[{c!r}]"
+        if nonfinite:
+            try:
+                raw = np.asarray(v)
+            except (TypeError, ValueError) as exc:
+                raise InvalidTypeError(f"expected {key} as a numeric array, got {type(v).__name__}") from exc
+            if raw.dtype.kind not in "iuf":
+                raise InvalidTypeError(f"expected {key} as a real numeric array, got dtype {raw.dtype}")
+            arr = raw.astype(np.float64)
+        else:
+            arr = shaped(key, v, f"({n_ep}, {n_sat})", (n_ep, n_sat))
+        if arr.shape != (n_ep, n_sat):
+            raise InvalidInputError(
+                f"expected {key} of shape ({n_ep}, {n_sat}) (time, sats), got {arr.shape}"
+            )
+        out[c] = arr
+    return out
+
+
 def _d19(x: float) -> str:
     s = f"{x:19.12E}"
     return s.replace("E", "D")
@@ -129,7 +196,22 @@ def write_nav_from_constellation(
     -------
     toe_ns
         GPST nanoseconds of the records' time of ephemeris.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``path`` not a path, ``constellation`` not a :class:`~gnssatt.sim.Constellation`, ``epoch_gpst``
+        not a datetime64.
+    InvalidInputError
+        ``path`` empty, a folder or in a missing folder; a constellation other than GPS; ``epoch_gpst``
+        not a single label in range.
     """
+    path = output_path("path", path)
+    constellation = instance("constellation", constellation, Constellation, "a sim.Constellation")
+    epoch = time_labels("epoch_gpst", epoch_gpst)
+    if epoch.ndim != 0:
+        raise InvalidInputError(f"expected epoch_gpst as one datetime64 label, got shape {epoch.shape}")
+    epoch_gpst = epoch[()]
     if any(not s.startswith("G") for s in constellation.ids):
         raise InvalidInputError("expected a GPS constellation (ids 'Gnn')")
     t_ns = int(gps_ns(np.array([epoch_gpst]))[0])
