@@ -165,11 +165,14 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.lambda_decorrelate": _e(lambda: {"covariance": _amb()["covariance"]}),
     "gnssatt.lambda_ils": _e(lambda: {**_amb(), "candidates": 2}, counts={"candidates"}),
     "gnssatt.ratio_test": _e(
-        lambda: {**_amb(), "failure_rate": 1e-3, "samples": 2000, "seed": 0}, counts={"samples"}
+        lambda: {**_amb(), "failure_rate": 1e-3, "samples": 2000, "seed": 0},
+        counts={"samples"},
+        nan_fields={"ratio"},  # inf when the best squared norm is 0 (integer float vector), documented
     ),
     "gnssatt.partial_fix": _e(
         lambda: {**_amb(), "min_success_rate": 0.5, "threshold": 2.0, "samples": 2000, "seed": 0},
         counts={"samples"},
+        nan_fields={"ratio", "threshold"},  # NaN when nothing is fixed, ratio inf on integers: documented
     ),
     "gnssatt.ratio_threshold_fixed_failure_rate": _e(
         lambda: {"covariance": _amb()["covariance"], "failure_rate": 1e-3, "samples": 2000, "seed": 0},
