@@ -315,8 +315,8 @@ def _defined_ratio(what: str, ratio: float, norms: Any) -> None:
     """Refuse a 0/0 ratio (both squared norms underflow to 0): it cannot be answered in double precision."""
     if np.isnan(ratio):
         raise ConvergenceError(
-            f"{what}: the ratio of the squared norms {np.asarray(norms).tolist()} is 0/0: the float_ambiguities "
-            "are too close to integers for the covariance to tell the candidates apart in double precision"
+            f"{what}: the ratio of the squared norms {np.asarray(norms).tolist()} is 0/0: the "
+            "float_ambiguities are too close to integers for the covariance to tell the candidates apart in double precision"
         )
 
 
