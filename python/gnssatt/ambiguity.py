@@ -316,7 +316,8 @@ def _defined_ratio(what: str, ratio: float, norms: Any) -> None:
     if np.isnan(ratio):
         raise ConvergenceError(
             f"{what}: the ratio of the squared norms {np.asarray(norms).tolist()} is 0/0: the "
-            "float_ambiguities are too close to integers for the covariance to tell the candidates apart in double precision"
+            "float_ambiguities are too close to integers for the covariance to tell the candidates apart "
+            "in double precision"
         )
 
 
