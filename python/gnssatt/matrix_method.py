@@ -104,12 +104,15 @@ def matrix_attitude(
         raise InvalidInputError(
             f"expected range_diffs at most {MAX_BASELINE_M:g} m in magnitude, got {r[k]:.6g} m at index {k}"
         )
-    longest = float(np.max(np.linalg.norm(b, axis=1)))
-    if float(np.max(np.abs(r))) <= 1e-12 * longest:
+    try:
+        dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
+    except DegenerateGeometryError as exc:
+        longest = float(np.max(np.linalg.norm(b, axis=1)))
+        if float(np.max(np.abs(r))) > 1e-12 * longest:
+            raise
         raise DegenerateGeometryError(
             f"range_diffs do not fix the attitude: they are all zero to 1e-12 of the longest baseline "
             f"({longest:.6g} m), max |range_diffs| = {float(np.max(np.abs(r))):.3g} m"
-        )
-    dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
+        ) from exc
     finite_outputs(f"matrix_attitude ({method!r})", rotation=dcm, raw_matrix=raw, residual_rms_m=rms)
     return MatrixAttitudeResult(Rotation.from_matrix(dcm), rms, raw, method)
