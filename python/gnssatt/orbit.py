@@ -186,7 +186,7 @@ def glonass_propagate(
     h = scalar("step_s", step_s)
     if 0 < d < h:
         raise InvalidInputError(
-            f"expected step_s no longer than duration_s (step_s in (0, duration_s]), got step_s = {h:g} s "
+            f"expected step_s in (0, duration_s], no longer than the duration, got step_s = {h:g} s "
             f"and duration_s = {d:g} s"
         )
     if d > 0 and 0 < h <= d:  # the core reports the other cases
@@ -360,13 +360,13 @@ def tle_states(
     """
     instance("line1", line1, str, "a str")
     instance("line2", line2, str, "a str")
+    jd, fr = _julian_dates(times)
     for name, line, digit in (("line1", line1, "1"), ("line2", line2, "2")):
         if not line.startswith(digit + " ") or len(line.rstrip()) < 68:
             raise InvalidInputError(
                 f"expected {name} as TLE line {digit}: starting with '{digit} ' and at least 68 characters "
                 f"long, got {line[:80]!r}"
             )
-    jd, fr = _julian_dates(times)
     d = scalar("dut1_s", dut1_s, minimum=-1.0, maximum=1.0, unit="s")  # |UT1 - UTC| < 0.9 s by definition
     try:
         from sgp4.api import Satrec

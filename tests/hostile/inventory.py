@@ -65,6 +65,8 @@ class Entry:
         Why the result may hold NaN (documented "not available" fields), or None: all outputs must be finite.
     nan_fields
         Result attributes documented as possibly non-finite (the rest is checked).
+    complex_ok
+        Arguments where complex values are documented input (e.g. correlator outputs).
     """
 
     build: Callable[[], dict[str, Any]]
@@ -73,10 +75,11 @@ class Entry:
     nonfinite_ok: frozenset[str] = frozenset()
     nan_output: str | None = None
     nan_fields: frozenset[str] = frozenset()
+    complex_ok: frozenset[str] = frozenset()
 
 
 def _e(build: Callable[[], dict[str, Any]], **kw: Any) -> Entry:
-    for key in ("counts", "nonfinite_ok", "nan_fields"):
+    for key in ("counts", "nonfinite_ok", "nan_fields", "complex_ok"):
         if key in kw:
             kw[key] = frozenset(kw[key])
     return Entry(build, **kw)
@@ -334,7 +337,10 @@ ENTRIES: dict[str, Entry] = {
         lambda: {"receiver": s.GROUND, "constellation": s.gps(), "t": np.arange(3.0)}
     ),
     "gnssatt.sim.los_body": _e(lambda: {"los": _att()["los"].copy(), "attitude": _att()["rotation"]}),
-    "gnssatt.sim.phase_diffs": _e(lambda: {"phases": np.array([[0.1, 0.2], [0.3, 0.5], [1.0, -1.0]])}),
+    "gnssatt.sim.phase_diffs": _e(
+        lambda: {"phases": np.array([[0.1, 0.2], [0.3, 0.5], [1.0, -1.0]])},
+        complex_ok={"phases"},  # complex correlator outputs are documented input
+    ),
     "gnssatt.sim.random_attitude": _e(lambda: {"rng": s.rng(), "n": 3}, counts={"n"}),
     "gnssatt.sim.random_los": _e(
         lambda: {"rng": s.rng(), "n_sat": 5, "min_elevation_deg": 10.0}, counts={"n_sat"}
