@@ -75,8 +75,8 @@ def _problem(float_ambiguities: Any, covariance: Any) -> tuple[NDArray[np.float6
     if np.any(big):
         i = int(np.argmax(big))
         raise InvalidInputError(
-            f"float_ambiguities is out of range: |float_ambiguities[{i}]| = {abs(a[i]):.6g} cycles is not "
-            f"below MAX_ABS_AMBIGUITY = {MAX_ABS_AMBIGUITY:.6g} cycles"
+            f"float_ambiguities is out of range: |float_ambiguities[{i}]| = {abs(a[i]):.6g} cycles exceeds "
+            f"(or equals) MAX_ABS_AMBIGUITY = {MAX_ABS_AMBIGUITY:.6g} cycles"
         )
     q = _covariance(covariance)
     if a.shape[0] != q.shape[0]:
