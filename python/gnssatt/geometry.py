@@ -87,11 +87,9 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
     Raises
     ------
     InvalidInputError
-        As :func:`range_difference_fisher`.
+        As :func:`range_difference_fisher`; also no baselines or no lines of sight (shape (0, 3)).
     DegenerateGeometryError
         The geometry does not fix the attitude (all baselines or all lines of sight parallel).
-    InvalidInputError
-        Also for no baselines or no lines of sight (shape (0, 3)).
     """
     b = checked_baselines("baselines", baselines)
     s = unit_rows("los", los, "(n, 3)", (None, 3))
