@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
 from gnssatt._arrays import float_array, integer, scalar
-from gnssatt.errors import InvalidInputError, WorkLimitError
+from gnssatt.errors import ConvergenceError, InvalidInputError, WorkLimitError
 
 __all__ = [
     "MAX_ABS_AMBIGUITY",
@@ -71,6 +71,13 @@ _MAX_SEED = 2**64 - 1
 
 def _problem(float_ambiguities: Any, covariance: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     a = float_array("float_ambiguities", float_ambiguities, ndim=1, shape="(n,)")
+    big = np.abs(a) >= MAX_ABS_AMBIGUITY
+    if np.any(big):
+        i = int(np.argmax(big))
+        raise InvalidInputError(
+            f"float_ambiguities is out of range: |float_ambiguities[{i}]| = {abs(a[i]):.6g} cycles exceeds "
+            f"(or equals) MAX_ABS_AMBIGUITY = {MAX_ABS_AMBIGUITY:.6g} cycles"
+        )
     q = _covariance(covariance)
     if a.shape[0] != q.shape[0]:
         raise InvalidInputError(
@@ -142,7 +149,8 @@ def lambda_ils(
     ------
     InvalidInputError
         Wrong shapes, non-finite values, an asymmetric covariance or one not positive definite to working
-        precision (the message gives the smallest pivot), ``candidates < 1``, ``|a| >= MAX_ABS_AMBIGUITY``.
+        precision (the message gives the smallest pivot), ``candidates < 1``, ``|float_ambiguities| >=
+        MAX_ABS_AMBIGUITY`` (checked here first, naming the parameter).
     InvalidTypeError
         ``candidates`` not an integer; arrays not real.
     WorkLimitError
@@ -224,12 +232,16 @@ def ratio_threshold_fixed_failure_rate(
 
     Raises
     ------
+    InvalidInputError
+        As :func:`lambda_ils` for the covariance; ``failure_rate`` not in (0, 1) (an
+        :class:`~gnssatt.errors.InvalidTypeError` when it is not a real number, ``None`` included).
     WorkLimitError
         ``samples > MAX_SAMPLES``.
     ConvergenceError
         A simulated search exceeded its share of the 1e9 nodes of the whole simulation.
     """
     q = _covariance(covariance)
+    scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True)
     _, rate, n_samples, seed_ = _threshold(None, failure_rate, samples, seed)
     return _core.lambda_ffrt_threshold(q, rate, n_samples, seed_)
 
@@ -243,7 +255,8 @@ class RatioTestResult:
     accepted
         ``ratio >= threshold``.
     ratio
-        Second-best over best squared norm (``inf`` when the float vector is an integer vector).
+        Second-best over best squared norm; ``inf`` (and ``accepted``) when the best squared norm is 0, i.e.
+        the float vector is an integer vector to double precision.
     threshold
         The threshold used (given, or computed for the fixed failure rate).
     fixed
@@ -287,13 +300,25 @@ def ratio_test(
         outside (0, 1); fewer than ``1 / failure_rate`` samples.
     WorkLimitError, ConvergenceError
         As :func:`lambda_ils` and :func:`ratio_threshold_fixed_failure_rate`; the two candidates are exact
-        or the call raises.
+        or the call raises. ``ConvergenceError`` also when both squared norms underflow to 0 (the ratio
+        would be 0/0).
     """
     a, q = _problem(float_ambiguities, covariance)
     accepted, ratio, c, fixed, norms = _core.lambda_ratio_test(
         a, q, *_threshold(threshold, failure_rate, samples, seed)
     )
+    _defined_ratio("ratio_test", ratio, norms)
     return RatioTestResult(bool(accepted), ratio, c, fixed, norms)
+
+
+def _defined_ratio(what: str, ratio: float, norms: Any) -> None:
+    """Refuse a 0/0 ratio (both squared norms underflow to 0): it cannot be answered in double precision."""
+    if np.isnan(ratio):
+        raise ConvergenceError(
+            f"{what}: the ratio of the squared norms {np.asarray(norms).tolist()} is 0/0: the "
+            "float_ambiguities are too close to integers for the covariance to tell the candidates apart "
+            "in double precision"
+        )
 
 
 @dataclass(frozen=True)
@@ -309,7 +334,8 @@ class PartialFixResult:
     values
         (k,) int64 integers those combinations are fixed to.
     ratio, threshold
-        Ratio statistic of the fixed subset and the threshold it passed (NaN when k = 0).
+        Ratio statistic of the fixed subset and the threshold it passed; both NaN ("not available") when
+        k = 0, and ``ratio`` is ``inf`` when the subset's float values are integers to double precision.
     success_rate
         Bootstrapped success rate of the fixed subset (1 when k = 0).
     ambiguities
@@ -366,4 +392,6 @@ def partial_fix(
     settings = _threshold(threshold, failure_rate, samples, seed)
     rate = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
     k, combos, values, ratio, c, sr, amb, cov = _core.lambda_partial_fix(a, q, *settings, rate)
+    if int(k) > 0:
+        _defined_ratio("partial_fix", ratio, [ratio])
     return PartialFixResult(int(k), combos, values, ratio, c, sr, amb, cov)

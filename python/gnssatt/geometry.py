@@ -87,11 +87,16 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
     Raises
     ------
     InvalidInputError
-        As :func:`range_difference_fisher`.
+        As :func:`range_difference_fisher`; also no baselines or no lines of sight (shape (0, 3)).
     DegenerateGeometryError
-        The geometry does not fix the attitude (no baselines or lines of sight, all of them parallel).
+        The geometry does not fix the attitude (all baselines or all lines of sight parallel).
     """
-    info = range_difference_fisher(baselines, los, rotation)
+    b = checked_baselines("baselines", baselines)
+    s = unit_rows("los", los, "(n, 3)", (None, 3))
+    for name, arr, dim in (("baselines", b, "m"), ("los", s, "n")):
+        if len(arr) == 0:
+            raise InvalidInputError(f"expected {name} of shape ({dim}, 3) with {dim} >= 1, got {arr.shape}")
+    info = range_difference_fisher(b, s, rotation)
     eig = np.linalg.eigvalsh(info)
     # eig[0] > 0 does not make 1 / eig finite: a subnormal information (baselines near 1e-160 m) overflows
     with np.errstate(over="ignore", divide="ignore"):

@@ -36,12 +36,32 @@ from gnssatt.errors import InvalidInputError
 from gnssatt.geometry import checked_baselines
 from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
 
-__all__ = ["MAX_STEP_ANGLE_RAD", "FixAttempt", "GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"]
+__all__ = [
+    "MAX_GYRO_NOISE",
+    "MAX_PHASE_SIGMA_CYCLES",
+    "MAX_STEP_ANGLE_RAD",
+    "MIN_GYRO_INTERVAL_S",
+    "FixAttempt",
+    "GyroGnssResult",
+    "gyro_gnss_filter",
+    "gyro_propagate",
+]
 
 #: Largest rotation over one gyro interval, ``|rates[k]| (t[k+1] - t[k])``, rad. The step is exact for a
 #: constant rate at any angle, but the angle's rounding error grows with it (1e-10 rad here); far beyond,
 #: the product overflows and the attitude would be NaN.
 MAX_STEP_ANGLE_RAD = 1e6
+
+#: Largest ``arw`` (rad/s/sqrt(Hz)) and ``rrw`` (rad/s^2/sqrt(Hz)) of :func:`gyro_gnss_filter`: a white rate
+#: noise of 1 rad/s/sqrt(Hz) already loses the attitude within a second; beyond, the process noise
+#: ``Qc * dt`` can overflow the filter's covariance.
+MAX_GYRO_NOISE = 1.0
+#: Largest ``phase_sigma_cycles`` of :func:`gyro_gnss_filter`: a carrier phase noisier than 10 cycles
+#: carries no attitude information, and the measurement covariance must stay finite.
+MAX_PHASE_SIGMA_CYCLES = 10.0
+#: Shortest interval of ``gyro_t`` in :func:`gyro_gnss_filter`, s (a 1 MHz gyro); shorter intervals are not
+#: sampled gyro records and make the record's span vanish next to the measurement times.
+MIN_GYRO_INTERVAL_S = 1e-6
 
 
 def _times_and_rates(
@@ -145,7 +165,7 @@ class GyroGnssResult:
 
 
 def _covariance(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
-    """An (n, n) symmetric positive semi-definite matrix (to rounding: 1e-9 of its largest entry)."""
+    """An (n, n) symmetric positive definite matrix (symmetric to 1e-9 of its largest entry)."""
     p = shaped(name, value, f"({n}, {n})", (n, n))
     tol = 1e-9 * float(np.max(np.abs(p)))
     if np.any(np.abs(p - p.T) > tol):
@@ -153,10 +173,13 @@ def _covariance(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
             f"expected {name} symmetric, got an asymmetry of {np.max(np.abs(p - p.T)):.3e}"
         )
     smallest = float(np.linalg.eigvalsh(p)[0])
-    if smallest < -tol:
-        raise InvalidInputError(
-            f"expected {name} positive semi-definite, got an eigenvalue of {smallest:.3e}"
-        )
+    try:
+        np.linalg.cholesky(p)
+        definite = smallest > 0.0
+    except np.linalg.LinAlgError:
+        definite = False
+    if not definite:
+        raise InvalidInputError(f"expected {name} positive definite, got an eigenvalue of {smallest:.3e}")
     return p
 
 
@@ -232,9 +255,11 @@ def gyro_gnss_filter(
     ------
     InvalidInputError
         Wrong shapes or non-finite values; ``gyro_t`` not strictly increasing; a rotation over one gyro
-        interval beyond :data:`MAX_STEP_ANGLE_RAD`; an ``initial_covariance`` that is not symmetric positive
-        semi-definite; ``arw``, ``rrw`` or a ``sensitivity`` sigma below 0; ``phase_sigma_cycles`` or
-        ``misalignment_sigma_rad`` not above 0; ``ratio_threshold`` below 1; ``min_success_rate`` outside
+        interval beyond :data:`MAX_STEP_ANGLE_RAD`; a ``gyro_t`` interval below :data:`MIN_GYRO_INTERVAL_S`;
+        an ``initial_covariance`` that is not symmetric positive definite; ``arw``, ``rrw`` or a
+        ``sensitivity`` sigma below 0; ``arw`` or ``rrw`` above :data:`MAX_GYRO_NOISE`;
+        ``phase_sigma_cycles`` not in (0, :data:`MAX_PHASE_SIGMA_CYCLES`]; ``misalignment_sigma_rad`` not
+        above 0; ``ratio_threshold`` below 1; ``min_success_rate`` outside
         [0, 1]; ``slip_false_alarm`` outside (0, 1); ``output_every`` below 1; baselines outside the limits of
         :func:`gnssatt.geometry.checked_baselines`; measurements outside the gyro record or inconsistent
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind: text, ``None``, complex,
@@ -250,9 +275,24 @@ def gyro_gnss_filter(
     t, w = _times_and_rates("gyro_t", gyro_t, "gyro_rates", gyro_rates)
     p0 = _covariance("initial_covariance", initial_covariance, 6)
     b0 = shaped("initial_drift", initial_drift, "(3,)", (3,))
-    arw = scalar("arw", arw, minimum=0.0, unit="rad/s/sqrt(Hz)")
-    rrw = scalar("rrw", rrw, minimum=0.0, unit="rad/s^2/sqrt(Hz)")
-    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True, unit="cycles")
+    dt = np.diff(t)  # non-increasing stamps are refused by the core, which says "strictly increasing"
+    short = np.flatnonzero((dt > 0.0) & (dt < MIN_GYRO_INTERVAL_S))
+    if short.size:
+        k = int(short[0])
+        raise InvalidInputError(
+            f"expected gyro_t intervals of at least MIN_GYRO_INTERVAL_S = {MIN_GYRO_INTERVAL_S:g} s, got "
+            f"gyro_t[{k + 1}] - gyro_t[{k}] = {t[k + 1] - t[k]:.6g} s"
+        )
+    arw = scalar("arw", arw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s/sqrt(Hz)")
+    rrw = scalar("rrw", rrw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s^2/sqrt(Hz)")
+    sigma = scalar(
+        "phase_sigma_cycles",
+        phase_sigma_cycles,
+        minimum=0.0,
+        maximum=MAX_PHASE_SIGMA_CYCLES,
+        strict=True,
+        unit="cycles",
+    )
     fix = flag("fix_ambiguities", fix_ambiguities)
     ratio = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
     success = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)

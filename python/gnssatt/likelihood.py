@@ -34,6 +34,8 @@ ambiguity function for M = 8.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Literal, get_args
 
@@ -286,6 +288,22 @@ def _window(window_deg: ArrayLike | AttitudePrior | None) -> list[list[float]] |
     return [[float(v) for v in row] for row in np.radians(w)]
 
 
+@contextmanager
+def _lobe(b: NDArray[np.float64]) -> Iterator[None]:
+    """Name ``baselines`` next to ``step_deg`` when the core finds the step coarser than the main lobe: the
+    lobe's width is set by the longest baseline, so either argument can be the one to change."""
+    try:
+        yield
+    except InvalidInputError as exc:
+        if "main lobe" not in str(exc):
+            raise
+        longest = float(np.max(np.linalg.norm(b, axis=1)))
+        raise InvalidInputError(
+            f"{exc} (L = {longest:.6g} m, the longest of the baselines): choose a finer step_deg or shorter "
+            "baselines"
+        ) from exc
+
+
 def _step(step_deg: float | None) -> float | None:
     if step_deg is None:
         return None
@@ -373,9 +391,10 @@ def ml_attitude(
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=2)
     statistic = choice("statistic", statistic, get_args(StatisticName))
     search = choice("search", search, get_args(SearchName))
-    angles, grid_angles, z, cells, step, _ = _core.ml_search(
-        p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, _refine(refine), False
-    )
+    with _lobe(b):
+        angles, grid_angles, z, cells, step, _ = _core.ml_search(
+            p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, _refine(refine), False
+        )
     euler = np.degrees(angles)
     return LikelihoodAttitude(
         rotation=rotation_from_euler(euler),
@@ -407,9 +426,10 @@ def likelihood_grid(
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=1)
     statistic = choice("statistic", statistic, get_args(StatisticName))
     step = _step(step_deg)
-    z, psi, theta, phi = _core.likelihood_grid(
-        p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1
-    )
+    with _lobe(b):
+        z, psi, theta, phi = _core.likelihood_grid(
+            p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1
+        )
     spaced = [a for a in (psi, theta, phi) if len(a) > 1]
     if spaced:
         actual = float(spaced[0][1] - spaced[0][0])

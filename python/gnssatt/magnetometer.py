@@ -79,7 +79,8 @@ def yaw_from_magnetometer(
     Raises
     ------
     InvalidInputError
-        Wrong shapes or non-finite values (:class:`~gnssatt.errors.InvalidTypeError` for values that are
+        Wrong shapes or non-finite values; ``b_body`` and ``b_orbital`` whose magnitudes differ by more
+        than 1e12 (not in the same unit) (:class:`~gnssatt.errors.InvalidTypeError` for values that are
         not real numbers, a ``degrees`` that is not a bool).
     DegenerateGeometryError
         ``cos(pitch)`` = 0, a vanishing horizontal field ``a_x0^2 + a_y0^2``, or a zero field; the message
@@ -108,10 +109,22 @@ def yaw_from_magnetometer(
         ) from None
     n = epochs[0] if epochs else 1
     vec = [np.broadcast_to(v, (n, 3)) for v in (bb, bo)]
+    raw = vec
     # One scale per epoch for both fields (eq. (3) adds a_x to a_z0 sin theta): the norms the core forms
     # then neither overflow nor underflow, and the yaw is unchanged.
     scale = np.maximum(np.max(np.abs(vec[0]), axis=1), np.max(np.abs(vec[1]), axis=1))[:, None]
     vec = [np.ascontiguousarray(v / np.where(scale > 0.0, scale, 1.0)) for v in vec]
+    # a field that vanishes next to the other (different units, or a wild reading) is not a zero field
+    peak = [np.max(np.abs(v), axis=1) for v in raw]
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        ratio = np.minimum(*peak) / np.maximum(*peak)
+    lost = np.flatnonzero((np.minimum(*peak) > 0.0) & (ratio < 1e-12))
+    if lost.size:
+        k = int(lost[0])
+        raise InvalidInputError(
+            f"expected b_body and b_orbital in the same unit, got largest components {peak[0][k]:.3g} and "
+            f"{peak[1][k]:.3g} at epoch {k}, differing by more than 1e12"
+        )
     ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
     yaw, cos_pitch, horizontal = _core.yaw_batch(*vec, *ang)
     finite_outputs("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)

@@ -11,7 +11,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, finite_outputs, shaped
-from gnssatt.errors import InvalidInputError
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
@@ -84,8 +84,9 @@ def matrix_attitude(
         differences outside the limits above, an unknown ``method``
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers or text).
     DegenerateGeometryError
-        The geometry does not fix the attitude, or the chosen formula's matrix is singular; the message
-        names the matrix and its condition number.
+        The geometry does not fix the attitude (``range_diffs`` all zero to 1e-12 of the longest baseline
+        included), or the chosen formula's matrix is singular; the message names the matrix and its
+        condition number.
     ConvergenceError
         ``"ml"`` did not converge, or the result is not finite (not seen in testing; it would point at a
         defect).
@@ -103,6 +104,15 @@ def matrix_attitude(
         raise InvalidInputError(
             f"expected range_diffs at most {MAX_BASELINE_M:g} m in magnitude, got {r[k]:.6g} m at index {k}"
         )
-    dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
+    try:
+        dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
+    except DegenerateGeometryError as exc:
+        longest = float(np.max(np.linalg.norm(b, axis=1)))
+        if float(np.max(np.abs(r))) > 1e-12 * longest:
+            raise
+        raise DegenerateGeometryError(
+            f"range_diffs do not fix the attitude: they are all zero to 1e-12 of the longest baseline "
+            f"({longest:.6g} m), max |range_diffs| = {float(np.max(np.abs(r))):.3g} m"
+        ) from exc
     finite_outputs(f"matrix_attitude ({method!r})", rotation=dcm, raw_matrix=raw, residual_rms_m=rms)
     return MatrixAttitudeResult(Rotation.from_matrix(dcm), rms, raw, method)

@@ -21,7 +21,7 @@ from typing import Any, TypeVar
 import numpy as np
 from tqdm.auto import tqdm
 
-from gnssatt._arrays import integer
+from gnssatt._arrays import flag, integer
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 
 __all__ = ["MAX_TRIALS", "SerialExecutor", "run", "trial_generators"]
@@ -108,7 +108,8 @@ def run(
     ------
     InvalidInputError
         ``n_trials`` or ``chunksize`` below 1 or not integers, ``seed`` negative or not an integer, ``trial``
-        not callable, ``executor`` without ``submit``, or a ``ProcessPoolExecutor`` whose workers start with
+        not callable, ``progress`` not a bool (:class:`~gnssatt.errors.InvalidTypeError`), ``executor``
+        without ``submit``, or a ``ProcessPoolExecutor`` whose workers start with
         ``fork``. That last one is an error and not a warning: once the Rust core's thread pool has run in
         this process (any earlier gnssatt call may have started it, and nothing tells whether one did), a
         forked worker hangs on its first parallel call, with no message and no way to interrupt it; the
@@ -119,6 +120,7 @@ def run(
     """
     n_trials = integer("n_trials", n_trials, minimum=1, maximum=MAX_TRIALS)
     seed = integer("seed", seed, minimum=0)
+    progress = flag("progress", progress)
     if not callable(trial):
         raise InvalidTypeError(
             f"expected trial as a callable taking a numpy Generator, got {type(trial).__name__}"

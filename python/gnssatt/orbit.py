@@ -184,6 +184,11 @@ def glonass_propagate(
     state = np.concatenate([r, _vec3("velocity_m_s", velocity_m_s)])
     d = scalar("duration_s", duration_s)
     h = scalar("step_s", step_s)
+    if 0 < d < h:
+        raise InvalidInputError(
+            f"expected step_s in (0, duration_s], no longer than the duration, got step_s = {h:g} s "
+            f"and duration_s = {d:g} s"
+        )
     if d > 0 and 0 < h <= d:  # the core reports the other cases
         rk4_steps("glonass_propagate over duration_s", np.array([d]), h)
     x, phi = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
@@ -348,11 +353,20 @@ def tle_states(
     ImportError
         ``sgp4`` is not installed (``pip install gnssatt[tle]``).
     InvalidInputError
-        Unparsable TLE, or SGP4 reports an error (e.g. decayed orbit) at some time.
+        ``line1``/``line2`` not TLE lines (starting with ``"1 "``/``"2 "``, at least 68 characters),
+        an unparsable TLE, or SGP4 reports an error (e.g. decayed orbit) at some time.
+    ConvergenceError
+        SGP4 returns a non-finite state for the elements.
     """
     instance("line1", line1, str, "a str")
     instance("line2", line2, str, "a str")
     jd, fr = _julian_dates(times)
+    for name, line, digit in (("line1", line1, "1"), ("line2", line2, "2")):
+        if not line.startswith(digit + " ") or len(line.rstrip()) < 68:
+            raise InvalidInputError(
+                f"expected {name} as TLE line {digit}: starting with '{digit} ' and at least 68 characters "
+                f"long, got {line[:80]!r}"
+            )
     d = scalar("dut1_s", dut1_s, minimum=-1.0, maximum=1.0, unit="s")  # |UT1 - UTC| < 0.9 s by definition
     try:
         from sgp4.api import Satrec
@@ -361,9 +375,14 @@ def tle_states(
     try:
         sat = Satrec.twoline2rv(line1, line2)
     except (ValueError, IndexError) as exc:
-        raise InvalidInputError(f"could not parse the TLE: {exc}") from exc
+        raise InvalidInputError(f"could not parse the TLE line1, line2: {exc}") from exc
     err, r_km, v_km_s = sat.sgp4_array(jd, fr)
     if np.any(err != 0):
         k = int(np.flatnonzero(err)[0])
-        raise InvalidInputError(f"SGP4 error code {int(err[k])} at time index {k} (see sgp4.api.SGP4_ERRORS)")
+        raise InvalidInputError(
+            f"SGP4 error code {int(err[k])} at time index {k} for the elements of line1, line2 (see "
+            "sgp4.api.SGP4_ERRORS)"
+        )
+    finite_result("the SGP4 state", r_km, "the elements of line1, line2")
+    finite_result("the SGP4 velocity", v_km_s, "the elements of line1, line2")
     return teme_to_ecef(r_km * 1e3, v_km_s * 1e3, jd + (fr + d / 86400.0))

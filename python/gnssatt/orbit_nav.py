@@ -18,14 +18,26 @@ from numpy.typing import ArrayLike, NDArray
 from gnssatt import _core
 from gnssatt._arrays import finite_result, float_array, scalar
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.orbit import GlonassModel, glonass_propagate, rk4_steps
+from gnssatt.orbit import MIN_ORBIT_RADIUS_M, GlonassModel, glonass_propagate, rk4_steps
 from gnssatt.sim._util import instance, real_array, text
 from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 #: Most epochs of :func:`noisy_orbit` (a Python loop, about 0.1 ms per epoch).
 MAX_EPOCHS = 1_000_000
+#: Largest ``accel_psd_m2_s3`` of :func:`noisy_orbit` and :func:`orbit_filter`, m^2/s^3: a white
+#: acceleration of 1 m/s^2 per sqrt(Hz), far above any orbit-model error; beyond, the filter's covariance
+#: and the simulated noise leave float64 over long spans.
+MAX_ACCEL_PSD_M2_S3 = 1.0
+#: Largest entry of ``p0`` in :func:`orbit_filter`, m^2 and m^2/s^2: (1e8 m)^2, an initial position
+#: uncertainty beyond the Moon's distance; larger ones overflow the innovation covariance.
+MAX_P0 = 1e16
+#: Largest initial radius ``|x0[:3]|``, m (beyond the Moon's distance the GLONASS model is meaningless).
+MAX_ORBIT_RADIUS_M = 1e9
 
 __all__ = [
+    "MAX_ACCEL_PSD_M2_S3",
+    "MAX_ORBIT_RADIUS_M",
+    "MAX_P0",
     "OrbitFilterResult",
     "ReceiverFixes",
     "noisy_orbit",
@@ -54,6 +66,33 @@ def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.
     return finite_result("the process noise covariance", out, f"accel_psd_m2_s3 = {q}, dt_s = {dt}")
 
 
+def _initial_state(x0: ArrayLike, model: GlonassModel) -> NDArray[np.float64]:
+    """``x0`` as a (6,) bound orbit: radius in [MIN_ORBIT_RADIUS_M, MAX_ORBIT_RADIUS_M], speed at most two
+    escape speeds plus the axes' rotation (the bound of :func:`gnssatt.orbit.glonass_propagate`)."""
+    x = float_array("x0", x0, ndim=1, shape="(6,)")
+    if x.shape != (6,):
+        raise InvalidInputError(f"expected x0 of shape (6,), got {x.shape}")
+    with np.errstate(over="ignore"):
+        r = float(np.linalg.norm(x[:3]))
+        v = float(np.linalg.norm(x[3:]))
+    if not MIN_ORBIT_RADIUS_M <= r <= MAX_ORBIT_RADIUS_M:
+        raise InvalidInputError(
+            f"expected x0[:3] between {MIN_ORBIT_RADIUS_M:g} and {MAX_ORBIT_RADIUS_M:g} m from the Earth's "
+            f"centre, got |x0[:3]| = {r:.6g} m"
+        )
+    v_max = 2.0 * np.sqrt(2.0 * abs(model.gm_m3_s2) / r) + abs(model.omega_rad_s) * r
+    if not v <= v_max:
+        raise InvalidInputError(
+            f"expected x0[3:] a bound orbit's velocity, at most {v_max:.6g} m/s (two escape speeds plus the "
+            f"axes' rotation) at |x0[:3]| = {r:.6g} m, got |x0[3:]| = {v:.6g} m/s"
+        )
+    return x
+
+
+def _accel_psd(value: float) -> float:
+    return scalar("accel_psd_m2_s3", value, minimum=0.0, maximum=MAX_ACCEL_PSD_M2_S3, unit="m^2/s^3")
+
+
 def noisy_orbit(
     x0: ArrayLike,
     times_s: ArrayLike,
@@ -72,22 +111,24 @@ def noisy_orbit(
     Raises
     ------
     InvalidInputError
-        Bad shapes, types or values; times not strictly increasing; ``step_s`` <= 0.
+        Bad shapes, types or values; times not strictly increasing; ``step_s`` <= 0; ``x0`` not a bound
+        orbit (radius outside [``MIN_ORBIT_RADIUS_M``, :data:`MAX_ORBIT_RADIUS_M`], speed above two escape
+        speeds plus the axes' rotation); ``accel_psd_m2_s3`` above :data:`MAX_ACCEL_PSD_M2_S3`.
     WorkLimitError
         More than ``MAX_EPOCHS`` (1e6) epochs, or more than :data:`gnssatt.orbit.MAX_RK4_STEPS` (1e7) RK4
         steps over the whole span (checked before any work).
     ConvergenceError
         The propagation or the noise covariance overflowed.
     """
-    x = float_array("x0", x0, ndim=1, shape="(6,)")
-    if x.shape != (6,):
-        raise InvalidInputError(f"expected x0 of shape (6,), got {x.shape}")
+    if model is not None:
+        instance("model", model, GlonassModel, "a GlonassModel")
+    x = _initial_state(x0, model if model is not None else GlonassModel())
     t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
     if t.size == 0 or np.any(np.diff(t) <= 0):
         raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
     if t.size > MAX_EPOCHS:
         raise WorkLimitError(f"noisy_orbit: times_s has {t.size} epochs, beyond the limit of {MAX_EPOCHS}")
-    q = scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0)
+    q = _accel_psd(accel_psd_m2_s3)
     step_s = scalar("step_s", step_s, minimum=0.0, strict=True)
     instance("rng", rng, np.random.Generator, "a numpy.random.Generator")
     if model is not None:
@@ -300,16 +341,29 @@ def orbit_filter(
     ------
     InvalidInputError
         Bad shapes or values, non-finite tracked measurements, non-increasing times, or no usable
-        measurement in any epoch.
+        measurement in any epoch; ``x0`` not a bound orbit (as :func:`noisy_orbit`); ``p0`` not symmetric
+        positive semi-definite or with an entry above :data:`MAX_P0`; ``accel_psd_m2_s3`` above
+        :data:`MAX_ACCEL_PSD_M2_S3`.
     WorkLimitError
         More than :data:`gnssatt.orbit.MAX_RK4_STEPS` (1e7) prediction steps over the whole span (checked
         before any work).
     """
     m = instance("model", model if model is not None else GlonassModel(), GlonassModel, "a GlonassModel")
-    x = float_array("x0", x0, ndim=1, shape="(6,)")
+    x = _initial_state(x0, m)
     p = float_array("p0", p0, ndim=2, shape="(6, 6)")
+    if p.shape != (6, 6):
+        raise InvalidInputError(f"expected p0 of shape (6, 6), got {p.shape}")
+    if np.max(np.abs(p)) > MAX_P0:
+        raise InvalidInputError(
+            f"expected p0 entries at most MAX_P0 = {MAX_P0:g} in magnitude, got {np.max(np.abs(p)):.6g}"
+        )
+    if np.max(np.abs(p - p.T)) > 1e-9 * np.max(np.abs(p)):
+        raise InvalidInputError(f"expected p0 symmetric, got an asymmetry of {np.max(np.abs(p - p.T)):.3e}")
+    smallest = float(np.linalg.eigvalsh(p)[0])
+    if smallest < -1e-9 * np.max(np.abs(p)):
+        raise InvalidInputError(f"expected p0 positive semi-definite, got an eigenvalue of {smallest:.3e}")
     settings = {
-        "accel_psd_m2_s3": scalar("accel_psd_m2_s3", accel_psd_m2_s3, minimum=0.0),
+        "accel_psd_m2_s3": _accel_psd(accel_psd_m2_s3),
         "step_s": scalar("step_s", step_s, minimum=0.0, strict=True),
     }
     text("coupling", coupling)

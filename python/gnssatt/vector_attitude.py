@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, finite_outputs, float_array, shaped
-from gnssatt.errors import InvalidInputError, NearDegenerateWarning
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError, NearDegenerateWarning
 
 __all__ = ["TriadResult", "WahbaResult", "triad", "wahba"]
 
@@ -181,7 +181,8 @@ def wahba(
         Wrong shapes, non-finite values, negative weights, weights all zero, an unknown ``method``
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers or text).
     DegenerateGeometryError
-        A zero vector, or reference vectors all parallel; the message names the epoch.
+        A zero vector, or reference vectors all parallel (among the pairs with non-negligible weights);
+        the message names ``body``, ``ref`` and ``weights`` and the epoch.
     ConvergenceError
         Weights so small that the covariance overflows (below about 1e-300), or another non-finite result.
 
@@ -222,9 +223,19 @@ def wahba(
             )
     # the core sees weights relative to the largest of each epoch; covariance and loss scale back
     scale = np.max(w, axis=1)
-    quat, cov, ratio, loss = _core.wahba_batch(
-        b3.reshape(-1, 3), np.ascontiguousarray(r.reshape(-1, 3)), (w / scale[:, None]).reshape(-1), n, method
-    )
+    try:
+        quat, cov, ratio, loss = _core.wahba_batch(
+            b3.reshape(-1, 3),
+            np.ascontiguousarray(r.reshape(-1, 3)),
+            (w / scale[:, None]).reshape(-1),
+            n,
+            method,
+        )
+    except DegenerateGeometryError as exc:
+        # the degeneracy is a property of the pairs together: name the arguments that form them
+        raise DegenerateGeometryError(
+            f"body, ref and weights do not fix the attitude together: {exc}"
+        ) from exc
     with np.errstate(over="ignore"):
         cov, loss = cov / scale[:, None, None], loss * scale
     finite_outputs("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)

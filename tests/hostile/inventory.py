@@ -68,6 +68,8 @@ class Entry:
     free_text
         Text arguments where any (short, printable) text is valid, such as a marker name: no invalid-name
         or empty-text mutants.
+    complex_ok
+        Arguments where complex values are documented input (e.g. correlator outputs).
     """
 
     build: Callable[[], dict[str, Any]]
@@ -77,10 +79,11 @@ class Entry:
     nan_output: str | None = None
     nan_fields: frozenset[str] = frozenset()
     free_text: frozenset[str] = frozenset()
+    complex_ok: frozenset[str] = frozenset()
 
 
 def _e(build: Callable[[], dict[str, Any]], **kw: Any) -> Entry:
-    for key in ("counts", "nonfinite_ok", "nan_fields", "free_text"):
+    for key in ("counts", "nonfinite_ok", "nan_fields", "free_text", "complex_ok"):
         if key in kw:
             kw[key] = frozenset(kw[key])
     return Entry(build, **kw)
@@ -169,11 +172,14 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.lambda_decorrelate": _e(lambda: {"covariance": _amb()["covariance"]}),
     "gnssatt.lambda_ils": _e(lambda: {**_amb(), "candidates": 2}, counts={"candidates"}),
     "gnssatt.ratio_test": _e(
-        lambda: {**_amb(), "failure_rate": 1e-3, "samples": 2000, "seed": 0}, counts={"samples"}
+        lambda: {**_amb(), "failure_rate": 1e-3, "samples": 2000, "seed": 0},
+        counts={"samples"},
+        nan_fields={"ratio"},  # inf when the best squared norm is 0 (integer float vector), documented
     ),
     "gnssatt.partial_fix": _e(
         lambda: {**_amb(), "min_success_rate": 0.5, "threshold": 2.0, "samples": 2000, "seed": 0},
         counts={"samples"},
+        nan_fields={"ratio", "threshold"},  # NaN when nothing is fixed, ratio inf on integers: documented
     ),
     "gnssatt.ratio_threshold_fixed_failure_rate": _e(
         lambda: {"covariance": _amb()["covariance"], "failure_rate": 1e-3, "samples": 2000, "seed": 0},
@@ -335,7 +341,10 @@ ENTRIES: dict[str, Entry] = {
         lambda: {"receiver": s.GROUND, "constellation": s.gps(), "t": np.arange(3.0)}
     ),
     "gnssatt.sim.los_body": _e(lambda: {"los": _att()["los"].copy(), "attitude": _att()["rotation"]}),
-    "gnssatt.sim.phase_diffs": _e(lambda: {"phases": np.array([[0.1, 0.2], [0.3, 0.5], [1.0, -1.0]])}),
+    "gnssatt.sim.phase_diffs": _e(
+        lambda: {"phases": np.array([[0.1, 0.2], [0.3, 0.5], [1.0, -1.0]])},
+        complex_ok={"phases"},  # complex correlator outputs are documented input
+    ),
     "gnssatt.sim.random_attitude": _e(lambda: {"rng": s.rng(), "n": 3}, counts={"n"}),
     "gnssatt.sim.random_los": _e(
         lambda: {"rng": s.rng(), "n_sat": 5, "min_elevation_deg": 10.0}, counts={"n_sat"}
@@ -688,6 +697,8 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.geometry.attitude_dop": _e(
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}
     ),
+    "gnssatt.geometry.checked_baselines": _e(lambda: {"baselines": s.BASELINES.copy()}),
+    "gnssatt.data.geonet_dir": _e(dict),
     "gnssatt.geometry.range_difference_fisher": _e(
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}
     ),

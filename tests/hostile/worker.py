@@ -9,6 +9,7 @@ corrupt the channel.
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 import os
 import pickle
@@ -68,7 +69,7 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
     fn = inv.resolve(entry_name)
     valid = entry.build()[param]
     default = inspect.signature(fn).parameters[param].default
-    return mu.mutants(
+    out = mu.mutants(
         valid,
         counts=param in entry.counts,
         work=tuple(entry.work.get(param, ())),
@@ -76,6 +77,9 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
         none_ok=default is None,
         free_text=param in entry.free_text,
     )
+    if param in entry.complex_ok:  # documented complex input: the finite complex mutants are valid
+        out = [dataclasses.replace(m, must_refuse=False) if m.category == "complex" else m for m in out]
+    return out
 
 
 def _execute(job: Job) -> Answer:

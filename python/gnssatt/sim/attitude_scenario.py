@@ -85,6 +85,14 @@ def orbital_hold_motion(
 ) -> tuple[Rotation, NDArray[np.float64]]:
     """True attitude (body -> ECI) and body rate (rad/s, body axes) at ``t`` for the orbital-frame hold of
     ``receiver``'s circular orbit plus oscillations ``a_j = A_j sin(2 pi t / T_j + p_j)`` about body axes.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes or non-finite values; ``period_s`` below 1e-3 s; ``amplitude_rad`` beyond +-pi
+        (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
+    ConvergenceError
+        A non-finite body rate.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
     tt = float_array("t", t, ndim=1, shape="(n_t,)")
@@ -96,6 +104,10 @@ def orbital_hold_motion(
     if np.max(np.abs(amp)) > np.pi:
         raise InvalidInputError(
             f"expected amplitude_rad within +-pi (an oscillation of the attitude), got {amp}"
+        )
+    if np.min(per) < 1e-3:
+        raise InvalidInputError(
+            f"expected period_s of at least 1e-3 s (an attitude oscillation, not a vibration), got {per}"
         )
     w = 2.0 * np.pi / per
     a = amp * np.sin(w * tt[:, None] + ph)
