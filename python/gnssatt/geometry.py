@@ -11,7 +11,7 @@ from scipy.spatial.transform import Rotation
 from gnssatt._arrays import instance, shaped, unit_rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
-__all__ = ["MAX_BASELINE_M", "MIN_BASELINE_M", "attitude_dop", "checked_baselines", "range_difference_fisher"]
+__all__ = ["MAX_BASELINE_M", "MIN_BASELINE_M", "attitude_dop", "range_difference_fisher"]
 
 #: Shortest baseline any estimator accepts, m: below a micrometre a baseline is a zero (and the squares and
 #: inverses the estimators form underflow or overflow near 1e-150 m).

@@ -697,7 +697,6 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.geometry.attitude_dop": _e(
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}
     ),
-    "gnssatt.geometry.checked_baselines": _e(lambda: {"baselines": s.BASELINES.copy()}),
     "gnssatt.data.geonet_dir": _e(dict),
     "gnssatt.geometry.range_difference_fisher": _e(
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}

@@ -15,6 +15,7 @@ from .worker import Pool
 @pytest.mark.parametrize("name", known_open.params(sorted(inv.ENTRIES), known_open.FIXED))
 def test_fixed_mutations_keep_the_contract(pool: Pool, name: str) -> None:
     records = harness.run_fixed(pool, [name])
-    assert records, "no mutation generated"
+    # every function with an argument gets mutants (a function without arguments has nothing to mutate)
+    assert records or not inv.ENTRIES[name].build(), "no mutation generated"
     bad = [r.line() for r in harness.failures(records)]
     assert not bad, report(bad)

@@ -65,7 +65,11 @@ def run_drawn(pool: Pool, name: str, examples: int) -> list[harness.Record]:
     return records
 
 
-@pytest.mark.parametrize("name", known_open.params(sorted(inv.ENTRIES), known_open.HYPOTHESIS))
+# functions without arguments (gnssatt.data.geonet_dir) have nothing to draw
+WITH_ARGUMENTS = sorted(n for n, e in inv.ENTRIES.items() if e.build())
+
+
+@pytest.mark.parametrize("name", known_open.params(WITH_ARGUMENTS, known_open.HYPOTHESIS))
 def test_hypothesis_inputs_keep_the_contract(pool: Pool, name: str) -> None:
     records = run_drawn(pool, name, EXAMPLES)
     assert len(records) >= EXAMPLES // 2
