@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import pytest
 
-from . import harness, known_open
+from . import harness
 from . import inventory as inv
 from .conftest import report
 from .worker import Pool
 
 
-@pytest.mark.parametrize("name", known_open.params(sorted(inv.ENTRIES), known_open.FIXED))
+@pytest.mark.parametrize("name", sorted(inv.ENTRIES))
 def test_fixed_mutations_keep_the_contract(pool: Pool, name: str) -> None:
     records = harness.run_fixed(pool, [name])
     # every function with an argument gets mutants (a function without arguments has nothing to mutate)

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
-from . import harness, known_open
+from . import harness
 from . import inventory as inv
 from . import mutations as mu
 from . import outcomes as oc
@@ -69,7 +69,7 @@ def run_drawn(pool: Pool, name: str, examples: int) -> list[harness.Record]:
 WITH_ARGUMENTS = sorted(n for n, e in inv.ENTRIES.items() if e.build())
 
 
-@pytest.mark.parametrize("name", known_open.params(WITH_ARGUMENTS, known_open.HYPOTHESIS))
+@pytest.mark.parametrize("name", WITH_ARGUMENTS)
 def test_hypothesis_inputs_keep_the_contract(pool: Pool, name: str) -> None:
     records = run_drawn(pool, name, EXAMPLES)
     assert len(records) >= EXAMPLES // 2
