@@ -2,8 +2,8 @@
 
 Python and shell blocks run verbatim, each in a fresh subprocess in an empty folder; the install-and-run
 blocks (those starting with ``pip install``) are what ``.ci/run`` runs, so they must appear there word for
-word, except the main job: the quick ``reproduce --all`` takes 5-16 minutes on 2 cores, too long for CI, and
-is run by hand before a release.
+word, except the main job: the quick ``reproduce --all`` took 16 minutes on the shared 2-core machine, too
+long for CI, and is run by hand before a release.
 """
 
 from __future__ import annotations

@@ -3,8 +3,8 @@ otherwise pick). Prints median times and the ratio.
 
     python benches/python/rinex_read.py [FILE.obs ...] [--simulated N]
 
-Without files it reads the GEONET RINEX 2.10 file in ../shared/data; ``--simulated N`` also writes and reads
-a simulated RINEX 3 file of N epochs at 1 s (GPS, two antennas: the first file is timed) from
+Without files it reads the GEONET RINEX 2.10 file shipped in ``gnssatt.data``; ``--simulated N`` also writes
+and reads a simulated RINEX 3 file of N epochs at 1 s (GPS, two antennas: the first file is timed) from
 ``gnssatt.rinex.simulate_rinex_array``. georinex must be installed for the ratio (``pip install georinex``).
 """
 
@@ -19,10 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
+from gnssatt.data import geonet_dir
 from gnssatt.rinex import read_obs
 from gnssatt.rinex.scenario import simulate_rinex_array
 
-DEFAULT = Path(__file__).resolve().parents[3] / "shared" / "data" / "rtklib_geonet_0759_3040" / "07590920.05o"
+DEFAULT = geonet_dir() / "07590920.05o"
 
 
 def _median(fn, repeats: int) -> float:  # type: ignore[no-untyped-def]
