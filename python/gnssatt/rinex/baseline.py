@@ -17,6 +17,7 @@ weighted batch least squares over all epochs (static baseline); its ambiguities 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -95,6 +96,19 @@ def _ranges(
     return np.linalg.norm(d0, axis=-1), rr, dr / rr[..., None]
 
 
+def fixing_settings(
+    sigma_phase_m: Any, sigma_code_m: Any, ratio_threshold: Any
+) -> tuple[float, float, float]:
+    """The intake of the settings every recorded-data fix shares (:func:`static_baseline` and
+    :func:`gnssatt.rinex.epoch_lambda.epoch_lambda`): sigmas within ``SIGMA_PHASE_RANGE_M`` /
+    ``SIGMA_CODE_RANGE_M``, the ratio threshold finite and at least 1."""
+    lo, hi = SIGMA_PHASE_RANGE_M
+    phase = scalar("sigma_phase_m", sigma_phase_m, minimum=lo, maximum=hi, unit="m")
+    lo, hi = SIGMA_CODE_RANGE_M
+    code = scalar("sigma_code_m", sigma_code_m, minimum=lo, maximum=hi, unit="m")
+    return phase, code, scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+
+
 def static_baseline(
     aligned: Aligned,
     *,
@@ -123,17 +137,9 @@ def static_baseline(
     rover = integer("rover", rover, minimum=1)
     if rover >= n_rx:
         raise InvalidInputError(f"expected rover < {n_rx} (the receivers of aligned), got {rover}")
-    sigma_phase_m = scalar(
-        "sigma_phase_m",
-        sigma_phase_m,
-        minimum=SIGMA_PHASE_RANGE_M[0],
-        maximum=SIGMA_PHASE_RANGE_M[1],
-        unit="m",
+    sigma_phase_m, sigma_code_m, ratio_threshold = fixing_settings(
+        sigma_phase_m, sigma_code_m, ratio_threshold
     )
-    sigma_code_m = scalar(
-        "sigma_code_m", sigma_code_m, minimum=SIGMA_CODE_RANGE_M[0], maximum=SIGMA_CODE_RANGE_M[1], unit="m"
-    )
-    ratio_threshold = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
     min_epochs_per_arc = integer(
         "min_epochs_per_arc", min_epochs_per_arc, minimum=1, maximum=max(al.phase_cycles.shape[1], 1)
     )

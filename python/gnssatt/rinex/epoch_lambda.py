@@ -55,7 +55,7 @@ from gnssatt._arrays import flag, instance, integer, scalar, shaped
 from gnssatt.ambiguity import bootstrap_success_rate, lambda_ils, ratio_test
 from gnssatt.errors import InvalidInputError, NearDegenerateWarning, RinexError
 from gnssatt.rinex.align import Aligned
-from gnssatt.rinex.baseline import SIGMA_CODE_RANGE_M, SIGMA_PHASE_RANGE_M
+from gnssatt.rinex.baseline import fixing_settings
 from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 from gnssatt.vector_attitude import wahba
 
@@ -301,17 +301,9 @@ def epoch_lambda(
         if np.any(np.abs(body) > MAX_BODY_M):
             raise InvalidInputError(f"expected |baselines_body| <= {MAX_BODY_M} m per coordinate")
     continuity = flag("continuity", continuity)
-    sigma_phase_m = scalar(
-        "sigma_phase_m",
-        sigma_phase_m,
-        minimum=SIGMA_PHASE_RANGE_M[0],
-        maximum=SIGMA_PHASE_RANGE_M[1],
-        unit="m",
+    sigma_phase_m, sigma_code_m, ratio_threshold = fixing_settings(
+        sigma_phase_m, sigma_code_m, ratio_threshold
     )
-    sigma_code_m = scalar(
-        "sigma_code_m", sigma_code_m, minimum=SIGMA_CODE_RANGE_M[0], maximum=SIGMA_CODE_RANGE_M[1], unit="m"
-    )
-    ratio_threshold = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
     candidates = integer("candidates", candidates, minimum=2, maximum=MAX_CANDIDATES)
     length_tolerance_m = scalar(
         "length_tolerance_m", length_tolerance_m, minimum=0.0, maximum=MAX_BODY_M, strict=True, unit="m"
