@@ -7,6 +7,7 @@
 
 pub mod dynamics;
 pub mod error;
+pub mod gnss;
 pub mod guard;
 pub mod gyro_gnss;
 pub mod interrupt;

@@ -1,0 +1,193 @@
+//! Settings of the observation engine, with the defaults a user would expect.
+
+use super::signal::{System, MAX_FREQUENCIES};
+use crate::error::{Error, Result};
+
+/// Whether the antennas move during the session.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// Ambiguities fixed once for the whole session (a static pair).
+    Static,
+    /// Every epoch fixed on its own (single-epoch), or held along slip-free arcs with `continuity`.
+    Moving,
+}
+
+/// The estimator of each epoch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// `Lambda` for baselines beyond 100 m or when the grid cannot be searched, else `Ml`.
+    Auto,
+    /// Ambiguity-function grid on the wrapped single differences (crate::likelihood).
+    Ml,
+    /// Double differences, float solution, LAMBDA fixing.
+    Lambda,
+}
+
+/// Elevation-dependent standard deviation `sigma^2 = a^2 + b^2 / sin^2(el)` of one observable type
+/// (one receiver, undifferenced), m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElevationSigma {
+    pub a_m: f64,
+    pub b_m: f64,
+}
+
+impl ElevationSigma {
+    /// `sigma(el)`, m, for an elevation in radians (clamped below at 1 degree so that it stays finite).
+    pub fn sigma_m(&self, elevation_rad: f64) -> f64 {
+        let s = elevation_rad.max(1f64.to_radians()).sin();
+        (self.a_m * self.a_m + self.b_m * self.b_m / (s * s)).sqrt()
+    }
+}
+
+/// Engine settings. `Default` gives: every system, every frequency slot, 10 degree mask, base position
+/// from the code solution, moving platform, method auto, success-rate gate 0.999, ratio 3, phase
+/// 3 mm + 3 mm / sin(el), code 0.3 m + 0.3 m / sin(el) (RTKLIB's defaults with its code/phase ratio 100).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EngineOptions {
+    /// Systems used (at least one).
+    pub systems: Vec<System>,
+    /// Number of frequency slots used, 1..=MAX_FREQUENCIES (slots 0..frequencies).
+    pub frequencies: usize,
+    /// Elevation mask at the reference antenna, rad.
+    pub elevation_mask_rad: f64,
+    /// Surveyed position of the reference antenna, ECEF m; `None`: its code solution.
+    pub base_position_m: Option<[f64; 3]>,
+    pub motion: Motion,
+    pub method: Method,
+    /// Hold fixed integers along slip-free arcs in moving mode.
+    pub continuity: bool,
+    /// Smallest bootstrapped success rate (from the float covariance) of the ambiguity set fixed; the
+    /// largest subset that reaches it is fixed (partial fixing) when the full set does not.
+    pub min_success_rate: f64,
+    /// Ratio-test threshold (>= 1).
+    pub ratio_threshold: f64,
+    pub phase_sigma: ElevationSigma,
+    pub code_sigma: ElevationSigma,
+    /// Body-frame antenna positions relative to the reference antenna (attitude mode: seed 001's body
+    /// frame, X nose, Y up, Z right wing), m; empty in baseline mode.
+    pub body_baselines_m: Vec<[f64; 3]>,
+    /// ML grid step, rad (`None`: eq. (15) of seed 001); window around the previous epoch's solution,
+    /// rad (`None`: whole domain).
+    pub ml_step_rad: Option<f64>,
+    pub ml_window_rad: Option<f64>,
+}
+
+impl Default for EngineOptions {
+    fn default() -> Self {
+        EngineOptions {
+            systems: System::ALL.to_vec(),
+            frequencies: MAX_FREQUENCIES,
+            elevation_mask_rad: 10f64.to_radians(),
+            base_position_m: None,
+            motion: Motion::Moving,
+            method: Method::Auto,
+            continuity: false,
+            min_success_rate: 0.999,
+            ratio_threshold: 3.0,
+            phase_sigma: ElevationSigma {
+                a_m: 0.003,
+                b_m: 0.003,
+            },
+            code_sigma: ElevationSigma { a_m: 0.3, b_m: 0.3 },
+            body_baselines_m: Vec::new(),
+            ml_step_rad: None,
+            ml_window_rad: None,
+        }
+    }
+}
+
+impl EngineOptions {
+    /// Checks every setting; the error names the setting as the CLI option it comes from.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] naming the option, the expectation and the value.
+    pub fn validate(&self) -> Result<()> {
+        if self.systems.is_empty() {
+            return Err(Error::out_of_range(
+                "--systems",
+                "expected at least one system, got none",
+            ));
+        }
+        if !(1..=MAX_FREQUENCIES).contains(&self.frequencies) {
+            return Err(Error::out_of_range(
+                "--frequencies",
+                format!("expected 1..={MAX_FREQUENCIES}, got {}", self.frequencies),
+            ));
+        }
+        if !(-std::f64::consts::FRAC_PI_2..=std::f64::consts::FRAC_PI_2)
+            .contains(&self.elevation_mask_rad)
+        {
+            return Err(Error::out_of_range(
+                "--elevation-mask",
+                format!(
+                    "expected -90..90 degrees, got {} rad",
+                    self.elevation_mask_rad
+                ),
+            ));
+        }
+        if let Some(p) = self.base_position_m {
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            if !(5.0e6..=1.0e8).contains(&r) {
+                return Err(Error::out_of_range(
+                    "--base-position",
+                    format!("expected an ECEF position 5e6..1e8 m from the Earth's centre, got {r:.6e} m"),
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.min_success_rate) {
+            return Err(Error::out_of_range(
+                "--min-success-rate",
+                format!(
+                    "expected a probability in [0, 1], got {}",
+                    self.min_success_rate
+                ),
+            ));
+        }
+        if !(self.ratio_threshold >= 1.0 && self.ratio_threshold.is_finite()) {
+            return Err(Error::out_of_range(
+                "--ratio-threshold",
+                format!(
+                    "expected a finite number >= 1, got {}",
+                    self.ratio_threshold
+                ),
+            ));
+        }
+        for (name, s) in [
+            ("phase sigma", self.phase_sigma),
+            ("code sigma", self.code_sigma),
+        ] {
+            let ok = |x: f64| x.is_finite() && (0.0..=1e3).contains(&x);
+            if !(ok(s.a_m) && ok(s.b_m) && s.a_m + s.b_m > 0.0) {
+                return Err(Error::out_of_range(
+                    "sigma",
+                    format!(
+                        "expected {name} a, b in [0, 1000] m, not both 0, got {} and {}",
+                        s.a_m, s.b_m
+                    ),
+                ));
+            }
+        }
+        for (i, b) in self.body_baselines_m.iter().enumerate() {
+            if !b.iter().all(|x| x.is_finite() && x.abs() <= 1e4) {
+                return Err(Error::out_of_range(
+                    "baselines",
+                    format!("expected finite body coordinates within 1e4 m, row {i} is {b:?}"),
+                ));
+            }
+        }
+        for (name, v) in [
+            ("--step", self.ml_step_rad),
+            ("--window", self.ml_window_rad),
+        ] {
+            if let Some(x) = v {
+                if !(x > 0.0 && x.is_finite()) {
+                    return Err(Error::out_of_range(
+                        name,
+                        format!("expected a positive angle, got {x} rad"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}

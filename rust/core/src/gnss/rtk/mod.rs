@@ -1,0 +1,1 @@
+//! Double differences, float solution and integer fixing (to be written).
