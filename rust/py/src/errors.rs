@@ -47,3 +47,11 @@ fn exception_class<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyTy
         .getattr(name)?
         .cast_into::<PyType>()?)
 }
+
+/// `gnssatt.errors.InternalError` (a defect of the core, e.g. a panic caught outside the module's guard).
+pub fn internal_error(py: Python<'_>, message: String) -> PyErr {
+    match exception_class(py, "InternalError") {
+        Ok(cls) => PyErr::from_type(cls, message),
+        Err(err) => err,
+    }
+}
