@@ -4,7 +4,7 @@ every native function is declared here.
 Angles in radians, lengths in metres.
 """
 
-from typing import TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
@@ -239,3 +239,100 @@ LAMBDA_MAX_SAMPLES: int
 LAMBDA_MAX_DIMENSION: int
 LAMBDA_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
+
+# gnss.rs: the observation engine. Arrays of gnssatt.rinex.session_input.SessionInput (n_rx receivers,
+# n_ep epochs, n_sat satellites, 3 frequency slots) and NavInput; options None take the engine's defaults.
+class GnssSession:
+    """Per-epoch results (n epochs, m rovers, k = 2 angles in baseline mode, 3 in attitude mode)."""
+
+    mode: str  # "baseline" or "attitude"
+    time_gpst_ns: NDArray[np.int64]  # (n,)
+    method: list[str]  # (n,) "lambda" or "ml"
+    solved: NDArray[np.bool_]  # (n,)
+    fixed: NDArray[np.bool_]  # (n,)
+    fixed_ambiguities: NDArray[np.int64]  # (n,)
+    ambiguities: NDArray[np.int64]  # (n,)
+    ratio: NDArray[np.float64]  # (n,)
+    success_rate: NDArray[np.float64]  # (n,)
+    angles_deg: NDArray[np.float64]  # (n, k)
+    angle_sigmas_deg: NDArray[np.float64]  # (n, k)
+    baselines_enu_m: NDArray[np.float64]  # (n, m, 3)
+    baseline_covariance_enu_m2: NDArray[np.float64]  # (n, m, 3, 3)
+    rotation_enu_from_body: NDArray[np.float64] | None  # (n, 3, 3), attitude mode
+    satellites_per_system: NDArray[np.int64]  # (n, 5), G R E C J
+    frequency_slots_used: NDArray[np.uint8]  # (n,) bit s: slot s used
+    base_position_m: NDArray[np.float64]  # (n, 3) ECEF
+    double_differences: NDArray[np.uint64] | None  # (5, 3); None from GnssEngine.process
+    warnings: list[str]
+
+def gnss_run(
+    time_gpst_ns: NDArray[np.int64],
+    sats: list[str],
+    glonass_channel: NDArray[np.int64],
+    code_m: NDArray[np.float64],
+    phase_cycles: NDArray[np.float64],
+    doppler_hz: NDArray[np.float64],
+    snr_dbhz: NDArray[np.float64],
+    lli: NDArray[np.uint8],
+    approx_position_m: NDArray[np.float64],
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    *,
+    systems: str | None = None,
+    frequencies: int | None = None,
+    elevation_mask_deg: float | None = None,
+    base_position_m: NDArray[np.float64] | None = None,
+    motion: str | None = None,
+    method: str | None = None,
+    continuity: bool | None = None,
+    min_success_rate: float | None = None,
+    ratio_threshold: float | None = None,
+    body_baselines_m: NDArray[np.float64] | None = None,
+    step_deg: float | None = None,
+    window_deg: float | None = None,
+) -> GnssSession: ...
+
+class GnssEngine:
+    """The engine fed a block of epochs at a time (state carried between calls)."""
+
+    def __init__(
+        self,
+        sats: list[str],
+        glonass_channel: NDArray[np.int64],
+        n_receivers: int,
+        kepler: dict[str, NDArray[Any]],
+        glonass: dict[str, NDArray[Any]],
+        klobuchar: NDArray[np.float64] | None,
+        leap_seconds: int | None,
+        *,
+        systems: str | None = None,
+        frequencies: int | None = None,
+        elevation_mask_deg: float | None = None,
+        base_position_m: NDArray[np.float64] | None = None,
+        motion: str | None = None,
+        method: str | None = None,
+        continuity: bool | None = None,
+        min_success_rate: float | None = None,
+        ratio_threshold: float | None = None,
+        body_baselines_m: NDArray[np.float64] | None = None,
+        step_deg: float | None = None,
+        window_deg: float | None = None,
+    ) -> None: ...
+    def process(
+        self,
+        time_gpst_ns: NDArray[np.int64],
+        code_m: NDArray[np.float64],
+        phase_cycles: NDArray[np.float64],
+        doppler_hz: NDArray[np.float64],
+        snr_dbhz: NDArray[np.float64],
+        lli: NDArray[np.uint8],
+        approx_position_m: NDArray[np.float64],
+    ) -> GnssSession: ...
+
+# The engine's defaults (rust/core/src/gnss/options.rs), read by gnssatt.rinex.attitude and the CLI.
+GNSS_DEFAULT_MIN_SUCCESS_RATE: float
+GNSS_DEFAULT_RATIO_THRESHOLD: float
+GNSS_DEFAULT_ELEVATION_MASK_DEG: float
+GNSS_MAX_FREQUENCIES: int

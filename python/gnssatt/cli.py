@@ -12,6 +12,7 @@ import os
 import re
 import sys
 import time
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -21,8 +22,11 @@ __all__ = ["main"]
 #: (Only names that are not also plain words of other messages, and never inside RINEX messages.)
 _OPTION_NAMES = {
     "window_deg": "--window",
-    "baseline_length_m": "--baseline-length",
+    "step_deg": "--step",
     "elevation_mask_deg": "--elevation-mask",
+    "min_success_rate": "--min-success-rate",
+    "ratio_threshold": "--ratio-threshold",
+    "base_position_m": "--base-position",
     "n_trials": "--runs",
     "seed": "--seed",
 }
@@ -42,6 +46,30 @@ def _integer(minimum: int) -> Callable[[str], int]:
         return value
 
     return parse
+
+
+def _real(minimum: float, maximum: float) -> Callable[[str], float]:
+    """An argparse type: a finite number in ``[minimum, maximum]``."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"expected a number in [{minimum}, {maximum}], got {text!r}"
+            ) from None
+        if not minimum <= value <= maximum:
+            raise argparse.ArgumentTypeError(f"expected a number in [{minimum}, {maximum}], got {value}")
+        return value
+
+    return parse
+
+
+def _systems(text: str) -> str:
+    """An argparse type: system letters among GRECJ."""
+    if not text or any(ch not in "GRECJ" for ch in text):
+        raise argparse.ArgumentTypeError(f"expected system letters among GRECJ, such as GE, got {text!r}")
+    return text
 
 
 class _UsageError(Exception):
@@ -125,23 +153,114 @@ def _attitude(args: argparse.Namespace) -> int:
             raise _UsageError(
                 f"--baselines {args.baselines}: cannot read rows 'x y z': {_one_line(exc)}"
             ) from exc
-    series = attitude_from_rinex(
-        args.obs,
-        args.nav,
-        baselines,
-        method=args.method,
-        motion=args.motion,
-        continuity=args.continuity,
-        window_deg=args.window,
-        baseline_length_m=args.baseline_length,
-        systems=args.systems,
-        elevation_mask_deg=args.elevation_mask,
-    )
+    with warnings.catch_warnings(record=True) as caught:
+        # the library's warnings (a system dropped from a file, the engine's) become one line each, below
+        warnings.simplefilter("always")
+        series = attitude_from_rinex(
+            args.obs,
+            args.nav,
+            baselines,
+            method=args.method,
+            motion=args.motion,
+            continuity=args.continuity,
+            systems=args.systems,
+            frequencies=args.frequencies if args.frequencies == "all" else int(args.frequencies),
+            elevation_mask_deg=args.elevation_mask,
+            min_success_rate=args.min_success_rate,
+            ratio_threshold=args.ratio_threshold,
+            base_position_m=args.base_position,
+            step_deg=args.step,
+            window_deg=args.window,
+        )
     series.to_csv(args.out)
     attitude_series(series, png)
+    for w in caught:
+        print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print(series.summary())
     print(f"wrote {args.out} and {png}")
     return 0
+
+
+def _attitude_options(att: argparse.ArgumentParser) -> None:
+    """The engine's options; defaults left None are the engine's (``docs/observation_engine.md``)."""
+    from gnssatt import _core
+
+    att.add_argument(
+        "--method",
+        choices=("auto", "ml", "lambda"),
+        default="auto",
+        help="ml: ambiguity-function grid per epoch; lambda: LAMBDA-fixed double differences (attitude "
+        "mode: constrained by the baselines); auto: lambda beyond 100 m, else ml (default auto)",
+    )
+    att.add_argument(
+        "--motion",
+        choices=("static", "moving"),
+        default=None,
+        help="static fixes the session's ambiguities once, moving fixes each epoch (default: static for two "
+        "antennas, moving with --baselines)",
+    )
+    att.add_argument(
+        "--continuity",
+        action="store_true",
+        help="moving: hold fixed ambiguities along arcs without cycle slips",
+    )
+    att.add_argument(
+        "--systems",
+        type=_systems,
+        default="GRECJ",
+        help="satellite systems, letters among GRECJ (default GRECJ: all in both files)",
+    )
+    att.add_argument(
+        "--frequencies",
+        choices=("1", "2", "3", "all"),
+        default="all",
+        help="frequency slots per system: 1 L1/G1/E1/B1I, 2 adds L2/G2/E5b/B2I, 3 adds L5/G3/E5a/B3I "
+        "(default all)",
+    )
+    att.add_argument(
+        "--min-success-rate",
+        type=_real(0.0, 1.0),
+        default=None,
+        metavar="P",
+        help="smallest bootstrapped success rate of the ambiguities fixed; fewer are fixed (partial fixing) "
+        f"when the full set falls short (default {_core.GNSS_DEFAULT_MIN_SUCCESS_RATE})",
+    )
+    att.add_argument(
+        "--ratio-threshold",
+        type=_real(1.0, 1e6),
+        default=None,
+        metavar="R",
+        help=f"ratio-test threshold (default {_core.GNSS_DEFAULT_RATIO_THRESHOLD})",
+    )
+    att.add_argument(
+        "--elevation-mask",
+        type=_real(-90.0, 90.0),
+        default=None,
+        metavar="DEG",
+        help=f"at the reference antenna, degrees (default {_core.GNSS_DEFAULT_ELEVATION_MASK_DEG:g})",
+    )
+    att.add_argument(
+        "--base-position",
+        type=float,
+        nargs=3,
+        default=None,
+        metavar=("X", "Y", "Z"),
+        help="surveyed ECEF position of the reference antenna, m (default: its code solution)",
+    )
+    att.add_argument(
+        "--window",
+        type=float,
+        default=None,
+        metavar="DEG",
+        help="ml: search +/- DEG around the previous epoch's solution (default: the whole domain)",
+    )
+    att.add_argument(
+        "--step",
+        type=float,
+        default=None,
+        metavar="DEG",
+        help="ml: grid step (default: eq. (15) of seed 001)",
+    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -190,41 +309,7 @@ def _main(argv: Sequence[str] | None) -> int:
     att.add_argument(
         "--out", type=Path, default=Path("results.csv"), help="CSV output (plot: same name .png)"
     )
-    att.add_argument(
-        "--method",
-        choices=("auto", "ml", "lambda"),
-        default="auto",
-        help="ml: ambiguity-function grid per epoch; lambda: LAMBDA-fixed double differences (attitude "
-        "mode: per epoch, constrained by the baselines); auto: lambda beyond 100 m, else ml",
-    )
-    att.add_argument(
-        "--motion",
-        choices=("static", "moving"),
-        default="static",
-        help="baseline mode with lambda: static fixes the session's ambiguities once, moving fixes each "
-        "epoch (attitude mode is always per epoch)",
-    )
-    att.add_argument(
-        "--continuity",
-        action="store_true",
-        help="per-epoch lambda: hold fixed ambiguities along arcs without cycle slips",
-    )
-    att.add_argument(
-        "--window",
-        type=float,
-        default=None,
-        metavar="DEG",
-        help="ml: search +/- DEG around the previous epoch's solution (default: the whole domain)",
-    )
-    att.add_argument(
-        "--baseline-length",
-        type=float,
-        default=None,
-        metavar="M",
-        help="ml in baseline mode: baseline length, m (default: from the lambda solution)",
-    )
-    att.add_argument("--systems", default="G", help="satellite systems to use (default G)")
-    att.add_argument("--elevation-mask", type=float, default=10.0, help="degrees (default 10)")
+    _attitude_options(att)
     args = parser.parse_args(argv)
     if args.command == "attitude":
         return _attitude(args)

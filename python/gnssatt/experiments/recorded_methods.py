@@ -5,11 +5,12 @@ heading turning 3 deg per epoch, pitch and roll oscillating by a few degrees, 20
 50 N 36.2 E, GPS L1, code 0.3 m and phase 2 mm white noise, written to RINEX 3 by
 :func:`gnssatt.rinex.scenario.simulate_rinex_array` and read back; each trial draws the start time (so the
 satellite geometry) and keeps the 5, 6, 7 or 8 highest satellites. Methods, on the same aligned data:
-``ml`` (whole-domain grid each epoch), ``ml_window`` (+/- 10 deg around the previous epoch),
+``ml`` (whole-domain grid each epoch; all through
+:func:`gnssatt.rinex.attitude_from_rinex`, GPS L1), ``ml_window`` (+/- 10 deg around the previous epoch),
 ``lambda`` (geometry-constrained single-epoch fix), ``lambda_hold`` (integers held along arcs).
 Per method and satellite count: fraction of epochs with a wrong solution (an Euler angle off by more than
 3 deg, i.e. a wrong peak or wrong integers), fix rate (LAMBDA), RMS error of the right solutions, time per
-epoch (alignment excluded).
+epoch (file reading excluded; the engine's single-point positioning included).
 
 GEONET part (2 stations 3.3 km apart, baseline mode, the pair shipped in :mod:`gnssatt.data`):
 static-session LAMBDA, single-epoch LAMBDA and held LAMBDA; errors against the static solution and the
@@ -50,8 +51,8 @@ def _angles_error(a: np.ndarray, truth: np.ndarray) -> np.ndarray:
 def trial(rng: np.random.Generator) -> dict[str, float]:
     """One geometry and initial heading; every satellite count and method on it."""
     from gnssatt import sim
-    from gnssatt.rinex import align_receivers, read_nav, read_obs
-    from gnssatt.rinex.attitude import _attitude_mode
+    from gnssatt.rinex import read_nav, read_obs
+    from gnssatt.rinex.attitude import attitude_from_rinex
     from gnssatt.rinex.scenario import simulate_rinex_array
 
     ant = sim.equilateral_triangle(1.0, plane="xz")
@@ -67,20 +68,20 @@ def trial(rng: np.random.Generator) -> dict[str, float]:
             s = simulate_rinex_array(
                 folder, ant, euler, seed=int(rng.integers(2**31)), n_sats=n, start_s=start
             )
-            al = align_receivers(
-                [read_obs(p) for p in s.obs_paths], read_nav(s.nav_path), elevation_mask_deg=5.0
-            )
+            obs, nav = [read_obs(p) for p in s.obs_paths], read_nav(s.nav_path)
         for name in METHODS:
             method = "ml" if name.startswith("ml") else "lambda"
             t0 = time.perf_counter()
-            res = _attitude_mode(
-                al,
+            res = attitude_from_rinex(
+                obs,
+                nav,
                 body,
-                method,  # type: ignore[arg-type]
+                method=method,  # type: ignore[arg-type]
                 continuity=name == "lambda_hold",
                 window_deg=10.0 if name == "ml_window" else None,
-                step_deg=None,
-                ratio_threshold=3.0,
+                systems="G",
+                frequencies=1,
+                elevation_mask_deg=5.0,
             )
             row[f"{name}_n{n}_time_s"] = (time.perf_counter() - t0) / N_EP
             err = _angles_error(res.angles_deg, truth)

@@ -1,75 +1,106 @@
-"""Attitude and baseline-direction time series from recorded RINEX data of antennas on one platform.
+"""Attitude and baseline-direction time series from recorded RINEX data of antennas on one platform, by the
+Rust observation engine (``gnssatt._core.gnss_run``; ``docs/observation_engine.md``).
 
 Two antennas and no baselines: baseline-direction mode, the azimuth (clockwise from North) and elevation
 of the vector from the first antenna to the second. Three or more antennas with body-frame baselines:
-attitude mode, heading / pitch / roll of :func:`gnssatt.ml_attitude` (eq. (5) of seed 001, compass
-heading ``= -psi``).
+attitude mode, heading / pitch / roll (eq. (5) of seed 001, compass heading ``= -psi``).
 
-Methods (the ``method`` column says which produced each row):
+Python only reads the files (:func:`~gnssatt.rinex.session_input.session_input`,
+:func:`~gnssatt.rinex.session_input.nav_input`), checks the arguments and shapes the results; the engine
+does the rest in one GIL-released call: single-point positioning of every receiver (Klobuchar,
+Saastamoinen), double differences of every system and frequency slot chosen, float solution, LAMBDA fixing
+with a success-rate gate and partial fixing (or the ambiguity-function grid, ``method="ml"``).
 
-- ``"ml"``: the ambiguity-function grid (:func:`gnssatt.ml_baseline` / :func:`gnssatt.ml_attitude`) on the
-  wrapped single differences of each epoch, at one common instant (receiver clocks from the pseudoranges),
-  optionally windowed around the previous epoch's solution (``window_deg``); meant for metre-scale arrays
-  (the grid step is ``lambda / (10 L)``), not for kilometre baselines. ``fixed`` is always 0.
-- ``"lambda"``: LAMBDA-fixed double differences. Baseline-direction mode, ``motion="static"``: the
-  ambiguities of the whole session fixed once (:func:`~gnssatt.rinex.baseline.static_baseline`), each
-  epoch's baseline from them; ``motion="moving"``: every epoch fixed on its own, or with the integers held
-  along slip-free arcs (``continuity``). Attitude mode: every epoch's baselines fixed with the array
-  geometry as constraint, then Wahba's problem (:func:`gnssatt.wahba`, weights the squared baseline
-  lengths) gives the attitude (:func:`~gnssatt.rinex.epoch_lambda.epoch_lambda`). ``fixed`` is 1 where the
-  integers passed validation; otherwise the float baselines are reported.
-- ``"auto"``: ``"lambda"`` for baselines beyond 100 m (baseline-direction mode), else ``"ml"``.
+Methods (the ``method`` column says which produced each row): ``"lambda"`` (double differences, LAMBDA;
+geometry-constrained in attitude mode, then Wahba's problem), ``"ml"`` (the grid on the wrapped single
+differences), ``"auto"`` (``"lambda"`` for baselines beyond 100 m, else ``"ml"``).
 """
 
 from __future__ import annotations
 
 import csv
-from collections.abc import Sequence
+import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from os import PathLike
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import choice, flag, scalar, shaped
-from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.likelihood import euler_from_rotation, ml_attitude, ml_baseline
+from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError
 from gnssatt.rinex._fields import path_text
-from gnssatt.rinex.align import Aligned, align_receivers
-from gnssatt.rinex.baseline import epoch_baselines, static_baseline
-from gnssatt.rinex.epoch_lambda import epoch_lambda
 from gnssatt.rinex.nav import RinexNav, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
 
-__all__ = ["AttitudeSeries", "attitude_from_rinex"]
+__all__ = ["SYSTEMS", "AttitudeSeries", "EngineWarning", "attitude_from_rinex"]
 
 MethodName = Literal["auto", "ml", "lambda"]
 MotionName = Literal["static", "moving"]
 
+#: System letters in the engine's order (columns ``sats_G`` ... and rows of ``double_differences``).
+SYSTEMS = "GRECJ"
+#: Signal of each frequency slot per system (``rust/core/src/gnss/signal.rs``).
+SLOT_NAMES = {
+    "G": ("L1", "L2", "L5"),
+    "R": ("G1", "G2", "G3"),
+    "E": ("E1", "E5b", "E5a"),
+    "C": ("B1I", "B2I", "B3I"),
+    "J": ("L1", "L2", "L5"),
+}
+#: Largest search window and grid step, degrees.
+MAX_WINDOW_DEG = 3600.0
+MAX_STEP_DEG = 180.0
+_GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
+
+
+class EngineWarning(GnssattWarning):
+    """Something the observation engine says a user should know (a base position far from the code
+    solution, a system without ephemerides, ...); also kept in :attr:`AttitudeSeries.warnings`."""
+
 
 @dataclass(frozen=True)
 class AttitudeSeries:
-    """Per-epoch results; :meth:`columns` gives the CSV columns in order.
+    """Per-epoch results of :func:`attitude_from_rinex`; :meth:`columns` gives the CSV columns in order.
+
+    ``n`` epochs, ``m`` rovers (antennas after the reference), ``k`` angles (2 or 3).
 
     Attributes
     ----------
     time
-        (n,) GPST epoch labels of the reference receiver, ``datetime64[ns]``.
+        (n,) GPST epoch labels, ``datetime64[ns]``.
     mode
         ``"baseline"`` or ``"attitude"``.
-    angles_deg
-        (n, 2) azimuth, elevation (baseline mode) or (n, 3) heading, pitch, roll (attitude mode), degrees;
-        NaN where the epoch was not solved.
+    angles_deg, angle_sigmas_deg
+        (n, k) azimuth, elevation (baseline mode) or heading, pitch, roll (attitude mode) and their
+        one-sigma (first-order propagation of the baseline covariance), degrees; NaN where unsolved.
     method
         (n,) ``"ml"`` or ``"lambda"``.
     fixed
-        (n,) 1 where integer ambiguities were fixed and accepted, else 0.
+        (n,) 1 where every ambiguity was fixed and validated (or held along an arc), else 0.
     satellites
         (n,) satellites used.
-    baseline_length_m
-        Length used by the grid in baseline mode (from the double-difference solution), m.
+    baselines_enu_m
+        (n, m, 3) rover minus reference antenna, East-North-Up at the reference antenna, m.
+    ratio, success_rate
+        (n,) ratio-test statistic of the set fixed and bootstrapped success rate of the full float set
+        (NaN for ``ml`` or where nothing was fixed).
+    satellites_per_system
+        (n, 5) satellites used per system, order :data:`SYSTEMS`.
+    frequency_slots_used
+        (n,) bit ``s`` set when frequency slot ``s`` (0: L1/G1/E1/B1I, 1: L2/G2/E5b/B2I, 2: L5/G3/E5a/B3I)
+        contributed double differences.
+    double_differences
+        (5, 3) double differences formed over the session per system and slot.
+    rotation_matrices
+        (n, 3, 3) body -> ENU rotation in attitude mode (NaN where unsolved), None in baseline mode.
+    signal_codes
+        RINEX codes chosen per system and slot, as the reader reports them.
+    warnings
+        What the engine said a user should know, one sentence each (each also issued as an
+        :class:`EngineWarning`).
     """
 
     time: NDArray[np.datetime64]
@@ -78,7 +109,16 @@ class AttitudeSeries:
     method: NDArray[np.str_]
     fixed: NDArray[np.int64]
     satellites: NDArray[np.int64]
-    baseline_length_m: float = float("nan")
+    angle_sigmas_deg: NDArray[np.float64]
+    baselines_enu_m: NDArray[np.float64]
+    ratio: NDArray[np.float64]
+    success_rate: NDArray[np.float64]
+    satellites_per_system: NDArray[np.int64]
+    frequency_slots_used: NDArray[np.uint8]
+    double_differences: NDArray[np.uint64]
+    rotation_matrices: NDArray[np.float64] | None
+    signal_codes: Mapping[str, Any]
+    warnings: tuple[str, ...]
 
     @property
     def angle_names(self) -> tuple[str, ...]:
@@ -88,36 +128,79 @@ class AttitudeSeries:
 
     @property
     def solved(self) -> NDArray[np.bool_]:
+        """(n,) epochs with every angle finite."""
         return np.all(np.isfinite(self.angles_deg), axis=1)
 
+    @property
+    def baseline_length_m(self) -> float:
+        """Median length of the first baseline over the solved epochs, m (NaN if none)."""
+        lengths = np.linalg.norm(self.baselines_enu_m[self.solved, 0], axis=1)
+        lengths = lengths[np.isfinite(lengths)]
+        return float(np.median(lengths)) if lengths.size else float("nan")
+
+    @property
+    def rotation(self) -> Rotation:
+        """Body -> ENU rotations of the solved epochs (attitude mode; rows of ``time[solved]``).
+
+        Raises
+        ------
+        InvalidInputError
+            In baseline mode (two antennas: no attitude).
+        """
+        if self.rotation_matrices is None:
+            raise InvalidInputError(
+                "rotation: expected attitude mode (body baselines given), got baseline mode"
+            )
+        return Rotation.from_matrix(self.rotation_matrices[self.solved])
+
+    def frequencies(self) -> NDArray[np.str_]:
+        """(n,) frequency slots used per epoch, 1-based and joined by ``+`` (``"1+2"``); empty if none."""
+        return np.array(
+            [
+                "+".join(str(s + 1) for s in range(3) if int(bits) >> s & 1)
+                for bits in self.frequency_slots_used
+            ]
+        )
+
     def columns(self) -> dict[str, NDArray[np.generic]]:
-        """Column name -> array, in the CSV order."""
-        iso = np.datetime_as_string(self.time, unit="ms")
-        out: dict[str, NDArray[np.generic]] = {"time_gpst": iso}
+        """Column name -> array, in the CSV order (``docs/conventions.md``)."""
+        out: dict[str, NDArray[np.generic]] = {"time_gpst": np.datetime_as_string(self.time, unit="ms")}
         for j, name in enumerate(self.angle_names):
             out[name] = self.angles_deg[:, j]
         out["method"] = self.method
         out["fixed"] = self.fixed
         out["satellites"] = self.satellites
+        for r in range(self.baselines_enu_m.shape[1]):
+            suffix = "" if r == 0 else f"_{r + 1}"
+            b = self.baselines_enu_m[:, r]
+            for j, axis in enumerate(("east", "north", "up")):
+                out[f"{axis}_m{suffix}"] = b[:, j]
+            out[f"length_m{suffix}"] = np.linalg.norm(b, axis=1)
+        for j, name in enumerate(self.angle_names):
+            out[name.replace("_deg", "_sigma_deg")] = self.angle_sigmas_deg[:, j]
+        out["ratio"] = self.ratio
+        out["success_rate"] = self.success_rate
+        for s, letter in enumerate(SYSTEMS):
+            out[f"sats_{letter}"] = self.satellites_per_system[:, s]
+        out["frequencies"] = self.frequencies()
         return out
 
     def to_csv(self, path: str | PathLike[str]) -> None:
-        """Write the CSV (``time_gpst`` ISO 8601, angles, ``method``, ``fixed``, ``satellites``)."""
+        """Write the CSV: a header line, one row per epoch (angles to 1e-6 deg, lengths to 0.1 mm)."""
         cols = self.columns()
+        formats = {name: _format(name) for name in cols}
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(list(cols))
             for i in range(len(self.time)):
-                row = []
-                for name, v in cols.items():
-                    x = v[i]
-                    row.append(f"{x:.6f}" if name.endswith("_deg") else str(x))
-                w.writerow(row)
+                w.writerow([formats[name](v[i]) for name, v in cols.items()])
 
     def summary(self) -> str:
-        """Epochs solved, fix rate, mean and standard deviation of each angle."""
+        """Epochs solved, fix rate, mean and spread of each angle, a line per system and frequency used."""
         ok = self.solved
-        lines = [f"epochs solved: {int(ok.sum())} of {len(ok)}", f"fix rate: {float(self.fixed.mean()):.3f}"]
+        n = len(ok)
+        fix_rate = float(self.fixed.mean()) if n else float("nan")
+        lines = [f"epochs solved: {int(ok.sum())} of {n}", f"fix rate: {fix_rate:.3f}"]
         for j, name in enumerate(self.angle_names):
             v = self.angles_deg[ok, j]
             if name in ("azimuth_deg", "heading_deg") and v.size:
@@ -126,18 +209,47 @@ class AttitudeSeries:
                 mean = c % 360.0
             else:
                 mean, spread = (float(np.mean(v)), float(np.std(v))) if v.size else (np.nan, np.nan)
-            lines.append(f"{name}: mean {mean:.4f}, std {spread:.4f}")
+            sigma = self.angle_sigmas_deg[ok, j]
+            median_sigma = float(np.nanmedian(sigma)) if np.isfinite(sigma).any() else float("nan")
+            lines.append(f"{name}: mean {mean:.4f}, std {spread:.4f}, median sigma {median_sigma:.4f}")
+        for s, letter in enumerate(SYSTEMS):
+            for slot in range(3):
+                count = int(self.double_differences[s, slot])
+                if count:
+                    codes = _codes(self.signal_codes, letter, slot)
+                    lines.append(
+                        f"{letter} {SLOT_NAMES[letter][slot]}: {count} double differences"
+                        + (f" ({codes})" if codes else "")
+                    )
         return "\n".join(lines)
 
 
-#: Largest search window, grid step (degrees) and baseline length (m) accepted.
-MAX_WINDOW_DEG = 3600.0
-MAX_STEP_DEG = 180.0
-MAX_BASELINE_LENGTH_M = 1e5
+def _format(name: str) -> Any:
+    if name.endswith("_deg") or name == "success_rate":
+        return lambda x: f"{x:.6f}"
+    if name.endswith("_m") or "_m_" in name:
+        return lambda x: f"{x:.4f}"
+    if name == "ratio":
+        return lambda x: f"{x:.3f}"
+    return str
 
 
-def _as_obs(x: RinexObs | str | PathLike[str]) -> RinexObs:
-    return x if isinstance(x, RinexObs) else read_obs(x)
+def _codes(signal_codes: Mapping[str, Any], letter: str, slot: int) -> str:
+    """The RINEX codes of one system and slot, joined over receivers where they differ."""
+    found: list[str] = []
+
+    def add(per_system: Mapping[str, Any]) -> None:
+        codes = per_system.get(letter)
+        if codes is not None and slot < len(codes) and codes[slot] and codes[slot] not in found:
+            found.append(str(codes[slot]))
+
+    if any(isinstance(v, Mapping) for v in signal_codes.values()):
+        for v in signal_codes.values():
+            if isinstance(v, Mapping):
+                add(v)
+    else:
+        add(signal_codes)
+    return ", ".join(found)
 
 
 def _obs_list(name: str, value: object) -> list[RinexObs | str | PathLike[str]]:
@@ -171,20 +283,41 @@ def _as_nav(x: RinexNav | str | PathLike[str] | Sequence[str | PathLike[str]]) -
     return out
 
 
+def _systems(value: object) -> str:
+    if not isinstance(value, str):
+        raise InvalidTypeError(f"expected systems as system letters such as 'GE', got {type(value).__name__}")
+    if not value or any(ch not in SYSTEMS for ch in value):
+        raise InvalidInputError(f"expected systems as letters among {SYSTEMS!r}, got {value!r}")
+    return "".join(ch for ch in SYSTEMS if ch in value)
+
+
+def _frequencies(value: object) -> int:
+    from gnssatt import _core
+
+    top = int(_core.GNSS_MAX_FREQUENCIES)
+    if value == "all":
+        return top
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or not 1 <= int(value) <= top:
+        raise InvalidInputError(f"expected frequencies 1..{top} or 'all', got {value!r}")
+    return int(value)
+
+
 def attitude_from_rinex(
     observations: Sequence[RinexObs | str | PathLike[str]],
     nav: RinexNav | str | PathLike[str] | Sequence[str | PathLike[str]],
     baselines: ArrayLike | None = None,
     *,
     method: MethodName = "auto",
-    motion: MotionName = "static",
+    motion: MotionName | None = None,
     continuity: bool = False,
-    window_deg: float | None = None,
-    systems: str = "G",
-    elevation_mask_deg: float = 10.0,
+    systems: str = SYSTEMS,
+    frequencies: int | Literal["all"] = "all",
+    elevation_mask_deg: float | None = None,
+    min_success_rate: float | None = None,
+    ratio_threshold: float | None = None,
+    base_position_m: ArrayLike | None = None,
     step_deg: float | None = None,
-    ratio_threshold: float = 3.0,
-    baseline_length_m: float | None = None,
+    window_deg: float | None = None,
 ) -> AttitudeSeries:
     """Attitude (with ``baselines``) or baseline direction (two antennas, none) at every common epoch.
 
@@ -200,192 +333,133 @@ def attitude_from_rinex(
     method
         ``"auto"``, ``"ml"`` or ``"lambda"`` (module docstring).
     motion
-        ``"static"``: in baseline-direction mode the LAMBDA ambiguities of the whole session are fixed
-        once (a static pair); ``"moving"``: every epoch is fixed on its own
-        (:func:`~gnssatt.rinex.epoch_lambda.epoch_lambda`). Attitude mode always fixes epoch by epoch.
+        ``"static"``: the ambiguities of the whole session fixed once (a static pair); ``"moving"``: every
+        epoch fixed on its own (or held along arcs with ``continuity``). Default: static for two antennas,
+        moving in attitude mode.
     continuity
-        Per-epoch LAMBDA: hold fixed integers along slip-free arcs instead of fixing every epoch afresh.
-    window_deg
-        ML grid: search only +/- this many degrees around the previous epoch's solution in every angle
-        (the whole domain where the previous epoch is unsolved); None searches the whole domain each epoch.
+        Moving: hold fixed integers along slip-free arcs instead of fixing every epoch afresh.
     systems
-        Satellite systems: one carrier frequency per system pair is assumed by the grid (CDMA), default GPS.
-    elevation_mask_deg, step_deg
-        Elevation mask at the reference antenna; grid step (default: eq. (15)).
+        Satellite systems, letters among ``"GRECJ"`` (default all).
+    frequencies
+        Frequency slots used per system, 1..3 or ``"all"`` (3): slot 1 L1/G1/E1/B1I, 2 L2/G2/E5b/B2I,
+        3 L5/G3/E5a/B3I (``docs/observation_engine.md``).
+    elevation_mask_deg
+        Elevation mask at the reference antenna, degrees (default: the engine's, 10).
+    min_success_rate
+        Smallest bootstrapped success rate of the ambiguity set fixed; the largest subset that reaches it
+        is fixed when the full set does not (default ``gnssatt._core.GNSS_DEFAULT_MIN_SUCCESS_RATE``).
     ratio_threshold
-        Acceptance threshold of the LAMBDA validation.
-    baseline_length_m
-        Baseline length for the ML grid in baseline-direction mode; default: from the static LAMBDA
-        solution (``motion="static"``) or the median length of the per-epoch fixed baselines.
+        Ratio-test acceptance threshold, >= 1 (default ``gnssatt._core.GNSS_DEFAULT_RATIO_THRESHOLD``).
+    base_position_m
+        (3,) surveyed ECEF position of the reference antenna, m; default its code solution at each epoch.
+    step_deg, window_deg
+        ML grid step (default eq. (15) of seed 001) and search window around the previous epoch's solution
+        (default the whole domain), degrees.
+
+    Returns
+    -------
+    AttitudeSeries
+        One row per epoch common to all files.
 
     Raises
     ------
     RinexError
-        Unreadable files, no common epochs or satellites.
+        Unreadable files, no common epochs, a file without phase or a system another file lacks.
     InvalidTypeError
         ``observations`` not a list of files or :class:`RinexObs`, ``nav`` not a :class:`RinexNav`, file
         or list of files, another argument of the wrong kind.
     InvalidInputError
-        Fewer than two observations, baselines of the wrong shape or not finite, unknown method or motion,
-        ``window_deg``, ``step_deg`` or ``baseline_length_m`` not positive or above ``MAX_WINDOW_DEG``,
-        ``MAX_STEP_DEG``, ``MAX_BASELINE_LENGTH_M``, ``ratio_threshold`` below 1; ``systems`` and
-        ``elevation_mask_deg`` as :func:`~gnssatt.rinex.align_receivers`.
+        Fewer than two observations, baselines of the wrong shape or not finite, an unknown method, motion
+        or system letter, an option out of its range.
     """
+    from gnssatt import _core
+    from gnssatt.rinex.session_input import nav_input, session_input
+
     method = choice("method", method, ("auto", "ml", "lambda"))
-    motion = choice("motion", motion, ("static", "moving"))
+    if motion is not None:
+        motion = choice("motion", motion, ("static", "moving"))
     continuity = flag("continuity", continuity)
-    if window_deg is not None:
-        window_deg = scalar("window_deg", window_deg, minimum=0.0, maximum=MAX_WINDOW_DEG, strict=True)
+    systems = _systems(systems)
+    n_freq = _frequencies(frequencies)
+    opts: dict[str, Any] = {}
+    if elevation_mask_deg is not None:
+        opts["elevation_mask_deg"] = scalar(
+            "elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0
+        )
+    if min_success_rate is not None:
+        opts["min_success_rate"] = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
+    if ratio_threshold is not None:
+        opts["ratio_threshold"] = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    if base_position_m is not None:
+        opts["base_position_m"] = shaped("base_position_m", base_position_m, "(3,)", (3,))
     if step_deg is not None:
-        step_deg = scalar("step_deg", step_deg, minimum=0.0, maximum=MAX_STEP_DEG, strict=True)
-    ratio_threshold = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
-    if baseline_length_m is not None:
-        baseline_length_m = scalar(
-            "baseline_length_m", baseline_length_m, minimum=0.0, maximum=MAX_BASELINE_LENGTH_M, strict=True
+        opts["step_deg"] = scalar("step_deg", step_deg, minimum=0.0, maximum=MAX_STEP_DEG, strict=True)
+    if window_deg is not None:
+        opts["window_deg"] = scalar(
+            "window_deg", window_deg, minimum=0.0, maximum=MAX_WINDOW_DEG, strict=True
         )
     observations = _obs_list("observations", observations)
+    n_rover = len(observations) - 1
     if baselines is not None:
-        shaped("baselines", baselines, "(n_ant - 1, 3)", (len(observations) - 1, 3))
-    if not isinstance(systems, str):
-        raise InvalidTypeError(
-            f"expected systems as system letters such as 'G', got {type(systems).__name__}"
-        )
-    if not systems or any(ch not in "GREJC" for ch in systems):
-        raise InvalidInputError(f"expected systems as letters among 'GREJC', got {systems!r}")
-    elevation_mask_deg = scalar("elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0)
-    obs = [_as_obs(o) for o in observations]
-    nv = _as_nav(nav)
-    b = None
-    if baselines is not None:
-        b = np.asarray(baselines, dtype=np.float64)
-        if b.ndim != 2 or b.shape != (len(obs) - 1, 3):
-            raise InvalidInputError(f"expected baselines of shape ({len(obs) - 1}, 3), got {b.shape}")
-        if b.shape[0] < 2:
+        b = shaped("baselines", baselines, "(n_ant - 1, 3)", (n_rover, 3))
+        if n_rover < 2:
             raise InvalidInputError(
                 "attitude mode needs three or more antennas; for two, omit the baselines (baseline mode)"
             )
-    elif len(obs) != 2:
-        raise InvalidInputError(f"expected baselines (m, 3) for {len(obs)} antennas, got none")
-    al = align_receivers(obs, nv, systems=systems, elevation_mask_deg=elevation_mask_deg)
-    if b is None:
-        return _baseline_mode(
-            al, method, motion, continuity, window_deg, step_deg, ratio_threshold, baseline_length_m
-        )
-    return _attitude_mode(al, b, method, continuity, window_deg, step_deg, ratio_threshold)
+        opts["body_baselines_m"] = b
+    elif n_rover != 1:
+        raise InvalidInputError(f"expected baselines ({n_rover}, 3) for {n_rover + 1} antennas, got none")
+    if motion is None:
+        motion = "moving" if baselines is not None else "static"
+    obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
+    nv = _as_nav(nav)
+    si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
+    ni = nav_input(nv)
+    s = _core.gnss_run(
+        si.time_gpst_ns,
+        list(si.sats),
+        si.glonass_channel,
+        si.code_m,
+        si.phase_cycles,
+        si.doppler_hz,
+        si.snr_dbhz,
+        si.lli,
+        si.approx_position_m,
+        ni.kepler,
+        ni.glonass,
+        ni.klobuchar,
+        ni.leap_seconds,
+        systems=systems,
+        frequencies=n_freq,
+        motion=motion,
+        method=method,
+        continuity=continuity,
+        **opts,
+    )
+    for message in s.warnings:
+        warnings.warn(message, EngineWarning, stacklevel=2)
+    return _series(s, si.signal_codes)
 
 
-def _enu_angles(enu: NDArray[np.float64]) -> NDArray[np.float64]:
-    e, n, u = enu.T
-    return np.stack([np.degrees(np.arctan2(e, n)) % 360.0, np.degrees(np.arctan2(u, np.hypot(e, n)))], axis=1)
-
-
-def _baseline_mode(
-    al: Aligned,
-    method: MethodName,
-    motion: MotionName,
-    continuity: bool,
-    window_deg: float | None,
-    step_deg: float | None,
-    ratio_threshold: float,
-    baseline_length_m: float | None,
-) -> AttitudeSeries:
-    n_ep = len(al.time)
-    usable = al.usable
-    nsat = usable.sum(axis=1).astype(np.int64)
-    dd = None
-    eb = None
-    if motion == "static":
-        dd = static_baseline(al, ratio_threshold=ratio_threshold)
-        length = float(np.linalg.norm(dd.baseline_ecef_m))
-    else:
-        eb = epoch_lambda(al, None, continuity=continuity, ratio_threshold=ratio_threshold)
-        lengths = np.linalg.norm(eb.baselines_enu_m[eb.fixed, 0], axis=1)
-        length = float(np.median(lengths)) if lengths.size else float("nan")
-    if baseline_length_m is not None:
-        length = float(baseline_length_m)
-    chosen = method if method != "auto" else ("lambda" if not (length <= 100.0) else "ml")
-    angles = np.full((n_ep, 2), np.nan)
-    if chosen == "lambda":
-        if dd is not None:
-            series = epoch_baselines(al, dd)
-            angles = _enu_angles(series.baseline_enu_m)
-            nsat = series.satellites
-            fixed = np.full(n_ep, int(dd.fixed))
-        else:
-            assert eb is not None
-            angles = _enu_angles(eb.baselines_enu_m[:, 0])
-            nsat = eb.satellites
-            fixed = eb.fixed.astype(np.int64)
-        return AttitudeSeries(al.time, "baseline", angles, np.full(n_ep, "lambda"), fixed, nsat, length)
-    if not (np.isfinite(length) and length > 0):
-        raise InvalidInputError(
-            "no baseline length for the ML grid: no epoch was fixed; give baseline_length_m"
-        )
-    sd = al.single_differences_rad()
-    prev: NDArray[np.float64] | None = None
-    for k in range(n_ep):
-        m = usable[k]
-        if m.sum() < 3:
-            prev = None
-            continue
-        win = None
-        if window_deg is not None and prev is not None:
-            win = [
-                [-prev[0] - window_deg, -prev[0] + window_deg],
-                [prev[1] - window_deg, prev[1] + window_deg],
-            ]
-        r = ml_baseline(
-            sd[0, k, m], al.los_enu[k, m], length, al.wavelength_m[m], step_deg=step_deg, window_deg=win
-        )
-        angles[k] = [r.heading_deg, r.elevation_deg]
-        prev = angles[k]
-    fixed = np.zeros(n_ep, dtype=np.int64)
-    return AttitudeSeries(al.time, "baseline", angles, np.full(n_ep, "ml"), fixed, nsat, length)
-
-
-def _attitude_mode(
-    al: Aligned,
-    b: NDArray[np.float64],
-    method: MethodName,
-    continuity: bool,
-    window_deg: float | None,
-    step_deg: float | None,
-    ratio_threshold: float,
-) -> AttitudeSeries:
-    n_ep = len(al.time)
-    usable = al.usable
-    angles = np.full((n_ep, 3), np.nan)
-    if method == "lambda":
-        eb = epoch_lambda(al, b, continuity=continuity, ratio_threshold=ratio_threshold)
-        assert eb.rotation_enu_from_body is not None
-        for k in range(n_ep):
-            if np.all(np.isfinite(eb.rotation_enu_from_body[k])):
-                psi, theta, phi = euler_from_rotation(Rotation.from_matrix(eb.rotation_enu_from_body[k]))
-                angles[k] = [(-psi) % 360.0, theta, phi]
-        return AttitudeSeries(
-            al.time, "attitude", angles, np.full(n_ep, "lambda"), eb.fixed.astype(np.int64), eb.satellites
-        )
-    sd = al.single_differences_rad()
-    prev: NDArray[np.float64] | None = None
-    for k in range(n_ep):
-        m = usable[k]
-        if m.sum() < 3:
-            prev = None
-            continue
-        win = None
-        if window_deg is not None and prev is not None:
-            win = np.stack([prev - window_deg, prev + window_deg], axis=1)
-        r = ml_attitude(
-            sd[:, k, m], al.los_enu[k, m], b, al.wavelength_m[m], step_deg=step_deg, window_deg=win
-        )
-        psi, theta, phi = r.euler_deg
-        angles[k] = [(-psi) % 360.0, theta, phi]
-        prev = r.euler_deg
+def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
+    """An :class:`AttitudeSeries` of a ``gnssatt._core.GnssSession``."""
+    per_system = np.asarray(s.satellites_per_system, dtype=np.int64)
+    dd = s.double_differences
     return AttitudeSeries(
-        al.time,
-        "attitude",
-        angles,
-        np.full(n_ep, "ml"),
-        np.zeros(n_ep, dtype=np.int64),
-        usable.sum(axis=1).astype(np.int64),
+        time=_GPS_EPOCH + np.asarray(s.time_gpst_ns, dtype=np.int64).astype("timedelta64[ns]"),
+        mode=s.mode,
+        angles_deg=s.angles_deg,
+        method=np.array(s.method, dtype=str),
+        fixed=np.asarray(s.fixed, dtype=np.int64),
+        satellites=per_system.sum(axis=1),
+        angle_sigmas_deg=s.angle_sigmas_deg,
+        baselines_enu_m=s.baselines_enu_m,
+        ratio=s.ratio,
+        success_rate=s.success_rate,
+        satellites_per_system=per_system,
+        frequency_slots_used=s.frequency_slots_used,
+        double_differences=np.zeros((5, 3), np.uint64) if dd is None else dd,
+        rotation_matrices=s.rotation_enu_from_body,
+        signal_codes=dict(signal_codes),
+        warnings=tuple(s.warnings),
     )

@@ -1,0 +1,93 @@
+"""`gnssatt attitude` on the engine: its options refused with their own names before any work, library
+messages translated to option names, and a GEONET run end to end (CSV, summary per system and frequency,
+the paths written)."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+
+from gnssatt.cli import main
+from gnssatt.data import geonet_dir
+from gnssatt.errors import InvalidInputError
+
+BASE = ["attitude", "--obs", "a.o", "--obs", "b.o", "--nav", "c.n"]
+
+
+def _one_error_line(capsys: pytest.CaptureFixture[str]) -> str:
+    err = capsys.readouterr().err
+    lines = err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("gnssatt: error: "), err
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("extra", "says"),
+    [
+        (["--systems", "GX"], "argument --systems: expected system letters among GRECJ"),
+        (["--frequencies", "4"], "argument --frequencies: invalid choice: '4'"),
+        (
+            ["--min-success-rate", "1.5"],
+            "argument --min-success-rate: expected a number in [0.0, 1.0], got 1.5",
+        ),
+        (["--min-success-rate", "high"], "argument --min-success-rate"),
+        (["--ratio-threshold", "0.5"], "argument --ratio-threshold: expected a number in [1.0,"),
+        (["--elevation-mask", "95"], "argument --elevation-mask: expected a number in [-90.0, 90.0]"),
+        (["--base-position", "1", "2"], "argument --base-position: expected 3 arguments"),
+        (["--motion", "flying"], "argument --motion: invalid choice"),
+        (["--method", "best"], "argument --method: invalid choice"),
+    ],
+)
+def test_bad_options_are_named(
+    extra: list[str], says: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main([*BASE, "--out", str(tmp_path / "r.csv"), *extra]) == 2
+    assert says in _one_error_line(capsys)
+
+
+@pytest.mark.parametrize(
+    ("message", "says"),
+    [
+        ("expected min_success_rate <= 1.0, got 2.0", "expected --min-success-rate <= 1.0"),
+        ("expected ratio_threshold >= 1.0, got 0.5", "expected --ratio-threshold >= 1.0"),
+        ("expected base_position_m of shape (3,)", "expected --base-position of shape (3,)"),
+        ("expected step_deg > 0.0", "expected --step > 0.0"),
+    ],
+)
+def test_library_messages_name_the_options(
+    message: str,
+    says: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    def fail(*args: object, **kwargs: object) -> None:
+        raise InvalidInputError(message)
+
+    monkeypatch.setattr("gnssatt.rinex.attitude.attitude_from_rinex", fail)
+    assert main([*BASE, "--out", str(tmp_path / "r.csv")]) == 2
+    assert says in _one_error_line(capsys)
+
+
+def test_geonet_l1_l2_static(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    d = geonet_dir()
+    out = tmp_path / "geonet.csv"
+    argv = ["attitude", "--obs", str(d / "07590920.05o"), "--obs", str(d / "30400920.05o")]
+    argv += ["--nav", str(d / "07590920.05n"), "--out", str(out), "--frequencies", "2", "--method", "lambda"]
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert f"wrote {out} and {out.with_suffix('.png')}" in printed
+    assert "epochs solved: 120 of 120" in printed and "fix rate: 1.000" in printed
+    assert "G L1: " in printed and "(C1/L1)" in printed and "G L2: " in printed and "(P2/L2)" in printed
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert (
+        len(rows) == 120
+        and {r["fixed"] for r in rows} == {"1"}
+        and {r["frequencies"] for r in rows} == {"1+2"}
+    )
+    # the prototype's static L1 azimuth (tests/data/prototype_geonet.json), to the centimetre over 3.3 km
+    assert float(rows[0]["azimuth_deg"]) == pytest.approx(163.3858, abs=1e-3)
+    assert float(rows[0]["length_m"]) == pytest.approx(3335.4, abs=0.5)

@@ -1,0 +1,106 @@
+"""The engine's binding (``gnssatt._core.gnss_run``, ``GnssEngine``): every malformed input refused with a
+message naming it, before any work; the options' errors name the CLI option; results are frozen."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from gnssatt import _core
+from gnssatt.errors import InvalidInputError
+
+N_RX, N_EP, SATS = 2, 3, ["G01", "R07", "E11"]
+
+
+def _arrays(n_rx: int = N_RX, n_ep: int = N_EP, n_sat: int = len(SATS)) -> dict[str, Any]:
+    shape = (n_rx, n_ep, n_sat, 3)
+    nan = np.full(shape, np.nan)
+    return {
+        "time_gpst_ns": np.arange(n_ep, dtype=np.int64) * 1_000_000_000 + 1_400_000_000_000_000_000,
+        "sats": list(SATS[:n_sat]),
+        "glonass_channel": np.array([99, -3, 99][:n_sat], dtype=np.int64),
+        "code_m": nan,
+        "phase_cycles": nan.copy(),
+        "doppler_hz": nan.copy(),
+        "snr_dbhz": nan.copy(),
+        "lli": np.zeros(shape, np.uint8),
+        "approx_position_m": np.full((n_rx, 3), np.nan),
+    }
+
+
+def _run(options: dict[str, Any] | None = None, **replace: Any) -> Any:
+    a = _arrays()
+    a.update(replace)
+    return _core.gnss_run(*a.values(), {}, {}, None, None, **(options or {}))
+
+
+@pytest.mark.parametrize(
+    ("replace", "says"),
+    [
+        ({"sats": ["G01", "X07", "E11"]}, "sats[1] as a system letter among GRECJ"),
+        ({"sats": ["G01", "R", "E11"]}, "sats[1]"),
+        ({"sats": ["G01", "R00", "E11"]}, "sats[1]"),
+        ({"glonass_channel": np.array([99, 9, 99])}, "glonass_channel[1] (R07) in -7..6, or 99"),
+        ({"glonass_channel": np.array([99, 99])}, "glonass_channel of shape (3)"),
+        ({"code_m": np.full((2, 2, 3, 3), np.nan)}, "code_m of shape (2, 3, 3, 3)"),
+        ({"lli": np.zeros((2, 3, 3, 2), np.uint8)}, "lli of shape (2, 3, 3, 3)"),
+        ({"approx_position_m": np.full((3, 3), np.nan)}, "approx_position_m of shape (2, 3)"),
+        ({"approx_position_m": np.array([[1e6, np.nan, 0.0], [np.nan] * 3])}, "approx_position_m[0] finite"),
+        ({"code_m": np.full((2, 3, 3, 3), np.inf)}, "code_m"),
+        ({"time_gpst_ns": np.array([3, 2, 1], dtype=np.int64)}, "strictly increasing"),
+        ({"sats": ["G01", "G01", "E11"]}, "each satellite once"),
+    ],
+)
+def test_malformed_observations_are_named(replace: dict[str, Any], says: str) -> None:
+    with pytest.raises(InvalidInputError) as err:
+        _run(**replace)
+    assert says in str(err.value)
+
+
+def test_one_receiver_is_refused() -> None:
+    a = _arrays(n_rx=1)
+    with pytest.raises(InvalidInputError, match="two or more receivers, got 1"):
+        _core.gnss_run(*a.values(), {}, {}, None, None)
+
+
+@pytest.mark.parametrize(
+    ("options", "says"),
+    [
+        ({"systems": "GX"}, "systems as letters among GRECJ"),
+        ({"systems": ""}, "--systems"),
+        ({"frequencies": 4}, "--frequencies"),
+        ({"frequencies": 0}, "--frequencies"),
+        ({"elevation_mask_deg": 91.0}, "--elevation-mask"),
+        ({"min_success_rate": 1.5}, "--min-success-rate"),
+        ({"ratio_threshold": 0.5}, "--ratio-threshold"),
+        ({"base_position_m": np.zeros(3)}, "--base-position"),
+        ({"base_position_m": np.zeros(2)}, "base_position_m of shape (3,)"),
+        ({"motion": "flying"}, "motion 'static' or 'moving'"),
+        ({"method": "best"}, "method 'auto', 'ml' or 'lambda'"),
+        ({"body_baselines_m": np.zeros((2, 3))}, "body_baselines_m of shape (1, 3)"),
+        ({"body_baselines_m": np.full((1, 3), np.nan)}, "body_baselines_m contains a non-finite value"),
+        ({"step_deg": -1.0}, "--step"),
+        ({"window_deg": 0.0}, "--window"),
+    ],
+)
+def test_bad_options_name_the_option(options: dict[str, Any], says: str) -> None:
+    with pytest.raises(InvalidInputError) as err:
+        _run(options)
+    assert says in str(err.value)
+
+
+def test_engine_checks_its_arrays_against_the_constructor() -> None:
+    with pytest.raises(InvalidInputError, match="n_receivers >= 2, got 1"):
+        _core.GnssEngine(SATS, np.array([99, -3, 99]), 1, {}, {}, None, None)
+    with pytest.raises(InvalidInputError, match="--frequencies"):
+        _core.GnssEngine(SATS, np.array([99, -3, 99]), 2, {}, {}, None, None, frequencies=5)
+
+
+def test_defaults_are_the_engines() -> None:
+    # options.rs: EngineOptions::default (the one place the defaults live)
+    assert _core.GNSS_DEFAULT_RATIO_THRESHOLD == 3.0
+    assert _core.GNSS_DEFAULT_ELEVATION_MASK_DEG == pytest.approx(10.0)
+    assert 0.9 < _core.GNSS_DEFAULT_MIN_SUCCESS_RATE < 1.0
+    assert _core.GNSS_MAX_FREQUENCIES == 3
