@@ -140,3 +140,23 @@ def test_streaming_is_the_session_call_in_pieces() -> None:
         np.testing.assert_array_equal(np.concatenate([getattr(p, name) for p in parts]), getattr(whole, name))
     with pytest.raises(AttributeError):
         whole.fixed = None  # frozen
+
+
+def test_the_size_limit_is_checked_before_any_copy() -> None:
+    """1.2e8 epoch x satellite x receiver cells (limit 1e8, observations.rs) as zero-stride views: refused
+    before the binding copies anything (a copy would take gigabytes)."""
+    from gnssatt.errors import WorkLimitError
+
+    n_ep = 20_000_000
+    big = np.broadcast_to(np.float64(np.nan), (2, n_ep, 3, 3))
+    a = _arrays()
+    a.update(
+        time_gpst_ns=np.broadcast_to(np.int64(0), (n_ep,)),
+        code_m=big,
+        phase_cycles=big,
+        doppler_hz=big,
+        snr_dbhz=big,
+        lli=np.broadcast_to(np.uint8(0), (2, n_ep, 3, 3)),
+    )
+    with pytest.raises(WorkLimitError, match="observations"):
+        _core.gnss_run(*a.values(), {}, {}, None, None)

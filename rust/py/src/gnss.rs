@@ -8,17 +8,18 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use gnssatt_core::gnss::navdata::NavData;
-use gnssatt_core::gnss::observations::{Observations, ReceiverObservations};
+use gnssatt_core::gnss::observations::{Observations, ReceiverObservations, MAX_OBSERVATION_CELLS};
 use gnssatt_core::gnss::options::{EngineOptions, Method, Motion};
 use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
 use gnssatt_core::gnss::solution::{EpochSolution, SessionSolution, N_SYSTEMS};
 use gnssatt_core::gnss::{session, stream};
+use gnssatt_core::Error;
 use numpy::ndarray::{Array1, Array2, Array3, Array4};
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray4};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{exact, fixed, rows};
+use crate::convert::{exact, fixed, rows, shape_error};
 use crate::errors::{internal_error, invalid_input, IntoPyResult};
 use crate::gnss_nav::nav_from_py;
 use crate::interruptible;
@@ -83,6 +84,23 @@ fn channels(
         .collect()
 }
 
+/// A (n_rx, n_ep, n_sat, 3) array of exactly `shape`, one row-major vector per receiver.
+fn per_receiver<T: numpy::Element + Copy>(
+    py: Python<'_>,
+    name: &str,
+    a: &PyReadonlyArray4<'_, T>,
+    shape: &[usize; 4],
+) -> PyResult<Vec<Vec<T>>> {
+    let v = a.as_array();
+    if v.shape() != shape {
+        let expected = format!("({}, {}, {}, {})", shape[0], shape[1], shape[2], shape[3]);
+        return Err(shape_error(py, name, &expected, v.shape()));
+    }
+    Ok(v.outer_iter()
+        .map(|r| r.iter().copied().collect())
+        .collect())
+}
+
 fn observations(
     py: Python<'_>,
     a: &EpochArrays<'_>,
@@ -90,20 +108,28 @@ fn observations(
     glonass_channel: Vec<Option<i8>>,
     n_receivers: Option<usize>,
 ) -> PyResult<Observations> {
-    let time_gpst_ns = a.time_gpst_ns.as_array().to_vec();
-    let (ne, ns) = (time_gpst_ns.len(), sats.len());
+    let (ne, ns) = (a.time_gpst_ns.as_array().len(), sats.len());
     let nr = n_receivers.unwrap_or(a.code_m.as_array().shape()[0]);
+    // The documented limit before any copy: the arrays are already in memory once, in numpy.
+    let cells = ne.saturating_mul(ns).saturating_mul(nr);
+    if cells > MAX_OBSERVATION_CELLS {
+        return Err(Error::too_large(
+            "observations",
+            cells as f64,
+            MAX_OBSERVATION_CELLS as f64,
+            "epochs x satellites x receivers",
+        ))
+        .into_py_result(py);
+    }
     let shape = [nr, ne, ns, MAX_FREQUENCIES];
-    let code = exact(py, "code_m", &a.code_m, &shape)?;
-    let phase = exact(py, "phase_cycles", &a.phase_cycles, &shape)?;
-    let doppler = exact(py, "doppler_hz", &a.doppler_hz, &shape)?;
-    let snr = exact(py, "snr_dbhz", &a.snr_dbhz, &shape)?;
-    let lli = exact(py, "lli", &a.lli, &shape)?;
+    let mut code = per_receiver(py, "code_m", &a.code_m, &shape)?;
+    let mut phase = per_receiver(py, "phase_cycles", &a.phase_cycles, &shape)?;
+    let mut doppler = per_receiver(py, "doppler_hz", &a.doppler_hz, &shape)?;
+    let mut snr = per_receiver(py, "snr_dbhz", &a.snr_dbhz, &shape)?;
+    let mut lli = per_receiver(py, "lli", &a.lli, &shape)?;
     let approx = exact(py, "approx_position_m", &a.approx_position_m, &[nr, 3])?;
-    let cell = ne * ns * MAX_FREQUENCIES;
     let mut receivers = Vec::with_capacity(nr);
-    for r in 0..nr {
-        let span = r * cell..(r + 1) * cell;
+    for r in (0..nr).rev() {
         let p = [approx[3 * r], approx[3 * r + 1], approx[3 * r + 2]];
         // NaN rows (the reader's "none") and the zeros of a header without a position mean "unknown".
         let approx_position_m = if p.iter().all(|x| x.is_finite()) && p != [0.0; 3] {
@@ -118,15 +144,18 @@ fn observations(
                 ),
             ));
         };
+        // popped from the back: each receiver's arrays move without a second copy
         receivers.push(ReceiverObservations {
-            code_m: code[span.clone()].to_vec(),
-            phase_cycles: phase[span.clone()].to_vec(),
-            doppler_hz: doppler[span.clone()].to_vec(),
-            snr_dbhz: snr[span.clone()].to_vec(),
-            lli: lli[span].to_vec(),
+            code_m: code.pop().unwrap_or_default(),
+            phase_cycles: phase.pop().unwrap_or_default(),
+            doppler_hz: doppler.pop().unwrap_or_default(),
+            snr_dbhz: snr.pop().unwrap_or_default(),
+            lli: lli.pop().unwrap_or_default(),
             approx_position_m,
         });
     }
+    receivers.reverse();
+    let time_gpst_ns = a.time_gpst_ns.as_array().to_vec();
     let obs = Observations {
         time_gpst_ns,
         sats,
