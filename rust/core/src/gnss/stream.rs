@@ -41,20 +41,25 @@
 mod arcs;
 mod ml;
 mod output;
+#[cfg(test)]
+mod tests;
 
 use std::collections::BTreeSet;
 
 use nalgebra::{Matrix3, Vector3};
 
 use self::arcs::ArcTracker;
-use self::output::{azimuth_elevation, enu_from_ecef, geodetic_lat_lon, heading_pitch_roll, row_major};
+use self::output::{
+    azimuth_elevation, enu_from_ecef, geodetic_lat_lon, heading_pitch_roll, row_major,
+};
 use super::ephemeris::Ephemerides;
 use super::geometry::{satellite_geometry, SatGeometry};
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
 use super::rtk::{
-    solve_attitude, solve_baseline, AttitudeSolution, BaselineSolution, DdEpoch, FixOptions, SignalPair,
+    solve_attitude, solve_baseline, AttitudeSolution, BaselineSolution, DdEpoch, FixOptions,
+    SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
 use super::solution::{EpochSolution, N_SYSTEMS};
@@ -404,7 +409,12 @@ impl Engine {
                     continue;
                 };
                 let i = obs.index(k, s, slot);
-                let values = [b.code_m[i], v.code_m[i], b.phase_cycles[i], v.phase_cycles[i]];
+                let values = [
+                    b.code_m[i],
+                    v.code_m[i],
+                    b.phase_cycles[i],
+                    v.phase_cycles[i],
+                ];
                 if !values.iter().all(|x| x.is_finite()) {
                     continue;
                 }
@@ -518,7 +528,11 @@ impl Engine {
                 match result {
                     Ok(mut sol) => {
                         if self.opts.continuity && static_session.is_none() {
-                            self.held[r] = if sol.fixed { sol.integers.clone() } else { Vec::new() };
+                            self.held[r] = if sol.fixed {
+                                sol.integers.clone()
+                            } else {
+                                Vec::new()
+                            };
                         }
                         if let Some(s) = &static_session {
                             sol.ratio = s.ratio;

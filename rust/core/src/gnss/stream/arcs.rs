@@ -108,7 +108,8 @@ impl ArcTracker {
                     (1..MAX_FREQUENCIES).find_map(|j| metres(j).map(|pj| (j, p0 - pj)))
                 });
                 if let (Some((j0, a)), Some((j1, b))) = (self.geometry_free[g], now) {
-                    if j0 == j1 && (b - a).abs() > GEOMETRY_FREE_JUMP_M + GEOMETRY_FREE_RATE_M_S * dt_s
+                    if j0 == j1
+                        && (b - a).abs() > GEOMETRY_FREE_JUMP_M + GEOMETRY_FREE_RATE_M_S * dt_s
                     {
                         for slot in 0..MAX_FREQUENCIES {
                             let c = self.cell(r, s, slot);
@@ -145,5 +146,110 @@ impl ArcTracker {
     /// (meaningful where both receivers have phase there).
     pub(crate) fn arc(&self, rover: usize, sat: usize, slot: usize) -> u64 {
         self.pair_arc[((rover - 1) * self.n_sats + sat) * MAX_FREQUENCIES + slot]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gnss::observations::ReceiverObservations;
+    use crate::gnss::signal::{carrier_frequency_hz, SatId, System, SPEED_OF_LIGHT_M_S};
+
+    /// One GPS satellite, two receivers, `n` epochs 1 s apart; L1 and L2 phase equal to the code
+    /// (no ionosphere) on a range that grows 500 m/s.
+    fn session(n: usize) -> Observations {
+        let cells = n * MAX_FREQUENCIES;
+        let mut rx = ReceiverObservations {
+            code_m: vec![f64::NAN; cells],
+            phase_cycles: vec![f64::NAN; cells],
+            doppler_hz: vec![f64::NAN; cells],
+            snr_dbhz: vec![f64::NAN; cells],
+            lli: vec![0; cells],
+            approx_position_m: None,
+        };
+        for k in 0..n {
+            let range = 2.2e7 + 500.0 * k as f64;
+            for slot in 0..2 {
+                let f = carrier_frequency_hz(System::Gps, slot, None).unwrap();
+                rx.code_m[k * MAX_FREQUENCIES + slot] = range;
+                rx.phase_cycles[k * MAX_FREQUENCIES + slot] = range * f / SPEED_OF_LIGHT_M_S;
+            }
+        }
+        Observations {
+            time_gpst_ns: (0..n as i64).map(|k| k * 1_000_000_000).collect(),
+            sats: vec![SatId {
+                system: System::Gps,
+                prn: 1,
+            }],
+            glonass_channel: vec![None],
+            receivers: vec![rx.clone(), rx],
+        }
+    }
+
+    fn arcs(obs: &Observations) -> Vec<[u64; 2]> {
+        let mut t = ArcTracker::new(1, 2);
+        (0..obs.n_epochs())
+            .map(|k| {
+                t.advance(obs, k);
+                [t.arc(1, 0, 0), t.arc(1, 0, 1)]
+            })
+            .collect()
+    }
+
+    /// Epochs (after the first) at which slot `slot` got a new identity.
+    fn breaks(a: &[[u64; 2]], slot: usize) -> Vec<usize> {
+        (1..a.len())
+            .filter(|&k| a[k][slot] != a[k - 1][slot])
+            .collect()
+    }
+
+    #[test]
+    fn clean_phases_keep_one_arc_per_slot() {
+        let a = arcs(&session(6));
+        assert_eq!(breaks(&a, 0), Vec::<usize>::new());
+        assert_eq!(breaks(&a, 1), Vec::<usize>::new());
+        assert_ne!(a[0][0], a[0][1]);
+    }
+
+    #[test]
+    fn loss_of_lock_at_the_rover_breaks_that_slot_only() {
+        let mut obs = session(6);
+        obs.receivers[1].lli[3 * MAX_FREQUENCIES + 1] = 1;
+        let a = arcs(&obs);
+        assert_eq!(breaks(&a, 1), vec![3]);
+        assert_eq!(breaks(&a, 0), Vec::<usize>::new());
+    }
+
+    #[test]
+    fn a_gap_at_the_base_starts_a_new_arc_when_the_phase_returns() {
+        let mut obs = session(6);
+        obs.receivers[0].phase_cycles[2 * MAX_FREQUENCIES] = f64::NAN;
+        assert_eq!(breaks(&arcs(&obs), 0), vec![3]);
+    }
+
+    #[test]
+    fn a_one_cycle_slip_on_one_slot_is_seen_by_the_geometry_free_test() {
+        // 1 L2 cycle = 0.244 m of geometry-free jump (> 0.05 m), far below the phase-code threshold.
+        let mut obs = session(6);
+        for k in 4..6 {
+            obs.receivers[1].phase_cycles[k * MAX_FREQUENCIES + 1] += 1.0;
+        }
+        let a = arcs(&obs);
+        assert_eq!(breaks(&a, 0), vec![4]);
+        assert_eq!(breaks(&a, 1), vec![4]);
+    }
+
+    #[test]
+    fn a_large_slip_with_one_slot_is_seen_by_the_phase_code_test_and_small_noise_is_not() {
+        let mut obs = session(6);
+        for k in 0..6 {
+            obs.receivers[1].phase_cycles[k * MAX_FREQUENCIES + 1] = f64::NAN;
+            // 1 m of code noise (alternating) stays under the 5 m threshold.
+            obs.receivers[1].code_m[k * MAX_FREQUENCIES] += if k % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        for k in 3..6 {
+            obs.receivers[1].phase_cycles[k * MAX_FREQUENCIES] += 40.0; // 7.6 m
+        }
+        assert_eq!(breaks(&arcs(&obs), 0), vec![3]);
     }
 }

@@ -33,7 +33,12 @@ pub(crate) fn epoch(
     n_rovers: usize,
 ) -> Option<MlEpoch> {
     let base = p.base_m?;
-    let dds: Vec<_> = p.rovers.iter().take(n_rovers).map(Option::as_ref).collect::<Option<Vec<_>>>()?;
+    let dds: Vec<_> = p
+        .rovers
+        .iter()
+        .take(n_rovers)
+        .map(Option::as_ref)
+        .collect::<Option<Vec<_>>>()?;
     let first = dds.first()?;
     let common = |sat: usize| {
         dds.iter()
@@ -46,7 +51,10 @@ pub(crate) fn epoch(
         .map(|s| s.sat)
         .collect();
     let system = System::ALL.into_iter().max_by_key(|&sys| {
-        let n = candidates.iter().filter(|&&s| sats[s].system == sys).count();
+        let n = candidates
+            .iter()
+            .filter(|&&s| sats[s].system == sys)
+            .count();
         // Ties go to the earlier system: a larger key for a smaller index.
         (n, std::cmp::Reverse(sys.index()))
     })?;
@@ -82,9 +90,7 @@ pub(crate) fn epoch(
         };
         let s0 = pick(first)?;
         let offset = -dt_b - s0.base.range_m / SPEED_OF_LIGHT_M_S;
-        let velocity: Vector3<f64> = eph
-            .state(sats[sat], p.time_gpst_ns, offset)?
-            .velocity_m_s;
+        let velocity: Vector3<f64> = eph.state(sats[sat], p.time_gpst_ns, offset)?.velocity_m_s;
         let range_rate = s0.base.los_ecef.dot(&velocity);
         let l = enu * s0.base.los_ecef;
         los_enu.push([l.x, l.y, l.z]);

@@ -27,17 +27,7 @@ pub(crate) fn geodetic_lat_lon(p: &Vector3<f64>) -> (f64, f64) {
 pub(crate) fn enu_from_ecef(lat: f64, lon: f64) -> Matrix3<f64> {
     let (sl, cl) = lat.sin_cos();
     let (so, co) = lon.sin_cos();
-    Matrix3::new(
-        -so,
-        co,
-        0.0,
-        -sl * co,
-        -sl * so,
-        cl,
-        cl * co,
-        cl * so,
-        sl,
-    )
+    Matrix3::new(-so, co, 0.0, -sl * co, -sl * so, cl, cl * co, cl * so, sl)
 }
 
 /// Azimuth (clockwise from North, [0, 360)) and elevation of an ENU vector with their one-sigma values
@@ -88,8 +78,11 @@ mod tests {
 
     #[test]
     fn geodetic_round_trip_against_the_closed_form_forward_map() {
-        for &(lat_deg, lon_deg, h) in &[(35.7, 139.7, 50.0), (-60.0, -20.0, 3000.0), (0.1, 179.9, 0.0)]
-        {
+        for &(lat_deg, lon_deg, h) in &[
+            (35.7, 139.7, 50.0),
+            (-60.0, -20.0, 3000.0),
+            (0.1, 179.9, 0.0),
+        ] {
             let (lat, lon) = (f64::to_radians(lat_deg), f64::to_radians(lon_deg));
             let n = WGS84_A_M / (1.0 - WGS84_E2 * lat.sin().powi(2)).sqrt();
             let p = Vector3::new(
