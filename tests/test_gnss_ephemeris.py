@@ -52,7 +52,8 @@ def nav_dicts(nav: RinexNav) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
         "toc_gpst_ns": k.toc_ns.astype(np.int64),
         "toe_gpst_ns": k.toe_ns.astype(np.int64),
         "af": np.ascontiguousarray(k.af, dtype=np.float64).reshape(n, 3),
-        # GPS/QZSS: [TGD, NaN] (the second field is IODC); Galileo [BGD E5a/E1, BGD E5b/E1]; BeiDou [TGD1, TGD2]
+        # GPS/QZSS [TGD, NaN] (the second field is IODC); Galileo [BGD E5a/E1, BGD E5b/E1]; BeiDou
+        # [TGD1, TGD2]
         "tgd_s": np.stack([f["tgd"], np.where(is_gps_like, np.nan, f["iodc_tgd2"])], axis=-1).reshape(n, 2),
         "accuracy_m": f["accuracy"],
         "fit_interval_h": np.where(is_gps_like, f["fit_interval"], np.nan),
@@ -95,7 +96,9 @@ def rust_states(
 def _one_kepler(nav: RinexNav, i: int) -> RinexNav:
     k = nav.kepler
     s = slice(i, i + 1)
-    sub = KeplerEphemerides(k.sats[s], k.toc_ns[s], k.toe_ns[s], k.af[s], {n: v[s] for n, v in k.fields.items()})
+    sub = KeplerEphemerides(
+        k.sats[s], k.toc_ns[s], k.toe_ns[s], k.af[s], {n: v[s] for n, v in k.fields.items()}
+    )
     empty = nav.glonass.__class__(*(np.asarray(v)[:0] for v in dataclasses.astuple(nav.glonass)))
     return dataclasses.replace(nav, kepler=sub, glonass=empty)
 
@@ -104,7 +107,9 @@ def _one_glonass(nav: RinexNav, i: int) -> RinexNav:
     g = nav.glonass
     sub = GlonassEphemerides(*(np.asarray(v)[i : i + 1] for v in dataclasses.astuple(g)))
     k = nav.kepler
-    empty = KeplerEphemerides(k.sats[:0], k.toc_ns[:0], k.toe_ns[:0], k.af[:0], {n: v[:0] for n, v in k.fields.items()})
+    empty = KeplerEphemerides(
+        k.sats[:0], k.toc_ns[:0], k.toe_ns[:0], k.af[:0], {n: v[:0] for n, v in k.fields.items()}
+    )
     return dataclasses.replace(nav, kepler=empty, glonass=sub)
 
 
@@ -201,7 +206,9 @@ def test_circular_orbit_closed_form() -> None:
     a = 5153.7**2
     n = np.sqrt(GPS_MU / a**3)
     tks = np.array([-7000.0, -1234.5, 0.0, 3600.0, 7200.0])
-    pos, clk, ok = _core.gnss_satellite_states(rec, {}, None, None, ["G07"] * 5, toe + (tks * 1e9).astype(np.int64))
+    pos, clk, ok = _core.gnss_satellite_states(
+        rec, {}, None, None, ["G07"] * 5, toe + (tks * 1e9).astype(np.int64)
+    )
     assert ok.all()
     for j, tk in enumerate(tks):
         u = 0.3 + n * tk + 0.7
@@ -212,7 +219,9 @@ def test_circular_orbit_closed_form() -> None:
         np.testing.assert_allclose(pos[j], want, rtol=0, atol=1e-6)
         assert abs(clk[j] - (1e-4 + 2e-11 * tk + 1e-18 * tk**2)) < 1e-16
     # fit interval 4 h: valid to toe +- 2 h, not beyond
-    _, _, ok = _core.gnss_satellite_states(rec, {}, None, None, ["G07"] * 2, np.array([toe + 7201 * 10**9, toe - 7201 * 10**9]))
+    _, _, ok = _core.gnss_satellite_states(
+        rec, {}, None, None, ["G07"] * 2, np.array([toe + 7201 * 10**9, toe - 7201 * 10**9])
+    )
     assert not ok.any()
 
 
@@ -261,7 +270,7 @@ def test_qzss_l1_healthy_record_of_a_real_file_is_used() -> None:
 
 def test_glonass_unhealthy_and_out_of_interval() -> None:
     nav = read_nav(NAV_FILES[0])
-    kepler, glonass = nav_dicts(nav)
+    _, glonass = nav_dicts(nav)
     tb = int(glonass["tb_gpst_ns"][0])
     sat = str(glonass["sat"][0])
     t = np.array([tb, tb + 1801 * 10**9 + 1800 * 10**9], dtype=np.int64)
@@ -276,7 +285,9 @@ def test_bad_records_are_refused_with_their_name() -> None:
     from gnssatt.errors import InvalidInputError
 
     rec = _circular_record(e=0.5)
-    with pytest.raises(InvalidInputError, match=r"record 0 \(G07\): expected an eccentricity in \[0, 0.1\], got 0.5"):
+    with pytest.raises(
+        InvalidInputError, match=r"record 0 \(G07\): expected an eccentricity in \[0, 0.1\], got 0.5"
+    ):
         _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toe_gpst_ns"])
     rec = _circular_record(sqrt_a=np.nan)
     with pytest.raises(InvalidInputError, match="expected a finite sqrt_a"):

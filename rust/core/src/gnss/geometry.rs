@@ -105,7 +105,7 @@ pub fn satellite_geometry(
     }
     let d = position - receiver_m;
     let range = d.norm();
-    if !(range > 1.0) {
+    if range.is_nan() || range <= 1.0 {
         return None;
     }
     let los = d / range;

@@ -347,7 +347,7 @@ fn linearise(
             continue;
         };
         let (iono, tropo, mapping, el) = if known {
-            if mask && !(g.elevation_rad >= opts.elevation_mask_rad) {
+            if mask && (g.elevation_rad.is_nan() || g.elevation_rad < opts.elevation_mask_rad) {
                 continue;
             }
             let iono = nav.klobuchar.map_or(0.0, |k| {

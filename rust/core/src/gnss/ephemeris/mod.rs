@@ -88,13 +88,13 @@ pub fn kepler_healthy(record: &KeplerRecord) -> bool {
 }
 
 /// Nearest usable record (`usable(record, age_s)`) by reference time; the lower `rank` breaks ties.
-fn nearest<'a, R>(
-    records: &'a [R],
+fn nearest<R>(
+    records: &[R],
     t_gpst_ns: i64,
     reference_ns: impl Fn(&R) -> i64,
     usable: impl Fn(&R, f64) -> bool,
     rank: impl Fn(&R) -> u8,
-) -> Option<&'a R> {
+) -> Option<&R> {
     records
         .iter()
         .filter_map(|r| {
