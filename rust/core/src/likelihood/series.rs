@@ -48,7 +48,7 @@ pub struct MlSolution {
     /// (roll about one baseline is not observable).
     pub euler_gost_rad: [f64; 3],
     /// Direction of the (first) baseline in East-North-Up: compass azimuth (clockwise from North) in
-    /// [0, 2 pi) and elevation in [-pi/2, pi/2], radians. Baseline mode: `(-psi mod 2 pi, theta)`.
+    /// [0, 2 pi) and elevation in [-pi/2, pi/2], radians. Baseline mode: `(-psi mod 2 pi, theta)` exactly.
     pub direction_rad: [f64; 2],
     /// The ambiguity function at the grid maximum (float32 kernel value), at most `n_rover x n_sig`.
     pub value: f64,
@@ -262,13 +262,18 @@ fn solve(
     let grid = epoch_grid(step, mode, around).map_err(|x| x.at_epoch(k))?;
     let est = estimate(&model, &grid, Search::Auto, Refine::Newton).map_err(|x| x.at_epoch(k))?;
     let [psi, theta, phi] = est.angles_rad;
-    let v = dcm_enu_from_body(psi, theta, phi) * baselines[0];
-    let azimuth = v.x.atan2(v.y).rem_euclid(TAU);
-    let direction_rad = [
-        // rem_euclid of a tiny negative angle rounds to 2 pi itself.
-        if azimuth >= TAU { 0.0 } else { azimuth },
-        (v.z / v.norm()).clamp(-1.0, 1.0).asin(),
-    ];
+    // Baseline mode: body X is the baseline, so its compass azimuth is -psi and its elevation theta
+    // exactly (what `ml_baseline` reports); attitude mode: the rotated first baseline.
+    let (azimuth, elevation) = match mode {
+        Mode::Baseline => (-psi, theta),
+        Mode::Attitude => {
+            let v = dcm_enu_from_body(psi, theta, phi) * baselines[0];
+            (v.x.atan2(v.y), (v.z / v.norm()).clamp(-1.0, 1.0).asin())
+        }
+    };
+    let azimuth = azimuth.rem_euclid(TAU);
+    // rem_euclid of a tiny negative angle rounds to 2 pi itself.
+    let direction_rad = [if azimuth >= TAU { 0.0 } else { azimuth }, elevation];
     Ok(MlSolution {
         euler_gost_rad: est.angles_rad,
         direction_rad,
