@@ -61,6 +61,26 @@ def likelihood_grid(
     two_dimensional: bool,
 ) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 
+# likelihood.rs, per-epoch batches: sd_phase (E, n_rover, n_sig) with NaN for absent signals, los
+# (E, n_sig, 3) ENU, wavelengths (E, n_sig). Returns euler_rad (E, 3), direction_rad (E, 2) (compass
+# azimuth, elevation of the first baseline), z_max (E,), solved (E,).
+def ml_attitude_series(
+    sd_phase: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baselines: NDArray[np.float64],
+    step_rad: float | None,
+    window_rad: float | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+def ml_baseline_series(
+    sd_phase: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baseline_length_m: float,
+    step_rad: float | None,
+    window_rad: float | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+
 # lambda.rs: integer least squares (LAMBDA / MLAMBDA), validation, partial fixing.
 def lambda_ils(
     float_ambiguities: NDArray[np.float64], covariance: NDArray[np.float64], candidates: int = 2
