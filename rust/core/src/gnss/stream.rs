@@ -49,11 +49,9 @@ use std::collections::BTreeSet;
 use nalgebra::{Matrix3, Vector3};
 
 use self::arcs::ArcTracker;
-use self::output::{
-    azimuth_elevation, enu_from_ecef, geodetic_lat_lon, heading_pitch_roll, row_major,
-};
+use self::output::{azimuth_elevation, heading_pitch_roll, row_major};
 use super::ephemeris::Ephemerides;
-use super::geometry::{satellite_geometry, SatGeometry};
+use super::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry, SatGeometry};
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
@@ -67,7 +65,7 @@ use super::spp::single_point;
 use crate::error::{Error, Result};
 use crate::interrupt;
 use crate::likelihood::dcm_enu_from_body;
-use crate::likelihood::series::{ml_attitude_series, ml_baseline_series, MlEpoch};
+use crate::likelihood::{ml_attitude_series, ml_baseline_series, MlEpoch};
 
 /// Distance between `base_position_m` and the base's code solution beyond which a warning is given, m
 /// (a code solution is within a few metres; 30 m means a wrong or mistyped survey position, which
@@ -303,7 +301,7 @@ impl Engine {
             match single_point(obs, r, k, &self.eph, &self.nav, &self.opts, prior.as_ref()) {
                 Ok(spp) => {
                     self.spp_prior[r] = Some(spp.position_m);
-                    positions.push(Some(spp.position_m));
+                    positions.push(Some((spp.position_m, spp.geometry)));
                     clocks_s.push(spp.clock_s);
                 }
                 Err(e) if leaves_epoch_unsolved(&e) => {
@@ -320,10 +318,11 @@ impl Engine {
                 Err(e) => return Err(e),
             }
         }
-        let base_m = match (self.opts.base_position_m, positions[0]) {
+        // The base's geometry: the code solution's, or recomputed at the surveyed position.
+        let base = match (self.opts.base_position_m, positions[0].take()) {
             (Some(given), code) => {
                 let given = Vector3::from(given);
-                if let Some(code) = code {
+                if let Some((code, _)) = code {
                     let d = (code - given).norm();
                     if d > BASE_WARNING_DISTANCE_M {
                         self.warn_once(
@@ -335,24 +334,25 @@ impl Engine {
                             ),
                         );
                     }
-                    Some(given)
+                    Some((given, self.geometry(t, &clocks_s[0], &given)))
                 } else {
                     None
                 }
             }
             (None, code) => code,
         };
+        let base_m = base.as_ref().map(|b| b.0);
         let mut rovers = vec![None; self.n_receivers - 1];
-        if let Some(base) = base_m {
-            let base_geometry = self.geometry(t, &clocks_s[0], &base);
+        if let Some((base, base_geometry)) = &base {
             for r in 1..self.n_receivers {
-                let Some(rover) = positions[r] else { continue };
-                let rover_geometry = self.geometry(t, &clocks_s[r], &rover);
-                let signals = self.select(obs, k, r, &base_geometry, &rover_geometry);
+                let Some((rover, rover_geometry)) = &positions[r] else {
+                    continue;
+                };
+                let signals = self.select(obs, k, r, base_geometry, rover_geometry);
                 self.usable_signals += signals.len() as u64;
                 rovers[r - 1] = Some(DdEpoch {
-                    base_m: base,
-                    rover_prior_m: rover,
+                    base_m: *base,
+                    rover_prior_m: *rover,
                     signals,
                 });
             }
@@ -365,7 +365,8 @@ impl Engine {
         })
     }
 
-    /// Geometry of every selected-system satellite seen from `receiver_m` with the receiver's clocks.
+    /// Geometry of every selected-system satellite seen from `receiver_m` with the receiver's clocks
+    /// (the clock of the satellite's system, else the first estimated).
     fn geometry(
         &self,
         t: i64,
@@ -423,8 +424,8 @@ impl Engine {
                     system: sat.system,
                     slot,
                     wavelength_m: super::signal::SPEED_OF_LIGHT_M_S / f,
-                    base: bg.clone(),
-                    rover: rg.clone(),
+                    base: *bg,
+                    rover: *rg,
                     base_code_m: values[0],
                     rover_code_m: values[1],
                     base_phase_cycles: values[2],
@@ -825,7 +826,7 @@ fn held_consistent(dd: &DdEpoch, sol: &BaselineSolution, held: &[(u64, u64, i64)
 
 /// Baseline-mode estimate from one solution per rover, East-North-Up at the base.
 fn baseline_estimate(base: &Vector3<f64>, sols: &[&BaselineSolution]) -> Estimate {
-    let (lat, lon) = geodetic_lat_lon(base);
+    let (lat, lon, _) = geodetic_from_ecef(base);
     let r = enu_from_ecef(lat, lon);
     let first = sols[0];
     Estimate {

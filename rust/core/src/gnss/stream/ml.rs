@@ -15,11 +15,11 @@
 
 use nalgebra::Vector3;
 
-use super::output::{enu_from_ecef, geodetic_lat_lon};
 use super::Prepared;
 use crate::gnss::ephemeris::Ephemerides;
+use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
 use crate::gnss::signal::{SatId, System, SPEED_OF_LIGHT_M_S};
-use crate::likelihood::series::MlEpoch;
+use crate::likelihood::MlEpoch;
 
 /// Smallest number of satellites the grid is given (three lines of sight fix a direction).
 pub(crate) const MIN_SIGNALS: usize = 3;
@@ -75,7 +75,7 @@ pub(crate) fn epoch(
         }
     };
     let dt_b = clock(0)?;
-    let (lat, lon) = geodetic_lat_lon(&base);
+    let (lat, lon, _) = geodetic_from_ecef(&base);
     let enu = enu_from_ecef(lat, lon);
     let n_sig = chosen.len();
     let mut sd_phase_rad = vec![0.0; n_rovers * n_sig];

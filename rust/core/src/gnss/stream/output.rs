@@ -5,31 +5,6 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::rotation::euler::YZX;
 
-/// WGS-84 semi-major axis, m, and first eccentricity squared.
-const WGS84_A_M: f64 = 6_378_137.0;
-const WGS84_E2: f64 = 6.694_379_990_14e-3;
-
-/// Geodetic latitude and longitude (rad) of an ECEF position (Bowring's iteration; five rounds reach
-/// 1e-12 rad anywhere between 5e6 and 1e8 m from the centre, the range `--base-position` accepts).
-pub(crate) fn geodetic_lat_lon(p: &Vector3<f64>) -> (f64, f64) {
-    let lon = p.y.atan2(p.x);
-    let r = p.x.hypot(p.y);
-    let mut lat = p.z.atan2(r * (1.0 - WGS84_E2));
-    for _ in 0..5 {
-        let s = lat.sin();
-        let n = WGS84_A_M / (1.0 - WGS84_E2 * s * s).sqrt();
-        lat = (p.z + WGS84_E2 * n * s).atan2(r);
-    }
-    (lat, lon)
-}
-
-/// Rotation ENU <- ECEF at geodetic latitude and longitude (rows: East, North, Up).
-pub(crate) fn enu_from_ecef(lat: f64, lon: f64) -> Matrix3<f64> {
-    let (sl, cl) = lat.sin_cos();
-    let (so, co) = lon.sin_cos();
-    Matrix3::new(-so, co, 0.0, -sl * co, -sl * so, cl, cl * co, cl * so, sl)
-}
-
 /// Azimuth (clockwise from North, [0, 360)) and elevation of an ENU vector with their one-sigma values
 /// from the ENU covariance (first-order propagation), degrees; NaN sigmas where the covariance is not
 /// finite or the vector is vertical.
@@ -75,30 +50,6 @@ pub(crate) fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
 mod tests {
     use super::*;
     use crate::likelihood::dcm_enu_from_body as enu_from_body;
-
-    #[test]
-    fn geodetic_round_trip_against_the_closed_form_forward_map() {
-        for &(lat_deg, lon_deg, h) in &[
-            (35.7, 139.7, 50.0),
-            (-60.0, -20.0, 3000.0),
-            (0.1, 179.9, 0.0),
-        ] {
-            let (lat, lon) = (f64::to_radians(lat_deg), f64::to_radians(lon_deg));
-            let n = WGS84_A_M / (1.0 - WGS84_E2 * lat.sin().powi(2)).sqrt();
-            let p = Vector3::new(
-                (n + h) * lat.cos() * lon.cos(),
-                (n + h) * lat.cos() * lon.sin(),
-                (n * (1.0 - WGS84_E2) + h) * lat.sin(),
-            );
-            let (la, lo) = geodetic_lat_lon(&p);
-            assert!((la - lat).abs() < 1e-11 && (lo - lon).abs() < 1e-12);
-            // Up is the ellipsoid normal, East is horizontal and points to growing longitude.
-            let r = enu_from_ecef(la, lo);
-            let up = Vector3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin());
-            assert!((r.row(2).transpose() - up).norm() < 1e-12);
-            assert!((r * r.transpose() - Matrix3::identity()).norm() < 1e-12);
-        }
-    }
 
     #[test]
     fn angles_and_sigmas_match_finite_differences() {

@@ -8,10 +8,10 @@ use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::output::{enu_from_ecef, geodetic_lat_lon};
 use super::Engine;
 use crate::gnss::ephemeris::Ephemerides;
 use crate::gnss::geometry::satellite_geometry;
+use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
 use crate::gnss::navdata::{GlonassRecord, KeplerRecord, NavData};
 use crate::gnss::observations::{Observations, ReceiverObservations};
 use crate::gnss::options::{EngineOptions, Method, Motion};
@@ -142,7 +142,7 @@ fn base_position() -> Vector3<f64> {
 
 /// ECEF offset of an ENU vector at the base.
 fn ecef_offset(enu: [f64; 3]) -> Vector3<f64> {
-    let (lat, lon) = geodetic_lat_lon(&base_position());
+    let (lat, lon, _) = geodetic_from_ecef(&base_position());
     enu_from_ecef(lat, lon).transpose() * Vector3::from(enu)
 }
 
