@@ -462,6 +462,10 @@ impl Engine {
     /// LAMBDA estimates of every epoch (`None`: unsolved), in moving, continuity or static mode.
     fn lambda(&mut self, prepared: &[Prepared]) -> Result<Vec<Option<Estimate>>> {
         let fix = self.fix_options();
+        if self.attitude_mode() && self.opts.method == Method::Ml {
+            // The grid needs nothing from the integer fix when the body baselines are known.
+            return Ok(prepared.iter().map(|_| None).collect());
+        }
         if self.attitude_mode() {
             let mut out = Vec::with_capacity(prepared.len());
             for (k, p) in prepared.iter().enumerate() {

@@ -386,6 +386,45 @@ fn ml_agrees_with_lambda_on_a_one_metre_baseline() {
             b.angles_deg[0]
         );
         assert!((a.angles_deg[1] - b.angles_deg[1]).abs() < 1.5);
+        // And the truth, azimuth 143.13 and elevation 2.86 degrees: one system's ~8 L1 single
+        // differences of 4.2 mm give about 0.25 degree (horizontal) and 0.45 degree (vertical) on 1 m;
+        // the bounds are 3-4 sigma.
+        let truth_az = 0.6f64.atan2(-0.8).to_degrees();
+        let truth_el = 0.05f64.atan2(1.0).to_degrees();
+        assert!((b.angles_deg[0] - truth_az).abs() < 1.0, "{}", b.angles_deg[0]);
+        assert!((b.angles_deg[1] - truth_el).abs() < 1.5, "{}", b.angles_deg[1]);
+    }
+}
+
+#[test]
+fn ml_attitude_of_three_antennas_matches_the_truth() {
+    // Heading 30, pitch 5, roll -3 degrees (psi = -30): body X nose, Y up, Z right wing.
+    let m = crate::likelihood::dcm_enu_from_body(
+        (-30f64).to_radians(),
+        5f64.to_radians(),
+        (-3f64).to_radians(),
+    );
+    let body = [[1.2, 0.0, 0.0], [0.0, 0.0, 0.9]];
+    let enu: Vec<[f64; 3]> = body
+        .iter()
+        .map(|b| (m * Vector3::from(*b)).into())
+        .collect();
+    let truth = simulate(4, &enu, 7);
+    let opts = EngineOptions {
+        method: Method::Ml,
+        body_baselines_m: body.to_vec(),
+        ..options()
+    };
+    let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+    for e in &sol.epochs {
+        assert!(e.solved && e.method == Method::Ml);
+        let [h, p, r] = [e.angles_deg[0], e.angles_deg[1], e.angles_deg[2]];
+        // ~8 single differences of 4.2 mm: about 0.3 degree in heading and 0.5 degree in pitch and
+        // roll (vertical components of 1 m baselines); the bounds are 3 sigma.
+        assert!((h - 30.0).abs() < 1.0, "heading {h}");
+        assert!((p - 5.0).abs() < 1.5 && (r + 3.0).abs() < 1.5, "pitch {p} roll {r}");
+        let rot = e.rotation_enu_from_body.unwrap();
+        assert!((rot[0] - m[(0, 0)]).abs() < 0.02);
     }
 }
 
