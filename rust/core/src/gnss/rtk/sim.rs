@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -218,4 +218,12 @@ impl Scenario {
         );
         v.normalize() * length_m
     }
+}
+
+/// A uniformly random rotation (unit quaternion from four normals).
+pub fn random_rotation(rng: &mut ChaCha8Rng) -> Matrix3<f64> {
+    let q = nalgebra::Quaternion::new(normal(rng), normal(rng), normal(rng), normal(rng));
+    nalgebra::UnitQuaternion::from_quaternion(q)
+        .to_rotation_matrix()
+        .into_inner()
 }
