@@ -304,7 +304,8 @@ def test_bad_records_are_refused_with_their_name() -> None:
 @pytest.mark.parametrize("station", ["0759", "3040"])
 def test_single_point_matches_geonet_header(station: str) -> None:
     """GEONET stations (GPS L1 C/A, 2005): single-frequency code with Klobuchar, Saastamoinen/Niell and
-    T_GD, against the header APPROX POSITION (surveyed, good to a few metres)."""
+    T_GD, against the header APPROX POSITION (surveyed; the prototype's single-frequency solution with
+    Klobuchar is 0.74 m from it, tests/test_rinex_iono.py)."""
     obs = read_obs(geonet_dir() / f"{station}0920.05o")
     nav = read_nav(geonet_dir() / f"{station}0920.05n")
     kepler, glonass = nav_dicts(nav)
@@ -312,18 +313,19 @@ def test_single_point_matches_geonet_header(station: str) -> None:
     assert c1 is not None
     code = np.full((len(obs.time), len(obs.sats), 3), np.nan)
     code[:, :, 0] = obs.get(c1)
-    pos, clk, n, rms = _core.gnss_single_point(
-        kepler,
-        glonass,
-        _klobuchar(nav),
-        None,
+    args = (
         gps_ns(obs.time).astype(np.int64),
         list(obs.sats),
         np.full(len(obs.sats), 99, dtype=np.int64),
         code,
     )
+    pos, clk, n, rms = _core.gnss_single_point(kepler, glonass, _klobuchar(nav), None, *args)
     assert np.isfinite(pos).all() and (n >= 5).all()
     err = np.linalg.norm(pos - obs.approx_position_m, axis=1)
-    assert np.median(err) < 5.0, np.median(err)
-    assert np.median(rms) < 3.0
+    # measured: median 0.67 m (0759) and 0.84 m (3040), worst epoch 3.6 m; residual RMS median 0.43 m
+    assert np.median(err) < 1.5, np.median(err)
+    assert np.median(rms) < 1.0
     assert np.isnan(clk[:, 1:]).all() and np.isfinite(clk[:, 0]).all()
+    # without the broadcast ionosphere the error grows to 5.6-6.1 m (median): Klobuchar is applied
+    pos0, *_ = _core.gnss_single_point(kepler, glonass, None, None, *args)
+    assert np.median(np.linalg.norm(pos0 - obs.approx_position_m, axis=1)) > 3.0
