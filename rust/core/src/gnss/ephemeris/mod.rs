@@ -1,0 +1,391 @@
+//! Broadcast ephemerides: the record of each satellite usable at a time, and its orbit and clock.
+//!
+//! Record choice: among the records of a satellite that are healthy by the system's ICD and whose
+//! reference time (toe, or t_b for GLONASS) lies within the validity interval [`max_age_s`] of the
+//! requested time, the nearest one. Orbits and clocks: [`kepler`] (GPS, Galileo, BeiDou, QZSS) and
+//! [`glonass`]. Group delays per frequency slot: [`Ephemerides::group_delay_s`].
+
+pub mod glonass;
+pub mod kepler;
+
+use std::collections::HashMap;
+
+use nalgebra::Vector3;
+
+use super::navdata::{GlonassRecord, KeplerRecord, NavData};
+use super::signal::{carrier_frequency_hz, SatId, System};
+use super::time::seconds_between;
+use crate::error::{Error, Result};
+
+/// Most navigation records of a session (a day of every constellation is about 10^4).
+pub const MAX_RECORDS: usize = 1_000_000;
+
+/// Finite-difference step of the velocity and clock drift of Keplerian orbits, s (RTKLIB's value: the
+/// truncation error, |acceleration| h / 2, stays below 1 mm/s).
+const DIFFERENCE_STEP_S: f64 = 1e-3;
+
+/// Satellite state at transmit time: ECEF of that instant (no Earth rotation applied), clock including the
+/// relativistic term, without group delay.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SatState {
+    pub position_m: Vector3<f64>,
+    pub velocity_m_s: Vector3<f64>,
+    pub clock_s: f64,
+    pub clock_drift_s_s: f64,
+}
+
+/// The records of a session indexed per satellite (each list sorted by reference time).
+#[derive(Debug, Clone, Default)]
+pub struct Ephemerides {
+    kepler: HashMap<SatId, Vec<KeplerRecord>>,
+    glonass: HashMap<SatId, Vec<GlonassRecord>>,
+}
+
+/// Half-width of the validity interval around a record's reference time, s: GPS half its fit interval
+/// (IS-GPS-200 20.3.4.4; 4 h when the record gives none), QZSS 1 h (IS-QZSS-PNT: 2 h fit interval;
+/// RINEX gives a flag there, not hours), Galileo 4 h, BeiDou 6 h and GLONASS 30 min (RTKLIB's
+/// MAXDTOE_GAL, MAXDTOE_CMP, MAXDTOE_GLO: BeiDou and Galileo broadcast no fit interval).
+pub fn max_age_s(system: System, fit_interval_h: f64) -> f64 {
+    match system {
+        System::Gps if fit_interval_h.is_finite() && fit_interval_h > 0.0 => {
+            fit_interval_h * 1800.0
+        }
+        System::Gps => 7200.0,
+        System::Qzss => 3600.0,
+        System::Galileo => 14_400.0,
+        System::BeiDou => 21_600.0,
+        System::Glonass => 1800.0,
+    }
+}
+
+/// Galileo data-source bits (RINEX 3.04 table A8): I/NAV (bits 0, 2, 9) or F/NAV (bits 1, 8).
+fn galileo_fnav(record: &KeplerRecord) -> bool {
+    let bits = word(record.data_source);
+    bits & 0x002 != 0 && bits & 0x005 == 0
+}
+
+/// A flag word stored as a float (validated to be an integer in 0..2^32 by [`Ephemerides::new`]).
+fn word(x: f64) -> u32 {
+    if x.is_finite() && (0.0..=f64::from(u32::MAX)).contains(&x) {
+        x as u32
+    } else {
+        0
+    }
+}
+
+/// Health of a Keplerian record by its system's ICD: GPS any nonzero health; QZSS all but bit 0, which
+/// flags the L6/LEX signal (masked as RTKLIB masks it); Galileo the signal health and data validity bits
+/// of the signals of the record's message (I/NAV: E1-B and E5b, F/NAV: E5a); BeiDou SatH1.
+pub fn kepler_healthy(record: &KeplerRecord) -> bool {
+    let h = word(record.health);
+    match record.sat.system {
+        System::Qzss => h & !1 == 0,
+        // bit 0 E1-B DVS, 1-2 E1-B HS, 3 E5a DVS, 4-5 E5a HS, 6 E5b DVS, 7-8 E5b HS.
+        System::Galileo if galileo_fnav(record) => h & 0x038 == 0,
+        System::Galileo => h & 0x1C7 == 0,
+        _ => h == 0,
+    }
+}
+
+/// Nearest usable record (`usable(record, age_s)`) by reference time; the lower `rank` breaks ties.
+fn nearest<R>(
+    records: &[R],
+    t_gpst_ns: i64,
+    reference_ns: impl Fn(&R) -> i64,
+    usable: impl Fn(&R, f64) -> bool,
+    rank: impl Fn(&R) -> u8,
+) -> Option<&R> {
+    records
+        .iter()
+        .filter_map(|r| {
+            let age = seconds_between(t_gpst_ns, reference_ns(r)).abs();
+            usable(r, age).then_some((age, rank(r), r))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .map(|(_, _, r)| r)
+}
+
+impl Ephemerides {
+    /// Indexes the records of `nav` per satellite after checking them.
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] beyond [`MAX_RECORDS`]; [`Error::OutOfRange`] naming the record (satellite and
+    /// index) for a record of the wrong system, a non-finite orbit or clock value, an orbit outside
+    /// 10^6..10^8 m, an eccentricity outside [0, 0.1], a health word that is not an integer in
+    /// 0..2^32, or a GLONASS state far from any orbit.
+    pub fn new(nav: &NavData) -> Result<Ephemerides> {
+        let n = nav.kepler.len().saturating_add(nav.glonass.len());
+        if n > MAX_RECORDS {
+            return Err(Error::too_large(
+                "nav",
+                n as f64,
+                MAX_RECORDS as f64,
+                "navigation records",
+            ));
+        }
+        let mut eph = Ephemerides::default();
+        for (i, r) in nav.kepler.iter().enumerate() {
+            check_kepler(i, r)?;
+            eph.kepler.entry(r.sat).or_default().push(*r);
+        }
+        for (i, r) in nav.glonass.iter().enumerate() {
+            check_glonass(i, r)?;
+            eph.glonass.entry(r.sat).or_default().push(*r);
+        }
+        for v in eph.kepler.values_mut() {
+            v.sort_by_key(|r| r.toe_gpst_ns);
+        }
+        for v in eph.glonass.values_mut() {
+            v.sort_by_key(|r| r.tb_gpst_ns);
+        }
+        Ok(eph)
+    }
+
+    /// Whether any record of `sat` exists (healthy or not).
+    pub fn has(&self, sat: SatId) -> bool {
+        self.kepler.contains_key(&sat) || self.glonass.contains_key(&sat)
+    }
+
+    fn kepler_record(&self, sat: SatId, t_gpst_ns: i64) -> Option<&KeplerRecord> {
+        let records = self.kepler.get(&sat)?;
+        nearest(
+            records,
+            t_gpst_ns,
+            |r| r.toe_gpst_ns,
+            |r, age| age <= max_age_s(sat.system, r.fit_interval_h) && kepler_healthy(r),
+            // Galileo: I/NAV (the E1/E5b clock) before F/NAV at the same toe.
+            |r| u8::from(sat.system == System::Galileo && galileo_fnav(r)),
+        )
+    }
+
+    fn glonass_record(&self, sat: SatId, t_gpst_ns: i64) -> Option<&GlonassRecord> {
+        let records = self.glonass.get(&sat)?;
+        nearest(
+            records,
+            t_gpst_ns,
+            |r| r.tb_gpst_ns,
+            |r, age| age <= max_age_s(System::Glonass, f64::NAN) && r.health == 0.0,
+            |_| 0,
+        )
+    }
+
+    /// State at transmit time `t = t_gpst_ns + offset_s` (offset small, e.g. minus the light time);
+    /// `None` when no usable record (healthy per the system's ICD, within its validity interval
+    /// [`max_age_s`]) exists, for an offset that is not finite or beyond a day, or where the result
+    /// would not be finite.
+    pub fn state(&self, sat: SatId, t_gpst_ns: i64, offset_s: f64) -> Option<SatState> {
+        if !offset_s.is_finite() || offset_s.abs() > 86_400.0 {
+            return None;
+        }
+        // Record choice at the whole nanoseconds nearest the instant (the offset is small).
+        let t_select = t_gpst_ns.saturating_add((offset_s * 1e9).round() as i64);
+        let state = if sat.system == System::Glonass {
+            let r = self.glonass_record(sat, t_select)?;
+            let (p, v, clock) = glonass::state(r, t_gpst_ns, offset_s);
+            SatState {
+                position_m: p,
+                velocity_m_s: v,
+                clock_s: clock,
+                clock_drift_s_s: r.gamma_n,
+            }
+        } else {
+            let r = self.kepler_record(sat, t_select)?;
+            let (p0, c0) = kepler::position_clock(r, t_gpst_ns, offset_s);
+            let (p1, c1) = kepler::position_clock(r, t_gpst_ns, offset_s + DIFFERENCE_STEP_S);
+            SatState {
+                position_m: p0,
+                velocity_m_s: (p1 - p0) / DIFFERENCE_STEP_S,
+                clock_s: c0,
+                clock_drift_s_s: (c1 - c0) / DIFFERENCE_STEP_S,
+            }
+        };
+        let finite = state.position_m.iter().all(|x| x.is_finite())
+            && state.velocity_m_s.iter().all(|x| x.is_finite())
+            && state.clock_s.is_finite()
+            && state.clock_drift_s_s.is_finite();
+        finite.then_some(state)
+    }
+
+    /// Group delay to ADD to the satellite clock for a single-frequency pseudorange of `slot`, s, from
+    /// the record [`Ephemerides::state`] uses at `t_gpst_ns`: GPS/QZSS `-(f_L1/f)^2 TGD` (IS-GPS-200
+    /// 20.3.3.3.3.2; L5 with the same scaling, LNAV having no ISC); Galileo `-(f_E1/f)^2 BGD` with
+    /// BGD(E1,E5b) for E1 and E5b and BGD(E1,E5a) for E5a (OS SIS ICD 5.1.5); BeiDou `-TGD1` on B1I,
+    /// `-TGD2` on B2I, 0 on B3I (the broadcast clock is that of B3I, BDS-SIS-ICD 5.2.4.10); 0 for
+    /// GLONASS, where no record is usable, or where the record gives none (NaN).
+    pub fn group_delay_s(&self, sat: SatId, slot: usize, t_gpst_ns: i64) -> f64 {
+        let Some(r) = (sat.system != System::Glonass)
+            .then(|| self.kepler_record(sat, t_gpst_ns))
+            .flatten()
+        else {
+            return 0.0;
+        };
+        let scale = |f1: f64| {
+            carrier_frequency_hz(sat.system, slot, None).map_or(f64::NAN, |f| (f1 / f).powi(2))
+        };
+        let f1 = carrier_frequency_hz(sat.system, 0, None).unwrap_or(f64::NAN);
+        let delay = match (sat.system, slot) {
+            (System::Gps | System::Qzss, _) => -scale(f1) * r.tgd_s[0],
+            (System::Galileo, 2) => -scale(f1) * r.tgd_s[0],
+            (System::Galileo, _) => -scale(f1) * r.tgd_s[1],
+            (System::BeiDou, 0) => -r.tgd_s[0],
+            (System::BeiDou, 1) => -r.tgd_s[1],
+            _ => 0.0,
+        };
+        if delay.is_finite() {
+            delay
+        } else {
+            0.0
+        }
+    }
+}
+
+fn record_error(kind: &str, i: usize, sat: SatId, detail: String) -> Error {
+    Error::out_of_range("nav", format!("{kind} record {i} ({sat}): {detail}"))
+}
+
+fn check_health_word(kind: &str, i: usize, sat: SatId, health: f64) -> Result<()> {
+    if health.is_finite() && health.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&health)
+    {
+        Ok(())
+    } else {
+        Err(record_error(
+            kind,
+            i,
+            sat,
+            format!("expected a health word, an integer in 0..2^32, got {health}"),
+        ))
+    }
+}
+
+fn check_kepler(i: usize, r: &KeplerRecord) -> Result<()> {
+    let kind = "Keplerian";
+    if r.sat.system == System::Glonass {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            "expected a GPS, Galileo, BeiDou or QZSS satellite, got GLONASS".into(),
+        ));
+    }
+    let values = [
+        ("af0", r.af[0]),
+        ("af1", r.af[1]),
+        ("af2", r.af[2]),
+        ("crs", r.crs),
+        ("delta_n", r.delta_n),
+        ("m0", r.m0),
+        ("cuc", r.cuc),
+        ("e", r.e),
+        ("cus", r.cus),
+        ("sqrt_a", r.sqrt_a),
+        ("cic", r.cic),
+        ("omega0", r.omega0),
+        ("cis", r.cis),
+        ("i0", r.i0),
+        ("crc", r.crc),
+        ("omega", r.omega),
+        ("omega_dot", r.omega_dot),
+        ("idot", r.idot),
+    ];
+    if let Some((name, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            format!("expected a finite {name}, got {v}"),
+        ));
+    }
+    if !(1e3..=1e4).contains(&r.sqrt_a) {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            format!(
+                "expected sqrt_a in 1e3..1e4 m^0.5 (an orbit 1e6..1e8 m), got {}",
+                r.sqrt_a
+            ),
+        ));
+    }
+    if !(0.0..=0.1).contains(&r.e) {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            format!("expected an eccentricity in [0, 0.1], got {}", r.e),
+        ));
+    }
+    // Rates and clock terms beyond these are not orbits or clocks of navigation satellites (a broadcast
+    // af0 is below 1 ms in magnitude by its field width; 1 s bounds any misread).
+    let rates = [
+        ("delta_n", r.delta_n, 1e-6),
+        ("omega_dot", r.omega_dot, 1e-6),
+        ("idot", r.idot, 1e-6),
+        ("af0", r.af[0], 1.0),
+        ("af1", r.af[1], 1e-3),
+        ("af2", r.af[2], 1e-3),
+    ];
+    if let Some((name, v, limit)) = rates.iter().find(|(_, v, l)| v.abs() > *l) {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            format!("expected |{name}| <= {limit:e}, got {v}"),
+        ));
+    }
+    check_health_word(kind, i, r.sat, r.health)
+}
+
+fn check_glonass(i: usize, r: &GlonassRecord) -> Result<()> {
+    let kind = "GLONASS";
+    if r.sat.system != System::Glonass {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            "expected a GLONASS satellite".into(),
+        ));
+    }
+    let all = r
+        .position_m
+        .iter()
+        .chain(&r.velocity_m_s)
+        .chain(&r.acceleration_m_s2)
+        .chain([&r.clock_bias_s, &r.gamma_n]);
+    if all.clone().any(|v| !v.is_finite()) {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            "expected finite state, acceleration and clock values".into(),
+        ));
+    }
+    let radius = Vector3::from(r.position_m).norm();
+    let speed = Vector3::from(r.velocity_m_s).norm();
+    let acc = Vector3::from(r.acceleration_m_s2).norm();
+    if !(1e7..=1e8).contains(&radius) || speed > 1e4 || acc > 1e-3 {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            format!(
+                "expected |r| in 1e7..1e8 m, |v| <= 1e4 m/s and luni-solar |a| <= 1e-3 m/s^2, got \
+                 {radius:.6e} m, {speed:.6e} m/s, {acc:.3e} m/s^2"
+            ),
+        ));
+    }
+    if r.clock_bias_s.abs() > 1.0 || r.gamma_n.abs() > 1e-3 {
+        return Err(record_error(
+            kind,
+            i,
+            r.sat,
+            format!(
+                "expected |tau_n| <= 1 s and |gamma_n| <= 1e-3, got {} s and {}",
+                r.clock_bias_s, r.gamma_n
+            ),
+        ));
+    }
+    check_health_word(kind, i, r.sat, r.health)
+}
+
+#[cfg(test)]
+mod tests;
