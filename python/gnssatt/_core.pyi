@@ -4,7 +4,7 @@ every native function is declared here.
 Angles in radians, lengths in metres.
 """
 
-from typing import TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
@@ -189,6 +189,33 @@ def glonass_ephemeris_states(
 def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+# gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.session_input.NavInput.kepler / .glonass arrays.
+def gnss_satellite_states(
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    sats: list[str],
+    t_gpst_ns: NDArray[np.int64],
+    *,
+    offset_s: NDArray[np.float64] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+def gnss_single_point(
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    time_gpst_ns: NDArray[np.int64],
+    sats: list[str],
+    glonass_channel: NDArray[np.int64],
+    code_m: NDArray[np.float64],
+    *,
+    approx_position_m: NDArray[np.float64] | None = None,
+    systems: str = "GRECJ",
+    frequencies: int = 1,
+    elevation_mask_deg: float = 10.0,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]: ...
 def orbit_filter_loose(
     times_s: NDArray[np.float64],
     x0: NDArray[np.float64],
