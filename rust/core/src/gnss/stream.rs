@@ -49,7 +49,7 @@ use std::collections::BTreeSet;
 use nalgebra::{Matrix3, Vector3};
 
 use self::arcs::ArcTracker;
-use self::output::{azimuth_elevation, heading_pitch_roll, row_major};
+use self::output::{attitude_sigmas_deg, azimuth_elevation, heading_pitch_roll, row_major};
 use super::ephemeris::Ephemerides;
 use super::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry, SatGeometry};
 use super::navdata::NavData;
@@ -477,7 +477,7 @@ impl Engine {
                 dds.iter().for_each(|d| self.count_double_differences(d));
                 let body = self.opts.body_baselines_m.clone();
                 out.push(match solve_attitude(&dds, &body, &fix) {
-                    Ok(a) => Some(self.attitude_estimate(p, &a)),
+                    Ok(a) => p.base_m.map(|b| self.attitude_estimate(&b, &a)),
                     Err(e) if leaves_epoch_unsolved(&e) => {
                         self.note_unsolved(k, p.time_gpst_ns, &e);
                         None
@@ -577,20 +577,34 @@ impl Engine {
         );
     }
 
-    /// Attitude-mode estimate from the constrained fix.
-    fn attitude_estimate(&self, p: &Prepared, a: &AttitudeSolution) -> Estimate {
-        let _ = p;
+    /// Attitude-mode estimate from the constrained fix: baselines and covariances in ENU at the base,
+    /// angle sigmas propagated from the rovers' baseline covariances.
+    fn attitude_estimate(&self, base: &Vector3<f64>, a: &AttitudeSolution) -> Estimate {
+        let (lat, lon, _) = geodetic_from_ecef(base);
+        let r = enu_from_ecef(lat, lon);
+        let baselines_enu_m: Vec<Vector3<f64>> =
+            a.baselines.iter().map(|b| r * b.baseline_m).collect();
+        let covariances_enu_m2: Vec<Matrix3<f64>> = a
+            .baselines
+            .iter()
+            .map(|b| r * b.covariance_m2 * r.transpose())
+            .collect();
+        let sigmas = attitude_sigmas_deg(
+            &a.rotation_enu_from_body,
+            &baselines_enu_m,
+            &covariances_enu_m2,
+        );
         Estimate {
             method: Method::Lambda,
             fixed: a.fixed,
-            fixed_ambiguities: a.fixed_ambiguities,
-            ambiguities: a.ambiguities,
+            fixed_ambiguities: a.baselines.iter().map(|b| b.fixed_ambiguities).sum(),
+            ambiguities: a.baselines.iter().map(|b| b.ambiguities).sum(),
             ratio: a.ratio,
             success_rate: a.success_rate,
-            baselines_enu_m: a.baselines_enu_m.clone(),
-            covariances_enu_m2: a.covariances_enu_m2.clone(),
-            enu_from_body: Some(a.enu_from_body),
-            attitude_sigmas_deg: Some(a.angle_sigmas_rad.map(f64::to_degrees)),
+            baselines_enu_m,
+            covariances_enu_m2,
+            enu_from_body: Some(a.rotation_enu_from_body),
+            attitude_sigmas_deg: Some(sigmas),
         }
     }
 
