@@ -52,7 +52,8 @@ def nav_dicts(nav: RinexNav) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
         "toc_gpst_ns": k.toc_ns.astype(np.int64),
         "toe_gpst_ns": k.toe_ns.astype(np.int64),
         "af": np.ascontiguousarray(k.af, dtype=np.float64).reshape(n, 3),
-        # GPS/QZSS: [TGD, NaN] (the second field is IODC); Galileo [BGD E5a/E1, BGD E5b/E1]; BeiDou [TGD1, TGD2]
+        # GPS/QZSS [TGD, NaN] (the second field is IODC); Galileo [BGD E5a/E1, BGD E5b/E1]; BeiDou
+        # [TGD1, TGD2]
         "tgd_s": np.stack([f["tgd"], np.where(is_gps_like, np.nan, f["iodc_tgd2"])], axis=-1).reshape(n, 2),
         "accuracy_m": f["accuracy"],
         "fit_interval_h": np.where(is_gps_like, f["fit_interval"], np.nan),
@@ -95,7 +96,9 @@ def rust_states(
 def _one_kepler(nav: RinexNav, i: int) -> RinexNav:
     k = nav.kepler
     s = slice(i, i + 1)
-    sub = KeplerEphemerides(k.sats[s], k.toc_ns[s], k.toe_ns[s], k.af[s], {n: v[s] for n, v in k.fields.items()})
+    sub = KeplerEphemerides(
+        k.sats[s], k.toc_ns[s], k.toe_ns[s], k.af[s], {n: v[s] for n, v in k.fields.items()}
+    )
     empty = nav.glonass.__class__(*(np.asarray(v)[:0] for v in dataclasses.astuple(nav.glonass)))
     return dataclasses.replace(nav, kepler=sub, glonass=empty)
 
@@ -104,7 +107,9 @@ def _one_glonass(nav: RinexNav, i: int) -> RinexNav:
     g = nav.glonass
     sub = GlonassEphemerides(*(np.asarray(v)[i : i + 1] for v in dataclasses.astuple(g)))
     k = nav.kepler
-    empty = KeplerEphemerides(k.sats[:0], k.toc_ns[:0], k.toe_ns[:0], k.af[:0], {n: v[:0] for n, v in k.fields.items()})
+    empty = KeplerEphemerides(
+        k.sats[:0], k.toc_ns[:0], k.toe_ns[:0], k.af[:0], {n: v[:0] for n, v in k.fields.items()}
+    )
     return dataclasses.replace(nav, kepler=empty, glonass=sub)
 
 
@@ -112,18 +117,23 @@ def _one_glonass(nav: RinexNav, i: int) -> RinexNav:
 def test_every_record_matches_the_prototype(path: Path) -> None:
     """Each record alone (so that both pick it), at times across its validity interval: positions to
     1 mm and clocks to 1e-12 s (0.3 mm) against the Python prototype, which shares no code with the Rust
-    Keplerian model and uses its own RK4 driver for GLONASS. Records the prototype calls unhealthy are
-    left to the health tests."""
+    Keplerian model and uses its own RK4 driver for GLONASS. Unhealthy records are left to the health
+    tests, except QZSS records flagged on the L6/LEX bit only (healthy for the engine)."""
     nav = read_nav(path)
     compared = set()
     for i in range(len(nav.kepler)):
-        if nav.kepler.fields["health"][i] != 0:
-            continue
-        one = _one_kepler(nav, i)
         sat = str(nav.kepler.sats[i])
+        one = _one_kepler(nav, i)
+        reference = one
+        if sat[0] == "J" and nav.kepler.fields["health"][i] == 1:
+            # the L6/LEX bit alone: the engine uses the record, the prototype only when told it is healthy
+            fields = {**one.kepler.fields, "health": np.zeros(1)}
+            reference = dataclasses.replace(one, kepler=dataclasses.replace(one.kepler, fields=fields))
+        elif nav.kepler.fields["health"][i] != 0:
+            continue
         for dt in (-3000, -600, 0, 900, 3300):
             t = int(nav.kepler.toe_ns[i]) + dt * 10**9
-            p_ref, c_ref, _, ok_ref = satellite_states(one, [sat], t)
+            p_ref, c_ref, _, ok_ref = satellite_states(reference, [sat], t)
             pos, clk, ok = rust_states(one, [sat], [t])
             assert ok_ref[0] and ok[0], (sat, dt)
             np.testing.assert_allclose(pos[0], p_ref[0], rtol=0, atol=1e-3)
@@ -140,9 +150,8 @@ def test_every_record_matches_the_prototype(path: Path) -> None:
             np.testing.assert_allclose(pos[0], p_ref[0], rtol=0, atol=1e-3)
             assert abs(clk[0] - c_ref[0]) < 1e-12
             compared.add("R")
-    systems = {s[0] for s in nav.kepler.sats} | ({"R"} if len(nav.glonass) else set())
-    # every system of the file was compared (QZSS of BRDM only has unhealthy records: health test)
-    assert compared == systems - ({"J"} if path.name.startswith("BRDM") else set())
+    # every system of the file was compared
+    assert compared == {s[0] for s in nav.kepler.sats} | ({"R"} if len(nav.glonass) else set())
 
 
 def _skydel_rows(run: str) -> dict[str, dict[str, str]]:
@@ -201,7 +210,9 @@ def test_circular_orbit_closed_form() -> None:
     a = 5153.7**2
     n = np.sqrt(GPS_MU / a**3)
     tks = np.array([-7000.0, -1234.5, 0.0, 3600.0, 7200.0])
-    pos, clk, ok = _core.gnss_satellite_states(rec, {}, None, None, ["G07"] * 5, toe + (tks * 1e9).astype(np.int64))
+    pos, clk, ok = _core.gnss_satellite_states(
+        rec, {}, None, None, ["G07"] * 5, toe + (tks * 1e9).astype(np.int64)
+    )
     assert ok.all()
     for j, tk in enumerate(tks):
         u = 0.3 + n * tk + 0.7
@@ -212,7 +223,9 @@ def test_circular_orbit_closed_form() -> None:
         np.testing.assert_allclose(pos[j], want, rtol=0, atol=1e-6)
         assert abs(clk[j] - (1e-4 + 2e-11 * tk + 1e-18 * tk**2)) < 1e-16
     # fit interval 4 h: valid to toe +- 2 h, not beyond
-    _, _, ok = _core.gnss_satellite_states(rec, {}, None, None, ["G07"] * 2, np.array([toe + 7201 * 10**9, toe - 7201 * 10**9]))
+    _, _, ok = _core.gnss_satellite_states(
+        rec, {}, None, None, ["G07"] * 2, np.array([toe + 7201 * 10**9, toe - 7201 * 10**9])
+    )
     assert not ok.any()
 
 
@@ -261,7 +274,7 @@ def test_qzss_l1_healthy_record_of_a_real_file_is_used() -> None:
 
 def test_glonass_unhealthy_and_out_of_interval() -> None:
     nav = read_nav(NAV_FILES[0])
-    kepler, glonass = nav_dicts(nav)
+    _, glonass = nav_dicts(nav)
     tb = int(glonass["tb_gpst_ns"][0])
     sat = str(glonass["sat"][0])
     t = np.array([tb, tb + 1801 * 10**9 + 1800 * 10**9], dtype=np.int64)
@@ -276,7 +289,9 @@ def test_bad_records_are_refused_with_their_name() -> None:
     from gnssatt.errors import InvalidInputError
 
     rec = _circular_record(e=0.5)
-    with pytest.raises(InvalidInputError, match=r"record 0 \(G07\): expected an eccentricity in \[0, 0.1\], got 0.5"):
+    with pytest.raises(
+        InvalidInputError, match=r"record 0 \(G07\): expected an eccentricity in \[0, 0.1\], got 0.5"
+    ):
         _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toe_gpst_ns"])
     rec = _circular_record(sqrt_a=np.nan)
     with pytest.raises(InvalidInputError, match="expected a finite sqrt_a"):
@@ -293,7 +308,8 @@ def test_bad_records_are_refused_with_their_name() -> None:
 @pytest.mark.parametrize("station", ["0759", "3040"])
 def test_single_point_matches_geonet_header(station: str) -> None:
     """GEONET stations (GPS L1 C/A, 2005): single-frequency code with Klobuchar, Saastamoinen/Niell and
-    T_GD, against the header APPROX POSITION (surveyed, good to a few metres)."""
+    T_GD, against the header APPROX POSITION (surveyed; the prototype's single-frequency solution with
+    Klobuchar is 0.74 m from it, tests/test_rinex_iono.py)."""
     obs = read_obs(geonet_dir() / f"{station}0920.05o")
     nav = read_nav(geonet_dir() / f"{station}0920.05n")
     kepler, glonass = nav_dicts(nav)
@@ -301,18 +317,19 @@ def test_single_point_matches_geonet_header(station: str) -> None:
     assert c1 is not None
     code = np.full((len(obs.time), len(obs.sats), 3), np.nan)
     code[:, :, 0] = obs.get(c1)
-    pos, clk, n, rms = _core.gnss_single_point(
-        kepler,
-        glonass,
-        _klobuchar(nav),
-        None,
+    args = (
         gps_ns(obs.time).astype(np.int64),
         list(obs.sats),
         np.full(len(obs.sats), 99, dtype=np.int64),
         code,
     )
+    pos, clk, n, rms = _core.gnss_single_point(kepler, glonass, _klobuchar(nav), None, *args)
     assert np.isfinite(pos).all() and (n >= 5).all()
     err = np.linalg.norm(pos - obs.approx_position_m, axis=1)
-    assert np.median(err) < 5.0, np.median(err)
-    assert np.median(rms) < 3.0
+    # measured: median 0.67 m (0759) and 0.84 m (3040), worst epoch 3.6 m; residual RMS median 0.43 m
+    assert np.median(err) < 1.5, np.median(err)
+    assert np.median(rms) < 1.0
     assert np.isnan(clk[:, 1:]).all() and np.isfinite(clk[:, 0]).all()
+    # without the broadcast ionosphere the error grows to 5.6-6.1 m (median): Klobuchar is applied
+    pos0, *_ = _core.gnss_single_point(kepler, glonass, None, None, *args)
+    assert np.median(np.linalg.norm(pos0 - obs.approx_position_m, axis=1)) > 3.0

@@ -61,6 +61,26 @@ def likelihood_grid(
     two_dimensional: bool,
 ) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 
+# likelihood.rs, per-epoch batches: sd_phase (E, n_rover, n_sig) with NaN for absent signals, los
+# (E, n_sig, 3) ENU, wavelengths (E, n_sig). Returns euler_rad (E, 3), direction_rad (E, 2) (compass
+# azimuth, elevation of the first baseline), z_max (E,), solved (E,).
+def ml_attitude_series(
+    sd_phase: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baselines: NDArray[np.float64],
+    step_rad: float | None,
+    window_rad: float | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+def ml_baseline_series(
+    sd_phase: NDArray[np.float64],
+    los: NDArray[np.float64],
+    wavelengths: NDArray[np.float64],
+    baseline_length_m: float,
+    step_rad: float | None,
+    window_rad: float | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+
 # lambda.rs: integer least squares (LAMBDA / MLAMBDA), validation, partial fixing.
 def lambda_ils(
     float_ambiguities: NDArray[np.float64], covariance: NDArray[np.float64], candidates: int = 2
@@ -169,6 +189,33 @@ def glonass_ephemeris_states(
 def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+# gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.session_input.NavInput.kepler / .glonass arrays.
+def gnss_satellite_states(
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    sats: list[str],
+    t_gpst_ns: NDArray[np.int64],
+    *,
+    offset_s: NDArray[np.float64] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+def gnss_single_point(
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    time_gpst_ns: NDArray[np.int64],
+    sats: list[str],
+    glonass_channel: NDArray[np.int64],
+    code_m: NDArray[np.float64],
+    *,
+    approx_position_m: NDArray[np.float64] | None = None,
+    systems: str = "GRECJ",
+    frequencies: int = 1,
+    elevation_mask_deg: float = 10.0,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]: ...
 def orbit_filter_loose(
     times_s: NDArray[np.float64],
     x0: NDArray[np.float64],

@@ -2,11 +2,13 @@
 //! broadcasts inputs to (epochs, m, M) phases, (epochs, M, 3) lines of sight and (epochs, M) wavelengths.
 
 use gnssatt_core::likelihood::{
-    branch_and_bound, estimate, evaluate_grid, Epoch, Grid, Model, Refine, Search, Statistic,
+    branch_and_bound, estimate, evaluate_grid, ml_attitude_series as core_attitude_series,
+    ml_baseline_series as core_baseline_series, Epoch, Grid, MlEpoch, MlSolution, Model, Refine,
+    Search, Statistic,
 };
 use nalgebra::Vector3;
-use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
 use crate::convert::vectors;
@@ -188,7 +190,115 @@ fn likelihood_grid<'py>(
     ))
 }
 
+/// Per-epoch inputs of the series calls: sd_phase (n_ep, n_rover, n_sig) with NaN for absent signals,
+/// los (n_ep, n_sig, 3) ENU, wavelengths (n_ep, n_sig); `n_rover` checked against `rovers`.
+fn series_epochs(
+    py: Python<'_>,
+    sd_phase: &PyReadonlyArray3<'_, f64>,
+    los: &PyReadonlyArray3<'_, f64>,
+    wavelengths: &PyReadonlyArray2<'_, f64>,
+    rovers: usize,
+) -> PyResult<Vec<MlEpoch>> {
+    let (p, s, w) = (sd_phase.as_array(), los.as_array(), wavelengths.as_array());
+    let (ne, nr, m) = p.dim();
+    if s.dim() != (ne, m, 3) || w.dim() != (ne, m) || nr != rovers {
+        return Err(invalid_input(
+            py,
+            format!(
+                "inconsistent shapes: sd_phase {:?} (epochs, n_rover, n_sig), los {:?} (epochs, n_sig, \
+                 3), wavelength {:?} (epochs, n_sig), {rovers} rover baselines",
+                p.shape(),
+                s.shape(),
+                w.shape(),
+            ),
+        ));
+    }
+    Ok((0..ne)
+        .map(|e| MlEpoch {
+            sd_phase_rad: p
+                .slice(numpy::ndarray::s![e, .., ..])
+                .iter()
+                .copied()
+                .collect(),
+            los_enu: (0..m)
+                .map(|k| [s[[e, k, 0]], s[[e, k, 1]], s[[e, k, 2]]])
+                .collect(),
+            wavelength_m: (0..m).map(|k| w[[e, k]]).collect(),
+        })
+        .collect())
+}
+
+/// (euler_rad (n, 3), direction_rad (n, 2), value (n,), solved (n,)).
+type SeriesArrays<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
+fn series_arrays<'py>(py: Python<'py>, sol: &[MlSolution]) -> PyResult<SeriesArrays<'py>> {
+    let n = sol.len();
+    let euler = Array2::from_shape_fn((n, 3), |(k, j)| sol[k].euler_gost_rad[j]);
+    let direction = Array2::from_shape_fn((n, 2), |(k, j)| sol[k].direction_rad[j]);
+    Ok((
+        euler.into_pyarray(py),
+        direction.into_pyarray(py),
+        sol.iter()
+            .map(|x| x.value)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+        sol.iter()
+            .map(|x| x.solved)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    ))
+}
+
+/// Per-epoch ML attitude over a batch (GIL released, interruptible).
+#[pyfunction]
+#[pyo3(signature = (sd_phase, los, wavelengths, baselines, step_rad, window_rad))]
+fn ml_attitude_series<'py>(
+    py: Python<'py>,
+    sd_phase: PyReadonlyArray3<'_, f64>,
+    los: PyReadonlyArray3<'_, f64>,
+    wavelengths: PyReadonlyArray2<'_, f64>,
+    baselines: PyReadonlyArray2<'_, f64>,
+    step_rad: Option<f64>,
+    window_rad: Option<f64>,
+) -> PyResult<SeriesArrays<'py>> {
+    let b: Vec<[f64; 3]> = vectors(py, "baselines", &baselines)?
+        .iter()
+        .map(|v| [v.x, v.y, v.z])
+        .collect();
+    let epochs = series_epochs(py, &sd_phase, &los, &wavelengths, b.len())?;
+    let sol = interruptible::run(py, || {
+        core_attitude_series(&epochs, &b, step_rad, window_rad)
+    })?;
+    series_arrays(py, &sol)
+}
+
+/// Per-epoch ML direction of one baseline over a batch (GIL released, interruptible).
+#[pyfunction]
+#[pyo3(signature = (sd_phase, los, wavelengths, baseline_length_m, step_rad, window_rad))]
+fn ml_baseline_series<'py>(
+    py: Python<'py>,
+    sd_phase: PyReadonlyArray3<'_, f64>,
+    los: PyReadonlyArray3<'_, f64>,
+    wavelengths: PyReadonlyArray2<'_, f64>,
+    baseline_length_m: f64,
+    step_rad: Option<f64>,
+    window_rad: Option<f64>,
+) -> PyResult<SeriesArrays<'py>> {
+    let epochs = series_epochs(py, &sd_phase, &los, &wavelengths, 1)?;
+    let sol = interruptible::run(py, || {
+        core_baseline_series(&epochs, baseline_length_m, step_rad, window_rad)
+    })?;
+    series_arrays(py, &sol)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(ml_attitude_series, m)?)?;
+    m.add_function(wrap_pyfunction!(ml_baseline_series, m)?)?;
     m.add_function(wrap_pyfunction!(ml_search, m)?)?;
     m.add_function(wrap_pyfunction!(bnb_stats, m)?)?;
     m.add_function(wrap_pyfunction!(likelihood_grid, m)?)?;

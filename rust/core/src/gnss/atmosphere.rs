@@ -211,6 +211,46 @@ mod tests {
     }
 
     #[test]
+    fn klobuchar_published_values() {
+        // Klobuchar's worked example (Parkinson & Spilker vol. I ch. 12; libswiftnav's
+        // check_ionosphere.c): 40 N 100 W, az 210, el 20, week 1042 593100 s -> 23.784 m; and
+        // libswiftnav's second vector, 35.3 S 149.1 E, az 0, el 15, week 1875 479820 s -> 7.202 m.
+        let cases = [
+            (
+                [
+                    0.382e-7, 0.149e-7, -0.179e-6, 0.0, 0.143e6, 0.0, -0.328e6, 0.113e6,
+                ],
+                (40.0, 260.0, 210.0, 20.0),
+                (1042, 593_100),
+                23.784,
+            ),
+            (
+                [
+                    0.1583e-7, -0.7451e-8, -0.596e-7, 0.1192e-6, 0.129e6, -0.213e6, 0.6554e5,
+                    0.3277e6,
+                ],
+                (-35.3, 149.1, 0.0, 15.0),
+                (1875, 479_820),
+                7.202,
+            ),
+        ];
+        for (c, (lat, lon, az, el), (week, tow), expected) in cases {
+            let t = week * 604_800 * 1_000_000_000 + tow * 1_000_000_000;
+            let d = klobuchar_delay_m(
+                &c,
+                t,
+                f64::to_radians(lat),
+                f64::to_radians(lon),
+                f64::to_radians(az),
+                f64::to_radians(el),
+                F_L1_HZ,
+            );
+            // The references print 1 mm.
+            assert!((d - expected).abs() < 1e-3, "{d} vs {expected}");
+        }
+    }
+
+    #[test]
     fn saastamoinen_sea_level_and_niell_zenith() {
         // Sea level, 45 deg: 2.3 m hydrostatic (Saastamoinen: 0.0022768 * 1013.25 / (1 - 0.00028*0)).
         let (zd, zw) = saastamoinen_zenith_m(45f64.to_radians(), 0.0);

@@ -105,7 +105,7 @@ pub fn satellite_geometry(
     }
     let d = position - receiver_m;
     let range = d.norm();
-    if !(range > 1.0) {
+    if range.is_nan() || range <= 1.0 {
         return None;
     }
     let los = d / range;
@@ -127,4 +127,100 @@ pub fn satellite_geometry(
         elevation_rad: elevation,
         azimuth_rad: azimuth,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gnss::navdata::{KeplerRecord, NavData};
+    use crate::gnss::signal::System;
+
+    /// Closed-form geodetic -> ECEF (the direction this module does not compute).
+    fn ecef(lat: f64, lon: f64, h: f64) -> Vector3<f64> {
+        let e2 = WGS84_F * (2.0 - WGS84_F);
+        let n = WGS84_A_M / (1.0 - e2 * lat.sin().powi(2)).sqrt();
+        Vector3::new(
+            (n + h) * lat.cos() * lon.cos(),
+            (n + h) * lat.cos() * lon.sin(),
+            (n * (1.0 - e2) + h) * lat.sin(),
+        )
+    }
+
+    #[test]
+    fn geodetic_inverts_the_closed_form_and_up_is_the_normal() {
+        for (lat, lon, h) in [
+            (0.0, 0.0, 0.0),
+            (0.63, 2.44, 57.3),
+            (-1.2, -0.3, 10_000.0),
+            (1.55, 1.0, -100.0),
+            (0.3, 3.1, 7.0e5),
+        ] {
+            let (la, lo, hh) = geodetic_from_ecef(&ecef(lat, lon, h));
+            assert!(
+                (la - lat).abs() < 1e-11 && (lo - lon).abs() < 1e-11,
+                "{la} {lo}"
+            );
+            assert!((hh - h).abs() < 1e-5, "{hh} vs {h}");
+            let up = enu_from_ecef(lat, lon).row(2).transpose();
+            let normal = Vector3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin());
+            assert!((up - normal).norm() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn light_time_and_sagnac_satisfy_their_equations() {
+        let t0 = 2138 * 604_800 * 1_000_000_000i64;
+        let record = KeplerRecord {
+            sat: SatId {
+                system: System::Gps,
+                prn: 3,
+            },
+            toc_gpst_ns: t0,
+            toe_gpst_ns: t0,
+            af: [2e-4, 0.0, 0.0],
+            crs: 0.0,
+            delta_n: 0.0,
+            m0: 0.4,
+            cuc: 0.0,
+            e: 0.0,
+            cus: 0.0,
+            sqrt_a: 5153.7,
+            cic: 0.0,
+            omega0: 2.4,
+            cis: 0.0,
+            i0: 0.96,
+            crc: 0.0,
+            omega: 0.0,
+            omega_dot: 0.0,
+            idot: 0.0,
+            health: 0.0,
+            tgd_s: [0.0, f64::NAN],
+            iode: 1.0,
+            accuracy_m: 2.0,
+            fit_interval_h: 4.0,
+            data_source: f64::NAN,
+        };
+        let eph = Ephemerides::new(&NavData {
+            kepler: vec![record],
+            ..NavData::default()
+        })
+        .unwrap();
+        let rx = ecef(0.6, 2.4, 50.0);
+        let clock = 1e-3;
+        let g = satellite_geometry(&eph, record.sat, t0, clock, &rx).unwrap();
+        // tau = range / c; the satellite at t - clock - tau, its frame rotated by omega_E tau about Z.
+        let tau = g.range_m / SPEED_OF_LIGHT_M_S;
+        let s = eph.state(record.sat, t0, -clock - tau).unwrap();
+        let (sn, cs) = (EARTH_ROTATION_RAD_S * tau).sin_cos();
+        let p = s.position_m;
+        let rotated = Vector3::new(cs * p.x + sn * p.y, -sn * p.x + cs * p.y, p.z);
+        assert!((rotated - g.position_m).norm() < 1e-6);
+        assert!((g.range_m - (g.position_m - rx).norm()).abs() < 1e-9);
+        assert!((g.clock_s - s.clock_s).abs() < 1e-18);
+        assert!(g.elevation_rad > 0.0, "{}", g.elevation_rad);
+        assert!((g.los_ecef.norm() - 1.0).abs() < 1e-15);
+        // From the Earth's centre there is no horizon.
+        let c = satellite_geometry(&eph, record.sat, t0, 0.0, &Vector3::zeros()).unwrap();
+        assert!(c.elevation_rad.is_nan() && c.azimuth_rad.is_nan());
+    }
 }

@@ -26,8 +26,10 @@ use crate::error::{Error, Result};
 pub const MAX_ITERATIONS: usize = 20;
 /// Position step below which the iteration has converged, m.
 pub const CONVERGED_STEP_M: f64 = 1e-4;
-/// Residual RMS above which the satellite with the largest normalised residual is dropped once and
-/// the solution repeated, m (single-frequency code with broadcast corrections leaves 1-5 m).
+/// Residual RMS above which one satellite is dropped, m (single-frequency code with broadcast
+/// corrections leaves 1-5 m): the one whose exclusion leaves the smallest RMS (one solution per
+/// satellite used, only at such epochs; a blunder can hide in the residuals of others, so the
+/// largest residual does not always mark it).
 pub const MAX_RESIDUAL_RMS_M: f64 = 10.0;
 /// Largest condition number of the normal matrix accepted.
 pub const MAX_CONDITION: f64 = 1e12;
@@ -59,6 +61,16 @@ struct Candidate {
     code_m: f64,
     frequency_hz: f64,
     group_delay_m: f64,
+}
+
+/// One epoch's problem: the observations' epoch time, the models and the satellites' codes.
+struct Problem<'a> {
+    obs: &'a Observations,
+    t: i64,
+    eph: &'a Ephemerides,
+    nav: &'a NavData,
+    opts: &'a EngineOptions,
+    candidates: Vec<Candidate>,
 }
 
 /// The candidates usable at one linearisation point: their indices, residuals (observed - computed,
@@ -148,37 +160,31 @@ pub fn single_point(
         })
         .unwrap_or_else(Vector3::zeros);
     let masked_from_start = start.norm() > MIN_HORIZON_RADIUS_M;
-    let mut excluded: Vec<usize> = Vec::new();
-    let mut solution = solve(
+    let problem = Problem {
         obs,
         t,
         eph,
         nav,
         opts,
-        &candidates,
-        &excluded,
-        start,
-        masked_from_start,
-    )?;
-    if solution.1 > MAX_RESIDUAL_RMS_M {
-        if let Some(worst) = solution.2 {
-            excluded.push(worst);
-            if let Ok(again) = solve(
-                obs,
-                t,
-                eph,
-                nav,
-                opts,
-                &candidates,
-                &excluded,
-                solution.0.position_m,
-                true,
-            ) {
-                solution = again;
+        candidates,
+    };
+    let (mut solution, used) = solve(&problem, None, start, masked_from_start)?;
+    let mut systems: Vec<usize> = used.iter().map(|&r| problem.candidates[r].system).collect();
+    systems.sort_unstable();
+    systems.dedup();
+    // Leave-one-out only where the remaining satellites still over-determine the solution.
+    if solution.residual_rms_m > MAX_RESIDUAL_RMS_M && used.len() > 4 + systems.len() {
+        let best = used
+            .iter()
+            .filter_map(|&r| solve(&problem, Some(r), solution.position_m, true).ok())
+            .min_by(|a, b| a.0.residual_rms_m.total_cmp(&b.0.residual_rms_m));
+        if let Some((s, _)) = best {
+            if s.residual_rms_m < solution.residual_rms_m {
+                solution = s;
             }
         }
     }
-    let mut out = solution.0;
+    let mut out = solution;
     let fallback = out
         .clock_s
         .iter()
@@ -197,27 +203,20 @@ pub fn single_point(
     Ok(out)
 }
 
-/// Iterated solution with the candidates not in `excluded`: the solution (geometry left empty), its
-/// residual RMS and the candidate with the largest normalised residual.
-#[allow(clippy::too_many_arguments)]
+/// Iterated solution without candidate `excluded`: the solution (geometry left empty) and the
+/// candidates it used.
 fn solve(
-    obs: &Observations,
-    t: i64,
-    eph: &Ephemerides,
-    nav: &NavData,
-    opts: &EngineOptions,
-    candidates: &[Candidate],
-    excluded: &[usize],
+    p: &Problem,
+    excluded: Option<usize>,
     start: Vector3<f64>,
     masked_from_start: bool,
-) -> Result<(SppSolution, f64, Option<usize>)> {
+) -> Result<(SppSolution, Vec<usize>)> {
+    let (t, candidates) = (p.t, &p.candidates);
     let mut x = start;
     let mut clock_m = [0.0; N_SYSTEMS];
     for it in 0..MAX_ITERATIONS {
         let mask = masked_from_start || it > 0;
-        let lin = linearise(
-            obs, t, eph, nav, opts, candidates, excluded, &x, &clock_m, mask,
-        );
+        let lin = linearise(p, excluded, &x, &clock_m, mask);
         let systems: Vec<usize> = (0..N_SYSTEMS)
             .filter(|s| lin.rows.iter().any(|&r| candidates[r].system == *s))
             .collect();
@@ -277,17 +276,9 @@ fn solve(
         let step = Vector3::new(dx[0], dx[1], dx[2]).norm();
         if step < CONVERGED_STEP_M && mask {
             // Residuals at the solution.
-            let fin = linearise(
-                obs, t, eph, nav, opts, candidates, excluded, &x, &clock_m, true,
-            );
+            let fin = linearise(p, excluded, &x, &clock_m, true);
             let n = fin.rows.len().max(1) as f64;
             let rms = (fin.residual_m.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
-            let worst = fin
-                .rows
-                .iter()
-                .zip(fin.residual_m.iter().zip(&fin.sigma_m))
-                .max_by(|a, b| (a.1 .0 / a.1 .1).abs().total_cmp(&(b.1 .0 / b.1 .1).abs()))
-                .map(|(&r, _)| r);
             let mut clock_s = [f64::NAN; N_SYSTEMS];
             for &s in &systems {
                 clock_s[s] = clock_m[s] / SPEED_OF_LIGHT_M_S;
@@ -300,8 +291,7 @@ fn solve(
                     residual_rms_m: rms,
                     geometry: Vec::new(),
                 },
-                rms,
-                worst,
+                fin.rows,
             ));
         }
     }
@@ -311,16 +301,10 @@ fn solve(
     })
 }
 
-/// Residuals (observed - computed), lines of sight and weights of the usable candidates at `x`.
-#[allow(clippy::too_many_arguments)]
+/// Residuals (observed - computed), lines of sight and sigmas of the usable candidates at `x`.
 fn linearise(
-    obs: &Observations,
-    t: i64,
-    eph: &Ephemerides,
-    nav: &NavData,
-    opts: &EngineOptions,
-    candidates: &[Candidate],
-    excluded: &[usize],
+    p: &Problem,
+    excluded: Option<usize>,
     x: &Vector3<f64>,
     clock_m: &[f64; N_SYSTEMS],
     mask: bool,
@@ -337,20 +321,21 @@ fn linearise(
         sigma_m: Vec::new(),
         los: Vec::new(),
     };
-    for (r, c) in candidates.iter().enumerate() {
-        if excluded.contains(&r) {
+    let (t, eph, opts) = (p.t, p.eph, p.opts);
+    for (r, c) in p.candidates.iter().enumerate() {
+        if excluded == Some(r) {
             continue;
         }
-        let id = obs.sats[c.sat];
+        let id = p.obs.sats[c.sat];
         let Some(g) = satellite_geometry(eph, id, t, clock_m[c.system] / SPEED_OF_LIGHT_M_S, x)
         else {
             continue;
         };
         let (iono, tropo, mapping, el) = if known {
-            if mask && !(g.elevation_rad >= opts.elevation_mask_rad) {
+            if mask && (g.elevation_rad.is_nan() || g.elevation_rad < opts.elevation_mask_rad) {
                 continue;
             }
-            let iono = nav.klobuchar.map_or(0.0, |k| {
+            let iono = p.nav.klobuchar.map_or(0.0, |k| {
                 klobuchar_delay_m(
                     &k,
                     t,
@@ -386,4 +371,143 @@ fn linearise(
         lin.los.push(g.los_ecef);
     }
     lin
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gnss::geometry::enu_from_ecef;
+    use crate::gnss::navdata::KeplerRecord;
+    use crate::gnss::observations::ReceiverObservations;
+    use crate::gnss::signal::{SatId, System};
+
+    const T0: i64 = 2138 * 604_800 * 1_000_000_000 + 432_000 * 1_000_000_000;
+
+    /// 24 circular GPS orbits: 6 planes of 4 satellites.
+    fn constellation() -> NavData {
+        let kepler = (0..24u8)
+            .map(|k| KeplerRecord {
+                sat: SatId {
+                    system: System::Gps,
+                    prn: k + 1,
+                },
+                toc_gpst_ns: T0,
+                toe_gpst_ns: T0,
+                af: [1e-5 * f64::from(k), 0.0, 0.0],
+                crs: 0.0,
+                delta_n: 0.0,
+                m0: f64::from(k % 4) * 1.571 + f64::from(k / 4) * 0.3,
+                cuc: 0.0,
+                e: 0.0,
+                cus: 0.0,
+                sqrt_a: 5153.7,
+                cic: 0.0,
+                omega0: f64::from(k / 4) * 1.047,
+                cis: 0.0,
+                i0: 0.96,
+                crc: 0.0,
+                omega: 0.0,
+                omega_dot: 0.0,
+                idot: 0.0,
+                health: 0.0,
+                tgd_s: [0.0, f64::NAN],
+                iode: 1.0,
+                accuracy_m: 2.0,
+                fit_interval_h: 4.0,
+                data_source: f64::NAN,
+            })
+            .collect();
+        NavData {
+            kepler,
+            ..NavData::default()
+        }
+    }
+
+    fn observations(nav: &NavData, truth: &Vector3<f64>, clock_s: f64) -> Observations {
+        let eph = Ephemerides::new(nav).unwrap();
+        let sats: Vec<SatId> = nav.kepler.iter().map(|r| r.sat).collect();
+        let (lat, _, h) = geodetic_from_ecef(truth);
+        let mut code = vec![f64::NAN; sats.len() * MAX_FREQUENCIES];
+        for (k, &id) in sats.iter().enumerate() {
+            let g = satellite_geometry(&eph, id, T0, clock_s, truth).unwrap();
+            code[k * MAX_FREQUENCIES] = g.range_m
+                + SPEED_OF_LIGHT_M_S * (clock_s - g.clock_s)
+                + troposphere_delay_m(lat, h, g.elevation_rad.max(0.0));
+        }
+        let n = code.len();
+        Observations {
+            time_gpst_ns: vec![T0],
+            glonass_channel: vec![None; sats.len()],
+            sats,
+            receivers: vec![ReceiverObservations {
+                code_m: code,
+                phase_cycles: vec![f64::NAN; n],
+                doppler_hz: vec![f64::NAN; n],
+                snr_dbhz: vec![f64::NAN; n],
+                lli: vec![0; n],
+                approx_position_m: None,
+            }],
+        }
+    }
+
+    #[test]
+    fn recovers_a_noise_free_position_and_clock_from_the_earth_centre() {
+        let nav = constellation();
+        let eph = Ephemerides::new(&nav).unwrap();
+        let (lat, lon) = (36f64.to_radians(), 140f64.to_radians());
+        let truth = enu_from_ecef(lat, lon).transpose() * Vector3::new(0.0, 0.0, 6_371_000.0);
+        let obs = observations(&nav, &truth, 2.5e-4);
+        let s = single_point(&obs, 0, 0, &eph, &nav, &EngineOptions::default(), None).unwrap();
+        assert!(s.satellites >= 5, "{}", s.satellites);
+        assert!(
+            (s.position_m - truth).norm() < 1e-3,
+            "{}",
+            (s.position_m - truth).norm()
+        );
+        assert!((s.clock_s[0] - 2.5e-4).abs() < 1e-11);
+        assert!(s.clock_s[1..].iter().all(|c| c.is_nan()));
+        assert!(s.residual_rms_m < 1e-3);
+        assert_eq!(s.geometry.len(), 24);
+    }
+
+    #[test]
+    fn an_outlier_is_dropped_once() {
+        let nav = constellation();
+        let eph = Ephemerides::new(&nav).unwrap();
+        let truth = enu_from_ecef(0.6, 2.4).transpose() * Vector3::new(0.0, 0.0, 6_371_000.0);
+        let mut obs = observations(&nav, &truth, 0.0);
+        let clean = single_point(&obs, 0, 0, &eph, &nav, &EngineOptions::default(), None).unwrap();
+        let used = clean.satellites;
+        // 300 m on the highest satellite's code.
+        let top = (0..24)
+            .max_by(|&a, &b| {
+                let el = |k: usize| clean.geometry[k].map_or(-1.0, |g| g.elevation_rad);
+                el(a).total_cmp(&el(b))
+            })
+            .unwrap();
+        obs.receivers[0].code_m[top * MAX_FREQUENCIES] += 300.0;
+        let s = single_point(&obs, 0, 0, &eph, &nav, &EngineOptions::default(), None).unwrap();
+        assert_eq!(s.satellites, used - 1);
+        assert!((s.position_m - truth).norm() < 1e-3);
+    }
+
+    #[test]
+    fn too_few_satellites_and_bad_indices_are_errors() {
+        let nav = constellation();
+        let eph = Ephemerides::new(&nav).unwrap();
+        let truth = enu_from_ecef(0.6, 2.4).transpose() * Vector3::new(0.0, 0.0, 6_371_000.0);
+        let mut obs = observations(&nav, &truth, 0.0);
+        for k in 3..24 {
+            obs.receivers[0].code_m[k * MAX_FREQUENCIES] = f64::NAN;
+        }
+        let opts = EngineOptions::default();
+        assert!(matches!(
+            single_point(&obs, 0, 0, &eph, &nav, &opts, None),
+            Err(Error::Degenerate { .. })
+        ));
+        assert!(matches!(
+            single_point(&obs, 1, 0, &eph, &nav, &opts, None),
+            Err(Error::OutOfRange { .. })
+        ));
+    }
 }

@@ -42,6 +42,9 @@ mod kernel;
 mod model;
 mod refine;
 mod search;
+mod series;
+#[cfg(test)]
+mod series_tests;
 #[cfg(test)]
 mod tests;
 
@@ -53,3 +56,4 @@ pub use refine::{
     estimate, parabolic, polish, Estimate, Refine, Search, AUTO_MAX_STEP, AUTO_MIN_CELLS,
 };
 pub use search::{evaluate_cells, evaluate_grid, exhaustive_max, GridMax};
+pub use series::{ml_attitude_series, ml_baseline_series, MlEpoch, MlSolution};

@@ -14,7 +14,7 @@ fn triangle(l: f64) -> Vec<Vector3<f64>> {
     ]
 }
 
-fn sky(rng: &mut ChaCha8Rng, m: usize) -> Vec<Vector3<f64>> {
+pub(super) fn sky(rng: &mut ChaCha8Rng, m: usize) -> Vec<Vector3<f64>> {
     (0..m)
         .map(|_| {
             let az: f64 = rng.random_range(0.0..std::f64::consts::TAU);
@@ -211,12 +211,12 @@ fn cell_limit_counts_the_cells_a_grid_holds() {
 }
 
 /// GLONASS L1 FDMA wavelength of channel `k` (-7..=6), metres.
-fn glonass(k: i32) -> f64 {
+pub(super) fn glonass(k: i32) -> f64 {
     299_792_458.0 / (1602e6 + k as f64 * 0.5625e6)
 }
 
 /// A random planar-or-not array of `m` antennas (m - 1 baselines) with longest baseline near `l` metres.
-fn array(rng: &mut ChaCha8Rng, m: usize, l: f64) -> Vec<Vector3<f64>> {
+pub(super) fn array(rng: &mut ChaCha8Rng, m: usize, l: f64) -> Vec<Vector3<f64>> {
     loop {
         let b: Vec<Vector3<f64>> = (1..m)
             .map(|_| {

@@ -88,13 +88,13 @@ pub fn kepler_healthy(record: &KeplerRecord) -> bool {
 }
 
 /// Nearest usable record (`usable(record, age_s)`) by reference time; the lower `rank` breaks ties.
-fn nearest<'a, R>(
-    records: &'a [R],
+fn nearest<R>(
+    records: &[R],
     t_gpst_ns: i64,
     reference_ns: impl Fn(&R) -> i64,
     usable: impl Fn(&R, f64) -> bool,
     rank: impl Fn(&R) -> u8,
-) -> Option<&'a R> {
+) -> Option<&R> {
     records
         .iter()
         .filter_map(|r| {
@@ -171,7 +171,8 @@ impl Ephemerides {
 
     /// State at transmit time `t = t_gpst_ns + offset_s` (offset small, e.g. minus the light time);
     /// `None` when no usable record (healthy per the system's ICD, within its validity interval
-    /// [`max_age_s`]) exists.
+    /// [`max_age_s`]) exists, for an offset that is not finite or beyond a day, or where the result
+    /// would not be finite.
     pub fn state(&self, sat: SatId, t_gpst_ns: i64, offset_s: f64) -> Option<SatState> {
         if !offset_s.is_finite() || offset_s.abs() > 86_400.0 {
             return None;

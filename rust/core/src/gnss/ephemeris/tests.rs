@@ -135,3 +135,23 @@ fn beidou_validity_and_qzss_interval() {
     assert!(ok(System::BeiDou, 20, 21_600) && !ok(System::BeiDou, 20, 21_601));
     assert!(ok(System::Qzss, 1, 3600) && !ok(System::Qzss, 1, 3601));
 }
+
+#[test]
+fn circular_orbit_velocity_closed_form() {
+    // e = 0: in inertial axes the speed is n a; the ECEF velocity adds -omega_E x r.
+    let r = record(System::Gps, 1, 0);
+    let eph = Ephemerides::new(&nav(vec![r])).unwrap();
+    let s = eph.state(r.sat, T0 + 1000 * NS_PER_S, 0.25).unwrap();
+    let a = r.sqrt_a * r.sqrt_a;
+    let n = (3.986_005e14 / (a * a * a)).sqrt();
+    let omega = Vector3::new(0.0, 0.0, 7.292_115_146_7e-5);
+    let inertial = s.velocity_m_s + omega.cross(&s.position_m);
+    assert!((s.position_m.norm() - a).abs() < 1e-6);
+    // Forward difference over 1 ms: n^2 a h / 2 = 3e-4 m/s of truncation.
+    assert!(
+        (inertial.norm() - n * a).abs() < 1e-3,
+        "{}",
+        inertial.norm() - n * a
+    );
+    assert!(s.clock_drift_s_s.abs() < 1e-15);
+}

@@ -1,1 +1,158 @@
-//! Double differences, float solution and integer fixing (to be written).
+//! Double differences, float solution and integer fixing of a baseline (and of several baselines of one
+//! rigid array: attitude mode), on epochs prepared by the session (no ephemerides, no files here).
+//!
+//! Model, per frequency slot `f` of system `s` (a *group*), satellites `k` and reference `r` of the group
+//! (highest elevation at the base), single differences rover minus base in metres:
+//!
+//! - code `P_k = rho_k(b) + c dt + e`, phase `lambda_k phi_k = rho_k(b) + c dt + lambda_k N_k + e`, with
+//!   `rho_k(b) = (|s_k^rover - x_base - b| - c dts_k^rover) - (|s_k^base - x_base| - c dts_k^base)`: exact
+//!   ranges from each receiver's satellite geometry, linearised at `rover_prior` and iterated, so kilometre
+//!   baselines need no approximation;
+//! - double differences `P_k - P_r` and `lambda_k phi_k - lambda_r phi_r` remove the receiver clock `c dt`
+//!   (no inter-system or inter-frequency differences are formed);
+//! - unknowns: the baseline (3, ECEF m), one double-difference integer `a_kr = N_k - N_r` (cycles) per
+//!   (arc, reference arc) pair, shared by every epoch where that pair occurs (static mode), and for a
+//!   group whose wavelengths differ (GLONASS FDMA) the reference's single-difference ambiguity `N_r`
+//!   (see below);
+//! - covariance: single differences are independent across satellites with variance
+//!   `sigma_base^2 + sigma_rover^2 = 2 sigma^2` (one undifferenced sigma per signal, the same at both
+//!   receivers); the double differences' covariance is `C = D Sigma_SD D^T` exactly ([`dd`]);
+//! - weighted least squares by Cholesky of the normal matrix ([`float`]);
+//! - fixing with LAMBDA ([`crate::lambda`]): the full set when its bootstrapped success rate reaches
+//!   [`FixOptions::min_success_rate`] and its ratio test passes, else the largest decorrelated subset that
+//!   does (partial fixing); the baseline conditioned on the fixed integers ([`fix`]).
+//!
+//! GLONASS FDMA ([`glonass`]): with different wavelengths the double-differenced phase is
+//! `lambda_k N_k - lambda_r N_r = lambda_k a_kr + (lambda_k - lambda_r) N_r`. The integer `a_kr` is what
+//! LAMBDA fixes; the reference's single-difference ambiguity `N_r` is a float unknown determined by the
+//! single-difference phase-minus-code of the reference satellite (`lambda_r phi_r - P_r = lambda_r N_r`),
+//! as RTKLIB does for receivers of one make. Assumption: no inter-frequency (inter-channel) bias between
+//! the two receivers, i.e. identical receivers; a common code-phase bias only shifts `N_r`, whose error
+//! enters through `lambda_k - lambda_r` (at most 0.45 % of `lambda`, so a metre of code error in `N_r`
+//! moves a double difference by under 5 mm times `(k_k - k_r) / 13`).
+//!
+//! Attitude mode ([`constrained`]): every rover's baseline from its own double differences, the integer
+//! candidates screened and scored with the known antenna geometry (length constraint and the rigid-body
+//! fit of the multivariate constrained LAMBDA, Teunissen 2010, J. Geodesy 84:751-762), then the rotation
+//! ENU <- body from Wahba's problem ([`crate::wahba`]).
+//!
+//! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call and at most
+//! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution.
+
+pub mod constrained;
+pub mod dd;
+pub mod fix;
+pub mod float;
+pub mod frames;
+pub mod glonass;
+
+#[cfg(test)]
+mod sim;
+#[cfg(test)]
+mod tests;
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::geometry::SatGeometry;
+use super::signal::System;
+use super::solution::N_SYSTEMS;
+
+pub use constrained::solve_attitude;
+pub use fix::solve_baseline;
+
+/// Most signals (satellite x slot) in one epoch.
+pub const MAX_SIGNALS: usize = 512;
+
+/// Most epochs in one static solution.
+pub const MAX_EPOCHS: usize = 100_000;
+
+/// One (satellite, slot) observed with phase and code by base and rover.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SignalPair {
+    /// Session satellite index.
+    pub sat: usize,
+    pub system: System,
+    /// Frequency slot, `0..MAX_FREQUENCIES`.
+    pub slot: usize,
+    /// Carrier wavelength of this signal, m.
+    pub wavelength_m: f64,
+    /// Satellite geometry seen from the base and from the rover (each from its own receiver time and
+    /// clock; the rover's computed at `rover_prior_m`).
+    pub base: SatGeometry,
+    pub rover: SatGeometry,
+    /// Pseudoranges, m.
+    pub base_code_m: f64,
+    pub rover_code_m: f64,
+    /// Carrier phases, cycles (any integer offset).
+    pub base_phase_cycles: f64,
+    pub rover_phase_cycles: f64,
+    /// Undifferenced standard deviations of one receiver (elevation-weighted), m.
+    pub sigma_code_m: f64,
+    pub sigma_phase_m: f64,
+    /// Ambiguity identity: the same value while the arc has no slip (the session assigns it; a slip or a
+    /// loss of lock gives a new value).
+    pub arc: u64,
+}
+
+/// One epoch of one base-rover pair.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DdEpoch {
+    /// Base antenna, ECEF m.
+    pub base_m: Vector3<f64>,
+    /// Approximate rover antenna (code solution), ECEF m: the linearisation point.
+    pub rover_prior_m: Vector3<f64>,
+    pub signals: Vec<SignalPair>,
+}
+
+/// Acceptance of an integer fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixOptions {
+    /// Smallest bootstrapped success rate of the set fixed, in [0, 1].
+    pub min_success_rate: f64,
+    /// Ratio-test threshold, >= 1.
+    pub ratio_threshold: f64,
+}
+
+/// The solution of one baseline (one epoch or a static session).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BaselineSolution {
+    /// Rover minus base, ECEF m: fixed (conditioned on the integers fixed) or float.
+    pub baseline_m: Vector3<f64>,
+    /// Its covariance, m^2.
+    pub covariance_m2: Matrix3<f64>,
+    /// All ambiguities fixed and validated (or held).
+    pub fixed: bool,
+    /// Integer combinations fixed (held ones included) out of `ambiguities`.
+    pub fixed_ambiguities: usize,
+    /// Double-difference ambiguities of the float solution (held ones included).
+    pub ambiguities: usize,
+    /// Ratio-test statistic of the full float set (infinite when nothing was left to fix).
+    pub ratio: f64,
+    /// Bootstrapped success rate of the full float set (1 when nothing was left to fix).
+    pub success_rate: f64,
+    /// `(arc, reference arc, DD integer)` of every ambiguity fixed (or held), for holding.
+    pub integers: Vec<(u64, u64, i64)>,
+    /// Reference satellite per system (lowest slot with double differences), session index.
+    pub reference_sats: [Option<usize>; N_SYSTEMS],
+    /// Bit `slot` set when that slot contributed double differences.
+    pub slots_used: u8,
+    /// Satellites in the double differences, per system (reference included), largest over epochs.
+    pub satellites_per_system: [u16; N_SYSTEMS],
+}
+
+/// Attitude of a rigid antenna array at one epoch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttitudeSolution {
+    /// Rotation ENU <- body at the base antenna (body frame of seed 001: X nose, Y up, Z right wing).
+    pub rotation_enu_from_body: Matrix3<f64>,
+    /// Each rover's baseline (rover minus base, ECEF m) and covariance; fixed with the constraint when
+    /// `fixed`.
+    pub baselines: Vec<BaselineSolution>,
+    /// Every rover's ambiguities fixed with the geometry constraint and validated.
+    pub fixed: bool,
+    /// Second-best over best constrained objective (the acceptance statistic).
+    pub ratio: f64,
+    /// Product of the rovers' unconstrained bootstrapped success rates (a lower bound of the constrained
+    /// fix's, the rovers treated as independent).
+    pub success_rate: f64,
+}
