@@ -1,10 +1,11 @@
-"""Writing RINEX 3.04 observation and GPS navigation files, so that simulated scenarios run through the
+"""Writing RINEX 3.04 observation and (mixed) navigation files, so that simulated scenarios run through the
 whole recorded-data path with a known truth.
 
 :func:`write_nav_from_constellation` turns the simulator's two-body orbits into broadcast records that
 reproduce them exactly: with the scenario epoch ``T0`` (GPST label of ``t = 0``, ``theta0 = 0``) and
 ``toe`` at ``T0``, ``OMEGA0 = RAAN + omega_E sow(T0)``, ``M0`` the mean anomaly at ``t = 0``,
-``delta_n = n_sim - sqrt(mu_GPS / a^3)``, every harmonic correction and clock term zero.
+``delta_n = n_sim - sqrt(mu_sys / a^3)``, ``OMEGA_DOT = omega_sys - omega_E`` (zero for GPS), every
+harmonic correction zero.
 """
 
 from __future__ import annotations
@@ -16,16 +17,28 @@ from os import PathLike
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import instance, shaped
+from gnssatt._arrays import instance, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.rinex._fields import output_path, sat_list, time_labels
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import GPS_EPOCH, gps_ns
 from gnssatt.sim.constellation import Constellation
 
 __all__ = ["write_nav_from_constellation", "write_obs"]
 
-_MU_GPS = 3.986005e14
+#: Gravitational constants and Earth rotation rates of each system's ICD (GPS/QZSS IS-GPS-200, Galileo
+#: OS SIS ICD, BeiDou BDS-SIS-ICD); the simulator's Earth turns at ``_OMEGA_E``.
+_MU = {"G": 3.986005e14, "J": 3.986005e14, "E": 3.986004418e14, "C": 3.986004418e14, "R": 3.9860044e14}
 _OMEGA_E = 7.2921151467e-5
+_OMEGA = {"G": _OMEGA_E, "J": _OMEGA_E, "E": _OMEGA_E, "C": 7.292115e-5}
+_BDT_NS = 14 * 1_000_000_000
+_BDT_WEEK = 1356
+#: GPS - UTC written with GLONASS records (valid since 2017-01-01).
+_LEAP_SECONDS = 18
+_GLONASS_STEP_S = 1800.0
+#: Galileo data-source word of the records written: I/NAV E1-B, clock for E5b (bits 0 and 9).
+_DATA_SOURCE = 513.0
+#: Longest span the GLONASS records of :func:`write_nav_from_constellation` cover, s (a day).
+MAX_SPAN_S = 86400.0
 _WEEK_NS = 604_800 * 1_000_000_000
 _CODE = re.compile(r"[CLDS][1-9][A-Z]")
 #: Largest magnitude a 14.3f observation field holds; largest coordinate of APPROX POSITION XYZ (14.4f).
@@ -226,24 +239,51 @@ def _d19(x: float) -> str:
 
 
 def write_nav_from_constellation(
-    path: str | PathLike[str], constellation: Constellation, epoch_gpst: np.datetime64
+    path: str | PathLike[str],
+    constellation: Constellation,
+    epoch_gpst: np.datetime64,
+    *,
+    span_s: float = 0.0,
+    clock_bias_s: ArrayLike | None = None,
 ) -> NDArray[np.int64]:
-    """Write a RINEX 3.04 GPS navigation file whose records reproduce the simulator's orbits (module
-    docstring); the ECEF frame is the simulator's with ``theta0 = 0`` at ``epoch_gpst``.
+    """Write a RINEX 3.04 navigation file (mixed where the constellation is) whose records give the
+    simulator's orbits; the ECEF frame is the simulator's with ``theta0 = 0`` at ``epoch_gpst``.
+
+    GPS, Galileo, BeiDou and QZSS get one Keplerian record with ``toe`` at ``epoch_gpst`` that reproduces
+    the two-body orbit exactly (module docstring; each system's ``mu`` and ``omega_E``, BeiDou in BDT =
+    GPST - 14 s; satellites C01-C05 would be read as GEO and are refused). GLONASS gets state vectors (ECEF
+    position and velocity, no luni-solar acceleration) every 30 minutes from ``epoch_gpst`` over
+    ``span_s``, labelled in UTC with 18 leap seconds (written as ``LEAP SECONDS``); the ICD's integration
+    with J2 drifts from the two-body orbit by metres over 15 minutes, so simulate ranges from the records
+    read back (as :func:`gnssatt.rinex.scenario.simulate_gnss_rinex` does), not from the orbits.
+
+    Parameters
+    ----------
+    path
+        Output file.
+    constellation
+        Satellites of ``G``, ``R``, ``E``, ``C``, ``J`` ids.
+    epoch_gpst
+        GPST label of the simulator's ``t = 0``.
+    span_s
+        Seconds after ``epoch_gpst`` the GLONASS records must cover (0 to ``MAX_SPAN_S``).
+    clock_bias_s
+        (n_sat,) satellite clock bias ``af0`` (GLONASS ``-tau_n``), s; zeros by default.
 
     Returns
     -------
     toe_ns
-        GPST nanoseconds of the records' time of ephemeris.
+        (n_sat,) GPST nanoseconds of each satellite's (first) record.
 
     Raises
     ------
     InvalidTypeError
         ``path`` not a path, ``constellation`` not a :class:`~gnssatt.sim.Constellation`, ``epoch_gpst``
-        not a datetime64.
+        not a datetime64, ``span_s`` or ``clock_bias_s`` not real.
     InvalidInputError
-        ``path`` empty, a folder or in a missing folder; a constellation other than GPS; ``epoch_gpst``
-        not a single label in range.
+        ``path`` empty, a folder or in a missing folder; ids of other systems or BeiDou GEO ids (C01-C05,
+        C59-C63); ``epoch_gpst`` not a single label in range; ``span_s`` outside ``[0, MAX_SPAN_S]``;
+        ``clock_bias_s`` not finite (n_sat,) within 1 ms.
     """
     path = output_path("path", path)
     constellation = instance("constellation", constellation, Constellation, "a sim.Constellation")
@@ -251,33 +291,91 @@ def write_nav_from_constellation(
     if epoch.ndim != 0:
         raise InvalidInputError(f"expected epoch_gpst as one datetime64 label, got shape {epoch.shape}")
     epoch_gpst = epoch[()]
-    if any(not s.startswith("G") for s in constellation.ids):
-        raise InvalidInputError("expected a GPS constellation (ids 'Gnn')")
+    span_s = scalar("span_s", span_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
+    ids = constellation.ids
+    n = len(ids)
+    bad = [s for s in ids if s[0] not in _MU or (s[0] == "C" and (int(s[1:]) <= 5 or int(s[1:]) >= 59))]
+    if bad:
+        raise InvalidInputError(
+            f"expected satellites of G, R, E, C (MEO/IGSO numbers 6-58), J, got {bad[:5]}"
+        )
+    clk = np.zeros(n) if clock_bias_s is None else shaped("clock_bias_s", clock_bias_s, f"({n},)", (n,))
+    if np.any(np.abs(clk) > 1e-3):
+        raise InvalidInputError(f"expected |clock_bias_s| <= 1e-3 s, got {np.max(np.abs(clk))}")
     t_ns = int(gps_ns(np.array([epoch_gpst]))[0])
-    week, sow_ns = divmod(t_ns, _WEEK_NS)
-    sow = sow_ns * 1e-9
     o = constellation.orbits
-    y, mo, d, hh, mi, sec = _parts(np.datetime64(epoch_gpst, "ns"))
+    systems = sorted({s[0] for s in ids})
     out = [
-        _hdr(f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}G", "RINEX VERSION / TYPE"),
+        _hdr(
+            f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
+            "RINEX VERSION / TYPE",
+        ),
         _hdr("gnssatt", "PGM / RUN BY / DATE"),
+        _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
         _hdr("", "END OF HEADER"),
     ]
-    for j, sat in enumerate(constellation.ids):
+    first = np.full(n, t_ns, dtype=np.int64)
+    for j, sat in enumerate(ids):
+        sy = sat[0]
+        if sy == "R":
+            first[j] = t_ns
+            out += _glonass_records(sat, constellation, j, epoch_gpst, span_s, float(clk[j]))
+            continue
+        # system time of the epoch: BDT runs 14 s behind GPST, the others with it
+        sys_ns = t_ns - (_BDT_NS if sy == "C" else 0)
+        week, sow_ns = divmod(sys_ns, _WEEK_NS)
+        sow = sow_ns * 1e-9
+        if sy == "C":
+            week -= _BDT_WEEK
         a = float(o.semi_major_axis_m[j])
-        dn = float(o.mean_motion_rad_s[j]) - np.sqrt(_MU_GPS / a**3)
+        dn = float(o.mean_motion_rad_s[j]) - np.sqrt(_MU[sy] / a**3)
+        # the node's ECEF longitude moves at -omega_sim; the ICD model at (OMEGA_DOT - omega_sys)
+        om_dot = _OMEGA[sy] - _OMEGA_E
         rows = [
             [0.0, 0.0, dn, float(o.mean_anomaly_rad[j])],
             [0.0, float(o.eccentricity[j]), 0.0, np.sqrt(a)],
-            [sow, 0.0, float(o.raan_rad[j]) + _OMEGA_E * sow, 0.0],
-            [float(o.inclination_rad[j]), 0.0, float(o.arg_perigee_rad[j]), 0.0],
-            [0.0, 0.0, float(week), 0.0],
+            [sow, 0.0, float(o.raan_rad[j]) + _OMEGA[sy] * sow, 0.0],
+            [float(o.inclination_rad[j]), 0.0, float(o.arg_perigee_rad[j]), om_dot],
+            [0.0, _DATA_SOURCE if sy == "E" else 0.0, float(week), 0.0],
             [2.0, 0.0, 0.0, 0.0],
-            [sow, 4.0],
+            [sow, 4.0 if sy in "GJ" else 0.0],
         ]
-        out.append(f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}" + _d19(0.0) * 3 + "\n")
+        if sy == "J":
+            rows[6][1] = 0.0  # QZSS: fit-interval flag 0 (two hours)
+        y, mo, d, hh, mi, sec = _parts(GPS_EPOCH + np.timedelta64(sys_ns, "ns"))
+        out.append(
+            f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}"
+            + _d19(float(clk[j]))
+            + _d19(0.0) * 2
+            + "\n"
+        )
         for r in rows:
             out.append("    " + "".join(_d19(v) for v in r) + "\n")
     with open(path, "w", encoding="ascii") as fh:
         fh.writelines(out)
-    return np.full(len(constellation.ids), t_ns, dtype=np.int64)
+    return first
+
+
+def _glonass_records(
+    sat: str, constellation: Constellation, j: int, epoch_gpst: np.datetime64, span_s: float, clk: float
+) -> list[str]:
+    """GLONASS records of one satellite every 30 minutes over ``[0, span_s]`` after ``epoch_gpst``."""
+    out = []
+    channel = int(constellation.glonass_channels[j])
+    one = constellation.select([sat])
+    for k in range(int(np.ceil(span_s / _GLONASS_STEP_S)) + 1):
+        t = k * _GLONASS_STEP_S
+        r, v = one.state_ecef(t)
+        label = epoch_gpst + np.timedelta64(int(t * 1e9) - _LEAP_SECONDS * 1_000_000_000, "ns")
+        y, mo, d, hh, mi, sec = _parts(label)
+        km = 1e-3
+        out.append(
+            f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}"
+            + _d19(clk)
+            + _d19(0.0) * 2
+            + "\n"
+        )
+        for axis, extra in ((0, 0.0), (1, float(channel)), (2, 0.0)):
+            vals = [r[0, axis] * km, v[0, axis] * km, 0.0, extra]
+            out.append("    " + "".join(_d19(x) for x in vals) + "\n")
+    return out
