@@ -90,7 +90,7 @@ def test_ranges_match_the_navigation_records(noiseless: SimulatedGnss) -> None:
     for i, o in enumerate(obs):
         rx = s.antenna_ecef_m[0, i]
         dt_rx = s.receiver_clock_s[i]
-        for k, sat in enumerate(s.sats):
+        for sat in s.sats:
             band = SIM_CODES[sat[0]][0]
             code = o.get(f"C{band}")[0, o.sats.index(sat)]
             # light time solved here by fixed point: tau = |Rz(-w tau) r_sat(T - dt_rx - tau) - rx| / c
