@@ -1,10 +1,11 @@
 """Simulated antenna arrays written as RINEX 3 files with a known truth: a static or rotating platform at a
-fixed point, the nominal GPS constellation (broadcast records that reproduce its orbits), independent
-receiver clocks, white code and phase noise, constant integer ambiguities (no slips).
+fixed point, nominal GPS, GLONASS, Galileo, BeiDou and QZSS orbits written as broadcast records, every
+range computed from those records (light time, Earth rotation, satellite clocks), independent receiver
+clocks in code and phase, white code, phase and Doppler noise, integer ambiguities with optional slips
+(:func:`simulate_gnss_rinex`; :func:`simulate_rinex_array` is its GPS L1 form).
 
-The simulator applies the receiver clock biases to the pseudoranges only (every receiver samples at the
-true epoch), while the reader moves the phases by ``range rate x clock difference``: the biases are kept
-below 1e-7 s so that this mismatch stays under 0.2 mm."""
+:func:`write_array_rinex` writes the far-field measurements of :func:`gnssatt.sim.simulate_array` (GPS L1,
+the two-body orbits themselves, no light time) for tests of the phase-only estimators."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from gnssatt._arrays import instance, integer, scalar, shaped
 from gnssatt.errors import InvalidInputError, WorkLimitError
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex._fields import folder_path, sat_list
-from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
+from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
 
 __all__ = [
     "SIM_CODES",
@@ -89,7 +90,9 @@ def simulate_rinex_array(
     lon_deg: float = 36.2,
     start_s: float = 0.0,
 ) -> SimulatedRinex:
-    """Simulate an array and write its RINEX 3 files into ``folder``.
+    """Simulate a GPS L1 array and write its RINEX 3 files into ``folder``: :func:`simulate_gnss_rinex`
+    with ``systems="G"``, ``frequencies=1``, receiver clocks within 1e-7 s and the file names
+    ``ant<i>.24o`` and ``sim.24n``.
 
     Parameters
     ----------
@@ -128,59 +131,22 @@ def simulate_rinex_array(
     WorkLimitError
         More than ``MAX_EPOCHS`` epochs.
     """
-    folder = folder_path("folder", folder)
-    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant >= 2, 3)", (None, 3))
-    if ant.shape[0] < 2:
-        raise InvalidInputError(f"expected antennas_body_m of shape (n_ant >= 2, 3), got {ant.shape}")
-    if np.any(np.abs(ant) > MAX_ANTENNA_M):
-        raise InvalidInputError(f"expected |antennas_body_m| <= {MAX_ANTENNA_M} m per coordinate")
     eul = shaped("euler_deg", euler_deg, "(3,) or (n_ep >= 1, 3)", (3,), (None, 3))
     if eul.shape == (3,):
         eul = np.tile(eul, (10, 1))
     if eul.shape[0] < 1:
         raise InvalidInputError(f"expected euler_deg of shape (3,) or (n_ep >= 1, 3), got {eul.shape}")
-    if np.any(np.abs(eul) > MAX_ANGLE_DEG):
-        raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
     if eul.shape[0] > MAX_EPOCHS:
         raise WorkLimitError(f"euler_deg has {eul.shape[0]} epochs, above the limit of {MAX_EPOCHS}")
-    interval_s = scalar("interval_s", interval_s, minimum=0.0, maximum=MAX_INTERVAL_S, strict=True, unit="s")
-    seed = integer("seed", seed, minimum=0)
-    if n_sats is not None:
-        n_sats = integer("n_sats", n_sats, minimum=1)
-    code_sigma_m = scalar("code_sigma_m", code_sigma_m, minimum=0.0, maximum=MAX_SIGMA_M, unit="m")
-    phase_sigma_m = scalar("phase_sigma_m", phase_sigma_m, minimum=0.0, maximum=MAX_SIGMA_M, unit="m")
-    elevation_min_deg = scalar("elevation_min_deg", elevation_min_deg, minimum=-90.0, maximum=90.0)
-    lat_deg = scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0)
-    lon_deg = scalar("lon_deg", lon_deg, minimum=-360.0, maximum=360.0)
-    start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
-    rng = np.random.default_rng(seed)
-    rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=150.0)
-    gps = sim.gps_nominal()
-    t = start_s + np.arange(len(eul)) * interval_s
-    el = np.degrees(np.arcsin(sim.line_of_sight(rx, gps, t).los[..., 2]))
-    keep = np.all(el > elevation_min_deg, axis=0)
-    if n_sats is not None:
-        order = np.argsort(-np.where(keep, el[0], -90.0))
-        keep = np.zeros_like(keep)
-        keep[order[:n_sats]] = True
-    vis = gps.select(list(np.array(gps.ids)[keep]))
-    geom = sim.line_of_sight(rx, vis, t)
-    rot = rotation_from_euler(eul)
-    meas = sim.simulate_array(
-        geom,
-        rot,
-        ant,
-        vis.wavelengths_m(),
-        rng,
-        code_sigma_m=code_sigma_m,
-        phase_sigma_m=phase_sigma_m,
-        clock_bias_s=rng.uniform(-1e-7, 1e-7, size=len(ant)),
-    )
-    paths, nav = write_array_rinex(folder, meas, t, gps, vis.ids, rx)
-    rel = ant[1:] - ant[0]
-    truth = np.einsum("tij,aj->tai", rot.as_matrix(), rel)
-    times = T0 + (t * 1e9).astype("timedelta64[ns]")
-    return SimulatedRinex(paths, nav, times, eul, truth, tuple(vis.ids))
+    rng = np.random.default_rng(integer("seed", seed, minimum=0))
+    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant >= 2, 3)", (None, 3))
+    s = simulate_gnss_rinex(
+        folder, ant, eul, systems="G", frequencies=1, interval_s=interval_s, start_s=start_s, rng=rng,
+        receiver_clock_s=rng.uniform(-1e-7, 1e-7, size=len(ant)), code_sigma_m=code_sigma_m,
+        phase_sigma_m=phase_sigma_m, elevation_min_deg=elevation_min_deg, lat_deg=lat_deg, lon_deg=lon_deg,
+        n_sats=n_sats, file_names=("ant{i}.24o", "sim.24n"),
+    )  # fmt: skip
+    return SimulatedRinex(s.obs_paths, s.nav_path, s.time, s.euler_deg, s.baselines_enu_m, s.sats)
 
 
 def write_array_rinex(
@@ -369,6 +335,8 @@ def simulate_gnss_rinex(
     lat_deg: float = 50.0,
     lon_deg: float = 36.2,
     height_m: float = 150.0,
+    n_sats: int | None = None,
+    file_names: tuple[str, str] = ("gnss{i}.rnx", "gnss_nav.rnx"),
 ) -> SimulatedGnss:
     """Simulate a multi-GNSS, multi-frequency antenna array and write it as RINEX 3.04 with its truth.
 
@@ -396,8 +364,9 @@ def simulate_gnss_rinex(
     frequencies
         Slots written, 1 to 3 (GLONASS has two).
     n_epochs, interval_s, start_s
-        Number of epochs (taken from ``euler_deg`` when it has a row per epoch), spacing (s) and time of
-        the first epoch after ``2024-03-01T10:00:00`` GPST (s, 0 to a day).
+        Number of epochs (taken from ``euler_deg`` when it has a row per epoch), spacing (s, the session
+        at most ``MAX_SPAN_S``) and time of the first epoch after ``2024-03-01T10:00:00`` GPST (s, other
+        satellite geometries; ``|start_s|`` up to ``MAX_START_S``).
     rng
         Seed or generator of the clocks, ambiguities, noise and slip sizes.
     receiver_clock_s
@@ -411,6 +380,10 @@ def simulate_gnss_rinex(
         integer from that epoch on and the loss-of-lock indicator is 1 there.
     lat_deg, lon_deg, height_m
         Geodetic position of the platform's reference point.
+    n_sats
+        Keep only this many satellites (the highest at the first epoch); None keeps all above the mask.
+    file_names
+        Names of the observation files (``{i}`` the antenna) and of the navigation file.
 
     Raises
     ------
@@ -445,7 +418,22 @@ def simulate_gnss_rinex(
         raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=3)
     interval_s = scalar("interval_s", interval_s, minimum=0.0, maximum=MAX_INTERVAL_S, strict=True, unit="s")
-    start_s = scalar("start_s", start_s, minimum=0.0, maximum=MAX_INTERVAL_S, unit="s")
+    start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
+    if (n_epochs - 1) * interval_s > MAX_SPAN_S:
+        raise WorkLimitError(
+            f"{n_epochs} epochs every {interval_s} s span more than the limit of {MAX_SPAN_S} s"
+        )
+    if n_sats is not None:
+        n_sats = integer("n_sats", n_sats, minimum=1)
+    if not (
+        isinstance(file_names, tuple)
+        and len(file_names) == 2
+        and all(isinstance(x, str) and x and "/" not in x for x in file_names)
+        and "{i}" in file_names[0]
+    ):
+        raise InvalidInputError(
+            f"expected file_names as two file names, the first with '{{i}}', got {file_names!r}"
+        )
     gen = (
         rng
         if isinstance(rng, np.random.Generator)
@@ -469,10 +457,11 @@ def simulate_gnss_rinex(
     rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=height_m)
     allsats = gnss_constellation(systems, lon_deg=lon_deg)
     t_s = start_s + np.arange(n_epochs) * interval_s
-    span = float(t_s[-1]) + 1.0
     sat_clk = gen.uniform(-1e-4, 1e-4, size=len(allsats))
-    nav_path = folder / "gnss_nav.rnx"
-    write_nav_from_constellation(nav_path, allsats, T0, span_s=span, clock_bias_s=sat_clk)
+    nav_path = folder / file_names[1]
+    write_nav_from_constellation(
+        nav_path, allsats, T0, start_s=start_s, span_s=float(t_s[-1] - t_s[0]) + 1.0, clock_bias_s=sat_clk
+    )
     nav = read_nav(nav_path)
     times = T0 + (t_s * 1e9).astype("timedelta64[ns]")
     t_ns = gps_ns(times)
@@ -488,6 +477,10 @@ def simulate_gnss_rinex(
         d = p - pos[e, 0]
         el[e] = np.where(ok, np.degrees(np.arcsin(d @ up / np.linalg.norm(d, axis=1))), -90.0)
     keep = np.all(el > elevation_min_deg, axis=0)
+    if n_sats is not None:
+        order = np.argsort(-np.where(keep, el[0], -90.0))
+        keep = np.zeros_like(keep)
+        keep[order[: min(n_sats, int(np.all(el > elevation_min_deg, axis=0).sum()))]] = True
     if not keep.any():
         raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg} at every epoch")
     sats = [s for s, k in zip(ids, keep, strict=True) if k]
@@ -550,7 +543,7 @@ def simulate_gnss_rinex(
                     col = obs.setdefault(kind + band, np.full((n_epochs, n_sat), np.nan))
                     col[:, k] = arr[:, i, k, slot]
                 flags.setdefault("L" + band, np.zeros((n_epochs, n_sat)))[:, k] = lli[:, i, k, slot]
-        p = folder / f"gnss{i}.rnx"
+        p = folder / file_names[0].format(i=i)
         write_obs(
             p, times, sats, obs, approx_position_m=pos[0, i], marker_name=f"ANT{i}", lli=flags,
             glonass_channels=channels,

@@ -34,11 +34,16 @@ _BDT_NS = 14 * 1_000_000_000
 _BDT_WEEK = 1356
 #: GPS - UTC written with GLONASS records (valid since 2017-01-01).
 _LEAP_SECONDS = 18
-_GLONASS_STEP_S = 1800.0
+_GLONASS_STEP_S = 1800
+#: Spacing of the Keplerian records written, s: every epoch is within 30 minutes of a ``toe``, well inside
+#: the 4-hour fit interval.
+_KEPLER_STEP_S = 3600
 #: Galileo data-source word of the records written: I/NAV E1-B, clock for E5b (bits 0 and 9).
 _DATA_SOURCE = 513.0
-#: Longest span the GLONASS records of :func:`write_nav_from_constellation` cover, s (a day).
+#: Longest span the records of :func:`write_nav_from_constellation` cover, s (a day); largest ``|start_s|``
+#: (ten years).
 MAX_SPAN_S = 86400.0
+MAX_START_S = 3.2e8
 _WEEK_NS = 604_800 * 1_000_000_000
 _CODE = re.compile(r"[CLDS][1-9][A-Z]")
 #: Largest magnitude a 14.3f observation field holds; largest coordinate of APPROX POSITION XYZ (14.4f).
@@ -243,19 +248,21 @@ def write_nav_from_constellation(
     constellation: Constellation,
     epoch_gpst: np.datetime64,
     *,
+    start_s: float = 0.0,
     span_s: float = 0.0,
     clock_bias_s: ArrayLike | None = None,
 ) -> NDArray[np.int64]:
     """Write a RINEX 3.04 navigation file (mixed where the constellation is) whose records give the
     simulator's orbits; the ECEF frame is the simulator's with ``theta0 = 0`` at ``epoch_gpst``.
 
-    GPS, Galileo, BeiDou and QZSS get one Keplerian record with ``toe`` at ``epoch_gpst`` that reproduces
-    the two-body orbit exactly (module docstring; each system's ``mu`` and ``omega_E``, BeiDou in BDT =
+    Records start at ``epoch_gpst + start_s`` (whole seconds) and cover ``span_s`` after it. GPS,
+    Galileo, BeiDou and QZSS get a Keplerian record every hour (``toe`` on the record) that reproduces the
+    two-body orbit exactly (module docstring; each system's ``mu`` and ``omega_E``, BeiDou in BDT =
     GPST - 14 s; satellites C01-C05 would be read as GEO and are refused). GLONASS gets state vectors (ECEF
-    position and velocity, no luni-solar acceleration) every 30 minutes from ``epoch_gpst`` over
-    ``span_s``, labelled in UTC with 18 leap seconds (written as ``LEAP SECONDS``); the ICD's integration
-    with J2 drifts from the two-body orbit by metres over 15 minutes, so simulate ranges from the records
-    read back (as :func:`gnssatt.rinex.scenario.simulate_gnss_rinex` does), not from the orbits.
+    position and velocity, no luni-solar acceleration) every 30 minutes, labelled in UTC with 18 leap
+    seconds (written as ``LEAP SECONDS``); the ICD's integration with J2 drifts from the two-body orbit by
+    metres over 15 minutes, so simulate ranges from the records read back (as
+    :func:`gnssatt.rinex.scenario.simulate_gnss_rinex` does), not from the orbits.
 
     Parameters
     ----------
@@ -265,24 +272,27 @@ def write_nav_from_constellation(
         Satellites of ``G``, ``R``, ``E``, ``C``, ``J`` ids.
     epoch_gpst
         GPST label of the simulator's ``t = 0``.
+    start_s
+        Time of the first records after ``epoch_gpst``, s (rounded to whole seconds; ``|start_s|`` up to
+        ``MAX_START_S``).
     span_s
-        Seconds after ``epoch_gpst`` the GLONASS records must cover (0 to ``MAX_SPAN_S``).
+        Seconds after the first records that the records must cover (0 to ``MAX_SPAN_S``).
     clock_bias_s
         (n_sat,) satellite clock bias ``af0`` (GLONASS ``-tau_n``), s; zeros by default.
 
     Returns
     -------
     toe_ns
-        (n_sat,) GPST nanoseconds of each satellite's (first) record.
+        (n_sat,) GPST nanoseconds of each satellite's first record.
 
     Raises
     ------
     InvalidTypeError
         ``path`` not a path, ``constellation`` not a :class:`~gnssatt.sim.Constellation`, ``epoch_gpst``
-        not a datetime64, ``span_s`` or ``clock_bias_s`` not real.
+        not a datetime64, ``start_s``, ``span_s`` or ``clock_bias_s`` not real.
     InvalidInputError
         ``path`` empty, a folder or in a missing folder; ids of other systems or BeiDou GEO ids (C01-C05,
-        C59-C63); ``epoch_gpst`` not a single label in range; ``span_s`` outside ``[0, MAX_SPAN_S]``;
+        C59-C63); ``epoch_gpst`` not a single label in range; ``start_s`` or ``span_s`` out of range;
         ``clock_bias_s`` not finite (n_sat,) within 1 ms.
     """
     path = output_path("path", path)
@@ -291,6 +301,7 @@ def write_nav_from_constellation(
     if epoch.ndim != 0:
         raise InvalidInputError(f"expected epoch_gpst as one datetime64 label, got shape {epoch.shape}")
     epoch_gpst = epoch[()]
+    start = round(scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s"))
     span_s = scalar("span_s", span_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     ids = constellation.ids
     n = len(ids)
@@ -302,8 +313,7 @@ def write_nav_from_constellation(
     clk = np.zeros(n) if clock_bias_s is None else shaped("clock_bias_s", clock_bias_s, f"({n},)", (n,))
     if np.any(np.abs(clk) > 1e-3):
         raise InvalidInputError(f"expected |clock_bias_s| <= 1e-3 s, got {np.max(np.abs(clk))}")
-    t_ns = int(gps_ns(np.array([epoch_gpst]))[0])
-    o = constellation.orbits
+    t0_ns = int(gps_ns(np.array([epoch_gpst]))[0])
     systems = sorted({s[0] for s in ids})
     out = [
         _hdr(
@@ -314,68 +324,71 @@ def write_nav_from_constellation(
         _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
         _hdr("", "END OF HEADER"),
     ]
-    first = np.full(n, t_ns, dtype=np.int64)
     for j, sat in enumerate(ids):
-        sy = sat[0]
-        if sy == "R":
-            first[j] = t_ns
-            out += _glonass_records(sat, constellation, j, epoch_gpst, span_s, float(clk[j]))
-            continue
-        # system time of the epoch: BDT runs 14 s behind GPST, the others with it
-        sys_ns = t_ns - (_BDT_NS if sy == "C" else 0)
-        week, sow_ns = divmod(sys_ns, _WEEK_NS)
-        sow = sow_ns * 1e-9
-        if sy == "C":
-            week -= _BDT_WEEK
-        a = float(o.semi_major_axis_m[j])
-        dn = float(o.mean_motion_rad_s[j]) - np.sqrt(_MU[sy] / a**3)
-        # the node's ECEF longitude moves at -omega_sim; the ICD model at (OMEGA_DOT - omega_sys)
-        om_dot = _OMEGA[sy] - _OMEGA_E
-        rows = [
-            [0.0, 0.0, dn, float(o.mean_anomaly_rad[j])],
-            [0.0, float(o.eccentricity[j]), 0.0, np.sqrt(a)],
-            [sow, 0.0, float(o.raan_rad[j]) + _OMEGA[sy] * sow, 0.0],
-            [float(o.inclination_rad[j]), 0.0, float(o.arg_perigee_rad[j]), om_dot],
-            [0.0, _DATA_SOURCE if sy == "E" else 0.0, float(week), 0.0],
-            [2.0, 0.0, 0.0, 0.0],
-            [sow, 4.0 if sy in "GJ" else 0.0],
-        ]
-        if sy == "J":
-            rows[6][1] = 0.0  # QZSS: fit-interval flag 0 (two hours)
-        y, mo, d, hh, mi, sec = _parts(GPS_EPOCH + np.timedelta64(sys_ns, "ns"))
-        out.append(
-            f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}"
-            + _d19(float(clk[j]))
-            + _d19(0.0) * 2
-            + "\n"
-        )
-        for r in rows:
-            out.append("    " + "".join(_d19(v) for v in r) + "\n")
+        step = _GLONASS_STEP_S if sat[0] == "R" else _KEPLER_STEP_S
+        for k in range(int(np.ceil(span_s / step)) + 1):
+            t_r = start + k * step
+            t_ns = t0_ns + t_r * 1_000_000_000
+            if sat[0] == "R":
+                out += _glonass_record(sat, constellation, j, t_r, t_ns, float(clk[j]))
+            else:
+                out += _kepler_record(sat, constellation, j, t_r, t_ns, float(clk[j]))
     with open(path, "w", encoding="ascii") as fh:
         fh.writelines(out)
-    return first
+    return np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
 
 
-def _glonass_records(
-    sat: str, constellation: Constellation, j: int, epoch_gpst: np.datetime64, span_s: float, clk: float
+def _record_start(sat: str, label_ns: int, clk: float) -> str:
+    """First line of a record: satellite, epoch (whole seconds since the GPS epoch, in the system's time
+    scale), clock bias, then two zero fields."""
+    y, mo, d, hh, mi, sec = _parts(GPS_EPOCH + np.timedelta64(label_ns, "ns"))
+    return (
+        f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}" + _d19(clk) + _d19(0.0) * 2 + "\n"
+    )
+
+
+def _kepler_record(
+    sat: str, constellation: Constellation, j: int, t_r: int, t_ns: int, clk: float
 ) -> list[str]:
-    """GLONASS records of one satellite every 30 minutes over ``[0, span_s]`` after ``epoch_gpst``."""
-    out = []
-    channel = int(constellation.glonass_channels[j])
-    one = constellation.select([sat])
-    for k in range(int(np.ceil(span_s / _GLONASS_STEP_S)) + 1):
-        t = k * _GLONASS_STEP_S
-        r, v = one.state_ecef(t)
-        label = epoch_gpst + np.timedelta64(int(t * 1e9) - _LEAP_SECONDS * 1_000_000_000, "ns")
-        y, mo, d, hh, mi, sec = _parts(label)
-        km = 1e-3
-        out.append(
-            f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}"
-            + _d19(clk)
-            + _d19(0.0) * 2
-            + "\n"
-        )
-        for axis, extra in ((0, 0.0), (1, float(channel)), (2, 0.0)):
-            vals = [r[0, axis] * km, v[0, axis] * km, 0.0, extra]
-            out.append("    " + "".join(_d19(x) for x in vals) + "\n")
-    return out
+    """Keplerian record of satellite ``j`` with ``toe`` ``t_r`` seconds after the simulator's ``t = 0``
+    (GPST ``t_ns``)."""
+    sy = sat[0]
+    o = constellation.orbits
+    # system time of the record: BDT runs 14 s behind GPST, the others with it
+    sys_ns = t_ns - (_BDT_NS if sy == "C" else 0)
+    week, sow_ns = divmod(sys_ns, _WEEK_NS)
+    sow = sow_ns * 1e-9
+    if sy == "C":
+        week -= _BDT_WEEK
+    a = float(o.semi_major_axis_m[j])
+    n_sim = float(o.mean_motion_rad_s[j])
+    dn = n_sim - np.sqrt(_MU[sy] / a**3)
+    # at toe the node's ECEF longitude is RAAN - omega_E t_r; it moves at -omega_E, the ICD model's at
+    # (OMEGA_DOT - omega_sys)
+    omega0 = float(o.raan_rad[j]) - _OMEGA_E * t_r + _OMEGA[sy] * sow
+    m0 = float(o.mean_anomaly_rad[j]) + n_sim * t_r
+    rows = [
+        [0.0, 0.0, dn, float(np.remainder(m0 + np.pi, 2 * np.pi) - np.pi)],
+        [0.0, float(o.eccentricity[j]), 0.0, np.sqrt(a)],
+        [sow, 0.0, float(np.remainder(omega0 + np.pi, 2 * np.pi) - np.pi), 0.0],
+        [float(o.inclination_rad[j]), 0.0, float(o.arg_perigee_rad[j]), _OMEGA[sy] - _OMEGA_E],
+        [0.0, _DATA_SOURCE if sy == "E" else 0.0, float(week), 0.0],
+        [2.0, 0.0, 0.0, 0.0],
+        # transmission time; GPS fit interval 4 h, QZSS fit-interval flag 0 (two hours)
+        [sow, 4.0 if sy == "G" else 0.0],
+    ]
+    return [_record_start(sat, sys_ns, clk)] + ["    " + "".join(_d19(v) for v in r) + "\n" for r in rows]
+
+
+def _glonass_record(
+    sat: str, constellation: Constellation, j: int, t_r: int, t_ns: int, clk: float
+) -> list[str]:
+    """GLONASS record of satellite ``j`` at ``t_r`` seconds after the simulator's ``t = 0`` (GPST
+    ``t_ns``), labelled in UTC."""
+    r, v = constellation.select([constellation.ids[j]]).state_ecef(float(t_r))
+    channel = float(constellation.glonass_channels[j])
+    km = 1e-3
+    lines = [_record_start(sat, t_ns - _LEAP_SECONDS * 1_000_000_000, clk)]
+    for axis, extra in ((0, 0.0), (1, channel), (2, 0.0)):
+        lines.append("    " + "".join(_d19(x) for x in (r[0, axis] * km, v[0, axis] * km, 0.0, extra)) + "\n")
+    return lines
