@@ -132,12 +132,33 @@ def test_time_systems_to_gpst(tmp_path: Path) -> None:
     np.testing.assert_array_equal(si.time_gpst_ns, gps_ns(a.time) + 14_000_000_000)  # BDT = GPST - 14 s
 
 
+def test_glonass_time_labels_with_leap_seconds(tmp_path: Path) -> None:
+    t = T0 + np.arange(4) * np.timedelta64(1, "s")
+    gps = _write(tmp_path / "a.rnx", ["R01"], ["C1C", "L1C"], time=t)
+    # the same instants labelled in GLONASS time, UTC(SU) + 3 h = GPST - 18 s + 3 h in 2024
+    _write(tmp_path / "b.rnx", ["R01"], ["C1C", "L1C"], time=t + np.timedelta64(3 * 3600 - 18, "s"))
+    label = "         TIME OF FIRST OBS"
+    text = (tmp_path / "b.rnx").read_text().replace(f"     GPS{label}", f"     GLO{label}")
+    for leaps, shift in (("    18", 0), ("    17", 1)):
+        end = f"{'':60}END OF HEADER"
+        with_leaps = text.replace(end, f"{leaps:<60}LEAP SECONDS\n{end}")
+        (tmp_path / "c.rnx").write_text(with_leaps)
+        glo = read_obs(tmp_path / "c.rnx")
+        assert glo.time_system == "GLO" and glo.leap_seconds == int(leaps)
+        si = session_input([glo, glo])
+        np.testing.assert_array_equal(si.time_gpst_ns, gps_ns(gps.time) - shift * 1_000_000_000)
+    (tmp_path / "d.rnx").write_text(text)  # no LEAP SECONDS: the table (18 s since 2017)
+    np.testing.assert_array_equal(
+        session_input([read_obs(tmp_path / "d.rnx")] * 2).time_gpst_ns, gps_ns(gps.time)
+    )
+
+
 def test_bad_arguments() -> None:
     obs = _geonet()
     for kw in ({"systems": "GX"}, {"systems": ""}, {"systems": "GG"}, {"frequencies": 0}, {"frequencies": 4}):
         with pytest.raises(InvalidInputError):
             session_input(obs, **kw)  # type: ignore[arg-type]
-    with pytest.raises(InvalidInputError, match="two or more"):
+    with pytest.raises(InvalidInputError, match="2 to 16 receivers"):
         session_input(obs[:1])
 
 

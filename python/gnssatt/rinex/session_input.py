@@ -22,10 +22,12 @@ from gnssatt.rinex.signals import SignalChoice, choose_signals
 
 __all__ = [
     "MATCH_TOLERANCE_NS",
+    "MAX_RECEIVERS",
     "NO_CHANNEL",
     "SYSTEMS",
     "NavInput",
     "SessionInput",
+    "SystemDroppedWarning",
     "nav_input",
     "session_input",
 ]
@@ -39,6 +41,8 @@ SLOTS = 3
 #: 1 us rule keeps 12 of its 120 epochs); the engine estimates each receiver's clock from its code, which
 #: takes the label difference in, so matched labels need not be equal.
 MATCH_TOLERANCE_NS = 25_000_000
+#: Most receivers of a session (``MAX_RECEIVERS`` of the core).
+MAX_RECEIVERS = 16
 #: ``glonass_channel`` of a satellite that is not GLONASS or whose channel is unknown.
 NO_CHANNEL = 99
 _NS = 1_000_000_000
@@ -209,7 +213,8 @@ def session_input(
         ``observations`` not a sequence of ``RinexObs``, ``systems`` not text, ``frequencies`` not an
         integer, ``nav`` not a ``RinexNav``.
     InvalidInputError
-        Fewer than two files; ``systems`` not distinct letters of ``"GRECJ"``; ``frequencies`` outside 1..3.
+        Fewer than two or more than :data:`MAX_RECEIVERS` files; ``systems`` not distinct letters of
+        ``"GRECJ"``; ``frequencies`` outside 1..3.
     RinexError
         A file without carrier-phase observations of the chosen systems and slots, no system left that
         every file has, no epoch common to all files, no satellite seen by every file (each message names
@@ -223,8 +228,10 @@ def session_input(
         instance(f"observations[{k}]", o, RinexObs, "a RinexObs (from read_obs)")
         for k, o in enumerate(observations)
     ]
-    if len(files) < 2:
-        raise InvalidInputError(f"expected observations of two or more receivers, got {len(files)}")
+    if not 2 <= len(files) <= MAX_RECEIVERS:
+        raise InvalidInputError(
+            f"expected observations of 2 to {MAX_RECEIVERS} receivers (the engine's limit), got {len(files)}"
+        )
     asked = _systems(systems)
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:
