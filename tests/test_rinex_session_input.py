@@ -78,6 +78,14 @@ def test_labels_matched_within_tolerance(tmp_path: Path) -> None:
     with pytest.raises(RinexError, match="no epoch common") as err:
         session_input([a, c])
     assert a.path in str(err.value) and c.path in str(err.value)
+    # 100 Hz: labels 5 ms apart are not one epoch (the tolerance drops below half the 10 ms spacing)
+    fast = T0 + np.arange(4) * np.timedelta64(10, "ms")
+    d = _write(tmp_path / "d.rnx", ["G01"], ["C1C", "L1C"], time=fast)
+    e = _write(tmp_path / "e.rnx", ["G01"], ["C1C", "L1C"], time=fast + np.timedelta64(4, "ms"))
+    f = _write(tmp_path / "f.rnx", ["G01"], ["C1C", "L1C"], time=fast + np.timedelta64(5, "ms"))
+    assert session_input([d, e]).epochs_dropped == (0, 0)
+    with pytest.raises(RinexError, match="labels within 4999999 ns"):
+        session_input([d, f])
 
 
 def test_file_without_phase_is_named(tmp_path: Path) -> None:
