@@ -4,17 +4,19 @@ that agrees with the navigation records (light time and Earth rotation recompute
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from gnssatt.errors import InvalidInputError
-from gnssatt.rinex import read_nav, read_obs, satellite_states
+from gnssatt.rinex import GlonassEphemerides, RinexNav, read_nav, read_obs, satellite_states
 from gnssatt.rinex.nav import gps_ns
 from gnssatt.rinex.scenario import SIM_CODES, SimulatedGnss, gnss_constellation, simulate_gnss_rinex
 from gnssatt.rinex.session_input import nav_input, session_input
 from gnssatt.rinex.signals import slot_frequency_hz
+from gnssatt.rinex.writer import write_nav_from_constellation
 
 C = 299_792_458.0
 OMEGA_E = 7.2921151467e-5  # IS-GPS-200 (the simulator's Earth)
@@ -144,3 +146,25 @@ def test_seeded_and_checked(tmp_path: Path) -> None:
         simulate_gnss_rinex(tmp_path, ANTENNAS[:2], [0.0, 0.0, 0.0], systems="GX")
     with pytest.raises(InvalidInputError, match="antennas_body_m"):
         simulate_gnss_rinex(tmp_path, ANTENNAS[:1], [0.0, 0.0, 0.0])
+
+
+def test_neighbouring_glonass_records_agree(tmp_path: Path) -> None:
+    # each GLONASS record continues the previous one, so the choice between two records (15 min from
+    # both) does not move the satellite: without it the ICD's J2 would put them metres apart
+    path = tmp_path / "glo.rnx"
+    write_nav_from_constellation(path, gnss_constellation("R"), T0, span_s=3600.0)
+    nav = read_nav(path)
+    g = nav.glonass
+    assert len(g) == 3 * 24
+
+    def only(rows: np.ndarray) -> RinexNav:
+        fields = {f: getattr(g, f)[rows] for f in g.__dataclass_fields__}
+        return replace(nav, glonass=GlonassEphemerides(**fields))
+
+    for sat in ("R01", "R13"):
+        rows = np.flatnonzero(g.sats == sat)
+        for k in range(2):
+            mid = int(g.tb_ns[rows[k]]) + 900 * 10**9
+            a = satellite_states(only(rows[k : k + 1]), [sat], mid)[0]
+            b = satellite_states(only(rows[k + 1 : k + 2]), [sat], mid)[0]
+            assert np.linalg.norm(a - b) < 2e-3

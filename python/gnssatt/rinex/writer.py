@@ -326,13 +326,12 @@ def write_nav_from_constellation(
     ]
     for j, sat in enumerate(ids):
         step = _GLONASS_STEP_S if sat[0] == "R" else _KEPLER_STEP_S
-        for k in range(int(np.ceil(span_s / step)) + 1):
-            t_r = start + k * step
-            t_ns = t0_ns + t_r * 1_000_000_000
-            if sat[0] == "R":
-                out += _glonass_record(sat, constellation, j, t_r, t_ns, float(clk[j]))
-            else:
-                out += _kepler_record(sat, constellation, j, t_r, t_ns, float(clk[j]))
+        times = [start + k * step for k in range(int(np.ceil(span_s / step)) + 1)]
+        if sat[0] == "R":
+            out += _glonass_records(sat, constellation, j, times, t0_ns, float(clk[j]))
+        else:
+            for t_r in times:
+                out += _kepler_record(sat, constellation, j, t_r, t0_ns + t_r * 1_000_000_000, float(clk[j]))
     with open(path, "w", encoding="ascii") as fh:
         fh.writelines(out)
     return np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
@@ -380,15 +379,27 @@ def _kepler_record(
     return [_record_start(sat, sys_ns, clk)] + ["    " + "".join(_d19(v) for v in r) + "\n" for r in rows]
 
 
-def _glonass_record(
-    sat: str, constellation: Constellation, j: int, t_r: int, t_ns: int, clk: float
+def _glonass_records(
+    sat: str, constellation: Constellation, j: int, times: list[int], t0_ns: int, clk: float
 ) -> list[str]:
-    """GLONASS record of satellite ``j`` at ``t_r`` seconds after the simulator's ``t = 0`` (GPST
-    ``t_ns``), labelled in UTC."""
-    r, v = constellation.select([constellation.ids[j]]).state_ecef(float(t_r))
+    """GLONASS records of satellite ``j`` at ``times`` (s after the simulator's ``t = 0``, GPST ``t0_ns``),
+    labelled in UTC: the first from the two-body orbit, each next one that record's state propagated by the
+    ICD's equations of motion (:func:`gnssatt.orbit.glonass_propagate`, 60 s steps as the ephemeris), so
+    that neighbouring records agree where either may be chosen (metres apart otherwise: J2)."""
+    from gnssatt.orbit import glonass_propagate
+
+    r, v = constellation.select([constellation.ids[j]]).state_ecef(float(times[0]))
+    pos, vel = r[0], v[0]
     channel = float(constellation.glonass_channels[j])
     km = 1e-3
-    lines = [_record_start(sat, t_ns - _LEAP_SECONDS * 1_000_000_000, clk)]
-    for axis, extra in ((0, 0.0), (1, channel), (2, 0.0)):
-        lines.append("    " + "".join(_d19(x) for x in (r[0, axis] * km, v[0, axis] * km, 0.0, extra)) + "\n")
+    lines = []
+    for k, t_r in enumerate(times):
+        if k:
+            nxt = glonass_propagate(pos, vel, float(t_r - times[k - 1]), step_s=60.0)
+            pos, vel = nxt.position_m, nxt.velocity_m_s
+        label_ns = t0_ns + (t_r - _LEAP_SECONDS) * 1_000_000_000
+        lines.append(_record_start(sat, label_ns, clk))
+        for axis, extra in ((0, 0.0), (1, channel), (2, 0.0)):
+            vals = (pos[axis] * km, vel[axis] * km, 0.0, extra)
+            lines.append("    " + "".join(_d19(x) for x in vals) + "\n")
     return lines
