@@ -260,9 +260,10 @@ def write_nav_from_constellation(
     two-body orbit exactly (module docstring; each system's ``mu`` and ``omega_E``, BeiDou in BDT =
     GPST - 14 s; satellites C01-C05 would be read as GEO and are refused). GLONASS gets state vectors (ECEF
     position and velocity, no luni-solar acceleration) every 30 minutes, labelled in UTC with 18 leap
-    seconds (written as ``LEAP SECONDS``); the ICD's integration with J2 drifts from the two-body orbit by
-    metres over 15 minutes, so simulate ranges from the records read back (as
-    :func:`gnssatt.rinex.scenario.simulate_gnss_rinex` does), not from the orbits.
+    seconds (written as ``LEAP SECONDS``): the first from the two-body orbit, the next ones continuing it by
+    the ICD's equations of motion, whose J2 term moves it 99 m from the two-body orbit in 30 minutes; so
+    simulate ranges from the records read back (as :func:`gnssatt.rinex.scenario.simulate_gnss_rinex`
+    does), not from the orbits.
 
     Parameters
     ----------
@@ -385,7 +386,7 @@ def _glonass_records(
     """GLONASS records of satellite ``j`` at ``times`` (s after the simulator's ``t = 0``, GPST ``t0_ns``),
     labelled in UTC: the first from the two-body orbit, each next one that record's state propagated by the
     ICD's equations of motion (:func:`gnssatt.orbit.glonass_propagate`, 60 s steps as the ephemeris), so
-    that neighbouring records agree where either may be chosen (metres apart otherwise: J2)."""
+    that neighbouring records agree where either may be chosen (tens of metres apart otherwise: J2)."""
     from gnssatt.orbit import glonass_propagate
 
     r, v = constellation.select([constellation.ids[j]]).state_ecef(float(times[0]))
