@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import sim
 from gnssatt._arrays import instance, integer, scalar, shaped
-from gnssatt.errors import InvalidInputError, WorkLimitError
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex._fields import folder_path, sat_list
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
@@ -125,9 +125,10 @@ def simulate_rinex_array(
         An argument of the wrong kind (``folder`` not a path, arrays not real, counts not integers).
     InvalidInputError
         ``folder`` not an existing folder; ``antennas_body_m`` not (n_ant >= 2, 3) or beyond
-        ``MAX_ANTENNA_M``; ``euler_deg`` not (3,) or (n_ep >= 1, 3) within ``MAX_ANGLE_DEG``; ``interval_s``
-        not in ``(0, MAX_INTERVAL_S]``; ``seed`` negative; ``n_sats`` below 1; noise levels negative or
-        above ``MAX_SIGMA_M``; angles out of range; ``|start_s|`` above ``MAX_START_S``.
+        ``MAX_ANTENNA_M``; ``euler_deg`` not (3,) or (n_ep >= 1, 3) within ``MAX_ANGLE_DEG``;
+        ``interval_s`` not in ``[MIN_INTERVAL_S, MAX_INTERVAL_S]``; ``seed`` negative; ``n_sats`` below 1;
+        noise levels negative or above ``MAX_SIGMA_M``; angles out of range; ``|start_s|`` above
+        ``MAX_START_S``.
     WorkLimitError
         More than ``MAX_EPOCHS`` epochs.
     """
@@ -211,8 +212,11 @@ SIM_CODES: dict[str, tuple[str | None, str | None, str | None]] = {
     "C": ("2I", "7I", "6I"),
     "J": ("1C", "2L", "5Q"),
 }
-#: Largest receiver or satellite clock offset accepted, s.
+#: Largest receiver or satellite clock offset accepted, s; shortest epoch spacing (1 kHz), s; largest
+#: platform height above or below the ellipsoid, m (aircraft and balloons; orbits are another simulator).
 MAX_CLOCK_S = 1e-3
+MIN_INTERVAL_S = 1e-3
+MAX_HEIGHT_M = 1e5
 _C = 299_792_458.0
 #: Half-step of the central difference that gives the Doppler, s (its truncation error, rho''' h^2 / 6,
 #: is below 1e-9 m/s).
@@ -266,6 +270,21 @@ class SimulatedGnss:
     ambiguities: NDArray[np.int64]
     slips: tuple[tuple[int, int, str, int, int], ...]
     elevation_deg: NDArray[np.float64]
+
+
+def _slips(value: object) -> list[tuple[int, int, str, int]]:
+    """``value`` as (epoch >= 0, antenna >= 0, satellite id, slot >= 0) tuples (ranges checked later)."""
+    if isinstance(value, str) or not isinstance(value, Sequence):
+        raise InvalidTypeError(
+            f"expected slips as a sequence of (epoch, antenna, satellite, slot), got {type(value).__name__}"
+        )
+    out = []
+    for k, slip in enumerate(value):
+        if not (isinstance(slip, tuple | list) and len(slip) == 4 and isinstance(slip[2], str)):
+            raise InvalidInputError(f"expected slips[{k}] as (epoch, antenna, satellite, slot), got {slip!r}")
+        e, i, slot = (integer(f"slips[{k}]", x, minimum=0) for x in (slip[0], slip[1], slip[3]))
+        out.append((e, i, slip[2], slot))
+    return out
 
 
 def gnss_constellation(systems: str = "GRECJ", *, lon_deg: float = 36.2) -> sim.Constellation:
@@ -364,9 +383,10 @@ def simulate_gnss_rinex(
     frequencies
         Slots written, 1 to 3 (GLONASS has two).
     n_epochs, interval_s, start_s
-        Number of epochs (taken from ``euler_deg`` when it has a row per epoch), spacing (s, the session
-        at most ``MAX_SPAN_S``) and time of the first epoch after ``2024-03-01T10:00:00`` GPST (s, other
-        satellite geometries; ``|start_s|`` up to ``MAX_START_S``).
+        Number of epochs (taken from ``euler_deg`` when it has a row per epoch), their spacing (s, from
+        ``MIN_INTERVAL_S`` to ``MAX_INTERVAL_S``; the session at most ``MAX_SPAN_S``) and the time of the
+        first epoch after ``2024-03-01T10:00:00`` GPST (s, other satellite geometries; ``|start_s|`` up
+        to ``MAX_START_S``).
     rng
         Seed or generator of the clocks, ambiguities, noise and slip sizes.
     receiver_clock_s
@@ -379,7 +399,8 @@ def simulate_gnss_rinex(
         (epoch, antenna, satellite id, slot): the ambiguity of that phase jumps by a random nonzero
         integer from that epoch on and the loss-of-lock indicator is 1 there.
     lat_deg, lon_deg, height_m
-        Geodetic position of the platform's reference point.
+        Geodetic position of the platform's reference point (degrees, degrees within +-360, m within
+        +-``MAX_HEIGHT_M``).
     n_sats
         Keep only this many satellites (the highest at the first epoch); None keeps all above the mask.
     file_names
@@ -393,7 +414,7 @@ def simulate_gnss_rinex(
         ``folder`` not an existing folder; shapes or ranges of the arguments (each named); a slip of an
         epoch, antenna, satellite or slot not simulated; no satellite above the mask.
     WorkLimitError
-        More than ``MAX_EPOCHS`` epochs.
+        More than ``MAX_EPOCHS`` epochs, or a session longer than ``MAX_SPAN_S``.
     """
     from gnssatt.rinex.ephemeris import transmit_states
     from gnssatt.rinex.nav import gps_ns, read_nav
@@ -411,20 +432,25 @@ def simulate_gnss_rinex(
         n_epochs = eul.shape[0]
     n_epochs = integer("n_epochs", n_epochs, minimum=1)
     if n_epochs > MAX_EPOCHS:
-        raise WorkLimitError(f"{n_epochs} epochs requested, above the limit of {MAX_EPOCHS}")
+        raise WorkLimitError(f"expected n_epochs <= {MAX_EPOCHS} (MAX_EPOCHS), got {n_epochs}")
     if eul.ndim == 1:
         eul = np.tile(eul, (n_epochs, 1))
     if np.any(np.abs(eul) > MAX_ANGLE_DEG):
         raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=3)
-    interval_s = scalar("interval_s", interval_s, minimum=0.0, maximum=MAX_INTERVAL_S, strict=True, unit="s")
+    interval_s = scalar("interval_s", interval_s, minimum=MIN_INTERVAL_S, maximum=MAX_INTERVAL_S, unit="s")
     start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
+    lat_deg = scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0)
+    lon_deg = scalar("lon_deg", lon_deg, minimum=-360.0, maximum=360.0)
+    height_m = scalar("height_m", height_m, minimum=-MAX_HEIGHT_M, maximum=MAX_HEIGHT_M, unit="m")
     if (n_epochs - 1) * interval_s > MAX_SPAN_S:
         raise WorkLimitError(
-            f"{n_epochs} epochs every {interval_s} s span more than the limit of {MAX_SPAN_S} s"
+            f"expected n_epochs x interval_s <= {MAX_SPAN_S} s (MAX_SPAN_S), got {n_epochs} epochs every "
+            f"{interval_s} s"
         )
     if n_sats is not None:
         n_sats = integer("n_sats", n_sats, minimum=1)
+    slip_list = _slips(slips)
     if not (
         isinstance(file_names, tuple)
         and len(file_names) == 2
@@ -509,15 +535,13 @@ def simulate_gnss_rinex(
     jumps = np.zeros((n_epochs, n_ant, n_sat, 3), dtype=np.int64)
     lli = np.zeros((n_epochs, n_ant, n_sat, 3))
     applied = []
-    for slip in slips:
-        if not (isinstance(slip, tuple | list) and len(slip) == 4):
-            raise InvalidInputError(f"expected slips as (epoch, antenna, satellite, slot), got {slip!r}")
+    for slip in slip_list:
         e, i, s, slot = slip
-        if not (0 <= e < n_epochs and 0 <= i < n_ant and s in sats and 0 <= slot < n_freq) or np.isnan(
+        if not (e < n_epochs and i < n_ant and s in sats and slot < n_freq) or np.isnan(
             lam[sats.index(s), slot]
         ):
             raise InvalidInputError(
-                f"expected a slip of a simulated epoch, antenna, satellite and slot, got {slip!r}"
+                f"expected slips of a simulated epoch, antenna, satellite and slot, got {slip!r}"
             )
         size = int(gen.integers(1, 50)) * (1 if gen.random() < 0.5 else -1)
         jumps[e:, i, sats.index(s), slot] += size

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gnssatt._arrays import instance, integer, scalar
+from gnssatt.errors import InvalidInputError
 from gnssatt.rinex.obs import RinexObs
 
 __all__ = ["SLOT_BANDS", "SignalChoice", "choose_signals", "slot_bands", "slot_frequency_hz"]
@@ -83,9 +85,29 @@ class SignalChoice:
         return f"{self.code or ''}/{self.phase or ''}"
 
 
+def _system(value: object) -> str:
+    """``value`` as one system letter of ``"GRECJ"``."""
+    letter = instance("system", value, str, "a system letter of 'GRECJ'")
+    if letter not in _CARRIER_HZ or len(letter) != 1:
+        raise InvalidInputError(f"expected system as one letter of 'GRECJ', got {value!r}")
+    return letter
+
+
 def slot_frequency_hz(system: str, slot: int, glonass_channel: int | None = None) -> float | None:
     """Carrier frequency of ``slot`` (0..2) of ``system``, Hz; None for a GLONASS FDMA slot without a
-    channel in -7..6 (as ``carrier_frequency_hz`` of the core)."""
+    channel in -7..6 (as ``carrier_frequency_hz`` of the core).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``system`` not text, ``slot`` or ``glonass_channel`` not an integer.
+    InvalidInputError
+        ``system`` not a letter of ``"GRECJ"``, ``slot`` outside 0..2.
+    """
+    system = _system(system)
+    slot = integer("slot", slot, minimum=0, maximum=2)
+    if glonass_channel is not None:
+        glonass_channel = integer("glonass_channel", glonass_channel)
     f = _CARRIER_HZ[system][slot]
     if isinstance(f, tuple):
         if glonass_channel is None or not -7 <= glonass_channel <= 6:
@@ -98,7 +120,18 @@ def slot_bands(system: str, version: float) -> tuple[tuple[str, ...], tuple[str,
     """RINEX band digits that may fill each slot of ``system`` in a file of ``version``.
 
     BeiDou B1I is band 2 from RINEX 3.03 on and band 1 before (RINEX 2 and 3.02 files label it ``C1I``).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``system`` not text, ``version`` not a real number.
+    InvalidInputError
+        ``system`` not a letter of ``"GRECJ"``, ``version`` outside [2, 5).
     """
+    system = _system(system)
+    version = scalar("version", version, minimum=2.0, maximum=5.0)
+    if version >= 5.0:
+        raise InvalidInputError(f"expected a RINEX version below 5, got {version}")
     bands = SLOT_BANDS[system]
     if system == "C" and version < 3.03:
         return (("2", "1"), (bands[1],), (bands[2],))
@@ -134,7 +167,16 @@ def choose_signals(obs: RinexObs, system: str) -> tuple[SignalChoice, SignalChoi
     Returns
     -------
     (slot 0, slot 1, slot 2) choices.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``obs`` not a :class:`~gnssatt.rinex.obs.RinexObs`, ``system`` not text.
+    InvalidInputError
+        ``system`` not a letter of ``"GRECJ"``.
     """
+    obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
+    system = _system(system)
     types = obs.obs_types.get(system, ())
     rows = np.array([s[0] == system for s in obs.sats], dtype=bool)
     present = set()
