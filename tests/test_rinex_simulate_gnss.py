@@ -12,8 +12,15 @@ import pytest
 
 from gnssatt.errors import InvalidInputError
 from gnssatt.rinex import GlonassEphemerides, RinexNav, read_nav, read_obs, satellite_states
+from gnssatt.rinex.iono import klobuchar_delay_m
 from gnssatt.rinex.nav import gps_ns
-from gnssatt.rinex.scenario import SIM_CODES, SimulatedGnss, gnss_constellation, simulate_gnss_rinex
+from gnssatt.rinex.scenario import (
+    KLOBUCHAR,
+    SIM_CODES,
+    SimulatedGnss,
+    gnss_constellation,
+    simulate_gnss_rinex,
+)
 from gnssatt.rinex.session_input import nav_input, session_input
 from gnssatt.rinex.signals import slot_frequency_hz
 from gnssatt.rinex.writer import write_nav_from_constellation
@@ -29,7 +36,7 @@ def noiseless(tmp_path_factory: pytest.TempPathFactory) -> SimulatedGnss:
     return simulate_gnss_rinex(
         tmp_path_factory.mktemp("gnss"), ANTENNAS, [-40.0, 5.0, 3.0], n_epochs=4, rng=5,
         code_sigma_m=0.0, phase_sigma_m=0.0, doppler_sigma_hz=0.0, receiver_clock_s=[3e-4, -2e-4, 1e-5, 0.0],
-        slips=[(2, 1, "G05", 1)],
+        slips=[(2, 1, "G05", 1)], atmosphere=False,
     )  # fmt: skip
 
 
@@ -168,3 +175,41 @@ def test_neighbouring_glonass_records_agree(tmp_path: Path) -> None:
             a = satellite_states(only(rows[k : k + 1]), [sat], mid)[0]
             b = satellite_states(only(rows[k + 1 : k + 2]), [sat], mid)[0]
             assert np.linalg.norm(a - b) < 2e-3
+
+
+def test_atmosphere_delays_code_and_advances_phase(tmp_path: Path) -> None:
+    kw = {
+        "n_epochs": 1, "rng": 9, "code_sigma_m": 0.0, "phase_sigma_m": 0.0, "receiver_clock_s": [1e-5, 0.0],
+        "systems": "GR",
+    }  # fmt: skip
+    vac = simulate_gnss_rinex(tmp_path / ".", ANTENNAS[:2], [0.0, 0.0, 0.0], atmosphere=False, **kw)  # type: ignore[arg-type]
+    air_dir = tmp_path / "air"
+    air_dir.mkdir()
+    air = simulate_gnss_rinex(air_dir, ANTENNAS[:2], [0.0, 0.0, 0.0], **kw)  # type: ignore[arg-type]
+    assert air.sats == vac.sats
+    nav = read_nav(air.nav_path)
+    np.testing.assert_array_equal(np.concatenate([nav.iono_alpha, nav.iono_beta]), KLOBUCHAR)
+    a, v = read_obs(air.obs_paths[1]), read_obs(vac.obs_paths[1])
+    rx = air.antenna_ecef_m[0, 1]
+    lat, lon = np.radians(50.0), np.radians(36.2)
+    east = np.array([-np.sin(lon), np.cos(lon), 0.0])
+    north = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
+    up = np.cross(east, north)
+    t = int(gps_ns(air.time[:1])[0])
+    for sat in air.sats:
+        k = a.sats.index(sat)
+        for slot, band in enumerate(SIM_CODES[sat[0]][:2]):
+            f = slot_frequency_hz(sat[0], slot, air.glonass_channels.get(sat))
+            lam = C / f  # type: ignore[operator]
+            d_code = a.get(f"C{band}")[0, k] - v.get(f"C{band}")[0, k]  # I + T
+            d_phase = (a.get(f"L{band}")[0, k] - v.get(f"L{band}")[0, k]) * lam  # T - I
+            iono, tropo = (d_code - d_phase) / 2, (d_code + d_phase) / 2
+            p = satellite_states(nav, [sat], t, np.array([-0.075]))[0][0]  # direction: light time irrelevant
+            los = (p - rx) / np.linalg.norm(p - rx)
+            el, az = np.arcsin(los @ up), np.arctan2(los @ east, los @ north)
+            want = klobuchar_delay_m(
+                nav.iono_alpha, nav.iono_beta, lat, lon, az, el, t * 1e-9, frequency_hz=f
+            )
+            assert iono == pytest.approx(float(want), abs=2e-3)  # the 14.3f fields round to 0.5 mm
+            # the troposphere: about 2.4 m at the zenith, growing as 1 / sin(el)
+            assert tropo == pytest.approx(2.38 / np.sin(el), rel=0.05)

@@ -596,6 +596,9 @@ ENTRIES: dict[str, Entry] = {
             "start_s": 60.0,
             "span_s": 7200.0,
             "clock_bias_s": np.full(len(s.gps()), 1e-5),
+            "klobuchar": np.array(
+                [1.1176e-08, 7.4506e-09, -5.9605e-08, -5.9605e-08, 9.0112e04, 0.0, -1.9661e05, -6.5536e04]
+            ),
         }
     ),
     "gnssatt.rinex.write_obs": _e(
@@ -667,6 +670,7 @@ ENTRIES: dict[str, Entry] = {
             "height_m": 150.0,
             "n_sats": 8,
             "file_names": ("hostile{i}.rnx", "hostile_nav.rnx"),
+            "atmosphere": True,
         },
         counts={"n_epochs", "n_sats"},
     ),
@@ -681,6 +685,13 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.rinex.signals.choose_signals": _e(lambda: {"obs": _obs()[0], "system": "G"}),
     "gnssatt.rinex.signals.slot_bands": _e(lambda: {"system": "C", "version": 3.02}),
     "gnssatt.rinex.signals.slot_frequency_hz": _e(lambda: {"system": "R", "slot": 1, "glonass_channel": -3}),
+    "gnssatt.sim.atmosphere.niell_mapping": _e(
+        lambda: {"lat_rad": 0.8, "height_m": 150.0, "elevation_rad": np.array([0.2, 1.0])}
+    ),
+    "gnssatt.sim.atmosphere.saastamoinen_zenith_m": _e(lambda: {"lat_rad": 0.8, "height_m": 150.0}),
+    "gnssatt.sim.atmosphere.troposphere_delay_m": _e(
+        lambda: {"lat_rad": 0.8, "height_m": 150.0, "elevation_rad": np.array([0.2, 1.0])}
+    ),
     "gnssatt.rinex.scenario.write_array_rinex": _e(
         lambda: {
             "folder": s.folder(),

@@ -18,13 +18,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import sim
-from gnssatt._arrays import instance, integer, scalar, shaped
+from gnssatt._arrays import flag, instance, integer, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex._fields import folder_path, sat_list
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
 
 __all__ = [
+    "KLOBUCHAR",
     "SIM_CODES",
     "SimulatedGnss",
     "SimulatedRinex",
@@ -91,8 +92,8 @@ def simulate_rinex_array(
     start_s: float = 0.0,
 ) -> SimulatedRinex:
     """Simulate a GPS L1 array and write its RINEX 3 files into ``folder``: :func:`simulate_gnss_rinex`
-    with ``systems="G"``, ``frequencies=1``, receiver clocks within 1e-7 s and the file names
-    ``ant<i>.24o`` and ``sim.24n``.
+    with ``systems="G"``, ``frequencies=1``, no atmosphere, receiver clocks within 1e-7 s and the file
+    names ``ant<i>.24o`` and ``sim.24n``.
 
     Parameters
     ----------
@@ -145,7 +146,7 @@ def simulate_rinex_array(
         folder, ant, eul, systems="G", frequencies=1, interval_s=interval_s, start_s=start_s, rng=rng,
         receiver_clock_s=rng.uniform(-1e-7, 1e-7, size=len(ant)), code_sigma_m=code_sigma_m,
         phase_sigma_m=phase_sigma_m, elevation_min_deg=elevation_min_deg, lat_deg=lat_deg, lon_deg=lon_deg,
-        n_sats=n_sats, file_names=("ant{i}.24o", "sim.24n"),
+        n_sats=n_sats, file_names=("ant{i}.24o", "sim.24n"), atmosphere=False,
     )  # fmt: skip
     return SimulatedRinex(s.obs_paths, s.nav_path, s.time, s.euler_deg, s.baselines_enu_m, s.sats)
 
@@ -212,6 +213,9 @@ SIM_CODES: dict[str, tuple[str | None, str | None, str | None]] = {
     "C": ("2I", "7I", "6I"),
     "J": ("1C", "2L", "5Q"),
 }
+#: Broadcast Klobuchar coefficients the simulation writes and applies (alpha0..3 in s, s/sc, s/sc^2,
+#: s/sc^3; beta0..3 in s, ...): typical GPS values of moderate solar activity, exact in the 12.4E field.
+KLOBUCHAR = (1.1176e-08, 7.4506e-09, -5.9605e-08, -5.9605e-08, 9.0112e04, 0.0, -1.9661e05, -6.5536e04)
 #: Largest receiver or satellite clock offset accepted, s; shortest epoch spacing (1 kHz), s; largest
 #: platform height above or below the ellipsoid, m (aircraft and balloons; orbits are another simulator).
 MAX_CLOCK_S = 1e-3
@@ -356,6 +360,7 @@ def simulate_gnss_rinex(
     height_m: float = 150.0,
     n_sats: int | None = None,
     file_names: tuple[str, str] = ("gnss{i}.rnx", "gnss_nav.rnx"),
+    atmosphere: bool = True,
 ) -> SimulatedGnss:
     """Simulate a multi-GNSS, multi-frequency antenna array and write it as RINEX 3.04 with its truth.
 
@@ -365,9 +370,11 @@ def simulate_gnss_rinex(
     time, Earth rotation during it, satellite clock), so that an engine that reads the files sees
     consistent data. For antenna i with receiver clock ``dt_i`` and satellite clock ``dt_s``, at label T
     (true reception ``T - dt_i``), slot wavelength ``lambda``:
-    ``P = rho + c (dt_i - dt_s) + e_P``, ``L = (rho + c (dt_i - dt_s)) / lambda + N + e_L / lambda``
-    (cycles, RINEX sign), ``D = -d(rho - c dt_s)/dt / lambda + e_D`` (Hz), C/N0 ``30 + 20 sin(el)`` dB-Hz;
-    no ionosphere, troposphere or group delay (none is written: no Klobuchar coefficients, TGD/BGD 0).
+    ``P = rho + c (dt_i - dt_s) + I + T + e_P``,
+    ``L = (rho + c (dt_i - dt_s) - I + T) / lambda + N + e_L / lambda`` (cycles, RINEX sign),
+    ``D = -d(rho - c dt_s)/dt / lambda + e_D`` (Hz; the atmosphere's rate, below 1 mm/s, left out), C/N0
+    ``30 + 20 sin(el)`` dB-Hz, with the ionosphere ``I`` and troposphere ``T`` of ``atmosphere``; no group
+    delays (TGD/BGD 0).
     Codes per system and slot: :data:`SIM_CODES`.
 
     Parameters
@@ -405,6 +412,10 @@ def simulate_gnss_rinex(
         Keep only this many satellites (the highest at the first epoch); None keeps all above the mask.
     file_names
         Names of the observation files (``{i}`` the antenna) and of the navigation file.
+    atmosphere
+        Delay code and advance phase by the broadcast Klobuchar ionosphere of :data:`KLOBUCHAR` (written in
+        the navigation header, scaled to each carrier) and delay both by the standard troposphere of
+        :mod:`gnssatt.sim.atmosphere`, at each antenna's elevation and azimuth; False: vacuum.
 
     Raises
     ------
@@ -417,8 +428,10 @@ def simulate_gnss_rinex(
         More than ``MAX_EPOCHS`` epochs, or a session longer than ``MAX_SPAN_S``.
     """
     from gnssatt.rinex.ephemeris import transmit_states
+    from gnssatt.rinex.iono import klobuchar_delay_m
     from gnssatt.rinex.nav import gps_ns, read_nav
     from gnssatt.rinex.signals import slot_frequency_hz
+    from gnssatt.sim.atmosphere import troposphere_delay_m
 
     folder = folder_path("folder", folder)
     ant = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
@@ -483,11 +496,13 @@ def simulate_gnss_rinex(
     rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=height_m)
     allsats = gnss_constellation(systems, lon_deg=lon_deg)
     t_s = start_s + np.arange(n_epochs) * interval_s
+    atmosphere = flag("atmosphere", atmosphere)
     sat_clk = gen.uniform(-1e-4, 1e-4, size=len(allsats))
     nav_path = folder / file_names[1]
     write_nav_from_constellation(
-        nav_path, allsats, T0, start_s=start_s, span_s=float(t_s[-1] - t_s[0]) + 1.0, clock_bias_s=sat_clk
-    )
+        nav_path, allsats, T0, start_s=start_s, span_s=float(t_s[-1] - t_s[0]) + 1.0, clock_bias_s=sat_clk,
+        klobuchar=KLOBUCHAR if atmosphere else None,
+    )  # fmt: skip
     nav = read_nav(nav_path)
     times = T0 + (t_s * 1e9).astype("timedelta64[ns]")
     t_ns = gps_ns(times)
@@ -521,6 +536,9 @@ def simulate_gnss_rinex(
     rho = np.empty((n_epochs, n_ant, n_sat))
     rate = np.empty((n_epochs, n_ant, n_sat))
     clk = np.empty((n_epochs, n_ant, n_sat))
+    iono = np.zeros((n_epochs, n_ant, n_sat, 3))  # ionospheric group delay of each carrier, m
+    tropo = np.zeros((n_epochs, n_ant, n_sat))
+    lat, lon = np.radians(lat_deg), np.radians(lon_deg)
     for e in range(n_epochs):
         for i in range(n_ant):
             r = []
@@ -529,6 +547,14 @@ def simulate_gnss_rinex(
                     nav, sats, int(t_ns[e] + round(h * 1e9)), pos[e, i], receiver_clock_s=float(dt_rx[i])
                 )
                 r.append((np.linalg.norm(p - pos[e, i], axis=1), c))
+                if h == 0.0 and atmosphere:
+                    enu = (p - pos[e, i]) @ enu2ecef / r[0][0][:, None]
+                    el_i, az_i = np.arcsin(enu[:, 2]), np.arctan2(enu[:, 0], enu[:, 1])
+                    tropo[e, i] = troposphere_delay_m(lat, height_m, el_i)
+                    iono[e, i] = klobuchar_delay_m(
+                        nav.iono_alpha, nav.iono_beta, lat, lon, az_i[:, None], el_i[:, None],
+                        t_ns[e] * 1e-9, frequency_hz=np.where(np.isfinite(lam), _C / lam, 1575.42e6),
+                    )  # fmt: skip
             rho[e, i], clk[e, i] = r[0]
             rate[e, i] = ((r[2][0] - _C * r[2][1]) - (r[1][0] - _C * r[1][1])) / (2 * _DOPPLER_H_S)
     amb = gen.integers(-1000, 1000, size=(n_ant, n_sat, 3))
@@ -549,8 +575,9 @@ def simulate_gnss_rinex(
         applied.append((int(e), int(i), str(s), int(slot), size))
     geo = rho + _C * (dt_rx[None, :, None] - clk)  # (n_ep, n_ant, n_sat)
     shape = (n_epochs, n_ant, n_sat, 3)
-    code = geo[..., None] + sig["code_sigma_m"] * gen.standard_normal(shape)
-    phase = (geo[..., None] + sig["phase_sigma_m"] * gen.standard_normal(shape)) / lam + amb + jumps
+    code = geo[..., None] + tropo[..., None] + iono + sig["code_sigma_m"] * gen.standard_normal(shape)
+    phase_m = geo[..., None] + tropo[..., None] - iono + sig["phase_sigma_m"] * gen.standard_normal(shape)
+    phase = phase_m / lam + amb + jumps
     doppler = -rate[..., None] / lam + sig["doppler_sigma_hz"] * gen.standard_normal(shape)
     snr = np.broadcast_to(30.0 + 20.0 * np.sin(np.radians(el[:, keep]))[:, None, :, None], shape)
     valid = np.isfinite(lam)[None, None]

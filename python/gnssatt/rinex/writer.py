@@ -251,6 +251,7 @@ def write_nav_from_constellation(
     start_s: float = 0.0,
     span_s: float = 0.0,
     clock_bias_s: ArrayLike | None = None,
+    klobuchar: ArrayLike | None = None,
 ) -> NDArray[np.int64]:
     """Write a RINEX 3.04 navigation file (mixed where the constellation is) whose records give the
     simulator's orbits; the ECEF frame is the simulator's with ``theta0 = 0`` at ``epoch_gpst``.
@@ -280,6 +281,9 @@ def write_nav_from_constellation(
         Seconds after the first records that the records must cover (0 to ``MAX_SPAN_S``).
     clock_bias_s
         (n_sat,) satellite clock bias ``af0`` (GLONASS ``-tau_n``), s; zeros by default.
+    klobuchar
+        (8,) GPS Klobuchar alpha0..3, beta0..3 for the header (``IONOSPHERIC CORR GPSA``/``GPSB``, written
+        to 4 decimals as RINEX does: read the file back for the values); none by default.
 
     Returns
     -------
@@ -294,7 +298,7 @@ def write_nav_from_constellation(
     InvalidInputError
         ``path`` empty, a folder or in a missing folder; ids of other systems or BeiDou GEO ids (C01-C05,
         C59-C63); ``epoch_gpst`` not a single label in range; ``start_s`` or ``span_s`` out of range;
-        ``clock_bias_s`` not finite (n_sat,) within 1 ms.
+        ``clock_bias_s`` not finite (n_sat,) within 1 ms; ``klobuchar`` not finite (8,) below 1e9.
     """
     path = output_path("path", path)
     constellation = instance("constellation", constellation, Constellation, "a sim.Constellation")
@@ -314,6 +318,9 @@ def write_nav_from_constellation(
     clk = np.zeros(n) if clock_bias_s is None else shaped("clock_bias_s", clock_bias_s, f"({n},)", (n,))
     if np.any(np.abs(clk) > 1e-3):
         raise InvalidInputError(f"expected |clock_bias_s| <= 1e-3 s, got {np.max(np.abs(clk))}")
+    iono = [] if klobuchar is None else shaped("klobuchar", klobuchar, "(8,)", (8,)).tolist()
+    if any(abs(x) >= 1e9 for x in iono):
+        raise InvalidInputError(f"expected |klobuchar| < 1e9 (the 12.4E field), got {iono}")
     t0_ns = int(gps_ns(np.array([epoch_gpst]))[0])
     systems = sorted({s[0] for s in ids})
     out = [
@@ -322,6 +329,11 @@ def write_nav_from_constellation(
             "RINEX VERSION / TYPE",
         ),
         _hdr("gnssatt", "PGM / RUN BY / DATE"),
+        *(
+            _hdr(f"{name} " + "".join(f"{x:12.4E}" for x in iono[k : k + 4]), "IONOSPHERIC CORR")
+            for name, k in (("GPSA", 0), ("GPSB", 4))
+            if iono
+        ),
         _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
         _hdr("", "END OF HEADER"),
     ]
