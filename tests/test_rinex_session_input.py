@@ -14,7 +14,13 @@ from gnssatt.errors import InvalidInputError, RinexError
 from gnssatt.rinex import read_nav, read_obs, write_obs
 from gnssatt.rinex.nav import gps_ns
 from gnssatt.rinex.obs import RinexObs
-from gnssatt.rinex.session_input import NO_CHANNEL, SystemDroppedWarning, nav_input, session_input
+from gnssatt.rinex.session_input import (
+    NO_CHANNEL,
+    EpochsDroppedWarning,
+    SystemDroppedWarning,
+    nav_input,
+    session_input,
+)
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 DATA = Path(__file__).parent / "data"
@@ -62,7 +68,8 @@ def test_missing_epochs_are_counted_and_their_slips_carried(tmp_path: Path) -> N
     lli["L1C"][2, 1] = 1  # a slip at an epoch the base lacks below
     rover = _write(tmp_path / "b.rnx", sats, ["C1C", "L1C"], n_ep=6, time=t, lli=lli)
     base_cut = _write(tmp_path / "c.rnx", sats, ["C1C", "L1C"], n_ep=5, time=t[[0, 1, 3, 4, 5]])
-    si = session_input([base_cut, rover])
+    with pytest.warns(EpochsDroppedWarning, match=f"left out: {rover.path}: 1 of 6$"):
+        si = session_input([base_cut, rover])
     assert si.epochs_dropped == (0, 1) and len(si.time_gpst_ns) == 5
     assert si.lli[1, :, 1, 0].tolist() == [0, 0, 1, 0, 0]  # moved to the next common epoch
     si = session_input([base, rover])

@@ -25,6 +25,7 @@ __all__ = [
     "MAX_RECEIVERS",
     "NO_CHANNEL",
     "SYSTEMS",
+    "EpochsDroppedWarning",
     "NavInput",
     "SessionInput",
     "SystemDroppedWarning",
@@ -53,6 +54,10 @@ _TIME_OFFSET_S = {"GPS": 0, "GAL": 0, "QZS": 0, "IRN": 0, "BDT": 14}
 
 class SystemDroppedWarning(GnssattWarning):
     """A system asked for is missing from one of the observation files and is left out of the session."""
+
+
+class EpochsDroppedWarning(GnssattWarning):
+    """Epochs of an observation file that the other files lack are left out of the session."""
 
 
 @dataclass(frozen=True)
@@ -216,6 +221,13 @@ def session_input(
     -------
     SessionInput
 
+    Warns
+    -----
+    SystemDroppedWarning
+        A system named is missing from a file (above).
+    EpochsDroppedWarning
+        Epochs of a file that another file lacks are left out (counted in ``epochs_dropped``).
+
     Raises
     ------
     InvalidTypeError
@@ -284,6 +296,14 @@ def session_input(
             None,
             f"no epoch common to all files (labels within {tol} ns): {spans}",
         )
+    dropped = tuple(len(o.time) - len(k) for o, k in zip(files, index, strict=True))
+    if any(dropped):
+        warnings.warn(
+            "epochs not common to all files left out: "
+            + ", ".join(f"{o.path}: {d} of {len(o.time)}" for o, d in zip(files, dropped, strict=True) if d),
+            EpochsDroppedWarning,
+            stacklevel=2,
+        )
     sats = _common_sats(files, choices, index, used)
     if not sats:
         raise RinexError(
@@ -319,7 +339,7 @@ def session_input(
             o.path: {s: tuple(c.label for c in ch[s]) + ("",) * (SLOTS - n_freq) for s in used}
             for o, ch in zip(files, choices, strict=True)
         },
-        epochs_dropped=tuple(len(o.time) - len(k) for o, k in zip(files, index, strict=True)),
+        epochs_dropped=dropped,
     )
 
 
