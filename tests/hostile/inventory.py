@@ -593,6 +593,12 @@ ENTRIES: dict[str, Entry] = {
             "path": s.folder() / "written.24n",
             "constellation": s.gps(),
             "epoch_gpst": np.datetime64("2024-03-01T10:00:00", "ns"),
+            "start_s": 60.0,
+            "span_s": 7200.0,
+            "clock_bias_s": np.full(len(s.gps()), 1e-5),
+            "klobuchar": np.array(
+                [1.1176e-08, 7.4506e-09, -5.9605e-08, -5.9605e-08, 9.0112e04, 0.0, -1.9661e05, -6.5536e04]
+            ),
         }
     ),
     "gnssatt.rinex.write_obs": _e(
@@ -603,6 +609,7 @@ ENTRIES: dict[str, Entry] = {
             "observations": {"C1C": np.array([[2.1e7, 2.2e7], [2.1e7 + 1, np.nan]])},
             "approx_position_m": (1.0, 2.0, 3.0),
             "marker_name": "SIM",
+            "glonass_channels": {"R01": 1, "R02": -4},
         },
         nonfinite_ok={"observations"},
         free_text={"marker_name"},
@@ -639,6 +646,51 @@ ENTRIES: dict[str, Entry] = {
             "n_sats": 5,
         },
         counts={"n_sats"},
+    ),
+    "gnssatt.rinex.scenario.gnss_constellation": _e(lambda: {"systems": "GRE", "lon_deg": 36.2}),
+    "gnssatt.rinex.scenario.simulate_gnss_rinex": _e(
+        lambda: {
+            "folder": s.folder(),
+            "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
+            "euler_deg": np.array([-40.0, 5.0, 3.0]),
+            "systems": "GC",
+            "frequencies": 2,
+            "n_epochs": 2,
+            "interval_s": 1.0,
+            "start_s": 0.0,
+            "rng": 1,
+            "receiver_clock_s": np.array([1e-5, -2e-5]),
+            "code_sigma_m": 0.3,
+            "phase_sigma_m": 0.002,
+            "doppler_sigma_hz": 0.05,
+            "elevation_min_deg": 10.0,
+            "slips": [],  # a valid slip names a satellite the mutated geometry may not keep
+            "lat_deg": 50.0,
+            "lon_deg": 36.2,
+            "height_m": 150.0,
+            "n_sats": 8,
+            "file_names": ("hostile{i}.rnx", "hostile_nav.rnx"),
+            "atmosphere": True,
+        },
+        counts={"n_epochs", "n_sats"},
+    ),
+    "gnssatt.rinex.session_input.nav_input": _e(
+        lambda: {"nav": s.rinex_read()["nav"]},
+        nan_output="group delays, fit interval and data source are NaN where a system has none",
+    ),
+    "gnssatt.rinex.session_input.session_input": _e(
+        lambda: {"observations": _obs(), "systems": "G", "frequencies": 1, "nav": s.rinex_read()["nav"]},
+        nan_output="absent observations (slots, satellites, epochs) are NaN",
+    ),
+    "gnssatt.rinex.signals.choose_signals": _e(lambda: {"obs": _obs()[0], "system": "G"}),
+    "gnssatt.rinex.signals.slot_bands": _e(lambda: {"system": "C", "version": 3.02}),
+    "gnssatt.rinex.signals.slot_frequency_hz": _e(lambda: {"system": "R", "slot": 1, "glonass_channel": -3}),
+    "gnssatt.sim.atmosphere.niell_mapping": _e(
+        lambda: {"lat_rad": 0.8, "height_m": 150.0, "elevation_rad": np.array([0.2, 1.0])}
+    ),
+    "gnssatt.sim.atmosphere.saastamoinen_zenith_m": _e(lambda: {"lat_rad": 0.8, "height_m": 150.0}),
+    "gnssatt.sim.atmosphere.troposphere_delay_m": _e(
+        lambda: {"lat_rad": 0.8, "height_m": 150.0, "elevation_rad": np.array([0.2, 1.0])}
     ),
     "gnssatt.rinex.scenario.write_array_rinex": _e(
         lambda: {

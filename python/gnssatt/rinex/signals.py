@@ -24,9 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gnssatt._arrays import instance, integer, scalar
+from gnssatt.errors import InvalidInputError
 from gnssatt.rinex.obs import RinexObs
 
-__all__ = ["SLOT_BANDS", "SignalChoice", "choose_signals", "slot_bands"]
+__all__ = ["SLOT_BANDS", "SignalChoice", "choose_signals", "slot_bands", "slot_frequency_hz"]
 
 #: RINEX band digits of each system's slots (RINEX 3.03 on; see :func:`slot_bands` for older BeiDou).
 SLOT_BANDS: dict[str, tuple[str, str, str]] = {
@@ -35,6 +37,16 @@ SLOT_BANDS: dict[str, tuple[str, str, str]] = {
     "E": ("1", "7", "5"),
     "C": ("2", "7", "6"),
     "J": ("1", "2", "5"),
+}
+
+_MHZ = 1e6
+#: Carrier of each slot, Hz (module table of ``signal.rs``); GLONASS G1/G2 as (base, step per channel).
+_CARRIER_HZ: dict[str, tuple[float | tuple[float, float], ...]] = {
+    "G": (1575.42 * _MHZ, 1227.60 * _MHZ, 1176.45 * _MHZ),
+    "J": (1575.42 * _MHZ, 1227.60 * _MHZ, 1176.45 * _MHZ),
+    "E": (1575.42 * _MHZ, 1207.14 * _MHZ, 1176.45 * _MHZ),
+    "C": (1561.098 * _MHZ, 1207.14 * _MHZ, 1268.52 * _MHZ),
+    "R": ((1602.0 * _MHZ, 0.5625 * _MHZ), (1246.0 * _MHZ, 0.4375 * _MHZ), 1202.025 * _MHZ),
 }
 
 #: Attribute priority per system and slot, highest first (RTKLIB 2.4.3 ``codepris``; BeiDou slot 2 is
@@ -73,11 +85,53 @@ class SignalChoice:
         return f"{self.code or ''}/{self.phase or ''}"
 
 
+def _system(value: object) -> str:
+    """``value`` as one system letter of ``"GRECJ"``."""
+    letter = instance("system", value, str, "a system letter of 'GRECJ'")
+    if letter not in _CARRIER_HZ or len(letter) != 1:
+        raise InvalidInputError(f"expected system as one letter of 'GRECJ', got {value!r}")
+    return letter
+
+
+def slot_frequency_hz(system: str, slot: int, glonass_channel: int | None = None) -> float | None:
+    """Carrier frequency of ``slot`` (0..2) of ``system``, Hz; None for a GLONASS FDMA slot without a
+    channel in -7..6 (as ``carrier_frequency_hz`` of the core).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``system`` not text, ``slot`` or ``glonass_channel`` not an integer.
+    InvalidInputError
+        ``system`` not a letter of ``"GRECJ"``, ``slot`` outside 0..2.
+    """
+    system = _system(system)
+    slot = integer("slot", slot, minimum=0, maximum=2)
+    if glonass_channel is not None:
+        glonass_channel = integer("glonass_channel", glonass_channel)
+    f = _CARRIER_HZ[system][slot]
+    if isinstance(f, tuple):
+        if glonass_channel is None or not -7 <= glonass_channel <= 6:
+            return None
+        return f[0] + f[1] * glonass_channel
+    return f
+
+
 def slot_bands(system: str, version: float) -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
     """RINEX band digits that may fill each slot of ``system`` in a file of ``version``.
 
     BeiDou B1I is band 2 from RINEX 3.03 on and band 1 before (RINEX 2 and 3.02 files label it ``C1I``).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``system`` not text, ``version`` not a real number.
+    InvalidInputError
+        ``system`` not a letter of ``"GRECJ"``, ``version`` outside [2, 5).
     """
+    system = _system(system)
+    version = scalar("version", version, minimum=2.0, maximum=5.0)
+    if version >= 5.0:
+        raise InvalidInputError(f"expected a RINEX version below 5, got {version}")
     bands = SLOT_BANDS[system]
     if system == "C" and version < 3.03:
         return (("2", "1"), (bands[1],), (bands[2],))
@@ -113,7 +167,16 @@ def choose_signals(obs: RinexObs, system: str) -> tuple[SignalChoice, SignalChoi
     Returns
     -------
     (slot 0, slot 1, slot 2) choices.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``obs`` not a :class:`~gnssatt.rinex.obs.RinexObs`, ``system`` not text.
+    InvalidInputError
+        ``system`` not a letter of ``"GRECJ"``.
     """
+    obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
+    system = _system(system)
     types = obs.obs_types.get(system, ())
     rows = np.array([s[0] == system for s in obs.sats], dtype=bool)
     present = set()
