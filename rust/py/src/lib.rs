@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 mod convert;
 mod dynamics;
 mod errors;
+mod gnss;
 mod gnss_nav;
 mod gyro_gnss;
 mod interruptible;
@@ -28,6 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     orbit::register(m)?;
     gyro_gnss::register(m)?;
     gnss_nav::register(m)?;
+    gnss::register(m)?;
     // The last line of defence: every function is wrapped so that a panic (a defect: the core is written not
     // to panic) reaches Python as gnssatt.errors.InternalError, not as a BaseException (see _panic_guard.py).
     m.py()
