@@ -131,3 +131,51 @@ def test_bad_arguments_are_refused_before_reading(kwargs: dict, says: str) -> No
     with pytest.raises(InvalidInputError) as err:
         attitude_from_rinex(["absent-a.o", "absent-b.o"], "absent.n", baselines, **kwargs)
     assert says in str(err.value)
+
+
+# --- every system and frequency, from simulated RINEX 3 files with a known truth ---------------------------
+
+#: Slots the simulator writes per system (GLONASS: G1 and G2; rinex.scenario.SIM_CODES).
+WRITTEN = {"G": 3, "R": 2, "E": 3, "C": 3, "J": 3}
+#: Five sigma: a Gaussian error beyond it has probability 6e-7 per angle, so a failure is a defect.
+K_SIGMA = 5.0
+
+
+def _angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return (a - b + 180.0) % 360.0 - 180.0
+
+
+def test_every_system_and_slot_is_used_and_the_truth_is_within_the_sigmas(tmp_path: Path) -> None:
+    from gnssatt.rinex.scenario import simulate_gnss_rinex
+
+    s = simulate_gnss_rinex(tmp_path, np.array([[0.0, 0, 0], [1.0, 0, 0]]), [-40.0, 5.0, 0.0], rng=7)
+    r = attitude_from_rinex(s.obs_paths, s.nav_path, method="lambda", motion="moving")
+    for i, letter in enumerate("GRECJ"):
+        used = r.double_differences[i]
+        assert (used[: WRITTEN[letter]] > 0).all() and (used[WRITTEN[letter] :] == 0).all(), (letter, used)
+        assert (r.satellites_per_system[:, i] > 0).all()
+    assert r.fixed.all() and (r.frequency_slots_used == 0b111).all()
+    truth = _azimuth_elevation(s.baselines_enu_m[:, 0])
+    err = _angle_error(r.angles_deg, truth)
+    assert np.all(np.abs(err) < K_SIGMA * r.angle_sigmas_deg), (err, r.angle_sigmas_deg)
+    # every signal the reader chose is named in the summary
+    summary = r.summary()
+    for line in ("G L5:", "R G2:", "E E5b:", "E E5a:", "C B1I:", "C B3I:", "J L2:"):
+        assert line in summary
+
+
+def test_attitude_mode_every_system_truth_within_sigmas(tmp_path: Path) -> None:
+    from gnssatt import sim
+    from gnssatt.rinex.scenario import simulate_gnss_rinex
+
+    ant = sim.equilateral_triangle(1.0, plane="xz")
+    s = simulate_gnss_rinex(tmp_path, ant, [-40.0, 5.0, 3.0], n_epochs=5, rng=8)
+    r = attitude_from_rinex(s.obs_paths, s.nav_path, ant[1:] - ant[0], method="lambda")
+    assert r.mode == "attitude" and r.fixed.all() and (r.double_differences[:, :2] > 0).all()
+    psi, theta, phi = s.euler_deg.T
+    truth = np.stack([(-psi) % 360.0, theta, phi], axis=1)
+    err = _angle_error(r.angles_deg, truth)
+    assert np.all(np.abs(err) < K_SIGMA * r.angle_sigmas_deg), (err, r.angle_sigmas_deg)
+    # .rotation maps the body baselines onto the true ENU baselines (to the millimetres of a fixed solution)
+    rotated = np.stack([r.rotation[k].apply(ant[1:] - ant[0]) for k in range(len(r.time))])
+    np.testing.assert_allclose(rotated, s.baselines_enu_m, atol=0.01)
