@@ -91,3 +91,14 @@ def test_geonet_l1_l2_static(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     # the prototype's static L1 azimuth (tests/data/prototype_geonet.json), to the centimetre over 3.3 km
     assert float(rows[0]["azimuth_deg"]) == pytest.approx(163.3858, abs=1e-3)
     assert float(rows[0]["length_m"]) == pytest.approx(3335.4, abs=0.5)
+
+
+def test_warnings_are_one_line_each(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """GEONET has GPS only: asking for Galileo too drops it with a warning naming the files, on one line."""
+    d = geonet_dir()
+    argv = ["attitude", "--obs", str(d / "07590920.05o"), "--obs", str(d / "30400920.05o")]
+    argv += ["--nav", str(d / "07590920.05n"), "--out", str(tmp_path / "r.csv"), "--systems", "GE"]
+    assert main([*argv, "--frequencies", "1", "--motion", "moving"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err and all(line.startswith("gnssatt: warning: ") for line in err), err
+    assert any("system E dropped" in line and "07590920.05o" in line for line in err), err
