@@ -69,7 +69,8 @@ def test_geonet_cli_baseline_direction(tmp_path: Path, capsys: pytest.CaptureFix
     argv = ["attitude", "--obs", str(DATA / "07590920.05o"), "--obs", str(DATA / "30400920.05o")]
     assert main([*argv, "--nav", str(DATA / "07590920.05n"), "--out", str(out)]) == 0
     lines = out.read_text().splitlines()
-    assert lines[0] == "time_gpst,azimuth_deg,elevation_deg,method,fixed,satellites"
+    # the columns of issue 16 follow these (docs/conventions.md; tests/test_gnss_attitude.py checks them all)
+    assert lines[0].startswith("time_gpst,azimuth_deg,elevation_deg,method,fixed,satellites,east_m,")
     assert len(lines) == 121 and lines[1].startswith("2005-04-02T00:00:00.000,")
     assert ",lambda,1," in lines[1]
     az = np.array([float(r.split(",")[1]) for r in lines[1:]])

@@ -84,6 +84,12 @@ def test_three_antennas_attitude_and_cli(tmp_path: Path) -> None:
         argv += ["--obs", str(p)]
     assert main(argv) == 0
     lines = out.read_text().splitlines()
-    assert lines[0] == "time_gpst,heading_deg,pitch_deg,roll_deg,method,fixed,satellites"
+    head = lines[0].split(",")
+    assert head[:7] == "time_gpst,heading_deg,pitch_deg,roll_deg,method,fixed,satellites".split(",")
+    # one set of baseline columns per rover, then the sigma of each angle (docs/conventions.md)
+    assert head[7:17] == [
+        *("east_m", "north_m", "up_m", "length_m", "east_m_2", "north_m_2", "up_m_2", "length_m_2"),
+        *("heading_sigma_deg", "pitch_sigma_deg"),
+    ]
     assert lines[1].startswith("2024-03-01T10:00:00.000,")
     assert out.with_suffix(".png").is_file()
