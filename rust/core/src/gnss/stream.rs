@@ -21,9 +21,12 @@
 //! 4. Estimation: `Lambda`: [`crate::gnss::rtk::solve_baseline`] per rover (baseline mode, no body
 //!    baselines) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
 //!    single differences at the base's reception instant (see [`ml`]); in baseline mode the baseline
-//!    length comes from the fixed DD solutions seen so far (their mean), else from the float ones.
+//!    length is the mean over the LAMBDA epochs so far whose length is known to
+//!    [`GRID_LENGTH_RELATIVE_SIGMA`] (fixed or partially fixed), else (with a warning) the median of
+//!    the float ones.
 //!    `Auto`: `Lambda`, and `Ml` for the epochs `Lambda` does not fix when the baseline is shorter than
-//!    [`AUTO_ML_MAX_BASELINE_M`] (or in attitude mode, where the body baselines are known). A validated
+//!    [`AUTO_ML_MAX_BASELINE_M`] and its length is known that way (in attitude mode the body baselines
+//!    give it). A validated
 //!    integer fix is the most accurate answer there is (millimetres), so it is kept whenever it passes
 //!    the gate; the grid needs no integers and still gives a direction when the gate refuses them, but
 //!    its error grows with the baseline length over wavelength ratio it must search, so beyond 100 m the
@@ -73,6 +76,10 @@ use crate::likelihood::{ml_attitude_series, ml_baseline_series, MlEpoch};
 pub const BASE_WARNING_DISTANCE_M: f64 = 30.0;
 /// `Method::Auto` falls back to the grid for unfixed epochs only below this baseline length, m.
 pub const AUTO_ML_MAX_BASELINE_M: f64 = 100.0;
+/// Baseline-mode grid: a LAMBDA epoch gives the baseline length when the length's sigma is below this
+/// fraction of it. A length error `dl` shifts each satellite's phase by up to `dl / lambda`; 1 % of 1 m
+/// is 0.05 L1 cycles, while 5 % already moved the grid's maximum to a wrong direction in the tests.
+pub const GRID_LENGTH_RELATIVE_SIGMA: f64 = 0.01;
 /// Largest double-difference phase residual of a held integer, cycles, before the hold is dropped.
 pub const HELD_RESIDUAL_CYCLES: f64 = 0.2;
 
@@ -114,7 +121,8 @@ pub struct Engine {
     spp_prior: Vec<Option<Vector3<f64>>>,
     /// Per rover: integers held from the previous epoch (continuity).
     held: Vec<Vec<(u64, u64, i64)>>,
-    /// Per rover: sum and count of fixed baseline lengths, m (the ML length in baseline mode).
+    /// Per rover: sum and count of baseline lengths known to [`GRID_LENGTH_RELATIVE_SIGMA`], m (the
+    /// grid's length in baseline mode).
     fixed_length: Vec<(f64, usize)>,
     /// Per rover: every epoch seen (static mode).
     static_epochs: Vec<Vec<DdEpoch>>,
@@ -543,9 +551,12 @@ impl Engine {
                             sol.ratio = s.ratio;
                             sol.success_rate = s.success_rate;
                         }
-                        if sol.fixed {
+                        let l = sol.baseline_m.norm();
+                        let u = sol.baseline_m / l;
+                        let sigma = (u.transpose() * sol.covariance_m2 * u)[(0, 0)].sqrt();
+                        if l > 0.0 && sigma < GRID_LENGTH_RELATIVE_SIGMA * l {
                             let f = &mut self.fixed_length[r];
-                            f.0 += sol.baseline_m.norm();
+                            f.0 += l;
                             f.1 += 1;
                         }
                         per_epoch.push(Some(sol));
@@ -611,7 +622,8 @@ impl Engine {
     /// Replaces the estimates the method gives to the grid (step 4): every solvable epoch for `Ml`,
     /// the unfixed ones within [`AUTO_ML_MAX_BASELINE_M`] for `Auto`.
     fn grid(&mut self, prepared: &[Prepared], estimates: &mut [Option<Estimate>]) -> Result<()> {
-        let wanted = |e: &Option<Estimate>, length: f64| match self.opts.method {
+        let method = self.opts.method;
+        let wanted = move |e: &Option<Estimate>, length: f64| match method {
             Method::Ml => true,
             _ => !e.as_ref().is_some_and(|e| e.fixed) && length < AUTO_ML_MAX_BASELINE_M,
         };
@@ -676,9 +688,19 @@ impl Engine {
             .filter(|l| l.is_finite())
             .collect();
         lengths.sort_by(f64::total_cmp);
+        // The grid's baseline length: a few percent of error in it moves the grid's maximum to a wrong
+        // direction, so Auto uses the grid only once the length is known; Ml without it takes the
+        // median float length, with a warning.
         let length = if n > 0 {
             sum / n as f64
-        } else if let Some(&l) = lengths.get(lengths.len() / 2) {
+        } else if let (Method::Ml, Some(&l)) = (self.opts.method, lengths.get(lengths.len() / 2)) {
+            self.warn_once(
+                "ml length".into(),
+                format!(
+                    "no epoch gave the baseline length to 1 %, so the grid uses the median float length {l:.3} m; \
+                     directions may be wrong when it is off by more than a few percent"
+                ),
+            );
             l
         } else {
             return Ok(());

@@ -487,3 +487,106 @@ fn bad_sessions_are_errors_or_warnings() {
     assert!(engine.process(&truth.obs).is_err());
     assert!(Engine::new(&truth.nav, options(), truth.obs.sats.clone(), vec![], 2).is_err());
 }
+
+#[test]
+fn lambda_attitude_of_three_antennas_matches_the_truth() {
+    // Heading 200, pitch -4, roll 6 degrees; fixed baselines of 1-2 m give the angles to a few
+    // hundredths of a degree, so 0.2 degree would already be a wrong fix.
+    let m = crate::likelihood::dcm_enu_from_body(
+        (-200f64).to_radians(),
+        (-4f64).to_radians(),
+        6f64.to_radians(),
+    );
+    let body = [[2.0, 0.1, 0.0], [0.3, 0.0, -1.5]];
+    let enu: Vec<[f64; 3]> = body
+        .iter()
+        .map(|b| (m * Vector3::from(*b)).into())
+        .collect();
+    let truth = simulate(6, &enu, 8);
+    let opts = EngineOptions {
+        body_baselines_m: body.to_vec(),
+        ..options()
+    };
+    let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+    for e in &sol.epochs {
+        // The constrained acceptance is rtk's (ratio of the two best combined objectives): not
+        // asserted here; a fixed epoch must be right and every epoch close.
+        assert!(e.solved && e.method == Method::Lambda);
+        let [h, p, r] = [e.angles_deg[0], e.angles_deg[1], e.angles_deg[2]];
+        assert!(
+            (h - 200.0).abs() < 0.2 && (p + 4.0).abs() < 0.2 && (r - 6.0).abs() < 0.2,
+            "{h} {p} {r}"
+        );
+        // The sigmas are those of baselines of a few millimetres (the engine's elevation-weighted
+        // sigmas, larger than the simulated 3 mm) over 1.5-2 m: tenths of a degree at most.
+        let bound = if e.fixed { 0.5 } else { 5.0 };
+        assert!(
+            e.angle_sigmas_deg.iter().all(|s| *s > 1e-4 && *s < bound),
+            "{:?}",
+            e.angle_sigmas_deg
+        );
+        for (b, t) in e.baselines_enu_m.iter().zip(&enu) {
+            assert!((Vector3::from(*b) - Vector3::from(*t)).norm() < 0.01);
+        }
+    }
+}
+
+#[test]
+fn auto_keeps_the_integer_fix_and_falls_back_to_the_grid_when_the_gate_refuses() {
+    // With four systems on two slots every epoch is fixed and Auto is Lambda.
+    let mut truth = simulate(8, &[[0.6, -0.8, 0.05]], 9);
+    let auto = EngineOptions {
+        method: Method::Auto,
+        ..options()
+    };
+    let all = run(&truth.obs, &truth.nav, &auto).unwrap();
+    assert!(all
+        .epochs
+        .iter()
+        .all(|e| e.fixed && e.method == Method::Lambda));
+    // GPS alone, L1 + L2 for three epochs, then L1 alone (L2 lost at the rover), with a strict gate:
+    // no epoch is fully fixed, the partially fixed L1 + L2 epochs give the length to a millimetre,
+    // and every epoch goes to the grid with it.
+    let ns = truth.obs.n_sats();
+    for k in 3..8 {
+        for s in 0..ns {
+            truth.obs.receivers[1].phase_cycles[(k * ns + s) * MAX_FREQUENCIES + 1] = f64::NAN;
+        }
+    }
+    let gps = EngineOptions {
+        systems: vec![System::Gps],
+        min_success_rate: 0.99999,
+        ..auto
+    };
+    let sol = run(&truth.obs, &truth.nav, &gps).unwrap();
+    let az = 0.6f64.atan2(-0.8).to_degrees();
+    for e in &sol.epochs {
+        assert!(e.solved);
+        assert_eq!(e.method, if e.fixed { Method::Lambda } else { Method::Ml });
+        // 8 L1 single differences on 1 m: 0.25 degree of azimuth noise; 1 degree is 4 sigma.
+        assert!((e.angles_deg[0] - az).abs() < 1.0, "{}", e.angles_deg[0]);
+    }
+    assert!(sol.epochs.iter().any(|e| e.method == Method::Ml));
+}
+
+#[test]
+fn fix_rate_and_no_wrong_fix_over_a_minute_of_gps_l1_l2() {
+    // GPS alone on L1 + L2, 60 single epochs on 1 m: the gate at 0.999 allows one wrong fix per
+    // thousand fixed epochs in expectation, so none is expected here; an error above 5 cm is wrong.
+    let truth = simulate(60, &[[0.6, -0.8, 0.05]], 10);
+    let opts = EngineOptions {
+        systems: vec![System::Gps],
+        ..options()
+    };
+    let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+    let t = Vector3::from(truth.baselines_enu_m[0]);
+    let errors: Vec<f64> = sol
+        .epochs
+        .iter()
+        .filter(|e| e.fixed)
+        .map(|e| (Vector3::from(e.baselines_enu_m[0]) - t).norm())
+        .collect();
+    assert!(errors.len() >= 57, "fixed {} of 60", errors.len());
+    assert!(errors.iter().all(|&e| e < 0.05), "{errors:?}");
+    assert!(sol.epochs.iter().all(|e| e.satellites_per_system[0] >= 6));
+}
