@@ -179,3 +179,15 @@ def test_attitude_mode_every_system_truth_within_sigmas(tmp_path: Path) -> None:
     # .rotation maps the body baselines onto the true ENU baselines (to the millimetres of a fixed solution)
     rotated = np.stack([r.rotation[k].apply(ant[1:] - ant[0]) for k in range(len(r.time))])
     np.testing.assert_allclose(rotated, s.baselines_enu_m, atol=0.01)
+
+
+def test_a_base_position_far_from_the_code_solution_is_warned() -> None:
+    from gnssatt.rinex.attitude import EngineWarning
+
+    obs, nav = _files()
+    far = obs[0].approx_position_m + np.array([0.0, 0.0, 500.0])
+    with pytest.warns(EngineWarning, match="500.0 m from --base-position") as caught:
+        s = attitude_from_rinex(
+            obs, nav, systems="G", frequencies=1, motion="moving", method="lambda", base_position_m=far
+        )
+    assert [str(w.message) for w in caught if w.category is EngineWarning] == list(s.warnings)
