@@ -8,6 +8,9 @@
 //! ([`crate::gnss::atmosphere`]). Each satellite contributes the code of its lowest frequency slot
 //! among those used (`opts.frequencies`); weights are `1 / sigma^2` of [`code_variance_m2`]. The
 //! elevation mask applies once the position is known (after the first iteration, or from a prior).
+//! Residual check: where the residual RMS exceeds [`MAX_RESIDUAL_RMS_M`] and the satellites
+//! over-determine the solution by two or more, the one satellite whose exclusion leaves the smallest
+//! RMS is dropped (once).
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
