@@ -14,7 +14,7 @@
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::atmosphere::{klobuchar_delay_m, niell_mapping, troposphere_delay_m};
+use super::atmosphere::{day_of_year, klobuchar_delay_m, niell_mapping, troposphere_delay_at_m};
 use super::ephemeris::Ephemerides;
 use super::geometry::{geodetic_from_ecef, satellite_geometry, SatGeometry, MIN_HORIZON_RADIUS_M};
 use super::navdata::NavData;
@@ -349,11 +349,11 @@ fn linearise(
                     c.frequency_hz,
                 )
             });
-            let tropo = troposphere_delay_m(lat, height, g.elevation_rad);
+            let tropo = troposphere_delay_at_m(lat, height, g.elevation_rad, t);
             (
                 iono,
                 tropo,
-                niell_mapping(lat, height, g.elevation_rad).0,
+                niell_mapping(lat, height, g.elevation_rad, Some(day_of_year(t))).0,
                 g.elevation_rad,
             )
         } else {
@@ -435,7 +435,7 @@ mod tests {
             let g = satellite_geometry(&eph, id, T0, clock_s, truth).unwrap();
             code[k * MAX_FREQUENCIES] = g.range_m
                 + SPEED_OF_LIGHT_M_S * (clock_s - g.clock_s)
-                + troposphere_delay_m(lat, h, g.elevation_rad.max(0.0));
+                + troposphere_delay_at_m(lat, h, g.elevation_rad.max(0.0), T0);
         }
         let n = code.len();
         Observations {
