@@ -474,6 +474,46 @@ mod tests {
     }
 
     #[test]
+    fn one_clock_per_system() {
+        // GPS plus a Galileo constellation (its own mu, planes shifted) whose codes carry a 120 ns
+        // inter-system bias: the bias is Galileo's clock minus GPS's, the position is unaffected.
+        let mut nav = constellation();
+        let galileo: Vec<KeplerRecord> = nav
+            .kepler
+            .iter()
+            .map(|r| KeplerRecord {
+                sat: SatId {
+                    system: System::Galileo,
+                    prn: r.sat.prn,
+                },
+                sqrt_a: 5440.6,
+                omega0: r.omega0 + 0.5,
+                ..*r
+            })
+            .collect();
+        nav.kepler.extend(galileo);
+        let eph = Ephemerides::new(&nav).unwrap();
+        let truth = enu_from_ecef(-0.5, 0.3).transpose() * Vector3::new(0.0, 0.0, 6_371_000.0);
+        let mut obs = observations(&nav, &truth, 1e-4);
+        let bias_s = 120e-9;
+        for k in 24..48 {
+            obs.receivers[0].code_m[k * MAX_FREQUENCIES] += SPEED_OF_LIGHT_M_S * bias_s;
+        }
+        let s = single_point(&obs, 0, 0, &eph, &nav, &EngineOptions::default(), None).unwrap();
+        assert!((s.position_m - truth).norm() < 1e-3);
+        assert!((s.clock_s[0] - 1e-4).abs() < 1e-11);
+        assert!((s.clock_s[2] - s.clock_s[0] - bias_s).abs() < 1e-11);
+        assert!(s.clock_s[1].is_nan() && s.clock_s[3].is_nan() && s.clock_s[4].is_nan());
+        // Galileo alone (the systems option): its own clock only.
+        let opts = EngineOptions {
+            systems: vec![System::Galileo],
+            ..EngineOptions::default()
+        };
+        let g = single_point(&obs, 0, 0, &eph, &nav, &opts, None).unwrap();
+        assert!(g.clock_s[0].is_nan() && (g.clock_s[2] - 1e-4 - bias_s).abs() < 1e-11);
+    }
+
+    #[test]
     fn an_outlier_is_dropped_once() {
         let nav = constellation();
         let eph = Ephemerides::new(&nav).unwrap();
