@@ -19,9 +19,9 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
+use super::enu_at;
 use super::fix::{fix_float, validate_input};
 use super::float::{self, FloatSolution};
-use super::frames::enu_from_ecef;
 use super::{AttitudeSolution, BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{ensure_finite, Error, Result};
 use crate::lambda::{Problem, DEFAULT_MAX_NODES};
@@ -65,7 +65,7 @@ pub fn solve_attitude(
     validate_attitude(epochs, body_m)?;
     validate_input(epochs, fix)?;
     let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
-    let to_enu = enu_from_ecef(&epochs[0].base_m);
+    let to_enu = enu_at(&epochs[0].base_m);
     let keep = keep_per_rover(epochs.len());
     let rovers = epochs
         .iter()

@@ -43,7 +43,6 @@ pub mod constrained;
 pub mod dd;
 pub mod fix;
 pub mod float;
-pub mod frames;
 pub mod glonass;
 
 #[cfg(test)]
@@ -53,7 +52,7 @@ mod tests;
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::geometry::SatGeometry;
+use super::geometry::{enu_from_ecef, geodetic_from_ecef, SatGeometry};
 use super::signal::System;
 use super::solution::N_SYSTEMS;
 
@@ -155,4 +154,10 @@ pub struct AttitudeSolution {
     /// Product of the rovers' unconstrained bootstrapped success rates (a lower bound of the constrained
     /// fix's, the rovers treated as independent).
     pub success_rate: f64,
+}
+
+/// Rotation ENU <- ECEF at an ECEF position (WGS-84 geodetic latitude and longitude).
+pub(crate) fn enu_at(ecef_m: &Vector3<f64>) -> Matrix3<f64> {
+    let (lat, lon, _) = geodetic_from_ecef(ecef_m);
+    enu_from_ecef(lat, lon)
 }

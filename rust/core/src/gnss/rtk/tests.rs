@@ -322,7 +322,7 @@ fn attitude_with_three_antennas_fixes_more_and_finds_the_rotation() {
     for k in 0..200u64 {
         let mut sc = Scenario::new(120_000 + k, &[(System::Gps, 8, &[0])], 15.0);
         let r = super::sim::random_rotation(&mut sc.rng);
-        let to_ecef = super::frames::enu_from_ecef(&sc.base_m).transpose();
+        let to_ecef = super::enu_at(&sc.base_m).transpose();
         let truths: Vec<Vector3<f64>> = body
             .iter()
             .map(|f| to_ecef * r * Vector3::from(*f))
