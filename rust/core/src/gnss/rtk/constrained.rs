@@ -33,6 +33,9 @@ pub const CANDIDATES: usize = 200;
 /// Most combinations of candidates scored with the full objective (per rover: the `n_rover`-th root).
 pub const MAX_COMBINATIONS: usize = 4096;
 
+/// Most rovers in one array (two candidates each already give 2^12 = [`MAX_COMBINATIONS`]).
+pub const MAX_ROVERS: usize = 12;
+
 /// Largest body baseline coordinate, m.
 pub const MAX_BODY_M: f64 = 1e4;
 
@@ -54,7 +57,8 @@ struct Rover {
 /// body frame of seed 001: X nose, Y up, Z right wing, m), fixed with the array geometry, then Wahba.
 ///
 /// # Errors
-/// [`Error::Shape`] for fewer than two rovers or mismatched lengths; [`Error::OutOfRange`] for a body
+/// [`Error::Shape`] for fewer than two rovers or mismatched lengths, [`Error::TooLarge`] beyond
+/// [`MAX_ROVERS`]; [`Error::OutOfRange`] for a body
 /// baseline shorter than 1 cm or beyond [`MAX_BODY_M`], epochs with different bases, or the errors of
 /// [`super::solve_baseline`]; [`Error::DegenerateGeometry`] when the baselines do not fix a rotation.
 pub fn solve_attitude(
@@ -114,6 +118,14 @@ fn validate_attitude(epochs: &[DdEpoch], body_m: &[[f64; 3]]) -> Result<()> {
                 epochs.len()
             ),
         });
+    }
+    if epochs.len() > MAX_ROVERS {
+        return Err(Error::too_large(
+            "body baselines",
+            epochs.len() as f64,
+            MAX_ROVERS as f64,
+            "rovers",
+        ));
     }
     ensure_finite("body baselines", body_m.iter().flatten())?;
     for (i, f) in body_m.iter().enumerate() {

@@ -149,7 +149,8 @@ pub struct AttitudeSolution {
     pub baselines: Vec<BaselineSolution>,
     /// Every rover's ambiguities fixed with the geometry constraint and validated.
     pub fixed: bool,
-    /// Second-best over best constrained objective (the acceptance statistic).
+    /// Second-best over best constrained objective (the acceptance statistic); NaN only when no
+    /// candidate combination fixes a rotation (then `fixed` is false).
     pub ratio: f64,
     /// Product of the rovers' unconstrained bootstrapped success rates (a lower bound of the constrained
     /// fix's, the rovers treated as independent).

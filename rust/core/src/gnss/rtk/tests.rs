@@ -361,3 +361,37 @@ fn attitude_with_three_antennas_fixes_more_and_finds_the_rotation() {
     assert_eq!(wrong, 0);
     assert!(constrained > both + 20, "{constrained} {both}");
 }
+
+#[test]
+fn attitude_bad_input_is_refused_with_a_named_error() {
+    let mut sc = Scenario::new(130, &[(System::Gps, 8, &[0])], 15.0);
+    let e = sc.epoch(&Vector3::new(1.0, 0.0, 0.0), 0.0);
+    let two = [e.clone(), e.clone()];
+    assert!(matches!(
+        solve_attitude(&two[..1], &[[1.0, 0.0, 0.0]], &GATE),
+        Err(Error::Shape { .. })
+    ));
+    assert!(matches!(
+        solve_attitude(&two, &[[1.0, 0.0, 0.0]], &GATE),
+        Err(Error::Shape { .. })
+    ));
+    assert!(matches!(
+        solve_attitude(&two, &[[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]], &GATE),
+        Err(Error::OutOfRange {
+            name: "body baselines",
+            ..
+        })
+    ));
+    let mut moved = two.clone();
+    moved[1].base_m.x += 1.0;
+    assert!(matches!(
+        solve_attitude(&moved, &[[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], &GATE),
+        Err(Error::OutOfRange { name: "epochs", .. })
+    ));
+    let many = vec![e; constrained::MAX_ROVERS + 1];
+    let body = vec![[1.0, 0.0, 0.0]; constrained::MAX_ROVERS + 1];
+    assert!(matches!(
+        solve_attitude(&many, &body, &GATE),
+        Err(Error::TooLarge { .. })
+    ));
+}
