@@ -36,8 +36,14 @@
 //! fit of the multivariate constrained LAMBDA, Teunissen 2010, J. Geodesy 84:751-762), then the rotation
 //! ENU <- body from Wahba's problem ([`crate::wahba`]).
 //!
-//! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call and at most
-//! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution.
+//! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call, at most
+//! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution; attitude mode: at most
+//! [`constrained::MAX_ROVERS`] rovers, [`constrained::CANDIDATES`] integer candidates per rover and
+//! [`constrained::MAX_COMBINATIONS`] combinations scored.
+//!
+//! Cost (`benches/gnss.rs`, 44 double differences, one epoch): float solution about 0.17 ms of CPU,
+//! `solve_baseline` about 1.2 ms, most of it in [`crate::lambda::Problem::new`] (decorrelation and its
+//! exact checks), done twice when the full set fails and partial fixing runs.
 
 pub mod constrained;
 pub mod dd;
