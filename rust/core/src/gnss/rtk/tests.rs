@@ -395,3 +395,38 @@ fn attitude_bad_input_is_refused_with_a_named_error() {
         Err(Error::TooLarge { .. })
     ));
 }
+
+/// Static session with a cycle slip: from epoch 15 satellite 2's arcs get new identities and its rover
+/// phase jumps by 7 cycles. The new arcs carry their own ambiguities (integer = old + 7), the old ones
+/// keep theirs, and everything is fixed right.
+#[test]
+fn static_session_gives_a_slipped_arc_its_own_ambiguity() {
+    let mut sc = Scenario::new(140, &[(System::Gps, 8, &[0, 1])], 15.0);
+    sc.code_ab = (1.0, 0.5);
+    let truth = Vector3::new(2.0, 1.0, -3.0);
+    const NEW: u64 = 3000; // arc offset of the slipped arcs (a multiple of 3 keeps the slot)
+    let epochs: Vec<DdEpoch> = (0..30)
+        .map(|k| {
+            let mut e = sc.epoch(&truth, 20.0 * k as f64);
+            if k >= 15 {
+                for s in e.signals.iter_mut().filter(|s| s.sat == 2) {
+                    s.arc += NEW;
+                    s.rover_phase_cycles += 7.0;
+                }
+            }
+            e
+        })
+        .collect();
+    let s = solve_baseline(&epochs, &[], &GATE).unwrap();
+    assert!(s.fixed, "{s:?}");
+    let mut slipped = 0;
+    for &(a, r, n) in &s.integers {
+        let jump = |arc: u64| if arc >= NEW { 7 } else { 0 };
+        let (k, slot) = Scenario::of_arc(a % NEW);
+        let (q, _) = Scenario::of_arc(r % NEW);
+        assert_eq!(n, sc.dd_integer(k, q, slot) + jump(a) - jump(r), "{a} {r}");
+        slipped += usize::from(a >= NEW || r >= NEW);
+    }
+    assert!(slipped >= 2, "{slipped}");
+    assert!(chi2(&s, &truth) < 16.27);
+}
