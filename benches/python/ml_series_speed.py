@@ -52,13 +52,16 @@ def batch(n_ep: int, n_sats: int, seed: int = 3):
     return np.mod(sd, 2.0 * np.pi), meas.los, lam, ant[1:] - ant[0], euler
 
 
-def timed(fn, reps):
-    out = []
+def timed_pair(first, second, reps):
+    """Median seconds of each of two calls, run alternately so that a change of machine load between them
+    (the shared machine) falls on both."""
+    out: tuple[list[float], list[float]] = ([], [])
     for _ in range(reps):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return statistics.median(out)
+        for fn, times in ((first, out[0]), (second, out[1])):
+            t = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t)
+    return statistics.median(out[0]), statistics.median(out[1])
 
 
 def loop(p, los, b, lam, window):
@@ -80,8 +83,11 @@ def child(n_ep, n_sats, reps):
         if not np.array_equal(series.euler_deg, looped):
             raise AssertionError(f"window {window}: batch and loop differ")
         err = np.max(np.abs((series.euler_deg - truth + 180.0) % 360.0 - 180.0))
-        t_series = timed(lambda w=window: ml_attitude_series(p, los, b, lam, window_deg=w), reps)
-        t_loop = timed(lambda w=window: loop(p, los, b, lam, w), reps)
+        t_series, t_loop = timed_pair(
+            lambda w=window: ml_attitude_series(p, los, b, lam, window_deg=w),
+            lambda w=window: loop(p, los, b, lam, w),
+            reps,
+        )
         row += [t_series / n_ep, t_loop / n_ep, err]
     print(" ".join(repr(float(x)) for x in row))
 

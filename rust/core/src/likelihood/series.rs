@@ -86,9 +86,9 @@ enum Mode {
 ///   radians, in (0, 2 pi] and at least the step; `None`: every epoch searches the whole domain.
 ///
 /// # Errors
-/// [`Error::Shape`] for inconsistent lengths, [`Error::NonFinite`] for infinite phases or non-finite
-/// lines of sight or wavelengths, [`Error::OutOfRange`] for a bad step or window, non-unit lines of
-/// sight, non-positive wavelengths (each naming the epoch), [`Error::DegenerateGeometry`] for collinear
+/// [`Error::Shape`] for inconsistent lengths, [`Error::NonFinite`] for non-finite lines of sight or
+/// wavelengths of a signal used, [`Error::OutOfRange`] for infinite phases, a bad step or window,
+/// non-unit lines of sight, non-positive wavelengths (each naming the epoch), [`Error::DegenerateGeometry`] for collinear
 /// baselines, [`Error::Interrupted`] on request.
 pub fn ml_attitude_series(
     epochs: &[MlEpoch],
@@ -182,7 +182,7 @@ fn series(
 /// The epoch's measurements as the single-epoch [`Epoch`], without the signals some rover lacks.
 fn complete_signals(k: usize, e: &MlEpoch, n_rover: usize) -> Result<Epoch> {
     let n_sig = e.los_enu.len();
-    if e.wavelength_m.len() != n_sig || e.sd_phase_rad.len() != n_rover * n_sig {
+    if e.wavelength_m.len() != n_sig || n_rover.checked_mul(n_sig) != Some(e.sd_phase_rad.len()) {
         return Err(Error::Shape {
             name: "epochs",
             expected: format!(
@@ -234,12 +234,18 @@ fn solve(
 ) -> Result<MlSolution> {
     let epoch = complete_signals(k, e, baselines.len())?;
     // Infinite phases are errors, not absent signals (only NaN marks those).
-    if let Some(index) = e.sd_phase_rad.iter().position(|p| p.is_infinite()) {
-        return Err(Error::NonFinite {
-            name: "sd_phase_rad",
-            index,
-        })
-        .map_err(|err| err.at_epoch(k));
+    if let Some(j) = e.sd_phase_rad.iter().position(|p| p.is_infinite()) {
+        let n_sig = e.los_enu.len();
+        return Err(Error::out_of_range(
+            "sd_phase_rad",
+            format!(
+                "epoch {k}: expected finite phases (NaN for an absent signal), got {} at (rover, \
+                 signal) ({}, {})",
+                e.sd_phase_rad[j],
+                j / n_sig,
+                j % n_sig
+            ),
+        ));
     }
     if epoch.los_enu.len() < 3 {
         return Ok(MlSolution::UNSOLVED);
