@@ -86,6 +86,7 @@ enum Mode {
 ///   radians, in (0, 2 pi] and at least the step; `None`: every epoch searches the whole domain.
 ///
 /// # Errors
+/// (Named as the Python face names them, like [`Grid`]'s: `step_deg`, `window_deg`.)
 /// [`Error::Shape`] for inconsistent lengths, [`Error::NonFinite`] for non-finite lines of sight or
 /// wavelengths of a signal used, [`Error::OutOfRange`] for infinite phases, a bad step or window,
 /// non-unit lines of sight, non-positive wavelengths (each naming the epoch), [`Error::DegenerateGeometry`] for collinear
@@ -136,16 +137,22 @@ fn series(
     if let Some(s) = step_rad {
         if !(s.is_finite() && s > 0.0 && s <= PI) {
             return Err(Error::out_of_range(
-                "step_rad",
-                format!("expected a grid step in (0, pi] rad, got {s}"),
+                "step_deg",
+                format!(
+                    "expected a grid step in (0, 180] deg, got {:e} deg ({s:e} rad)",
+                    s.to_degrees()
+                ),
             ));
         }
     }
     if let Some(w) = window_rad {
         if !(w.is_finite() && w > 0.0 && w <= TAU) {
             return Err(Error::out_of_range(
-                "window_rad",
-                format!("expected a window half-width in (0, 2 pi] rad, got {w}"),
+                "window_deg",
+                format!(
+                    "expected a window half-width in (0, 360] deg, got {:e} deg ({w:e} rad)",
+                    w.to_degrees()
+                ),
             ));
         }
     }
@@ -257,10 +264,12 @@ fn solve(
     if let Some((_, w)) = around {
         if w < step {
             return Err(Error::out_of_range(
-                "window_rad",
+                "window_deg",
                 format!(
-                    "epoch {k}: a window half-width of {w:.6} rad is finer than the grid step \
-                     {step:.6} rad"
+                    "epoch {k}: a window half-width of {:.6} deg is finer than the grid step {:.6} \
+                     deg (it could hold no node)",
+                    w.to_degrees(),
+                    step.to_degrees()
                 ),
             ));
         }
