@@ -275,6 +275,7 @@ def test_qzss_l1_healthy_record_of_a_real_file_is_used() -> None:
 def test_glonass_unhealthy_and_out_of_interval() -> None:
     nav = read_nav(NAV_FILES[0])
     _, glonass = nav_dicts(nav)
+    glonass["channel"] = glonass["channel"].astype(np.int8)  # any signed integer dtype is taken exactly
     tb = int(glonass["tb_gpst_ns"][0])
     sat = str(glonass["sat"][0])
     t = np.array([tb, tb + 1801 * 10**9 + 1800 * 10**9], dtype=np.int64)
@@ -300,6 +301,10 @@ def test_bad_records_are_refused_with_their_name() -> None:
     del rec["crs"]
     with pytest.raises(InvalidInputError, match=r'kepler\["crs"\], the key is missing'):
         _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toe_gpst_ns"])
+    rec = _circular_record()
+    rec["toe_gpst_ns"] = rec["toe_gpst_ns"].astype(np.float64)  # a time in float would lose nanoseconds
+    with pytest.raises(InvalidInputError, match=r'expected kepler\["toe_gpst_ns"\] a signed integer array'):
+        _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toc_gpst_ns"])
     rec = _circular_record()
     with pytest.raises(InvalidInputError, match="expected sats entries like 'G05'"):
         _core.gnss_satellite_states(rec, {}, None, None, ["X07"], rec["toe_gpst_ns"])

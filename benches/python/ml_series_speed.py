@@ -1,5 +1,5 @@
 """Time per epoch of maximum-likelihood attitude on a recorded-like batch: one call of
-:func:`gnssatt.likelihood.ml_attitude_series` against the Python per-epoch loop of
+:func:`gnssatt.ml_attitude_series` against the Python per-epoch loop of
 :func:`gnssatt.ml_attitude`, whole domain and windowed, at RAYON_NUM_THREADS = 1, 2 (and 16 where the
 machine has them), in one run.
 
@@ -25,8 +25,9 @@ import time
 
 import numpy as np
 
+import gnssatt
 from gnssatt import sim
-from gnssatt.likelihood import ml_attitude, ml_attitude_series, rotation_from_euler
+from gnssatt.likelihood import rotation_from_euler
 
 WINDOW_DEG = 10.0
 
@@ -52,13 +53,16 @@ def batch(n_ep: int, n_sats: int, seed: int = 3):
     return np.mod(sd, 2.0 * np.pi), meas.los, lam, ant[1:] - ant[0], euler
 
 
-def timed(fn, reps):
-    out = []
+def timed_pair(first, second, reps):
+    """Median seconds of each of two calls, run alternately so that a change of machine load between them
+    (the shared machine) falls on both."""
+    out: tuple[list[float], list[float]] = ([], [])
     for _ in range(reps):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return statistics.median(out)
+        for fn, times in ((first, out[0]), (second, out[1])):
+            t = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t)
+    return statistics.median(out[0]), statistics.median(out[1])
 
 
 def loop(p, los, b, lam, window):
@@ -66,7 +70,7 @@ def loop(p, los, b, lam, window):
     out, prev = [], None
     for k in range(p.shape[0]):
         win = None if window is None or prev is None else np.stack([prev - window, prev + window], axis=1)
-        prev = ml_attitude(p[k], los[k], b, lam, window_deg=win).euler_deg
+        prev = gnssatt.ml_attitude(p[k], los[k], b, lam, window_deg=win).euler_deg
         out.append(prev)
     return np.array(out)
 
@@ -75,13 +79,16 @@ def child(n_ep, n_sats, reps):
     p, los, lam, b, truth = batch(n_ep, n_sats)
     row = []
     for window in (None, WINDOW_DEG):
-        series = ml_attitude_series(p, los, b, lam, window_deg=window)
+        series = gnssatt.ml_attitude_series(p, los, b, lam, window_deg=window)
         looped = loop(p, los, b, lam, window)
         if not np.array_equal(series.euler_deg, looped):
             raise AssertionError(f"window {window}: batch and loop differ")
         err = np.max(np.abs((series.euler_deg - truth + 180.0) % 360.0 - 180.0))
-        t_series = timed(lambda w=window: ml_attitude_series(p, los, b, lam, window_deg=w), reps)
-        t_loop = timed(lambda w=window: loop(p, los, b, lam, w), reps)
+        t_series, t_loop = timed_pair(
+            lambda w=window: gnssatt.ml_attitude_series(p, los, b, lam, window_deg=w),
+            lambda w=window: loop(p, los, b, lam, w),
+            reps,
+        )
         row += [t_series / n_ep, t_loop / n_ep, err]
     print(" ".join(repr(float(x)) for x in row))
 

@@ -39,12 +39,16 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
     from gnssatt.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
     from gnssatt.likelihood import (
         AttitudePrior,
+        AttitudeSeries,
         BaselineDirection,
+        BaselineSeries,
         LikelihoodAttitude,
         LikelihoodGrid,
         likelihood_grid,
         ml_attitude,
+        ml_attitude_series,
         ml_baseline,
+        ml_baseline_series,
         prior_from_velocity,
     )
     from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
@@ -81,12 +85,16 @@ _EXPORTS: dict[str, str] = {
         "gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
         "likelihood": (
             "AttitudePrior",
+            "AttitudeSeries",
             "BaselineDirection",
+            "BaselineSeries",
             "LikelihoodAttitude",
             "LikelihoodGrid",
             "likelihood_grid",
             "ml_attitude",
+            "ml_attitude_series",
             "ml_baseline",
+            "ml_baseline_series",
             "prior_from_velocity",
         ),
         "magnetometer": ("YawResult", "yaw_from_magnetometer"),
@@ -101,7 +109,9 @@ _EXPORTS: dict[str, str] = {
 
 __all__ = [
     "AttitudePrior",
+    "AttitudeSeries",
     "BaselineDirection",
+    "BaselineSeries",
     "ConvergenceError",
     "DegenerateGeometryError",
     "GnssattError",
@@ -131,7 +141,9 @@ __all__ = [
     "magnetic",
     "matrix_attitude",
     "ml_attitude",
+    "ml_attitude_series",
     "ml_baseline",
+    "ml_baseline_series",
     "orbit",
     "partial_fix",
     "phase_attitude_fixes",

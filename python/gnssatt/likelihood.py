@@ -826,7 +826,7 @@ def ml_baseline_series(
         [np.sin(heading) * np.cos(elevation), np.cos(heading) * np.cos(elevation), np.sin(elevation)], axis=1
     )
     return BaselineSeries(
-        heading_deg=np.degrees(heading),
+        heading_deg=np.degrees(heading) % 360.0,  # an angle just under 2 pi can round to 360 deg
         elevation_deg=np.degrees(elevation),
         direction_enu=enu,
         z_max=z,

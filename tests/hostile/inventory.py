@@ -204,6 +204,30 @@ ENTRIES: dict[str, Entry] = {
             "step_deg": 2.0,
         }
     ),
+    "gnssatt.ml_attitude_series": _e(
+        lambda: {
+            "sd_phase": np.stack([_att()["phase"][:2], _att()["phase"][:2]]),
+            "los": _att()["los"].copy(),
+            "baselines": s.BASELINES[:2].copy(),
+            "wavelength": _att()["wavelength"],
+            "step_deg": 5.0,
+            "window_deg": 10.0,
+        },
+        nonfinite_ok={"sd_phase", "los", "wavelength"},  # NaN marks absent signals, documented
+        nan_fields={"euler_deg", "z_max"},  # NaN at unsolved epochs, flagged by solved
+    ),
+    "gnssatt.ml_baseline_series": _e(
+        lambda: {
+            "sd_phase": np.stack([_att()["phase"][0], _att()["phase"][0]]),
+            "los": _att()["los"].copy(),
+            "baseline_length_m": 1.0,
+            "wavelength": _att()["wavelength"],
+            "step_deg": 2.0,
+            "window_deg": 5.0,
+        },
+        nonfinite_ok={"sd_phase", "los", "wavelength"},  # NaN marks absent signals, documented
+        nan_fields={"heading_deg", "elevation_deg", "direction_enu", "z_max"},  # unsolved epochs
+    ),
     "gnssatt.prior_from_velocity": _e(
         lambda: {
             "velocity_enu": np.array([10.0, 20.0, 0.5]),

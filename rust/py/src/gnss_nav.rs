@@ -79,7 +79,7 @@ impl<'py> Table<'_, 'py> {
     fn floats(&self, key: &str, width: usize) -> PyResult<Vec<f64>> {
         let py = self.dict.py();
         let name = format!("{}[{key:?}]", self.table);
-        let v = self.item(key)?;
+        let v = converted(&self.item(key)?, "fiu", "float64")?;
         let shape: Vec<usize> = if width == 1 {
             vec![self.n]
         } else {
@@ -88,7 +88,7 @@ impl<'py> Table<'_, 'py> {
         let arr = v.extract::<numpy::PyReadonlyArrayDyn<f64>>().map_err(|_| {
             invalid_input(
                 py,
-                format!("expected {name} a float64 array of shape {shape:?}"),
+                format!("expected {name} a real (float or integer) array of shape {shape:?}"),
             )
         })?;
         exact(py, &name, &arr, &shape)
@@ -97,14 +97,31 @@ impl<'py> Table<'_, 'py> {
     fn ints(&self, key: &str) -> PyResult<Vec<i64>> {
         let py = self.dict.py();
         let name = format!("{}[{key:?}]", self.table);
-        let v = self.item(key)?;
+        let v = converted(&self.item(key)?, "i", "int64")?;
         let arr = v.extract::<numpy::PyReadonlyArrayDyn<i64>>().map_err(|_| {
             invalid_input(
                 py,
-                format!("expected {name} an int64 array of shape ({},)", self.n),
+                format!(
+                    "expected {name} a signed integer array of shape ({},)",
+                    self.n
+                ),
             )
         })?;
         exact(py, &name, &arr, &[self.n])
+    }
+}
+
+/// A numpy array whose dtype kind is one of `kinds` (`f` float, `i` signed, `u` unsigned integer),
+/// converted to `dtype` (exact for integers into int64, and for every integer and float into float64
+/// up to 2^53); anything else is returned as it is, for the caller's typed extraction to refuse.
+fn converted<'py>(v: &Bound<'py, PyAny>, kinds: &str, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
+    let kind = v
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract::<String>());
+    match kind {
+        Ok(k) if !k.is_empty() && kinds.contains(k.as_str()) => v.call_method1("astype", (dtype,)),
+        _ => Ok(v.clone()),
     }
 }
 
@@ -404,6 +421,7 @@ fn gnss_single_point<'py>(
         let mut prior: Option<Vector3<f64>> = None;
         let mut out = Vec::with_capacity(ne);
         for e in 0..ne {
+            gnssatt_core::interrupt::check_every(e, "single point")?;
             let s = single_point(&obs, 0, e, &eph, &nav, &opts, prior.as_ref()).ok();
             if let Some(s) = &s {
                 prior = Some(s.position_m);

@@ -115,14 +115,65 @@ fn interpolate(table: &[[f64; 5]; 3], lat_rad: f64) -> [f64; 3] {
     std::array::from_fn(|k| table[k][i] + w * (table[k][i + 1] - table[k][i]))
 }
 
+const NIELL_DRY_AMPLITUDE: [[f64; 5]; 3] = [
+    [
+        0.0,
+        1.270_962_6e-5,
+        2.652_366_2e-5,
+        3.400_045_2e-5,
+        4.120_219_1e-5,
+    ],
+    [
+        0.0,
+        2.141_497_9e-5,
+        3.016_077_9e-5,
+        7.256_272_2e-5,
+        11.723_375e-5,
+    ],
+    [
+        0.0,
+        9.012_840_0e-5,
+        4.349_703_7e-5,
+        84.795_348e-5,
+        170.372_06e-5,
+    ],
+];
+/// Day of year of the hydrostatic coefficients' winter extreme in the northern hemisphere (Niell: 28).
+const NIELL_PHASE_DAY: f64 = 28.0;
+
+/// Day of year (1-based, fractional) of a GPST instant, to within a day (365.25-day years from
+/// 1980-01-01: the seasonal term needs no better).
+pub fn day_of_year(t_gpst_ns: i64) -> f64 {
+    // The GPS epoch, 1980-01-06, is day 6 of its year.
+    let days = t_gpst_ns as f64 / 86_400e9 + 5.0;
+    days.rem_euclid(365.25) + 1.0
+}
+
 /// Niell hydrostatic and wet mapping functions at elevation `el_rad` (clamped to >= 0), latitude and
-/// ellipsoidal height. The hydrostatic seasonal term (amplitude up to 1.7e-3 in c at 75 deg, a few cm
-/// of slant delay at 10 deg elevation) is left out: its average is used, as the engine has no season
-/// model of the zenith delays either.
-pub fn niell_mapping(lat_rad: f64, height_m: f64, el_rad: f64) -> (f64, f64) {
+/// ellipsoidal height; `day_of_year` adds the hydrostatic seasonal term (half a year later in the
+/// southern hemisphere), `None` takes its annual mean (up to 1.7e-3 in c at 75 deg latitude, a few cm
+/// of slant delay at 10 deg elevation).
+pub fn niell_mapping(
+    lat_rad: f64,
+    height_m: f64,
+    el_rad: f64,
+    day_of_year: Option<f64>,
+) -> (f64, f64) {
     let s = el_rad.max(0.0).sin();
-    let dry = marini(s, interpolate(&NIELL_DRY_AVERAGE, lat_rad))
-        + height_m / 1e3 * (1.0 / s.max(1e-3) - marini(s, NIELL_HEIGHT));
+    let mut dry = interpolate(&NIELL_DRY_AVERAGE, lat_rad);
+    if let Some(doy) = day_of_year {
+        let doy = if lat_rad < 0.0 {
+            doy + 365.25 / 2.0
+        } else {
+            doy
+        };
+        let season = (std::f64::consts::TAU * (doy - NIELL_PHASE_DAY) / 365.25).cos();
+        let amplitude = interpolate(&NIELL_DRY_AMPLITUDE, lat_rad);
+        for k in 0..3 {
+            dry[k] -= amplitude[k] * season;
+        }
+    }
+    let dry = marini(s, dry) + height_m / 1e3 * (1.0 / s.max(1e-3) - marini(s, NIELL_HEIGHT));
     let wet = marini(s, interpolate(&NIELL_WET, lat_rad));
     (dry, wet)
 }
@@ -149,13 +200,23 @@ pub fn saastamoinen_zenith_m(lat_rad: f64, height_m: f64) -> (f64, f64) {
 }
 
 /// Slant tropospheric delay, m: Saastamoinen zenith delays of the standard atmosphere
-/// ([`saastamoinen_zenith_m`]) times the Niell mapping functions ([`niell_mapping`]).
+/// ([`saastamoinen_zenith_m`]) times the Niell mapping functions ([`niell_mapping`]) with the annual
+/// mean of the hydrostatic coefficients; 0 for non-finite arguments.
 pub fn troposphere_delay_m(lat_rad: f64, height_m: f64, el_rad: f64) -> f64 {
+    slant(lat_rad, height_m, el_rad, None)
+}
+
+/// [`troposphere_delay_m`] with the seasonal term of the hydrostatic mapping at GPST `t_gpst_ns`.
+pub fn troposphere_delay_at_m(lat_rad: f64, height_m: f64, el_rad: f64, t_gpst_ns: i64) -> f64 {
+    slant(lat_rad, height_m, el_rad, Some(day_of_year(t_gpst_ns)))
+}
+
+fn slant(lat_rad: f64, height_m: f64, el_rad: f64, day: Option<f64>) -> f64 {
     if !(lat_rad.is_finite() && height_m.is_finite() && el_rad.is_finite()) {
         return 0.0;
     }
     let (zd, zw) = saastamoinen_zenith_m(lat_rad, height_m);
-    let (md, mw) = niell_mapping(lat_rad, height_m, el_rad);
+    let (md, mw) = niell_mapping(lat_rad, height_m, el_rad, day);
     zd * md + zw * mw
 }
 
@@ -257,14 +318,35 @@ mod tests {
         assert!((zd - 0.002_276_8 * 1013.25).abs() < 1e-12);
         assert!(zw > 0.05 && zw < 0.3);
         // Mapping functions are 1 at the zenith (continued fraction normalised) at sea level.
-        let (md, mw) = niell_mapping(45f64.to_radians(), 0.0, std::f64::consts::FRAC_PI_2);
+        let (md, mw) = niell_mapping(45f64.to_radians(), 0.0, std::f64::consts::FRAC_PI_2, None);
         assert!((md - 1.0).abs() < 1e-12 && (mw - 1.0).abs() < 1e-12);
         // Niell 1996, fig. 3: at 5 deg elevation the hydrostatic mapping is about 10.1-10.2.
-        let (md5, _) = niell_mapping(45f64.to_radians(), 0.0, 5f64.to_radians());
+        let (md5, _) = niell_mapping(45f64.to_radians(), 0.0, 5f64.to_radians(), None);
         assert!((10.0..10.4).contains(&md5), "{md5}");
         // Finite at and below the horizon, and above the tropopause.
         assert!(troposphere_delay_m(0.5, 0.0, -0.2).is_finite());
         let high = troposphere_delay_m(0.5, 30_000.0, 0.5);
         assert!(high.is_finite() && high > 0.0 && high < 0.1);
+    }
+
+    #[test]
+    fn niell_seasonal_term() {
+        let (lat, el) = (60f64.to_radians(), 10f64.to_radians());
+        let mean = niell_mapping(lat, 0.0, el, None).0;
+        // A quarter year from the phase day the seasonal cosine is 0: the annual mean.
+        let quarter = niell_mapping(lat, 0.0, el, Some(28.0 + 365.25 / 4.0)).0;
+        assert!((quarter - mean).abs() < 1e-12);
+        // Day 28 in the north is day 28 + half a year in the south (Niell 1996, eq. 5 and text).
+        let north = niell_mapping(lat, 0.0, el, Some(28.0)).0;
+        let south = niell_mapping(-lat, 0.0, el, Some(28.0 + 365.25 / 2.0)).0;
+        assert!((north - south).abs() < 1e-12 && (north - mean).abs() > 1e-4);
+        // No seasonal term at 15 deg and below (zero amplitudes in Niell's table).
+        let low = 10f64.to_radians();
+        assert_eq!(
+            niell_mapping(low, 0.0, el, Some(28.0)),
+            niell_mapping(low, 0.0, el, None)
+        );
+        // 2021-01-01 00:00:14 GPST is day 1 (within a day).
+        assert!((day_of_year(2138 * 604_800_000_000_000 + 432_014_000_000_000) - 1.0).abs() < 1.0);
     }
 }

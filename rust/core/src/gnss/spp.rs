@@ -8,10 +8,13 @@
 //! ([`crate::gnss::atmosphere`]). Each satellite contributes the code of its lowest frequency slot
 //! among those used (`opts.frequencies`); weights are `1 / sigma^2` of [`code_variance_m2`]. The
 //! elevation mask applies once the position is known (after the first iteration, or from a prior).
+//! Residual check: where the residual RMS exceeds [`MAX_RESIDUAL_RMS_M`] and the satellites
+//! over-determine the solution by two or more, the one satellite whose exclusion leaves the smallest
+//! RMS is dropped (once).
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::atmosphere::{klobuchar_delay_m, niell_mapping, troposphere_delay_m};
+use super::atmosphere::{day_of_year, klobuchar_delay_m, niell_mapping, troposphere_delay_at_m};
 use super::ephemeris::Ephemerides;
 use super::geometry::{geodetic_from_ecef, satellite_geometry, SatGeometry, MIN_HORIZON_RADIUS_M};
 use super::navdata::NavData;
@@ -346,11 +349,11 @@ fn linearise(
                     c.frequency_hz,
                 )
             });
-            let tropo = troposphere_delay_m(lat, height, g.elevation_rad);
+            let tropo = troposphere_delay_at_m(lat, height, g.elevation_rad, t);
             (
                 iono,
                 tropo,
-                niell_mapping(lat, height, g.elevation_rad).0,
+                niell_mapping(lat, height, g.elevation_rad, Some(day_of_year(t))).0,
                 g.elevation_rad,
             )
         } else {
@@ -432,7 +435,7 @@ mod tests {
             let g = satellite_geometry(&eph, id, T0, clock_s, truth).unwrap();
             code[k * MAX_FREQUENCIES] = g.range_m
                 + SPEED_OF_LIGHT_M_S * (clock_s - g.clock_s)
-                + troposphere_delay_m(lat, h, g.elevation_rad.max(0.0));
+                + troposphere_delay_at_m(lat, h, g.elevation_rad.max(0.0), T0);
         }
         let n = code.len();
         Observations {
@@ -468,6 +471,46 @@ mod tests {
         assert!(s.clock_s[1..].iter().all(|c| c.is_nan()));
         assert!(s.residual_rms_m < 1e-3);
         assert_eq!(s.geometry.len(), 24);
+    }
+
+    #[test]
+    fn one_clock_per_system() {
+        // GPS plus a Galileo constellation (its own mu, planes shifted) whose codes carry a 120 ns
+        // inter-system bias: the bias is Galileo's clock minus GPS's, the position is unaffected.
+        let mut nav = constellation();
+        let galileo: Vec<KeplerRecord> = nav
+            .kepler
+            .iter()
+            .map(|r| KeplerRecord {
+                sat: SatId {
+                    system: System::Galileo,
+                    prn: r.sat.prn,
+                },
+                sqrt_a: 5440.6,
+                omega0: r.omega0 + 0.5,
+                ..*r
+            })
+            .collect();
+        nav.kepler.extend(galileo);
+        let eph = Ephemerides::new(&nav).unwrap();
+        let truth = enu_from_ecef(-0.5, 0.3).transpose() * Vector3::new(0.0, 0.0, 6_371_000.0);
+        let mut obs = observations(&nav, &truth, 1e-4);
+        let bias_s = 120e-9;
+        for k in 24..48 {
+            obs.receivers[0].code_m[k * MAX_FREQUENCIES] += SPEED_OF_LIGHT_M_S * bias_s;
+        }
+        let s = single_point(&obs, 0, 0, &eph, &nav, &EngineOptions::default(), None).unwrap();
+        assert!((s.position_m - truth).norm() < 1e-3);
+        assert!((s.clock_s[0] - 1e-4).abs() < 1e-11);
+        assert!((s.clock_s[2] - s.clock_s[0] - bias_s).abs() < 1e-11);
+        assert!(s.clock_s[1].is_nan() && s.clock_s[3].is_nan() && s.clock_s[4].is_nan());
+        // Galileo alone (the systems option): its own clock only.
+        let opts = EngineOptions {
+            systems: vec![System::Galileo],
+            ..EngineOptions::default()
+        };
+        let g = single_point(&obs, 0, 0, &eph, &nav, &opts, None).unwrap();
+        assert!(g.clock_s[0].is_nan() && (g.clock_s[2] - 1e-4 - bias_s).abs() < 1e-11);
     }
 
     #[test]

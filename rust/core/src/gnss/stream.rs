@@ -501,7 +501,13 @@ impl Engine {
         for r in 0..n_rovers {
             let mut per_epoch = Vec::with_capacity(prepared.len());
             let static_session = if self.opts.motion == Motion::Static {
-                self.static_epochs[r].extend(prepared.iter().filter_map(|p| p.rovers[r].clone()));
+                // Epochs without a signal add nothing to the static solution.
+                self.static_epochs[r].extend(
+                    prepared
+                        .iter()
+                        .filter_map(|p| p.rovers[r].clone())
+                        .filter(|d| !d.signals.is_empty()),
+                );
                 let all = std::mem::take(&mut self.static_epochs[r]);
                 let sol = match solve_baseline(&all, &[], &fix) {
                     Ok(s) => Some(s),

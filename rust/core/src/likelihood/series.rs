@@ -86,9 +86,10 @@ enum Mode {
 ///   radians, in (0, 2 pi] and at least the step; `None`: every epoch searches the whole domain.
 ///
 /// # Errors
-/// [`Error::Shape`] for inconsistent lengths, [`Error::NonFinite`] for infinite phases or non-finite
-/// lines of sight or wavelengths, [`Error::OutOfRange`] for a bad step or window, non-unit lines of
-/// sight, non-positive wavelengths (each naming the epoch), [`Error::DegenerateGeometry`] for collinear
+/// (Named as the Python face names them, like [`Grid`]'s: `step_deg`, `window_deg`.)
+/// [`Error::Shape`] for inconsistent lengths, [`Error::NonFinite`] for non-finite lines of sight or
+/// wavelengths of a signal used, [`Error::OutOfRange`] for infinite phases, a bad step or window,
+/// non-unit lines of sight, non-positive wavelengths (each naming the epoch), [`Error::DegenerateGeometry`] for collinear
 /// baselines, [`Error::Interrupted`] on request.
 pub fn ml_attitude_series(
     epochs: &[MlEpoch],
@@ -136,16 +137,22 @@ fn series(
     if let Some(s) = step_rad {
         if !(s.is_finite() && s > 0.0 && s <= PI) {
             return Err(Error::out_of_range(
-                "step_rad",
-                format!("expected a grid step in (0, pi] rad, got {s}"),
+                "step_deg",
+                format!(
+                    "expected a grid step in (0, 180] deg, got {:e} deg ({s:e} rad)",
+                    s.to_degrees()
+                ),
             ));
         }
     }
     if let Some(w) = window_rad {
         if !(w.is_finite() && w > 0.0 && w <= TAU) {
             return Err(Error::out_of_range(
-                "window_rad",
-                format!("expected a window half-width in (0, 2 pi] rad, got {w}"),
+                "window_deg",
+                format!(
+                    "expected a window half-width in (0, 360] deg, got {:e} deg ({w:e} rad)",
+                    w.to_degrees()
+                ),
             ));
         }
     }
@@ -182,7 +189,7 @@ fn series(
 /// The epoch's measurements as the single-epoch [`Epoch`], without the signals some rover lacks.
 fn complete_signals(k: usize, e: &MlEpoch, n_rover: usize) -> Result<Epoch> {
     let n_sig = e.los_enu.len();
-    if e.wavelength_m.len() != n_sig || e.sd_phase_rad.len() != n_rover * n_sig {
+    if e.wavelength_m.len() != n_sig || n_rover.checked_mul(n_sig) != Some(e.sd_phase_rad.len()) {
         return Err(Error::Shape {
             name: "epochs",
             expected: format!(
@@ -234,12 +241,18 @@ fn solve(
 ) -> Result<MlSolution> {
     let epoch = complete_signals(k, e, baselines.len())?;
     // Infinite phases are errors, not absent signals (only NaN marks those).
-    if let Some(index) = e.sd_phase_rad.iter().position(|p| p.is_infinite()) {
-        return Err(Error::NonFinite {
-            name: "sd_phase_rad",
-            index,
-        })
-        .map_err(|err| err.at_epoch(k));
+    if let Some(j) = e.sd_phase_rad.iter().position(|p| p.is_infinite()) {
+        let n_sig = e.los_enu.len();
+        return Err(Error::out_of_range(
+            "sd_phase_rad",
+            format!(
+                "epoch {k}: expected finite phases (NaN for an absent signal), got {} at (rover, \
+                 signal) ({}, {})",
+                e.sd_phase_rad[j],
+                j / n_sig,
+                j % n_sig
+            ),
+        ));
     }
     if epoch.los_enu.len() < 3 {
         return Ok(MlSolution::UNSOLVED);
@@ -251,10 +264,12 @@ fn solve(
     if let Some((_, w)) = around {
         if w < step {
             return Err(Error::out_of_range(
-                "window_rad",
+                "window_deg",
                 format!(
-                    "epoch {k}: a window half-width of {w:.6} rad is finer than the grid step \
-                     {step:.6} rad"
+                    "epoch {k}: a window half-width of {:.6} deg is finer than the grid step {:.6} \
+                     deg (it could hold no node)",
+                    w.to_degrees(),
+                    step.to_degrees()
                 ),
             ));
         }

@@ -19,9 +19,9 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
+use super::enu_at;
 use super::fix::{fix_float, validate_input};
 use super::float::{self, FloatSolution};
-use super::frames::enu_from_ecef;
 use super::{AttitudeSolution, BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{ensure_finite, Error, Result};
 use crate::lambda::{Problem, DEFAULT_MAX_NODES};
@@ -32,6 +32,9 @@ pub const CANDIDATES: usize = 200;
 
 /// Most combinations of candidates scored with the full objective (per rover: the `n_rover`-th root).
 pub const MAX_COMBINATIONS: usize = 4096;
+
+/// Most rovers in one array (two candidates each already give 2^12 = [`MAX_COMBINATIONS`]).
+pub const MAX_ROVERS: usize = 12;
 
 /// Largest body baseline coordinate, m.
 pub const MAX_BODY_M: f64 = 1e4;
@@ -54,7 +57,8 @@ struct Rover {
 /// body frame of seed 001: X nose, Y up, Z right wing, m), fixed with the array geometry, then Wahba.
 ///
 /// # Errors
-/// [`Error::Shape`] for fewer than two rovers or mismatched lengths; [`Error::OutOfRange`] for a body
+/// [`Error::Shape`] for fewer than two rovers or mismatched lengths, [`Error::TooLarge`] beyond
+/// [`MAX_ROVERS`]; [`Error::OutOfRange`] for a body
 /// baseline shorter than 1 cm or beyond [`MAX_BODY_M`], epochs with different bases, or the errors of
 /// [`super::solve_baseline`]; [`Error::DegenerateGeometry`] when the baselines do not fix a rotation.
 pub fn solve_attitude(
@@ -65,7 +69,7 @@ pub fn solve_attitude(
     validate_attitude(epochs, body_m)?;
     validate_input(epochs, fix)?;
     let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
-    let to_enu = enu_from_ecef(&epochs[0].base_m);
+    let to_enu = enu_at(&epochs[0].base_m);
     let keep = keep_per_rover(epochs.len());
     let rovers = epochs
         .iter()
@@ -114,6 +118,14 @@ fn validate_attitude(epochs: &[DdEpoch], body_m: &[[f64; 3]]) -> Result<()> {
                 epochs.len()
             ),
         });
+    }
+    if epochs.len() > MAX_ROVERS {
+        return Err(Error::too_large(
+            "body baselines",
+            epochs.len() as f64,
+            MAX_ROVERS as f64,
+            "rovers",
+        ));
     }
     ensure_finite("body baselines", body_m.iter().flatten())?;
     for (i, f) in body_m.iter().enumerate() {

@@ -36,14 +36,19 @@
 //! fit of the multivariate constrained LAMBDA, Teunissen 2010, J. Geodesy 84:751-762), then the rotation
 //! ENU <- body from Wahba's problem ([`crate::wahba`]).
 //!
-//! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call and at most
-//! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution.
+//! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call, at most
+//! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution; attitude mode: at most
+//! [`constrained::MAX_ROVERS`] rovers, [`constrained::CANDIDATES`] integer candidates per rover and
+//! [`constrained::MAX_COMBINATIONS`] combinations scored.
+//!
+//! Cost (`benches/gnss.rs`, 44 double differences, one epoch): float solution about 0.17 ms of CPU,
+//! `solve_baseline` about 1.2 ms, most of it in [`crate::lambda::Problem::new`] (decorrelation and its
+//! exact checks), done twice when the full set fails and partial fixing runs.
 
 pub mod constrained;
 pub mod dd;
 pub mod fix;
 pub mod float;
-pub mod frames;
 pub mod glonass;
 
 #[cfg(test)]
@@ -53,7 +58,7 @@ mod tests;
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::geometry::SatGeometry;
+use super::geometry::{enu_from_ecef, geodetic_from_ecef, SatGeometry};
 use super::signal::System;
 use super::solution::N_SYSTEMS;
 
@@ -150,9 +155,16 @@ pub struct AttitudeSolution {
     pub baselines: Vec<BaselineSolution>,
     /// Every rover's ambiguities fixed with the geometry constraint and validated.
     pub fixed: bool,
-    /// Second-best over best constrained objective (the acceptance statistic).
+    /// Second-best over best constrained objective (the acceptance statistic); NaN only when no
+    /// candidate combination fixes a rotation (then `fixed` is false).
     pub ratio: f64,
     /// Product of the rovers' unconstrained bootstrapped success rates (a lower bound of the constrained
     /// fix's, the rovers treated as independent).
     pub success_rate: f64,
+}
+
+/// Rotation ENU <- ECEF at an ECEF position (WGS-84 geodetic latitude and longitude).
+pub(crate) fn enu_at(ecef_m: &Vector3<f64>) -> Matrix3<f64> {
+    let (lat, lon, _) = geodetic_from_ecef(ecef_m);
+    enu_from_ecef(lat, lon)
 }

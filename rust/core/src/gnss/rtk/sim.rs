@@ -8,7 +8,7 @@ use nalgebra::{Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::frames::enu_from_ecef;
+use super::enu_at;
 use super::{DdEpoch, SignalPair};
 use crate::gnss::geometry::SatGeometry;
 use crate::gnss::signal::{carrier_frequency_hz, System, SPEED_OF_LIGHT_M_S};
@@ -75,7 +75,7 @@ impl Scenario {
     pub fn new(seed: u64, counts: &[(System, usize, &[usize])], mask_deg: f64) -> Scenario {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let base_m = ecef(35.7, 139.5, 60.0);
-        let to_ecef = enu_from_ecef(&base_m).transpose();
+        let to_ecef = enu_at(&base_m).transpose();
         let mut sats = Vec::new();
         let mut slots = HashMap::new();
         let mut channels: Vec<i8> = (-7..=6).collect();
@@ -151,7 +151,7 @@ impl Scenario {
         let rover = base + baseline_m;
         let clock_b = (self.rng.random::<f64>() - 0.5) * 2e-3;
         let clock_r = (self.rng.random::<f64>() - 0.5) * 2e-3;
-        let up = enu_from_ecef(&base).row(2).transpose();
+        let up = enu_at(&base).row(2).transpose();
         let mut signals = Vec::new();
         let sats = self.sats.clone();
         for s in &sats {

@@ -322,7 +322,7 @@ fn attitude_with_three_antennas_fixes_more_and_finds_the_rotation() {
     for k in 0..200u64 {
         let mut sc = Scenario::new(120_000 + k, &[(System::Gps, 8, &[0])], 15.0);
         let r = super::sim::random_rotation(&mut sc.rng);
-        let to_ecef = super::frames::enu_from_ecef(&sc.base_m).transpose();
+        let to_ecef = super::enu_at(&sc.base_m).transpose();
         let truths: Vec<Vector3<f64>> = body
             .iter()
             .map(|f| to_ecef * r * Vector3::from(*f))
@@ -360,4 +360,73 @@ fn attitude_with_three_antennas_fixes_more_and_finds_the_rotation() {
     );
     assert_eq!(wrong, 0);
     assert!(constrained > both + 20, "{constrained} {both}");
+}
+
+#[test]
+fn attitude_bad_input_is_refused_with_a_named_error() {
+    let mut sc = Scenario::new(130, &[(System::Gps, 8, &[0])], 15.0);
+    let e = sc.epoch(&Vector3::new(1.0, 0.0, 0.0), 0.0);
+    let two = [e.clone(), e.clone()];
+    assert!(matches!(
+        solve_attitude(&two[..1], &[[1.0, 0.0, 0.0]], &GATE),
+        Err(Error::Shape { .. })
+    ));
+    assert!(matches!(
+        solve_attitude(&two, &[[1.0, 0.0, 0.0]], &GATE),
+        Err(Error::Shape { .. })
+    ));
+    assert!(matches!(
+        solve_attitude(&two, &[[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]], &GATE),
+        Err(Error::OutOfRange {
+            name: "body baselines",
+            ..
+        })
+    ));
+    let mut moved = two.clone();
+    moved[1].base_m.x += 1.0;
+    assert!(matches!(
+        solve_attitude(&moved, &[[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], &GATE),
+        Err(Error::OutOfRange { name: "epochs", .. })
+    ));
+    let many = vec![e; constrained::MAX_ROVERS + 1];
+    let body = vec![[1.0, 0.0, 0.0]; constrained::MAX_ROVERS + 1];
+    assert!(matches!(
+        solve_attitude(&many, &body, &GATE),
+        Err(Error::TooLarge { .. })
+    ));
+}
+
+/// Static session with a cycle slip: from epoch 15 satellite 2's arcs get new identities and its rover
+/// phase jumps by 7 cycles. The new arcs carry their own ambiguities (integer = old + 7), the old ones
+/// keep theirs, and everything is fixed right.
+#[test]
+fn static_session_gives_a_slipped_arc_its_own_ambiguity() {
+    let mut sc = Scenario::new(140, &[(System::Gps, 8, &[0, 1])], 15.0);
+    sc.code_ab = (1.0, 0.5);
+    let truth = Vector3::new(2.0, 1.0, -3.0);
+    const NEW: u64 = 3000; // arc offset of the slipped arcs (a multiple of 3 keeps the slot)
+    let epochs: Vec<DdEpoch> = (0..30)
+        .map(|k| {
+            let mut e = sc.epoch(&truth, 20.0 * k as f64);
+            if k >= 15 {
+                for s in e.signals.iter_mut().filter(|s| s.sat == 2) {
+                    s.arc += NEW;
+                    s.rover_phase_cycles += 7.0;
+                }
+            }
+            e
+        })
+        .collect();
+    let s = solve_baseline(&epochs, &[], &GATE).unwrap();
+    assert!(s.fixed, "{s:?}");
+    let mut slipped = 0;
+    for &(a, r, n) in &s.integers {
+        let jump = |arc: u64| if arc >= NEW { 7 } else { 0 };
+        let (k, slot) = Scenario::of_arc(a % NEW);
+        let (q, _) = Scenario::of_arc(r % NEW);
+        assert_eq!(n, sc.dd_integer(k, q, slot) + jump(a) - jump(r), "{a} {r}");
+        slipped += usize::from(a >= NEW || r >= NEW);
+    }
+    assert!(slipped >= 2, "{slipped}");
+    assert!(chi2(&s, &truth) < 16.27);
 }
