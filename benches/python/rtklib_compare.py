@@ -38,8 +38,9 @@ import statistics
 import subprocess
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -226,17 +227,19 @@ def metrics(
 ) -> dict[str, float | int | None]:
     """Fix rate over ``n_epochs``, wrong fixes, and 3-D baseline error statistics (m).
 
-    ``wrong_fixes`` is None when the reference cannot judge fixes; error statistics are None over an
-    empty set.
+    Epochs the reference lacks are left out of the errors and wrong fixes (``unreferenced`` counts them);
+    ``wrong_fixes`` is None when the reference cannot judge fixes; statistics of an empty set are None.
     """
-    err = np.linalg.norm(sol.enu_m - ref.at(sol.time_s), axis=1)
-    fixed_err = err[sol.fixed]
+    known = np.all(np.isfinite(ref.at(sol.time_s)), axis=1)
+    err = np.linalg.norm(sol.enu_m[known] - ref.at(sol.time_s[known]), axis=1)
+    fixed_err = err[sol.fixed[known]]
     return {
         "epochs": n_epochs,
         "solved": len(sol.time_s),
         "fixed": int(sol.fixed.sum()),
         "fix_rate": float(sol.fixed.sum()) / n_epochs if n_epochs else None,
-        "wrong_fixes": int(np.sum(~(fixed_err <= wrong_fix_m))) if ref.judges_fixes else None,
+        "wrong_fixes": int(np.sum(fixed_err > wrong_fix_m)) if ref.judges_fixes else None,
+        "unreferenced": int(np.sum(~known)),
         "error_fixed_median_m": _pct(fixed_err, 50),
         "error_fixed_p95_m": _pct(fixed_err, 95),
         "error_all_median_m": _pct(err, 50),
@@ -446,53 +449,63 @@ def _enu_rotation(lat: float, lon: float) -> NDArray[np.float64]:
     return np.array([[-sl, cl, 0.0], [-sp * cl, -sp * sl, cp], [cp * cl, cp * sl, sp]])
 
 
-def compare(
-    ds: Dataset, rtk: Rtklib | None, options: frozenset[str], folder: Path, repeats: int, wrong_fix_m: float
-) -> tuple[Reference, list[dict[str, object]]]:
+@dataclass(frozen=True)
+class Settings:
+    """Command-line settings every run shares."""
+
+    options: frozenset[str]  # of `gnssatt attitude --help`
+    repeats: int
+    wrong_fix_m: float
+
+
+def measure(
+    run: Timed, output: Path, read: Callable[[Path], Solutions], ref: Reference, ds: Dataset, opts: Settings
+) -> Timed:
+    """Time ``run.command`` (it writes ``output``), then read ``output`` and fill in the metrics."""
+    run.wall_s, failed = timed_run(run.command, output, opts.repeats)
+    if failed:
+        run.note = failed
+    else:
+        sol = read(output)
+        run.metrics, run.enu_source = metrics(sol, ref, ds.n_epochs, opts.wrong_fix_m), sol.enu_source
+    return run
+
+
+def compare(ds: Dataset, rtk: Rtklib | None, folder: Path, opts: Settings) -> tuple[Reference, list[dict]]:
+    """Every run of ``run_plan(ds)`` by both tools; one row per (systems, frequencies, RTKLIB mode)."""
     folder.mkdir(parents=True, exist_ok=True)
     ref = ds.truth or geonet_reference(ds, rtk, folder)
-    length = (
-        float(np.linalg.norm(ref.at(np.zeros(1))[0]))
-        if ref.time_s is None
-        else float(np.median(np.linalg.norm(ref.enu_m, axis=1)))
-    )
-    rows: list[dict[str, object]] = []
+    # Length for a CSV without east/north/up (today's): the reference's, so only direction errors count.
+    length = float(np.median(np.linalg.norm(np.atleast_2d(ref.enu_m), axis=1)))
+    rows: list[dict] = []
     for systems, freqs in run_plan(ds):
-        ours: dict[str, Timed] = {}
+        ours: dict[str, Timed] = {}  # gnssatt per --motion: the moving run serves both single-epoch modes
         for mode, (_, motion) in MODES.items():
-            tag = f"{mode}-{systems}-f{freqs}"
             theirs = Timed([], note="RTKLIB skipped (no --rtklib-src)")
             if rtk is not None:
-                pos = folder / f"rtklib-{tag}.pos"
-                theirs = Timed(rtk.command(ds, mode, systems, freqs, pos))
-                theirs.wall_s, theirs.note = timed_run(theirs.command, pos, repeats)
-                if not theirs.note:
-                    sol = parse_pos(pos)
-                    theirs.metrics, theirs.enu_source = (
-                        metrics(sol, ref, ds.n_epochs, wrong_fix_m),
-                        sol.enu_source,
-                    )
-            if motion not in ours:
-                csv_path = folder / f"gnssatt-{motion}-{systems}-f{freqs}.csv"
-                cmd, why = gnssatt_command(ds, motion, systems, freqs, csv_path, options)
-                mine = Timed(cmd or [], note=why)
+                pos = folder / f"rtklib-{mode}-{systems}-f{freqs}.pos"
+                theirs = measure(
+                    Timed(rtk.command(ds, mode, systems, freqs, pos)), pos, parse_pos, ref, ds, opts
+                )
+            same = motion in ours
+            if not same:
+                out = folder / f"gnssatt-{motion}-{systems}-f{freqs}.csv"
+                cmd, why = gnssatt_command(ds, motion, systems, freqs, out, opts.options)
+                ours[motion] = Timed(cmd or [], note=why)
                 if cmd is not None:
-                    mine.wall_s, failed = timed_run(cmd, csv_path, repeats)
-                    if failed:
-                        mine.note = failed
-                    else:
-                        sol = parse_gnssatt_csv(csv_path, length)
-                        mine.metrics, mine.enu_source = (
-                            metrics(sol, ref, ds.n_epochs, wrong_fix_m),
-                            sol.enu_source,
-                        )
-                ours[motion] = mine
-            row = {"dataset": ds.name, "mode": mode, "systems": systems, "frequencies": freqs}
-            row["rtklib"] = asdict(theirs) | {"median_wall_s": theirs.median_wall_s}
-            same = mode == "moving-base"
-            mine = ours[motion]
-            row["gnssatt"] = asdict(mine) | {"median_wall_s": mine.median_wall_s, "same_as_above": same}
-            rows.append(row)
+                    read = partial(parse_gnssatt_csv, reference_length_m=length)
+                    measure(ours[motion], out, read, ref, ds, opts)
+            rows.append(
+                {
+                    "dataset": ds.name,
+                    "mode": mode,
+                    "systems": systems,
+                    "frequencies": freqs,
+                    "rtklib": asdict(theirs) | {"median_wall_s": theirs.median_wall_s},
+                    "gnssatt": asdict(ours[motion])
+                    | {"median_wall_s": ours[motion].median_wall_s, "same_as_above": same},
+                }
+            )
     return ref, rows
 
 
@@ -590,6 +603,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         [sys.executable, "-m", "gnssatt", "attitude", "--help"], capture_output=True, text=True, check=True
     ).stdout
     options = help_options(exe_help)
+    settings = Settings(options, args.repeats, args.wrong_fix_m)
     report: dict[str, object] = {
         "rtklib": None if rtk is None else str(rtk.binary),
         "gnssatt_options": sorted(options),
@@ -600,7 +614,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     all_rows = []
     for name in names:
         ds = geonet() if name == "geonet" else simulated(out / "sim-data", args.sim_epochs, args.seed)
-        ref, rows = compare(ds, rtk, options, out / name, args.repeats, args.wrong_fix_m)
+        ref, rows = compare(ds, rtk, out / name, settings)
         report["datasets"][name] = {  # type: ignore[index]
             "description": ds.description,
             "bands": ds.bands,
