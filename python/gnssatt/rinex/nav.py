@@ -157,6 +157,8 @@ class RinexNav:
         GLONASS state vectors.
     iono_alpha, iono_beta
         (4,) Klobuchar coefficients of the GPS header (NaN if absent).
+    leap_seconds
+        GPS - UTC leap seconds of the header's ``LEAP SECONDS`` line, or None.
     """
 
     path: str
@@ -164,6 +166,7 @@ class RinexNav:
     glonass: GlonassEphemerides
     iono_alpha: NDArray[np.float64]
     iono_beta: NDArray[np.float64]
+    leap_seconds: int | None = None
 
     def __add__(self, other: RinexNav) -> RinexNav:
         k = {f: np.concatenate([self.kepler.fields[f], other.kepler.fields[f]]) for f in KEPLER_FIELDS}
@@ -183,6 +186,7 @@ class RinexNav:
             ),
             iono_alpha=self.iono_alpha if np.all(np.isfinite(self.iono_alpha)) else other.iono_alpha,
             iono_beta=self.iono_beta if np.all(np.isfinite(self.iono_beta)) else other.iono_beta,
+            leap_seconds=self.leap_seconds if self.leap_seconds is not None else other.leap_seconds,
         )
 
 
@@ -388,4 +392,6 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
         channel=np.round(gr[:, 10]).astype(np.int64),
         health=gr[:, 6],
     )
-    return RinexNav(path=p, kepler=kepler, glonass=glonass, iono_alpha=alpha, iono_beta=beta)
+    return RinexNav(
+        path=p, kepler=kepler, glonass=glonass, iono_alpha=alpha, iono_beta=beta, leap_seconds=leaps
+    )

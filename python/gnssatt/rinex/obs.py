@@ -86,6 +86,8 @@ class RinexObs:
         (n_epochs, n_sats, n_codes) uint8 loss-of-lock indicators and signal-strength digits.
     glonass_channels
         GLONASS FDMA channel per satellite from ``GLONASS SLOT / FRQ #`` (RINEX 3.02+), else empty.
+    leap_seconds
+        GPS - UTC leap seconds of the header's ``LEAP SECONDS`` line, or None.
     """
 
     path: str
@@ -105,6 +107,7 @@ class RinexObs:
     lli: NDArray[np.uint8]
     ssi: NDArray[np.uint8]
     glonass_channels: dict[str, int] = field(default_factory=dict)
+    leap_seconds: int | None = None
 
     def get(self, code: str) -> NDArray[np.float64]:
         """(n_epochs, n_sats) values of one observation code (NaN where absent)."""
@@ -300,6 +303,7 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         "time_system": "GPS",
         "types": {},
         "glo": {},
+        "leap": None,
     }
     types2: list[str] = []
     n_types2 = 0
@@ -370,6 +374,8 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
                 raise RinexError(
                     path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}"
                 )
+        elif label == "LEAP SECONDS":
+            hdr["leap"] = integer(path, lineno, line[0:6], "LEAP SECONDS")
         elif label == "GLONASS SLOT / FRQ #":
             body = line[4:60]
             glo = hdr["glo"]
@@ -633,4 +639,5 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
         lli=lli,
         ssi=ssi,
         glonass_channels=dict(hdr["glo"]),  # type: ignore[call-overload]
+        leap_seconds=hdr["leap"],  # type: ignore[arg-type]
     )

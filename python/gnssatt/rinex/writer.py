@@ -54,6 +54,7 @@ def write_obs(
     approx_position_m: ArrayLike = (0.0, 0.0, 0.0),
     marker_name: str = "SIM",
     lli: Mapping[str, ArrayLike] | None = None,
+    glonass_channels: Mapping[str, int] | None = None,
 ) -> None:
     """Write a RINEX 3.04 observation file.
 
@@ -64,16 +65,20 @@ def write_obs(
     time
         (n_ep,) GPST labels, ``datetime64``.
     sats
-        (n_sat,) satellite ids; every system present gets the same observation codes.
+        (n_sat,) satellite ids.
     observations
         RINEX 3 code (``"C1C"``, ``"L1C"``, ``"D1C"``, ``"S1C"``) -> (n_ep, n_sat) values (m, cycles, Hz,
-        dB-Hz); NaN leaves a field blank, a satellite with every field blank is left out of the epoch.
+        dB-Hz); NaN leaves a field blank, a satellite with every field blank is left out of the epoch. Each
+        system's ``SYS / # / OBS TYPES`` lists the codes with a value for one of its satellites (every code
+        where none has any).
     approx_position_m
         (3,) APPROX POSITION XYZ, ECEF, m.
     marker_name
         MARKER NAME.
     lli
         Code -> (n_ep, n_sat) loss-of-lock digits (0-9), optional.
+    glonass_channels
+        GLONASS satellite id -> FDMA channel (-7..6), written as ``GLONASS SLOT / FRQ #``; optional.
 
     Raises
     ------
@@ -85,7 +90,7 @@ def write_obs(
         malformed satellite ids or codes; arrays not (n_ep, n_sat); observations beyond
         ``MAX_OBSERVATION``; ``approx_position_m`` not a finite (3,) within ``MAX_POSITION_M``;
         ``marker_name`` longer than 60 characters or not printable ASCII; ``lli`` not digits 0-9 of
-        codes in ``observations``.
+        codes in ``observations``; ``glonass_channels`` not GLONASS ids with channels in -7..6.
     """
     path = output_path("path", path)
     t = time_labels("time", time)
@@ -114,7 +119,14 @@ def write_obs(
         raise InvalidInputError(
             f"expected marker_name as at most 60 printable ASCII characters, got {marker_name!r}"
         )
+    channels = _glonass_channels(glonass_channels)
     systems = sorted({s[0] for s in sats})
+    sys_of = np.array([s[0] for s in sats])
+    has = np.isfinite(data).any(axis=0)  # (n_sat, n_codes)
+    sys_codes = {}
+    for sy in systems:
+        cols = [j for j in range(len(codes)) if has[sys_of == sy, j].any()]
+        sys_codes[sy] = cols or list(range(len(codes)))
     out = [
         _hdr(
             f"{'3.04':>9}{'':11}{'OBSERVATION DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
@@ -125,8 +137,17 @@ def write_obs(
     out.append(_hdr(marker_name, "MARKER NAME"))
     out.append(_hdr(f"{pos[0]:14.4f}{pos[1]:14.4f}{pos[2]:14.4f}", "APPROX POSITION XYZ"))
     out.append(_hdr(f"{0.0:14.4f}{0.0:14.4f}{0.0:14.4f}", "ANTENNA: DELTA H/E/N"))
-    for s in systems:
-        out.append(_hdr(f"{s}  {len(codes):3d} " + " ".join(codes), "SYS / # / OBS TYPES"))
+    for sy in systems:
+        names = [codes[j] for j in sys_codes[sy]]
+        for k in range(0, len(names), 13):  # 13 codes per line, continuation lines blank in front
+            head = f"{sy}  {len(names):3d}" if k == 0 else " " * 6
+            out.append(_hdr(head + "".join(f" {c}" for c in names[k : k + 13]), "SYS / # / OBS TYPES"))
+    if channels:
+        items = sorted(channels.items())
+        for k in range(0, len(items), 8):  # 8 satellites per line
+            head = f"{len(items):3d} " if k == 0 else " " * 4
+            body = "".join(f"{sat} {ch:2d} " for sat, ch in items[k : k + 8])
+            out.append(_hdr(head + body, "GLONASS SLOT / FRQ #"))
     y, mo, d, hh, mi, sec = _parts(t[0])
     out.append(_hdr(f"{y:6d}{mo:6d}{d:6d}{hh:6d}{mi:6d}{sec:13.7f}     GPS", "TIME OF FIRST OBS"))
     out.append(_hdr("", "END OF HEADER"))
@@ -136,7 +157,7 @@ def write_obs(
         out.append(f"> {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d}{sec:11.7f}  0{len(present):3d}\n")
         for k in present:
             fields = []
-            for j in range(len(codes)):
+            for j in sys_codes[sats[k][0]]:
                 v = data[e, k, j]
                 if np.isfinite(v):
                     f = flags[e, k, j]
@@ -146,6 +167,24 @@ def write_obs(
             out.append(sats[k] + "".join(fields).rstrip() + "\n")
     with open(path, "w", encoding="ascii") as fh:
         fh.writelines(out)
+
+
+def _glonass_channels(value: object) -> dict[str, int]:
+    """``value`` as GLONASS id -> channel in -7..6 (empty for None)."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise InvalidTypeError(
+            f"expected glonass_channels as a mapping of GLONASS ids to channels, got {type(value).__name__}"
+        )
+    out = {}
+    for sat, ch in value.items():
+        if not isinstance(sat, str) or not re.fullmatch(r"R\d\d", sat):
+            raise InvalidInputError(f"expected GLONASS ids such as 'R07' in glonass_channels, got {sat!r}")
+        if isinstance(ch, bool) or not isinstance(ch, int | np.integer) or not -7 <= ch <= 6:
+            raise InvalidInputError(f"expected glonass_channels[{sat!r}] as an integer in -7..6, got {ch!r}")
+        out[sat] = int(ch)
+    return out
 
 
 def _code_arrays(

@@ -1,0 +1,424 @@
+"""What the observation engine takes from RINEX files: the session's observations on common epochs
+(:func:`session_input`) and the navigation records as arrays (:func:`nav_input`).
+
+Both return plain numpy arrays in C order, laid out as the Rust core's ``Observations`` and ``NavData``
+(``rust/core/src/gnss/observations.rs``, ``navdata.rs``), so that the binding passes them on unchanged.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gnssatt._arrays import instance, integer
+from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
+from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, leap_seconds
+from gnssatt.rinex.obs import RinexObs
+from gnssatt.rinex.signals import SignalChoice, choose_signals
+
+__all__ = [
+    "MATCH_TOLERANCE_NS",
+    "NO_CHANNEL",
+    "SYSTEMS",
+    "NavInput",
+    "SessionInput",
+    "nav_input",
+    "session_input",
+]
+
+#: The systems, in the order of the engine's ``System::ALL``.
+SYSTEMS = "GRECJ"
+#: Slots per system (``MAX_FREQUENCIES`` of the core).
+SLOTS = 3
+#: Epoch labels of two files closer than this are the same epoch, ns: RTKLIB's ``DTTOL`` (25 ms). Receivers
+#: that do not steer their clock label epochs off the whole second (the GEONET pair: up to 9 ms apart, so a
+#: 1 us rule keeps 12 of its 120 epochs); the engine estimates each receiver's clock from its code, which
+#: takes the label difference in, so matched labels need not be equal.
+MATCH_TOLERANCE_NS = 25_000_000
+#: ``glonass_channel`` of a satellite that is not GLONASS or whose channel is unknown.
+NO_CHANNEL = 99
+_NS = 1_000_000_000
+#: Offsets of RINEX time systems to GPST at the same instant, s (GLONASS: UTC(SU) + 3 h, plus leap seconds).
+_TIME_OFFSET_S = {"GPS": 0, "GAL": 0, "QZS": 0, "IRN": 0, "BDT": 14}
+
+
+class SystemDroppedWarning(GnssattWarning):
+    """A system asked for is missing from one of the observation files and is left out of the session."""
+
+
+@dataclass(frozen=True)
+class SessionInput:
+    """Observations of several receivers on their common epochs and satellites.
+
+    Attributes
+    ----------
+    time_gpst_ns
+        (n_ep,) epoch labels of the first file, GPST ns since the GPS epoch, common to all files.
+    sats
+        (n_sat,) satellite ids (``"G03"``) of the chosen systems seen by every file, in the order G, R, E,
+        C, J, then by number.
+    glonass_channel
+        (n_sat,) GLONASS FDMA channel, :data:`NO_CHANNEL` (99) for other systems or where unknown.
+    code_m, phase_cycles, doppler_hz, snr_dbhz
+        (n_rx, n_ep, n_sat, 3) pseudorange (m), carrier phase (cycles, RINEX sign), Doppler (Hz), C/N0
+        (dB-Hz as written) of each frequency slot; NaN where absent.
+    lli
+        (n_rx, n_ep, n_sat, 3) loss-of-lock indicator of the phase; bit 0 also set where a dropped epoch
+        (not common to all files) carried it since the previous kept epoch.
+    approx_position_m
+        (n_rx, 3) header APPROX POSITION XYZ, ECEF m; NaN rows where the header gives none.
+    signal_codes
+        Per receiver path: system letter -> the chosen codes of slots 0..2 (``"C1C/L1C"``, ``""`` where
+        none), for summaries.
+    epochs_dropped
+        (n_rx,) epochs of each file not common to all files.
+    """
+
+    time_gpst_ns: NDArray[np.int64]
+    sats: tuple[str, ...]
+    glonass_channel: NDArray[np.int64]
+    code_m: NDArray[np.float64]
+    phase_cycles: NDArray[np.float64]
+    doppler_hz: NDArray[np.float64]
+    snr_dbhz: NDArray[np.float64]
+    lli: NDArray[np.uint8]
+    approx_position_m: NDArray[np.float64]
+    signal_codes: dict[str, dict[str, tuple[str, ...]]]
+    epochs_dropped: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class NavInput:
+    """Broadcast records as arrays, one per field of the core's ``KeplerRecord`` / ``GlonassRecord``.
+
+    Attributes
+    ----------
+    kepler
+        ``"sat"`` (n,) str; ``"toc_gpst_ns"``, ``"toe_gpst_ns"`` (n,) int64; ``"af"`` (n, 3); ``"tgd_s"``
+        (n, 2); ``"crs"``, ``"delta_n"``, ``"m0"``, ``"cuc"``, ``"e"``, ``"cus"``, ``"sqrt_a"``, ``"cic"``,
+        ``"omega0"``, ``"cis"``, ``"i0"``, ``"crc"``, ``"omega"``, ``"omega_dot"``, ``"idot"``,
+        ``"health"`` (raw word), ``"iode"``, ``"accuracy_m"``, ``"fit_interval_h"``, ``"data_source"``
+        (n,) float64 (SI units and radians as in the file; see ``navdata.rs`` for each system's meaning).
+    glonass
+        ``"sat"`` (m,) str; ``"tb_gpst_ns"`` (m,) int64; ``"clock_bias_s"`` (-tau_n), ``"gamma_n"``,
+        ``"health"`` (m,) float64; ``"position_m"``, ``"velocity_m_s"``, ``"acceleration_m_s2"`` (m, 3)
+        float64 (PZ-90 ECEF); ``"channel"`` (m,) int64.
+    klobuchar
+        (8,) GPS alpha0..3, beta0..3, or None where the header gives none.
+    leap_seconds
+        GPS - UTC from the header, or None.
+    """
+
+    kepler: dict[str, NDArray]
+    glonass: dict[str, NDArray]
+    klobuchar: NDArray[np.float64] | None
+    leap_seconds: int | None
+
+
+def _systems(value: object) -> str:
+    if not isinstance(value, str):
+        raise InvalidTypeError(
+            f"expected systems as text of letters from {SYSTEMS!r}, got {type(value).__name__}"
+        )
+    bad = [c for c in value if c not in SYSTEMS]
+    if not value or bad or len(set(value)) != len(value):
+        raise InvalidInputError(
+            f"expected systems as distinct letters from {SYSTEMS!r} (G GPS, R GLONASS, E Galileo, C BeiDou, "
+            f"J QZSS), got {value!r}"
+        )
+    return "".join(c for c in SYSTEMS if c in value)
+
+
+def _gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
+    """The file's epoch labels as GPST ns since the GPS epoch."""
+    t = (obs.time - GPS_EPOCH).astype(np.int64)
+    ts = obs.time_system
+    if ts in _TIME_OFFSET_S:
+        return t + _TIME_OFFSET_S[ts] * _NS
+    if ts in ("GLO", "UTC"):
+        utc = obs.time[0] - np.timedelta64(3 if ts == "GLO" else 0, "h")
+        n = leaps if leaps is not None else leap_seconds(utc)
+        return t + (n - (3 * 3600 if ts == "GLO" else 0)) * _NS
+    raise RinexError(obs.path, None, f"unknown time system {ts!r}: expected GPS, GLO, GAL, BDT, QZS or UTC")
+
+
+def _common(times: list[NDArray[np.int64]]) -> list[NDArray[np.int64]]:
+    """Per file, the index of each common epoch (epochs of the first file matched in every other file)."""
+    ref = times[0]
+    keep = np.ones(len(ref), dtype=bool)
+    matches = []
+    for t in times[1:]:
+        j = np.clip(np.searchsorted(t, ref), 1, max(len(t) - 1, 1))
+        j = np.where(np.abs(t[j - 1] - ref) <= np.abs(t[np.minimum(j, len(t) - 1)] - ref), j - 1, j)
+        j = np.minimum(j, len(t) - 1)
+        ok = np.abs(t[j] - ref) <= MATCH_TOLERANCE_NS
+        keep &= ok
+        matches.append(j)
+    return [np.flatnonzero(keep)] + [m[keep] for m in matches]
+
+
+def _carried_lli(lli: NDArray[np.uint8], kept: NDArray[np.int64]) -> NDArray[np.uint8]:
+    """LLI at the kept epochs with bit 0 of the dropped epochs since the previous kept one ORed in (a slip
+    flagged at an epoch the session does not see still happened)."""
+    out = lli[kept].copy()
+    lost = (lli & 1).astype(bool)
+    # epoch e's slip belongs to the first kept epoch at or after it
+    owner = np.searchsorted(kept, np.arange(len(lli)))
+    dropped = np.setdiff1d(np.arange(len(lli)), kept)
+    for e in dropped:
+        if owner[e] < len(kept):
+            out[owner[e]] |= lost[e].astype(np.uint8)
+    return out
+
+
+def session_input(
+    observations: Sequence[RinexObs],
+    *,
+    systems: str = SYSTEMS,
+    frequencies: int = 3,
+    nav: RinexNav | None = None,
+) -> SessionInput:
+    """The engine's observations of several receivers: common epochs, common satellites, one signal per
+    system and frequency slot (:mod:`gnssatt.rinex.signals`).
+
+    Parameters
+    ----------
+    observations
+        Two or more files from :func:`~gnssatt.rinex.obs.read_obs`, the reference antenna ("base") first.
+    systems
+        Letters of the systems to use, from ``"GRECJ"``. A system named but missing (no phase of it) from
+        a file is dropped with a :class:`SystemDroppedWarning` naming the file; with the default (every
+        system), systems that no file has are dropped silently.
+    frequencies
+        Slots to fill, 1 to 3 (1: L1/G1/E1/B1I; 2: also L2/G2/E5b/B2I; 3: also L5/G3/E5a/B3I).
+    nav
+        Navigation records, for GLONASS channels the observation headers do not give
+        (``GLONASS SLOT / FRQ #``), and for leap seconds where a file is labelled in GLONASS time.
+
+    Returns
+    -------
+    SessionInput
+
+    Raises
+    ------
+    InvalidTypeError
+        ``observations`` not a sequence of ``RinexObs``, ``systems`` not text, ``frequencies`` not an
+        integer, ``nav`` not a ``RinexNav``.
+    InvalidInputError
+        Fewer than two files; ``systems`` not distinct letters of ``"GRECJ"``; ``frequencies`` outside 1..3.
+    RinexError
+        A file without carrier-phase observations of the chosen systems and slots, no system left that
+        every file has, no epoch common to all files, no satellite seen by every file (each message names
+        the files).
+    """
+    if isinstance(observations, RinexObs) or not isinstance(observations, Sequence):
+        raise InvalidTypeError(
+            f"expected observations as a sequence of RinexObs, got {type(observations).__name__}"
+        )
+    files = [
+        instance(f"observations[{k}]", o, RinexObs, "a RinexObs (from read_obs)")
+        for k, o in enumerate(observations)
+    ]
+    if len(files) < 2:
+        raise InvalidInputError(f"expected observations of two or more receivers, got {len(files)}")
+    asked = _systems(systems)
+    n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
+    if nav is not None:
+        nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    choices = [{s: choose_signals(o, s)[:n_freq] for s in asked} for o in files]
+    for o, ch in zip(files, choices, strict=True):
+        if not any(c.phase for cs in ch.values() for c in cs):
+            raise RinexError(
+                o.path,
+                None,
+                f"expected carrier-phase observations (L codes) of systems {asked!r} in slots 1..{n_freq}, "
+                f"the file has codes {list(o.codes)}",
+            )
+    used = ""
+    for s in asked:
+        lacking = [o.path for o, ch in zip(files, choices, strict=True) if not any(c.phase for c in ch[s])]
+        if not lacking:
+            used += s
+        elif len(lacking) < len(files) or systems != SYSTEMS:
+            warnings.warn(
+                f"system {s} dropped: no carrier phase of it in {', '.join(lacking)}",
+                SystemDroppedWarning,
+                stacklevel=2,
+            )
+    if not used:
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"expected a system of {asked!r} with carrier phase in every file, found none common",
+        )
+    leaps = next((o.leap_seconds for o in files if o.leap_seconds is not None), None)
+    if leaps is None and nav is not None:
+        leaps = nav.leap_seconds
+    times = [_gpst_ns(o, leaps) for o in files]
+    index = _common(times)
+    if len(index[0]) == 0:
+        spans = "; ".join(f"{o.path}: {o.time[0]} to {o.time[-1]} ({o.time_system})" for o in files)
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"no epoch common to all files (labels within {MATCH_TOLERANCE_NS} ns): {spans}",
+        )
+    sats = _common_sats(files, choices, index, used)
+    if not sats:
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"no satellite of systems {used!r} with carrier phase in every file at the common epochs",
+        )
+    n_rx, n_ep, n_sat = len(files), len(index[0]), len(sats)
+    shape = (n_rx, n_ep, n_sat, SLOTS)
+    code = np.full(shape, np.nan)
+    phase = np.full(shape, np.nan)
+    doppler = np.full(shape, np.nan)
+    snr = np.full(shape, np.nan)
+    lli = np.zeros(shape, dtype=np.uint8)
+    for r, (o, ch, kept) in enumerate(zip(files, choices, index, strict=True)):
+        cols = o.sat_index(sats)
+        for k, s in enumerate(sats):
+            for slot, c in enumerate(ch[s[0]]):
+                _fill(o, c, kept, cols[k], (r, slice(None), k, slot), code, phase, doppler, snr, lli)
+    pos = np.array([o.approx_position_m for o in files], dtype=np.float64)
+    pos[~np.any(pos != 0.0, axis=1)] = np.nan
+    return SessionInput(
+        time_gpst_ns=np.ascontiguousarray(times[0][index[0]]),
+        sats=sats,
+        glonass_channel=_channels(sats, files, nav),
+        code_m=code,
+        phase_cycles=phase,
+        doppler_hz=doppler,
+        snr_dbhz=snr,
+        lli=lli,
+        approx_position_m=pos,
+        signal_codes={
+            o.path: {s: tuple(c.label for c in ch[s]) + ("",) * (SLOTS - n_freq) for s in used}
+            for o, ch in zip(files, choices, strict=True)
+        },
+        epochs_dropped=tuple(len(o.time) - len(k) for o, k in zip(files, index, strict=True)),
+    )
+
+
+def _fill(
+    o: RinexObs,
+    c: SignalChoice,
+    kept: NDArray[np.int64],
+    col: int,
+    at: tuple[int, slice, int, int],
+    code: NDArray[np.float64],
+    phase: NDArray[np.float64],
+    doppler: NDArray[np.float64],
+    snr: NDArray[np.float64],
+    lli: NDArray[np.uint8],
+) -> None:
+    """Copy one satellite's signal of one slot of one file into the session arrays."""
+    for name, out in ((c.code, code), (c.phase, phase), (c.doppler, doppler), (c.strength, snr)):
+        if name is not None:
+            out[at] = o.data[kept, col, o.codes.index(name)]
+    if c.phase is not None:
+        lli[at] = _carried_lli(o.lli[:, col, o.codes.index(c.phase)], kept)
+
+
+def _common_sats(
+    files: list[RinexObs],
+    choices: list[dict[str, tuple[SignalChoice, ...]]],
+    index: list[NDArray[np.int64]],
+    used: str,
+) -> tuple[str, ...]:
+    """Satellites of the systems ``used`` with a phase of some slot in every file at a common epoch."""
+    common: set[str] | None = None
+    for o, ch, kept in zip(files, choices, index, strict=True):
+        seen = set()
+        for k, s in enumerate(o.sats):
+            if s[0] not in used:
+                continue
+            cols = [o.codes.index(c.phase) for c in ch[s[0]] if c.phase is not None]
+            if cols and np.isfinite(o.data[np.ix_(kept, [k], cols)]).any():
+                seen.add(s)
+        common = seen if common is None else common & seen
+    return tuple(sorted(common or (), key=lambda s: (SYSTEMS.index(s[0]), int(s[1:]))))
+
+
+def _channels(sats: tuple[str, ...], files: list[RinexObs], nav: RinexNav | None) -> NDArray[np.int64]:
+    """GLONASS channel of each satellite: the observation headers first, then the navigation records."""
+    known: dict[str, int] = {}
+    if nav is not None:
+        g = nav.glonass
+        for s, k in zip(g.sats.tolist(), g.channel.tolist(), strict=True):
+            known.setdefault(s, int(k))
+    for o in reversed(files):  # the first file's header wins
+        known.update(o.glonass_channels)
+    out = np.full(len(sats), NO_CHANNEL, dtype=np.int64)
+    for k, s in enumerate(sats):
+        if s[0] == "R" and s in known and -7 <= known[s] <= 6:
+            out[k] = known[s]
+    return out
+
+
+_KEPLER_SAME = (
+    "crs", "delta_n", "m0", "cuc", "e", "cus", "sqrt_a", "cic", "omega0", "cis", "i0", "crc", "omega",
+    "omega_dot", "idot", "health", "iode",
+)  # fmt: skip
+
+
+def nav_input(nav: RinexNav) -> NavInput:
+    """The records of ``nav`` as the arrays of :class:`NavInput`.
+
+    Per system (RINEX 3 navigation layout): ``tgd_s`` is GPS/QZSS ``[TGD, NaN]``, Galileo
+    ``[BGD E5a/E1, BGD E5b/E1]``, BeiDou ``[TGD1, TGD2]``; ``data_source`` the Galileo data-source word
+    (NaN for other systems); ``fit_interval_h`` the GPS fit interval (hours), 0 (the system default) for
+    QZSS, whose files give a flag there, and NaN for Galileo and BeiDou, which have none; ``health`` the raw
+    word (QZSS's L1C/A health bit 0 and BeiDou's SatH1 included: the ephemeris interprets it).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``nav`` is not a :class:`~gnssatt.rinex.nav.RinexNav`.
+    """
+    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    k = nav.kepler
+    f = k.fields
+    system = np.array([s[0] for s in k.sats.tolist()], dtype="U1")
+    gps_like = (system == "G") | (system == "J")
+    kepler: dict[str, NDArray] = {
+        "sat": np.asarray(k.sats, dtype="U3"),
+        "toc_gpst_ns": np.ascontiguousarray(k.toc_ns, dtype=np.int64),
+        "toe_gpst_ns": np.ascontiguousarray(k.toe_ns, dtype=np.int64),
+        "af": np.ascontiguousarray(k.af, dtype=np.float64).reshape(-1, 3),
+    }
+    for name in _KEPLER_SAME:
+        kepler[name] = np.ascontiguousarray(f[name], dtype=np.float64)
+    kepler["tgd_s"] = np.ascontiguousarray(
+        np.stack([f["tgd"], np.where(gps_like, np.nan, f["iodc_tgd2"])], axis=-1).reshape(-1, 2)
+    )
+    kepler["accuracy_m"] = np.ascontiguousarray(f["accuracy"], dtype=np.float64)
+    kepler["fit_interval_h"] = np.where(
+        system == "G", f["fit_interval"], np.where(system == "J", 0.0, np.nan)
+    )
+    kepler["data_source"] = np.where(system == "E", f["codes_l2"], np.nan)
+    g = nav.glonass
+    glonass: dict[str, NDArray] = {
+        "sat": np.asarray(g.sats, dtype="U3"),
+        "tb_gpst_ns": np.ascontiguousarray(g.tb_ns, dtype=np.int64),
+        "clock_bias_s": np.ascontiguousarray(g.clock_bias, dtype=np.float64),
+        "gamma_n": np.ascontiguousarray(g.gamma_n, dtype=np.float64),
+        "position_m": np.ascontiguousarray(g.position_m, dtype=np.float64).reshape(-1, 3),
+        "velocity_m_s": np.ascontiguousarray(g.velocity_m_s, dtype=np.float64).reshape(-1, 3),
+        "acceleration_m_s2": np.ascontiguousarray(g.acceleration_m_s2, dtype=np.float64).reshape(-1, 3),
+        "channel": np.ascontiguousarray(g.channel, dtype=np.int64),
+        "health": np.ascontiguousarray(g.health, dtype=np.float64),
+    }
+    coeffs = np.concatenate([nav.iono_alpha, nav.iono_beta]).astype(np.float64)
+    return NavInput(
+        kepler=kepler,
+        glonass=glonass,
+        klobuchar=coeffs if np.all(np.isfinite(coeffs)) else None,
+        leap_seconds=nav.leap_seconds,
+    )

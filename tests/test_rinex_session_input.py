@@ -1,0 +1,173 @@
+"""session_input / nav_input: common epochs and satellites, signal slots, GLONASS channels, time systems,
+and the errors and warnings a user meets (each naming the file)."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gnssatt.data import geonet_dir
+from gnssatt.errors import InvalidInputError, RinexError
+from gnssatt.rinex import read_nav, read_obs, write_obs
+from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.obs import RinexObs
+from gnssatt.rinex.session_input import NO_CHANNEL, SystemDroppedWarning, nav_input, session_input
+
+T0 = np.datetime64("2024-03-01T10:00:00", "ns")
+DATA = Path(__file__).parent / "data"
+
+
+def _geonet() -> list[RinexObs]:
+    d = geonet_dir()
+    return [read_obs(d / "07590920.05o"), read_obs(d / "30400920.05o")]
+
+
+def _write(path: Path, sats: list[str], codes: list[str], n_ep: int = 4, **kw: object) -> RinexObs:
+    rows = np.arange(n_ep)[:, None] * 10.0 + np.arange(len(sats))[None, :]
+    obs = {c: 2.0e7 + 1e3 * k + rows for k, c in enumerate(codes)}
+    t = kw.pop("time", T0 + np.arange(n_ep) * np.timedelta64(1, "s"))
+    write_obs(path, t, sats, obs, approx_position_m=kw.pop("pos", (1.0, 2.0, 3.0)), **kw)  # type: ignore[arg-type]
+    return read_obs(path)
+
+
+def test_geonet_pair_l1_l2() -> None:
+    base, rover = _geonet()
+    si = session_input([base, rover], frequencies=2)
+    assert si.time_gpst_ns.shape == (120,) and si.epochs_dropped == (0, 0)
+    seen = [{s for k, s in enumerate(o.sats) if np.isfinite(o.get("L1")[:, k]).any()} for o in (base, rover)]
+    assert si.sats == tuple(sorted(seen[0] & seen[1])) and len(si.sats) == 11
+    assert si.code_m.shape == (2, 120, 11, 3) and si.code_m.flags.c_contiguous
+    assert si.signal_codes[base.path] == {"G": ("C1/L1", "P2/L2", "")}
+    np.testing.assert_array_equal(si.time_gpst_ns, gps_ns(base.time))
+    # values are the file's, at the right epoch and satellite
+    k, j = rover.sats.index("G19"), si.sats.index("G19")
+    np.testing.assert_array_equal(si.phase_cycles[1, :, j, 1], rover.get("L2")[:, k])
+    np.testing.assert_array_equal(si.code_m[1, :, j, 0], rover.get("C1")[:, k])
+    assert np.isnan(si.phase_cycles[..., 2]).all() and np.isnan(si.doppler_hz).all()
+    np.testing.assert_array_equal(si.approx_position_m[0], base.approx_position_m)
+    assert (si.glonass_channel == NO_CHANNEL).all()
+    one = session_input([base, rover], frequencies=1)
+    assert np.isnan(one.phase_cycles[..., 1:]).all()
+    np.testing.assert_array_equal(one.phase_cycles[..., 0], si.phase_cycles[..., 0])
+
+
+def test_missing_epochs_are_counted_and_their_slips_carried(tmp_path: Path) -> None:
+    sats = ["G01", "G02"]
+    base = _write(tmp_path / "a.rnx", sats, ["C1C", "L1C"], n_ep=6)
+    t = T0 + np.arange(6) * np.timedelta64(1, "s")
+    lli = {"L1C": np.zeros((6, 2))}
+    lli["L1C"][2, 1] = 1  # a slip at an epoch the base lacks below
+    rover = _write(tmp_path / "b.rnx", sats, ["C1C", "L1C"], n_ep=6, time=t, lli=lli)
+    base_cut = _write(tmp_path / "c.rnx", sats, ["C1C", "L1C"], n_ep=5, time=t[[0, 1, 3, 4, 5]])
+    si = session_input([base_cut, rover])
+    assert si.epochs_dropped == (0, 1) and len(si.time_gpst_ns) == 5
+    assert si.lli[1, :, 1, 0].tolist() == [0, 0, 1, 0, 0]  # moved to the next common epoch
+    si = session_input([base, rover])
+    assert si.lli[1, :, 1, 0].tolist() == [0, 0, 1, 0, 0, 0]
+
+
+def test_labels_matched_within_tolerance(tmp_path: Path) -> None:
+    t = T0 + np.arange(4) * np.timedelta64(1, "s")
+    a = _write(tmp_path / "a.rnx", ["G01"], ["C1C", "L1C"], time=t)
+    b = _write(tmp_path / "b.rnx", ["G01"], ["C1C", "L1C"], time=t + np.timedelta64(9, "ms"))
+    c = _write(tmp_path / "c.rnx", ["G01"], ["C1C", "L1C"], time=t + np.timedelta64(30, "ms"))
+    assert session_input([a, b]).epochs_dropped == (0, 0)
+    with pytest.raises(RinexError, match="no epoch common") as err:
+        session_input([a, c])
+    assert a.path in str(err.value) and c.path in str(err.value)
+
+
+def test_file_without_phase_is_named(tmp_path: Path) -> None:
+    a = _write(tmp_path / "a.rnx", ["G01"], ["C1C", "L1C"])
+    b = _write(tmp_path / "b.rnx", ["G01"], ["C1C", "D1C"])
+    with pytest.raises(RinexError, match="expected carrier-phase observations") as err:
+        session_input([a, b])
+    assert err.value.path == b.path
+
+
+def test_system_lacking_in_one_file_is_dropped_with_a_warning(tmp_path: Path) -> None:
+    a = _write(tmp_path / "a.rnx", ["G01", "E01"], ["C1C", "L1C"])
+    b = _write(tmp_path / "b.rnx", ["G01"], ["C1C", "L1C"])
+    with pytest.warns(SystemDroppedWarning, match=f"system E dropped: no carrier phase of it in {b.path}"):
+        si = session_input([a, b])
+    assert si.sats == ("G01",) and set(si.signal_codes[a.path]) == {"G"}
+    with pytest.raises(RinexError, match="expected carrier-phase observations") as err:
+        session_input([a, b], systems="E")
+    assert err.value.path == b.path
+    e_only = _write(tmp_path / "e.rnx", ["E01"], ["C1C", "L1C"])
+    with pytest.raises(RinexError, match="found none common") as err, warnings.catch_warnings():
+        warnings.simplefilter("ignore", SystemDroppedWarning)
+        session_input([e_only, b])
+    assert err.value.path == f"{e_only.path}, {b.path}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        session_input([b, b])  # systems no file has: dropped silently with the default
+
+
+def test_sats_in_system_order_and_glonass_channels(tmp_path: Path) -> None:
+    sats = ["J02", "C06", "R05", "G10", "E11", "R01"]
+    codes = ["C1C", "L1C", "C2I", "L2I"]
+    a = _write(tmp_path / "a.rnx", sats, codes, glonass_channels={"R05": -3})
+    b = _write(tmp_path / "b.rnx", sats, codes)
+    si = session_input([b, a])
+    assert si.sats == ("G10", "R01", "R05", "E11", "C06", "J02")
+    assert si.glonass_channel.tolist() == [99, 99, -3, 99, 99, 99]  # R01: no header, no nav
+    nav = read_nav(DATA / "BRDM00DLR_R_20130010000_01D_MN.rnx")
+    ch = dict(zip(nav.glonass.sats.tolist(), nav.glonass.channel.tolist(), strict=True))
+    si = session_input([b, a], nav=nav)
+    assert si.glonass_channel[1] == ch["R01"] and si.glonass_channel[2] == -3  # the header wins
+
+
+def test_time_systems_to_gpst(tmp_path: Path) -> None:
+    a = _write(tmp_path / "a.rnx", ["C06"], ["C2I", "L2I"])
+    label = "         TIME OF FIRST OBS"
+    text = (tmp_path / "a.rnx").read_text().replace(f"     GPS{label}", f"     BDT{label}")
+    (tmp_path / "b.rnx").write_text(text)
+    b = read_obs(tmp_path / "b.rnx")
+    assert b.time_system == "BDT"
+    si = session_input([b, b])
+    np.testing.assert_array_equal(si.time_gpst_ns, gps_ns(a.time) + 14_000_000_000)  # BDT = GPST - 14 s
+
+
+def test_bad_arguments() -> None:
+    obs = _geonet()
+    for kw in ({"systems": "GX"}, {"systems": ""}, {"systems": "GG"}, {"frequencies": 0}, {"frequencies": 4}):
+        with pytest.raises(InvalidInputError):
+            session_input(obs, **kw)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="two or more"):
+        session_input(obs[:1])
+
+
+def test_nav_input_fields_per_system() -> None:
+    nav = read_nav(DATA / "CBW100NLD_R_20210010000_01D_MN.rnx")
+    ni = nav_input(nav)
+    k = ni.kepler
+    n = len(nav.kepler)
+    assert k["af"].shape == (n, 3) and k["tgd_s"].shape == (n, 2) and k["toe_gpst_ns"].dtype == np.int64
+    f = nav.kepler.fields
+    sysl = np.array([s[0] for s in k["sat"]])
+    for s in "GEC":
+        assert (sysl == s).any()
+    np.testing.assert_array_equal(k["tgd_s"][sysl == "C", 1], f["iodc_tgd2"][sysl == "C"])  # TGD2
+    np.testing.assert_array_equal(k["tgd_s"][sysl == "E", 1], f["iodc_tgd2"][sysl == "E"])  # BGD E5b/E1
+    assert np.isnan(k["tgd_s"][sysl == "G", 1]).all()
+    assert np.isfinite(k["data_source"][sysl == "E"]).all() and np.isnan(k["data_source"][sysl != "E"]).all()
+    # BeiDou times in GPST: toc label (BDT) + 14 s
+    c = np.flatnonzero(sysl == "C")[0]
+    assert (k["toc_gpst_ns"][c] - nav.kepler.toc_ns[c]) == 0  # the reader already converted
+    brdm = nav_input(read_nav(DATA / "BRDM00DLR_R_20130010000_01D_MN.rnx"))
+    g = brdm.glonass
+    assert g["position_m"].shape == (len(g["sat"]), 3) and g["channel"].dtype == np.int64
+    qzss = brdm.kepler["sat"].astype(str)
+    assert any(s.startswith("J") for s in qzss)  # QZSS kept whatever its health word
+
+
+def test_nav_input_klobuchar_and_leap_seconds() -> None:
+    d = geonet_dir()
+    ni = nav_input(read_nav(d / "07590920.05n"))
+    assert ni.klobuchar is not None and ni.klobuchar.shape == (8,)
+    text = (d / "07590920.05n").read_text()
+    assert float(text.split("ION ALPHA")[0].splitlines()[-1][2:14].replace("D", "E")) == ni.klobuchar[0]
