@@ -33,6 +33,7 @@ import argparse
 import csv
 import inspect
 import json
+import os
 import re
 import statistics
 import subprocess
@@ -604,7 +605,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     ).stdout
     options = help_options(exe_help)
     settings = Settings(options, args.repeats, args.wrong_fix_m)
+    # The machine may be shared: the load beside the CPU count says how far wall times are inflated.
+    machine = f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the start"
     report: dict[str, object] = {
+        "machine": machine,
         "rtklib": None if rtk is None else str(rtk.binary),
         "gnssatt_options": sorted(options),
         "wrong_fix_m": args.wrong_fix_m,
@@ -624,6 +628,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         all_rows += rows
     report["rows"] = all_rows
     text = table(all_rows)
+    print(f"machine: {machine}; wall times: median of {args.repeats} run(s)")
     print("RTKLIB skipped (no --rtklib-src): gnssatt only\n" if rtk is None else "", end="")
     for name, d in report["datasets"].items():  # type: ignore[attr-defined]
         print(f"{name}: {d['description']}; reference: {d['reference']}")
