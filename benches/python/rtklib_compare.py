@@ -51,6 +51,9 @@ REPO = Path(__file__).resolve().parents[2]
 DEFAULT_OUT = REPO / "out" / "rtklib_compare"
 GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
 SECONDS_PER_WEEK = 604800.0
+#: Two labels closer than this are one epoch (RTKLIB 2.4.3's DTTOL; GEONET labels of one epoch differ by
+#: up to 9 ms between the two receivers).
+EPOCH_TOLERANCE_S = 0.025
 #: ``pos1-navsys`` bit of each RINEX system letter (RTKLIB's SYS_* values).
 NAVSYS_BITS = {"G": 1, "R": 4, "E": 8, "J": 16, "C": 32}
 #: RTKLIB mode name -> (conf file, gnssatt --motion).
@@ -90,6 +93,19 @@ class Solutions:
 def gpst_seconds(times: NDArray[np.datetime64]) -> NDArray[np.float64]:
     """GPST labels (``datetime64``) -> seconds since the GPS epoch."""
     return (np.asarray(times, dtype="datetime64[ns]") - GPS_EPOCH).astype(np.int64) / 1e9
+
+
+def match_epochs(times_s: NDArray[np.float64], grid_s: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Index in ``grid_s`` of the label within ``EPOCH_TOLERANCE_S`` of each of ``times_s``, -1 where none."""
+    t, grid = np.asarray(times_s, dtype=np.float64), np.asarray(grid_s, dtype=np.float64)
+    if grid.size == 0:
+        return np.full(t.shape, -1, dtype=np.int64)
+    order = np.argsort(grid)
+    g = grid[order]
+    hi = np.clip(np.searchsorted(g, t), 0, g.size - 1)
+    lo = np.clip(hi - 1, 0, g.size - 1)
+    near = np.where(np.abs(g[lo] - t) < np.abs(g[hi] - t), lo, hi)
+    return np.where(np.abs(g[near] - t) <= EPOCH_TOLERANCE_S, order[near], -1)
 
 
 def parse_pos(path: Path) -> Solutions:
@@ -214,13 +230,8 @@ class Reference:
         """(n, 3) reference at the epochs ``time_s`` (NaN rows where it has none)."""
         if self.time_s is None:
             return np.broadcast_to(self.enu_m, (len(time_s), 3)).copy()
-        keys = {round(t * 1e3): i for i, t in enumerate(self.time_s)}
-        out = np.full((len(time_s), 3), np.nan)
-        for j, t in enumerate(time_s):
-            i = keys.get(round(t * 1e3))
-            if i is not None:
-                out[j] = self.enu_m[i]
-        return out
+        i = match_epochs(time_s, self.time_s)
+        return np.where((i >= 0)[:, None], self.enu_m[np.maximum(i, 0)], np.nan)
 
 
 def metrics(
@@ -300,21 +311,31 @@ class Dataset:
     description: str
 
 
+def dataset(
+    name: str, base: Path, rover: Path, nav: tuple[Path, ...], truth: Reference | None, description: str
+) -> Dataset:
+    """A :class:`Dataset` with the epochs common to both files (read by ``gnssatt.rinex.read_obs``, outside
+    any timing), the base's header position and the carrier bands both headers list per system."""
+    from gnssatt.rinex import read_obs
+
+    pos_b, bands_b = rinex_header(base)
+    _, bands_r = rinex_header(rover)
+    t_base, t_rover = (gpst_seconds(read_obs(p).time) for p in (base, rover))
+    n_epochs = int(np.sum(match_epochs(t_base, t_rover) >= 0))
+    bands = {s: min(n, bands_r[s]) for s, n in bands_b.items() if s in bands_r}
+    return Dataset(name, base, rover, nav, n_epochs, pos_b, bands, truth, description)
+
+
 def geonet() -> Dataset:
+    """The GEONET pair shipped in ``gnssatt.data``, base 0759; the reference comes from RTKLIB later."""
     from gnssatt.data import geonet_dir
 
     d = geonet_dir()
-    base, rover = d / "07590920.05o", d / "30400920.05o"
-    pos_b, bands_b = rinex_header(base)
-    _, bands_r = rinex_header(rover)
-    return Dataset(
+    return dataset(
         "geonet",
-        base,
-        rover,
+        d / "07590920.05o",
+        d / "30400920.05o",
         (d / "07590920.05n", d / "30400920.05n"),
-        120,
-        pos_b,
-        {s: min(n, bands_r[s]) for s, n in bands_b.items() if s in bands_r},
         None,
         "GEONET 0759 -> 3040 (3.3 km, RINEX 2.10, 30 s), base at its header position",
     )
@@ -334,19 +355,13 @@ def simulated(folder: Path, n_epochs: int, seed: int) -> Dataset:
         extra["frequencies"] = 3
     ants = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
     sim = simulate_rinex_array(folder, ants, np.tile([30.0, 0.0, 0.0], (n_epochs, 1)), seed=seed, **extra)
-    base, rover = sim.obs_paths[0], sim.obs_paths[1]
-    pos_b, bands_b = rinex_header(base)
-    _, bands_r = rinex_header(rover)
     navs = tuple(getattr(sim, "nav_paths", None) or (sim.nav_path,))
     truth = Reference(sim.baselines_enu_m[:, 0, :], gpst_seconds(sim.time), "simulation truth", True)
-    return Dataset(
+    return dataset(
         "sim",
-        base,
-        rover,
+        sim.obs_paths[0],
+        sim.obs_paths[1],
         navs,
-        n_epochs,
-        pos_b,
-        {s: min(n, bands_r[s]) for s, n in bands_b.items() if s in bands_r},
         truth,
         f"simulated static 1 m baseline, {n_epochs} epochs at 1 s, seed {seed} (gnssatt.rinex.scenario)",
     )
