@@ -281,13 +281,19 @@ class Timed:
         return statistics.median(self.wall_s) if self.wall_s else None
 
 
-def timed_run(cmd: Sequence[str], output: Path, repeats: int) -> tuple[list[float], str]:
-    """Run ``cmd`` ``repeats`` times (output file removed first); wall times and, on failure, why."""
+def timed_run(cmd: Sequence[str], output: Path, repeats: int, timeout_s: float) -> tuple[list[float], str]:
+    """Run ``cmd`` ``repeats`` times (output file removed first); wall times and, on failure, why.
+
+    A run longer than ``timeout_s`` is stopped and reported as a failure (no hang of the comparison).
+    """
     walls = []
     for _ in range(repeats):
         output.unlink(missing_ok=True)
         t0 = time.perf_counter()
-        proc = subprocess.run(list(cmd), capture_output=True, text=True, check=False)
+        try:
+            proc = subprocess.run(list(cmd), capture_output=True, text=True, check=False, timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            return walls, f"stopped after {timeout_s:g} s (--timeout-s)"
         wall = time.perf_counter() - t0
         if proc.returncode != 0 or not output.exists():
             tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
@@ -426,12 +432,12 @@ def run_plan(ds: Dataset) -> list[tuple[str, int]]:
     return [(s, f) for s in sets for f in range(1, min(3, max(ds.bands[x] for x in s)) + 1)]
 
 
-def geonet_reference(ds: Dataset, rtk: Rtklib | None, folder: Path) -> Reference:
+def geonet_reference(ds: Dataset, rtk: Rtklib | None, folder: Path, opts: Settings) -> Reference:
     """RTKLIB's static L1+L2 (all bands) fixed solution over the session; header positions without RTKLIB."""
     if rtk is not None:
         out = folder / "reference-static.pos"
         cmd = rtk.command(ds, "static", "G", max(ds.bands.values()), out)
-        _, why = timed_run(cmd, out, 1)
+        _, why = timed_run(cmd, out, 1, opts.timeout_s)
         if not why:
             sol = parse_pos(out)
             if sol.fixed.any():
@@ -472,13 +478,14 @@ class Settings:
     options: frozenset[str]  # of `gnssatt attitude --help`
     repeats: int
     wrong_fix_m: float
+    timeout_s: float
 
 
 def measure(
     run: Timed, output: Path, read: Callable[[Path], Solutions], ref: Reference, ds: Dataset, opts: Settings
 ) -> Timed:
     """Time ``run.command`` (it writes ``output``), then read ``output`` and fill in the metrics."""
-    run.wall_s, failed = timed_run(run.command, output, opts.repeats)
+    run.wall_s, failed = timed_run(run.command, output, opts.repeats, opts.timeout_s)
     if failed:
         run.note = failed
     else:
@@ -490,7 +497,7 @@ def measure(
 def compare(ds: Dataset, rtk: Rtklib | None, folder: Path, opts: Settings) -> tuple[Reference, list[dict]]:
     """Every run of ``run_plan(ds)`` by both tools; one row per (systems, frequencies, RTKLIB mode)."""
     folder.mkdir(parents=True, exist_ok=True)
-    ref = ds.truth or geonet_reference(ds, rtk, folder)
+    ref = ds.truth or geonet_reference(ds, rtk, folder, opts)
     # Length for a CSV without east/north/up (today's): the reference's, so only direction errors count.
     length = float(np.median(np.linalg.norm(np.atleast_2d(ref.enu_m), axis=1)))
     rows: list[dict] = []
@@ -593,12 +600,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         default=0.05,
         help="a fixed epoch farther than this from the reference is a wrong fix, m (default 0.05)",
     )
+    ap.add_argument(
+        "--timeout-s", type=float, default=600.0, help="longest run of one command, s (default 600)"
+    )
     args = ap.parse_args(argv)
     names = [n.strip() for n in args.datasets.split(",") if n.strip()]
     if not names or any(n not in ("geonet", "sim") for n in names):
         ap.error(f"--datasets: expected geonet and/or sim, got {args.datasets!r}")
-    if args.repeats < 1 or args.sim_epochs < 2 or not args.wrong_fix_m > 0:
-        ap.error("--repeats >= 1, --sim-epochs >= 2 and --wrong-fix-m > 0 expected")
+    if args.repeats < 1 or args.sim_epochs < 2 or not args.wrong_fix_m > 0 or not args.timeout_s > 0:
+        ap.error("expected --repeats >= 1, --sim-epochs >= 2, --wrong-fix-m > 0 and --timeout-s > 0")
     if args.rnx2rtkp is not None and args.rtklib_src is None:
         ap.error("--rnx2rtkp needs --rtklib-src DIR for the confs in DIR/conf")
     out = args.out.resolve()
@@ -619,7 +629,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         [sys.executable, "-m", "gnssatt", "attitude", "--help"], capture_output=True, text=True, check=True
     ).stdout
     options = help_options(exe_help)
-    settings = Settings(options, args.repeats, args.wrong_fix_m)
+    settings = Settings(options, args.repeats, args.wrong_fix_m, args.timeout_s)
     # The machine may be shared: the load beside the CPU count says how far wall times are inflated.
     machine = f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the start"
     report: dict[str, object] = {
