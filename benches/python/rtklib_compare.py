@@ -15,8 +15,9 @@ RTKLIB: ``--rnx2rtkp PATH``, or built from ``--rtklib-src DIR`` (``DIR/build.sh`
 its confs are read from ``DIR/conf`` and written, modified, into the output folder (the peer folder is never
 edited). Without ``--rtklib-src`` only gnssatt runs, and the table says RTKLIB was skipped.
 
-gnssatt: the ``gnssatt`` command of this interpreter, run as a user runs it (subprocess: interpreter start,
-import, reading, solving, CSV and plot written). Options it lacks (``--frequencies``, ``--base-position``...)
+gnssatt: ``gnssatt attitude`` of this interpreter's package (its console script beside ``sys.executable``,
+else ``python -m gnssatt``), run as a user runs it (subprocess: interpreter start, import, reading, solving,
+CSV and plot written). Options it lacks (``--frequencies``, ``--base-position``...)
 are detected from ``gnssatt attitude --help``; runs that need a missing one are skipped and say so.
 
 Metrics per tool and run: fix rate (RTKLIB Q=1, gnssatt ``fixed``) over the session's epochs; wrong fixes
