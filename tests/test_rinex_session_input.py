@@ -78,6 +78,14 @@ def test_labels_matched_within_tolerance(tmp_path: Path) -> None:
     with pytest.raises(RinexError, match="no epoch common") as err:
         session_input([a, c])
     assert a.path in str(err.value) and c.path in str(err.value)
+    # 100 Hz: labels 5 ms apart are not one epoch (the tolerance drops below half the 10 ms spacing)
+    fast = T0 + np.arange(4) * np.timedelta64(10, "ms")
+    d = _write(tmp_path / "d.rnx", ["G01"], ["C1C", "L1C"], time=fast)
+    e = _write(tmp_path / "e.rnx", ["G01"], ["C1C", "L1C"], time=fast + np.timedelta64(4, "ms"))
+    f = _write(tmp_path / "f.rnx", ["G01"], ["C1C", "L1C"], time=fast + np.timedelta64(5, "ms"))
+    assert session_input([d, e]).epochs_dropped == (0, 0)
+    with pytest.raises(RinexError, match="labels within 4999999 ns"):
+        session_input([d, f])
 
 
 def test_file_without_phase_is_named(tmp_path: Path) -> None:
@@ -132,12 +140,33 @@ def test_time_systems_to_gpst(tmp_path: Path) -> None:
     np.testing.assert_array_equal(si.time_gpst_ns, gps_ns(a.time) + 14_000_000_000)  # BDT = GPST - 14 s
 
 
+def test_glonass_time_labels_with_leap_seconds(tmp_path: Path) -> None:
+    t = T0 + np.arange(4) * np.timedelta64(1, "s")
+    gps = _write(tmp_path / "a.rnx", ["R01"], ["C1C", "L1C"], time=t)
+    # the same instants labelled in GLONASS time, UTC(SU) + 3 h = GPST - 18 s + 3 h in 2024
+    _write(tmp_path / "b.rnx", ["R01"], ["C1C", "L1C"], time=t + np.timedelta64(3 * 3600 - 18, "s"))
+    label = "         TIME OF FIRST OBS"
+    text = (tmp_path / "b.rnx").read_text().replace(f"     GPS{label}", f"     GLO{label}")
+    for leaps, shift in (("    18", 0), ("    17", 1)):
+        end = f"{'':60}END OF HEADER"
+        with_leaps = text.replace(end, f"{leaps:<60}LEAP SECONDS\n{end}")
+        (tmp_path / "c.rnx").write_text(with_leaps)
+        glo = read_obs(tmp_path / "c.rnx")
+        assert glo.time_system == "GLO" and glo.leap_seconds == int(leaps)
+        si = session_input([glo, glo])
+        np.testing.assert_array_equal(si.time_gpst_ns, gps_ns(gps.time) - shift * 1_000_000_000)
+    (tmp_path / "d.rnx").write_text(text)  # no LEAP SECONDS: the table (18 s since 2017)
+    np.testing.assert_array_equal(
+        session_input([read_obs(tmp_path / "d.rnx")] * 2).time_gpst_ns, gps_ns(gps.time)
+    )
+
+
 def test_bad_arguments() -> None:
     obs = _geonet()
     for kw in ({"systems": "GX"}, {"systems": ""}, {"systems": "GG"}, {"frequencies": 0}, {"frequencies": 4}):
         with pytest.raises(InvalidInputError):
             session_input(obs, **kw)  # type: ignore[arg-type]
-    with pytest.raises(InvalidInputError, match="two or more"):
+    with pytest.raises(InvalidInputError, match="2 to 16 receivers"):
         session_input(obs[:1])
 
 
@@ -171,3 +200,56 @@ def test_nav_input_klobuchar_and_leap_seconds() -> None:
     assert ni.klobuchar is not None and ni.klobuchar.shape == (8,)
     text = (d / "07590920.05n").read_text()
     assert float(text.split("ION ALPHA")[0].splitlines()[-1][2:14].replace("D", "E")) == ni.klobuchar[0]
+
+
+def _rinex4(v3_text: str) -> str:
+    """A RINEX 3 mixed navigation text in RINEX 4 layout: record markers, the header's GPS Klobuchar moved
+    into an ``ION`` record, and records the reader skips (a CNAV ephemeris, an STO record)."""
+    lines = v3_text.replace("\r", "").splitlines()
+    end = next(k for k, x in enumerate(lines) if "END OF HEADER" in x)
+    header = [x for x in lines[: end + 1] if x[60:].strip() not in ("IONOSPHERIC CORR", "TIME SYSTEM CORR")]
+    header[0] = f"{'4.00':>9}" + header[0][9:]
+    corr = {x[:4]: x[5:53] for x in lines[:end] if x[60:].strip() == "IONOSPHERIC CORR"}
+    a = [float(corr["GPSA"][12 * k : 12 * k + 12]) for k in range(4)]
+    b = [float(corr["GPSB"][12 * k : 12 * k + 12]) for k in range(4)]
+
+    def d19(*v: float) -> str:
+        return "".join(f"{x:19.12e}" for x in v)
+
+    body = [
+        "> ION G19 LNAV",
+        "    2021 01 01 00 00 00" + d19(*a[:3]),
+        "    " + d19(a[3], *b[:3]),
+        "    " + d19(b[3], 1.0),
+        "> STO G19 LNAV",
+        "    2021 01 01 00 00 00 GPUT      UTC(USNO)",
+        "    " + d19(0.0, 0.0, 0.0, 0.0),
+        "> EPH G20 CNAV",
+        *["    " + d19(0.0, 0.0, 0.0, 0.0)] * 9,
+    ]
+    message = {"G": "LNAV", "E": "INAV", "C": "D1"}
+    for x in lines[end + 1 :]:
+        if x[:1].isalpha():
+            msg = "D2" if x[:3] == "C05" else message[x[0]]
+            body.append(f"> EPH {x[:3]} {msg}")
+        body.append(x)
+    return "\n".join(header + body) + "\n"
+
+
+def test_rinex4_navigation_reads_as_rinex3(tmp_path: Path) -> None:
+    v3 = read_nav(DATA / "CBW100NLD_R_20210010000_01D_MN.rnx")
+    p = tmp_path / "v4.rnx"
+    p.write_text(_rinex4((DATA / "CBW100NLD_R_20210010000_01D_MN.rnx").read_text()))
+    v4 = read_nav(p)
+    assert v4.skipped == {"STO G LNAV": 1, "EPH G CNAV": 1}
+    np.testing.assert_array_equal(v4.kepler.sats, v3.kepler.sats)
+    for name, values in v3.kepler.fields.items():
+        np.testing.assert_array_equal(v4.kepler.fields[name], values, err_msg=name)
+    np.testing.assert_array_equal(v4.kepler.toe_ns, v3.kepler.toe_ns)
+    np.testing.assert_array_equal(v4.iono_alpha, v3.iono_alpha)
+    np.testing.assert_array_equal(v4.iono_beta, v3.iono_beta)
+    assert v4.leap_seconds == v3.leap_seconds == 18
+    bad = p.read_text().replace("> EPH E01 INAV\n", "")
+    p.write_text(bad)
+    with pytest.raises(RinexError, match="expected a record marker"):
+        read_nav(p)

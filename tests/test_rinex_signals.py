@@ -92,3 +92,16 @@ def test_rinex2_band1_prefers_c1(tmp_path: Path, band1: str) -> None:
     p = tmp_path / "x.05o"
     p.write_text(text)
     assert _labels(read_obs(p), "G")[0] == f"{band1}/L1"
+
+
+def test_rinex2_mixed_file(tmp_path: Path) -> None:
+    # the GEONET file relabelled as a mixed file in which G03 is GLONASS R03 and G07 Galileo E07
+    text = (geonet_dir() / "07590920.05o").read_text()
+    text = text.replace("G (GPS)  ", "M (MIXED)").replace("8G 3G 7G 8", "8R 3E 7G 8")
+    p = tmp_path / "mixed.05o"
+    p.write_text(text)
+    obs = read_obs(p)
+    assert {"R03", "E07", "G08"} <= set(obs.sats)
+    assert _labels(obs, "R") == ("C1/L1", "P2/L2", "")  # G1 C/A first, G2 P first ("PCABX")
+    assert _labels(obs, "E") == ("C1/L1", "", "")  # Galileo has no band 2
+    assert _labels(obs, "G") == ("C1/L1", "P2/L2", "")

@@ -10,7 +10,7 @@ the GPS-UTC leap seconds (the header's ``LEAP SECONDS`` where given, else the ta
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from os import PathLike
 
 import numpy as np
@@ -159,6 +159,9 @@ class RinexNav:
         (4,) Klobuchar coefficients of the GPS header (NaN if absent).
     leap_seconds
         GPS - UTC leap seconds of the header's ``LEAP SECONDS`` line, or None.
+    skipped
+        RINEX 4 records not read, counted per ``"<type> <system> <message>"`` (``"EPH G CNAV"``,
+        ``"STO G LNAV"``, ``"EOP G CNAV"``, ``"ION E IFNV"`` ...); empty for older files.
     """
 
     path: str
@@ -167,6 +170,7 @@ class RinexNav:
     iono_alpha: NDArray[np.float64]
     iono_beta: NDArray[np.float64]
     leap_seconds: int | None = None
+    skipped: dict[str, int] = field(default_factory=dict)
 
     def __add__(self, other: RinexNav) -> RinexNav:
         k = {f: np.concatenate([self.kepler.fields[f], other.kepler.fields[f]]) for f in KEPLER_FIELDS}
@@ -187,12 +191,18 @@ class RinexNav:
             iono_alpha=self.iono_alpha if np.all(np.isfinite(self.iono_alpha)) else other.iono_alpha,
             iono_beta=self.iono_beta if np.all(np.isfinite(self.iono_beta)) else other.iono_beta,
             leap_seconds=self.leap_seconds if self.leap_seconds is not None else other.leap_seconds,
+            skipped={
+                k: self.skipped.get(k, 0) + other.skipped.get(k, 0) for k in {**self.skipped, **other.skipped}
+            },
         )
 
 
 #: Record-start layout (0-based slices): year, month, day, hour, minute, second; separators; first field.
 _HEAD_V3 = (((4, 8), (9, 11), (12, 14), (15, 17), (18, 20), (21, 23)), (3, 8, 11, 14, 17, 20), 23)
 _HEAD_V2 = (((3, 5), (6, 8), (9, 11), (12, 14), (15, 17), (17, 22)), (2, 5, 8, 11, 14), 22)
+#: RINEX 4 ephemeris messages read, per system (the others, CNAV, CNV1-3, SBAS, IRNSS, are counted and
+#: skipped: the engine uses the legacy messages only).
+_V4_MESSAGES = {"G": ("LNAV",), "J": ("LNAV",), "E": ("INAV", "FNAV"), "C": ("D1", "D2"), "R": ("FDMA",)}
 #: Lines of a record per system letter (GLONASS: 5 lines from RINEX 3.05 on).
 _RECORD_LINES = {"G": 8, "E": 8, "C": 8, "J": 8, "I": 8, "S": 4, "R": 4}
 
@@ -221,11 +231,15 @@ def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) ->
 
 
 def read_nav(path: str | PathLike[str]) -> RinexNav:
-    """Read a RINEX 2.xx (GPS ``N`` or GLONASS ``G``) or 3.xx (any system) navigation file.
+    """Read a RINEX 2.xx (GPS ``N`` or GLONASS ``G``), 3.xx or 4.xx (any system) navigation file.
 
-    SBAS, IRNSS and RINEX 4 message records are not read (RINEX 4 files are refused). Records are kept in
-    file order, repeated ones included: navigation files are grouped by satellite, not sorted in time, and
-    merged files carry one record per message type (Galileo I/NAV and F/NAV share a time of clock).
+    SBAS and IRNSS records are not read. RINEX 4 files: the ephemeris messages the engine uses are read
+    (``EPH`` records of GPS/QZSS ``LNAV``, Galileo ``INAV``/``FNAV``, BeiDou ``D1``/``D2``, GLONASS
+    ``FDMA``) and the Klobuchar coefficients of the first GPS ``ION ... LNAV`` record (RINEX 4 moved them out
+    of the header); every other record (``CNAV``, ``CNV1-3``, ``STO``, ``EOP``, other ``ION``) is skipped and
+    counted in :attr:`RinexNav.skipped`. Records are kept in file order, repeated ones included: navigation
+    files are grouped by satellite, not sorted in time, and merged files carry one record per message type
+    (Galileo I/NAV and F/NAV share a time of clock).
 
     Raises
     ------
@@ -246,8 +260,8 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
     if not lines or lines[0][60:80].strip() != "RINEX VERSION / TYPE":
         raise RinexError(p, 1, "expected 'RINEX VERSION / TYPE' in columns 61-80")
     version = number(p, 1, lines[0][0:9], "the RINEX version")
-    if not (2.0 <= version < 4.0):
-        raise RinexError(p, 1, f"unknown navigation file version {version}: expected 2.xx or 3.xx")
+    if not (2.0 <= version < 5.0):
+        raise RinexError(p, 1, f"unknown navigation file version {version}: expected 2.xx, 3.xx or 4.xx")
     ftype = lines[0][20:21]
     if version < 3 and ftype not in ("N", "G"):
         raise RinexError(p, 1, f"expected a GPS ('N') or GLONASS ('G') navigation file, got type {ftype!r}")
@@ -301,6 +315,7 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
     glo_epoch: list[int] = []
     i = body
     n = len(lines)
+    skipped: dict[str, int] = {}
     while i < n:
         line = lines[i]
         lineno = i + 1
@@ -308,6 +323,28 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
         if not line.strip():
             i += 1
             continue
+        if version >= 4:
+            if line[0] != ">":
+                raise RinexError(
+                    p, lineno, f"expected a record marker such as '> EPH G01 LNAV', got {line[:40]!r}"
+                )
+            kind, sat4, message = [*line[1:].split(), "", "", ""][:3]
+            end = i + 1
+            while end < n and not lines[end].startswith(">"):
+                end += 1
+            if kind == "EPH" and message in _V4_MESSAGES.get(sat4[0:1], ()):
+                if end == i + 1:
+                    raise RinexError(p, lineno, f"the record marker {line.strip()!r} has no record after it")
+                i += 1  # the record follows in the layout of RINEX 3
+                line, lineno = lines[i], i + 1
+            else:
+                if kind == "ION" and sat4[0:1] == "G" and message == "LNAV" and np.isnan(alpha[0]):
+                    alpha, beta = _v4_klobuchar(p, lines, i, end)
+                else:
+                    key = f"{kind} {sat4[0:1]} {message}"
+                    skipped[key] = skipped.get(key, 0) + 1
+                i = end
+                continue
         if v3:
             sysc = line[0]
             prn = integer(p, lineno, line[1:3], "the satellite number")
@@ -393,5 +430,24 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
         health=gr[:, 6],
     )
     return RinexNav(
-        path=p, kepler=kepler, glonass=glonass, iono_alpha=alpha, iono_beta=beta, leap_seconds=leaps
+        path=p,
+        kepler=kepler,
+        glonass=glonass,
+        iono_alpha=alpha,
+        iono_beta=beta,
+        leap_seconds=leaps,
+        skipped=skipped,
     )
+
+
+def _v4_klobuchar(
+    p: str, lines: list[str], i: int, end: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Alpha and beta of a RINEX 4 ``> ION G.. LNAV`` record: an epoch with alpha0-2, then alpha3 and
+    beta0-2, then beta3 and the region flag."""
+    if end - i < 4:
+        raise RinexError(p, i + 1, f"a GPS ION record has 3 lines, this one {end - i - 1}")
+    v = _values(p, i + 2, lines[i + 1], 23, 3)
+    v += _values(p, i + 3, lines[i + 2], 4, 4)
+    v += _values(p, i + 4, lines[i + 3], 4, 1)
+    return np.array(v[:4]), np.array(v[4:8])

@@ -1,10 +1,11 @@
 """Simulated antenna arrays written as RINEX 3 files with a known truth: a static or rotating platform at a
-fixed point, the nominal GPS constellation (broadcast records that reproduce its orbits), independent
-receiver clocks, white code and phase noise, constant integer ambiguities (no slips).
+fixed point, nominal GPS, GLONASS, Galileo, BeiDou and QZSS orbits written as broadcast records, every
+range computed from those records (light time, Earth rotation, satellite clocks), independent receiver
+clocks in code and phase, white code, phase and Doppler noise, integer ambiguities with optional slips
+(:func:`simulate_gnss_rinex`; :func:`simulate_rinex_array` is its GPS L1 form).
 
-The simulator applies the receiver clock biases to the pseudoranges only (every receiver samples at the
-true epoch), while the reader moves the phases by ``range rate x clock difference``: the biases are kept
-below 1e-7 s so that this mismatch stays under 0.2 mm."""
+:func:`write_array_rinex` writes the far-field measurements of :func:`gnssatt.sim.simulate_array` (GPS L1,
+the two-body orbits themselves, no light time) for tests of the phase-only estimators."""
 
 from __future__ import annotations
 
@@ -21,9 +22,17 @@ from gnssatt._arrays import instance, integer, scalar, shaped
 from gnssatt.errors import InvalidInputError, WorkLimitError
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex._fields import folder_path, sat_list
-from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
+from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
 
-__all__ = ["SimulatedRinex", "simulate_rinex_array", "write_array_rinex"]
+__all__ = [
+    "SIM_CODES",
+    "SimulatedGnss",
+    "SimulatedRinex",
+    "gnss_constellation",
+    "simulate_gnss_rinex",
+    "simulate_rinex_array",
+    "write_array_rinex",
+]
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 
@@ -81,7 +90,9 @@ def simulate_rinex_array(
     lon_deg: float = 36.2,
     start_s: float = 0.0,
 ) -> SimulatedRinex:
-    """Simulate an array and write its RINEX 3 files into ``folder``.
+    """Simulate a GPS L1 array and write its RINEX 3 files into ``folder``: :func:`simulate_gnss_rinex`
+    with ``systems="G"``, ``frequencies=1``, receiver clocks within 1e-7 s and the file names
+    ``ant<i>.24o`` and ``sim.24n``.
 
     Parameters
     ----------
@@ -120,59 +131,22 @@ def simulate_rinex_array(
     WorkLimitError
         More than ``MAX_EPOCHS`` epochs.
     """
-    folder = folder_path("folder", folder)
-    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant >= 2, 3)", (None, 3))
-    if ant.shape[0] < 2:
-        raise InvalidInputError(f"expected antennas_body_m of shape (n_ant >= 2, 3), got {ant.shape}")
-    if np.any(np.abs(ant) > MAX_ANTENNA_M):
-        raise InvalidInputError(f"expected |antennas_body_m| <= {MAX_ANTENNA_M} m per coordinate")
     eul = shaped("euler_deg", euler_deg, "(3,) or (n_ep >= 1, 3)", (3,), (None, 3))
     if eul.shape == (3,):
         eul = np.tile(eul, (10, 1))
     if eul.shape[0] < 1:
         raise InvalidInputError(f"expected euler_deg of shape (3,) or (n_ep >= 1, 3), got {eul.shape}")
-    if np.any(np.abs(eul) > MAX_ANGLE_DEG):
-        raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
     if eul.shape[0] > MAX_EPOCHS:
         raise WorkLimitError(f"euler_deg has {eul.shape[0]} epochs, above the limit of {MAX_EPOCHS}")
-    interval_s = scalar("interval_s", interval_s, minimum=0.0, maximum=MAX_INTERVAL_S, strict=True, unit="s")
-    seed = integer("seed", seed, minimum=0)
-    if n_sats is not None:
-        n_sats = integer("n_sats", n_sats, minimum=1)
-    code_sigma_m = scalar("code_sigma_m", code_sigma_m, minimum=0.0, maximum=MAX_SIGMA_M, unit="m")
-    phase_sigma_m = scalar("phase_sigma_m", phase_sigma_m, minimum=0.0, maximum=MAX_SIGMA_M, unit="m")
-    elevation_min_deg = scalar("elevation_min_deg", elevation_min_deg, minimum=-90.0, maximum=90.0)
-    lat_deg = scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0)
-    lon_deg = scalar("lon_deg", lon_deg, minimum=-360.0, maximum=360.0)
-    start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
-    rng = np.random.default_rng(seed)
-    rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=150.0)
-    gps = sim.gps_nominal()
-    t = start_s + np.arange(len(eul)) * interval_s
-    el = np.degrees(np.arcsin(sim.line_of_sight(rx, gps, t).los[..., 2]))
-    keep = np.all(el > elevation_min_deg, axis=0)
-    if n_sats is not None:
-        order = np.argsort(-np.where(keep, el[0], -90.0))
-        keep = np.zeros_like(keep)
-        keep[order[:n_sats]] = True
-    vis = gps.select(list(np.array(gps.ids)[keep]))
-    geom = sim.line_of_sight(rx, vis, t)
-    rot = rotation_from_euler(eul)
-    meas = sim.simulate_array(
-        geom,
-        rot,
-        ant,
-        vis.wavelengths_m(),
-        rng,
-        code_sigma_m=code_sigma_m,
-        phase_sigma_m=phase_sigma_m,
-        clock_bias_s=rng.uniform(-1e-7, 1e-7, size=len(ant)),
-    )
-    paths, nav = write_array_rinex(folder, meas, t, gps, vis.ids, rx)
-    rel = ant[1:] - ant[0]
-    truth = np.einsum("tij,aj->tai", rot.as_matrix(), rel)
-    times = T0 + (t * 1e9).astype("timedelta64[ns]")
-    return SimulatedRinex(paths, nav, times, eul, truth, tuple(vis.ids))
+    rng = np.random.default_rng(integer("seed", seed, minimum=0))
+    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant >= 2, 3)", (None, 3))
+    s = simulate_gnss_rinex(
+        folder, ant, eul, systems="G", frequencies=1, interval_s=interval_s, start_s=start_s, rng=rng,
+        receiver_clock_s=rng.uniform(-1e-7, 1e-7, size=len(ant)), code_sigma_m=code_sigma_m,
+        phase_sigma_m=phase_sigma_m, elevation_min_deg=elevation_min_deg, lat_deg=lat_deg, lon_deg=lon_deg,
+        n_sats=n_sats, file_names=("ant{i}.24o", "sim.24n"),
+    )  # fmt: skip
+    return SimulatedRinex(s.obs_paths, s.nav_path, s.time, s.euler_deg, s.baselines_enu_m, s.sats)
 
 
 def write_array_rinex(
@@ -225,3 +199,369 @@ def write_array_rinex(
         write_obs(p, times, list(sat_ids), obs, approx_position_m=receiver.position_ecef_m)
         paths.append(p)
     return tuple(paths), nav
+
+
+#: Observation codes the multi-GNSS simulation writes per system and slot (RINEX 3.04 band + attribute):
+#: GPS L1 C/A, L2 P(Y) semi-codeless, L5 Q; GLONASS G1 C/A, G2 P (no G3: FDMA only); Galileo E1 C, E5b Q,
+#: E5a Q; BeiDou B1I, B2I, B3I; QZSS L1 C/A, L2C (L), L5 Q.
+SIM_CODES: dict[str, tuple[str | None, str | None, str | None]] = {
+    "G": ("1C", "2W", "5Q"),
+    "R": ("1C", "2P", None),
+    "E": ("1C", "7Q", "5Q"),
+    "C": ("2I", "7I", "6I"),
+    "J": ("1C", "2L", "5Q"),
+}
+#: Largest receiver or satellite clock offset accepted, s.
+MAX_CLOCK_S = 1e-3
+_C = 299_792_458.0
+#: Half-step of the central difference that gives the Doppler, s (its truncation error, rho''' h^2 / 6,
+#: is below 1e-9 m/s).
+_DOPPLER_H_S = 0.05
+
+
+@dataclass(frozen=True)
+class SimulatedGnss:
+    """Files and truth of :func:`simulate_gnss_rinex`.
+
+    Attributes
+    ----------
+    obs_paths
+        One RINEX 3.04 observation file per antenna (``gnss<i>.rnx``), the reference antenna first.
+    nav_path
+        Mixed RINEX 3.04 navigation file (``gnss_nav.rnx``) whose records gave every range.
+    time
+        (n_ep,) epoch labels (GPST), ``datetime64[ns]``; every receiver labels the same epochs.
+    sats
+        Satellites written (above the mask at every epoch at the reference antenna).
+    euler_deg
+        (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` of the platform (body -> ENU), degrees.
+    baselines_enu_m
+        (n_ep, n_ant - 1, 3) true baselines antenna i - antenna 0 in East-North-Up at antenna 0, m.
+    antenna_ecef_m
+        (n_ep, n_ant, 3) true antenna positions, ECEF, m (the header position is that of epoch 0).
+    receiver_clock_s
+        (n_ant,) receiver clock offsets: each receiver labels ``T`` the true instant ``T - clock``, s.
+    satellite_clock_s
+        (n_sat,) broadcast clock bias ``af0`` (GLONASS ``-tau_n``) written, s.
+    glonass_channels
+        GLONASS id -> FDMA channel (written as ``GLONASS SLOT / FRQ #`` and in the records).
+    ambiguities
+        (n_ant, n_sat, 3) integer phase ambiguities of the first epoch, cycles.
+    slips
+        The slips applied: (epoch, antenna, satellite, slot, jump in cycles).
+    elevation_deg
+        (n_ep, n_sat) elevation at the reference antenna, degrees.
+    """
+
+    obs_paths: tuple[Path, ...]
+    nav_path: Path
+    time: NDArray[np.datetime64]
+    sats: tuple[str, ...]
+    euler_deg: NDArray[np.float64]
+    baselines_enu_m: NDArray[np.float64]
+    antenna_ecef_m: NDArray[np.float64]
+    receiver_clock_s: NDArray[np.float64]
+    satellite_clock_s: NDArray[np.float64]
+    glonass_channels: dict[str, int]
+    ambiguities: NDArray[np.int64]
+    slips: tuple[tuple[int, int, str, int, int], ...]
+    elevation_deg: NDArray[np.float64]
+
+
+def gnss_constellation(systems: str = "GRECJ", *, lon_deg: float = 36.2) -> sim.Constellation:
+    """Nominal orbits of the systems named: GPS (:func:`~gnssatt.sim.gps_nominal`), GLONASS
+    (:func:`~gnssatt.sim.glonass_nominal`, FDMA channels per slot), Galileo (Walker 56: 24/3/1 at
+    29,600 km, E01-E24), BeiDou MEO (Walker 55: 24/3/1 at 27,906 km, C19-C42; no GEO), QZSS (three
+    circular geosynchronous orbits inclined 41 degrees on one figure-eight centred on ``lon_deg``, J01-J03).
+
+    Raises
+    ------
+    InvalidInputError
+        ``systems`` not distinct letters of ``"GRECJ"``.
+    """
+    letters = instance("systems", systems, str, "letters of 'GRECJ'")
+    if not letters or any(c not in "GRECJ" for c in letters) or len(set(letters)) != len(letters):
+        raise InvalidInputError(f"expected systems as distinct letters of 'GRECJ', got {systems!r}")
+    lon = scalar("lon_deg", lon_deg, minimum=-360.0, maximum=360.0)
+    parts = []
+    for s in "GRECJ":
+        if s not in letters:
+            continue
+        if s == "G":
+            c = sim.gps_nominal()
+        elif s == "R":
+            c = sim.glonass_nominal()
+        elif s == "E":
+            c = sim.walker(24, 3, 1, inclination_deg=56.0, semi_major_axis_m=29_600_318.0, prefix="E")
+        elif s == "C":
+            w = sim.walker(24, 3, 1, inclination_deg=55.0, semi_major_axis_m=27_906_100.0, prefix="C")
+            c = sim.Constellation(
+                tuple(f"C{k + 19:02d}" for k in range(24)), w.orbits, w.frequencies_hz, w.slots,
+                w.glonass_channels,
+            )  # fmt: skip
+        else:
+            # the figure-eight of a geosynchronous orbit is centred on RAAN + u0 (ECEF at t = 0)
+            raan = np.radians(lon + np.array([0.0, 120.0, 240.0]))
+            orbits = sim.KeplerOrbits.circular(
+                np.full(3, 42_164_200.0), np.full(3, np.radians(41.0)), raan, -raan + np.radians(lon)
+            )
+            c = sim.Constellation(
+                ("J01", "J02", "J03"), orbits, {"L1": np.full(3, 1575.42e6)}, ("",) * 3, np.zeros(3, np.int64)
+            )
+        parts.append(sim.Constellation(c.ids, c.orbits, {}, c.slots, c.glonass_channels))
+    out = parts[0]
+    for p in parts[1:]:
+        out = out + p
+    return out
+
+
+def simulate_gnss_rinex(
+    folder: str | PathLike[str],
+    antennas_body_m: ArrayLike,
+    euler_deg: ArrayLike,
+    *,
+    systems: str = "GRECJ",
+    frequencies: int = 3,
+    n_epochs: int = 10,
+    interval_s: float = 1.0,
+    start_s: float = 0.0,
+    rng: int | np.random.Generator | None = None,
+    receiver_clock_s: ArrayLike | None = None,
+    code_sigma_m: float = 0.3,
+    phase_sigma_m: float = 0.002,
+    doppler_sigma_hz: float = 0.05,
+    elevation_min_deg: float = 10.0,
+    slips: Sequence[tuple[int, int, str, int]] = (),
+    lat_deg: float = 50.0,
+    lon_deg: float = 36.2,
+    height_m: float = 150.0,
+    n_sats: int | None = None,
+    file_names: tuple[str, str] = ("gnss{i}.rnx", "gnss_nav.rnx"),
+) -> SimulatedGnss:
+    """Simulate a multi-GNSS, multi-frequency antenna array and write it as RINEX 3.04 with its truth.
+
+    Orbits (:func:`gnss_constellation`) become broadcast records (mixed navigation file,
+    :func:`~gnssatt.rinex.writer.write_nav_from_constellation`, random satellite clocks); every range is
+    then computed from those records as read back (:func:`~gnssatt.rinex.ephemeris.transmit_states`: light
+    time, Earth rotation during it, satellite clock), so that an engine that reads the files sees
+    consistent data. For antenna i with receiver clock ``dt_i`` and satellite clock ``dt_s``, at label T
+    (true reception ``T - dt_i``), slot wavelength ``lambda``:
+    ``P = rho + c (dt_i - dt_s) + e_P``, ``L = (rho + c (dt_i - dt_s)) / lambda + N + e_L / lambda``
+    (cycles, RINEX sign), ``D = -d(rho - c dt_s)/dt / lambda + e_D`` (Hz), C/N0 ``30 + 20 sin(el)`` dB-Hz;
+    no ionosphere, troposphere or group delay (none is written: no Klobuchar coefficients, TGD/BGD 0).
+    Codes per system and slot: :data:`SIM_CODES`.
+
+    Parameters
+    ----------
+    folder
+        Existing folder for ``gnss<i>.rnx`` and ``gnss_nav.rnx``.
+    antennas_body_m
+        (n_ant, 3) antenna positions in the body frame (as :func:`simulate_rinex_array`), 2 to 16 antennas.
+    euler_deg
+        (3,) platform attitude (static) or (n_epochs, 3) per epoch, eq. (5) angles, degrees.
+    systems
+        Letters of the systems, from ``"GRECJ"``.
+    frequencies
+        Slots written, 1 to 3 (GLONASS has two).
+    n_epochs, interval_s, start_s
+        Number of epochs (taken from ``euler_deg`` when it has a row per epoch), spacing (s, the session
+        at most ``MAX_SPAN_S``) and time of the first epoch after ``2024-03-01T10:00:00`` GPST (s, other
+        satellite geometries; ``|start_s|`` up to ``MAX_START_S``).
+    rng
+        Seed or generator of the clocks, ambiguities, noise and slip sizes.
+    receiver_clock_s
+        (n_ant,) receiver clock offsets, s; uniform in +-1e-4 s by default.
+    code_sigma_m, phase_sigma_m, doppler_sigma_hz
+        White noise of code (m), phase (m) and Doppler (Hz).
+    elevation_min_deg
+        Satellites below it at any epoch (at the reference antenna) are left out.
+    slips
+        (epoch, antenna, satellite id, slot): the ambiguity of that phase jumps by a random nonzero
+        integer from that epoch on and the loss-of-lock indicator is 1 there.
+    lat_deg, lon_deg, height_m
+        Geodetic position of the platform's reference point.
+    n_sats
+        Keep only this many satellites (the highest at the first epoch); None keeps all above the mask.
+    file_names
+        Names of the observation files (``{i}`` the antenna) and of the navigation file.
+
+    Raises
+    ------
+    InvalidTypeError
+        An argument of the wrong kind.
+    InvalidInputError
+        ``folder`` not an existing folder; shapes or ranges of the arguments (each named); a slip of an
+        epoch, antenna, satellite or slot not simulated; no satellite above the mask.
+    WorkLimitError
+        More than ``MAX_EPOCHS`` epochs.
+    """
+    from gnssatt.rinex.ephemeris import transmit_states
+    from gnssatt.rinex.nav import gps_ns, read_nav
+    from gnssatt.rinex.signals import slot_frequency_hz
+
+    folder = folder_path("folder", folder)
+    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
+    if not 2 <= ant.shape[0] <= 16 or np.any(np.abs(ant) > MAX_ANTENNA_M):
+        raise InvalidInputError(
+            f"expected antennas_body_m of shape (2..16, 3) within {MAX_ANTENNA_M} m, got {ant.shape}"
+        )
+    n_ant = ant.shape[0]
+    eul = shaped("euler_deg", euler_deg, "(3,) or (n_epochs, 3)", (3,), (None, 3))
+    if eul.ndim == 2:
+        n_epochs = eul.shape[0]
+    n_epochs = integer("n_epochs", n_epochs, minimum=1)
+    if n_epochs > MAX_EPOCHS:
+        raise WorkLimitError(f"{n_epochs} epochs requested, above the limit of {MAX_EPOCHS}")
+    if eul.ndim == 1:
+        eul = np.tile(eul, (n_epochs, 1))
+    if np.any(np.abs(eul) > MAX_ANGLE_DEG):
+        raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
+    n_freq = integer("frequencies", frequencies, minimum=1, maximum=3)
+    interval_s = scalar("interval_s", interval_s, minimum=0.0, maximum=MAX_INTERVAL_S, strict=True, unit="s")
+    start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
+    if (n_epochs - 1) * interval_s > MAX_SPAN_S:
+        raise WorkLimitError(
+            f"{n_epochs} epochs every {interval_s} s span more than the limit of {MAX_SPAN_S} s"
+        )
+    if n_sats is not None:
+        n_sats = integer("n_sats", n_sats, minimum=1)
+    if not (
+        isinstance(file_names, tuple)
+        and len(file_names) == 2
+        and all(isinstance(x, str) and x and "/" not in x for x in file_names)
+        and "{i}" in file_names[0]
+    ):
+        raise InvalidInputError(
+            f"expected file_names as two file names, the first with '{{i}}', got {file_names!r}"
+        )
+    gen = (
+        rng
+        if isinstance(rng, np.random.Generator)
+        else np.random.default_rng(None if rng is None else integer("rng", rng, minimum=0))
+    )
+    if receiver_clock_s is None:
+        dt_rx = gen.uniform(-1e-4, 1e-4, size=n_ant)
+    else:
+        dt_rx = shaped("receiver_clock_s", receiver_clock_s, f"({n_ant},)", (n_ant,))
+        if np.any(np.abs(dt_rx) > MAX_CLOCK_S):
+            raise InvalidInputError(f"expected |receiver_clock_s| <= {MAX_CLOCK_S} s")
+    sig = {
+        name: scalar(name, v, minimum=0.0, maximum=MAX_SIGMA_M, unit=unit)
+        for name, v, unit in (
+            ("code_sigma_m", code_sigma_m, "m"),
+            ("phase_sigma_m", phase_sigma_m, "m"),
+            ("doppler_sigma_hz", doppler_sigma_hz, "Hz"),
+        )
+    }
+    elevation_min_deg = scalar("elevation_min_deg", elevation_min_deg, minimum=-90.0, maximum=90.0)
+    rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=height_m)
+    allsats = gnss_constellation(systems, lon_deg=lon_deg)
+    t_s = start_s + np.arange(n_epochs) * interval_s
+    sat_clk = gen.uniform(-1e-4, 1e-4, size=len(allsats))
+    nav_path = folder / file_names[1]
+    write_nav_from_constellation(
+        nav_path, allsats, T0, start_s=start_s, span_s=float(t_s[-1] - t_s[0]) + 1.0, clock_bias_s=sat_clk
+    )
+    nav = read_nav(nav_path)
+    times = T0 + (t_s * 1e9).astype("timedelta64[ns]")
+    t_ns = gps_ns(times)
+    rot = rotation_from_euler(eul).as_matrix()  # (n_ep, 3, 3) body -> ENU
+    enu2ecef = rx.dcm_ecef_from_enu
+    pos = rx.position_ecef_m[None, None, :] + np.einsum("ij,tjk,ak->tai", enu2ecef, rot, ant)
+    ids = list(allsats.ids)
+    # geometry of every satellite at the reference antenna: visibility
+    up = enu2ecef[:, 2]
+    el = np.empty((n_epochs, len(ids)))
+    for e in range(n_epochs):
+        p, _, _, ok = transmit_states(nav, ids, int(t_ns[e]), pos[e, 0], receiver_clock_s=float(dt_rx[0]))
+        d = p - pos[e, 0]
+        el[e] = np.where(ok, np.degrees(np.arcsin(d @ up / np.linalg.norm(d, axis=1))), -90.0)
+    keep = np.all(el > elevation_min_deg, axis=0)
+    if n_sats is not None:
+        order = np.argsort(-np.where(keep, el[0], -90.0))
+        keep = np.zeros_like(keep)
+        keep[order[: min(n_sats, int(np.all(el > elevation_min_deg, axis=0).sum()))]] = True
+    if not keep.any():
+        raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg} at every epoch")
+    sats = [s for s, k in zip(ids, keep, strict=True) if k]
+    n_sat = len(sats)
+    channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
+    lam = np.full((n_sat, 3), np.nan)
+    for k, s in enumerate(sats):
+        for slot in range(n_freq):
+            if SIM_CODES[s[0]][slot] is not None:
+                f = slot_frequency_hz(s[0], slot, channels.get(s))
+                lam[k, slot] = _C / f if f else np.nan
+    rho = np.empty((n_epochs, n_ant, n_sat))
+    rate = np.empty((n_epochs, n_ant, n_sat))
+    clk = np.empty((n_epochs, n_ant, n_sat))
+    for e in range(n_epochs):
+        for i in range(n_ant):
+            r = []
+            for h in (0.0, -_DOPPLER_H_S, _DOPPLER_H_S):
+                p, c, _, _ = transmit_states(
+                    nav, sats, int(t_ns[e] + round(h * 1e9)), pos[e, i], receiver_clock_s=float(dt_rx[i])
+                )
+                r.append((np.linalg.norm(p - pos[e, i], axis=1), c))
+            rho[e, i], clk[e, i] = r[0]
+            rate[e, i] = ((r[2][0] - _C * r[2][1]) - (r[1][0] - _C * r[1][1])) / (2 * _DOPPLER_H_S)
+    amb = gen.integers(-1000, 1000, size=(n_ant, n_sat, 3))
+    jumps = np.zeros((n_epochs, n_ant, n_sat, 3), dtype=np.int64)
+    lli = np.zeros((n_epochs, n_ant, n_sat, 3))
+    applied = []
+    for slip in slips:
+        if not (isinstance(slip, tuple | list) and len(slip) == 4):
+            raise InvalidInputError(f"expected slips as (epoch, antenna, satellite, slot), got {slip!r}")
+        e, i, s, slot = slip
+        if not (0 <= e < n_epochs and 0 <= i < n_ant and s in sats and 0 <= slot < n_freq) or np.isnan(
+            lam[sats.index(s), slot]
+        ):
+            raise InvalidInputError(
+                f"expected a slip of a simulated epoch, antenna, satellite and slot, got {slip!r}"
+            )
+        size = int(gen.integers(1, 50)) * (1 if gen.random() < 0.5 else -1)
+        jumps[e:, i, sats.index(s), slot] += size
+        lli[e, i, sats.index(s), slot] = 1
+        applied.append((int(e), int(i), str(s), int(slot), size))
+    geo = rho + _C * (dt_rx[None, :, None] - clk)  # (n_ep, n_ant, n_sat)
+    shape = (n_epochs, n_ant, n_sat, 3)
+    code = geo[..., None] + sig["code_sigma_m"] * gen.standard_normal(shape)
+    phase = (geo[..., None] + sig["phase_sigma_m"] * gen.standard_normal(shape)) / lam + amb + jumps
+    doppler = -rate[..., None] / lam + sig["doppler_sigma_hz"] * gen.standard_normal(shape)
+    snr = np.broadcast_to(30.0 + 20.0 * np.sin(np.radians(el[:, keep]))[:, None, :, None], shape)
+    valid = np.isfinite(lam)[None, None]
+    code, phase, doppler = (np.where(valid, x, np.nan) for x in (code, phase, doppler))
+    paths = []
+    for i in range(n_ant):
+        obs: dict[str, NDArray[np.float64]] = {}
+        flags: dict[str, NDArray[np.float64]] = {}
+        for k, s in enumerate(sats):
+            for slot, band in enumerate(SIM_CODES[s[0]][:n_freq]):
+                if band is None:
+                    continue
+                for kind, arr in (("C", code), ("L", phase), ("D", doppler), ("S", snr)):
+                    col = obs.setdefault(kind + band, np.full((n_epochs, n_sat), np.nan))
+                    col[:, k] = arr[:, i, k, slot]
+                flags.setdefault("L" + band, np.zeros((n_epochs, n_sat)))[:, k] = lli[:, i, k, slot]
+        p = folder / file_names[0].format(i=i)
+        write_obs(
+            p, times, sats, obs, approx_position_m=pos[0, i], marker_name=f"ANT{i}", lli=flags,
+            glonass_channels=channels,
+        )  # fmt: skip
+        paths.append(p)
+    rel = ant[1:] - ant[0]
+    return SimulatedGnss(
+        obs_paths=tuple(paths),
+        nav_path=nav_path,
+        time=times,
+        sats=tuple(sats),
+        euler_deg=eul,
+        baselines_enu_m=np.einsum("tij,aj->tai", rot, rel),
+        antenna_ecef_m=pos,
+        receiver_clock_s=dt_rx,
+        satellite_clock_s=sat_clk[keep],
+        glonass_channels=channels,
+        ambiguities=amb.astype(np.int64),
+        slips=tuple(applied),
+        elevation_deg=el[:, keep],
+    )

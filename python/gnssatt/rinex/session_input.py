@@ -22,10 +22,12 @@ from gnssatt.rinex.signals import SignalChoice, choose_signals
 
 __all__ = [
     "MATCH_TOLERANCE_NS",
+    "MAX_RECEIVERS",
     "NO_CHANNEL",
     "SYSTEMS",
     "NavInput",
     "SessionInput",
+    "SystemDroppedWarning",
     "nav_input",
     "session_input",
 ]
@@ -34,11 +36,14 @@ __all__ = [
 SYSTEMS = "GRECJ"
 #: Slots per system (``MAX_FREQUENCIES`` of the core).
 SLOTS = 3
-#: Epoch labels of two files closer than this are the same epoch, ns: RTKLIB's ``DTTOL`` (25 ms). Receivers
+#: Epoch labels of two files closer than this are the same epoch, ns: RTKLIB's ``DTTOL`` (25 ms), or less
+#: than half the shortest epoch spacing of the files where that is shorter (high-rate data). Receivers
 #: that do not steer their clock label epochs off the whole second (the GEONET pair: up to 9 ms apart, so a
 #: 1 us rule keeps 12 of its 120 epochs); the engine estimates each receiver's clock from its code, which
 #: takes the label difference in, so matched labels need not be equal.
 MATCH_TOLERANCE_NS = 25_000_000
+#: Most receivers of a session (``MAX_RECEIVERS`` of the core).
+MAX_RECEIVERS = 16
 #: ``glonass_channel`` of a satellite that is not GLONASS or whose channel is unknown.
 NO_CHANNEL = 99
 _NS = 1_000_000_000
@@ -146,17 +151,25 @@ def _gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
     raise RinexError(obs.path, None, f"unknown time system {ts!r}: expected GPS, GLO, GAL, BDT, QZS or UTC")
 
 
-def _common(times: list[NDArray[np.int64]]) -> list[NDArray[np.int64]]:
-    """Per file, the index of each common epoch (epochs of the first file matched in every other file)."""
+def _tolerance(times: list[NDArray[np.int64]]) -> int:
+    """The matching tolerance, ns: :data:`MATCH_TOLERANCE_NS`, or less than half the shortest epoch spacing
+    of any file (then no two epochs of one file can match the same label)."""
+    spacing = [int(np.min(np.diff(t))) for t in times if len(t) > 1]
+    return min([MATCH_TOLERANCE_NS, *((d - 1) // 2 for d in spacing)])
+
+
+def _common(times: list[NDArray[np.int64]], tol: int) -> list[NDArray[np.int64]]:
+    """Per file, the index of each common epoch (epochs of the first file matched in every other file
+    within ``tol`` ns)."""
     ref = times[0]
     keep = np.ones(len(ref), dtype=bool)
     matches = []
     for t in times[1:]:
-        j = np.clip(np.searchsorted(t, ref), 1, max(len(t) - 1, 1))
-        j = np.where(np.abs(t[j - 1] - ref) <= np.abs(t[np.minimum(j, len(t) - 1)] - ref), j - 1, j)
-        j = np.minimum(j, len(t) - 1)
-        ok = np.abs(t[j] - ref) <= MATCH_TOLERANCE_NS
-        keep &= ok
+        # the nearer of the neighbours around each reference label
+        hi = np.clip(np.searchsorted(t, ref), 0, len(t) - 1)
+        lo = np.clip(hi - 1, 0, len(t) - 1)
+        j = np.where(np.abs(t[lo] - ref) <= np.abs(t[hi] - ref), lo, hi)
+        keep &= np.abs(t[j] - ref) <= tol
         matches.append(j)
     return [np.flatnonzero(keep)] + [m[keep] for m in matches]
 
@@ -209,7 +222,8 @@ def session_input(
         ``observations`` not a sequence of ``RinexObs``, ``systems`` not text, ``frequencies`` not an
         integer, ``nav`` not a ``RinexNav``.
     InvalidInputError
-        Fewer than two files; ``systems`` not distinct letters of ``"GRECJ"``; ``frequencies`` outside 1..3.
+        Fewer than two or more than :data:`MAX_RECEIVERS` files; ``systems`` not distinct letters of
+        ``"GRECJ"``; ``frequencies`` outside 1..3.
     RinexError
         A file without carrier-phase observations of the chosen systems and slots, no system left that
         every file has, no epoch common to all files, no satellite seen by every file (each message names
@@ -223,8 +237,10 @@ def session_input(
         instance(f"observations[{k}]", o, RinexObs, "a RinexObs (from read_obs)")
         for k, o in enumerate(observations)
     ]
-    if len(files) < 2:
-        raise InvalidInputError(f"expected observations of two or more receivers, got {len(files)}")
+    if not 2 <= len(files) <= MAX_RECEIVERS:
+        raise InvalidInputError(
+            f"expected observations of 2 to {MAX_RECEIVERS} receivers (the engine's limit), got {len(files)}"
+        )
     asked = _systems(systems)
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:
@@ -259,13 +275,14 @@ def session_input(
     if leaps is None and nav is not None:
         leaps = nav.leap_seconds
     times = [_gpst_ns(o, leaps) for o in files]
-    index = _common(times)
+    tol = _tolerance(times)
+    index = _common(times, tol)
     if len(index[0]) == 0:
         spans = "; ".join(f"{o.path}: {o.time[0]} to {o.time[-1]} ({o.time_system})" for o in files)
         raise RinexError(
             ", ".join(o.path for o in files),
             None,
-            f"no epoch common to all files (labels within {MATCH_TOLERANCE_NS} ns): {spans}",
+            f"no epoch common to all files (labels within {tol} ns): {spans}",
         )
     sats = _common_sats(files, choices, index, used)
     if not sats:

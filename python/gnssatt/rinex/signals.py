@@ -26,7 +26,7 @@ import numpy as np
 
 from gnssatt.rinex.obs import RinexObs
 
-__all__ = ["SLOT_BANDS", "SignalChoice", "choose_signals", "slot_bands"]
+__all__ = ["SLOT_BANDS", "SignalChoice", "choose_signals", "slot_bands", "slot_frequency_hz"]
 
 #: RINEX band digits of each system's slots (RINEX 3.03 on; see :func:`slot_bands` for older BeiDou).
 SLOT_BANDS: dict[str, tuple[str, str, str]] = {
@@ -35,6 +35,16 @@ SLOT_BANDS: dict[str, tuple[str, str, str]] = {
     "E": ("1", "7", "5"),
     "C": ("2", "7", "6"),
     "J": ("1", "2", "5"),
+}
+
+_MHZ = 1e6
+#: Carrier of each slot, Hz (module table of ``signal.rs``); GLONASS G1/G2 as (base, step per channel).
+_CARRIER_HZ: dict[str, tuple[float | tuple[float, float], ...]] = {
+    "G": (1575.42 * _MHZ, 1227.60 * _MHZ, 1176.45 * _MHZ),
+    "J": (1575.42 * _MHZ, 1227.60 * _MHZ, 1176.45 * _MHZ),
+    "E": (1575.42 * _MHZ, 1207.14 * _MHZ, 1176.45 * _MHZ),
+    "C": (1561.098 * _MHZ, 1207.14 * _MHZ, 1268.52 * _MHZ),
+    "R": ((1602.0 * _MHZ, 0.5625 * _MHZ), (1246.0 * _MHZ, 0.4375 * _MHZ), 1202.025 * _MHZ),
 }
 
 #: Attribute priority per system and slot, highest first (RTKLIB 2.4.3 ``codepris``; BeiDou slot 2 is
@@ -71,6 +81,17 @@ class SignalChoice:
         if self.code is None and self.phase is None:
             return ""
         return f"{self.code or ''}/{self.phase or ''}"
+
+
+def slot_frequency_hz(system: str, slot: int, glonass_channel: int | None = None) -> float | None:
+    """Carrier frequency of ``slot`` (0..2) of ``system``, Hz; None for a GLONASS FDMA slot without a
+    channel in -7..6 (as ``carrier_frequency_hz`` of the core)."""
+    f = _CARRIER_HZ[system][slot]
+    if isinstance(f, tuple):
+        if glonass_channel is None or not -7 <= glonass_channel <= 6:
+            return None
+        return f[0] + f[1] * glonass_channel
+    return f
 
 
 def slot_bands(system: str, version: float) -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]:

@@ -1,10 +1,11 @@
-"""Writing RINEX 3.04 observation and GPS navigation files, so that simulated scenarios run through the
+"""Writing RINEX 3.04 observation and (mixed) navigation files, so that simulated scenarios run through the
 whole recorded-data path with a known truth.
 
 :func:`write_nav_from_constellation` turns the simulator's two-body orbits into broadcast records that
 reproduce them exactly: with the scenario epoch ``T0`` (GPST label of ``t = 0``, ``theta0 = 0``) and
 ``toe`` at ``T0``, ``OMEGA0 = RAAN + omega_E sow(T0)``, ``M0`` the mean anomaly at ``t = 0``,
-``delta_n = n_sim - sqrt(mu_GPS / a^3)``, every harmonic correction and clock term zero.
+``delta_n = n_sim - sqrt(mu_sys / a^3)``, ``OMEGA_DOT = omega_sys - omega_E`` (zero for GPS), every
+harmonic correction zero.
 """
 
 from __future__ import annotations
@@ -16,16 +17,33 @@ from os import PathLike
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import instance, shaped
+from gnssatt._arrays import instance, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.rinex._fields import output_path, sat_list, time_labels
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import GPS_EPOCH, gps_ns
 from gnssatt.sim.constellation import Constellation
 
 __all__ = ["write_nav_from_constellation", "write_obs"]
 
-_MU_GPS = 3.986005e14
+#: Gravitational constants and Earth rotation rates of each system's ICD (GPS/QZSS IS-GPS-200, Galileo
+#: OS SIS ICD, BeiDou BDS-SIS-ICD); the simulator's Earth turns at ``_OMEGA_E``.
+_MU = {"G": 3.986005e14, "J": 3.986005e14, "E": 3.986004418e14, "C": 3.986004418e14, "R": 3.9860044e14}
 _OMEGA_E = 7.2921151467e-5
+_OMEGA = {"G": _OMEGA_E, "J": _OMEGA_E, "E": _OMEGA_E, "C": 7.292115e-5}
+_BDT_NS = 14 * 1_000_000_000
+_BDT_WEEK = 1356
+#: GPS - UTC written with GLONASS records (valid since 2017-01-01).
+_LEAP_SECONDS = 18
+_GLONASS_STEP_S = 1800
+#: Spacing of the Keplerian records written, s: every epoch is within 30 minutes of a ``toe``, well inside
+#: the 4-hour fit interval.
+_KEPLER_STEP_S = 3600
+#: Galileo data-source word of the records written: I/NAV E1-B, clock for E5b (bits 0 and 9).
+_DATA_SOURCE = 513.0
+#: Longest span the records of :func:`write_nav_from_constellation` cover, s (a day); largest ``|start_s|``
+#: (ten years).
+MAX_SPAN_S = 86400.0
+MAX_START_S = 3.2e8
 _WEEK_NS = 604_800 * 1_000_000_000
 _CODE = re.compile(r"[CLDS][1-9][A-Z]")
 #: Largest magnitude a 14.3f observation field holds; largest coordinate of APPROX POSITION XYZ (14.4f).
@@ -226,24 +244,57 @@ def _d19(x: float) -> str:
 
 
 def write_nav_from_constellation(
-    path: str | PathLike[str], constellation: Constellation, epoch_gpst: np.datetime64
+    path: str | PathLike[str],
+    constellation: Constellation,
+    epoch_gpst: np.datetime64,
+    *,
+    start_s: float = 0.0,
+    span_s: float = 0.0,
+    clock_bias_s: ArrayLike | None = None,
 ) -> NDArray[np.int64]:
-    """Write a RINEX 3.04 GPS navigation file whose records reproduce the simulator's orbits (module
-    docstring); the ECEF frame is the simulator's with ``theta0 = 0`` at ``epoch_gpst``.
+    """Write a RINEX 3.04 navigation file (mixed where the constellation is) whose records give the
+    simulator's orbits; the ECEF frame is the simulator's with ``theta0 = 0`` at ``epoch_gpst``.
+
+    Records start at ``epoch_gpst + start_s`` (whole seconds) and cover ``span_s`` after it. GPS,
+    Galileo, BeiDou and QZSS get a Keplerian record every hour (``toe`` on the record) that reproduces the
+    two-body orbit exactly (module docstring; each system's ``mu`` and ``omega_E``, BeiDou in BDT =
+    GPST - 14 s; satellites C01-C05 would be read as GEO and are refused). GLONASS gets state vectors (ECEF
+    position and velocity, no luni-solar acceleration) every 30 minutes, labelled in UTC with 18 leap
+    seconds (written as ``LEAP SECONDS``): the first from the two-body orbit, the next ones continuing it by
+    the ICD's equations of motion, whose J2 term moves it 99 m from the two-body orbit in 30 minutes; so
+    simulate ranges from the records read back (as :func:`gnssatt.rinex.scenario.simulate_gnss_rinex`
+    does), not from the orbits.
+
+    Parameters
+    ----------
+    path
+        Output file.
+    constellation
+        Satellites of ``G``, ``R``, ``E``, ``C``, ``J`` ids.
+    epoch_gpst
+        GPST label of the simulator's ``t = 0``.
+    start_s
+        Time of the first records after ``epoch_gpst``, s (rounded to whole seconds; ``|start_s|`` up to
+        ``MAX_START_S``).
+    span_s
+        Seconds after the first records that the records must cover (0 to ``MAX_SPAN_S``).
+    clock_bias_s
+        (n_sat,) satellite clock bias ``af0`` (GLONASS ``-tau_n``), s; zeros by default.
 
     Returns
     -------
     toe_ns
-        GPST nanoseconds of the records' time of ephemeris.
+        (n_sat,) GPST nanoseconds of each satellite's first record.
 
     Raises
     ------
     InvalidTypeError
         ``path`` not a path, ``constellation`` not a :class:`~gnssatt.sim.Constellation`, ``epoch_gpst``
-        not a datetime64.
+        not a datetime64, ``start_s``, ``span_s`` or ``clock_bias_s`` not real.
     InvalidInputError
-        ``path`` empty, a folder or in a missing folder; a constellation other than GPS; ``epoch_gpst``
-        not a single label in range.
+        ``path`` empty, a folder or in a missing folder; ids of other systems or BeiDou GEO ids (C01-C05,
+        C59-C63); ``epoch_gpst`` not a single label in range; ``start_s`` or ``span_s`` out of range;
+        ``clock_bias_s`` not finite (n_sat,) within 1 ms.
     """
     path = output_path("path", path)
     constellation = instance("constellation", constellation, Constellation, "a sim.Constellation")
@@ -251,33 +302,105 @@ def write_nav_from_constellation(
     if epoch.ndim != 0:
         raise InvalidInputError(f"expected epoch_gpst as one datetime64 label, got shape {epoch.shape}")
     epoch_gpst = epoch[()]
-    if any(not s.startswith("G") for s in constellation.ids):
-        raise InvalidInputError("expected a GPS constellation (ids 'Gnn')")
-    t_ns = int(gps_ns(np.array([epoch_gpst]))[0])
-    week, sow_ns = divmod(t_ns, _WEEK_NS)
-    sow = sow_ns * 1e-9
-    o = constellation.orbits
-    y, mo, d, hh, mi, sec = _parts(np.datetime64(epoch_gpst, "ns"))
+    start = round(scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s"))
+    span_s = scalar("span_s", span_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
+    ids = constellation.ids
+    n = len(ids)
+    bad = [s for s in ids if s[0] not in _MU or (s[0] == "C" and (int(s[1:]) <= 5 or int(s[1:]) >= 59))]
+    if bad:
+        raise InvalidInputError(
+            f"expected satellites of G, R, E, C (MEO/IGSO numbers 6-58), J, got {bad[:5]}"
+        )
+    clk = np.zeros(n) if clock_bias_s is None else shaped("clock_bias_s", clock_bias_s, f"({n},)", (n,))
+    if np.any(np.abs(clk) > 1e-3):
+        raise InvalidInputError(f"expected |clock_bias_s| <= 1e-3 s, got {np.max(np.abs(clk))}")
+    t0_ns = int(gps_ns(np.array([epoch_gpst]))[0])
+    systems = sorted({s[0] for s in ids})
     out = [
-        _hdr(f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}G", "RINEX VERSION / TYPE"),
+        _hdr(
+            f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
+            "RINEX VERSION / TYPE",
+        ),
         _hdr("gnssatt", "PGM / RUN BY / DATE"),
+        _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
         _hdr("", "END OF HEADER"),
     ]
-    for j, sat in enumerate(constellation.ids):
-        a = float(o.semi_major_axis_m[j])
-        dn = float(o.mean_motion_rad_s[j]) - np.sqrt(_MU_GPS / a**3)
-        rows = [
-            [0.0, 0.0, dn, float(o.mean_anomaly_rad[j])],
-            [0.0, float(o.eccentricity[j]), 0.0, np.sqrt(a)],
-            [sow, 0.0, float(o.raan_rad[j]) + _OMEGA_E * sow, 0.0],
-            [float(o.inclination_rad[j]), 0.0, float(o.arg_perigee_rad[j]), 0.0],
-            [0.0, 0.0, float(week), 0.0],
-            [2.0, 0.0, 0.0, 0.0],
-            [sow, 4.0],
-        ]
-        out.append(f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}" + _d19(0.0) * 3 + "\n")
-        for r in rows:
-            out.append("    " + "".join(_d19(v) for v in r) + "\n")
+    for j, sat in enumerate(ids):
+        step = _GLONASS_STEP_S if sat[0] == "R" else _KEPLER_STEP_S
+        times = [start + k * step for k in range(int(np.ceil(span_s / step)) + 1)]
+        if sat[0] == "R":
+            out += _glonass_records(sat, constellation, j, times, t0_ns, float(clk[j]))
+        else:
+            for t_r in times:
+                out += _kepler_record(sat, constellation, j, t_r, t0_ns + t_r * 1_000_000_000, float(clk[j]))
     with open(path, "w", encoding="ascii") as fh:
         fh.writelines(out)
-    return np.full(len(constellation.ids), t_ns, dtype=np.int64)
+    return np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
+
+
+def _record_start(sat: str, label_ns: int, clk: float) -> str:
+    """First line of a record: satellite, epoch (whole seconds since the GPS epoch, in the system's time
+    scale), clock bias, then two zero fields."""
+    y, mo, d, hh, mi, sec = _parts(GPS_EPOCH + np.timedelta64(label_ns, "ns"))
+    return (
+        f"{sat} {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d} {int(sec):02d}" + _d19(clk) + _d19(0.0) * 2 + "\n"
+    )
+
+
+def _kepler_record(
+    sat: str, constellation: Constellation, j: int, t_r: int, t_ns: int, clk: float
+) -> list[str]:
+    """Keplerian record of satellite ``j`` with ``toe`` ``t_r`` seconds after the simulator's ``t = 0``
+    (GPST ``t_ns``)."""
+    sy = sat[0]
+    o = constellation.orbits
+    # system time of the record: BDT runs 14 s behind GPST, the others with it
+    sys_ns = t_ns - (_BDT_NS if sy == "C" else 0)
+    week, sow_ns = divmod(sys_ns, _WEEK_NS)
+    sow = sow_ns * 1e-9
+    if sy == "C":
+        week -= _BDT_WEEK
+    a = float(o.semi_major_axis_m[j])
+    n_sim = float(o.mean_motion_rad_s[j])
+    dn = n_sim - np.sqrt(_MU[sy] / a**3)
+    # at toe the node's ECEF longitude is RAAN - omega_E t_r; it moves at -omega_E, the ICD model's at
+    # (OMEGA_DOT - omega_sys)
+    omega0 = float(o.raan_rad[j]) - _OMEGA_E * t_r + _OMEGA[sy] * sow
+    m0 = float(o.mean_anomaly_rad[j]) + n_sim * t_r
+    rows = [
+        [0.0, 0.0, dn, float(np.remainder(m0 + np.pi, 2 * np.pi) - np.pi)],
+        [0.0, float(o.eccentricity[j]), 0.0, np.sqrt(a)],
+        [sow, 0.0, float(np.remainder(omega0 + np.pi, 2 * np.pi) - np.pi), 0.0],
+        [float(o.inclination_rad[j]), 0.0, float(o.arg_perigee_rad[j]), _OMEGA[sy] - _OMEGA_E],
+        [0.0, _DATA_SOURCE if sy == "E" else 0.0, float(week), 0.0],
+        [2.0, 0.0, 0.0, 0.0],
+        # transmission time; GPS fit interval 4 h, QZSS fit-interval flag 0 (two hours)
+        [sow, 4.0 if sy == "G" else 0.0],
+    ]
+    return [_record_start(sat, sys_ns, clk)] + ["    " + "".join(_d19(v) for v in r) + "\n" for r in rows]
+
+
+def _glonass_records(
+    sat: str, constellation: Constellation, j: int, times: list[int], t0_ns: int, clk: float
+) -> list[str]:
+    """GLONASS records of satellite ``j`` at ``times`` (s after the simulator's ``t = 0``, GPST ``t0_ns``),
+    labelled in UTC: the first from the two-body orbit, each next one that record's state propagated by the
+    ICD's equations of motion (:func:`gnssatt.orbit.glonass_propagate`, 60 s steps as the ephemeris), so
+    that neighbouring records agree where either may be chosen (tens of metres apart otherwise: J2)."""
+    from gnssatt.orbit import glonass_propagate
+
+    r, v = constellation.select([constellation.ids[j]]).state_ecef(float(times[0]))
+    pos, vel = r[0], v[0]
+    channel = float(constellation.glonass_channels[j])
+    km = 1e-3
+    lines = []
+    for k, t_r in enumerate(times):
+        if k:
+            nxt = glonass_propagate(pos, vel, float(t_r - times[k - 1]), step_s=60.0)
+            pos, vel = nxt.position_m, nxt.velocity_m_s
+        label_ns = t0_ns + (t_r - _LEAP_SECONDS) * 1_000_000_000
+        lines.append(_record_start(sat, label_ns, clk))
+        for axis, extra in ((0, 0.0), (1, channel), (2, 0.0)):
+            vals = (pos[axis] * km, vel[axis] * km, 0.0, extra)
+            lines.append("    " + "".join(_d19(x) for x in vals) + "\n")
+    return lines
