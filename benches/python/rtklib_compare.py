@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import inspect
 import json
 import os
 import re
@@ -349,28 +348,27 @@ def geonet() -> Dataset:
 
 
 def simulated(folder: Path, n_epochs: int, seed: int) -> Dataset:
-    """A static 1 m baseline (heading 30 degrees) of ``n_epochs`` at 1 s, every system and frequency the
-    simulator offers (its optional ``systems``/``frequencies`` parameters, when it has them)."""
-    from gnssatt.rinex.scenario import simulate_rinex_array
+    """A static 1 m baseline (heading 30 degrees) of ``n_epochs`` at 1 s: every system and frequency of
+    ``simulate_gnss_rinex`` (GRECJ, 3 slots), or GPS L1 from ``simulate_rinex_array`` where the simulator
+    has only that."""
+    from gnssatt.rinex import scenario
 
     folder.mkdir(parents=True, exist_ok=True)
-    params = inspect.signature(simulate_rinex_array).parameters
-    extra: dict[str, object] = {}
-    if "systems" in params:
-        extra["systems"] = "GRECJ"
-    if "frequencies" in params:
-        extra["frequencies"] = 3
     ants = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
-    sim = simulate_rinex_array(folder, ants, np.tile([30.0, 0.0, 0.0], (n_epochs, 1)), seed=seed, **extra)
-    navs = tuple(getattr(sim, "nav_paths", None) or (sim.nav_path,))
+    euler = np.tile([30.0, 0.0, 0.0], (n_epochs, 1))
+    if hasattr(scenario, "simulate_gnss_rinex"):
+        sim = scenario.simulate_gnss_rinex(folder, ants, euler, systems="GRECJ", frequencies=3, rng=seed)
+    else:
+        sim = scenario.simulate_rinex_array(folder, ants, euler, seed=seed)
     truth = Reference(sim.baselines_enu_m[:, 0, :], gpst_seconds(sim.time), "simulation truth", True)
     return dataset(
         "sim",
         sim.obs_paths[0],
         sim.obs_paths[1],
-        navs,
+        (sim.nav_path,),
         truth,
-        f"simulated static 1 m baseline, {n_epochs} epochs at 1 s, seed {seed} (gnssatt.rinex.scenario)",
+        f"simulated static 1 m baseline, {n_epochs} epochs at 1 s, seed {seed} "
+        f"({len(sim.sats)} satellites of {''.join(dict.fromkeys(s[0] for s in sim.sats))})",
     )
 
 
