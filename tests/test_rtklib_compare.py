@@ -204,3 +204,14 @@ def test_table_puts_both_tools_side_by_side_with_notes(rc):  # type: ignore[no-u
         "| 0.20 \\| n/a | 2.00 \\| n/a |"
     )
     assert lines[-1] == "[1] sim static G f2 gnssatt: no --frequencies (band 1 only)"
+
+
+def test_run_plan_gps_then_cdma_then_every_system(rc):  # type: ignore[no-untyped-def]
+    def plan(bands):  # type: ignore[no-untyped-def]
+        return rc.run_plan(rc.Dataset("x", Path("b"), Path("r"), (), 1, None, bands, None, ""))
+
+    assert plan({"G": 2}) == [("G", 1), ("G", 2)]
+    full = plan({"G": 3, "R": 2, "E": 3, "C": 3, "J": 3})
+    assert [s for s, f in full if f == 1] == ["G", "GECJ", "GRECJ"]
+    assert [f for s, f in full if s == "GRECJ"] == [1, 2, 3]
+    assert plan({"G": 1, "R": 1}) == [("G", 1), ("GR", 1)]

@@ -423,11 +423,12 @@ def gnssatt_command(
 
 
 def run_plan(ds: Dataset) -> list[tuple[str, int]]:
-    """(systems, frequencies) to compare: GPS alone, then every system of both files; 1 .. all bands."""
-    sets = ["G"] if "G" in ds.bands else []
-    every = "".join(s for s in "GRECJ" if s in ds.bands)
-    if every and every not in sets:
-        sets.append(every)
+    """(systems, frequencies) to compare: GPS alone, every CDMA system (GLONASS's FDMA is a case of its
+    own), every system of both files; each with 1 .. all bands (at most 3)."""
+    present = "".join(s for s in "GRECJ" if s in ds.bands)
+    sets = list(
+        dict.fromkeys(x for x in ("G" if "G" in ds.bands else "", present.replace("R", ""), present) if x)
+    )
     return [(s, f) for s in sets for f in range(1, min(3, max(ds.bands[x] for x in s)) + 1)]
 
 
