@@ -110,3 +110,14 @@ def test_warnings_are_one_line_each(tmp_path: Path, capsys: pytest.CaptureFixtur
     err = capsys.readouterr().err.splitlines()
     assert err and all(line.startswith("gnssatt: warning: ") for line in err), err
     assert any("system E dropped" in line and "07590920.05o" in line for line in err), err
+
+
+def test_no_plot_writes_only_the_csv(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    d = geonet_dir()
+    out = tmp_path / "g.csv"
+    argv = ["attitude", "--obs", str(d / "07590920.05o"), "--obs", str(d / "30400920.05o")]
+    assert main([*argv, "--nav", str(d / "07590920.05n"), "--out", str(out), "--no-plot"]) == 0
+    assert out.exists() and not out.with_suffix(".png").exists()
+    assert f"wrote {out}\n" in capsys.readouterr().out
+    with out.open() as fh:
+        assert len(list(csv.reader(fh))) == 121

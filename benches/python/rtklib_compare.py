@@ -403,6 +403,8 @@ def gnssatt_command(
     for n in ds.nav:
         cmd += ["--nav", str(n)]
     cmd += ["--method", "lambda", "--motion", motion, "--elevation-mask", "10", "--out", str(out)]
+    if "--no-plot" in options:  # RTKLIB writes no plot either: time both to the solution file
+        cmd += ["--no-plot"]
     if systems != "G":
         if "--systems" not in options:
             return None, "no --systems"

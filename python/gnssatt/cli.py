@@ -138,7 +138,6 @@ def _reproduce(args: argparse.Namespace) -> int:
 def _attitude(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gnssatt.plots import attitude_series
     from gnssatt.rinex.attitude import attitude_from_rinex
 
     png = args.out.with_suffix(".png")
@@ -173,11 +172,15 @@ def _attitude(args: argparse.Namespace) -> int:
             window_deg=args.window,
         )
     series.to_csv(args.out)
-    attitude_series(series, png)
+    if not args.no_plot:
+        # matplotlib costs about a second: imported only when the plot is wanted
+        from gnssatt.plots import attitude_series
+
+        attitude_series(series, png)
     for w in caught:
         print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print(series.summary())
-    print(f"wrote {args.out} and {png}")
+    print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
     return 0
 
 
@@ -308,6 +311,9 @@ def _main(argv: Sequence[str] | None) -> int:
     )
     att.add_argument(
         "--out", type=Path, default=Path("results.csv"), help="CSV output (plot: same name .png)"
+    )
+    att.add_argument(
+        "--no-plot", action="store_true", help="write only the CSV (the plot costs about a second)"
     )
     _attitude_options(att)
     args = parser.parse_args(argv)

@@ -23,17 +23,19 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from os import PathLike
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import choice, flag, scalar, shaped
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError
 from gnssatt.rinex._fields import path_text
 from gnssatt.rinex.nav import RinexNav, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
+
+if TYPE_CHECKING:
+    from scipy.spatial.transform import Rotation
 
 __all__ = ["SYSTEMS", "AttitudeSeries", "EngineWarning", "attitude_from_rinex"]
 
@@ -151,6 +153,9 @@ class AttitudeSeries:
             raise InvalidInputError(
                 "rotation: expected attitude mode (body baselines given), got baseline mode"
             )
+        # Imported here: scipy.spatial costs 0.3-0.7 s that `gnssatt attitude` need not pay in baseline mode.
+        from scipy.spatial.transform import Rotation
+
         return Rotation.from_matrix(self.rotation_matrices[self.solved])
 
     def frequencies(self) -> NDArray[np.str_]:
