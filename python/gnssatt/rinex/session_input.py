@@ -18,7 +18,7 @@ from gnssatt._arrays import instance, integer
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, leap_seconds
 from gnssatt.rinex.obs import RinexObs
-from gnssatt.rinex.signals import SignalChoice, choose_signals
+from gnssatt.rinex.signals import SignalChoice, choose_signals, slot_frequency_hz
 
 __all__ = [
     "MATCH_TOLERANCE_NS",
@@ -40,14 +40,16 @@ SLOTS = 3
 #: Epoch labels of two files closer than this are the same epoch, ns: RTKLIB's ``DTTOL`` (25 ms), or less
 #: than half the shortest epoch spacing of the files where that is shorter (high-rate data). Receivers
 #: that do not steer their clock label epochs off the whole second (the GEONET pair: up to 9 ms apart, so a
-#: 1 us rule keeps 12 of its 120 epochs); the engine estimates each receiver's clock from its code, which
-#: takes the label difference in, so matched labels need not be equal.
+#: 1 us rule keeps 12 of its 120 epochs). Matched labels need not be equal: each file's code and phase are
+#: moved onto the first file's labels by :func:`_to_common_labels`.
 MATCH_TOLERANCE_NS = 25_000_000
 #: Most receivers of a session (``MAX_RECEIVERS`` of the core).
 MAX_RECEIVERS = 16
 #: ``glonass_channel`` of a satellite that is not GLONASS or whose channel is unknown.
 NO_CHANNEL = 99
 _NS = 1_000_000_000
+#: Speed of light, m/s.
+_C = 299_792_458.0
 #: Offsets of RINEX time systems to GPST at the same instant, s (GLONASS: UTC(SU) + 3 h, plus leap seconds).
 _TIME_OFFSET_S = {"GPS": 0, "GAL": 0, "QZS": 0, "IRN": 0, "BDT": 14}
 
@@ -323,12 +325,14 @@ def session_input(
         for k, s in enumerate(sats):
             for slot, c in enumerate(ch[s[0]]):
                 _fill(o, c, kept, cols[k], (r, slice(None), k, slot), code, phase, doppler, snr, lli)
+    channels = _channels(sats, files, nav)
+    _to_common_labels([t[k] for t, k in zip(times, index, strict=True)], sats, channels, code, phase)
     pos = np.array([o.approx_position_m for o in files], dtype=np.float64)
     pos[~np.any(pos != 0.0, axis=1)] = np.nan
     return SessionInput(
         time_gpst_ns=np.ascontiguousarray(times[0][index[0]]),
         sats=sats,
-        glonass_channel=_channels(sats, files, nav),
+        glonass_channel=channels,
         code_m=code,
         phase_cycles=phase,
         doppler_hz=doppler,
@@ -341,6 +345,47 @@ def session_input(
         },
         epochs_dropped=dropped,
     )
+
+
+def _to_common_labels(
+    labels: list[NDArray[np.int64]],
+    sats: tuple[str, ...],
+    channels: NDArray[np.int64],
+    code: NDArray[np.float64],
+    phase: NDArray[np.float64],
+) -> None:
+    """Move every receiver's code (m) and phase (cycles) in place from its own epoch labels onto the first
+    file's, exactly.
+
+    A receiver's code and phase are ``c (label - t_transmit)`` and ``f (label - t_transmit)`` plus terms
+    that do not depend on the label, where ``label`` is its clock's reading at the true reception instant.
+    The same instant read as ``label - delta`` (``delta`` = own label minus the first file's, s) gives
+    ``code - c delta`` and ``phase - f delta``: the engine then finds that receiver's clock offset smaller
+    by ``delta`` and the true reception instant unchanged. Left alone, the clock estimated from the code
+    absorbs ``c delta`` but the satellite geometry is computed ``delta`` away from the instant sampled, an
+    error of the range rate times ``delta`` that differs per satellite (GEONET 0759/3040: labels up to
+    9 ms apart, double-difference phase drifting by 35 L1 cycles over the hour). A phase whose carrier
+    frequency is unknown (GLONASS without a channel) cannot be moved and becomes NaN where ``delta != 0``.
+    """
+    freq = np.array(
+        [
+            [
+                np.nan if (f := slot_frequency_hz(s[0], slot, _channel(int(ch)))) is None else f
+                for slot in range(SLOTS)
+            ]
+            for s, ch in zip(sats, channels, strict=True)
+        ]
+    )  # (n_sat, SLOTS), Hz
+    for r in range(1, len(labels)):
+        delta_s = (labels[r] - labels[0]).astype(np.float64) * 1e-9  # exact: |difference| < 1 s in ns
+        moved = delta_s != 0.0
+        code[r, moved] -= _C * delta_s[moved, None, None]
+        phase[r, moved] -= freq[None] * delta_s[moved, None, None]
+
+
+def _channel(value: int) -> int | None:
+    """A GLONASS channel, or None for :data:`NO_CHANNEL`."""
+    return None if value == NO_CHANNEL else value
 
 
 def _fill(
