@@ -77,7 +77,9 @@ class SessionInput:
         (n_sat,) GLONASS FDMA channel, :data:`NO_CHANNEL` (99) for other systems or where unknown.
     code_m, phase_cycles, doppler_hz, snr_dbhz
         (n_rx, n_ep, n_sat, 3) pseudorange (m), carrier phase (cycles, RINEX sign), Doppler (Hz), C/N0
-        (dB-Hz as written) of each frequency slot; NaN where absent.
+        (dB-Hz as written) of each frequency slot; NaN where absent. Code and phase of every file are
+        referred to ``time_gpst_ns`` (the first file's labels): a file labelled ``delta`` s later has
+        ``c delta`` (m) and ``f delta`` (cycles) taken off, which keeps its true sampling instant.
     lli
         (n_rx, n_ep, n_sat, 3) loss-of-lock indicator of the phase; bit 0 also set where a dropped epoch
         (not common to all files) carried it since the previous kept epoch.
