@@ -48,12 +48,6 @@ def test_written_files_read_back(tmp_path: Path) -> None:
     assert np.max(np.linalg.norm(pos - truth, axis=1)) < 1e-3  # broadcast model reproduces two-body orbits
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known gap (issue 16): method='ml' in baseline mode takes the median float baseline length "
-    "(1.238 m for 1.2 m here) and the grid then converges on a wrong azimuth (293.8 deg for 40 deg); "
-    "it needs the fixed length the LAMBDA solution gives",
-)
 def test_two_antennas_baseline_direction(tmp_path: Path) -> None:
     paths, nav = _scenario(tmp_path, np.array([[0.0, 0, 0], [1.2, 0, 0]]))
     res = attitude_from_rinex(paths, nav, method="ml", elevation_mask_deg=5.0)

@@ -15,7 +15,8 @@ pub enum Motion {
 /// The estimator of each epoch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
-    /// `Lambda` for baselines beyond 100 m or when the grid cannot be searched, else `Ml`.
+    /// `Lambda` where every ambiguity of the epoch is fixed; otherwise the grid (`Ml`) below 100 m once
+    /// the baseline length is known to 1 % (body baselines, or fixed epochs), else the `Lambda` float.
     Auto,
     /// Ambiguity-function grid on the wrapped single differences (crate::likelihood).
     Ml,
@@ -40,7 +41,7 @@ impl ElevationSigma {
 }
 
 /// Engine settings. `Default` gives: every system, every frequency slot, 10 degree mask, base position
-/// from the code solution, moving platform, method auto, success-rate gate 0.999, ratio 3, phase
+/// from the code solution, moving platform, method auto, success-rate gate 0.5 (chosen by measured wrong-fix rates: docs/observation_engine.md), ratio 3, phase
 /// 3 mm + 3 mm / sin(el), code 0.3 m + 0.3 m / sin(el) (RTKLIB's defaults with its code/phase ratio 100).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EngineOptions {
@@ -82,7 +83,7 @@ impl Default for EngineOptions {
             motion: Motion::Moving,
             method: Method::Auto,
             continuity: false,
-            min_success_rate: 0.999,
+            min_success_rate: 0.5,
             ratio_threshold: 3.0,
             phase_sigma: ElevationSigma {
                 a_m: 0.003,
