@@ -135,24 +135,7 @@ impl EngineOptions {
                 ));
             }
         }
-        if !(0.0..=1.0).contains(&self.min_success_rate) {
-            return Err(Error::out_of_range(
-                "--min-success-rate",
-                format!(
-                    "expected a probability in [0, 1], got {}",
-                    self.min_success_rate
-                ),
-            ));
-        }
-        if !(self.ratio_threshold >= 1.0 && self.ratio_threshold.is_finite()) {
-            return Err(Error::out_of_range(
-                "--ratio-threshold",
-                format!(
-                    "expected a finite number >= 1, got {}",
-                    self.ratio_threshold
-                ),
-            ));
-        }
+        check_gate(self.min_success_rate, self.ratio_threshold)?;
         for (name, s) in [
             ("phase sigma", self.phase_sigma),
             ("code sigma", self.code_sigma),
@@ -191,4 +174,25 @@ impl EngineOptions {
         }
         Ok(())
     }
+}
+
+/// Checks the fixing gate: `min_success_rate` a probability, `ratio_threshold` finite and >= 1 (the one
+/// check of both, used by [`EngineOptions::validate`] and `rtk::FixOptions::validate`).
+///
+/// # Errors
+/// [`Error::OutOfRange`] naming the CLI option.
+pub fn check_gate(min_success_rate: f64, ratio_threshold: f64) -> Result<()> {
+    if !(0.0..=1.0).contains(&min_success_rate) {
+        return Err(Error::out_of_range(
+            "--min-success-rate",
+            format!("expected a probability in [0, 1], got {min_success_rate}"),
+        ));
+    }
+    if !(ratio_threshold >= 1.0 && ratio_threshold.is_finite()) {
+        return Err(Error::out_of_range(
+            "--ratio-threshold",
+            format!("expected a finite number >= 1, got {ratio_threshold}"),
+        ));
+    }
+    Ok(())
 }

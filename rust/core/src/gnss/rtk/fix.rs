@@ -8,6 +8,7 @@ use super::dd::validate;
 use super::float::{self, FloatSolution};
 use super::{BaselineSolution, DdEpoch, FixOptions, MAX_EPOCHS};
 use crate::error::{Error, Result};
+use crate::gnss::options::check_gate;
 use crate::lambda::bootstrap::success_rate;
 use crate::lambda::validation::{partial_fix, RatioThreshold};
 use crate::lambda::{Problem, DEFAULT_MAX_NODES};
@@ -22,25 +23,7 @@ impl FixOptions {
     /// # Errors
     /// [`Error::OutOfRange`] naming the CLI option.
     pub fn validate(&self) -> Result<()> {
-        if !(0.0..=1.0).contains(&self.min_success_rate) {
-            return Err(Error::out_of_range(
-                "--min-success-rate",
-                format!(
-                    "expected a probability in [0, 1], got {}",
-                    self.min_success_rate
-                ),
-            ));
-        }
-        if !(self.ratio_threshold >= 1.0 && self.ratio_threshold.is_finite()) {
-            return Err(Error::out_of_range(
-                "--ratio-threshold",
-                format!(
-                    "expected a finite threshold >= 1, got {}",
-                    self.ratio_threshold
-                ),
-            ));
-        }
-        Ok(())
+        check_gate(self.min_success_rate, self.ratio_threshold)
     }
 }
 
