@@ -20,7 +20,8 @@ pub struct EpochSolution {
     pub fixed_ambiguities: usize,
     /// Double-difference ambiguities of the float solution.
     pub ambiguities: usize,
-    /// Ratio-test statistic of the set fixed (NaN when nothing was fixed or for `Ml`).
+    /// Ratio-test statistic of the set fixed, or of the full float set when nothing passed (a high ratio
+    /// with nothing fixed means the success-rate gate refused the set); NaN for `Ml`.
     pub ratio: f64,
     /// Bootstrapped success rate of the full float ambiguity set (NaN for `Ml`).
     pub success_rate: f64,
