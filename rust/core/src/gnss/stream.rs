@@ -127,10 +127,63 @@ pub struct Engine {
     fixed_length: Vec<(f64, usize)>,
     /// Per rover: every epoch seen (static mode).
     static_epochs: Vec<Vec<DdEpoch>>,
+    /// Per rover: the code noise scale estimated so far (moving mode).
+    code_scale: Vec<CodeNoiseScale>,
     double_differences: [[u64; MAX_FREQUENCIES]; N_SYSTEMS],
     usable_signals: u64,
     warnings: Vec<String>,
     warned: BTreeSet<String>,
+}
+
+/// Degrees of freedom of code residuals before [`CodeNoiseScale`] departs from the model (its relative
+/// standard error is then `sqrt(2 / dof)` = 20 %).
+pub const CODE_SCALE_MIN_DOF: f64 = 50.0;
+
+/// Range of the code variance factor, `(0.1)^2 ..= 10^2`.
+pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (0.01, 100.0);
+
+/// Variance-component estimate of the receivers' code noise against the model (`--code-sigma`-like
+/// `a^2 + b^2 / sin^2 el`): the float solutions' weighted squared residuals over their degrees of freedom,
+/// summed over the epochs solved so far in moving mode (single epochs without held integers, where the
+/// residuals are the code double differences'). Real receivers are often several times quieter than the
+/// default model, which makes the float ambiguities look worse than they are and the success-rate gate
+/// refuse correct fixes; noisier receivers make it look better than it is. Scaling the code variances by
+/// the estimate keeps the gate's probability honest both ways; the model itself is used until
+/// [`CODE_SCALE_MIN_DOF`] residual degrees of freedom have been seen.
+#[derive(Debug, Clone, Copy, Default)]
+struct CodeNoiseScale {
+    /// Sum of weighted squared residuals with the model's (unscaled) variances.
+    chi2: f64,
+    dof: f64,
+}
+
+impl CodeNoiseScale {
+    /// The variance factor to apply to the model's code variances.
+    fn factor(&self) -> f64 {
+        if self.dof < CODE_SCALE_MIN_DOF {
+            return 1.0;
+        }
+        let (lo, hi) = CODE_SCALE_FACTOR_RANGE;
+        (self.chi2 / self.dof).clamp(lo, hi)
+    }
+
+    /// Adds a solution computed with the code variances scaled by `factor`.
+    fn add(&mut self, sol: &BaselineSolution, factor: f64) {
+        if sol.float_dof > 0 && sol.float_chi2.is_finite() {
+            self.chi2 += sol.float_chi2 * factor;
+            self.dof += sol.float_dof as f64;
+        }
+    }
+}
+
+/// `dd` with every code sigma scaled by `sqrt(factor)`.
+fn scale_code(dd: &DdEpoch, factor: f64) -> DdEpoch {
+    let mut out = dd.clone();
+    if factor != 1.0 {
+        let s = factor.sqrt();
+        out.signals.iter_mut().for_each(|p| p.sigma_code_m *= s);
+    }
+    out
 }
 
 /// Errors that leave an epoch unsolved rather than stop the session: everything but an interrupt or a
@@ -210,6 +263,7 @@ impl Engine {
             held: vec![Vec::new(); n_rovers],
             fixed_length: vec![(0.0, 0); n_rovers],
             static_epochs: vec![Vec::new(); n_rovers],
+            code_scale: vec![CodeNoiseScale::default(); n_rovers],
             double_differences: [[0; MAX_FREQUENCIES]; N_SYSTEMS],
             usable_signals: 0,
             warnings,
@@ -493,9 +547,17 @@ impl Engine {
                     continue;
                 };
                 dds.iter().for_each(|d| self.count_double_differences(d));
+                let factors: Vec<f64> = self.code_scale.iter().map(|c| c.factor()).collect();
+                let dds: Vec<DdEpoch> =
+                    dds.iter().zip(&factors).map(|(d, &f)| scale_code(d, f)).collect();
                 let body = self.opts.body_baselines_m.clone();
                 out.push(match solve_attitude(&dds, &body, &fix) {
-                    Ok(a) => p.base_m.map(|b| self.attitude_estimate(&b, &a)),
+                    Ok(a) => {
+                        for ((c, b), &f) in self.code_scale.iter_mut().zip(&a.baselines).zip(&factors) {
+                            c.add(b, f);
+                        }
+                        p.base_m.map(|b| self.attitude_estimate(&b, &a))
+                    }
                     Err(e) if leaves_epoch_unsolved(&e) => {
                         self.note_unsolved(k, p.time_gpst_ns, &e);
                         None
@@ -547,12 +609,19 @@ impl Engine {
                     (None, true) => present(&self.held[r], dd),
                     (None, false) => Vec::new(),
                 };
-                let mut result = solve_baseline(std::slice::from_ref(dd), &held, &fix);
+                let factor = self.code_scale[r].factor();
+                let scaled = scale_code(dd, factor);
+                let mut result = solve_baseline(std::slice::from_ref(&scaled), &held, &fix);
+                let mut unheld = held.is_empty();
                 if static_session.is_none() && !held.is_empty() {
                     let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held));
                     if !keep {
-                        result = solve_baseline(std::slice::from_ref(dd), &[], &fix);
+                        result = solve_baseline(std::slice::from_ref(&scaled), &[], &fix);
+                        unheld = true;
                     }
+                }
+                if let (Ok(sol), true, None) = (&result, unheld, &static_session) {
+                    self.code_scale[r].add(sol, factor);
                 }
                 match result {
                     Ok(mut sol) => {

@@ -94,6 +94,8 @@ pub(crate) fn fix_float(
         reference_sats: fl.summary.reference_sats,
         slots_used: fl.summary.slots_used,
         satellites_per_system: fl.summary.satellites_per_system,
+        float_chi2: fl.chi2,
+        float_dof: fl.dof,
     };
     if na == 0 {
         return Ok(out);

@@ -143,6 +143,10 @@ pub struct BaselineSolution {
     pub slots_used: u8,
     /// Satellites in the double differences, per system (reference included), largest over epochs.
     pub satellites_per_system: [u16; N_SYSTEMS],
+    /// Weighted sum of squared residuals of the float solution and its degrees of freedom. In one epoch
+    /// without held integers every phase row has its own ambiguity, so these are the code residuals'.
+    pub float_chi2: f64,
+    pub float_dof: usize,
 }
 
 /// Attitude of a rigid antenna array at one epoch.
