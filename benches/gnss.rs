@@ -14,6 +14,7 @@ use rand_chacha::ChaCha8Rng;
 const GATE: FixOptions = FixOptions {
     min_success_rate: 0.999,
     ratio_threshold: 3.0,
+    max_failure_rate: 0.0,
 };
 
 fn normal(rng: &mut ChaCha8Rng) -> f64 {

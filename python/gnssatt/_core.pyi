@@ -336,6 +336,7 @@ def gnss_run(
     continuity: bool | None = None,
     min_success_rate: float | None = None,
     ratio_threshold: float | None = None,
+    max_failure_rate: float | None = None,
     body_baselines_m: NDArray[np.float64] | None = None,
     step_deg: float | None = None,
     window_deg: float | None = None,
@@ -363,6 +364,7 @@ class GnssEngine:
         continuity: bool | None = None,
         min_success_rate: float | None = None,
         ratio_threshold: float | None = None,
+        max_failure_rate: float | None = None,
         body_baselines_m: NDArray[np.float64] | None = None,
         step_deg: float | None = None,
         window_deg: float | None = None,
@@ -381,5 +383,6 @@ class GnssEngine:
 # The engine's defaults (rust/core/src/gnss/options.rs), read by gnssatt.rinex.attitude and the CLI.
 GNSS_DEFAULT_MIN_SUCCESS_RATE: float
 GNSS_DEFAULT_RATIO_THRESHOLD: float
+GNSS_DEFAULT_MAX_FAILURE_RATE: float
 GNSS_DEFAULT_ELEVATION_MASK_DEG: float
 GNSS_MAX_FREQUENCIES: int

@@ -26,6 +26,7 @@ _OPTION_NAMES = {
     "elevation_mask_deg": "--elevation-mask",
     "min_success_rate": "--min-success-rate",
     "ratio_threshold": "--ratio-threshold",
+    "max_failure_rate": "--max-failure-rate",
     "base_position_m": "--base-position",
     "n_trials": "--runs",
     "seed": "--seed",
@@ -167,6 +168,7 @@ def _attitude(args: argparse.Namespace) -> int:
             elevation_mask_deg=args.elevation_mask,
             min_success_rate=args.min_success_rate,
             ratio_threshold=args.ratio_threshold,
+            max_failure_rate=args.max_failure_rate,
             base_position_m=args.base_position,
             step_deg=args.step,
             window_deg=args.window,
@@ -234,6 +236,14 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         default=None,
         metavar="R",
         help=f"ratio-test threshold (default {_core.GNSS_DEFAULT_RATIO_THRESHOLD})",
+    )
+    att.add_argument(
+        "--max-failure-rate",
+        type=_real(0.0, 0.1),
+        default=None,
+        metavar="P",
+        help="below the success-rate gate, still fix a set whose ratio passes the fixed-failure-rate test "
+        f"for this probability of a wrong fix; 0: off (default {_core.GNSS_DEFAULT_MAX_FAILURE_RATE})",
     )
     att.add_argument(
         "--elevation-mask",

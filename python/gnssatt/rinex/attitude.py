@@ -320,6 +320,7 @@ def attitude_from_rinex(
     elevation_mask_deg: float | None = None,
     min_success_rate: float | None = None,
     ratio_threshold: float | None = None,
+    max_failure_rate: float | None = None,
     base_position_m: ArrayLike | None = None,
     step_deg: float | None = None,
     window_deg: float | None = None,
@@ -355,6 +356,11 @@ def attitude_from_rinex(
         is fixed when the full set does not (default ``gnssatt._core.GNSS_DEFAULT_MIN_SUCCESS_RATE``).
     ratio_threshold
         Ratio-test acceptance threshold, >= 1 (default ``gnssatt._core.GNSS_DEFAULT_RATIO_THRESHOLD``).
+    max_failure_rate
+        In [0, 0.1]: a full set below ``min_success_rate`` whose ratio passes ``ratio_threshold`` is still
+        fixed when the ratio also passes the fixed-failure-rate threshold for this probability of accepting
+        a wrong fix, simulated for the epoch's own float covariance (0: off; default
+        ``gnssatt._core.GNSS_DEFAULT_MAX_FAILURE_RATE``, ``docs/observation_engine.md``).
     base_position_m
         (3,) surveyed ECEF position of the reference antenna, m; default its code solution at each epoch.
     step_deg, window_deg
@@ -395,6 +401,8 @@ def attitude_from_rinex(
         opts["min_success_rate"] = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
     if ratio_threshold is not None:
         opts["ratio_threshold"] = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    if max_failure_rate is not None:
+        opts["max_failure_rate"] = scalar("max_failure_rate", max_failure_rate, minimum=0.0, maximum=0.1)
     if base_position_m is not None:
         opts["base_position_m"] = shaped("base_position_m", base_position_m, "(3,)", (3,))
     if step_deg is not None:

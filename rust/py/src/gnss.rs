@@ -178,6 +178,7 @@ struct OptionArgs<'py> {
     continuity: Option<bool>,
     min_success_rate: Option<f64>,
     ratio_threshold: Option<f64>,
+    max_failure_rate: Option<f64>,
     body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
     step_deg: Option<f64>,
     window_deg: Option<f64>,
@@ -243,6 +244,9 @@ fn engine_options(py: Python<'_>, a: OptionArgs<'_>, n_rover: usize) -> PyResult
     }
     if let Some(r) = a.ratio_threshold {
         o.ratio_threshold = r;
+    }
+    if let Some(p) = a.max_failure_rate {
+        o.max_failure_rate = p;
     }
     if let Some(b) = a.body_baselines_m {
         o.body_baselines_m = rows::<3>(py, "body_baselines_m", &b, Some(n_rover), false)?;
@@ -446,8 +450,8 @@ fn session_object(
     time_gpst_ns, sats, glonass_channel, code_m, phase_cycles, doppler_hz, snr_dbhz, lli,
     approx_position_m, kepler, glonass, klobuchar, leap_seconds, *, systems = None, frequencies = None,
     elevation_mask_deg = None, base_position_m = None, motion = None, method = None, continuity = None,
-    min_success_rate = None, ratio_threshold = None, body_baselines_m = None, step_deg = None,
-    window_deg = None
+    min_success_rate = None, ratio_threshold = None, max_failure_rate = None, body_baselines_m = None,
+    step_deg = None, window_deg = None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn gnss_run<'py>(
@@ -474,6 +478,7 @@ fn gnss_run<'py>(
     continuity: Option<bool>,
     min_success_rate: Option<f64>,
     ratio_threshold: Option<f64>,
+    max_failure_rate: Option<f64>,
     body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
     step_deg: Option<f64>,
     window_deg: Option<f64>,
@@ -503,6 +508,7 @@ fn gnss_run<'py>(
             continuity,
             min_success_rate,
             ratio_threshold,
+            max_failure_rate,
             body_baselines_m,
             step_deg,
             window_deg,
@@ -539,8 +545,8 @@ impl GnssEngine {
     #[pyo3(signature = (
         sats, glonass_channel, n_receivers, kepler, glonass, klobuchar, leap_seconds, *, systems = None,
         frequencies = None, elevation_mask_deg = None, base_position_m = None, motion = None, method = None,
-        continuity = None, min_success_rate = None, ratio_threshold = None, body_baselines_m = None,
-        step_deg = None, window_deg = None
+        continuity = None, min_success_rate = None, ratio_threshold = None, max_failure_rate = None,
+        body_baselines_m = None, step_deg = None, window_deg = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -561,6 +567,7 @@ impl GnssEngine {
         continuity: Option<bool>,
         min_success_rate: Option<f64>,
         ratio_threshold: Option<f64>,
+        max_failure_rate: Option<f64>,
         body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
         step_deg: Option<f64>,
         window_deg: Option<f64>,
@@ -585,6 +592,7 @@ impl GnssEngine {
                 continuity,
                 min_success_rate,
                 ratio_threshold,
+                max_failure_rate,
                 body_baselines_m,
                 step_deg,
                 window_deg,
@@ -658,6 +666,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let d = EngineOptions::default();
     m.add("GNSS_DEFAULT_MIN_SUCCESS_RATE", d.min_success_rate)?;
     m.add("GNSS_DEFAULT_RATIO_THRESHOLD", d.ratio_threshold)?;
+    m.add("GNSS_DEFAULT_MAX_FAILURE_RATE", d.max_failure_rate)?;
     m.add(
         "GNSS_DEFAULT_ELEVATION_MASK_DEG",
         d.elevation_mask_rad.to_degrees(),

@@ -62,6 +62,11 @@ pub struct EngineOptions {
     pub min_success_rate: f64,
     /// Ratio-test threshold (>= 1).
     pub ratio_threshold: f64,
+    /// Probability of a wrong fix accepted below the success-rate gate: a full set whose success rate is
+    /// under `min_success_rate` is still fixed when its ratio passes both `ratio_threshold` and the
+    /// fixed-failure-rate threshold for this probability (`rtk::FixOptions::max_failure_rate`); 0 turns
+    /// that off.
+    pub max_failure_rate: f64,
     pub phase_sigma: ElevationSigma,
     pub code_sigma: ElevationSigma,
     /// Body-frame antenna positions relative to the reference antenna (attitude mode: seed 001's body
@@ -85,6 +90,7 @@ impl Default for EngineOptions {
             continuity: false,
             min_success_rate: 0.5,
             ratio_threshold: 3.0,
+            max_failure_rate: 1e-3,
             phase_sigma: ElevationSigma {
                 a_m: 0.003,
                 b_m: 0.003,
@@ -135,7 +141,11 @@ impl EngineOptions {
                 ));
             }
         }
-        check_gate(self.min_success_rate, self.ratio_threshold)?;
+        check_gate(
+            self.min_success_rate,
+            self.ratio_threshold,
+            self.max_failure_rate,
+        )?;
         for (name, s) in [
             ("phase sigma", self.phase_sigma),
             ("code sigma", self.code_sigma),
@@ -176,12 +186,27 @@ impl EngineOptions {
     }
 }
 
-/// Checks the fixing gate: `min_success_rate` a probability, `ratio_threshold` finite and >= 1 (the one
-/// check of both, used by [`EngineOptions::validate`] and `rtk::FixOptions::validate`).
+/// Largest `max_failure_rate` accepted: beyond it the fixed-failure-rate test accepts one wrong fix in
+/// ten, which no user wants from a validation step.
+pub const MAX_FAILURE_RATE: f64 = 0.1;
+
+/// Checks the fixing gate: `min_success_rate` a probability, `ratio_threshold` finite and >= 1,
+/// `max_failure_rate` in [0, [`MAX_FAILURE_RATE`]] (the one check, used by [`EngineOptions::validate`] and
+/// `rtk::FixOptions::validate`).
 ///
 /// # Errors
 /// [`Error::OutOfRange`] naming the CLI option.
-pub fn check_gate(min_success_rate: f64, ratio_threshold: f64) -> Result<()> {
+pub fn check_gate(
+    min_success_rate: f64,
+    ratio_threshold: f64,
+    max_failure_rate: f64,
+) -> Result<()> {
+    if !(0.0..=MAX_FAILURE_RATE).contains(&max_failure_rate) {
+        return Err(Error::out_of_range(
+            "--max-failure-rate",
+            format!("expected a probability in [0, {MAX_FAILURE_RATE}] (0: off), got {max_failure_rate}"),
+        ));
+    }
     if !(0.0..=1.0).contains(&min_success_rate) {
         return Err(Error::out_of_range(
             "--min-success-rate",

@@ -515,6 +515,7 @@ impl Engine {
         FixOptions {
             min_success_rate: self.opts.min_success_rate,
             ratio_threshold: self.opts.ratio_threshold,
+            max_failure_rate: self.opts.max_failure_rate,
         }
     }
 
@@ -548,12 +549,17 @@ impl Engine {
                 };
                 dds.iter().for_each(|d| self.count_double_differences(d));
                 let factors: Vec<f64> = self.code_scale.iter().map(|c| c.factor()).collect();
-                let dds: Vec<DdEpoch> =
-                    dds.iter().zip(&factors).map(|(d, &f)| scale_code(d, f)).collect();
+                let dds: Vec<DdEpoch> = dds
+                    .iter()
+                    .zip(&factors)
+                    .map(|(d, &f)| scale_code(d, f))
+                    .collect();
                 let body = self.opts.body_baselines_m.clone();
                 out.push(match solve_attitude(&dds, &body, &fix) {
                     Ok(a) => {
-                        for ((c, b), &f) in self.code_scale.iter_mut().zip(&a.baselines).zip(&factors) {
+                        for ((c, b), &f) in
+                            self.code_scale.iter_mut().zip(&a.baselines).zip(&factors)
+                        {
                             c.add(b, f);
                         }
                         p.base_m.map(|b| self.attitude_estimate(&b, &a))

@@ -5,8 +5,9 @@
 use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, Vector3};
 
 use super::dd::validate;
+use super::ffrt;
 use super::float::{self, FloatSolution};
-use super::{BaselineSolution, DdEpoch, FixOptions, MAX_EPOCHS};
+use super::{BaselineSolution, DdEpoch, FixOptions, FFRT_MAX_AMBIGUITIES, MAX_EPOCHS};
 use crate::error::{Error, Result};
 use crate::gnss::options::check_gate;
 use crate::lambda::bootstrap::success_rate;
@@ -18,12 +19,16 @@ use crate::lambda::{Problem, DEFAULT_MAX_NODES};
 const FIXED_VARIANCE: f64 = 1e-10;
 
 impl FixOptions {
-    /// Checks `min_success_rate` in [0, 1] and `ratio_threshold >= 1`.
+    /// Checks `min_success_rate` in [0, 1], `ratio_threshold >= 1` and `max_failure_rate` in [0, 0.1].
     ///
     /// # Errors
     /// [`Error::OutOfRange`] naming the CLI option.
     pub fn validate(&self) -> Result<()> {
-        check_gate(self.min_success_rate, self.ratio_threshold)
+        check_gate(
+            self.min_success_rate,
+            self.ratio_threshold,
+            self.max_failure_rate,
+        )
     }
 }
 
@@ -106,26 +111,28 @@ pub(crate) fn fix_float(
     let best = problem.solve(2, DEFAULT_MAX_NODES)?;
     out.success_rate = success_rate(problem.reduction.factor.d.as_slice());
     out.ratio = ratio(best.squared_norms[0], best.squared_norms[1]);
-    let (conditioned, q_cond) =
-        if out.success_rate >= fix.min_success_rate && out.ratio >= fix.ratio_threshold {
-            out.fixed = true;
-            out.fixed_ambiguities += na;
-            let z = best.fixed.column(0).map(|v| v as f64);
-            (z, DMatrix::zeros(na, na))
-        } else {
-            let pf = partial_fix(
-                a,
-                &q_aa,
-                RatioThreshold::Fixed(fix.ratio_threshold),
-                fix.min_success_rate,
-            )?;
-            if pf.fixed_count == 0 {
-                return Ok(out);
-            }
-            out.fixed_ambiguities += pf.fixed_count;
-            out.ratio = pf.ratio;
-            (pf.ambiguities, pf.covariance)
-        };
+    let accept = out.ratio >= fix.ratio_threshold
+        && (out.success_rate >= fix.min_success_rate
+            || passes_failure_rate(&problem, out.ratio, fix.max_failure_rate)?);
+    let (conditioned, q_cond) = if accept {
+        out.fixed = true;
+        out.fixed_ambiguities += na;
+        let z = best.fixed.column(0).map(|v| v as f64);
+        (z, DMatrix::zeros(na, na))
+    } else {
+        let pf = partial_fix(
+            a,
+            &q_aa,
+            RatioThreshold::Fixed(fix.ratio_threshold),
+            fix.min_success_rate,
+        )?;
+        if pf.fixed_count == 0 {
+            return Ok(out);
+        }
+        out.fixed_ambiguities += pf.fixed_count;
+        out.ratio = pf.ratio;
+        (pf.ambiguities, pf.covariance)
+    };
     let (b, cov) = condition(fl, &q_aa, a, &conditioned, &q_cond)?;
     out.baseline_m = b;
     out.covariance_m2 = cov;
@@ -137,6 +144,30 @@ pub(crate) fn fix_float(
         }
     }
     Ok(out)
+}
+
+/// Draws of the fixed-failure-rate simulation per unit of `1 / max_failure_rate`: the threshold is then
+/// set by the 21st largest wrong-fix ratio of the draws (relative standard error of the failure rate
+/// about 1 / sqrt(20) = 22 %).
+const FFRT_DRAWS_PER_FAILURE: f64 = 20.0;
+
+/// Seed of the simulation: the same epoch gives the same decision in every run.
+const FFRT_SEED: u64 = 16;
+
+/// Whether `ratio` passes the fixed-failure-rate test of `problem` for `max_failure_rate` (never when
+/// off or beyond [`FFRT_MAX_AMBIGUITIES`]).
+fn passes_failure_rate(problem: &Problem, ratio: f64, max_failure_rate: f64) -> Result<bool> {
+    if max_failure_rate <= 0.0 || problem.len() > FFRT_MAX_AMBIGUITIES {
+        return Ok(false);
+    }
+    let draws = (FFRT_DRAWS_PER_FAILURE / max_failure_rate).ceil() as usize;
+    ffrt::accepts(
+        &problem.reduction.factor,
+        ratio,
+        max_failure_rate,
+        draws,
+        FFRT_SEED,
+    )
 }
 
 /// The held integers that occurred, in the order given.

@@ -47,6 +47,7 @@
 
 pub mod constrained;
 pub mod dd;
+pub mod ffrt;
 pub mod fix;
 pub mod float;
 pub mod glonass;
@@ -116,7 +117,18 @@ pub struct FixOptions {
     pub min_success_rate: f64,
     /// Ratio-test threshold, >= 1.
     pub ratio_threshold: f64,
+    /// In [0, 0.1]; 0 turns it off. A full set below `min_success_rate` whose ratio passes
+    /// `ratio_threshold` is still fixed when the ratio also passes the fixed-failure-rate threshold
+    /// (Teunissen & Verhagen 2009) for this probability of accepting a wrong fix, computed for the epoch's
+    /// own float covariance by a seeded simulation ([`crate::lambda::validation::fixed_failure_threshold`],
+    /// `ceil(20 / max_failure_rate)` draws), for at most [`FFRT_MAX_AMBIGUITIES`] ambiguities.
+    pub max_failure_rate: f64,
 }
+
+/// Largest float set the fixed-failure-rate test of [`FixOptions::max_failure_rate`] simulates (its cost
+/// grows with the search's: about 2 ms per epoch at 6 ambiguities on one core); larger sets rely on the
+/// success-rate gate and partial fixing alone.
+pub const FFRT_MAX_AMBIGUITIES: usize = 32;
 
 /// The solution of one baseline (one epoch or a static session).
 #[derive(Debug, Clone, PartialEq)]

@@ -8,6 +8,7 @@ use crate::gnss::signal::System;
 const GATE: FixOptions = FixOptions {
     min_success_rate: 0.999,
     ratio_threshold: 3.0,
+    max_failure_rate: 0.0,
 };
 
 /// Every integer reported equals the truth.
@@ -272,6 +273,7 @@ fn bad_input_is_refused_with_a_named_error() {
     let bad_gate = FixOptions {
         min_success_rate: 1.5,
         ratio_threshold: 3.0,
+        max_failure_rate: 0.0,
     };
     assert!(matches!(
         solve_baseline(std::slice::from_ref(&e), &[], &bad_gate),
