@@ -73,6 +73,7 @@ def test_single_epoch_constrained_fix_matches_truth(rotating: SimulatedRinex) ->
     err = _fixed_errors(sol, s)
     assert err.max() < WRONG_M, err.max()
     # the fitted rotation carries the body baselines onto the true ones (mm-level baselines -> sub-degree)
+    assert sol.rotation_matrices is not None
     rot = sol.rotation_matrices[sol.fixed == 1]
     fitted = np.einsum("tij,aj->tai", rot, BODY)
     assert np.max(np.linalg.norm(fitted - s.baselines_enu_m[sol.fixed == 1], axis=2)) < WRONG_M

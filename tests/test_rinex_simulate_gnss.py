@@ -8,6 +8,7 @@ broadcast files."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +47,7 @@ def satellite_states(
 
 
 def klobuchar_l1_s(
-    a: np.ndarray, b: np.ndarray, lat: float, lon: float, az: float, el: float, t: float
+    a: Sequence[float], b: Sequence[float], lat: float, lon: float, az: float, el: float, t: float
 ) -> float:
     """IS-GPS-200 20.3.3.5.2.5 (figure 20-4) term by term: the L1 group delay, s; angles in radians."""
     e = el / np.pi
@@ -261,7 +262,7 @@ def test_atmosphere_delays_code_and_advances_phase(tmp_path: Path) -> None:
             want = (
                 C
                 * klobuchar_l1_s(KLOBUCHAR[:4], KLOBUCHAR[4:], lat, lon, az, el, t * 1e-9)
-                * (1575.42e6 / f) ** 2
+                * (1575.42e6 / f) ** 2  # type: ignore[operator]
             )
             assert iono == pytest.approx(float(want), abs=2e-3)  # the 14.3f fields round to 0.5 mm
             # the troposphere: about 2.4 m at the zenith, growing as 1 / sin(el)

@@ -574,24 +574,26 @@ def simulate_gnss_rinex(
     # every antenna at the label and half a Doppler step either side: (n_ep, n_ant, 3 instants) receptions
     steps_ns = np.array([0, -round(_DOPPLER_H_S * 1e9), round(_DOPPLER_H_S * 1e9)])
     t_rx = (t_ns[:, None, None] + steps_ns[None, None, :]).repeat(n_ant, axis=1)
-    rx = np.broadcast_to(pos[:, :, None, :], (n_epochs, n_ant, 3, 3))
+    rx_pos = np.broadcast_to(pos[:, :, None, :], (n_epochs, n_ant, 3, 3))
     rx_clk = np.broadcast_to(dt_rx[None, :, None], (n_epochs, n_ant, 3))
-    _, seen = _transmit(nav, sats, t_rx, rx, rx_clk)
+    _, seen = _transmit(nav, sats, t_rx, rx_pos, rx_clk)
     rng_m = np.linalg.norm(seen.position_m - pos[:, :, None, None, :], axis=-1)  # (n_ep, n_ant, 3, n_sat)
     rho, clk = rng_m[:, :, 0], seen.clock_s[:, :, 0]
     rate = ((rng_m[:, :, 2] - _C * seen.clock_s[:, :, 2]) - (rng_m[:, :, 1] - _C * seen.clock_s[:, :, 1])) / (
         2 * _DOPPLER_H_S
     )
-    iono = np.zeros((n_epochs, n_ant, n_sat, 3))  # ionospheric group delay of each carrier, m
-    tropo = np.zeros((n_epochs, n_ant, n_sat))
+    # ionospheric group delay of each carrier, m
+    iono: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat, 3))
+    tropo: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat))
     if atmosphere:
         lat, lon = np.radians(lat_deg), np.radians(lon_deg)
         el_i, az_i = seen.elevation_rad[:, :, 0], seen.azimuth_rad[:, :, 0]
         tropo = troposphere_delay_m(lat, height_m, el_i)
         freq = np.where(np.isfinite(lam), _C / lam, 1575.42e6)  # (n_sat, 3)
         shape = (n_epochs, n_ant, n_sat, 3)
-        b = (np.broadcast_to(x, shape).ravel() for x in (el_i[..., None], az_i[..., None], freq))
-        el_b, az_b, f_b = b
+        el_b, az_b, f_b = (
+            np.broadcast_to(x, shape).ravel() for x in (el_i[..., None], az_i[..., None], freq)
+        )
         t_b = np.broadcast_to(t_ns[:, None, None, None], shape).ravel().astype(np.int64)
         # KLOBUCHAR is exact in the header's 12.4E fields: the coefficients the files give
         iono = _core.gnss_klobuchar_delay(np.asarray(KLOBUCHAR), t_b, lat, lon, az_b, el_b, f_b).reshape(
