@@ -1,15 +1,13 @@
 """Orbit models of seed 003: GLONASS ICD propagator against the ICD's worked example and closed forms,
-its use in gnssatt.rinex, the circular orbit, and TLE input (TEME -> Earth-fixed)."""
+its use by the engine's GLONASS ephemeris, the circular orbit, and TLE input (TEME -> Earth-fixed)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gnssatt import orbit, sim
+from gnssatt import _core, orbit, sim
 from gnssatt.errors import InvalidInputError
-from gnssatt.rinex.ephemeris import satellite_states
-from gnssatt.rinex.nav import GlonassEphemerides, KeplerEphemerides, RinexNav
 
 # GLONASS CDMA ICD, general description (2016), appendix J: state at t_b = 11700 s (07.09.2012), km -> m.
 # Quoted from the ICD in fenrir-naru/ninja-scan-light tool/test/test_GLONASS.cpp (ICD_CDMA_2016_Appendix_J);
@@ -137,34 +135,29 @@ def test_propagate_bad_state() -> None:
         orbit.glonass_propagate([0, 0, 0], ICD_V0, 10.0)
 
 
-def _nav_with(state: np.ndarray, acc: np.ndarray, tb_ns: int) -> RinexNav:
-    empty = KeplerEphemerides(
-        np.array([], dtype=str),
-        np.array([], dtype=np.int64),
-        np.array([], dtype=np.int64),
-        np.zeros((0, 3)),
-        {},
-    )
-    glo = GlonassEphemerides(
-        sats=np.array(["R01"]),
-        tb_ns=np.array([tb_ns]),
-        clock_bias=np.zeros(1),
-        gamma_n=np.zeros(1),
-        position_m=state[None, :3],
-        velocity_m_s=state[None, 3:],
-        acceleration_m_s2=acc[None, :],
-        channel=np.zeros(1, dtype=np.int64),
-        health=np.zeros(1),
-    )
-    return RinexNav("test", empty, glo, np.full(4, np.nan), np.full(4, np.nan))
+def _glonass_record(state: np.ndarray, acc: np.ndarray, tb_ns: int) -> dict[str, np.ndarray]:
+    """One healthy GLONASS record as the engine's NavInput arrays."""
+    return {
+        "sat": np.array(["R01"]),
+        "tb_gpst_ns": np.array([tb_ns], dtype=np.int64),
+        "clock_bias_s": np.zeros(1),
+        "gamma_n": np.zeros(1),
+        "position_m": state[None, :3].copy(),
+        "velocity_m_s": state[None, 3:].copy(),
+        "acceleration_m_s2": acc[None, :].copy(),
+        "channel": np.zeros(1, dtype=np.int64),
+        "health": np.zeros(1),
+    }
 
 
 @pytest.mark.parametrize("offset_s", [600.0, -600.0, 37.5])
-def test_rinex_glonass_positions_use_the_propagator(offset_s: float) -> None:
+def test_engine_glonass_ephemeris_matches_the_numpy_reference(offset_s: float) -> None:
     acc = np.array([1e-6, 2e-6, -3e-6])
     tb = 1_000_000_000_000_000
-    nav = _nav_with(np.concatenate([ICD_R0, ICD_V0]), acc, tb)
-    pos, _, _, valid = satellite_states(nav, ["R01"], tb, offset_s)
+    record = _glonass_record(np.concatenate([ICD_R0, ICD_V0]), acc, tb)
+    pos, _, valid = _core.gnss_satellite_states(
+        {}, record, None, None, ["R01"], np.array([tb]), offset_s=np.array([offset_s])
+    )
     assert valid.all()
     m = orbit.GlonassModel(
         gm_m3_s2=398600.4418e9, j2=1.0826257e-3, equatorial_radius_m=6378136.0, omega_rad_s=7.292115e-5,

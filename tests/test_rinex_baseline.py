@@ -1,5 +1,6 @@
-"""The GEONET 0759 -> 3040 baseline (3.3 km) end to end: RINEX 2.10 files, broadcast ephemerides,
-independent receiver clocks, L1 double differences, LAMBDA fix; truth from the header positions."""
+"""The GEONET 0759 -> 3040 baseline (3.3 km) end to end on the engine (``attitude_from_rinex`` and the CLI):
+RINEX 2.10 files, broadcast ephemerides, independent receiver clocks, L1 double differences, LAMBDA fix;
+truth from the header positions."""
 
 from __future__ import annotations
 
@@ -10,7 +11,9 @@ import pytest
 
 from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError, RinexError
-from gnssatt.rinex import align_receivers, epoch_baselines, read_nav, read_obs, static_baseline
+from gnssatt.rinex import read_nav, read_obs
+from gnssatt.rinex.attitude import attitude_from_rinex
+from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
 DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
@@ -20,45 +23,34 @@ TRUTH = np.array([-2022.9266, 468.6044, -2610.2182])
 
 @pytest.fixture(scope="module")
 def geonet():  # type: ignore[no-untyped-def]
-    a = read_obs(DATA / "07590920.05o")
-    b = read_obs(DATA / "30400920.05o")
-    nav = read_nav(DATA / "07590920.05n")
-    return a, b, nav, align_receivers([a, b], nav, systems="G")
-
-
-@needs_data
-def test_alignment(geonet) -> None:  # type: ignore[no-untyped-def]
-    _, _, _, al = geonet
-    assert al.phase_cycles.shape == (2, 120, 11)
-    assert al.usable.sum(axis=0).max() == 120
-    # 0759's labels run 5 ms late by the end; the clocks carry it
-    assert abs(al.clock_s[0, -1] - al.clock_s[1, -1]) > 1e-3
-    np.testing.assert_allclose(al.wavelength_m, 299792458.0 / 1575.42e6)
+    return read_obs(DATA / "07590920.05o"), read_obs(DATA / "30400920.05o"), read_nav(DATA / "07590920.05n")
 
 
 @needs_data
 def test_geonet_baseline_fixed_and_matches_header(geonet) -> None:  # type: ignore[no-untyped-def]
-    _, _, _, al = geonet
-    sol = static_baseline(al)
-    assert sol.fixed and sol.ratio > 3.0
-    assert np.linalg.norm(sol.baseline_ecef_m - TRUTH) < 1.0  # the header positions are good to a few metres
-    assert abs(np.linalg.norm(sol.baseline_ecef_m) - 3335.425) < 1.0
-    assert sol.phase_residual_rms_m < 0.02
-    series = epoch_baselines(al, sol)
-    assert np.isfinite(series.baseline_enu_m).all()
-    assert np.all(np.std(series.baseline_enu_m, axis=0) < 0.05)
+    a, b, nav = geonet
+    sol = attitude_from_rinex([a, b], nav, method="lambda", motion="static", systems="G", frequencies=1)
+    fixed = sol.fixed == 1
+    assert fixed.mean() > 0.95 and np.all(sol.ratio[fixed] > 3.0)
+    lat, lon, _ = ecef_to_geodetic(a.approx_position_m)
+    truth_enu = TRUTH @ dcm_ecef_from_enu(float(lat), float(lon))
+    baseline = np.median(sol.baselines_enu_m[fixed, 0], axis=0)
+    assert np.linalg.norm(baseline - truth_enu) < 1.0  # the header positions are good to a few metres
+    assert abs(np.linalg.norm(baseline) - 3335.425) < 1.0
+    # one static solution: the fixed epochs agree to the millimetre level
+    assert np.all(np.std(sol.baselines_enu_m[fixed, 0], axis=0) < 0.05)
 
 
 @needs_data
-def test_no_common_epochs_or_satellites(geonet) -> None:  # type: ignore[no-untyped-def]
-    a, b, nav, _ = geonet
+def test_no_common_epochs_or_signals(geonet) -> None:  # type: ignore[no-untyped-def]
+    a, b, nav = geonet
     late = type(b)(**{**b.__dict__, "time": b.time + np.timedelta64(1, "D")})
-    with pytest.raises(RinexError, match="no common epochs"):
-        align_receivers([a, late], nav)
-    with pytest.raises(RinexError, match="no common satellites"):
-        align_receivers([a, b], nav, systems="E")
+    with pytest.raises(RinexError, match="no epoch common to all files"):
+        attitude_from_rinex([a, late], nav)
+    with pytest.raises(RinexError, match="expected carrier-phase observations"):
+        attitude_from_rinex([a, b], nav, systems="E")
     with pytest.raises(InvalidInputError, match="two or more"):
-        align_receivers([a], nav)
+        attitude_from_rinex([a], nav)
 
 
 @needs_data

@@ -1,18 +1,28 @@
-"""The broadcast (Klobuchar) ionosphere against published values, and its effect on single-frequency
-single-point positioning of the GEONET data."""
+"""The broadcast (Klobuchar) ionosphere of the engine (``_core.gnss_klobuchar_delay``) against published
+values and the model's closed-form limits. Its effect on single-frequency single-point positioning of the
+GEONET data: tests/test_gnss_ephemeris.py (test_single_point_matches_geonet_header)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gnssatt.data import geonet_dir
-from gnssatt.errors import InvalidInputError
-from gnssatt.rinex import read_nav, read_obs, single_point_positions
-from gnssatt.rinex.iono import klobuchar_delay_m
-from gnssatt.rinex.obs import RinexObs
+from gnssatt import _core
 
-DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
+WEEK_NS = 604_800 * 10**9
+
+
+def klobuchar_delay_m(
+    alpha: tuple[float, ...], beta: tuple[float, ...], lat: float, lon: float, az: float, el: float,
+    tow: float, frequency_hz: float = 1575.42e6, week: int = 1042,
+) -> float:  # fmt: skip
+    """One evaluation at GPS week ``week``, ``tow`` s (only the time of day enters)."""
+    t = np.array([week * WEEK_NS + round(tow * 1e9)], dtype=np.int64)
+    coefficients = np.array([*alpha, *beta], dtype=np.float64)
+    one = np.ones(1)
+    return float(
+        _core.gnss_klobuchar_delay(coefficients, t, lat, lon, one * az, one * el, one * frequency_hz)[0]
+    )
 
 
 @pytest.mark.parametrize(
@@ -46,28 +56,3 @@ def test_klobuchar_night_floor_and_frequency_scaling() -> None:
     assert float(night) == pytest.approx(299792458.0 * 5e-9 * (1 + 16 * 0.03**3), rel=1e-12)
     l2 = klobuchar_delay_m(a, b, 0.0, 0.0, 0.0, np.pi / 2, 0.0, frequency_hz=1227.60e6)
     assert float(l2 / night) == pytest.approx((1575.42 / 1227.60) ** 2, rel=1e-12)
-    with pytest.raises(InvalidInputError, match="alpha of shape"):
-        klobuchar_delay_m(a[:3], b, 0.0, 0.0, 0.0, 1.0, 0.0)
-
-
-@pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
-def test_klobuchar_reduces_single_frequency_height_bias() -> None:
-    obs = read_obs(DATA / "07590920.05o")
-    nav = read_nav(DATA / "07590920.05n")
-    keep = [obs.codes.index(c) for c in ("L1", "C1")]  # single frequency: drop L2 / P2
-    l1 = RinexObs(
-        **{
-            **obs.__dict__,
-            "codes": ("L1", "C1"),
-            "obs_types": {"G": ("L1", "C1")},
-            "data": obs.data[..., keep],
-            "lli": obs.lli[..., keep],
-            "ssi": obs.ssi[..., keep],
-        }
-    )
-    with_k = single_point_positions(l1, nav)
-    without = single_point_positions(l1, nav, ionosphere=False)
-    err_k = np.linalg.norm(with_k.position_ecef_m - obs.approx_position_m, axis=1)
-    err_0 = np.linalg.norm(without.position_ecef_m - obs.approx_position_m, axis=1)
-    # the uncorrected ionosphere biases the height by metres (median error 6.0 m without, 0.74 m with)
-    assert np.median(err_k) < np.median(err_0)

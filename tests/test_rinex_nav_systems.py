@@ -13,9 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gnssatt.rinex import read_nav
-from gnssatt.rinex.ephemeris import satellite_states
+from gnssatt import _core
+from gnssatt.rinex import RinexNav, read_nav
 from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.session_input import NavInput, nav_input
 
 DATA = Path(__file__).resolve().parent / "data"
 BRDM = DATA / "BRDM00DLR_R_20130010000_01D_MN.rnx"  # GPS, GLONASS, QZSS; 2013-01-01
@@ -27,6 +28,24 @@ SKYDEL_TRUTH = DATA / "skydel_bds_truth.csv"  # Skydel's truth rows for them
 
 def _t(iso: str) -> int:
     return int(gps_ns(np.array([np.datetime64(iso, "ns")]))[0])
+
+
+def satellite_states(
+    nav: RinexNav | NavInput, sats: list[str], t_ns: int, offset_s: float = 0.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The engine's broadcast positions (ECEF of the instant), clocks and validity at GPST ``t_ns`` +
+    ``offset_s``."""
+    ni = nav if isinstance(nav, NavInput) else nav_input(nav)
+    n = len(sats)
+    return _core.gnss_satellite_states(
+        ni.kepler,
+        ni.glonass,
+        None,
+        None,
+        sats,
+        np.full(n, t_ns, dtype=np.int64),
+        offset_s=np.full(n, offset_s),
+    )
 
 
 def _row(sats: np.ndarray, sat: str, k: int = 0) -> int:
@@ -55,7 +74,7 @@ def test_glonass_positions_at_tb_and_between_records() -> None:
     nav = read_nav(BRDM)
     g = nav.glonass
     for r in range(len(g)):
-        pos, clk, _, ok = satellite_states(nav, [str(g.sats[r])], int(g.tb_ns[r]))
+        pos, clk, ok = satellite_states(nav, [str(g.sats[r])], int(g.tb_ns[r]))
         assert ok[0]
         np.testing.assert_allclose(pos[0], g.position_m[r], atol=1e-3)
         assert clk[0] == g.clock_bias[r]
@@ -63,9 +82,14 @@ def test_glonass_positions_at_tb_and_between_records() -> None:
         a, b = np.flatnonzero(g.sats == sat)
         mid = int((g.tb_ns[a] + g.tb_ns[b]) // 2)
         assert g.tb_ns[b] - g.tb_ns[a] == 1800 * 10**9
-        # satellite_states picks the nearer record; at the exact midpoint force each one by a 1 ns nudge
-        pa, *_ = satellite_states(nav, [sat], mid - 1, 1e-9)
-        pb, *_ = satellite_states(nav, [sat], mid + 1, -1e-9)
+        # each record alone, propagated to the midpoint
+        glo = nav_input(nav).glonass
+        pa, pb = (
+            _core.gnss_satellite_states(
+                {}, {f: v[r : r + 1] for f, v in glo.items()}, None, None, [sat], np.array([mid])
+            )[0][0]
+            for r in (a, b)
+        )
         # ICD (ed. 5.1, A.3.1.2) quotes the simplified algorithm's position error within +-15 min of t_b
         # at a few metres; two independent propagations => 10 m.
         assert np.linalg.norm(pa - pb) < 10.0
@@ -127,18 +151,22 @@ def test_beidou_record_fields_and_time_scale() -> None:
     ],
 )
 def test_orbit_radius_per_system(path: Path, sat: str, iso: str, radius_km: float, tol_km: float) -> None:
-    pos, _, _, ok = satellite_states(read_nav(path), [sat], _t(iso))
+    pos, _, ok = satellite_states(read_nav(path), [sat], _t(iso))
     assert ok[0]
     assert abs(np.linalg.norm(pos[0]) / 1e3 - radius_km) < tol_km
 
 
 def test_unhealthy_only_satellite_is_not_valid() -> None:
-    """Both J01 records of 2013-01-01 carry SV health 1 (7th line, 2nd field): no valid ephemeris."""
+    """Both J01 records of 2013-01-01 carry SV health 1 (7th line, 2nd field): the L6/LEX bit only, so
+    usable (IS-QZSS-PNT; RTKLIB masks it too). G01 with its records marked unhealthy: no valid ephemeris,
+    NaN position and clock."""
     nav = read_nav(BRDM)
     assert list(nav.kepler.fields["health"][nav.kepler.sats == "J01"]) == [1.0, 1.0]
-    pos, clk, _, ok = satellite_states(nav, ["J01", "G01"], _t("2013-01-01T01:00:00"))
-    assert list(ok) == [False, True]
-    assert np.isnan(pos[0]).all() and np.isnan(clk[0])
+    ni = nav_input(nav)
+    ni.kepler["health"] = np.where(ni.kepler["sat"] == "G01", 1.0, ni.kepler["health"])
+    pos, clk, ok = satellite_states(ni, ["J01", "G01", "G02"], _t("2013-01-01T01:00:00"))
+    assert list(ok) == [True, False, True]
+    assert np.isnan(pos[1]).all() and np.isnan(clk[1])
 
 
 def test_beidou_geo_stays_over_its_slot() -> None:

@@ -1,5 +1,5 @@
-"""RINEX reading, broadcast ephemerides and single-point positioning on the GEONET data (GSI GEONET,
-redistributed in RTKLIB's test data), plus clear errors on bad files."""
+"""RINEX reading on the GEONET data (GSI GEONET, redistributed in RTKLIB's test data), plus clear errors on
+bad files. (Single-point positioning of the same files: tests/test_gnss_ephemeris.py.)"""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 from gnssatt.data import geonet_dir
 from gnssatt.errors import RinexError
-from gnssatt.rinex import read_nav, read_obs, single_point_positions
+from gnssatt.rinex import read_nav, read_obs
 
 DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
@@ -42,20 +42,6 @@ def test_geonet_nav_records() -> None:
     # toe 525600 s of week 1316 = 2005-04-02 02:00 GPST (the record's toc)
     assert k.toe_ns[first] == k.toc_ns[first]
     np.testing.assert_allclose(nav.iono_alpha, [1.1180e-08, 1.4900e-08, -5.9600e-08, -5.9600e-08])
-
-
-@needs_data
-@pytest.mark.parametrize("station", ["0759", "3040"])
-def test_geonet_single_point_position_matches_header(station: str) -> None:
-    obs = read_obs(DATA / f"{station}0920.05o")
-    nav = read_nav(DATA / f"{station}0920.05n")
-    sol = single_point_positions(obs, nav)
-    assert sol.valid.all()
-    err = np.linalg.norm(sol.position_ecef_m - obs.approx_position_m, axis=1)
-    assert np.median(err) < 10.0  # ionosphere-free code; header good to a few metres
-    assert np.median(sol.residual_rms_m) < 3.0
-    # the receivers' clocks differ (0759 drifts to ~ +4.7 ms, its last label is 00:59:30.005)
-    assert abs(sol.clock_s[-1]) > 1e-3
 
 
 def _write(tmp_path: Path, name: str, text: str) -> Path:

@@ -9,12 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gnssatt import sim
+from gnssatt import _core, sim
 from gnssatt.cli import main
 from gnssatt.likelihood import rotation_from_euler
-from gnssatt.rinex import gps_ns, read_nav, read_obs, satellite_states
+from gnssatt.rinex import gps_ns, read_nav, read_obs
 from gnssatt.rinex.attitude import attitude_from_rinex
 from gnssatt.rinex.scenario import write_array_rinex
+from gnssatt.rinex.session_input import nav_input
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 EULER = [-40.0, 5.0, 3.0]  # psi (compass heading 40), theta, phi of seed 001
@@ -40,9 +41,13 @@ def test_written_files_read_back(tmp_path: Path) -> None:
     obs = read_obs(paths[0])
     assert obs.version == pytest.approx(3.04) and obs.codes == ("C1C", "L1C", "D1C")
     assert obs.code_for("G", "L", 1) == "L1C"
-    nav = read_nav(nav_path)
+    nav = nav_input(read_nav(nav_path))
     gps = sim.gps_nominal()
-    pos, clk, _, valid = satellite_states(nav, list(gps.ids), int(gps_ns(np.array([T0]))[0]), 60.0)
+    n = len(gps.ids)
+    t = np.full(n, int(gps_ns(np.array([T0]))[0]), dtype=np.int64)
+    pos, clk, valid = _core.gnss_satellite_states(
+        nav.kepler, nav.glonass, None, None, list(gps.ids), t, offset_s=np.full(n, 60.0)
+    )
     truth, _ = gps.state_ecef(60.0)
     assert valid.all() and np.all(np.abs(clk) < 1e-15)
     assert np.max(np.linalg.norm(pos - truth, axis=1)) < 1e-3  # broadcast model reproduces two-body orbits

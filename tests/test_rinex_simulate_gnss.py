@@ -1,18 +1,22 @@
 """The multi-GNSS, multi-frequency simulator: files read back with every signal of every system, and a truth
 that agrees with the navigation records (light time and Earth rotation recomputed here, independently of
-``transmit_states``) and with the simulator's two-body orbits."""
+the engine's ``gnss_transmit_states`` that the simulator uses; the records evaluated by the engine's
+ephemerides, themselves checked against closed forms, Skydel truth and the prototype's frozen outputs in
+tests/test_gnss_ephemeris.py and tests/test_gnss_prototype_reference.py), with the simulator's two-body
+orbits, with the IS-GPS-200 Klobuchar closed form written here, and GLONASS records on the UTC grid of
+broadcast files."""
 
 from __future__ import annotations
 
-from dataclasses import replace
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from gnssatt import _core
 from gnssatt.errors import InvalidInputError
-from gnssatt.rinex import GlonassEphemerides, RinexNav, read_nav, read_obs, satellite_states
-from gnssatt.rinex.iono import klobuchar_delay_m
+from gnssatt.rinex import read_nav, read_obs
 from gnssatt.rinex.nav import gps_ns
 from gnssatt.rinex.scenario import (
     KLOBUCHAR,
@@ -21,7 +25,7 @@ from gnssatt.rinex.scenario import (
     gnss_constellation,
     simulate_gnss_rinex,
 )
-from gnssatt.rinex.session_input import nav_input, session_input
+from gnssatt.rinex.session_input import NavInput, nav_input, session_input
 from gnssatt.rinex.signals import slot_frequency_hz
 from gnssatt.rinex.writer import write_nav_from_constellation
 
@@ -29,6 +33,34 @@ C = 299_792_458.0
 OMEGA_E = 7.2921151467e-5  # IS-GPS-200 (the simulator's Earth)
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 ANTENNAS = [[0.0, 0.0, 0.0], [1.5, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.2, -0.8]]
+
+
+def satellite_states(
+    nav: NavInput, sats: list[str], t_ns: int, offset_s: float | np.ndarray = 0.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The engine's broadcast positions (ECEF of the instant), clocks and validity of ``sats`` at GPST
+    ``t_ns`` + ``offset_s``."""
+    n = len(sats)
+    off = np.broadcast_to(np.asarray(offset_s, dtype=np.float64), (n,)).copy()
+    t = np.full(n, t_ns, dtype=np.int64)
+    return _core.gnss_satellite_states(nav.kepler, nav.glonass, None, None, sats, t, offset_s=off)
+
+
+def klobuchar_l1_s(
+    a: Sequence[float], b: Sequence[float], lat: float, lon: float, az: float, el: float, t: float
+) -> float:
+    """IS-GPS-200 20.3.3.5.2.5 (figure 20-4) term by term: the L1 group delay, s; angles in radians."""
+    e = el / np.pi
+    psi = 0.0137 / (e + 0.11) - 0.022
+    phi_i = min(max(lat / np.pi + psi * np.cos(az), -0.416), 0.416)
+    lam_i = lon / np.pi + psi * np.sin(az) / np.cos(phi_i * np.pi)
+    phi_m = phi_i + 0.064 * np.cos((lam_i - 1.617) * np.pi)
+    local = (4.32e4 * lam_i + t) % 86400.0
+    f = 1.0 + 16.0 * (0.53 - e) ** 3
+    amp = max(sum(a[n] * phi_m**n for n in range(4)), 0.0)
+    per = max(sum(b[n] * phi_m**n for n in range(4)), 72000.0)
+    x = 2 * np.pi * (local - 50400.0) / per
+    return f * (5e-9 + (amp * (1 - x**2 / 2 + x**4 / 24) if abs(x) < 1.57 else 0.0))
 
 
 @pytest.fixture(scope="module")
@@ -92,7 +124,7 @@ def test_baselines_and_positions_agree(noiseless: SimulatedGnss) -> None:
 
 def test_ranges_match_the_navigation_records(noiseless: SimulatedGnss) -> None:
     s = noiseless
-    nav = read_nav(s.nav_path)
+    nav = nav_input(read_nav(s.nav_path))
     obs = [read_obs(p) for p in s.obs_paths]
     t_ns = int(gps_ns(s.time[:1])[0])
     worst = 0.0
@@ -105,7 +137,7 @@ def test_ranges_match_the_navigation_records(noiseless: SimulatedGnss) -> None:
             # light time solved here by fixed point: tau = |Rz(-w tau) r_sat(T - dt_rx - tau) - rx| / c
             tau = 0.07
             for _ in range(10):
-                p, clk, _, ok = satellite_states(nav, [sat], t_ns, np.array([-dt_rx - tau]))
+                p, clk, ok = satellite_states(nav, [sat], t_ns, -dt_rx - tau)
                 a = OMEGA_E * tau
                 rot = np.array([[np.cos(a), np.sin(a), 0.0], [-np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
                 tau = np.linalg.norm(rot @ p[0] - rx) / C
@@ -115,11 +147,11 @@ def test_ranges_match_the_navigation_records(noiseless: SimulatedGnss) -> None:
 
 
 def test_kepler_records_reproduce_the_two_body_orbits(noiseless: SimulatedGnss) -> None:
-    nav = read_nav(noiseless.nav_path)
+    nav = nav_input(read_nav(noiseless.nav_path))
     orbits = gnss_constellation("GECJ")
     t = 600.0
     truth, _ = orbits.state_ecef(t)
-    pos, _, _, ok = satellite_states(nav, list(orbits.ids), int(gps_ns(np.array([T0]))[0]), t)
+    pos, _, ok = satellite_states(nav, list(orbits.ids), int(gps_ns(np.array([T0]))[0]), t)
     assert ok.all()
     err = np.linalg.norm(pos - truth, axis=1)
     assert err.max() < 1e-3, dict(zip(orbits.ids, err, strict=True))
@@ -155,25 +187,44 @@ def test_seeded_and_checked(tmp_path: Path) -> None:
         simulate_gnss_rinex(tmp_path, ANTENNAS[:1], [0.0, 0.0, 0.0])
 
 
+def test_glonass_records_on_the_utc_quarter_hours(tmp_path: Path) -> None:
+    # Broadcast t_b is a 15-minute index of the day in UTC(SU) = UTC + 3 h, and files have records at 15
+    # and 45 minutes past each UTC hour; T0 is 10:00:00 GPST = 09:59:42 UTC, so the hour from it is covered
+    # by 09:45, 10:15, 10:45 and 11:15 UTC (every instant within 15 minutes of one).
+    path = tmp_path / "glo.rnx"
+    first = write_nav_from_constellation(path, gnss_constellation("R"), T0, span_s=3600.0)
+    labels = sorted({line[4:23] for line in path.read_text().splitlines() if line.startswith("R01 ")})
+    assert labels == [
+        "2024 03 01 09 45 00",
+        "2024 03 01 10 15 00",
+        "2024 03 01 10 45 00",
+        "2024 03 01 11 15 00",
+    ]
+    g = nav_input(read_nav(path)).glonass
+    assert len(g["sat"]) == 4 * 24
+    # the reader turns the UTC labels back into GPST: t_b = label + 18 s
+    t0 = int(gps_ns(np.array([T0]))[0])
+    assert sorted(set(g["tb_gpst_ns"].tolist())) == [t0 + (k * 1800 - 882) * 10**9 for k in range(4)]
+    assert (first == t0 - 882 * 10**9).all()
+
+
 def test_neighbouring_glonass_records_agree(tmp_path: Path) -> None:
-    # each GLONASS record continues the previous one, so the choice between two records (15 min from
-    # both) does not move the satellite: without it the ICD's J2 would put them metres apart
+    # each GLONASS record continues the previous one by the ICD's equations of motion, so the choice
+    # between two records (15 min from both) does not move the satellite: without it the ICD's J2 would
+    # put them metres apart
     path = tmp_path / "glo.rnx"
     write_nav_from_constellation(path, gnss_constellation("R"), T0, span_s=3600.0)
-    nav = read_nav(path)
-    g = nav.glonass
-    assert len(g) == 3 * 24
-
-    def only(rows: np.ndarray) -> RinexNav:
-        fields = {f: getattr(g, f)[rows] for f in g.__dataclass_fields__}
-        return replace(nav, glonass=GlonassEphemerides(**fields))
-
+    g = nav_input(read_nav(path)).glonass
     for sat in ("R01", "R13"):
-        rows = np.flatnonzero(g.sats == sat)
-        for k in range(2):
-            mid = int(g.tb_ns[rows[k]]) + 900 * 10**9
-            a = satellite_states(only(rows[k : k + 1]), [sat], mid)[0]
-            b = satellite_states(only(rows[k + 1 : k + 2]), [sat], mid)[0]
+        rows = np.flatnonzero(g["sat"] == sat)
+        for k in range(3):
+            mid = int(g["tb_gpst_ns"][rows[k]]) + 900 * 10**9
+            a, b = (
+                _core.gnss_satellite_states(
+                    {}, {f: v[r : r + 1] for f, v in g.items()}, None, None, [sat], np.array([mid])
+                )[0][0]
+                for r in rows[k : k + 2]
+            )
             assert np.linalg.norm(a - b) < 2e-3
 
 
@@ -187,8 +238,9 @@ def test_atmosphere_delays_code_and_advances_phase(tmp_path: Path) -> None:
     air_dir.mkdir()
     air = simulate_gnss_rinex(air_dir, ANTENNAS[:2], [0.0, 0.0, 0.0], **kw)  # type: ignore[arg-type]
     assert air.sats == vac.sats
-    nav = read_nav(air.nav_path)
-    np.testing.assert_array_equal(np.concatenate([nav.iono_alpha, nav.iono_beta]), KLOBUCHAR)
+    nav = nav_input(read_nav(air.nav_path))
+    assert nav.klobuchar is not None
+    np.testing.assert_array_equal(nav.klobuchar, KLOBUCHAR)
     a, v = read_obs(air.obs_paths[1]), read_obs(vac.obs_paths[1])
     rx = air.antenna_ecef_m[0, 1]
     lat, lon = np.radians(50.0), np.radians(36.2)
@@ -204,11 +256,13 @@ def test_atmosphere_delays_code_and_advances_phase(tmp_path: Path) -> None:
             d_code = a.get(f"C{band}")[0, k] - v.get(f"C{band}")[0, k]  # I + T
             d_phase = (a.get(f"L{band}")[0, k] - v.get(f"L{band}")[0, k]) * lam  # T - I
             iono, tropo = (d_code - d_phase) / 2, (d_code + d_phase) / 2
-            p = satellite_states(nav, [sat], t, np.array([-0.075]))[0][0]  # direction: light time irrelevant
+            p = satellite_states(nav, [sat], t, -0.075)[0][0]  # direction: light time irrelevant
             los = (p - rx) / np.linalg.norm(p - rx)
             el, az = np.arcsin(los @ up), np.arctan2(los @ east, los @ north)
-            want = klobuchar_delay_m(
-                nav.iono_alpha, nav.iono_beta, lat, lon, az, el, t * 1e-9, frequency_hz=f
+            want = (
+                C
+                * klobuchar_l1_s(KLOBUCHAR[:4], KLOBUCHAR[4:], lat, lon, az, el, t * 1e-9)
+                * (1575.42e6 / f) ** 2  # type: ignore[operator]
             )
             assert iono == pytest.approx(float(want), abs=2e-3)  # the 14.3f fields round to 0.5 mm
             # the troposphere: about 2.4 m at the zenith, growing as 1 / sin(el)
@@ -219,10 +273,6 @@ def test_engine_code_solution_recovers_the_antennas(tmp_path: Path) -> None:
     # The engine's single-point solution (Rust ephemerides, Klobuchar, Saastamoinen + Niell) on the
     # simulated files: noise-free code gives the true antenna positions and receiver clocks. Measured on
     # the ephem branch's binding: <= 1.4 mm for G, R, E, C and GRECJ (6-10 m with atmosphere=False).
-    from gnssatt import _core
-
-    if not hasattr(_core, "gnss_single_point"):
-        pytest.skip("the engine's gnss_single_point binding is not built in (branch ephem)")
     s = simulate_gnss_rinex(
         tmp_path, ANTENNAS[:2], [-40.0, 5.0, 3.0], n_epochs=2, rng=2, code_sigma_m=0.0, phase_sigma_m=0.0,
         receiver_clock_s=[3e-4, -2e-4], elevation_min_deg=5.0,

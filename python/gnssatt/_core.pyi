@@ -201,6 +201,27 @@ def gnss_satellite_states(
     *,
     offset_s: NDArray[np.float64] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+def gnss_transmit_states(
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    sats: list[str],
+    t_rx_gpst_ns: NDArray[np.int64],
+    receiver_m: NDArray[np.float64],
+    receiver_clock_s: NDArray[np.float64],
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]
+]: ...
+def gnss_klobuchar_delay(
+    coefficients: NDArray[np.float64],
+    t_gpst_ns: NDArray[np.int64],
+    lat_rad: float,
+    lon_rad: float,
+    azimuth_rad: NDArray[np.float64],
+    elevation_rad: NDArray[np.float64],
+    frequency_hz: NDArray[np.float64],
+) -> NDArray[np.float64]: ...
 def gnss_single_point(
     kepler: dict[str, NDArray[Any]],
     glonass: dict[str, NDArray[Any]],

@@ -2,7 +2,9 @@
 
 Run from the repository root at commit 7b709a6 (the prototype ``attitude_from_rinex`` on ``rinex/align``,
 ``baseline``, ``epoch_lambda``): ``python tests/data/prototype_geonet.py`` writes
-``tests/data/prototype_geonet.json``, which tests/test_gnss_attitude.py compares the engine with.
+``tests/data/prototype_geonet.json``, which tests/test_gnss_attitude.py and
+tests/test_gnss_prototype_reference.py compare the engine with. It cannot run after the commit that deleted
+those modules; it stays as the record of how the fixture was made.
 The prototype uses GPS L1 only, code 0.5 m and phase 3 mm without elevation weights, no troposphere, the
 base at its own code solution.
 """

@@ -24,7 +24,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import montecarlo, rinex, sim, tumble
+from gnssatt import montecarlo, sim, tumble
 
 from . import scenario as s
 
@@ -544,17 +544,6 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.rinex.read_nav": _e(
         lambda: {"path": s.rinex_array().nav_path}, nan_output="absent header Klobuchar coefficients are NaN"
     ),
-    "gnssatt.rinex.align_receivers": _e(
-        lambda: {
-            "observations": _obs(),
-            "nav": s.rinex_read()["nav"],
-            "band": 1,
-            "systems": "G",
-            "tolerance_s": 0.5,
-            "elevation_mask_deg": 10.0,
-        },
-        nan_output="unusable satellites' measurements are NaN, flagged by usable",
-    ),
     "gnssatt.rinex.attitude_from_rinex": _e(
         lambda: {
             "observations": list(s.rinex_array().obs_paths),
@@ -565,53 +554,7 @@ ENTRIES: dict[str, Entry] = {
         },
         nan_output="epochs without a solution are NaN, flagged in the series",
     ),
-    "gnssatt.rinex.carrier_frequency_hz": _e(lambda: {"sat": "R01", "band": 1, "glonass_channel": -4}),
-    "gnssatt.rinex.epoch_baselines": _e(
-        lambda: {"aligned": s.rinex_read()["aligned"], "known": s.static()},
-        nan_output="epochs without enough satellites are NaN",
-    ),
     "gnssatt.rinex.gps_ns": _e(lambda: {"time": np.array(["2024-03-01T10:00:00"], dtype="datetime64[ns]")}),
-    "gnssatt.rinex.satellite_states": _e(
-        lambda: {
-            "nav": s.rinex_read()["nav"],
-            "sats": list(s.rinex_read()["aligned"].sats[:3]),
-            "t_ns": int(rinex.gps_ns(s.rinex_array().time[:1])[0]),
-            "dt_s": 0.0,
-        },
-        nan_output="satellites without a valid ephemeris are NaN, flagged by valid",
-    ),
-    "gnssatt.rinex.single_point_positions": _e(
-        lambda: {
-            "obs": _obs()[0],
-            "nav": s.rinex_read()["nav"],
-            "elevation_mask_deg": 10.0,
-            "max_iter": 10,
-        },
-        counts={"max_iter"},
-        nan_output="epochs without a fix are NaN, flagged by valid",
-    ),
-    "gnssatt.rinex.static_baseline": _e(
-        lambda: {
-            "aligned": s.rinex_read()["aligned"],
-            "rover": 1,
-            "sigma_phase_m": 0.003,
-            "sigma_code_m": 0.5,
-            "ratio_threshold": 3.0,
-            "min_epochs_per_arc": 2,
-        },
-        counts={"min_epochs_per_arc"},
-    ),
-    "gnssatt.rinex.transmit_states": _e(
-        lambda: {
-            "nav": s.rinex_read()["nav"],
-            "sats": list(s.rinex_read()["aligned"].sats[:3]),
-            "t_rx_ns": int(rinex.gps_ns(s.rinex_array().time[:1])[0]),
-            "receiver_ecef_m": s.GROUND.position_ecef_m.copy(),
-            "pseudorange_m": np.full(3, 2.2e7),
-            "receiver_clock_s": 0.0,
-        },
-        nan_output="satellites without a valid ephemeris are NaN, flagged by valid",
-    ),
     "gnssatt.rinex.write_nav_from_constellation": _e(
         lambda: {
             "path": s.folder() / "written.24n",
@@ -637,28 +580,6 @@ ENTRIES: dict[str, Entry] = {
         },
         nonfinite_ok={"observations"},
         free_text={"marker_name"},
-    ),
-    "gnssatt.rinex.epoch_lambda.epoch_lambda": _e(
-        lambda: {
-            "aligned": s.rinex_read()["aligned"],
-            "baselines_body": None,
-            "sigma_phase_m": 0.003,
-            "candidates": 200,
-            "min_success_rate": 0.5,
-        },
-        counts={"candidates"},
-        nan_output="epochs without a fix are NaN, flagged by fixed",
-    ),
-    "gnssatt.rinex.iono.klobuchar_delay_m": _e(
-        lambda: {
-            "alpha": np.array([1.1e-8, 1.5e-8, -6e-8, -6e-8]),
-            "beta": np.array([9e4, 1.3e5, -6.5e4, -3.3e5]),
-            "lat_rad": 0.8,
-            "lon_rad": 0.6,
-            "azimuth_rad": np.array([0.1, 2.0]),
-            "elevation_rad": np.array([0.5, 1.2]),
-            "gps_time_s": 43200.0,
-        }
     ),
     "gnssatt.rinex.scenario.simulate_rinex_array": _e(
         lambda: {
@@ -726,15 +647,6 @@ ENTRIES: dict[str, Entry] = {
             "constellation": s.gps(),
             "sat_ids": list(s.geometry().ids),
             "receiver": s.GROUND,
-        }
-    ),
-    "gnssatt.rinex.spp.code_observations": _e(
-        lambda: {"obs": _obs()[0]}, nan_output="missing code observations are NaN, flagged by the mask"
-    ),
-    "gnssatt.rinex.spp.elevation_azimuth_ecef": _e(
-        lambda: {
-            "receiver_ecef_m": s.GROUND.position_ecef_m.copy(),
-            "sat_ecef_m": np.array([[1.5e7, 1.5e7, 1.5e7], [2e7, -1e7, 1.2e7]]),
         }
     ),
     # --- gnssatt.montecarlo ---

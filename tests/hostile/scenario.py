@@ -116,10 +116,11 @@ def rinex_read() -> dict[str, Any]:
     s = rinex_array()
     obs = [rinex.read_obs(p) for p in s.obs_paths]
     nav = rinex.read_nav(s.nav_path)
-    aligned = rinex.align_receivers(obs, nav, systems="G")
-    return {"obs": obs, "nav": nav, "aligned": aligned}
+    return {"obs": obs, "nav": nav}
 
 
 @functools.cache
-def static() -> rinex.StaticBaseline:
-    return rinex.static_baseline(rinex_read()["aligned"], min_epochs_per_arc=2)
+def static() -> rinex.AttitudeSeries:
+    """The engine's static session solution of :func:`rinex_read` (GPS L1), prewarmed by the worker."""
+    r = rinex_read()
+    return rinex.attitude_from_rinex(r["obs"], r["nav"], method="lambda", motion="static", systems="G")

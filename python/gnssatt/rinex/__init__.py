@@ -1,4 +1,5 @@
-"""Recorded receiver data: RINEX reading and writing, broadcast ephemerides, between-receiver processing.
+"""Recorded receiver data: RINEX reading and writing, and attitude or baseline direction from recorded files
+through the Rust observation engine (:func:`attitude_from_rinex`).
 
 Time scale: GPST throughout (``datetime64[ns]`` labels, or integer nanoseconds since the GPS epoch).
 Carrier phase in cycles with the RINEX sign (grows with range); see ``docs/conventions.md``.
@@ -8,29 +9,16 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from gnssatt.rinex.align import Aligned, align_receivers, carrier_frequency_hz
     from gnssatt.rinex.attitude import AttitudeSeries, attitude_from_rinex
-    from gnssatt.rinex.baseline import EpochBaselines, StaticBaseline, epoch_baselines, static_baseline
-    from gnssatt.rinex.ephemeris import satellite_states, transmit_states
     from gnssatt.rinex.nav import GlonassEphemerides, KeplerEphemerides, RinexNav, gps_ns, read_nav
     from gnssatt.rinex.obs import RinexObs, read_obs
-    from gnssatt.rinex.spp import PointSolution, single_point_positions
     from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
 
 # Names imported on first access (PEP 562): `gnssatt attitude` needs only the reader and the engine, not
-# the Python prototype modules (align, spp, ephemeris, baseline) or the simulator they import (0.8 s).
+# the writer or the simulator it serves.
 _EXPORTS = {
-    "Aligned": "align",
-    "align_receivers": "align",
-    "carrier_frequency_hz": "align",
     "AttitudeSeries": "attitude",
     "attitude_from_rinex": "attitude",
-    "EpochBaselines": "baseline",
-    "StaticBaseline": "baseline",
-    "epoch_baselines": "baseline",
-    "static_baseline": "baseline",
-    "satellite_states": "ephemeris",
-    "transmit_states": "ephemeris",
     "GlonassEphemerides": "nav",
     "KeplerEphemerides": "nav",
     "RinexNav": "nav",
@@ -38,40 +26,57 @@ _EXPORTS = {
     "read_nav": "nav",
     "RinexObs": "obs",
     "read_obs": "obs",
-    "PointSolution": "spp",
-    "single_point_positions": "spp",
     "write_nav_from_constellation": "writer",
     "write_obs": "writer",
 }
 
+_SESSION = "gnssatt.rinex.session_input.session_input (observations on common epochs and signals)"
+_SOLVE = "gnssatt.rinex.attitude_from_rinex (motion='static' or 'moving'; baselines, fixed flags, sigmas)"
+_ENGINE = (
+    "gnssatt.rinex.attitude_from_rinex, which evaluates them in the engine (the evaluations themselves: "
+    "gnssatt._core.gnss_satellite_states and gnss_transmit_states on gnssatt.rinex.session_input.nav_input)"
+)
+#: Names of the Python prototype of the observation engine, deleted after the engine reproduced its results
+#: (issue 16; tests/test_gnss_prototype_reference.py): what replaces each.
+_REMOVED = {
+    "Aligned": _SESSION,
+    "align_receivers": _SESSION,
+    "carrier_frequency_hz": "gnssatt.rinex.signals.slot_frequency_hz",
+    "EpochBaselines": _SOLVE,
+    "StaticBaseline": _SOLVE,
+    "epoch_baselines": _SOLVE,
+    "static_baseline": _SOLVE,
+    "satellite_states": _ENGINE,
+    "transmit_states": _ENGINE,
+    "PointSolution": _SOLVE + " (the engine's single-point positions position the receivers)",
+    "single_point_positions": _SOLVE + " (the engine's single-point positions position the receivers)",
+}
+
 __all__ = [
-    "Aligned",
     "AttitudeSeries",
-    "EpochBaselines",
     "GlonassEphemerides",
     "KeplerEphemerides",
-    "PointSolution",
     "RinexNav",
     "RinexObs",
-    "StaticBaseline",
-    "align_receivers",
     "attitude_from_rinex",
-    "carrier_frequency_hz",
-    "epoch_baselines",
     "gps_ns",
     "read_nav",
     "read_obs",
-    "satellite_states",
-    "single_point_positions",
-    "static_baseline",
-    "transmit_states",
     "write_nav_from_constellation",
     "write_obs",
 ]
 
 
 def __getattr__(name: str) -> Any:
-    """Import a re-exported name on first access (PEP 562) and cache it in the package."""
+    """Import a re-exported name on first access (PEP 562) and cache it in the package; a name of the
+    deleted prototype raises ImportError saying what replaces it (ImportError, not AttributeError, so that
+    ``from gnssatt.rinex import name`` shows the message)."""
+    if name in _REMOVED:
+        raise ImportError(
+            f"gnssatt.rinex.{name} belonged to the Python prototype of the observation engine, removed in "
+            f"favour of the Rust engine; use {_REMOVED[name]}",
+            name=name,
+        )
     if name not in _EXPORTS:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)

@@ -17,11 +17,12 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt import sim
+from gnssatt import _core, sim
 from gnssatt._arrays import flag, instance, integer, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.likelihood import rotation_from_euler
 from gnssatt.rinex._fields import folder_path, sat_list
+from gnssatt.rinex.session_input import NavInput, nav_input
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
 
 __all__ = [
@@ -276,6 +277,49 @@ class SimulatedGnss:
     elevation_deg: NDArray[np.float64]
 
 
+@dataclass(frozen=True)
+class _Geometry:
+    """Satellites seen at receptions of shape ``S`` (then one satellite axis): transmit-time positions in
+    the ECEF frame of reception (``S + (n_sat, 3)``, m), satellite clocks (s), elevations and azimuths
+    (rad) at each receiver; NaN where no record is usable."""
+
+    position_m: NDArray[np.float64]
+    clock_s: NDArray[np.float64]
+    elevation_rad: NDArray[np.float64]
+    azimuth_rad: NDArray[np.float64]
+
+
+#: Most evaluations (reception x satellite) per call of the engine, bounding the arrays of one call.
+_CHUNK = 200_000
+
+
+def _transmit(
+    nav: NavInput, sats: list[str], t_rx_ns: NDArray[np.int64], receiver_m: NDArray[np.float64],
+    receiver_clock_s: NDArray[np.float64],
+) -> tuple[NDArray[np.bool_], _Geometry]:  # fmt: skip
+    """Every satellite of ``sats`` at every reception (labels ``t_rx_ns`` of shape ``S``, receivers
+    ``S + (3,)`` ECEF m with clocks ``S`` s): the engine's light time and Earth rotation
+    (``_core.gnss_transmit_states``), in chunks of at most ``_CHUNK`` evaluations."""
+    shape = t_rx_ns.shape
+    n_sat = len(sats)
+    t = np.repeat(t_rx_ns.reshape(-1).astype(np.int64), n_sat)
+    rx = np.repeat(np.asarray(receiver_m, dtype=np.float64).reshape(-1, 3), n_sat, axis=0)
+    clk = np.repeat(np.asarray(receiver_clock_s, dtype=np.float64).reshape(-1), n_sat)
+    ids = sats * int(np.prod(shape))
+    parts = []
+    for a in range(0, len(t), _CHUNK):
+        z = slice(a, a + _CHUNK)
+        parts.append(
+            _core.gnss_transmit_states(
+                nav.kepler, nav.glonass, nav.klobuchar, nav.leap_seconds, ids[z], t[z], rx[z], clk[z]
+            )
+        )
+    p, c, el, az, ok = (np.concatenate([q[k] for q in parts]) for k in range(5))
+    full = (*shape, n_sat)
+    geometry = _Geometry(p.reshape(*full, 3), c.reshape(full), el.reshape(full), az.reshape(full))
+    return ok.reshape(full), geometry
+
+
 def _slips(value: object) -> list[tuple[int, int, str, int]]:
     """``value`` as (epoch >= 0, antenna >= 0, satellite id, slot >= 0) tuples (ranges checked later)."""
     if isinstance(value, str) or not isinstance(value, Sequence):
@@ -366,8 +410,8 @@ def simulate_gnss_rinex(
 
     Orbits (:func:`gnss_constellation`) become broadcast records (mixed navigation file,
     :func:`~gnssatt.rinex.writer.write_nav_from_constellation`, random satellite clocks); every range is
-    then computed from those records as read back (:func:`~gnssatt.rinex.ephemeris.transmit_states`: light
-    time, Earth rotation during it, satellite clock), so that an engine that reads the files sees
+    then computed from those records as read back (the engine's ``_core.gnss_transmit_states``: light time,
+    Earth rotation during it, satellite clock), so that an engine that reads the files sees
     consistent data. For antenna i with receiver clock ``dt_i`` and satellite clock ``dt_s``, at label T
     (true reception ``T - dt_i``), slot wavelength ``lambda``:
     ``P = rho + c (dt_i - dt_s) + I + T + e_P``,
@@ -427,8 +471,6 @@ def simulate_gnss_rinex(
     WorkLimitError
         More than ``MAX_EPOCHS`` epochs, or a session longer than ``MAX_SPAN_S``.
     """
-    from gnssatt.rinex.ephemeris import transmit_states
-    from gnssatt.rinex.iono import klobuchar_delay_m
     from gnssatt.rinex.nav import gps_ns, read_nav
     from gnssatt.rinex.signals import slot_frequency_hz
     from gnssatt.sim.atmosphere import troposphere_delay_m
@@ -503,7 +545,7 @@ def simulate_gnss_rinex(
         nav_path, allsats, T0, start_s=start_s, span_s=float(t_s[-1] - t_s[0]) + 1.0, clock_bias_s=sat_clk,
         klobuchar=KLOBUCHAR if atmosphere else None,
     )  # fmt: skip
-    nav = read_nav(nav_path)
+    nav = nav_input(read_nav(nav_path))
     times = T0 + (t_s * 1e9).astype("timedelta64[ns]")
     t_ns = gps_ns(times)
     rot = rotation_from_euler(eul).as_matrix()  # (n_ep, 3, 3) body -> ENU
@@ -511,12 +553,8 @@ def simulate_gnss_rinex(
     pos = rx.position_ecef_m[None, None, :] + np.einsum("ij,tjk,ak->tai", enu2ecef, rot, ant)
     ids = list(allsats.ids)
     # geometry of every satellite at the reference antenna: visibility
-    up = enu2ecef[:, 2]
-    el = np.empty((n_epochs, len(ids)))
-    for e in range(n_epochs):
-        p, _, _, ok = transmit_states(nav, ids, int(t_ns[e]), pos[e, 0], receiver_clock_s=float(dt_rx[0]))
-        d = p - pos[e, 0]
-        el[e] = np.where(ok, np.degrees(np.arcsin(d @ up / np.linalg.norm(d, axis=1))), -90.0)
+    ok, at_ref = _transmit(nav, ids, t_ns, pos[:, 0], np.full(n_epochs, dt_rx[0]))
+    el = np.where(ok, np.degrees(at_ref.elevation_rad), -90.0)
     keep = np.all(el > elevation_min_deg, axis=0)
     if n_sats is not None:
         order = np.argsort(-np.where(keep, el[0], -90.0))
@@ -533,30 +571,34 @@ def simulate_gnss_rinex(
             if SIM_CODES[s[0]][slot] is not None:
                 f = slot_frequency_hz(s[0], slot, channels.get(s))
                 lam[k, slot] = _C / f if f else np.nan
-    rho = np.empty((n_epochs, n_ant, n_sat))
-    rate = np.empty((n_epochs, n_ant, n_sat))
-    clk = np.empty((n_epochs, n_ant, n_sat))
-    iono = np.zeros((n_epochs, n_ant, n_sat, 3))  # ionospheric group delay of each carrier, m
-    tropo = np.zeros((n_epochs, n_ant, n_sat))
-    lat, lon = np.radians(lat_deg), np.radians(lon_deg)
-    for e in range(n_epochs):
-        for i in range(n_ant):
-            r = []
-            for h in (0.0, -_DOPPLER_H_S, _DOPPLER_H_S):
-                p, c, _, _ = transmit_states(
-                    nav, sats, int(t_ns[e] + round(h * 1e9)), pos[e, i], receiver_clock_s=float(dt_rx[i])
-                )
-                r.append((np.linalg.norm(p - pos[e, i], axis=1), c))
-                if h == 0.0 and atmosphere:
-                    enu = (p - pos[e, i]) @ enu2ecef / r[0][0][:, None]
-                    el_i, az_i = np.arcsin(enu[:, 2]), np.arctan2(enu[:, 0], enu[:, 1])
-                    tropo[e, i] = troposphere_delay_m(lat, height_m, el_i)
-                    iono[e, i] = klobuchar_delay_m(
-                        nav.iono_alpha, nav.iono_beta, lat, lon, az_i[:, None], el_i[:, None],
-                        t_ns[e] * 1e-9, frequency_hz=np.where(np.isfinite(lam), _C / lam, 1575.42e6),
-                    )  # fmt: skip
-            rho[e, i], clk[e, i] = r[0]
-            rate[e, i] = ((r[2][0] - _C * r[2][1]) - (r[1][0] - _C * r[1][1])) / (2 * _DOPPLER_H_S)
+    # every antenna at the label and half a Doppler step either side: (n_ep, n_ant, 3 instants) receptions
+    steps_ns = np.array([0, -round(_DOPPLER_H_S * 1e9), round(_DOPPLER_H_S * 1e9)])
+    t_rx = (t_ns[:, None, None] + steps_ns[None, None, :]).repeat(n_ant, axis=1)
+    rx_pos = np.broadcast_to(pos[:, :, None, :], (n_epochs, n_ant, 3, 3))
+    rx_clk = np.broadcast_to(dt_rx[None, :, None], (n_epochs, n_ant, 3))
+    _, seen = _transmit(nav, sats, t_rx, rx_pos, rx_clk)
+    rng_m = np.linalg.norm(seen.position_m - pos[:, :, None, None, :], axis=-1)  # (n_ep, n_ant, 3, n_sat)
+    rho, clk = rng_m[:, :, 0], seen.clock_s[:, :, 0]
+    rate = ((rng_m[:, :, 2] - _C * seen.clock_s[:, :, 2]) - (rng_m[:, :, 1] - _C * seen.clock_s[:, :, 1])) / (
+        2 * _DOPPLER_H_S
+    )
+    # ionospheric group delay of each carrier, m
+    iono: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat, 3))
+    tropo: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat))
+    if atmosphere:
+        lat, lon = np.radians(lat_deg), np.radians(lon_deg)
+        el_i, az_i = seen.elevation_rad[:, :, 0], seen.azimuth_rad[:, :, 0]
+        tropo = troposphere_delay_m(lat, height_m, el_i)
+        freq = np.where(np.isfinite(lam), _C / lam, 1575.42e6)  # (n_sat, 3)
+        shape = (n_epochs, n_ant, n_sat, 3)
+        el_b, az_b, f_b = (
+            np.broadcast_to(x, shape).ravel() for x in (el_i[..., None], az_i[..., None], freq)
+        )
+        t_b = np.broadcast_to(t_ns[:, None, None, None], shape).ravel().astype(np.int64)
+        # KLOBUCHAR is exact in the header's 12.4E fields: the coefficients the files give
+        iono = _core.gnss_klobuchar_delay(np.asarray(KLOBUCHAR), t_b, lat, lon, az_b, el_b, f_b).reshape(
+            shape
+        )
     amb = gen.integers(-1000, 1000, size=(n_ant, n_sat, 3))
     jumps = np.zeros((n_epochs, n_ant, n_sat, 3), dtype=np.int64)
     lli = np.zeros((n_epochs, n_ant, n_sat, 3))

@@ -34,7 +34,11 @@ _BDT_NS = 14 * 1_000_000_000
 _BDT_WEEK = 1356
 #: GPS - UTC written with GLONASS records (valid since 2017-01-01).
 _LEAP_SECONDS = 18
+#: GLONASS records: every 30 minutes at 15 and 45 minutes past each UTC hour, as broadcast files have them
+#: (t_b is a 15-minute index of the day in UTC(SU) = UTC + 3 h; readers such as RTKLIB round the label to
+#: 15 minutes of UTC and take that as t_b), s.
 _GLONASS_STEP_S = 1800
+_GLONASS_PHASE_S = 900
 #: Spacing of the Keplerian records written, s: every epoch is within 30 minutes of a ``toe``, well inside
 #: the 4-hour fit interval.
 _KEPLER_STEP_S = 3600
@@ -260,11 +264,12 @@ def write_nav_from_constellation(
     Galileo, BeiDou and QZSS get a Keplerian record every hour (``toe`` on the record) that reproduces the
     two-body orbit exactly (module docstring; each system's ``mu`` and ``omega_E``, BeiDou in BDT =
     GPST - 14 s; satellites C01-C05 would be read as GEO and are refused). GLONASS gets state vectors (ECEF
-    position and velocity, no luni-solar acceleration) every 30 minutes, labelled in UTC with 18 leap
-    seconds (written as ``LEAP SECONDS``): the first from the two-body orbit, the next ones continuing it by
-    the ICD's equations of motion, whose J2 term moves it 99 m from the two-body orbit in 30 minutes; so
-    simulate ranges from the records read back (as :func:`gnssatt.rinex.scenario.simulate_gnss_rinex`
-    does), not from the orbits.
+    position and velocity, no luni-solar acceleration) every 30 minutes at 15 and 45 minutes past each
+    UTC hour (t_b on the 15-minute grid of the day, as broadcast), labelled in UTC with 18 leap seconds
+    (written as ``LEAP SECONDS``), the first at or before ``epoch_gpst + start_s``: the first from the
+    two-body orbit, the next ones continuing it by the ICD's equations of motion, whose J2 term moves it
+    99 m from the two-body orbit in 30 minutes; so simulate ranges from the records read back (as
+    :func:`gnssatt.rinex.scenario.simulate_gnss_rinex` does), not from the orbits.
 
     Parameters
     ----------
@@ -288,7 +293,7 @@ def write_nav_from_constellation(
     Returns
     -------
     toe_ns
-        (n_sat,) GPST nanoseconds of each satellite's first record.
+        (n_sat,) GPST nanoseconds of each satellite's first record (GLONASS: its t_b).
 
     Raises
     ------
@@ -337,17 +342,34 @@ def write_nav_from_constellation(
         _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
         _hdr("", "END OF HEADER"),
     ]
+    first = np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
+    glonass_tb = _glonass_grid(t0_ns + start * 1_000_000_000, span_s)
     for j, sat in enumerate(ids):
-        step = _GLONASS_STEP_S if sat[0] == "R" else _KEPLER_STEP_S
-        times = [start + k * step for k in range(int(np.ceil(span_s / step)) + 1)]
         if sat[0] == "R":
-            out += _glonass_records(sat, constellation, j, times, t0_ns, float(clk[j]))
-        else:
-            for t_r in times:
-                out += _kepler_record(sat, constellation, j, t_r, t0_ns + t_r * 1_000_000_000, float(clk[j]))
+            out += _glonass_records(sat, constellation, j, glonass_tb, t0_ns, float(clk[j]))
+            first[j] = glonass_tb[0]
+            continue
+        for k in range(int(np.ceil(span_s / _KEPLER_STEP_S)) + 1):
+            t_r = start + k * _KEPLER_STEP_S
+            out += _kepler_record(sat, constellation, j, t_r, t0_ns + t_r * 1_000_000_000, float(clk[j]))
     with open(path, "w", encoding="ascii") as fh:
         fh.writelines(out)
-    return np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
+    return first
+
+
+def _glonass_grid(first_ns: int, span_s: float) -> list[int]:
+    """GPST nanoseconds of the GLONASS records covering ``[first_ns, first_ns + span_s]``: the UTC instants
+    at 15 and 45 minutes past the hour from the last one at or before ``first_ns`` to the first one at or
+    after the end (every instant within 15 minutes of a record)."""
+    second = 1_000_000_000
+    leap, phase, step = _LEAP_SECONDS * second, _GLONASS_PHASE_S * second, _GLONASS_STEP_S * second
+    # the GPS epoch is a UTC midnight, so whole steps from it (less the leap seconds) are UTC clock times
+    utc = (first_ns - leap - phase) // step * step + phase
+    end = first_ns + round(span_s * second) - leap
+    grid = [utc]
+    while grid[-1] < end:
+        grid.append(grid[-1] + step)
+    return [t + leap for t in grid]
 
 
 def _record_start(sat: str, label_ns: int, clk: float) -> str:
@@ -393,25 +415,24 @@ def _kepler_record(
 
 
 def _glonass_records(
-    sat: str, constellation: Constellation, j: int, times: list[int], t0_ns: int, clk: float
+    sat: str, constellation: Constellation, j: int, tb_ns: list[int], t0_ns: int, clk: float
 ) -> list[str]:
-    """GLONASS records of satellite ``j`` at ``times`` (s after the simulator's ``t = 0``, GPST ``t0_ns``),
+    """GLONASS records of satellite ``j`` at GPST ``tb_ns`` (the simulator's ``t = 0`` is GPST ``t0_ns``),
     labelled in UTC: the first from the two-body orbit, each next one that record's state propagated by the
     ICD's equations of motion (:func:`gnssatt.orbit.glonass_propagate`, 60 s steps as the ephemeris), so
     that neighbouring records agree where either may be chosen (tens of metres apart otherwise: J2)."""
     from gnssatt.orbit import glonass_propagate
 
-    r, v = constellation.select([constellation.ids[j]]).state_ecef(float(times[0]))
+    r, v = constellation.select([constellation.ids[j]]).state_ecef((tb_ns[0] - t0_ns) * 1e-9)
     pos, vel = r[0], v[0]
     channel = float(constellation.glonass_channels[j])
     km = 1e-3
     lines = []
-    for k, t_r in enumerate(times):
+    for k, tb in enumerate(tb_ns):
         if k:
-            nxt = glonass_propagate(pos, vel, float(t_r - times[k - 1]), step_s=60.0)
+            nxt = glonass_propagate(pos, vel, (tb - tb_ns[k - 1]) * 1e-9, step_s=60.0)
             pos, vel = nxt.position_m, nxt.velocity_m_s
-        label_ns = t0_ns + (t_r - _LEAP_SECONDS) * 1_000_000_000
-        lines.append(_record_start(sat, label_ns, clk))
+        lines.append(_record_start(sat, tb - _LEAP_SECONDS * 1_000_000_000, clk))
         for axis, extra in ((0, 0.0), (1, channel), (2, 0.0)):
             vals = (pos[axis] * km, vel[axis] * km, 0.0, extra)
             lines.append("    " + "".join(_d19(x) for x in vals) + "\n")

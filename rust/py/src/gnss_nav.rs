@@ -1,8 +1,11 @@
 //! Broadcast navigation data from Python (`NavInput` of `gnssatt.rinex.session_input`: one numpy array
-//! per record field) into the core's `NavData`, and test-facing evaluations of the ephemerides and of
-//! single-point positioning.
+//! per record field) into the core's `NavData`; evaluations of the ephemerides (at a time, or at
+//! transmission for a reception), of the Klobuchar ionosphere (the simulator's) and of single-point
+//! positioning (test-facing).
 
+use gnssatt_core::gnss::atmosphere::klobuchar_delay_m;
 use gnssatt_core::gnss::ephemeris::Ephemerides;
+use gnssatt_core::gnss::geometry::satellite_geometry;
 use gnssatt_core::gnss::navdata::{GlonassRecord, KeplerRecord, NavData};
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations};
 use gnssatt_core::gnss::options::EngineOptions;
@@ -10,13 +13,56 @@ use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
 use gnssatt_core::gnss::spp::single_point;
 use nalgebra::Vector3;
 use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{exact, fixed};
-use crate::errors::invalid_input;
+use gnssatt_core::Error;
+
+use crate::convert::{exact, fixed, rows, values};
+use crate::errors::{invalid_input, IntoPyResult};
 use crate::interruptible;
+
+/// Most evaluations (satellite, instant) of one call of [`gnss_transmit_states`] or
+/// [`gnss_klobuchar_delay`]: a GLONASS state costs up to 30 Runge-Kutta steps, about 10 us, so the
+/// limit is a minute or two of work.
+pub const MAX_EVALUATIONS: usize = 10_000_000;
+/// Largest receiver distance from the Earth's centre accepted, m (beyond the Moon).
+pub const MAX_RECEIVER_RADIUS_M: f64 = 1e9;
+/// Largest receiver clock offset accepted, s (receivers steer their clocks to within a millisecond).
+pub const MAX_RECEIVER_CLOCK_S: f64 = 1.0;
+/// Carrier frequencies accepted by [`gnss_klobuchar_delay`], Hz.
+pub const FREQUENCY_RANGE_HZ: (f64, f64) = (1e6, 1e11);
+
+/// The documented limit on `n` evaluations, checked before any copy.
+fn evaluations(py: Python<'_>, n: usize) -> PyResult<()> {
+    if n > MAX_EVALUATIONS {
+        return Err(Error::too_large(
+            "sats",
+            n as f64,
+            MAX_EVALUATIONS as f64,
+            "evaluations",
+        ))
+        .into_py_result(py);
+    }
+    Ok(())
+}
+
+/// `name` (finite, checked by the caller) with every value in `[lo, hi]`.
+fn within(py: Python<'_>, name: &str, v: &[f64], lo: f64, hi: f64, unit: &str) -> PyResult<()> {
+    match v.iter().position(|x| !(lo..=hi).contains(x)) {
+        Some(i) => Err(invalid_input(
+            py,
+            format!(
+                "expected {name} in [{lo}, {hi}] {unit}, got {} at [{i}]",
+                v[i]
+            ),
+        )),
+        None => Ok(()),
+    }
+}
 
 /// A satellite id `"G05"`: a system letter and a PRN 1..=99.
 pub fn sat_from_str(py: Python<'_>, name: &str, s: &str) -> PyResult<SatId> {
@@ -450,8 +496,172 @@ fn gnss_single_point<'py>(
     ))
 }
 
+type Transmits<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
+/// Satellite `sats[i]` as received at GPST label `t_rx_gpst_ns[i]` by a receiver at `receiver_m[i]`
+/// (ECEF, m) whose clock reads `receiver_clock_s[i]` ahead (true reception = label - clock): light time
+/// iterated from the receiver, Earth rotation during it (the core's `satellite_geometry`). Returns the
+/// transmit-time position in the ECEF frame of reception (n, 3) m, the satellite clock at transmission
+/// (n,) s (relativistic term included, no group delay), elevation and azimuth (clockwise from North) at
+/// the receiver's geodetic position (n,) rad, and validity (n,); NaN where not valid (no usable record).
+#[pyfunction]
+#[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, sats, t_rx_gpst_ns, receiver_m,
+                    receiver_clock_s))]
+#[allow(clippy::too_many_arguments)]
+fn gnss_transmit_states<'py>(
+    py: Python<'py>,
+    kepler: &Bound<'py, PyDict>,
+    glonass: &Bound<'py, PyDict>,
+    klobuchar: Option<PyReadonlyArray1<'py, f64>>,
+    leap_seconds: Option<i32>,
+    sats: Vec<String>,
+    t_rx_gpst_ns: PyReadonlyArray1<'py, i64>,
+    receiver_m: PyReadonlyArray2<'py, f64>,
+    receiver_clock_s: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Transmits<'py>> {
+    let n = sats.len();
+    evaluations(py, n)?;
+    let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
+    let ids = sats
+        .iter()
+        .map(|s| sat_from_str(py, "sats", s))
+        .collect::<PyResult<Vec<_>>>()?;
+    let t = exact(py, "t_rx_gpst_ns", &t_rx_gpst_ns, &[n])?;
+    let rx = rows::<3>(py, "receiver_m", &receiver_m, Some(n), false)?;
+    if let Some(i) = rx
+        .iter()
+        .position(|p| Vector3::from(*p).norm() > MAX_RECEIVER_RADIUS_M)
+    {
+        return Err(invalid_input(
+            py,
+            format!(
+                "expected |receiver_m| <= {MAX_RECEIVER_RADIUS_M} m, got {:?} at [{i}]",
+                rx[i]
+            ),
+        ));
+    }
+    let clock = values(py, "receiver_clock_s", &receiver_clock_s)?;
+    if clock.len() != n {
+        return Err(crate::convert::shape_error(
+            py,
+            "receiver_clock_s",
+            &format!("({n},)"),
+            &[clock.len()],
+        ));
+    }
+    within(
+        py,
+        "receiver_clock_s",
+        &clock,
+        -MAX_RECEIVER_CLOCK_S,
+        MAX_RECEIVER_CLOCK_S,
+        "s",
+    )?;
+    let geometry = interruptible::run(py, || {
+        let eph = Ephemerides::new(&nav)?;
+        let mut out = Vec::with_capacity(n);
+        for i in 0..n {
+            gnssatt_core::interrupt::check_every(i, "transmit states")?;
+            out.push(satellite_geometry(
+                &eph,
+                ids[i],
+                t[i],
+                clock[i],
+                &Vector3::from(rx[i]),
+            ));
+        }
+        Ok(out)
+    })?;
+    let pos = Array2::from_shape_fn((n, 3), |(i, j)| {
+        geometry[i].map_or(f64::NAN, |g| g.position_m[j])
+    });
+    let per = |f: fn(&gnssatt_core::gnss::geometry::SatGeometry) -> f64| {
+        Array1::from_shape_fn(n, |i| geometry[i].as_ref().map_or(f64::NAN, f))
+    };
+    let clk = per(|g| g.clock_s);
+    let el = per(|g| g.elevation_rad);
+    let az = per(|g| g.azimuth_rad);
+    let ok = Array1::from_shape_fn(n, |i| geometry[i].is_some());
+    Ok((
+        pos.into_pyarray(py),
+        clk.into_pyarray(py),
+        el.into_pyarray(py),
+        az.into_pyarray(py),
+        ok.into_pyarray(py),
+    ))
+}
+
+/// Slant ionospheric group delay of the broadcast Klobuchar model (IS-GPS-200 20.3.3.5.2.5, the core's
+/// `klobuchar_delay_m`), m, positive (code delayed, phase advanced): `coefficients` (8,) alpha0..3,
+/// beta0..3 as broadcast (s and semicircle powers); the receiver's geodetic latitude and longitude, rad;
+/// per evaluation (n,) GPST `t_gpst_ns`, satellite azimuth and elevation (rad) and carrier frequency (Hz;
+/// the L1 delay scaled by `(f_L1 / f)^2`). 0 for a satellite at or below the horizon.
+#[pyfunction]
+#[pyo3(signature = (coefficients, t_gpst_ns, lat_rad, lon_rad, azimuth_rad, elevation_rad,
+                    frequency_hz))]
+#[allow(clippy::too_many_arguments)]
+fn gnss_klobuchar_delay<'py>(
+    py: Python<'py>,
+    coefficients: PyReadonlyArray1<'py, f64>,
+    t_gpst_ns: PyReadonlyArray1<'py, i64>,
+    lat_rad: f64,
+    lon_rad: f64,
+    azimuth_rad: PyReadonlyArray1<'py, f64>,
+    elevation_rad: PyReadonlyArray1<'py, f64>,
+    frequency_hz: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let n = t_gpst_ns.as_array().len();
+    evaluations(py, n)?;
+    let coeffs = fixed::<8>(py, "coefficients", &coefficients)?;
+    let t = exact(py, "t_gpst_ns", &t_gpst_ns, &[n])?;
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let tau = std::f64::consts::TAU;
+    within(py, "lat_rad", &[lat_rad], -half_pi, half_pi, "rad")?;
+    within(py, "lon_rad", &[lon_rad], -tau, tau, "rad")?;
+    let mut columns = Vec::with_capacity(3);
+    for (name, a, (lo, hi)) in [
+        ("azimuth_rad", &azimuth_rad, (-2.0 * tau, 2.0 * tau)),
+        ("elevation_rad", &elevation_rad, (-half_pi, half_pi)),
+        ("frequency_hz", &frequency_hz, FREQUENCY_RANGE_HZ),
+    ] {
+        let v = values(py, name, a)?;
+        if v.len() != n {
+            return Err(crate::convert::shape_error(
+                py,
+                name,
+                &format!("({n},) like t_gpst_ns"),
+                &[v.len()],
+            ));
+        }
+        within(
+            py,
+            name,
+            &v,
+            lo,
+            hi,
+            if name == "frequency_hz" { "Hz" } else { "rad" },
+        )?;
+        columns.push(v);
+    }
+    let (az, el, f) = (&columns[0], &columns[1], &columns[2]);
+    let delay = interruptible::run(py, || {
+        Ok((0..n)
+            .map(|i| klobuchar_delay_m(&coeffs, t[i], lat_rad, lon_rad, az[i], el[i], f[i]))
+            .collect::<Vec<_>>())
+    })?;
+    Ok(Array1::from(delay).into_pyarray(py))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gnss_satellite_states, m)?)?;
+    m.add_function(wrap_pyfunction!(gnss_transmit_states, m)?)?;
+    m.add_function(wrap_pyfunction!(gnss_klobuchar_delay, m)?)?;
     m.add_function(wrap_pyfunction!(gnss_single_point, m)?)?;
     Ok(())
 }
