@@ -118,17 +118,6 @@ ABSURD = {
     "tumble outputs": (lambda: tumble.propagate_axes(np.tile(TUMBLING, (100_000, 1)), np.zeros(1000)), "t"),
     # 1e9 steps of 1 us.
     "glonass step_s": (lambda: orbit.glonass_propagate(ICD_R0, ICD_V0, 1000.0, step_s=1e-6), "step_s"),
-    # 200 ephemerides moved by a day in 1 s steps: 1.7e7 steps.
-    "glonass ephemeris": (
-        lambda: _core.glonass_ephemeris_states(
-            np.tile(np.concatenate([ICD_R0, ICD_V0]), (200, 1)),
-            np.zeros((200, 3)),
-            np.full(200, 86_400.0),
-            GlonassModel()._kwargs(),
-            max_step_s=1.0,
-        ),
-        "max_step_s",
-    ),
     # Two epochs 1e4 s apart predicted in 1 ms steps: 1e7 prediction steps.
     "orbit filter step_s": (lambda: _loose_filter(np.array([0.0, 1e4]), 1e-3), "step_s"),
     # 2e7 + 1 gyro samples of 1 ms (the check comes before the samples are read).

@@ -178,14 +178,6 @@ def yaw_batch(
 def glonass_propagate(
     state: NDArray[np.float64], duration_s: float, model: dict[str, object], *, step_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
-def glonass_ephemeris_states(
-    states: NDArray[np.float64],
-    lunisolar_m_s2: NDArray[np.float64],
-    dt_s: NDArray[np.float64],
-    model: dict[str, object],
-    *,
-    max_step_s: float,
-) -> NDArray[np.float64]: ...
 def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...

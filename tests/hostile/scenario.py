@@ -117,10 +117,3 @@ def rinex_read() -> dict[str, Any]:
     obs = [rinex.read_obs(p) for p in s.obs_paths]
     nav = rinex.read_nav(s.nav_path)
     return {"obs": obs, "nav": nav}
-
-
-@functools.cache
-def static() -> rinex.AttitudeSeries:
-    """The engine's static session solution of :func:`rinex_read` (GPS L1), prewarmed by the worker."""
-    r = rinex_read()
-    return rinex.attitude_from_rinex(r["obs"], r["nav"], method="lambda", motion="static", systems="G")

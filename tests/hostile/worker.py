@@ -153,7 +153,7 @@ def main(prewarm: bool = True) -> None:
     # hostile text values ("abc") reach file-writing functions as relative paths: keep them out of the tree
     os.chdir(scenario.folder())
     if prewarm:
-        shared = (scenario.rinex_read, scenario.static, scenario.phases, scenario.spaceborne, scenario.gyro)
+        shared = (scenario.rinex_read, scenario.phases, scenario.spaceborne, scenario.gyro)
         for build in shared:
             build()
         for entry in inv.ENTRIES.values():

@@ -32,7 +32,6 @@ __all__ = [
     "path_text",
     "read_lines",
     "reading",
-    "sat_id",
     "sat_list",
     "time_labels",
 ]
@@ -136,23 +135,6 @@ def sat_list(name: str, value: object) -> list[str]:
         if not _SAT_ID.fullmatch(v):
             raise InvalidInputError(f"expected satellite ids such as 'G01' in {name}, got {v!r} at index {i}")
     return list(value)
-
-
-def sat_id(name: str, value: object) -> str:
-    """One satellite id such as ``"G01"``.
-
-    Raises
-    ------
-    InvalidTypeError
-        ``value`` is not a str.
-    InvalidInputError
-        ``value`` is not a satellite id (system letter GRECJSI and a two-digit PRN from 01).
-    """
-    if not isinstance(value, str):
-        raise InvalidTypeError(f"expected {name} as a satellite id such as 'G01', got {type(value).__name__}")
-    if not _SAT_ID.fullmatch(value):
-        raise InvalidInputError(f"expected {name} as a satellite id such as 'G01', got {value!r}")
-    return value
 
 
 def time_labels(name: str, value: object) -> np.ndarray:

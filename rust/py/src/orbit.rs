@@ -3,8 +3,8 @@
 //! documented Python API.
 
 use gnssatt_core::orbit::{
-    ephemeris_states, propagate_with_stm, run_filter, CircularOrbit, Corrections, FilterConfig,
-    FilterOutput, Fixes, GlonassModel, Ranges,
+    propagate_with_stm, run_filter, CircularOrbit, Corrections, FilterConfig, FilterOutput, Fixes,
+    GlonassModel, Ranges,
 };
 use nalgebra::Matrix6;
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -64,27 +64,6 @@ fn glonass_propagate<'py>(
         Array1::from_vec(x.to_vec()).into_pyarray(py),
         to_numpy6(&phi).into_pyarray(py),
     ))
-}
-
-/// States (n, 6) moved by signed offsets `dt_s` (n,) from their reference times, each with its own
-/// luni-solar acceleration (n, 3).
-#[pyfunction]
-#[pyo3(signature = (states, lunisolar_m_s2, dt_s, model, *, max_step_s))]
-fn glonass_ephemeris_states<'py>(
-    py: Python<'py>,
-    states: PyReadonlyArray2<'_, f64>,
-    lunisolar_m_s2: PyReadonlyArray2<'_, f64>,
-    dt_s: PyReadonlyArray1<'_, f64>,
-    model: ModelArgs,
-    max_step_s: f64,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let s = rows::<6>(py, "states", &states, None, false)?;
-    let n = s.len();
-    let acc = rows::<3>(py, "lunisolar_m_s2", &lunisolar_m_s2, Some(n), false)?;
-    let dt = values(py, "dt_s", &dt_s)?;
-    let m = GlonassModel::from(model);
-    let out = interruptible::run(py, || ephemeris_states(&m, &s, &acc, &dt, max_step_s))?;
-    Ok(Array2::from_shape_fn((n, 6), |(i, j)| out[i][j]).into_pyarray(py))
 }
 
 /// ECEF positions (n, 3) and velocities (n, 3) of a circular orbit at times (n,).
@@ -254,7 +233,6 @@ fn orbit_filter_tight<'py>(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(glonass_propagate, m)?)?;
-    m.add_function(wrap_pyfunction!(glonass_ephemeris_states, m)?)?;
     m.add_function(wrap_pyfunction!(circular_orbit_ecef, m)?)?;
     m.add_function(wrap_pyfunction!(orbit_filter_loose, m)?)?;
     m.add_function(wrap_pyfunction!(orbit_filter_tight, m)?)?;

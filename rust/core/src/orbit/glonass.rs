@@ -10,7 +10,7 @@ use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use crate::error::{ensure_finite, Error, Result};
 use crate::{guard, interrupt};
 
-/// Most RK4 steps of one call (summed over the states of [`ephemeris_states`]): a step with the
+/// Most RK4 steps of one call: a step with the
 /// state-transition matrix measured 1.5 us on the loaded build machine, so about 8 s; a day in 1 s steps
 /// is 86 400.
 pub const MAX_RK4_STEPS: f64 = 5e6;
@@ -315,75 +315,4 @@ pub fn propagate_with_stm(
         "the propagation is too long for its sensitivities to stay representable",
     )?;
     Ok((x.into(), phi))
-}
-
-/// Broadcast-ephemeris evaluation: each state at its reference time `t_b` is moved by its own signed offset
-/// `dt_s[i]` (before or after `t_b`, as receivers evaluate GLONASS ephemerides), in equal RK4 steps no
-/// longer than `max_step_s`. `lunisolar_m_s2[i]` replaces the model's constant acceleration for state `i`.
-///
-/// # Errors
-/// As [`propagate`] for each state (the error names the state's index); [`Error::TooLarge`] for more than
-/// [`MAX_RK4_STEPS`] steps over all states.
-pub fn ephemeris_states(
-    model: &GlonassModel,
-    states: &[[f64; 6]],
-    lunisolar_m_s2: &[[f64; 3]],
-    dt_s: &[f64],
-    max_step_s: f64,
-) -> Result<Vec<[f64; 6]>> {
-    if lunisolar_m_s2.len() != states.len() || dt_s.len() != states.len() {
-        return Err(Error::Shape {
-            name: "lunisolar_m_s2 / dt_s",
-            expected: format!("({0}, 3) / ({0},)", states.len()),
-            actual: format!("({}, 3) / ({},)", lunisolar_m_s2.len(), dt_s.len()),
-        });
-    }
-    ensure_finite("max_step_s", [&max_step_s])?;
-    if max_step_s <= 0.0 {
-        return Err(Error::out_of_range(
-            "max_step_s",
-            format!("expected a step > 0 s, got {max_step_s}"),
-        ));
-    }
-    ensure_finite("dt_s", dt_s)?;
-    // Every count first, so that the total is refused before any work.
-    let steps = dt_s
-        .iter()
-        .map(|dt| {
-            steps_for(
-                dt.abs(),
-                max_step_s.min(dt.abs().max(f64::MIN_POSITIVE)),
-                "max_step_s",
-            )
-        })
-        .collect::<Result<Vec<f64>>>()?;
-    guard::check_work(
-        "max_step_s",
-        steps.iter().sum(),
-        MAX_RK4_STEPS,
-        "RK4 steps (over all states)",
-    )?;
-    let mut done = 0;
-    states
-        .iter()
-        .zip(lunisolar_m_s2)
-        .zip(dt_s.iter().zip(steps))
-        .enumerate()
-        .map(|(i, ((s, acc), (&dt, n)))| {
-            let m = GlonassModel {
-                lunisolar_m_s2: *acc,
-                ..*model
-            };
-            m.validate().map_err(|e| e.at_epoch(i))?;
-            let mut x = checked_state(&m, "states", s).map_err(|e| e.at_epoch(i))?;
-            let n = n as usize;
-            let h = if n > 0 { dt / n as f64 } else { 0.0 };
-            for _ in 0..n {
-                x = m.rk4_step(&x, h);
-                check_step(&m, &x, done, h).map_err(|e| e.at_epoch(i))?;
-                done += 1;
-            }
-            Ok(x.into())
-        })
-        .collect()
 }

@@ -18,6 +18,6 @@ pub use filter::{
     MAX_SATELLITES,
 };
 pub use glonass::{
-    ephemeris_states, propagate, propagate_with_stm, GlonassModel, MAX_ESCAPE_SPEEDS,
-    MAX_RK4_STEPS, MIN_RADIUS_FRACTION,
+    propagate, propagate_with_stm, GlonassModel, MAX_ESCAPE_SPEEDS, MAX_RK4_STEPS,
+    MIN_RADIUS_FRACTION,
 };

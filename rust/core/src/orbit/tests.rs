@@ -155,16 +155,6 @@ fn bad_durations_and_states_are_errors() {
 }
 
 #[test]
-fn ephemeris_states_go_both_ways() {
-    let m = GlonassModel::pz90();
-    let fwd = ephemeris_states(&m, &[ICD_STATE], &[[0.0; 3]], &[900.0], 60.0).unwrap()[0];
-    let back = ephemeris_states(&m, &[fwd], &[[0.0; 3]], &[-900.0], 60.0).unwrap()[0];
-    for i in 0..3 {
-        assert!((back[i] - ICD_STATE[i]).abs() < 1e-4);
-    }
-}
-
-#[test]
 fn work_beyond_the_step_limit_is_refused_before_it_starts() {
     let m = GlonassModel::pz90();
     // 1e9 steps of 1e-6 s (the call used to take minutes without a way to stop it).
@@ -177,21 +167,6 @@ fn work_beyond_the_step_limit_is_refused_before_it_starts() {
         }) => assert!(requested == 1e9 && limit == MAX_RK4_STEPS),
         other => panic!("{other:?}"),
     }
-    // Over a batch: 200 states x 1 day in 1 s steps = 1.7e7 steps.
-    let n = 200;
-    assert!(matches!(
-        ephemeris_states(
-            &m,
-            &vec![ICD_STATE; n],
-            &vec![[0.0; 3]; n],
-            &vec![86_400.0; n],
-            1.0
-        ),
-        Err(Error::TooLarge {
-            name: "max_step_s",
-            ..
-        })
-    ));
 }
 
 #[test]
