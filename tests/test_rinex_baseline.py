@@ -69,5 +69,6 @@ def test_geonet_cli_baseline_direction(tmp_path: Path, capsys: pytest.CaptureFix
     el = np.array([float(r.split(",")[2]) for r in lines[1:]])
     # header baseline in ENU at 0759: azimuth 163.3838 deg, elevation 0.0820 deg (3 m / 3.3 km ~ 0.05 deg)
     assert np.all(np.abs(az - 163.3838) < 0.05) and np.all(np.abs(el - 0.0820) < 0.05)
-    # L1 + L2, static: 117 of 120 epochs fixed (three one-epoch arcs of a 12 deg satellite stay float)
-    assert "fix rate: 0.975" in capsys.readouterr().out
+    # L1 + L2, static: every epoch fixed with the troposphere removed at each antenna's height (117 of 120
+    # before: three one-epoch arcs of a 12 deg satellite stayed float)
+    assert "fix rate: 1.000" in capsys.readouterr().out

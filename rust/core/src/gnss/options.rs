@@ -90,7 +90,7 @@ impl Default for EngineOptions {
             continuity: false,
             min_success_rate: 0.5,
             ratio_threshold: 3.0,
-            max_failure_rate: 1e-3,
+            max_failure_rate: 0.0,
             phase_sigma: ElevationSigma {
                 a_m: 0.003,
                 b_m: 0.003,
