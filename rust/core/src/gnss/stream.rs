@@ -53,15 +53,14 @@ use nalgebra::{Matrix3, Vector3};
 
 use self::arcs::ArcTracker;
 use self::output::{attitude_sigmas_deg, azimuth_elevation, heading_pitch_roll, row_major};
-use super::atmosphere::troposphere_delay_at_m;
 use super::ephemeris::Ephemerides;
 use super::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry, SatGeometry};
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
 use super::rtk::{
-    solve_attitude, solve_baseline, AttitudeSolution, BaselineSolution, DdEpoch, FixOptions,
-    SignalPair,
+    model::SdRangeModel, solve_attitude, solve_baseline, AttitudeSolution, BaselineSolution,
+    DdEpoch, FixOptions, SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
 use super::solution::{EpochSolution, N_SYSTEMS};
@@ -411,7 +410,7 @@ impl Engine {
                 let Some((rover, rover_geometry)) = &positions[r] else {
                     continue;
                 };
-                let signals = self.select(obs, k, r, [base, rover], base_geometry, rover_geometry);
+                let signals = self.select(obs, k, r, base_geometry, rover_geometry);
                 self.usable_signals += signals.len() as u64;
                 rovers[r - 1] = Some(DdEpoch {
                     base_m: *base,
@@ -456,16 +455,10 @@ impl Engine {
         obs: &Observations,
         k: usize,
         r: usize,
-        positions_m: [&Vector3<f64>; 2],
         base_geometry: &[Option<SatGeometry>],
         rover_geometry: &[Option<SatGeometry>],
     ) -> Vec<SignalPair> {
         let (b, v) = (&obs.receivers[0], &obs.receivers[r]);
-        let t = obs.time_gpst_ns[k];
-        // The standard atmosphere's slant delay at each antenna's own height and elevation: it does not
-        // cancel in the double differences when the antennas' heights differ (about 1 mm of zenith delay
-        // per 3 m of height, tens of mm at low elevation), and RTKLIB removes it the same way.
-        let [(lat_b, _, h_b), (lat_v, _, h_v)] = positions_m.map(geodetic_from_ecef);
         let mut signals = Vec::new();
         for (s, &sat) in self.sats.iter().enumerate() {
             let (Some(bg), Some(rg)) = (&base_geometry[s], &rover_geometry[s]) else {
@@ -489,8 +482,6 @@ impl Engine {
                     continue;
                 }
                 let wavelength_m = super::signal::SPEED_OF_LIGHT_M_S / f;
-                let tropo_b = troposphere_delay_at_m(lat_b, h_b, bg.elevation_rad, t);
-                let tropo_v = troposphere_delay_at_m(lat_v, h_v, rg.elevation_rad, t);
                 signals.push(SignalPair {
                     sat: s,
                     system: sat.system,
@@ -498,10 +489,10 @@ impl Engine {
                     wavelength_m,
                     base: *bg,
                     rover: *rg,
-                    base_code_m: values[0] - tropo_b,
-                    rover_code_m: values[1] - tropo_v,
-                    base_phase_cycles: values[2] - tropo_b / wavelength_m,
-                    rover_phase_cycles: values[3] - tropo_v / wavelength_m,
+                    base_code_m: values[0],
+                    rover_code_m: values[1],
+                    base_phase_cycles: values[2],
+                    rover_phase_cycles: values[3],
                     sigma_code_m: self.opts.code_sigma.sigma_m(bg.elevation_rad),
                     sigma_phase_m: self.opts.phase_sigma.sigma_m(bg.elevation_rad),
                     arc: self.arcs.arc(r, s, slot),
@@ -938,11 +929,9 @@ fn present(held: &[(u64, u64, i64)], dd: &DdEpoch) -> Vec<(u64, u64, i64)> {
 /// ranges to `base + baseline` minus the integer stays within [`HELD_RESIDUAL_CYCLES`] (GLONASS pairs of
 /// different wavelengths, whose receiver clock term does not cancel, are not checked).
 fn held_consistent(dd: &DdEpoch, sol: &BaselineSolution, held: &[(u64, u64, i64)]) -> bool {
-    let rover = dd.base_m + sol.baseline_m;
+    let model = SdRangeModel::new(&dd.base_m, &(dd.base_m + sol.baseline_m));
     let sd = |s: &SignalPair| {
-        let rho_r = (s.rover.position_m - rover).norm();
-        let rho_b = (s.base.position_m - dd.base_m).norm();
-        (s.rover_phase_cycles - s.base_phase_cycles) - (rho_r - rho_b) / s.wavelength_m
+        (s.rover_phase_cycles - s.base_phase_cycles) - model.range_m(s) / s.wavelength_m
     };
     held.iter().all(|&(arc, reference, n)| {
         let find = |a: u64| dd.signals.iter().find(|s| s.arc == a);

@@ -12,9 +12,9 @@ use nalgebra::{Cholesky, DMatrix, DVector, Vector3};
 
 use super::dd::{covariance, groups, Group};
 use super::glonass::{code_row_coefficient, reference_coefficient};
+use super::model::SdRangeModel;
 use super::DdEpoch;
 use crate::error::{Error, Result};
-use crate::gnss::signal::SPEED_OF_LIGHT_M_S;
 use crate::gnss::solution::N_SYSTEMS;
 use crate::lambda::ldl::MAX_DIMENSION;
 
@@ -247,7 +247,7 @@ fn accumulate(
         let epoch = &epochs[pr.epoch];
         let g = &pr.group;
         let m = g.members.len();
-        let rover = epoch.base_m + b;
+        let sd_model = SdRangeModel::new(&epoch.base_m, &(epoch.base_m + b));
         // SD range model and rover line of sight of each signal (reference first).
         let order: Vec<usize> = std::iter::once(g.reference)
             .chain(g.members.iter().copied())
@@ -256,19 +256,10 @@ fn accumulate(
             .iter()
             .map(|&i| {
                 let s = &epoch.signals[i];
-                let to_rover = s.rover.position_m - rover;
-                let rho_r = to_rover.norm() - SPEED_OF_LIGHT_M_S * s.rover.clock_s;
-                let rho_b =
-                    (s.base.position_m - epoch.base_m).norm() - SPEED_OF_LIGHT_M_S * s.base.clock_s;
+                let (sd_range, los) = sd_model.range_and_los(s);
                 let sd_code = s.rover_code_m - s.base_code_m;
                 let sd_cycles = s.rover_phase_cycles - s.base_phase_cycles;
-                (
-                    rho_r - rho_b,
-                    to_rover / to_rover.norm(),
-                    sd_code,
-                    sd_cycles,
-                    s.wavelength_m,
-                )
+                (sd_range, los, sd_code, sd_cycles, s.wavelength_m)
             })
             .collect();
         // Local unknowns: baseline (3), then each free member ambiguity, then the FDMA reference.

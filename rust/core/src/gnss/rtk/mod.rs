@@ -51,6 +51,7 @@ pub mod ffrt;
 pub mod fix;
 pub mod float;
 pub mod glonass;
+pub mod model;
 
 #[cfg(test)]
 mod sim;

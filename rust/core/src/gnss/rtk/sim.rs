@@ -10,7 +10,8 @@ use rand_chacha::ChaCha8Rng;
 
 use super::enu_at;
 use super::{DdEpoch, SignalPair};
-use crate::gnss::geometry::SatGeometry;
+use crate::gnss::atmosphere::troposphere_delay_m;
+use crate::gnss::geometry::{geodetic_from_ecef, SatGeometry};
 use crate::gnss::signal::{carrier_frequency_hz, System, SPEED_OF_LIGHT_M_S};
 
 /// Orbit radius of each system's MEO satellites, m.
@@ -167,8 +168,11 @@ impl Scenario {
                 let lam = Self::wavelength(s, slot);
                 let sp = (self.phase_ab.0.powi(2) + (self.phase_ab.1 / el.sin()).powi(2)).sqrt();
                 let sc = (self.code_ab.0.powi(2) + (self.code_ab.1 / el.sin()).powi(2)).sqrt();
+                // The standard atmosphere at each antenna's own height (the engine models it: rtk::model).
                 let obs = |rx: &Vector3<f64>, clock: f64| {
+                    let (lat, _, h) = geodetic_from_ecef(rx);
                     (pos - rx).norm() - SPEED_OF_LIGHT_M_S * (s.clock_s - clock)
+                        + troposphere_delay_m(lat, h, el)
                 };
                 let (rb, rr) = (obs(&base, clock_b), obs(&rover, clock_r));
                 let rng = &mut self.rng;
