@@ -21,9 +21,10 @@
 //! 4. Estimation: `Lambda`: [`crate::gnss::rtk::solve_baseline`] per rover (baseline mode, no body
 //!    baselines) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
 //!    single differences at the base's reception instant (see [`ml`]); in baseline mode the baseline
-//!    length is the mean over the LAMBDA epochs so far whose length is known to
-//!    [`GRID_LENGTH_RELATIVE_SIGMA`] (fixed or partially fixed), else (with a warning) the median of
-//!    the float ones.
+//!    length is the inverse-variance mean of the LAMBDA solutions' lengths so far (fixed, partially fixed
+//!    or float; epochs taken as independent), used once its sigma is below
+//!    [`GRID_LENGTH_RELATIVE_SIGMA`] of it. Until then the grid is not run: the epochs keep their LAMBDA
+//!    solution and a warning says so (a grid searched at a wrong length returns wrong directions).
 //!    `Auto`: `Lambda`, and `Ml` for the epochs `Lambda` does not fix when the baseline is shorter than
 //!    [`AUTO_ML_MAX_BASELINE_M`] and its length is known that way (in attitude mode the body baselines
 //!    give it). A validated
@@ -121,9 +122,8 @@ pub struct Engine {
     spp_prior: Vec<Option<Vector3<f64>>>,
     /// Per rover: integers held from the previous epoch (continuity).
     held: Vec<Vec<(u64, u64, i64)>>,
-    /// Per rover: sum and count of baseline lengths known to [`GRID_LENGTH_RELATIVE_SIGMA`], m (the
-    /// grid's length in baseline mode).
-    fixed_length: Vec<(f64, usize)>,
+    /// Per rover: the baseline length from the LAMBDA solutions so far (the grid's in baseline mode).
+    length: Vec<LengthEstimate>,
     /// Per rover: every epoch seen (static mode).
     static_epochs: Vec<Vec<DdEpoch>>,
     /// Per rover: the code noise scale estimated so far (moving mode).
@@ -183,6 +183,43 @@ fn scale_code(dd: &DdEpoch, factor: f64) -> DdEpoch {
         out.signals.iter_mut().for_each(|p| p.sigma_code_m *= s);
     }
     out
+}
+
+/// Inverse-variance mean of baseline lengths: `sum l / sigma^2` and `sum 1 / sigma^2`, `sigma` the
+/// baseline's standard deviation along itself.
+#[derive(Debug, Clone, Copy, Default)]
+struct LengthEstimate {
+    weighted_sum: f64,
+    weight: f64,
+}
+
+impl LengthEstimate {
+    fn add(&mut self, baseline_m: &Vector3<f64>, covariance_m2: &Matrix3<f64>) {
+        let l = baseline_m.norm();
+        if !(l > 0.0 && l.is_finite()) {
+            return;
+        }
+        let u = baseline_m / l;
+        let variance = (u.transpose() * covariance_m2 * u)[(0, 0)];
+        if variance.is_finite() {
+            // A fixed baseline's variance can round to 0: a floor of (0.1 mm)^2 keeps the weight finite.
+            let w = 1.0 / variance.max(1e-8);
+            self.weighted_sum += w * l;
+            self.weight += w;
+        }
+    }
+
+    /// The length, m, when its sigma is below [`GRID_LENGTH_RELATIVE_SIGMA`] of it; else the length and
+    /// sigma so far (NaN before any solution).
+    fn known(&self) -> std::result::Result<f64, (f64, f64)> {
+        let l = self.weighted_sum / self.weight;
+        let sigma = self.weight.sqrt().recip();
+        if l > 0.0 && sigma < GRID_LENGTH_RELATIVE_SIGMA * l {
+            Ok(l)
+        } else {
+            Err((l, sigma))
+        }
+    }
 }
 
 /// Errors that leave an epoch unsolved rather than stop the session: everything but an interrupt or a
@@ -260,7 +297,7 @@ impl Engine {
             previous_time_ns: None,
             spp_prior: vec![None; n_receivers],
             held: vec![Vec::new(); n_rovers],
-            fixed_length: vec![(0.0, 0); n_rovers],
+            length: vec![LengthEstimate::default(); n_rovers],
             static_epochs: vec![Vec::new(); n_rovers],
             code_scale: vec![CodeNoiseScale::default(); n_rovers],
             double_differences: [[0; MAX_FREQUENCIES]; N_SYSTEMS],
@@ -633,14 +670,7 @@ impl Engine {
                             sol.ratio = s.ratio;
                             sol.success_rate = s.success_rate;
                         }
-                        let l = sol.baseline_m.norm();
-                        let u = sol.baseline_m / l;
-                        let sigma = (u.transpose() * sol.covariance_m2 * u)[(0, 0)].sqrt();
-                        if l > 0.0 && sigma < GRID_LENGTH_RELATIVE_SIGMA * l {
-                            let f = &mut self.fixed_length[r];
-                            f.0 += l;
-                            f.1 += 1;
-                        }
+                        self.length[r].add(&sol.baseline_m, &sol.covariance_m2);
                         per_epoch.push(Some(sol));
                     }
                     Err(e) if leaves_epoch_unsolved(&e) => {
@@ -762,30 +792,24 @@ impl Engine {
             // The baseline grid has one baseline; several rovers in baseline mode keep LAMBDA.
             return Ok(());
         }
-        let (sum, n) = self.fixed_length[0];
-        let mut lengths: Vec<f64> = estimates
-            .iter()
-            .flatten()
-            .map(|e| e.baselines_enu_m[0].norm())
-            .filter(|l| l.is_finite())
-            .collect();
-        lengths.sort_by(f64::total_cmp);
         // The grid's baseline length: a few percent of error in it moves the grid's maximum to a wrong
-        // direction, so Auto uses the grid only once the length is known; Ml without it takes the
-        // median float length, with a warning.
-        let length = if n > 0 {
-            sum / n as f64
-        } else if let (Method::Ml, Some(&l)) = (self.opts.method, lengths.get(lengths.len() / 2)) {
-            self.warn_once(
-                "ml length".into(),
-                format!(
-                    "no epoch gave the baseline length to 1 %, so the grid uses the median float length {l:.3} m; \
-                     directions may be wrong when it is off by more than a few percent"
-                ),
-            );
-            l
-        } else {
-            return Ok(());
+        // direction, so the grid runs only once the length is known.
+        let length = match self.length[0].known() {
+            Ok(l) => l,
+            Err((l, sigma)) => {
+                if self.opts.method == Method::Ml {
+                    self.warn_once(
+                        "ml length".into(),
+                        format!(
+                            "the likelihood grid needs the baseline length to {:.0} %, and the solutions so \
+                             far give {l:.3} +- {sigma:.3} m: those epochs keep their double-difference \
+                             solution (--method lambda), later ones use the grid once the length is known",
+                            100.0 * GRID_LENGTH_RELATIVE_SIGMA
+                        ),
+                    );
+                }
+                return Ok(());
+            }
         };
         let picks: Vec<usize> = (0..prepared.len())
             .filter(|&k| prepared[k].rovers[0].is_some() && wanted(&estimates[k], length))

@@ -590,3 +590,29 @@ fn fix_rate_and_no_wrong_fix_over_a_minute_of_gps_l1_l2() {
     assert!(errors.iter().all(|&e| e < 0.05), "{errors:?}");
     assert!(sol.epochs.iter().all(|e| e.satellites_per_system[0] >= 6));
 }
+
+#[test]
+fn ml_without_a_known_length_keeps_the_double_difference_solution() {
+    // GPS L1 alone with a gate nothing passes: each float length has decimetres of sigma on 1 m, far from
+    // the 1 % the grid needs, so the grid is not run and a warning says why.
+    let truth = simulate(3, &[[0.6, -0.8, 0.05]], 11);
+    let opts = EngineOptions {
+        systems: vec![System::Gps],
+        frequencies: 1,
+        method: Method::Ml,
+        min_success_rate: 0.99999,
+        ..EngineOptions::default()
+    };
+    let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+    assert!(sol
+        .epochs
+        .iter()
+        .all(|e| e.solved && !e.fixed && e.method == Method::Lambda));
+    assert!(
+        sol.warnings
+            .iter()
+            .any(|w| w.contains("needs the baseline length")),
+        "{:?}",
+        sol.warnings
+    );
+}
