@@ -105,3 +105,26 @@ def test_rinex2_mixed_file(tmp_path: Path) -> None:
     assert _labels(obs, "R") == ("C1/L1", "P2/L2", "")  # G1 C/A first, G2 P first ("PCABX")
     assert _labels(obs, "E") == ("C1/L1", "", "")  # Galileo has no band 2
     assert _labels(obs, "G") == ("C1/L1", "P2/L2", "")
+
+
+def test_a_phase_every_file_has_is_preferred_and_mixed_modes_warned(tmp_path: Path) -> None:
+    import warnings
+
+    from gnssatt.rinex.session_input import MixedTrackingWarning, session_input
+
+    # Base: L1C and L1W (RTKLIB's priority takes C); rover: L1W only. Paired per file, a double difference
+    # would mix C/A and P(Y) phases; the common mode W is chosen for both.
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    base = _file(tmp_path / "a", ["G01", "G02"], ["C1C", "L1C", "C1W", "L1W"])
+    rover = _file(tmp_path / "b", ["G01", "G02"], ["C1W", "L1W"])
+    assert _labels(base, "G")[0] == "C1C/L1C"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MixedTrackingWarning)
+        si = session_input([base, rover], systems="G", frequencies=1)
+    assert [codes["G"][0] for codes in si.signal_codes.values()] == ["C1W/L1W", "C1W/L1W"]
+    # No phase in common: each file keeps its own, with a warning naming both.
+    (tmp_path / "c").mkdir()
+    other = _file(tmp_path / "c", ["G01", "G02"], ["C1C", "L1C"])
+    with pytest.warns(MixedTrackingWarning, match="L1C in .* L1W in|L1W in .* L1C in"):
+        session_input([other, rover], systems="G", frequencies=1)

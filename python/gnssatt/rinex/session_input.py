@@ -8,7 +8,7 @@ Both return plain numpy arrays in C order, laid out as the Rust core's ``Observa
 from __future__ import annotations
 
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,7 +18,7 @@ from gnssatt._arrays import instance, integer
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, leap_seconds
 from gnssatt.rinex.obs import RinexObs
-from gnssatt.rinex.signals import SignalChoice, choose_signals, slot_frequency_hz
+from gnssatt.rinex.signals import SignalChoice, choose_signals, phase_codes, slot_frequency_hz
 
 __all__ = [
     "MATCH_TOLERANCE_NS",
@@ -26,6 +26,7 @@ __all__ = [
     "NO_CHANNEL",
     "SYSTEMS",
     "EpochsDroppedWarning",
+    "MixedTrackingWarning",
     "NavInput",
     "SessionInput",
     "SystemDroppedWarning",
@@ -60,6 +61,10 @@ class SystemDroppedWarning(GnssattWarning):
 
 class EpochsDroppedWarning(GnssattWarning):
     """Epochs of an observation file that the other files lack are left out of the session."""
+
+
+class MixedTrackingWarning(GnssattWarning):
+    """The files carry a slot's carrier phase in different tracking modes (RINEX 3 attributes)."""
 
 
 @dataclass(frozen=True)
@@ -131,6 +136,25 @@ class NavInput:
     glonass: dict[str, NDArray]
     klobuchar: NDArray[np.float64] | None
     leap_seconds: int | None
+
+
+def _warn_mixed_tracking(
+    files: Sequence[RinexObs], choices: Sequence[Mapping[str, Sequence[SignalChoice]]]
+) -> None:
+    """A warning per system and slot whose RINEX 3 phases differ in attribute between files."""
+    for s in choices[0]:
+        for slot in range(len(choices[0][s])):
+            phases = {(o.path, ch[s][slot].phase) for o, ch in zip(files, choices, strict=True)}
+            if all(p is not None for _, p in phases) and len({p for _, p in phases}) > 1:
+                if all(o.version >= 3 for o in files):
+                    listed = ", ".join(f"{p} in {path}" for path, p in sorted(phases))
+                    warnings.warn(
+                        f"system {s} slot {slot + 1}: the files have no phase of one tracking mode in common "
+                        f"({listed}); receivers that do not align the phases of different modes (RINEX 3 "
+                        "SYS / PHASE SHIFT) leave a quarter cycle between them, which no integer fix absorbs",
+                        MixedTrackingWarning,
+                        stacklevel=3,
+                    )
 
 
 def _systems(value: object) -> str:
@@ -261,7 +285,17 @@ def session_input(
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:
         nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
-    choices = [{s: choose_signals(o, s)[:n_freq] for s in asked} for o in files]
+    # Per system and slot, the phase codes every file has: chosen first, so that a double difference
+    # pairs one tracking mode (receivers need not align the phases of different modes, which can differ
+    # by a quarter cycle: RINEX 3 SYS / PHASE SHIFT).
+    common = {
+        s: tuple(
+            frozenset.intersection(*slot) for slot in zip(*(phase_codes(o, s) for o in files), strict=True)
+        )
+        for s in asked
+    }
+    choices = [{s: choose_signals(o, s, common[s])[:n_freq] for s in asked} for o in files]
+    _warn_mixed_tracking(files, choices)
     for o, ch in zip(files, choices, strict=True):
         if not any(c.phase for cs in ch.values() for c in cs):
             raise RinexError(

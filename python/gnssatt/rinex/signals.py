@@ -16,10 +16,14 @@ list after those it lists, and only among codes with at least one value in the f
 and phase of the same attribute are preferred when both exist (a pair tracked together); Doppler and
 signal strength follow the phase's attribute where they can. RINEX 2 codes carry no attribute: ``C1``
 counts as attribute C, ``P1`` as P, the phase ``L1`` goes with either (GPS band 1 prefers C1, band 2 P2).
+In a session (:func:`~gnssatt.rinex.session_input.session_input`) the phase codes every file has come first
+(``preferred_phases``), so that a double difference pairs phases of one tracking mode: receivers need not
+align the phases of different modes, which can differ by a quarter cycle (RINEX 3 ``SYS / PHASE SHIFT``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -154,7 +158,28 @@ def _rank(priority: str, attribute: str) -> tuple[int, str]:
     return (k if k >= 0 else len(priority), attribute)
 
 
-def choose_signals(obs: RinexObs, system: str) -> tuple[SignalChoice, SignalChoice, SignalChoice]:
+def _usable(obs: RinexObs, system: str) -> list[list[str]]:
+    """Per slot, the code, phase, Doppler and strength types of ``system`` with at least one value."""
+    types = obs.obs_types.get(system, ())
+    rows = np.array([s[0] == system for s in obs.sats], dtype=bool)
+    present = set()
+    if rows.any():
+        filled = np.isfinite(obs.data[:, rows, :]).any(axis=(0, 1))
+        present = {c for c, f in zip(obs.codes, filled, strict=True) if f}
+    return [
+        [c for c in types if c in present and c[1] in bands and c[0] in "CPLDS"]
+        for bands in slot_bands(system, obs.version)
+    ]
+
+
+def phase_codes(obs: RinexObs, system: str) -> tuple[frozenset[str], ...]:
+    """Per slot (3), the carrier-phase codes of ``system`` that ``obs`` has values of."""
+    return tuple(frozenset(c for c in u if c[0] == "L") for u in _usable(obs, _system(system)))
+
+
+def choose_signals(
+    obs: RinexObs, system: str, preferred_phases: Sequence[frozenset[str]] | None = None
+) -> tuple[SignalChoice, SignalChoice, SignalChoice]:
     """The codes of each slot of ``system`` in ``obs`` (module docstring for the rules).
 
     Parameters
@@ -163,6 +188,10 @@ def choose_signals(obs: RinexObs, system: str) -> tuple[SignalChoice, SignalChoi
         An observation file as read by :func:`~gnssatt.rinex.obs.read_obs`.
     system
         A system letter of ``"GRECJ"``.
+    preferred_phases
+        Per slot, phase codes to choose among when the file has any of them (the codes every file of a
+        session has: a double difference of one tracking mode needs no quarter-cycle alignment);
+        default: no preference.
 
     Returns
     -------
@@ -177,16 +206,13 @@ def choose_signals(obs: RinexObs, system: str) -> tuple[SignalChoice, SignalChoi
     """
     obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
     system = _system(system)
-    types = obs.obs_types.get(system, ())
-    rows = np.array([s[0] == system for s in obs.sats], dtype=bool)
-    present = set()
-    if rows.any():
-        filled = np.isfinite(obs.data[:, rows, :]).any(axis=(0, 1))
-        present = {c for c, f in zip(obs.codes, filled, strict=True) if f}
     out = []
-    for slot, bands in enumerate(slot_bands(system, obs.version)):
+    for slot, (bands, usable) in enumerate(
+        zip(slot_bands(system, obs.version), _usable(obs, system), strict=True)
+    ):
         priority = _PRIORITY[system][slot]
-        usable = [c for c in types if c in present and c[1] in bands and c[0] in "CPLDS"]
+        if preferred_phases is not None and _usable_preferred(usable, preferred_phases[slot]):
+            usable = [c for c in usable if c[0] != "L" or c in preferred_phases[slot]]
         # within a band list, an earlier band wins (BeiDou: band 2 before band 1)
         by_kind: dict[str, list[str]] = {"code": [], "L": [], "D": [], "S": []}
         for c in usable:
@@ -213,6 +239,11 @@ def choose_signals(obs: RinexObs, system: str) -> tuple[SignalChoice, SignalChoi
             )
         )
     return out[0], out[1], out[2]
+
+
+def _usable_preferred(usable: list[str], preferred: frozenset[str]) -> bool:
+    """Whether some usable phase code is preferred."""
+    return any(c in preferred for c in usable if c[0] == "L")
 
 
 def _follow(candidates: list[str], phase: str | None, version: float) -> str | None:
