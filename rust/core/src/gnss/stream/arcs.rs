@@ -2,6 +2,9 @@
 //!
 //! A receiver's phase of (satellite, slot) starts a new arc at an epoch when any of these holds:
 //! - it had no phase at the previous epoch the engine processed (a gap in the data, or the first epoch);
+//! - the session itself has a gap: more than [`MAX_GAP_INTERVALS`] times the shortest interval between
+//!   epochs seen so far since the previous epoch (the jump tests below allow for the ionosphere's change
+//!   over the interval, which over a long gap leaves them blind to slips of metres);
 //! - the RINEX loss-of-lock indicator has bit 0 set;
 //! - phase minus code (both in metres) jumped by more than [`PHASE_CODE_JUMP_M`] +
 //!   [`PHASE_CODE_RATE_M_S`] x the time since the previous epoch: catches slips of tens of cycles that
@@ -28,6 +31,10 @@ pub const GEOMETRY_FREE_JUMP_M: f64 = 0.05;
 /// Allowance for the ionosphere's change of the geometry-free combination, m/s.
 pub const GEOMETRY_FREE_RATE_M_S: f64 = 0.004;
 
+/// Longest time between epochs, in shortest intervals seen, over which arcs continue (RTKLIB's
+/// `maxout` of 5 epochs for an outage).
+pub const MAX_GAP_INTERVALS: f64 = 5.0;
+
 /// Arc state of every receiver and every (rover, satellite, slot) pair.
 #[derive(Debug, Clone)]
 pub(crate) struct ArcTracker {
@@ -43,6 +50,8 @@ pub(crate) struct ArcTracker {
     pair_arc: Vec<u64>,
     next_arc: u64,
     previous_time_ns: Option<i64>,
+    /// Shortest positive time between consecutive epochs so far, s.
+    interval_s: f64,
 }
 
 impl ArcTracker {
@@ -57,6 +66,7 @@ impl ArcTracker {
             pair_arc: vec![0; n_receivers.saturating_sub(1) * n_sats * MAX_FREQUENCIES],
             next_arc: 0,
             previous_time_ns: None,
+            interval_s: f64::INFINITY,
         }
     }
 
@@ -70,6 +80,10 @@ impl ArcTracker {
         let dt_s = self
             .previous_time_ns
             .map_or(0.0, |t| (obs.time_gpst_ns[epoch] - t) as f64 * 1e-9);
+        let gap = dt_s > MAX_GAP_INTERVALS * self.interval_s;
+        if dt_s > 0.0 {
+            self.interval_s = self.interval_s.min(dt_s);
+        }
         let mut slipped = vec![false; self.phase_seen.len()];
         for r in 0..self.n_receivers {
             let rx = &obs.receivers[r];
@@ -97,7 +111,7 @@ impl ArcTracker {
                         }
                         _ => false,
                     };
-                    slipped[c] = !self.phase_seen[c] || rx.lli[i] & 1 != 0 || jumped;
+                    slipped[c] = !self.phase_seen[c] || gap || rx.lli[i] & 1 != 0 || jumped;
                     self.phase_seen[c] = true;
                     if pc.is_some() {
                         self.phase_minus_code_m[c] = pc;
@@ -251,5 +265,15 @@ mod tests {
             obs.receivers[1].phase_cycles[k * MAX_FREQUENCIES] += 40.0; // 7.6 m
         }
         assert_eq!(breaks(&arcs(&obs), 0), vec![3]);
+    }
+
+    #[test]
+    fn a_gap_in_the_session_starts_new_arcs_and_a_short_one_does_not() {
+        // Epochs 1 s apart, then 5 s (5 intervals: arcs go on), then 6 s more (over 5: new arcs).
+        let mut obs = session(4);
+        obs.time_gpst_ns = vec![0, 1_000_000_000, 6_000_000_000, 12_000_000_000];
+        let a = arcs(&obs);
+        assert_eq!(breaks(&a, 0), vec![3]);
+        assert_eq!(breaks(&a, 1), vec![3]);
     }
 }
