@@ -324,6 +324,7 @@ class GnssSession:
     base_position_m: NDArray[np.float64]  # (n, 3) ECEF
     double_differences: NDArray[np.uint64] | None  # (5, 3); None from GnssEngine.process
     warnings: list[str]
+    code_sigma_scale: list[float]
 
 def gnss_run(
     time_gpst_ns: NDArray[np.int64],

@@ -103,6 +103,10 @@ class AttitudeSeries:
     warnings
         What the engine said a user should know, one sentence each (each also issued as an
         :class:`EngineWarning`).
+    code_sigma_scale
+        Per rover, the code sigma the receivers showed against the model's, estimated from the float
+        solutions' residuals in moving mode and applied to the code variances (NaN where not estimated:
+        static mode, or fewer than 50 residual degrees of freedom); ``docs/observation_engine.md``.
     """
 
     time: NDArray[np.datetime64]
@@ -121,6 +125,7 @@ class AttitudeSeries:
     rotation_matrices: NDArray[np.float64] | None
     signal_codes: Mapping[str, Any]
     warnings: tuple[str, ...]
+    code_sigma_scale: tuple[float, ...] = ()
 
     @property
     def angle_names(self) -> tuple[str, ...]:
@@ -201,7 +206,8 @@ class AttitudeSeries:
                 w.writerow([formats[name](v[i]) for name, v in cols.items()])
 
     def summary(self) -> str:
-        """Epochs solved, fix rate, mean and spread of each angle, a line per system and frequency used."""
+        """Epochs solved, fix rate, mean and spread of each angle, a line per system and frequency used, the
+        estimated code noise."""
         ok = self.solved
         n = len(ok)
         fix_rate = float(self.fixed.mean()) if n else float("nan")
@@ -226,6 +232,9 @@ class AttitudeSeries:
                         f"{letter} {SLOT_NAMES[letter][slot]}: {count} double differences"
                         + (f" ({codes})" if codes else "")
                     )
+        for r, scale in enumerate(self.code_sigma_scale, start=1):
+            if np.isfinite(scale):
+                lines.append(f"code noise, rover {r}: {scale:.2f} x the model's sigma (estimated, applied)")
         return "\n".join(lines)
 
 
@@ -475,4 +484,5 @@ def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
         rotation_matrices=s.rotation_enu_from_body,
         signal_codes=dict(signal_codes),
         warnings=tuple(s.warnings),
+        code_sigma_scale=tuple(float(x) for x in s.code_sigma_scale),
     )

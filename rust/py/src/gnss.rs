@@ -340,6 +340,10 @@ pub struct GnssSession {
     double_differences: Option<Py<PyAny>>,
     #[pyo3(get)]
     warnings: Vec<String>,
+    /// Per rover, the code sigma scale estimated from the residuals so far (NaN where not estimated:
+    /// static mode, or too few residuals).
+    #[pyo3(get)]
+    code_sigma_scale: Vec<f64>,
 }
 
 fn session_object(
@@ -349,6 +353,7 @@ fn session_object(
     attitude: bool,
     double_differences: Option<&[[u64; MAX_FREQUENCIES]; N_SYSTEMS]>,
     warnings: Vec<String>,
+    code_sigma_scale: Vec<f64>,
 ) -> GnssSession {
     let n = epochs.len();
     let k = if attitude { 3 } else { 2 };
@@ -440,6 +445,7 @@ fn session_object(
             )
         }),
         warnings,
+        code_sigma_scale,
     }
 }
 
@@ -525,6 +531,7 @@ fn gnss_run<'py>(
         attitude,
         Some(&sol.double_differences),
         sol.warnings,
+        sol.code_sigma_scale,
     ))
 }
 
@@ -654,6 +661,7 @@ impl GnssEngine {
             self.attitude,
             None,
             self.engine.warnings().to_vec(),
+            self.engine.code_sigma_scale(),
         ))
     }
 }

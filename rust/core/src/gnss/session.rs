@@ -57,5 +57,6 @@ pub fn run(obs: &Observations, nav: &NavData, opts: &EngineOptions) -> Result<Se
         epochs,
         double_differences: engine.double_differences(),
         warnings,
+        code_sigma_scale: engine.code_sigma_scale(),
     })
 }

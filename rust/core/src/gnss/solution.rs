@@ -64,4 +64,7 @@ pub struct SessionSolution {
     /// Things a user should know (a base position far from the code solution, a system without
     /// ephemerides, ...), one sentence each.
     pub warnings: Vec<String>,
+    /// Per rover, the code sigma scale estimated from the residuals at the end of the session
+    /// (`stream::Engine::code_sigma_scale`; NaN where not estimated).
+    pub code_sigma_scale: Vec<f64>,
 }

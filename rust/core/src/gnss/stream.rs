@@ -318,6 +318,22 @@ impl Engine {
         self.double_differences
     }
 
+    /// Per rover, the code sigma scale applied now (square root of the estimated variance factor,
+    /// [`CodeNoiseScale`]); NaN until [`CODE_SCALE_MIN_DOF`] residual degrees of freedom are in (the
+    /// model is used unscaled) and in static mode.
+    pub fn code_sigma_scale(&self) -> Vec<f64> {
+        self.code_scale
+            .iter()
+            .map(|c| {
+                if c.dof >= CODE_SCALE_MIN_DOF {
+                    c.factor().sqrt()
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    }
+
     /// Signals (satellite and slot pairs at base and rover) selected so far over every epoch.
     pub fn usable_signals(&self) -> u64 {
         self.usable_signals

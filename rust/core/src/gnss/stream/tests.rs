@@ -616,3 +616,32 @@ fn ml_without_a_known_length_keeps_the_double_difference_solution() {
         sol.warnings
     );
 }
+
+#[test]
+fn the_code_noise_scale_recovers_the_simulated_noise() {
+    // The simulation draws code noise of 0.3 m per receiver; a model of 0.15 m at every elevation is half
+    // of it, so the estimated sigma scale is 2 (its relative standard error sqrt(1 / (2 dof)) is about 2 %
+    // with the few hundred residual degrees of freedom of 20 epochs: 0.15 is over 3 sigma).
+    let truth = simulate(20, &[[0.6, -0.8, 0.05]], 13);
+    let opts = EngineOptions {
+        code_sigma: crate::gnss::options::ElevationSigma {
+            a_m: 0.15,
+            b_m: 0.0,
+        },
+        ..options()
+    };
+    let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+    let scale = sol.code_sigma_scale[0];
+    assert!((scale - 2.0).abs() < 0.15, "{scale}");
+    // Static mode estimates nothing.
+    let stat = run(
+        &truth.obs,
+        &truth.nav,
+        &EngineOptions {
+            motion: Motion::Static,
+            ..opts
+        },
+    )
+    .unwrap();
+    assert!(stat.code_sigma_scale[0].is_nan());
+}
