@@ -52,8 +52,9 @@ pub fn propagate_axes_batch(
         .par_iter()
         .map(|b| {
             let mut out = Vec::with_capacity(times_s.len());
-            walk(model, state_of(b), times_s, step_s, |_, s| {
-                out.push(s.axis_orbital())
+            walk(model, state_of(b), times_s, &plan, |_, s| {
+                out.push(s.axis_orbital());
+                true
             })?;
             Ok(out)
         })
@@ -92,10 +93,11 @@ pub fn axis_cost_batch(
         .par_iter()
         .map(|b| {
             let mut cost = 0.0;
-            walk(model, state_of(b), times_s, step_s, |k, s| {
+            walk(model, state_of(b), times_s, &plan, |k, s| {
                 let a = s.axis_orbital();
                 let m = measured[k];
                 cost += (a[0] - m[0]).powi(2) + (a[1] - m[1]).powi(2) + (a[2] - m[2]).powi(2);
+                true
             })?;
             Ok(cost)
         })
