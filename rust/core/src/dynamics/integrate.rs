@@ -3,22 +3,15 @@
 use crate::error::{ensure_finite, Error, Result};
 use crate::{guard, interrupt};
 
+use super::lanes::Real;
 use super::model::{Rhs, State, TumbleModel};
 
-#[inline]
-fn axpy(s: &State, h: f64, d: &State) -> State {
+#[inline(always)]
+fn axpy<V: Real>(s: &State<V>, h: f64, d: &State<V>) -> State<V> {
+    let h = V::splat(h);
     State {
-        q: [
-            s.q[0] + h * d.q[0],
-            s.q[1] + h * d.q[1],
-            s.q[2] + h * d.q[2],
-            s.q[3] + h * d.q[3],
-        ],
-        omega: [
-            s.omega[0] + h * d.omega[0],
-            s.omega[1] + h * d.omega[1],
-            s.omega[2] + h * d.omega[2],
-        ],
+        q: std::array::from_fn(|i| s.q[i] + h * d.q[i]),
+        omega: std::array::from_fn(|i| s.omega[i] + h * d.omega[i]),
     }
 }
 
@@ -31,44 +24,50 @@ pub fn rk4_step(model: &TumbleModel, s: &State, h: f64) -> State {
 
 /// One RK4 step from `s` whose derivative `k1 = model.derivative(s)` is already known (the previous
 /// step's end point, also needed by the interpolation).
-#[inline]
-fn rk4_from(rhs: &Rhs, s: &State, k1: &State, h: f64) -> State {
+#[inline(always)]
+fn rk4_from<V: Real>(rhs: &Rhs, s: &State<V>, k1: &State<V>, h: f64) -> State<V> {
     let k2 = rhs.derivative(&axpy(s, 0.5 * h, k1));
     let k3 = rhs.derivative(&axpy(s, 0.5 * h, &k2));
     let k4 = rhs.derivative(&axpy(s, h, &k3));
+    let (h6, two) = (V::splat(h / 6.0), V::splat(2.0));
     let mut out = *s;
     for i in 0..4 {
-        out.q[i] += h / 6.0 * (k1.q[i] + 2.0 * k2.q[i] + 2.0 * k3.q[i] + k4.q[i]);
+        out.q[i] = out.q[i] + h6 * (k1.q[i] + two * k2.q[i] + two * k3.q[i] + k4.q[i]);
     }
     for i in 0..3 {
-        out.omega[i] +=
-            h / 6.0 * (k1.omega[i] + 2.0 * k2.omega[i] + 2.0 * k3.omega[i] + k4.omega[i]);
+        out.omega[i] =
+            out.omega[i] + h6 * (k1.omega[i] + two * k2.omega[i] + two * k3.omega[i] + k4.omega[i]);
     }
     out.normalized()
 }
 
 /// Cubic Hermite interpolation at `theta` in `[0, 1]` of a step of length `h` from `(s0, d0)` to
 /// `(s1, d1)` (states and their derivatives); the quaternion is left unnormalised (its norm is within
-/// the interpolation error of 1, and [`State::axis_orbital`] divides by it). Its error, `h^4 / 384` times the
-/// fourth derivative, is of RK4's own order: for a body turning `omega h` rad per step the quaternion's
-/// fourth derivative is `(omega / 2)^4`, so 0.16 rad per step (3 s at 3 deg/s) interpolates to 1e-7.
-/// `theta = 0` and `1` return `s0` and `s1` exactly.
-#[inline]
-fn hermite(s0: &State, d0: &State, s1: &State, d1: &State, h: f64, theta: f64) -> State {
+/// the interpolation error of 1, and [`State::axis_orbital`] divides by it). The error, `h^4 / 384`
+/// times the fourth derivative, is of RK4's own order: for a body turning `omega h` rad per step the
+/// quaternion's fourth derivative is `(omega / 2)^4`, so 0.16 rad per step (3 s at 3 deg/s)
+/// interpolates to 1e-7. `theta = 0` and `1` return `s0` and `s1` exactly.
+#[inline(always)]
+fn hermite<V: Real>(
+    s0: &State<V>,
+    d0: &State<V>,
+    s1: &State<V>,
+    d1: &State<V>,
+    h: f64,
+    theta: f64,
+) -> State<V> {
     let t2 = theta * theta;
     let t3 = t2 * theta;
-    let a0 = 2.0 * t3 - 3.0 * t2 + 1.0;
-    let a1 = -2.0 * t3 + 3.0 * t2;
-    let b0 = h * (t3 - 2.0 * t2 + theta);
-    let b1 = h * (t3 - t2);
-    let mut out = *s0;
-    for i in 0..4 {
-        out.q[i] = a0 * s0.q[i] + a1 * s1.q[i] + b0 * d0.q[i] + b1 * d1.q[i];
+    let a0 = V::splat(2.0 * t3 - 3.0 * t2 + 1.0);
+    let a1 = V::splat(-2.0 * t3 + 3.0 * t2);
+    let b0 = V::splat(h * (t3 - 2.0 * t2 + theta));
+    let b1 = V::splat(h * (t3 - t2));
+    State {
+        q: std::array::from_fn(|i| a0 * s0.q[i] + a1 * s1.q[i] + b0 * d0.q[i] + b1 * d1.q[i]),
+        omega: std::array::from_fn(|i| {
+            a0 * s0.omega[i] + a1 * s1.omega[i] + b0 * d0.omega[i] + b1 * d1.omega[i]
+        }),
     }
-    for i in 0..3 {
-        out.omega[i] = a0 * s0.omega[i] + a1 * s1.omega[i] + b0 * d0.omega[i] + b1 * d1.omega[i];
-    }
-    out
 }
 
 /// Most RK4 steps of one call, summed over every initial state of a batch: about 10 s on a loaded core
@@ -163,11 +162,10 @@ pub(crate) fn check_work(plan: &Plan, states: usize, values_per_state: usize) ->
 }
 
 /// The rate that sets the RK4 step limit: the body rate plus the orbital frame's turn and the
-/// gravity-gradient libration (`sqrt(3) w0` at most), rad/s.
-#[inline]
-fn rate_bound(model: &TumbleModel, s: &State) -> f64 {
-    let w = s.omega;
-    (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt() + 2.0 * model.orbital_rate_rad_s
+/// gravity-gradient libration (`sqrt(3) w0` at most), rad/s, from the squared body rate `|omega|^2`.
+#[inline(always)]
+fn rate_bound(model: &TumbleModel, omega2: f64) -> f64 {
+    omega2.sqrt() + 2.0 * model.orbital_rate_rad_s
 }
 
 /// Refuses an initial state that turns more than [`MAX_ROTATION_PER_STEP_RAD`] per step of `plan`;
@@ -178,7 +176,8 @@ pub(crate) fn check_stable(
     plan: &Plan,
     row: Option<usize>,
 ) -> Result<()> {
-    let rate = rate_bound(model, s);
+    let w = s.omega;
+    let rate = rate_bound(model, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     let turn = rate * plan.longest_s;
     if turn <= MAX_ROTATION_PER_STEP_RAD {
         return Ok(());
@@ -195,22 +194,22 @@ pub(crate) fn check_stable(
     ))
 }
 
-/// The RK4 grid of [`Plan`] walked forward, holding the state and its derivative at grid point `j` and,
+/// The RK4 grid of [`Plan`] walked forward, holding the states and derivatives at grid point `j` and,
 /// once an output time falls inside step `j`, those at `j + 1`.
-struct Grid<'a> {
+struct Grid<'a, V> {
     model: &'a TumbleModel,
     rhs: Rhs,
     h: f64,
     steps: usize,
     end: f64,
     j: usize,
-    at: (State, State),
-    ahead: Option<(State, State)>,
+    at: (State<V>, State<V>),
+    ahead: Option<(State<V>, State<V>)>,
 }
 
-impl Grid<'_> {
+impl<V: Real> Grid<'_, V> {
     /// Time of grid point `j`; the last one is the last output time exactly.
-    #[inline]
+    #[inline(always)]
     fn time(&self, j: usize) -> f64 {
         if j >= self.steps {
             self.end
@@ -219,38 +218,42 @@ impl Grid<'_> {
         }
     }
 
-    /// The state and derivative at grid point `j + 1`, integrated once and kept.
-    #[inline]
-    fn next(&mut self) -> Result<(State, State)> {
+    /// The states and derivatives at grid point `j + 1`, integrated once and kept.
+    #[inline(always)]
+    fn next(&mut self) -> Result<(State<V>, State<V>)> {
         if let Some(p) = self.ahead {
             return Ok(p);
         }
         interrupt::check_every(self.j, "tumble propagation")?;
         let (s0, d0) = &self.at;
         let s = rk4_from(&self.rhs, s0, d0, self.h);
-        let turn = rate_bound(self.model, &s) * self.h;
-        // NaN fails both comparisons: a non-finite quaternion or rate stops here too.
-        if !(turn <= MAX_ROTATION_PER_STEP_RAD && s.q.iter().all(|v| v.is_finite())) {
-            return Err(Error::numerical(
-                "tumble propagation",
-                format!(
-                    "diverged at t = {:.6e} s: the state turns {turn:.3e} rad per step of {:.3e} s \
-                     (stable up to {MAX_ROTATION_PER_STEP_RAD}); the torques spin the body up \
-                     beyond what step_s resolves",
-                    self.time(self.j + 1),
-                    self.h
-                ),
-            ));
+        let [p, r, t] = s.omega;
+        let rate2 = p * p + r * r + t * t;
+        for l in 0..V::LANES {
+            let turn = rate_bound(self.model, rate2.lane(l)) * self.h;
+            // NaN fails both comparisons: a non-finite quaternion or rate stops here too.
+            if !(turn <= MAX_ROTATION_PER_STEP_RAD && s.q.iter().all(|v| v.lane(l).is_finite())) {
+                return Err(Error::numerical(
+                    "tumble propagation",
+                    format!(
+                        "diverged at t = {:.6e} s: the state turns {turn:.3e} rad per step of {:.3e} s \
+                         (stable up to {MAX_ROTATION_PER_STEP_RAD}); the torques spin the body up \
+                         beyond what step_s resolves",
+                        self.time(self.j + 1),
+                        self.h
+                    ),
+                ));
+            }
         }
         let p = (s, self.rhs.derivative(&s));
         self.ahead = Some(p);
         Ok(p)
     }
 
-    /// The state at `t`, no earlier than the previous call's: the grid point itself where `t` is one,
+    /// The states at `t`, no earlier than the previous call's: the grid point itself where `t` is one,
     /// else the cubic Hermite interpolant of the step that holds it (quaternion not renormalised).
-    #[inline]
-    fn state_at(&mut self, t: f64) -> Result<State> {
+    #[inline(always)]
+    fn state_at(&mut self, t: f64) -> Result<State<V>> {
         while self.j < self.steps && t >= self.time(self.j + 1) {
             self.at = self.next()?;
             self.ahead = None;
@@ -266,19 +269,21 @@ impl Grid<'_> {
     }
 }
 
-/// Calls `visit(k, state)` at every output time `times_s[k]` (inputs checked by the caller) until it
-/// returns `false`; an interpolated state's quaternion is not renormalised. The RK4 steps are those of `plan` from [`check_times`] (equal steps no longer than
-/// `step_s` from 0 to the last time); a time between grid points gets the cubic Hermite interpolant of
-/// its step, so outputs denser than the step cost a few operations each, not a step each. Polls for
-/// interruption and stops with [`Error::Numerical`] if the state stops being finite or its rate grows
-/// beyond [`MAX_ROTATION_PER_STEP_RAD`] per step.
+/// Calls `visit(k, states)` at every output time `times_s[k]` (inputs checked by the caller) until it
+/// returns `false`; `V` holds one state or a pack of them (`super::lanes`), all on the same grid.
+///
+/// The RK4 steps are those of `plan` from [`check_times`]: equal steps no longer than `step_s` from 0
+/// to the last time. A time between grid points gets the cubic Hermite interpolant of its step (the
+/// quaternion not renormalised), so outputs denser than the step cost a few operations each, not a step
+/// each. Polls for interruption and stops with [`Error::Numerical`] if a state stops being finite or its
+/// rate grows beyond [`MAX_ROTATION_PER_STEP_RAD`] per step.
 #[inline]
-pub(crate) fn walk(
+pub(crate) fn walk<V: Real>(
     model: &TumbleModel,
-    initial: State,
+    initial: State<V>,
     times_s: &[f64],
     plan: &Plan,
-    mut visit: impl FnMut(usize, &State) -> bool,
+    mut visit: impl FnMut(usize, &State<V>) -> bool,
 ) -> Result<()> {
     let s = initial.normalized();
     let rhs = Rhs::new(model);

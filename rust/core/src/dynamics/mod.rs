@@ -20,6 +20,7 @@
 
 mod batch;
 mod integrate;
+mod lanes;
 mod model;
 
 pub use batch::{axis_cost_batch, propagate_axes_batch};

@@ -5,6 +5,8 @@ use nalgebra::{Matrix3, Vector3};
 use crate::error::{ensure_finite, Error, Result};
 use crate::rotation::euler::YZY;
 
+use super::lanes::Real;
+
 /// Aerodynamic torque parameters: drag `F = -0.5 rho Cd S |V| V` applied at the centre of pressure.
 ///
 /// The spacecraft moves along `+Y0` at `speed_m_s` through a still atmosphere; `area_m2` is held
@@ -49,11 +51,12 @@ pub struct TumbleModel {
     pub aero: Aerodynamics,
 }
 
-/// Quaternion (scalar first, `dcm_orb0_from_body`) and absolute angular velocity (body axes, rad/s).
+/// Quaternion (scalar first, `dcm_orb0_from_body`) and absolute angular velocity (body axes, rad/s); the
+/// core's batch propagation holds several states at once in lanes (`V`, crate-internal).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct State {
-    pub q: [f64; 4],
-    pub omega: [f64; 3],
+pub struct State<V = f64> {
+    pub q: [V; 4],
+    pub omega: [V; 3],
 }
 
 impl TumbleModel {
@@ -157,54 +160,60 @@ impl Rhs {
         }
     }
 
-    /// Time derivative of `(q, omega)`: Euler's equations (3) and the kinematics (4).
-    #[inline]
-    pub(crate) fn derivative(&self, s: &State) -> State {
+    /// Time derivative of `(q, omega)`: Euler's equations (3) and the kinematics (4), per lane.
+    #[inline(always)]
+    pub(crate) fn derivative<V: Real>(&self, s: &State<V>) -> State<V> {
+        let sp = V::splat;
+        let (one, two, half) = (sp(1.0), sp(2.0), sp(0.5));
         let [w, x, y, z] = s.q;
         let [ix, iy, iz] = self.inertia;
         let [p, r_, t] = s.omega;
         // Euler: I w' = (I w) x w + M.
-        let mut m = [(iy - iz) * r_ * t, (iz - ix) * t * p, (ix - iy) * p * r_];
+        let mut m = [
+            sp(iy - iz) * r_ * t,
+            sp(iz - ix) * t * p,
+            sp(ix - iy) * p * r_,
+        ];
         if let Some(g) = self.gravity {
             // Row 0 of dcm_orb0_from_body: X0 (radial) in body axes; M = 3 w0^2 e x (I e).
             let e_r = [
-                1.0 - 2.0 * (y * y + z * z),
-                2.0 * (x * y - w * z),
-                2.0 * (x * z + w * y),
+                one - two * (y * y + z * z),
+                two * (x * y - w * z),
+                two * (x * z + w * y),
             ];
-            m[0] += g * (iz - iy) * e_r[1] * e_r[2];
-            m[1] += g * (ix - iz) * e_r[2] * e_r[0];
-            m[2] += g * (iy - ix) * e_r[0] * e_r[1];
+            m[0] = m[0] + sp(g * (iz - iy)) * e_r[1] * e_r[2];
+            m[1] = m[1] + sp(g * (ix - iz)) * e_r[2] * e_r[0];
+            m[2] = m[2] + sp(g * (iy - ix)) * e_r[0] * e_r[1];
         }
         if let Some(c) = self.drag {
             // Row 1: Y0 (velocity) in body axes; the drag force is -k |V| e_v.
             let e_v = [
-                2.0 * (x * y + w * z),
-                1.0 - 2.0 * (x * x + z * z),
-                2.0 * (y * z - w * x),
+                two * (x * y + w * z),
+                one - two * (x * x + z * z),
+                two * (y * z - w * x),
             ];
-            m[0] += c[1] * e_v[2] - c[2] * e_v[1];
-            m[1] += c[2] * e_v[0] - c[0] * e_v[2];
-            m[2] += c[0] * e_v[1] - c[1] * e_v[0];
+            m[0] = m[0] + (sp(c[1]) * e_v[2] - sp(c[2]) * e_v[1]);
+            m[1] = m[1] + (sp(c[2]) * e_v[0] - sp(c[0]) * e_v[2]);
+            m[2] = m[2] + (sp(c[0]) * e_v[1] - sp(c[1]) * e_v[0]);
         }
         // Relative angular velocity: omega - w0 Z0, Z0 (orbit normal, row 2) in body axes.
-        let w0 = self.w0;
+        let w0 = sp(self.w0);
         let u = [
-            p - w0 * 2.0 * (x * z - w * y),
-            r_ - w0 * 2.0 * (y * z + w * x),
-            t - w0 * (1.0 - 2.0 * (x * x + y * y)),
+            p - w0 * (two * (x * z - w * y)),
+            r_ - w0 * (two * (y * z + w * x)),
+            t - w0 * (one - two * (x * x + y * y)),
         ];
         // q' = 0.5 q (x) (0, u).
         let dq = [
-            0.5 * (-x * u[0] - y * u[1] - z * u[2]),
-            0.5 * (w * u[0] + y * u[2] - z * u[1]),
-            0.5 * (w * u[1] + z * u[0] - x * u[2]),
-            0.5 * (w * u[2] + x * u[1] - y * u[0]),
+            half * (-x * u[0] - y * u[1] - z * u[2]),
+            half * (w * u[0] + y * u[2] - z * u[1]),
+            half * (w * u[1] + z * u[0] - x * u[2]),
+            half * (w * u[2] + x * u[1] - y * u[0]),
         ];
         let inv = self.inv_inertia;
         State {
             q: dq,
-            omega: [m[0] * inv[0], m[1] * inv[1], m[2] * inv[2]],
+            omega: [m[0] * sp(inv[0]), m[1] * sp(inv[1]), m[2] * sp(inv[2])],
         }
     }
 }
@@ -236,24 +245,29 @@ impl State {
             1.0 - 2.0 * (x * x + y * y),
         )
     }
+}
 
+impl<V: Real> State<V> {
     /// The antenna (body `Yc`) axis in the library's orbital frame (x along-track, y normal, z radial).
-    #[inline]
-    pub fn axis_orbital(&self) -> [f64; 3] {
+    #[inline(always)]
+    pub fn axis_orbital(&self) -> [V; 3] {
         let [w, x, y, z] = self.q;
+        let two = V::splat(2.0);
         // Column 1 of dcm_orb0_from_body = (X0, Y0, Z0) components; divided by |q|^2 to stay unit, so
         // an interpolated quaternion needs no normalisation first.
-        let inv = 1.0 / (w * w + x * x + y * y + z * z);
-        let c0 = 2.0 * (x * y - w * z) * inv;
+        let inv = (w * w + x * x + y * y + z * z).recip();
+        let c0 = two * (x * y - w * z) * inv;
         let c1 = (w * w - x * x + y * y - z * z) * inv;
-        let c2 = 2.0 * (y * z + w * x) * inv;
+        let c2 = two * (y * z + w * x) * inv;
         [c1, c2, c0]
     }
 
-    pub(crate) fn normalized(mut self) -> State {
-        let inv = 1.0 / self.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    #[inline(always)]
+    pub(crate) fn normalized(mut self) -> State<V> {
+        let [w, x, y, z] = self.q;
+        let inv = (w * w + x * x + y * y + z * z).sqrt().recip();
         for v in &mut self.q {
-            *v *= inv;
+            *v = *v * inv;
         }
         self
     }

@@ -164,18 +164,34 @@ fn batch_matches_single_propagation_and_cost_vanishes_at_truth() {
     m.aero = paper_aero();
     let t = times(31, 50.0);
     let d = 1f64.to_radians();
+    // Six rows: a full pack of four lanes and a partial one; each row's axes are the single
+    // propagation's to the last bit, whatever rows share its pack.
     let params = [
         [0.7, 1.1, -2.0, 0.6 * d, -0.5 * d, 0.55 * d],
         [3.0, 0.3, 1.0, -2.0 * d, 0.1 * d, 1.0 * d],
+        [5.0, 2.9, 0.2, 2.9 * d, 0.3 * d, -0.4 * d],
+        [1.5, 1.6, 4.0, 0.0, 0.0, 0.0],
+        [0.1, 0.01, 6.0, -d, 1.7 * d, 0.2 * d],
+        [2.2, 3.1, 3.3, 0.4 * d, -2.5 * d, 1.5 * d],
     ];
     let batch = propagate_axes_batch(&m, &params, &t, 1.0).unwrap();
+    assert_eq!(batch.len(), params.len());
     for (b, axes) in params.iter().zip(&batch) {
         let s = State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
         assert_eq!(&propagate_axes(&m, s, &t, 1.0).unwrap(), axes);
     }
     let cost = axis_cost_batch(&m, &params, &t, &batch[0], 1.0).unwrap();
     assert_eq!(cost[0], 0.0);
-    assert!(cost[1] > 1.0);
+    assert!(cost[1..].iter().all(|&c| c > 1.0), "{cost:?}");
+    // Each row's objective is its own sum over the single propagation.
+    for (c, axes) in cost.iter().zip(&batch) {
+        let sum: f64 = axes
+            .iter()
+            .zip(&batch[0])
+            .map(|(a, b)| (0..3).map(|i| (a[i] - b[i]) * (a[i] - b[i])).sum::<f64>())
+            .sum();
+        assert!((c - sum).abs() <= 1e-12 * sum, "{c} vs {sum}");
+    }
 }
 
 #[test]
