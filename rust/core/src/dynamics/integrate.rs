@@ -277,7 +277,7 @@ impl<V: Real> Grid<'_, V> {
 /// quaternion not renormalised), so outputs denser than the step cost a few operations each, not a step
 /// each. Polls for interruption and stops with [`Error::Numerical`] if a state stops being finite or its
 /// rate grows beyond [`MAX_ROTATION_PER_STEP_RAD`] per step.
-#[inline]
+#[inline(always)]
 pub(crate) fn walk<V: Real>(
     model: &TumbleModel,
     initial: State<V>,
