@@ -4,8 +4,10 @@ Euler's equations with gravity-gradient and aerodynamic torques and quaternion k
 orbital frame (eqs. (3)-(4)) run in the Rust core (``gnssatt._core.tumble_*``, RK4, rayon over initial
 states). The initial state ``b = (psi, alpha, phi, wx, wy, wz)`` is fitted to axis directions collected
 over an interval by differential evolution (eq. (1), scipy's ``differential_evolution`` with a vectorised
-objective and the paper's stopping rule). Given the axis noise, a fit whose objective exceeds what the
-noise explains (:func:`noise_cost_threshold`) is a local minimum and is restarted (:func:`fit_rotation`).
+objective and the paper's stopping rule), which searches on long RK4 steps (about 5 s, axes interpolated)
+and is polished on the objective at the requested step. Given the axis noise, a fit whose objective
+exceeds what the noise explains (:func:`noise_cost_threshold`) is a local minimum and is restarted
+(:func:`fit_rotation`).
 
 Frames and angles (``docs/conventions.md``, seed 004):
 
@@ -654,13 +656,13 @@ def fit_rotation(
         Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times, a
         non-positive ``axis_sigma_deg``, a negative ``max_restarts``, ``min_restarts`` outside
         ``[0, max_restarts]``, optimiser settings out of range (``recombination`` in [0, 1], ``mutation``
-        in [0, 2), ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and step that turn the body by
-        more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
+        in [0, 2), ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and ``step_s`` or
+        ``search_step_s`` that turn the body by more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
     WorkLimitError
         ``popsize`` above ``MAX_POPSIZE`` (1000), ``maxiter`` or ``patience`` above ``MAX_GENERATIONS``
         (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), one generation needing more than
-        ``MAX_RK4_STEPS`` RK4 steps, or the whole fit at its generation cap more than ``MAX_FIT_RK4_STEPS``
-        (1e10).
+        ``MAX_RK4_STEPS`` RK4 steps at ``search_step_s``, or the whole fit at its generation cap more
+        than ``MAX_FIT_RK4_STEPS`` (1e10).
     """
     tt = _times(t)
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
