@@ -203,7 +203,8 @@ def _grid_steps(t: NDArray[np.float64], step_s: float) -> float:
     """RK4 steps of one trajectory to the last of ``t``, as the core counts them (its 1e-9 slack keeps a
     span that is a whole number of steps up to rounding from gaining a step)."""
     end = float(t[-1]) if t.size else 0.0
-    return float(max(math.ceil(end / step_s - 1e-9), 1)) if end > 0 else 0.0
+    # In floats: a subnormal step makes the count infinite, which the work limit then refuses.
+    return max(float(np.ceil(end / step_s - 1e-9)), 1.0) if end > 0 else 0.0
 
 
 def _finite(what: str, value: NDArray[np.float64], step_s: float) -> NDArray[np.float64]:
