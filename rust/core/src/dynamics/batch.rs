@@ -1,4 +1,5 @@
-//! Many initial states in parallel (rayon): the antenna axes, or the paper's objective (1) directly.
+//! Many initial states in parallel (rayon over packs of four, each pack stepped in SIMD lanes): the
+//! antenna axes, or the paper's objective (1) directly.
 
 use rayon::prelude::*;
 
@@ -6,12 +7,56 @@ use crate::error::{ensure_finite, Result};
 use crate::guard;
 
 use super::integrate::{check_stable, check_state, check_times, check_work, walk, Plan};
+use super::lanes::{Real, F4};
 use super::model::{State, TumbleModel};
+
+/// States per pack: the lanes of [`F4`].
+const PACK: usize = F4::LANES;
 
 /// The initial state of a parameter vector `b = (psi, alpha, phi, wx, wy, wz)` (rad, rad/s).
 #[inline]
 fn state_of(b: &[f64; 6]) -> State {
     State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]])
+}
+
+/// The initial states of up to [`PACK`] parameter vectors in lanes; missing lanes repeat the last row
+/// (computed and dropped).
+fn pack_of(rows: &[[f64; 6]]) -> State<F4> {
+    let s: [State; PACK] = std::array::from_fn(|l| state_of(&rows[l.min(rows.len() - 1)]));
+    State {
+        q: std::array::from_fn(|i| F4(std::array::from_fn(|l| s[l].q[i]))),
+        omega: std::array::from_fn(|i| F4(std::array::from_fn(|l| s[l].omega[i]))),
+    }
+}
+
+/// [`walk`] over one pack of rows, compiled for AVX2 where the CPU has it. Without FMA the AVX2 build does
+/// the same IEEE operations in wider registers, so its results equal the baseline build's bit for bit
+/// (on any x86-64 CPU).
+fn walk_pack(
+    model: &TumbleModel,
+    rows: &[[f64; 6]],
+    times_s: &[f64],
+    plan: &Plan,
+    visit: impl FnMut(usize, &State<F4>) -> bool,
+) -> Result<()> {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports the feature the function is compiled for.
+        return unsafe { walk_avx2(model, pack_of(rows), times_s, plan, visit) };
+    }
+    walk(model, pack_of(rows), times_s, plan, visit)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn walk_avx2(
+    model: &TumbleModel,
+    initial: State<F4>,
+    times_s: &[f64],
+    plan: &Plan,
+    visit: impl FnMut(usize, &State<F4>) -> bool,
+) -> Result<()> {
+    walk(model, initial, times_s, plan, visit)
 }
 
 fn check_params(model: &TumbleModel, params: &[[f64; 6]], plan: &Plan) -> Result<()> {
@@ -48,16 +93,21 @@ pub fn propagate_axes_batch(
     let plan = check_times(times_s, step_s)?;
     check_work(&plan, params.len(), 3 * times_s.len())?;
     check_params(model, params, &plan)?;
-    params
-        .par_iter()
-        .map(|b| {
-            let mut out = Vec::with_capacity(times_s.len());
-            walk(model, state_of(b), times_s, step_s, |_, s| {
-                out.push(s.axis_orbital())
+    let packs = params
+        .par_chunks(PACK)
+        .map(|rows| {
+            let mut out = vec![Vec::with_capacity(times_s.len()); rows.len()];
+            walk_pack(model, rows, times_s, &plan, |_, s| {
+                let a = s.axis_orbital();
+                for (l, o) in out.iter_mut().enumerate() {
+                    o.push([a[0].lane(l), a[1].lane(l), a[2].lane(l)]);
+                }
+                true
             })?;
             Ok(out)
         })
-        .collect()
+        .collect::<Result<Vec<_>>>()?;
+    Ok(packs.into_iter().flatten().collect())
 }
 
 /// The paper's objective (1) for each parameter vector: the sum over times of the squared distance
@@ -88,18 +138,20 @@ pub fn axis_cost_batch(
         });
     }
     ensure_finite("measured", measured.iter().flatten())?;
-    let cost = params
-        .par_iter()
-        .map(|b| {
-            let mut cost = 0.0;
-            walk(model, state_of(b), times_s, step_s, |k, s| {
+    let packs = params
+        .par_chunks(PACK)
+        .map(|rows| {
+            let mut cost = F4::splat(0.0);
+            walk_pack(model, rows, times_s, &plan, |k, s| {
                 let a = s.axis_orbital();
-                let m = measured[k];
-                cost += (a[0] - m[0]).powi(2) + (a[1] - m[1]).powi(2) + (a[2] - m[2]).powi(2);
+                let d: [F4; 3] = std::array::from_fn(|i| a[i] - F4::splat(measured[k][i]));
+                cost = cost + (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                true
             })?;
-            Ok(cost)
+            Ok(cost.0[..rows.len()].to_vec())
         })
-        .collect::<Result<Vec<f64>>>()?;
+        .collect::<Result<Vec<_>>>()?;
+    let cost: Vec<f64> = packs.into_iter().flatten().collect();
     // Unit axes against finite measurements: only measurements near the f64 limit overflow the squares.
     guard::finite_output(
         "tumble objective",

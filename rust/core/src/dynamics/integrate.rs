@@ -3,41 +3,71 @@
 use crate::error::{ensure_finite, Error, Result};
 use crate::{guard, interrupt};
 
-use super::model::{State, TumbleModel};
+use super::lanes::Real;
+use super::model::{Rhs, State, TumbleModel};
 
-#[inline]
-fn axpy(s: &State, h: f64, d: &State) -> State {
+#[inline(always)]
+fn axpy<V: Real>(s: &State<V>, h: f64, d: &State<V>) -> State<V> {
+    let h = V::splat(h);
     State {
-        q: [
-            s.q[0] + h * d.q[0],
-            s.q[1] + h * d.q[1],
-            s.q[2] + h * d.q[2],
-            s.q[3] + h * d.q[3],
-        ],
-        omega: [
-            s.omega[0] + h * d.omega[0],
-            s.omega[1] + h * d.omega[1],
-            s.omega[2] + h * d.omega[2],
-        ],
+        q: std::array::from_fn(|i| s.q[i] + h * d.q[i]),
+        omega: std::array::from_fn(|i| s.omega[i] + h * d.omega[i]),
     }
 }
 
 /// One RK4 step of length `h` seconds; the quaternion is renormalised afterwards.
 #[inline]
 pub fn rk4_step(model: &TumbleModel, s: &State, h: f64) -> State {
-    let k1 = model.derivative(s);
-    let k2 = model.derivative(&axpy(s, 0.5 * h, &k1));
-    let k3 = model.derivative(&axpy(s, 0.5 * h, &k2));
-    let k4 = model.derivative(&axpy(s, h, &k3));
+    let rhs = Rhs::new(model);
+    rk4_from(&rhs, s, &rhs.derivative(s), h)
+}
+
+/// One RK4 step from `s` whose derivative `k1 = model.derivative(s)` is already known (the previous
+/// step's end point, also needed by the interpolation).
+#[inline(always)]
+fn rk4_from<V: Real>(rhs: &Rhs, s: &State<V>, k1: &State<V>, h: f64) -> State<V> {
+    let k2 = rhs.derivative(&axpy(s, 0.5 * h, k1));
+    let k3 = rhs.derivative(&axpy(s, 0.5 * h, &k2));
+    let k4 = rhs.derivative(&axpy(s, h, &k3));
+    let (h6, two) = (V::splat(h / 6.0), V::splat(2.0));
     let mut out = *s;
     for i in 0..4 {
-        out.q[i] += h / 6.0 * (k1.q[i] + 2.0 * k2.q[i] + 2.0 * k3.q[i] + k4.q[i]);
+        out.q[i] = out.q[i] + h6 * (k1.q[i] + two * k2.q[i] + two * k3.q[i] + k4.q[i]);
     }
     for i in 0..3 {
-        out.omega[i] +=
-            h / 6.0 * (k1.omega[i] + 2.0 * k2.omega[i] + 2.0 * k3.omega[i] + k4.omega[i]);
+        out.omega[i] =
+            out.omega[i] + h6 * (k1.omega[i] + two * k2.omega[i] + two * k3.omega[i] + k4.omega[i]);
     }
     out.normalized()
+}
+
+/// Cubic Hermite interpolation at `theta` in `[0, 1]` of a step of length `h` from `(s0, d0)` to
+/// `(s1, d1)` (states and their derivatives); the quaternion is left unnormalised (its norm is within
+/// the interpolation error of 1, and [`State::axis_orbital`] divides by it). The error, `h^4 / 384`
+/// times the fourth derivative, is of RK4's own order: for a body turning `omega h` rad per step the
+/// quaternion's fourth derivative is `(omega / 2)^4`, so 0.16 rad per step (3 s at 3 deg/s)
+/// interpolates to 1e-7. `theta = 0` and `1` return `s0` and `s1` exactly.
+#[inline(always)]
+fn hermite<V: Real>(
+    s0: &State<V>,
+    d0: &State<V>,
+    s1: &State<V>,
+    d1: &State<V>,
+    h: f64,
+    theta: f64,
+) -> State<V> {
+    let t2 = theta * theta;
+    let t3 = t2 * theta;
+    let a0 = V::splat(2.0 * t3 - 3.0 * t2 + 1.0);
+    let a1 = V::splat(-2.0 * t3 + 3.0 * t2);
+    let b0 = V::splat(h * (t3 - 2.0 * t2 + theta));
+    let b1 = V::splat(h * (t3 - t2));
+    State {
+        q: std::array::from_fn(|i| a0 * s0.q[i] + a1 * s1.q[i] + b0 * d0.q[i] + b1 * d1.q[i]),
+        omega: std::array::from_fn(|i| {
+            a0 * s0.omega[i] + a1 * s1.omega[i] + b0 * d0.omega[i] + b1 * d1.omega[i]
+        }),
+    }
 }
 
 /// Most RK4 steps of one call, summed over every initial state of a batch: about 10 s on a loaded core
@@ -54,7 +84,8 @@ pub const MAX_OUTPUT_VALUES: f64 = 1e8;
 /// there during the run.
 pub const MAX_ROTATION_PER_STEP_RAD: f64 = 1.0;
 
-/// The sub-steps of a run: `steps` RK4 steps per initial state, none longer than `longest_s`.
+/// The RK4 grid of a run: `steps` equal steps of `longest_s` seconds from 0 to the last output time,
+/// per initial state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Plan {
     pub steps: f64,
@@ -68,7 +99,8 @@ fn substeps(span_s: f64, step_s: f64) -> f64 {
 }
 
 /// Checks output times (seconds from the initial epoch: finite, >= 0, non-decreasing) and the step, and
-/// counts the RK4 steps of one trajectory.
+/// plans the RK4 grid of one trajectory: equal steps no longer than `step_s` from 0 to the last time
+/// (output times between grid points are interpolated, see [`walk`]).
 pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<Plan> {
     ensure_finite("t", times_s.iter())?;
     if !(step_s.is_finite() && step_s > 0.0) {
@@ -96,21 +128,19 @@ pub(crate) fn check_times(times_s: &[f64], step_s: f64) -> Result<Plan> {
             ),
         ));
     }
-    let mut plan = Plan {
-        steps: 0.0,
-        longest_s: 0.0,
-    };
-    let mut t = 0.0;
-    for &target in times_s {
-        let span = target - t;
-        if span > 0.0 {
-            let n = substeps(span, step_s);
-            plan.steps += n;
-            plan.longest_s = plan.longest_s.max(span / n);
-            t = target;
-        }
+    let end = times_s.last().copied().unwrap_or(0.0);
+    if end > 0.0 {
+        let steps = substeps(end, step_s);
+        Ok(Plan {
+            steps,
+            longest_s: end / steps,
+        })
+    } else {
+        Ok(Plan {
+            steps: 0.0,
+            longest_s: 0.0,
+        })
     }
-    Ok(plan)
 }
 
 /// Refuses a batch of `states` trajectories of `plan` and `values_per_state` output values each above
@@ -132,11 +162,10 @@ pub(crate) fn check_work(plan: &Plan, states: usize, values_per_state: usize) ->
 }
 
 /// The rate that sets the RK4 step limit: the body rate plus the orbital frame's turn and the
-/// gravity-gradient libration (`sqrt(3) w0` at most), rad/s.
-#[inline]
-fn rate_bound(model: &TumbleModel, s: &State) -> f64 {
-    let w = s.omega;
-    (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt() + 2.0 * model.orbital_rate_rad_s
+/// gravity-gradient libration (`sqrt(3) w0` at most), rad/s, from the squared body rate `|omega|^2`.
+#[inline(always)]
+fn rate_bound(model: &TumbleModel, omega2: f64) -> f64 {
+    omega2.sqrt() + 2.0 * model.orbital_rate_rad_s
 }
 
 /// Refuses an initial state that turns more than [`MAX_ROTATION_PER_STEP_RAD`] per step of `plan`;
@@ -147,7 +176,8 @@ pub(crate) fn check_stable(
     plan: &Plan,
     row: Option<usize>,
 ) -> Result<()> {
-    let rate = rate_bound(model, s);
+    let w = s.omega;
+    let rate = rate_bound(model, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     let turn = rate * plan.longest_s;
     if turn <= MAX_ROTATION_PER_STEP_RAD {
         return Ok(());
@@ -164,46 +194,114 @@ pub(crate) fn check_stable(
     ))
 }
 
-/// Calls `visit(k, state)` at every output time `times_s[k]` (inputs checked by the caller), polling for
-/// interruption and stopping with [`Error::Numerical`] if the state stops being finite or its rate grows
-/// beyond [`MAX_ROTATION_PER_STEP_RAD`] per step.
-#[inline]
-pub(crate) fn walk(
-    model: &TumbleModel,
-    initial: State,
-    times_s: &[f64],
-    step_s: f64,
-    mut visit: impl FnMut(usize, &State),
-) -> Result<()> {
-    let mut s = initial.normalized();
-    let mut t = 0.0;
-    let mut done = 0usize;
-    for (k, &target) in times_s.iter().enumerate() {
-        let span = target - t;
-        if span > 0.0 {
-            let n = substeps(span, step_s) as usize;
-            let h = span / n as f64;
-            for i in 0..n {
-                interrupt::check_every(done, "tumble propagation")?;
-                done += 1;
-                s = rk4_step(model, &s, h);
-                let turn = rate_bound(model, &s) * h;
-                // NaN fails both comparisons: a non-finite quaternion or rate stops here too.
-                if !(turn <= MAX_ROTATION_PER_STEP_RAD && s.q.iter().all(|v| v.is_finite())) {
-                    return Err(Error::numerical(
-                        "tumble propagation",
-                        format!(
-                            "diverged at t = {:.6e} s: the state turns {turn:.3e} rad per step of {h:.3e} s \
-                             (stable up to {MAX_ROTATION_PER_STEP_RAD}); the torques spin the body up \
-                             beyond what step_s resolves",
-                            t + (i + 1) as f64 * h
-                        ),
-                    ));
-                }
-            }
-            t = target;
+/// The RK4 grid of [`Plan`] walked forward, holding the states and derivatives at grid point `j` and,
+/// once an output time falls inside step `j`, those at `j + 1`.
+struct Grid<'a, V> {
+    model: &'a TumbleModel,
+    rhs: Rhs,
+    h: f64,
+    steps: usize,
+    end: f64,
+    j: usize,
+    at: (State<V>, State<V>),
+    ahead: Option<(State<V>, State<V>)>,
+}
+
+impl<V: Real> Grid<'_, V> {
+    /// Time of grid point `j`; the last one is the last output time exactly.
+    #[inline(always)]
+    fn time(&self, j: usize) -> f64 {
+        if j >= self.steps {
+            self.end
+        } else {
+            j as f64 * self.h
         }
-        visit(k, &s);
+    }
+
+    /// The states and derivatives at grid point `j + 1`, integrated once and kept.
+    #[inline(always)]
+    fn next(&mut self) -> Result<(State<V>, State<V>)> {
+        if let Some(p) = self.ahead {
+            return Ok(p);
+        }
+        interrupt::check_every(self.j, "tumble propagation")?;
+        let (s0, d0) = &self.at;
+        let s = rk4_from(&self.rhs, s0, d0, self.h);
+        let [p, r, t] = s.omega;
+        let rate2 = p * p + r * r + t * t;
+        for l in 0..V::LANES {
+            let turn = rate_bound(self.model, rate2.lane(l)) * self.h;
+            // NaN fails both comparisons: a non-finite quaternion or rate stops here too.
+            if !(turn <= MAX_ROTATION_PER_STEP_RAD && s.q.iter().all(|v| v.lane(l).is_finite())) {
+                return Err(Error::numerical(
+                    "tumble propagation",
+                    format!(
+                        "diverged at t = {:.6e} s: the state turns {turn:.3e} rad per step of {:.3e} s \
+                         (stable up to {MAX_ROTATION_PER_STEP_RAD}); the torques spin the body up \
+                         beyond what step_s resolves",
+                        self.time(self.j + 1),
+                        self.h
+                    ),
+                ));
+            }
+        }
+        let p = (s, self.rhs.derivative(&s));
+        self.ahead = Some(p);
+        Ok(p)
+    }
+
+    /// The states at `t`, no earlier than the previous call's: the grid point itself where `t` is one,
+    /// else the cubic Hermite interpolant of the step that holds it (quaternion not renormalised).
+    #[inline(always)]
+    fn state_at(&mut self, t: f64) -> Result<State<V>> {
+        while self.j < self.steps && t >= self.time(self.j + 1) {
+            self.at = self.next()?;
+            self.ahead = None;
+            self.j += 1;
+        }
+        let tj = self.time(self.j);
+        if t <= tj || self.j >= self.steps {
+            return Ok(self.at.0);
+        }
+        let (s1, d1) = self.next()?;
+        let (s0, d0) = &self.at;
+        Ok(hermite(s0, d0, &s1, &d1, self.h, (t - tj) / self.h))
+    }
+}
+
+/// Calls `visit(k, states)` at every output time `times_s[k]` (inputs checked by the caller) until it
+/// returns `false`; `V` holds one state or a pack of them (`super::lanes`), all on the same grid.
+///
+/// The RK4 steps are those of `plan` from [`check_times`]: equal steps no longer than `step_s` from 0
+/// to the last time. A time between grid points gets the cubic Hermite interpolant of its step (the
+/// quaternion not renormalised), so outputs denser than the step cost a few operations each, not a step
+/// each. Polls for interruption and stops with [`Error::Numerical`] if a state stops being finite or its
+/// rate grows beyond [`MAX_ROTATION_PER_STEP_RAD`] per step.
+#[inline(always)]
+pub(crate) fn walk<V: Real>(
+    model: &TumbleModel,
+    initial: State<V>,
+    times_s: &[f64],
+    plan: &Plan,
+    mut visit: impl FnMut(usize, &State<V>) -> bool,
+) -> Result<()> {
+    let s = initial.normalized();
+    let rhs = Rhs::new(model);
+    let mut grid = Grid {
+        model,
+        rhs,
+        h: plan.longest_s,
+        steps: plan.steps as usize,
+        end: times_s.last().copied().unwrap_or(0.0),
+        j: 0,
+        at: (s, rhs.derivative(&s)),
+        ahead: None,
+    };
+    for (k, &t) in times_s.iter().enumerate() {
+        let s = grid.state_at(t)?;
+        if !visit(k, &s) {
+            break;
+        }
     }
     Ok(())
 }
@@ -232,7 +330,10 @@ pub fn propagate(
     check_work(&plan, 1, 7 * times_s.len())?;
     check_stable(model, &initial, &plan, None)?;
     let mut out = Vec::with_capacity(times_s.len());
-    walk(model, initial, times_s, step_s, |_, s| out.push(*s))?;
+    walk(model, initial, times_s, &plan, |_, s| {
+        out.push(s.normalized());
+        true
+    })?;
     Ok(out)
 }
 
@@ -252,8 +353,9 @@ pub fn propagate_axes(
     check_work(&plan, 1, 3 * times_s.len())?;
     check_stable(model, &initial, &plan, None)?;
     let mut out = Vec::with_capacity(times_s.len());
-    walk(model, initial, times_s, step_s, |_, s| {
-        out.push(s.axis_orbital())
+    walk(model, initial, times_s, &plan, |_, s| {
+        out.push(s.axis_orbital());
+        true
     })?;
     Ok(out)
 }

@@ -5,6 +5,8 @@ use nalgebra::{Matrix3, Vector3};
 use crate::error::{ensure_finite, Error, Result};
 use crate::rotation::euler::YZY;
 
+use super::lanes::Real;
+
 /// Aerodynamic torque parameters: drag `F = -0.5 rho Cd S |V| V` applied at the centre of pressure.
 ///
 /// The spacecraft moves along `+Y0` at `speed_m_s` through a still atmosphere; `area_m2` is held
@@ -49,11 +51,12 @@ pub struct TumbleModel {
     pub aero: Aerodynamics,
 }
 
-/// Quaternion (scalar first, `dcm_orb0_from_body`) and absolute angular velocity (body axes, rad/s).
+/// Quaternion (scalar first, `dcm_orb0_from_body`) and absolute angular velocity (body axes, rad/s); the
+/// core's batch propagation holds several states at once in lanes (`V`, crate-internal).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct State {
-    pub q: [f64; 4],
-    pub omega: [f64; 3],
+pub struct State<V = f64> {
+    pub q: [V; 4],
+    pub omega: [V; 3],
 }
 
 impl TumbleModel {
@@ -108,60 +111,7 @@ impl TumbleModel {
     /// Time derivative of `(q, omega)`.
     #[inline]
     pub fn derivative(&self, s: &State) -> State {
-        let [w, x, y, z] = s.q;
-        // Rows 0 and 1 of dcm_orb0_from_body: X0 (radial) and Y0 (velocity) in body axes.
-        let e_r = [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ];
-        let e_v = [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ];
-        // Z0 (orbit normal) in body axes: row 2.
-        let e_n = [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ];
-        let [ix, iy, iz] = self.inertia_kg_m2;
-        let [p, r_, t] = s.omega;
-        // Euler: I w' = (I w) x w + M.
-        let mut m = [(iy - iz) * r_ * t, (iz - ix) * t * p, (ix - iy) * p * r_];
-        if self.gravity_gradient {
-            let g = 3.0 * self.orbital_rate_rad_s * self.orbital_rate_rad_s;
-            // M = 3 w0^2 e x (I e).
-            m[0] += g * (iz - iy) * e_r[1] * e_r[2];
-            m[1] += g * (ix - iz) * e_r[2] * e_r[0];
-            m[2] += g * (iy - ix) * e_r[0] * e_r[1];
-        }
-        let a = &self.aero;
-        if a.density_kg_m3 > 0.0 {
-            // F = -k V_body with k = 0.5 rho Cd S |V|, V_body = |V| e_v; M = r x F.
-            let k =
-                0.5 * a.density_kg_m3 * a.drag_coefficient * a.area_m2 * a.speed_m_s * a.speed_m_s;
-            let f = [-k * e_v[0], -k * e_v[1], -k * e_v[2]];
-            let c = a.cp_offset_m;
-            m[0] += c[1] * f[2] - c[2] * f[1];
-            m[1] += c[2] * f[0] - c[0] * f[2];
-            m[2] += c[0] * f[1] - c[1] * f[0];
-        }
-        // Relative angular velocity: omega - w0 Z0 (body axes).
-        let w0 = self.orbital_rate_rad_s;
-        let u = [p - w0 * e_n[0], r_ - w0 * e_n[1], t - w0 * e_n[2]];
-        // q' = 0.5 q (x) (0, u).
-        let dq = [
-            0.5 * (-x * u[0] - y * u[1] - z * u[2]),
-            0.5 * (w * u[0] + y * u[2] - z * u[1]),
-            0.5 * (w * u[1] + z * u[0] - x * u[2]),
-            0.5 * (w * u[2] + x * u[1] - y * u[0]),
-        ];
-        State {
-            q: dq,
-            omega: [m[0] / ix, m[1] / iy, m[2] / iz],
-        }
+        Rhs::new(self).derivative(s)
     }
 
     /// Rotational kinetic energy `0.5 omega . I omega`, J (absolute rates).
@@ -175,6 +125,96 @@ impl TumbleModel {
         let i = self.inertia_kg_m2;
         s.dcm_orb0_from_body()
             * Vector3::new(i[0] * s.omega[0], i[1] * s.omega[1], i[2] * s.omega[2])
+    }
+}
+
+/// The right-hand side with the model's constant coefficients worked out once per trajectory (the
+/// reciprocal moments, `3 w0^2`, the drag torque factor) instead of at each of the four derivatives of
+/// every RK4 step.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Rhs {
+    inertia: [f64; 3],
+    inv_inertia: [f64; 3],
+    w0: f64,
+    /// `3 w0^2` with the gravity-gradient torque, else `None`.
+    gravity: Option<f64>,
+    /// `-k c` with `k = 0.5 rho Cd S |V|^2` and `c` the centre of pressure: the aerodynamic torque is
+    /// `c x (-k e_v) = (-k c) x e_v`; `None` without drag.
+    drag: Option<[f64; 3]>,
+}
+
+impl Rhs {
+    pub(crate) fn new(m: &TumbleModel) -> Rhs {
+        let a = &m.aero;
+        let [ix, iy, iz] = m.inertia_kg_m2;
+        let k = 0.5 * a.density_kg_m3 * a.drag_coefficient * a.area_m2 * a.speed_m_s * a.speed_m_s;
+        let c = a.cp_offset_m;
+        Rhs {
+            inertia: m.inertia_kg_m2,
+            inv_inertia: [1.0 / ix, 1.0 / iy, 1.0 / iz],
+            w0: m.orbital_rate_rad_s,
+            gravity: m
+                .gravity_gradient
+                .then_some(3.0 * m.orbital_rate_rad_s * m.orbital_rate_rad_s),
+            drag: (a.density_kg_m3 > 0.0).then_some([-k * c[0], -k * c[1], -k * c[2]]),
+        }
+    }
+
+    /// Time derivative of `(q, omega)`: Euler's equations (3) and the kinematics (4), per lane.
+    #[inline(always)]
+    pub(crate) fn derivative<V: Real>(&self, s: &State<V>) -> State<V> {
+        let sp = V::splat;
+        let (one, two, half) = (sp(1.0), sp(2.0), sp(0.5));
+        let [w, x, y, z] = s.q;
+        let [ix, iy, iz] = self.inertia;
+        let [p, r_, t] = s.omega;
+        // Euler: I w' = (I w) x w + M.
+        let mut m = [
+            sp(iy - iz) * r_ * t,
+            sp(iz - ix) * t * p,
+            sp(ix - iy) * p * r_,
+        ];
+        if let Some(g) = self.gravity {
+            // Row 0 of dcm_orb0_from_body: X0 (radial) in body axes; M = 3 w0^2 e x (I e).
+            let e_r = [
+                one - two * (y * y + z * z),
+                two * (x * y - w * z),
+                two * (x * z + w * y),
+            ];
+            m[0] = m[0] + sp(g * (iz - iy)) * e_r[1] * e_r[2];
+            m[1] = m[1] + sp(g * (ix - iz)) * e_r[2] * e_r[0];
+            m[2] = m[2] + sp(g * (iy - ix)) * e_r[0] * e_r[1];
+        }
+        if let Some(c) = self.drag {
+            // Row 1: Y0 (velocity) in body axes; the drag force is -k |V| e_v.
+            let e_v = [
+                two * (x * y + w * z),
+                one - two * (x * x + z * z),
+                two * (y * z - w * x),
+            ];
+            m[0] = m[0] + (sp(c[1]) * e_v[2] - sp(c[2]) * e_v[1]);
+            m[1] = m[1] + (sp(c[2]) * e_v[0] - sp(c[0]) * e_v[2]);
+            m[2] = m[2] + (sp(c[0]) * e_v[1] - sp(c[1]) * e_v[0]);
+        }
+        // Relative angular velocity: omega - w0 Z0, Z0 (orbit normal, row 2) in body axes.
+        let w0 = sp(self.w0);
+        let u = [
+            p - w0 * (two * (x * z - w * y)),
+            r_ - w0 * (two * (y * z + w * x)),
+            t - w0 * (one - two * (x * x + y * y)),
+        ];
+        // q' = 0.5 q (x) (0, u).
+        let dq = [
+            half * (-x * u[0] - y * u[1] - z * u[2]),
+            half * (w * u[0] + y * u[2] - z * u[1]),
+            half * (w * u[1] + z * u[0] - x * u[2]),
+            half * (w * u[2] + x * u[1] - y * u[0]),
+        ];
+        let inv = self.inv_inertia;
+        State {
+            q: dq,
+            omega: [m[0] * sp(inv[0]), m[1] * sp(inv[1]), m[2] * sp(inv[2])],
+        }
     }
 }
 
@@ -205,23 +245,29 @@ impl State {
             1.0 - 2.0 * (x * x + y * y),
         )
     }
+}
 
+impl<V: Real> State<V> {
     /// The antenna (body `Yc`) axis in the library's orbital frame (x along-track, y normal, z radial).
-    #[inline]
-    pub fn axis_orbital(&self) -> [f64; 3] {
+    #[inline(always)]
+    pub fn axis_orbital(&self) -> [V; 3] {
         let [w, x, y, z] = self.q;
-        let n2 = w * w + x * x + y * y + z * z;
-        // Column 1 of dcm_orb0_from_body = (X0, Y0, Z0) components; divide by |q|^2 to stay unit.
-        let c0 = 2.0 * (x * y - w * z) / n2;
-        let c1 = (w * w - x * x + y * y - z * z) / n2;
-        let c2 = 2.0 * (y * z + w * x) / n2;
+        let two = V::splat(2.0);
+        // Column 1 of dcm_orb0_from_body = (X0, Y0, Z0) components; divided by |q|^2 to stay unit, so
+        // an interpolated quaternion needs no normalisation first.
+        let inv = (w * w + x * x + y * y + z * z).recip();
+        let c0 = two * (x * y - w * z) * inv;
+        let c1 = (w * w - x * x + y * y - z * z) * inv;
+        let c2 = two * (y * z + w * x) * inv;
         [c1, c2, c0]
     }
 
-    pub(crate) fn normalized(mut self) -> State {
-        let n = self.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    #[inline(always)]
+    pub(crate) fn normalized(mut self) -> State<V> {
+        let [w, x, y, z] = self.q;
+        let inv = (w * w + x * x + y * y + z * z).sqrt().recip();
         for v in &mut self.q {
-            *v /= n;
+            *v = *v * inv;
         }
         self
     }
