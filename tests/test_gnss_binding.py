@@ -33,7 +33,7 @@ def _arrays(n_rx: int = N_RX, n_ep: int = N_EP, n_sat: int = len(SATS)) -> dict[
 def _run(options: dict[str, Any] | None = None, **replace: Any) -> Any:
     a = _arrays()
     a.update(replace)
-    return _core.gnss_run(*a.values(), {}, {}, None, None, **(options or {}))
+    return _core.gnss_run(*a.values(), {}, {}, None, None, _core.GnssOptions(**(options or {})))
 
 
 @pytest.mark.parametrize(
@@ -95,7 +95,9 @@ def test_engine_checks_its_arrays_against_the_constructor() -> None:
     with pytest.raises(InvalidInputError, match="n_receivers >= 2, got 1"):
         _core.GnssEngine(SATS, np.array([99, -3, 99]), 1, {}, {}, None, None)
     with pytest.raises(InvalidInputError, match="--frequencies"):
-        _core.GnssEngine(SATS, np.array([99, -3, 99]), 2, {}, {}, None, None, frequencies=5)
+        _core.GnssEngine(
+            SATS, np.array([99, -3, 99]), 2, {}, {}, None, None, _core.GnssOptions(frequencies=5)
+        )
 
 
 def test_defaults_are_the_engines() -> None:
@@ -128,9 +130,9 @@ def test_streaming_is_the_session_call_in_pieces() -> None:
         *per_epoch,
         si.approx_position_m,
         *nav_args,
-        **opts,
+        _core.GnssOptions(**opts),
     )
-    engine = _core.GnssEngine(list(si.sats), si.glonass_channel, 2, *nav_args, **opts)
+    engine = _core.GnssEngine(list(si.sats), si.glonass_channel, 2, *nav_args, _core.GnssOptions(**opts))
     parts = [
         engine.process(si.time_gpst_ns[a:b], *(x[:, a:b] for x in per_epoch), si.approx_position_m)
         for a, b in ((0, 50), (50, len(si.time_gpst_ns)))
@@ -160,3 +162,15 @@ def test_the_size_limit_is_checked_before_any_copy() -> None:
     )
     with pytest.raises(WorkLimitError, match="observations"):
         _core.gnss_run(*a.values(), {}, {}, None, None)
+
+
+def test_options_are_checked_when_made_and_shown() -> None:
+    """One typed options object: errors when it is made, naming the CLI option; defaults for None."""
+    with pytest.raises(InvalidInputError, match="--min-success-rate"):
+        _core.GnssOptions(min_success_rate=1.5)
+    with pytest.raises(InvalidInputError, match="GRECJ"):
+        _core.GnssOptions(systems="GX")
+    with pytest.raises(TypeError):
+        _core.GnssOptions("G")  # keyword-only
+    shown = repr(_core.GnssOptions(systems="GE", max_failure_rate=1e-3))
+    assert shown.startswith("GnssOptions(") and "Galileo" in shown and "max_failure_rate: 0.001" in shown

@@ -326,48 +326,11 @@ class GnssSession:
     warnings: list[str]
     code_sigma_scale: list[float]
 
-def gnss_run(
-    time_gpst_ns: NDArray[np.int64],
-    sats: list[str],
-    glonass_channel: NDArray[np.int64],
-    code_m: NDArray[np.float64],
-    phase_cycles: NDArray[np.float64],
-    doppler_hz: NDArray[np.float64],
-    snr_dbhz: NDArray[np.float64],
-    lli: NDArray[np.uint8],
-    approx_position_m: NDArray[np.float64],
-    kepler: dict[str, NDArray[Any]],
-    glonass: dict[str, NDArray[Any]],
-    klobuchar: NDArray[np.float64] | None,
-    leap_seconds: int | None,
-    *,
-    systems: str | None = None,
-    frequencies: int | None = None,
-    elevation_mask_deg: float | None = None,
-    base_position_m: NDArray[np.float64] | None = None,
-    motion: str | None = None,
-    method: str | None = None,
-    continuity: bool | None = None,
-    min_success_rate: float | None = None,
-    ratio_threshold: float | None = None,
-    max_failure_rate: float | None = None,
-    body_baselines_m: NDArray[np.float64] | None = None,
-    step_deg: float | None = None,
-    window_deg: float | None = None,
-) -> GnssSession: ...
-
-class GnssEngine:
-    """The engine fed a block of epochs at a time (state carried between calls)."""
+class GnssOptions:
+    """The engine's options, checked when made (None: the engine's default)."""
 
     def __init__(
         self,
-        sats: list[str],
-        glonass_channel: NDArray[np.int64],
-        n_receivers: int,
-        kepler: dict[str, NDArray[Any]],
-        glonass: dict[str, NDArray[Any]],
-        klobuchar: NDArray[np.float64] | None,
-        leap_seconds: int | None,
         *,
         systems: str | None = None,
         frequencies: int | None = None,
@@ -382,6 +345,38 @@ class GnssEngine:
         body_baselines_m: NDArray[np.float64] | None = None,
         step_deg: float | None = None,
         window_deg: float | None = None,
+    ) -> None: ...
+
+def gnss_run(
+    time_gpst_ns: NDArray[np.int64],
+    sats: list[str],
+    glonass_channel: NDArray[np.int64],
+    code_m: NDArray[np.float64],
+    phase_cycles: NDArray[np.float64],
+    doppler_hz: NDArray[np.float64],
+    snr_dbhz: NDArray[np.float64],
+    lli: NDArray[np.uint8],
+    approx_position_m: NDArray[np.float64],
+    kepler: dict[str, NDArray[Any]],
+    glonass: dict[str, NDArray[Any]],
+    klobuchar: NDArray[np.float64] | None,
+    leap_seconds: int | None,
+    options: GnssOptions | None = None,
+) -> GnssSession: ...
+
+class GnssEngine:
+    """The engine fed a block of epochs at a time (state carried between calls)."""
+
+    def __init__(
+        self,
+        sats: list[str],
+        glonass_channel: NDArray[np.int64],
+        n_receivers: int,
+        kepler: dict[str, NDArray[Any]],
+        glonass: dict[str, NDArray[Any]],
+        klobuchar: NDArray[np.float64] | None,
+        leap_seconds: int | None,
+        options: GnssOptions | None = None,
     ) -> None: ...
     def process(
         self,

@@ -451,12 +451,14 @@ def attitude_from_rinex(
         ni.glonass,
         ni.klobuchar,
         ni.leap_seconds,
-        systems=systems,
-        frequencies=n_freq,
-        motion=motion,
-        method=method,
-        continuity=continuity,
-        **opts,
+        _core.GnssOptions(
+            systems=systems,
+            frequencies=n_freq,
+            motion=motion,
+            method=method,
+            continuity=continuity,
+            **opts,
+        ),
     )
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)

@@ -2,14 +2,14 @@
 //! GIL-released call, `GnssEngine.process` the same engine a block of epochs at a time (state carried
 //! between calls). Inputs are the arrays of `gnssatt.rinex.session_input.SessionInput` and `NavInput`
 //! (navigation dictionaries converted by `gnss_nav::nav_from_py`); results are a frozen [`GnssSession`]
-//! of per-epoch numpy arrays. Every option left `None` takes the engine's default
-//! (`EngineOptions::default`), the one place the defaults live.
+//! of per-epoch numpy arrays. Options come as one checked [`GnssOptions`] (`gnss_options.rs`; `None`: the
+//! engine's defaults).
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use gnssatt_core::gnss::navdata::NavData;
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations, MAX_OBSERVATION_CELLS};
-use gnssatt_core::gnss::options::{EngineOptions, Method, Motion};
+use gnssatt_core::gnss::options::{EngineOptions, Method};
 use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
 use gnssatt_core::gnss::solution::{EpochSolution, SessionSolution, N_SYSTEMS};
 use gnssatt_core::gnss::{session, stream};
@@ -19,9 +19,10 @@ use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray4};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{exact, fixed, rows, shape_error};
+use crate::convert::{exact, shape_error};
 use crate::errors::{internal_error, invalid_input, IntoPyResult};
 use crate::gnss_nav::nav_from_py;
+use crate::gnss_options::{engine_options, GnssOptions};
 use crate::interruptible;
 
 /// `glonass_channel` value of a satellite whose channel is unknown (or that is not GLONASS).
@@ -164,97 +165,6 @@ fn observations(
     };
     obs.validate().into_py_result(py)?;
     Ok(obs)
-}
-
-/// The keyword-only options shared by [`gnss_run`] and [`GnssEngine`], `None` for the engine default.
-#[derive(Default)]
-struct OptionArgs<'py> {
-    systems: Option<String>,
-    frequencies: Option<usize>,
-    elevation_mask_deg: Option<f64>,
-    base_position_m: Option<PyReadonlyArray1<'py, f64>>,
-    motion: Option<String>,
-    method: Option<String>,
-    continuity: Option<bool>,
-    min_success_rate: Option<f64>,
-    ratio_threshold: Option<f64>,
-    max_failure_rate: Option<f64>,
-    body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
-    step_deg: Option<f64>,
-    window_deg: Option<f64>,
-}
-
-fn engine_options(py: Python<'_>, a: OptionArgs<'_>, n_rover: usize) -> PyResult<EngineOptions> {
-    let mut o = EngineOptions::default();
-    if let Some(s) = a.systems {
-        let mut systems = Vec::new();
-        for c in s.chars() {
-            match System::from_letter(c) {
-                Some(sys) if !systems.contains(&sys) => systems.push(sys),
-                Some(_) => {}
-                None => {
-                    return Err(invalid_input(
-                        py,
-                        format!("expected systems as letters among GRECJ, got {s:?}"),
-                    ))
-                }
-            }
-        }
-        o.systems = systems;
-    }
-    if let Some(f) = a.frequencies {
-        o.frequencies = f;
-    }
-    if let Some(m) = a.elevation_mask_deg {
-        o.elevation_mask_rad = m.to_radians();
-    }
-    if let Some(p) = a.base_position_m {
-        o.base_position_m = Some(fixed::<3>(py, "base_position_m", &p)?);
-    }
-    if let Some(m) = a.motion {
-        o.motion = match m.as_str() {
-            "static" => Motion::Static,
-            "moving" => Motion::Moving,
-            _ => {
-                return Err(invalid_input(
-                    py,
-                    format!("expected motion 'static' or 'moving', got {m:?}"),
-                ))
-            }
-        };
-    }
-    if let Some(m) = a.method {
-        o.method = match m.as_str() {
-            "auto" => Method::Auto,
-            "ml" => Method::Ml,
-            "lambda" => Method::Lambda,
-            _ => {
-                return Err(invalid_input(
-                    py,
-                    format!("expected method 'auto', 'ml' or 'lambda', got {m:?}"),
-                ))
-            }
-        };
-    }
-    if let Some(c) = a.continuity {
-        o.continuity = c;
-    }
-    if let Some(p) = a.min_success_rate {
-        o.min_success_rate = p;
-    }
-    if let Some(r) = a.ratio_threshold {
-        o.ratio_threshold = r;
-    }
-    if let Some(p) = a.max_failure_rate {
-        o.max_failure_rate = p;
-    }
-    if let Some(b) = a.body_baselines_m {
-        o.body_baselines_m = rows::<3>(py, "body_baselines_m", &b, Some(n_rover), false)?;
-    }
-    o.ml_step_rad = a.step_deg.map(f64::to_radians);
-    o.ml_window_rad = a.window_deg.map(f64::to_radians);
-    o.validate().into_py_result(py)?;
-    Ok(o)
 }
 
 /// Runs `work` (a core call) without the GIL, interruptibly; a panic of the core (a defect) becomes
@@ -454,10 +364,7 @@ fn session_object(
 #[pyfunction]
 #[pyo3(signature = (
     time_gpst_ns, sats, glonass_channel, code_m, phase_cycles, doppler_hz, snr_dbhz, lli,
-    approx_position_m, kepler, glonass, klobuchar, leap_seconds, *, systems = None, frequencies = None,
-    elevation_mask_deg = None, base_position_m = None, motion = None, method = None, continuity = None,
-    min_success_rate = None, ratio_threshold = None, max_failure_rate = None, body_baselines_m = None,
-    step_deg = None, window_deg = None
+    approx_position_m, kepler, glonass, klobuchar, leap_seconds, options = None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn gnss_run<'py>(
@@ -475,19 +382,7 @@ fn gnss_run<'py>(
     glonass: Bound<'py, PyDict>,
     klobuchar: Option<PyReadonlyArray1<'py, f64>>,
     leap_seconds: Option<i32>,
-    systems: Option<String>,
-    frequencies: Option<usize>,
-    elevation_mask_deg: Option<f64>,
-    base_position_m: Option<PyReadonlyArray1<'py, f64>>,
-    motion: Option<String>,
-    method: Option<String>,
-    continuity: Option<bool>,
-    min_success_rate: Option<f64>,
-    ratio_threshold: Option<f64>,
-    max_failure_rate: Option<f64>,
-    body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
-    step_deg: Option<f64>,
-    window_deg: Option<f64>,
+    options: Option<PyRef<'py, GnssOptions>>,
 ) -> PyResult<GnssSession> {
     let ids = sat_ids(py, &sats)?;
     let ch = channels(py, &ids, &glonass_channel)?;
@@ -502,25 +397,7 @@ fn gnss_run<'py>(
     };
     let obs = observations(py, &arrays, ids, ch, None)?;
     let n_rover = obs.receivers.len() - 1;
-    let opts = engine_options(
-        py,
-        OptionArgs {
-            systems,
-            frequencies,
-            elevation_mask_deg,
-            base_position_m,
-            motion,
-            method,
-            continuity,
-            min_success_rate,
-            ratio_threshold,
-            max_failure_rate,
-            body_baselines_m,
-            step_deg,
-            window_deg,
-        },
-        n_rover,
-    )?;
+    let opts = engine_options(options.as_deref());
     let nav: NavData = nav_from_py(&kepler, &glonass, klobuchar, leap_seconds)?;
     let attitude = !opts.body_baselines_m.is_empty();
     let sol: SessionSolution = guarded_run(py, "gnss_run", || session::run(&obs, &nav, &opts))?;
@@ -550,10 +427,7 @@ pub struct GnssEngine {
 impl GnssEngine {
     #[new]
     #[pyo3(signature = (
-        sats, glonass_channel, n_receivers, kepler, glonass, klobuchar, leap_seconds, *, systems = None,
-        frequencies = None, elevation_mask_deg = None, base_position_m = None, motion = None, method = None,
-        continuity = None, min_success_rate = None, ratio_threshold = None, max_failure_rate = None,
-        body_baselines_m = None, step_deg = None, window_deg = None
+        sats, glonass_channel, n_receivers, kepler, glonass, klobuchar, leap_seconds, options = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -565,19 +439,7 @@ impl GnssEngine {
         glonass: Bound<'py, PyDict>,
         klobuchar: Option<PyReadonlyArray1<'py, f64>>,
         leap_seconds: Option<i32>,
-        systems: Option<String>,
-        frequencies: Option<usize>,
-        elevation_mask_deg: Option<f64>,
-        base_position_m: Option<PyReadonlyArray1<'py, f64>>,
-        motion: Option<String>,
-        method: Option<String>,
-        continuity: Option<bool>,
-        min_success_rate: Option<f64>,
-        ratio_threshold: Option<f64>,
-        max_failure_rate: Option<f64>,
-        body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
-        step_deg: Option<f64>,
-        window_deg: Option<f64>,
+        options: Option<PyRef<'py, GnssOptions>>,
     ) -> PyResult<GnssEngine> {
         if n_receivers < 2 {
             return Err(invalid_input(
@@ -587,25 +449,7 @@ impl GnssEngine {
         }
         let ids = sat_ids(py, &sats)?;
         let ch = channels(py, &ids, &glonass_channel)?;
-        let opts = engine_options(
-            py,
-            OptionArgs {
-                systems,
-                frequencies,
-                elevation_mask_deg,
-                base_position_m,
-                motion,
-                method,
-                continuity,
-                min_success_rate,
-                ratio_threshold,
-                max_failure_rate,
-                body_baselines_m,
-                step_deg,
-                window_deg,
-            },
-            n_receivers - 1,
-        )?;
+        let opts = engine_options(options.as_deref());
         let nav = nav_from_py(&kepler, &glonass, klobuchar, leap_seconds)?;
         let attitude = !opts.body_baselines_m.is_empty();
         let (s, c) = (ids.clone(), ch.clone());
@@ -668,6 +512,7 @@ impl GnssEngine {
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gnss_run, m)?)?;
+    m.add_class::<GnssOptions>()?;
     m.add_class::<GnssSession>()?;
     m.add_class::<GnssEngine>()?;
     // The engine's defaults, read by the Python API and the CLI instead of restating them.

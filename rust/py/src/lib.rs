@@ -8,6 +8,7 @@ mod dynamics;
 mod errors;
 mod gnss;
 mod gnss_nav;
+mod gnss_options;
 mod gyro_gnss;
 mod interruptible;
 mod lambda;
