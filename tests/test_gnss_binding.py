@@ -79,7 +79,7 @@ def test_one_receiver_is_refused() -> None:
         ({"base_position_m": np.zeros(2)}, "base_position_m of shape (3,)"),
         ({"motion": "flying"}, "motion 'static' or 'moving'"),
         ({"method": "best"}, "method 'auto', 'ml' or 'lambda'"),
-        ({"body_baselines_m": np.zeros((2, 3))}, "body_baselines_m of shape (1, 3)"),
+        ({"body_baselines_m": np.zeros((2, 3))}, "one body baseline per rover (1), got 2"),
         ({"body_baselines_m": np.full((1, 3), np.nan)}, "body_baselines_m contains a non-finite value"),
         ({"step_deg": -1.0}, "--step"),
         ({"window_deg": 0.0}, "--window"),
