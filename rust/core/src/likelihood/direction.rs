@@ -135,7 +135,13 @@ impl Budget {
     }
 }
 
-/// Circular distance of two angles in `[0, 2 pi)`.
+/// `x` reduced to `[0, 2 pi)` up to a few ulps of `x` (either end may be passed by that much), without
+/// the division remainder of `rem_euclid`, which cost more than the rest of a box test.
+pub(crate) fn wrap_turn(x: f64) -> f64 {
+    x - TAU * (x * (1.0 / TAU)).floor()
+}
+
+/// Circular distance of two angles in `[0, 2 pi)` (a few ulps outside is harmless).
 fn circ_dist(a: f64, b: f64) -> f64 {
     let d = (a - b).abs();
     d.min(TAU - d)
@@ -151,7 +157,7 @@ fn arcs_meet(x: &[f64], r: &[f64]) -> bool {
             continue;
         }
         partial = true;
-        let w = (xk - rk).rem_euclid(TAU);
+        let w = wrap_turn(xk - rk);
         if x.iter()
             .zip(r)
             .all(|(&xj, &rj)| rj >= PI || circ_dist(w, xj) <= rj + 1e-9)
@@ -168,6 +174,8 @@ struct Tester<'a> {
     tau: f64,
     /// `acos(1 - s)`, `s = n - tau`.
     arc: f64,
+    /// `|g_k|` per term, rad/m.
+    g_norm: Vec<f64>,
     xs: Vec<f64>,
     radii: Vec<f64>,
     ds: Vec<f64>,
@@ -193,13 +201,13 @@ impl Tester<'_> {
         self.xs.clear();
         self.ds.clear();
         let (mut share_a, mut share_e) = (0.0, 0.0);
-        for (k, g) in m.g.iter().enumerate() {
+        for ((k, g), gn) in m.g.iter().enumerate().zip(&self.g_norm) {
             let x = m.d[self.i * nt + k] + len * g.dot(&u);
             let (da, de) = (len * g.dot(&du_a).abs() * ha, len * g.dot(&du_e).abs() * he);
             share_a += da;
             share_e += de;
-            self.xs.push(x.rem_euclid(TAU));
-            self.ds.push(da + de + len * g.norm() * quad);
+            self.xs.push(wrap_turn(x));
+            self.ds.push(da + de + len * gn * quad);
         }
         (share_a, share_e)
     }
@@ -254,6 +262,7 @@ pub(crate) fn direction_set(
                 i,
                 tau,
                 arc,
+                g_norm: model.g.iter().map(|g| g.norm()).collect(),
                 xs: vec![],
                 radii: vec![],
                 ds: vec![],

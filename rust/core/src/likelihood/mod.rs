@@ -37,6 +37,7 @@
 mod bnb;
 mod bound;
 mod direction;
+mod dirmap;
 mod grid;
 mod kernel;
 mod model;
