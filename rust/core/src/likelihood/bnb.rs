@@ -39,15 +39,15 @@
 
 use rayon::prelude::*;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::rotation::{elementary, Axis as RotAxis};
 
-use super::direction::{direction_set, row_direction, top_bins, Budget, Reach};
+use super::direction::{direction_set, floor, row_direction, top_bins, top_rows, Budget, Reach};
 use super::dirmap::{lookup, DirMap};
 use super::grid::{Axis, Grid};
 use super::kernel::{heading_tables, kernel_margin};
 use super::model::{Grouping, Model};
-use super::search::{better, check_step, exhaustive_max, GridMax, RowNodes};
+use super::search::{better, check_step, exhaustive_max, GridMax, RowNodes, MAX_CELLS};
 
 /// Work done by [`branch_and_bound`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -69,6 +69,13 @@ const FIRST_DEFICIT: f64 = 0.01;
 
 /// Factor on the deficit `m n - T` after a round that found nothing at `T`.
 const GROWTH: f64 = 4.0;
+
+/// Most work [`branch_and_bound`] does on a grid the exhaustive pass cannot take over (over
+/// [`MAX_CELLS`] cells): direction boxes tested plus rows scanned, each costing well under a
+/// microsecond, so about a minute on one core at most. Checked before the search (on such a grid
+/// every top box is tested and every row scanned) and as it goes; over it, the search stops with
+/// [`Error::OutOfRange`].
+pub const MAX_WORK: u64 = 1 << 28;
 
 /// Rows per side of a block when a window's reachable directions are gathered.
 const BLOCK: usize = 8;
@@ -187,10 +194,10 @@ fn scan_row<'a>(
         // Heading nodes g (global index) with psi = origin + g step and a = psi + beta in this bin: the
         // bin's start minus beta, one node either side for rounding; each is checked by its own bin.
         let v = (f64::from(bin) * map0.width() - beta0 - psi.origin) / psi.step;
-        let g_mid = v.floor() as i64;
+        let g_mid = floor(v) as i64;
         // Nodes in the bin have g in [v, v + 1): g_mid + 1 (and g_mid when v is an integer); the outer
         // two only when rounding of v may have moved it across an integer.
-        let frac = v - v.floor();
+        let frac = v - floor(v);
         let edge = !(1e-6..=1.0 - 1e-6).contains(&frac);
         let (lo, hi) = if edge {
             (g_mid - 1, g_mid + 2)
@@ -250,7 +257,8 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
     branch_and_bound_limited(model, grid, box_limit(grid))
 }
 
-/// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback.
+/// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback (where the
+/// grid holds at most [`MAX_CELLS`] cells; [`MAX_WORK`] otherwise).
 pub(crate) fn branch_and_bound_limited(
     model: &Model,
     grid: &Grid,
@@ -258,7 +266,22 @@ pub(crate) fn branch_and_bound_limited(
 ) -> Result<(GridMax, BnbStats)> {
     check_step(model, grid)?;
     let mut stats = BnbStats::default();
-    let exhaustive = |mut stats: BnbStats| -> Result<(GridMax, BnbStats)> {
+    let feasible = grid.len() <= MAX_CELLS;
+    let limit = if feasible { limit } else { MAX_WORK };
+    // Where the exhaustive pass cannot take over, the search stops with this error instead.
+    let exhaustive = |mut stats: BnbStats, why: &str| -> Result<(GridMax, BnbStats)> {
+        if !feasible {
+            return Err(Error::out_of_range(
+                "step_deg",
+                format!(
+                    "a step of {:.3e} deg gives {:.3e} cells, over the 2^31 the exhaustive pass \
+                     evaluates, and the branch-and-bound cannot search them: {why}; coarsen the step \
+                     or narrow the window",
+                    grid.step().to_degrees(),
+                    grid.len() as f64
+                ),
+            ));
+        }
         let gm = exhaustive_max(model, grid)?;
         stats.leaf_cells += gm.cells_evaluated;
         stats.fallback = true;
@@ -272,8 +295,24 @@ pub(crate) fn branch_and_bound_limited(
     };
     let margin = match (model.grouping, kernel_margin(model)) {
         (Grouping::PerBaseline, Some(m)) => m,
-        _ => return exhaustive(stats),
+        (Grouping::PerBaseline, None) => {
+            return exhaustive(stats, "phases beyond the kernel's checked range")
+        }
+        _ => return exhaustive(stats, "the statistic does not split by baseline"),
     };
+    let rows = grid.theta.len * grid.phi.len;
+    let tops: f64 = (0..model.n_baselines())
+        .map(|i| 2.0 * top_rows(model, i).powi(2))
+        .sum();
+    // Where the exhaustive pass can take over, the budget below decides (a window's search tests only
+    // the top boxes it reaches).
+    if !feasible && tops + rows as f64 > limit as f64 {
+        let why = format!(
+            "it would test at least {tops:.3e} direction boxes and scan {rows:.3e} rows, over its \
+             limit of {limit:.3e}"
+        );
+        return exhaustive(stats, &why);
+    }
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
     let (nb, n, top) = (model.n_baselines(), model.n_terms() as f64, model.z_upper());
     let reach = reaches(model, grid);
@@ -292,7 +331,7 @@ pub(crate) fn branch_and_bound_limited(
     loop {
         stats.rounds += 1;
         if target <= 0.0 {
-            return exhaustive(stats);
+            return exhaustive(stats, "no cell reaches the lowest target");
         }
         // 1e-6: f64 rounding of the direction of a node (|dF| <= n |g| |r| 1e-15) with room to spare.
         let need = target - margin - 1e-6;
@@ -303,9 +342,15 @@ pub(crate) fn branch_and_bound_limited(
                 Some(s) => maps.push(DirMap::new(&s, grid.step(), per_turn)),
                 None => {
                     stats.boxes_bounded = budget.used();
-                    return exhaustive(stats);
+                    let why = format!("its direction search passed its work limit of {limit:.3e}");
+                    return exhaustive(stats, &why);
                 }
             }
+        }
+        if !feasible && !budget.spend(rows as u64) {
+            stats.boxes_bounded = budget.used();
+            let why = format!("its rows and direction boxes passed its work limit of {limit:.3e}");
+            return exhaustive(stats, &why);
         }
         let (best, leaf) = (0..rows)
             .into_par_iter()

@@ -9,7 +9,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use super::direction::{wrap_turn, DirBox};
+use super::direction::{floor, wrap_turn, DirBox};
 
 /// Tolerance on box edges (radians): far above the f64 rounding of a node's direction (about 1e-15
 /// rad), far below a bin.
@@ -51,7 +51,7 @@ impl DirMap {
 
     /// The raster row holding elevation `e` (radians).
     pub fn row(&self, e: f64) -> &[(u32, f32)] {
-        let j = ((e + FRAC_PI_2) / self.width).floor();
+        let j = floor((e + FRAC_PI_2) / self.width);
         if j < 0.0 || j as usize >= self.rows.len() {
             return &[];
         }
@@ -60,7 +60,7 @@ impl DirMap {
 
     /// Azimuth bin of azimuth `a` (radians, any turn).
     pub fn bin(&self, a: f64) -> u32 {
-        let k = (wrap_turn(a) / self.width).floor() as i64;
+        let k = floor(wrap_turn(a) / self.width) as i64;
         // wrap_turn may pass either end of the turn by a few ulps.
         (if k >= self.na {
             k - self.na

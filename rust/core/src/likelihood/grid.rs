@@ -44,7 +44,7 @@ impl Axis {
                 ),
             ));
         }
-        // |(angle - origin) / step| <= (20 pi + pi) / (pi / 2^31) < 2^36: exact in f64 and i64.
+        // |(angle - origin) / step| <= (20 pi + pi) / (pi / 2^19) < 2^24: exact in f64 and i64.
         let a = ((lo - self.origin) / self.step - 1e-9).ceil() as i64;
         let b = ((hi - self.origin) / self.step + 1e-9).floor() as i64;
         let (a, b) = match self.period {
@@ -86,9 +86,10 @@ pub struct Grid {
 /// enough that node indices stay exact (a limit of 1e20 deg used to overflow them).
 const MAX_WINDOW_RAD: f64 = 20.0 * PI;
 
-/// Most cells one grid may hold: the flat index and the per-cell work stay bounded (2^31 cells of f32 are
-/// 8 GiB). Counted over the cells a grid actually holds, so a window makes fine steps possible.
-const MAX_CELLS: f64 = 2147483648.0;
+/// Most nodes per turn of a lattice: the cell count (at most `2^59`) and the flat index stay exact in
+/// `usize` and `f64`. What a search may cost is limited by the search ([`super::search::MAX_CELLS`] for
+/// the exhaustive pass, [`super::bnb::MAX_WORK`] for the branch-and-bound), counted over the work it does.
+const MAX_TURN_NODES: f64 = 1048576.0;
 
 impl Grid {
     /// The whole attitude domain with step at most `step_rad`: `n = 2 ceil(pi / step_rad)` nodes per turn,
@@ -98,27 +99,27 @@ impl Grid {
     /// * `step_rad` - requested step, radians, positive.
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] for a non-positive or non-finite step, or one giving over 2^31 cells.
+    /// [`Error::OutOfRange`] for a non-positive or non-finite step, or one giving over 2^20 nodes per
+    /// turn.
     pub fn full(step_rad: f64) -> Result<Grid> {
-        Grid::lattice(step_rad)?.checked()
+        Grid::lattice(step_rad)
     }
 
     /// The nodes of [`Grid::full`] inside `[lo, hi]` ranges (radians) of psi, theta and phi; a periodic
     /// range wider than a turn is the whole axis, pitch is clipped to [-pi/2, pi/2].
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] for a non-positive or non-finite step, an inverted window, one with no node,
-    /// or one holding over 2^31 cells (the whole domain may hold more).
+    /// [`Error::OutOfRange`] for a non-positive or non-finite step (as [`Grid::full`]), an inverted
+    /// window or one with no node.
     pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?;
-        Grid {
+        Ok(Grid {
             psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
             theta: g
                 .theta
                 .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             phi: g.phi.window("window_deg (phi)", ranges[2].0, ranges[2].1)?,
-        }
-        .checked()
+        })
     }
 
     /// The single-baseline grid: heading and pitch (elevation) of the baseline, roll fixed at zero.
@@ -126,7 +127,7 @@ impl Grid {
     /// # Errors
     /// As [`Grid::full`].
     pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
-        Grid::lattice(step_rad)?.without_roll().checked()
+        Ok(Grid::lattice(step_rad)?.without_roll())
     }
 
     /// [`Grid::two_dimensional`] restricted to `[lo, hi]` ranges (radians) of heading and pitch.
@@ -135,17 +136,16 @@ impl Grid {
     /// As [`Grid::window`].
     pub fn two_dimensional_window(step_rad: f64, ranges: [(f64, f64); 2]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?.without_roll();
-        Grid {
+        Ok(Grid {
             psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
             theta: g
                 .theta
                 .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             ..g
-        }
-        .checked()
+        })
     }
 
-    /// The lattice of step at most `step_rad` over the whole domain, its size not yet checked.
+    /// The lattice of step at most `step_rad` over the whole domain.
     fn lattice(step_rad: f64) -> Result<Grid> {
         if !(step_rad.is_finite() && step_rad > 0.0) {
             return Err(Error::out_of_range(
@@ -154,10 +154,15 @@ impl Grid {
             ));
         }
         let turns = (PI / step_rad).ceil();
-        if turns > MAX_CELLS {
+        if 2.0 * turns > MAX_TURN_NODES {
             return Err(Error::out_of_range(
                 "step_deg",
-                format!("a step of {:.3e} deg is too fine", step_rad.to_degrees()),
+                format!(
+                    "a step of {:.3e} deg is too fine: over 2^20 nodes per turn (steps down to {:.3e} \
+                     deg)",
+                    step_rad.to_degrees(),
+                    (TAU / MAX_TURN_NODES).to_degrees()
+                ),
             ));
         }
         let n = 2 * turns as usize;
@@ -198,21 +203,6 @@ impl Grid {
             },
             ..self
         }
-    }
-
-    fn checked(self) -> Result<Grid> {
-        let cells = self.psi.len as f64 * self.theta.len as f64 * self.phi.len as f64;
-        if cells > MAX_CELLS {
-            return Err(Error::out_of_range(
-                "step_deg",
-                format!(
-                    "a step of {:.3e} deg gives {cells:.3e} cells, over 2^31: coarsen the step or narrow \
-                     the window",
-                    self.step().to_degrees()
-                ),
-            ));
-        }
-        Ok(self)
     }
 
     /// Grid step, radians.
