@@ -726,7 +726,8 @@ def ml_attitude_series(
     and refinement (its own oscillator phases; the exact branch-and-bound where it is faster than the
     exhaustive pass), bit for bit. Without a window the epochs run in parallel; with one each epoch searches
     ``+- window_deg`` on every angle around the previous epoch's solution (the whole domain at the first
-    epoch and after an unsolved one). The work is one grid search per epoch, each within the limits of :func:`ml_attitude`.
+    epoch and after an unsolved one). The work is one grid search per epoch, each within the limits of
+    :func:`ml_attitude`.
 
     Parameters
     ----------
