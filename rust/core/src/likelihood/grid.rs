@@ -44,7 +44,7 @@ impl Axis {
                 ),
             ));
         }
-        // |(angle - origin) / step| <= (20 pi + pi) / (pi / 2^19) < 2^24: exact in f64 and i64.
+        // |(angle - origin) / step| <= (20 pi + pi) / (pi / 2^31) < 2^36: exact in f64 and i64.
         let a = ((lo - self.origin) / self.step - 1e-9).ceil() as i64;
         let b = ((hi - self.origin) / self.step + 1e-9).floor() as i64;
         let (a, b) = match self.period {
@@ -86,10 +86,17 @@ pub struct Grid {
 /// enough that node indices stay exact (a limit of 1e20 deg used to overflow them).
 const MAX_WINDOW_RAD: f64 = 20.0 * PI;
 
-/// Most nodes per turn of a lattice: the cell count (at most `2^59`) and the flat index stay exact in
-/// `usize` and `f64`. What a search may cost is limited by the search ([`super::search::MAX_CELLS`] for
-/// the exhaustive pass, [`super::bnb::MAX_WORK`] for the branch-and-bound), counted over the work it does.
+/// Most nodes per turn of a grid over the whole domain (or the whole two-dimensional domain): the cell
+/// count (at most `2^59`) and the flat index stay exact in `usize` and `f64`. What a search may cost is
+/// limited by the search ([`super::search::MAX_CELLS`] for the exhaustive pass, [`super::bnb::MAX_WORK`]
+/// for the branch-and-bound), counted over the work it does.
 const MAX_TURN_NODES: f64 = 1048576.0;
+
+/// Most half-turns of a lattice (a window may use steps far finer than a whole grid).
+const MAX_TURNS: f64 = 2147483648.0;
+
+/// Most cells of a window: its flat index stays exact in `usize` and `f64`.
+const MAX_WINDOW_CELLS: f64 = 4503599627370496.0;
 
 impl Grid {
     /// The whole attitude domain with step at most `step_rad`: `n = 2 ceil(pi / step_rad)` nodes per turn,
@@ -102,24 +109,25 @@ impl Grid {
     /// [`Error::OutOfRange`] for a non-positive or non-finite step, or one giving over 2^20 nodes per
     /// turn.
     pub fn full(step_rad: f64) -> Result<Grid> {
-        Grid::lattice(step_rad)
+        Grid::lattice(step_rad)?.whole()
     }
 
     /// The nodes of [`Grid::full`] inside `[lo, hi]` ranges (radians) of psi, theta and phi; a periodic
     /// range wider than a turn is the whole axis, pitch is clipped to [-pi/2, pi/2].
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] for a non-positive or non-finite step (as [`Grid::full`]), an inverted
-    /// window or one with no node.
+    /// [`Error::OutOfRange`] for a non-positive or non-finite step, an inverted window, one with no node,
+    /// or one of over 2^52 cells (steps may be far finer than [`Grid::full`] accepts).
     pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?;
-        Ok(Grid {
+        Grid {
             psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
             theta: g
                 .theta
                 .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             phi: g.phi.window("window_deg (phi)", ranges[2].0, ranges[2].1)?,
-        })
+        }
+        .window_checked()
     }
 
     /// The single-baseline grid: heading and pitch (elevation) of the baseline, roll fixed at zero.
@@ -127,7 +135,7 @@ impl Grid {
     /// # Errors
     /// As [`Grid::full`].
     pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
-        Ok(Grid::lattice(step_rad)?.without_roll())
+        Grid::lattice(step_rad)?.without_roll().whole()
     }
 
     /// [`Grid::two_dimensional`] restricted to `[lo, hi]` ranges (radians) of heading and pitch.
@@ -136,13 +144,14 @@ impl Grid {
     /// As [`Grid::window`].
     pub fn two_dimensional_window(step_rad: f64, ranges: [(f64, f64); 2]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?.without_roll();
-        Ok(Grid {
+        Grid {
             psi: g.psi.window("window_deg (psi)", ranges[0].0, ranges[0].1)?,
             theta: g
                 .theta
                 .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             ..g
-        })
+        }
+        .window_checked()
     }
 
     /// The lattice of step at most `step_rad` over the whole domain.
@@ -154,15 +163,10 @@ impl Grid {
             ));
         }
         let turns = (PI / step_rad).ceil();
-        if 2.0 * turns > MAX_TURN_NODES {
+        if turns > MAX_TURNS {
             return Err(Error::out_of_range(
                 "step_deg",
-                format!(
-                    "a step of {:.3e} deg is too fine: over 2^20 nodes per turn (steps down to {:.3e} \
-                     deg)",
-                    step_rad.to_degrees(),
-                    (TAU / MAX_TURN_NODES).to_degrees()
-                ),
+                format!("a step of {:.3e} deg is too fine", step_rad.to_degrees()),
             ));
         }
         let n = 2 * turns as usize;
@@ -203,6 +207,38 @@ impl Grid {
             },
             ..self
         }
+    }
+
+    /// The whole-domain grid if its lattice holds at most 2^20 nodes per turn.
+    fn whole(self) -> Result<Grid> {
+        if self.psi.len as f64 > MAX_TURN_NODES {
+            return Err(Error::out_of_range(
+                "step_deg",
+                format!(
+                    "a step of {:.3e} deg over the whole domain is too fine: over 2^20 nodes per turn \
+                     (steps down to {:.3e} deg; a window may be finer)",
+                    self.step().to_degrees(),
+                    (TAU / MAX_TURN_NODES).to_degrees()
+                ),
+            ));
+        }
+        Ok(self)
+    }
+
+    /// The window if it holds at most 2^52 cells.
+    fn window_checked(self) -> Result<Grid> {
+        let cells = self.psi.len as f64 * self.theta.len as f64 * self.phi.len as f64;
+        if cells > MAX_WINDOW_CELLS {
+            return Err(Error::out_of_range(
+                "window_deg",
+                format!(
+                    "a window of {cells:.3e} cells at a step of {:.3e} deg is over 2^52 cells: \
+                     coarsen the step or narrow the window",
+                    self.step().to_degrees()
+                ),
+            ));
+        }
+        Ok(self)
     }
 
     /// Grid step, radians.
