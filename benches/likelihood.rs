@@ -10,15 +10,19 @@ use gnssatt_core::likelihood::{
     branch_and_bound, dcm_enu_from_body, exhaustive_max, Epoch, Grid, Model, Statistic,
 };
 use nalgebra::Vector3;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 const L1: f64 = 0.190_293_672_798_364_9;
 
 fn scenario(m: usize) -> Model {
-    scenario_sized(0.71, m)
+    scenario_sized(0.71, m, 0.0)
 }
 
-/// The equilateral triangle of side `l` metres, noise-free wrapped phases at (0.7, 0.1, -0.2) rad.
-fn scenario_sized(l: f64, m: usize) -> Model {
+/// The equilateral triangle of side `l` metres, wrapped phases at (0.7, 0.1, -0.2) rad with uniform
+/// noise of standard deviation `noise` rad (fixed seed).
+fn scenario_sized(l: f64, m: usize, noise: f64) -> Model {
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
     let b = vec![
         Vector3::new(l, 0.0, 0.0),
         Vector3::new(l / 2.0, 0.0, l * 3f64.sqrt() / 2.0),
@@ -35,7 +39,10 @@ fn scenario_sized(l: f64, m: usize) -> Model {
         .iter()
         .map(|bi| {
             los.iter()
-                .map(|s| (-TAU / L1 * s.dot(&(r * bi))).rem_euclid(TAU))
+                .map(|s| {
+                    let n = noise * 3f64.sqrt() * rng.random_range(-1.0..1.0);
+                    (-TAU / L1 * s.dot(&(r * bi)) + n).rem_euclid(TAU)
+                })
                 .collect()
         })
         .collect();
@@ -94,12 +101,13 @@ fn bnb_vs_grid(c: &mut Criterion) {
     let mut group = c.benchmark_group("likelihood/bnb_vs_grid");
     group.sample_size(10);
     // The paper's 0.71 m triangle at 1.5 deg (7.0e6 cells), and a 5 m triangle at 0.5 deg (1.9e8 cells;
-    // eq. (15)'s lambda / (10 L) = 0.22 deg would exceed the 2^31-cell limit of the exhaustive pass).
+    // eq. (15)'s lambda / (10 L) = 0.22 deg would exceed the 2^31 cells of the exhaustive pass), with
+    // 0.1 rad phase noise.
     let cases = [("paper_0.71m_1.5deg", 0.71, 1.5), ("5m_0.5deg", 5.0, 0.5)];
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut ratios = vec![];
     for (name, l, step) in cases {
-        let model = scenario_sized(l, 8);
+        let model = scenario_sized(l, 8, 0.1);
         let grid = Grid::full(f64::to_radians(step)).unwrap();
         for threads in [1usize, 2, 16] {
             if threads > cores {
@@ -136,11 +144,12 @@ fn bnb_vs_grid(c: &mut Criterion) {
             );
             ratios.push(format!(
                 "{name} threads {threads}: exhaustive {te:.2} ms, branch-and-bound {tb:.2} ms, ratio \
-                 {:.1}x ({} boxes, {} kernel cells of {}, fallback {})",
+                 {:.1}x ({} boxes, {} kernel cells of {}, {} rounds, fallback {})",
                 te / tb,
                 stats.boxes_bounded,
                 stats.leaf_cells,
                 grid.len(),
+                stats.rounds,
                 stats.fallback
             ));
         }

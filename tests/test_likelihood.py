@@ -233,15 +233,15 @@ def test_single_baseline_heading_and_elevation():
 
 
 def test_long_baseline_needs_a_window_not_the_whole_domain():
-    """3.3 km (the GEONET pair): the default step (lambda / 10 L, 3.3e-4 deg) over the whole domain is
-    5.9e11 cells in two dimensions, refused; a 0.2-deg window around a rough start holds 3.7e5."""
+    """3.3 km (the GEONET pair): the default step (lambda / 10 L, 3.3e-4 deg) is over the lattice's 2^20
+    nodes per turn, refused before any work; a 0.2-deg window around a rough start holds 3.7e5 cells."""
     rng = np.random.default_rng(12)
     los = sky(rng, 8)
     heading, elev, length = 163.3858, 0.0797, 3300.0
     h, e = np.radians([heading, elev])
     u = np.array([np.sin(h) * np.cos(e), np.cos(h) * np.cos(e), np.sin(e)])
     p = np.mod(-2 * np.pi / L1 * length * (los @ u) + 0.4, 2 * np.pi)
-    with pytest.raises(InvalidInputError, match="over 2\\^31"):
+    with pytest.raises(InvalidInputError, match="2\\^20 nodes per turn"):
         gnssatt.ml_baseline(p, los, length, L1)
     # eq. (5) heading psi = -compass heading; a start 0.05 deg off, as a code baseline would give.
     start = np.array([-(heading + 0.05), elev - 0.05])

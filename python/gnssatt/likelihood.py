@@ -385,9 +385,11 @@ def ml_attitude(
         :data:`~gnssatt.geometry.MAX_BASELINE_M`, phase differences beyond :data:`MAX_PHASE_RAD`, wavelengths
         outside [:data:`MIN_WAVELENGTH_M`, :data:`MAX_WAVELENGTH_M`], a step that is not in
         (0, :data:`MAX_STEP_DEG`] or is coarser than the main lobe, a window with ``lo > hi``, beyond
-        +-:data:`WINDOW_LIMIT_DEG` or holding no node, a step giving a grid of more than 2^31 cells (the
-        core's documented limit, checked before any cell is evaluated: coarsen the step or narrow the
-        window), an unknown ``statistic``, ``search`` or ``refine``
+        +-:data:`WINDOW_LIMIT_DEG` or holding no node, a step giving over 2^20 nodes per turn, a grid the
+        search cannot afford (the core's documented limits on the work done: 2^31 cells for the
+        exhaustive pass, 2^28 direction boxes plus rows for the branch-and-bound where the grid holds
+        more cells; checked before any cell is evaluated where they can be: coarsen the step or narrow
+        the window), an unknown ``statistic``, ``search`` or ``refine``
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
     DegenerateGeometryError
         Collinear baselines.
@@ -724,7 +726,8 @@ def ml_attitude_series(
     and refinement (its own oscillator phases; the exact branch-and-bound where it is faster than the
     exhaustive pass), bit for bit. Without a window the epochs run in parallel; with one each epoch searches
     ``+- window_deg`` on every angle around the previous epoch's solution (the whole domain at the first
-    epoch and after an unsolved one). The work is one grid per epoch, each of at most 2^31 cells.
+    epoch and after an unsolved one). The work is one grid search per epoch, each within the limits of
+    :func:`ml_attitude`.
 
     Parameters
     ----------

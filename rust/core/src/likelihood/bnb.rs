@@ -2,31 +2,33 @@
 //! direction sets.
 //!
 //! With the per-baseline grouping `Z(R) = sum_i F_i(R r_i)`, each `F_i` a modulus of `n` unit terms, so
-//! `F_i <= n`. A cell can only match an incumbent `Z*` if, for every baseline, `F_i(R r_i) >= tau_i =
-//! Z* - margin - (m - 1) n` (the `m - 1` other moduli give at most `n` each; `margin` is the float32
-//! kernel's error, [`super::kernel::kernel_margin`]). Near the maximum `Z*` is close to `m n`, so `tau_i`
-//! is close to `n`: each baseline must point almost exactly where all its terms align, a set of tiny
-//! spots on its sphere. The search:
-//! 1. incumbent, coarse to fine: the kernel on every `c`-th node of each axis (`c` steps span about
-//!    half the main lobe, `lambda / (2 L)`), then a hill climb on the fine grid from the best coarse
-//!    cells; the incumbent is a real cell with its kernel value;
-//! 2. per baseline and in parallel, [`direction_set`]: a 2-D branch-and-bound over direction parameters
-//!    that keeps every direction where `F_i` may reach `tau_i` (bound in the module docs there);
-//! 3. rows `(theta, phi)` in parallel blocks: a block is dropped when some baseline's elevation range
-//!    over it (the centre's elevation +- the block's half-extents in pitch and roll, since each rotation
-//!    moves a direction by at most its angle) meets none of that baseline's boxes; in the remaining rows
-//!    each box maps to a few heading nodes (`psi = a - beta`), the nodes every baseline allows are
-//!    evaluated by the kernel with the full pass's tables.
+//! `F_i <= n`. The search works towards a target `T`: it evaluates every cell whose kernel `Z` may reach
+//! `T`, so if the best of them reaches `T` it is the grid maximum (every cell at or above it, ties
+//! included, was evaluated); otherwise `T` is lowered and the search repeated. A cell can only reach `T`
+//! if, for every baseline, `F_i(R r_i) >= tau = T - margin - (m - 1) n` (the `m - 1` other moduli give
+//! at most `n` each; `margin` is the float32 kernel's error, [`super::kernel::kernel_margin`]), and in
+//! fact if `sum_i U_i >= T - margin` for upper bounds `U_i` of the `F_i`. Near the maximum `T` is close
+//! to `m n`, so `tau` is close to `n`: each baseline must point almost exactly where all its terms align,
+//! a set of small spots on its sphere. One round:
+//! 1. per baseline and in parallel, [`direction_set`]: a 2-D branch-and-bound over direction parameters
+//!    that keeps every direction where `F_i` may reach `tau` (bound in the module docs there), as boxes
+//!    with their bounds `U_i`, rasterised on bins of the grid's step ([`DirMap`]);
+//! 2. rows `(theta, phi)` in parallel: each baseline's elevation picks one raster row (a row where some
+//!    baseline's raster row is empty is skipped); the heading nodes of the sparsest baseline's bins are
+//!    looked up in the other baselines' rows (`psi = a - beta`), and the nodes with `sum_i U_i >= T -
+//!    margin` are evaluated by the kernel with the full pass's tables.
 //!
-//! Every cell with kernel `Z >= Z*` is evaluated, by the same kernel code with the same inputs as the
+//! The first target is `m n (1 - FIRST_DEFICIT)`; a round that finds nothing at `T` doubles the deficit
+//! `m n - T` (or stops at the best value it found, which the next round then certainly reaches). No
+//! coarse pass is needed for a first incumbent, and no side lobe can mislead one.
+//!
+//! Every cell with kernel `Z >= T` is evaluated, by the same kernel code with the same inputs as the
 //! exhaustive pass, so the result is the exhaustive maximum bit for bit: the same float32 `Z` and, among
 //! equal values, the lowest flat index ([`super::search::better`]). No tolerance enters the comparison.
 //!
 //! Falls back to [`exhaustive_max`] (same result, [`BnbStats::fallback`]) for the per-satellite
-//! statistics (no per-baseline decomposition), when the incumbent leaves the direction test powerless
-//! (`n - tau_i >= 2`, i.e. `Z*` more than about 2 below `m n`: very noisy phases), when a phase may
-//! exceed the kernel's checked range, or when the direction search tests more than
-//! [`box_limit`] boxes.
+//! statistics (no per-baseline decomposition), when a phase may exceed the kernel's checked range, when
+//! the target falls to 0, or when the direction searches test more than [`box_limit`] boxes.
 //!
 //! Compared with Teunissen & Massarweh (2025, J. Geodesy 99:28), whose globally convergent ambiguity
 //! function algorithm (from the abstract: branch-and-bound with a convex relaxation of the multimodal
@@ -37,34 +39,46 @@
 
 use rayon::prelude::*;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::rotation::{elementary, Axis as RotAxis};
 
-use super::direction::{direction_set, row_direction, top_bins, Budget, DirBox, Reach};
+use super::direction::{direction_set, floor, row_direction, top_bins, top_rows, Budget, Reach};
+use super::dirmap::{lookup, DirMap};
 use super::grid::{Axis, Grid};
 use super::kernel::{heading_tables, kernel_margin};
 use super::model::{Grouping, Model};
-use super::search::{better, check_step, exhaustive_max, GridMax, RowNodes};
+use super::search::{better, check_step, exhaustive_max, GridMax, RowNodes, MAX_CELLS};
 
 /// Work done by [`branch_and_bound`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct BnbStats {
-    /// Direction boxes tested plus row blocks tested.
+    /// Direction boxes tested.
     pub boxes_bounded: u64,
-    /// Cells evaluated by the float32 kernel (coarse pass, hill climb, candidates).
+    /// Cells evaluated by the float32 kernel.
     pub leaf_cells: u64,
+    /// Rounds of the search (targets tried).
+    pub rounds: u32,
     /// Whether the search fell back to the exhaustive pass (module docs say when).
     pub fallback: bool,
 }
 
-/// Rows per side of a block in step 3.
+/// First target's deficit as a fraction of `m n`. Measured grid maxima sit 0.3 % (2 mm phase noise, 1 m
+/// array at eq. (15)'s step) to 2 % (0.17 rad noise, 5 m array at 0.5 deg) below `m n`; a round at a
+/// target that is too high costs less than the one that succeeds.
+const FIRST_DEFICIT: f64 = 0.01;
+
+/// Factor on the deficit `m n - T` after a round that found nothing at `T`.
+const GROWTH: f64 = 4.0;
+
+/// Most work [`branch_and_bound`] does on a grid the exhaustive pass cannot take over (over
+/// [`MAX_CELLS`] cells): direction boxes tested plus rows scanned, each costing well under a
+/// microsecond, so about a minute on one core at most. Checked before the search (on such a grid
+/// every top box is tested and every row scanned) and as it goes; over it, the search stops with
+/// [`Error::OutOfRange`].
+pub const MAX_WORK: u64 = 1 << 28;
+
+/// Rows per side of a block when a window's reachable directions are gathered.
 const BLOCK: usize = 8;
-/// Coarse stride of the incumbent pass, in units of the coarsest accepted step (half the main lobe).
-/// Coarser strides were tried: at 3x the incumbent of a 5 m array landed in a side lobe and the search
-/// fell back.
-const STRIDE: f64 = 1.5;
-/// Coarse cells the hill climb starts from.
-const STARTS: usize = 8;
 
 /// Most direction boxes [`branch_and_bound`] tests before it falls back to the exhaustive pass: one per
 /// 256 cells. A box costs about as much as 10 to 150 kernel cells (arc test or relaxed bound), so the
@@ -72,174 +86,6 @@ const STARTS: usize = 8;
 /// for the paper's array) are searched exhaustively.
 pub fn box_limit(grid: &Grid) -> u64 {
     grid.len() as u64 / 256
-}
-
-/// Local indices of the nodes next to `j` (and `j`) on `axis`, wrapping when it is a full turn.
-fn around(axis: &Axis, j: usize) -> Vec<usize> {
-    let full = axis.period == Some(axis.len);
-    let mut v: Vec<usize> = [-1i64, 0, 1]
-        .iter()
-        .filter_map(|d| {
-            let k = j as i64 + d;
-            if full {
-                Some(k.rem_euclid(axis.len as i64) as usize)
-            } else {
-                (0..axis.len as i64).contains(&k).then_some(k as usize)
-            }
-        })
-        .collect();
-    v.sort_unstable();
-    v.dedup();
-    v
-}
-
-/// Steepest ascent over the 26 neighbours on the fine grid.
-fn climb(rn: &mut RowNodes, grid: &Grid, start: (f32, usize)) -> (f32, usize) {
-    let mut cur = start;
-    // Each move raises (z, -index) strictly, so the climb ends; the cap only bounds pathological plateaus.
-    for _ in 0..grid.len().min(1 << 16) {
-        let [p, t, f] = grid.unflatten(cur.1);
-        let ps = around(&grid.psi, p);
-        let mut best = cur;
-        for t2 in around(&grid.theta, t) {
-            for &f2 in &around(&grid.phi, f) {
-                best = better(best, rn.best(t2, f2, &ps));
-            }
-        }
-        if best == cur {
-            break;
-        }
-        cur = best;
-    }
-    cur
-}
-
-/// Step 1 of the module docs: the incumbent `(z, flat index)` and the cells it cost.
-fn incumbent(model: &Model, grid: &Grid, cps: &[f32], sps: &[f32]) -> ((f32, usize), u64) {
-    let c = ((STRIDE * model.max_step() / grid.step()).floor() as usize).max(2);
-    let ps: Vec<usize> = (0..grid.psi.len).step_by(c).collect();
-    let rows: Vec<(usize, usize)> = (0..grid.theta.len)
-        .step_by(c)
-        .flat_map(|t| (0..grid.phi.len).step_by(c).map(move |f| (t, f)))
-        .collect();
-    let mut coarse: Vec<((f32, usize), u64)> = rows
-        .par_iter()
-        .map_init(
-            || RowNodes::new(model, grid, cps, sps),
-            |rn, &(t, f)| (rn.best(t, f, &ps), ps.len() as u64),
-        )
-        .collect();
-    let mut cells: u64 = coarse.iter().map(|r| r.1).sum();
-    coarse.sort_by(|a, b| b.0 .0.total_cmp(&a.0 .0).then(a.0 .1.cmp(&b.0 .1)));
-    let climbed: Vec<((f32, usize), u64)> = coarse
-        .iter()
-        .take(STARTS)
-        .collect::<Vec<_>>()
-        .par_iter()
-        .map(|s| {
-            let mut rn = RowNodes::new(model, grid, cps, sps);
-            let best = climb(&mut rn, grid, s.0);
-            (best, rn.cells)
-        })
-        .collect();
-    let mut best = (f32::NEG_INFINITY, usize::MAX);
-    for (b, n) in climbed {
-        best = better(best, b);
-        cells += n;
-    }
-    (best, cells)
-}
-
-/// Per-thread state of step 3: a node marker that needs no clearing between rows, and per node the
-/// bound of the current baseline and the summed deficit `sum_i (n - U_i)` so far.
-struct Scan {
-    level: Vec<u64>,
-    base: u64,
-    u: Vec<f64>,
-    deficit: Vec<f64>,
-    nodes: Vec<usize>,
-}
-
-impl Scan {
-    fn new(len: usize) -> Self {
-        Scan {
-            level: vec![0; len],
-            base: 0,
-            u: vec![0.0; len],
-            deficit: vec![0.0; len],
-            nodes: vec![],
-        }
-    }
-
-    /// Heading nodes whose baseline-`i` direction falls in one of `boxes`, among those the previous
-    /// baselines of the row kept (`i = 0` starts a row), and whose summed deficit stays within `slack`:
-    /// `Z <= sum_i U_i` must reach `Z*`, i.e. `sum_i (n - U_i) <= m n - Z*`. A node may be marked by a
-    /// box that only its one-node rounding slack reaches; the largest bound of its boxes is used, which
-    /// is at least the bound of the box that holds it.
-    #[allow(clippy::too_many_arguments)]
-    fn mark(
-        &mut self,
-        psi: &Axis,
-        (i, nb): (usize, usize),
-        beta: f64,
-        e: f64,
-        boxes: &[DirBox],
-        n: f64,
-        slack: f64,
-    ) {
-        if i == 0 {
-            self.base += nb as u64 + 1;
-        }
-        let (want, set) = (self.base + i as u64, self.base + i as u64 + 1);
-        let mut kept = std::mem::take(&mut self.nodes);
-        let prev = kept.len();
-        for b in boxes {
-            if e < b.e0 - 1e-9 || e > b.e1 + 1e-9 {
-                continue;
-            }
-            // Node g (global) has heading origin + g step; floor and ceil keep one node of slack for
-            // rounding (an extra cell is evaluated, never one missed).
-            let g0 = ((b.a0 - beta - psi.origin) / psi.step).floor() as i64;
-            let g1 = ((b.a1 - beta - psi.origin) / psi.step).ceil() as i64;
-            let span = (g1 - g0 + 1).min(psi.period.unwrap_or(usize::MAX) as i64);
-            for g in g0..g0 + span {
-                let j = g - psi.first;
-                let j = match psi.period {
-                    Some(p) => j.rem_euclid(p as i64),
-                    None => j,
-                };
-                if !(0..psi.len as i64).contains(&j) {
-                    continue;
-                }
-                let j = j as usize;
-                if self.level[j] == set {
-                    self.u[j] = self.u[j].max(b.bound);
-                } else if (i == 0) || self.level[j] == want {
-                    self.level[j] = set;
-                    self.u[j] = b.bound;
-                    if i == 0 {
-                        self.deficit[j] = 0.0;
-                        kept.push(j);
-                    }
-                }
-            }
-        }
-        // For i > 0 the candidates are the previous baselines' nodes that this one marked too.
-        let start = if i == 0 { prev } else { 0 };
-        let mut out = Vec::with_capacity(kept.len());
-        for &j in &kept[start..] {
-            if self.level[j] != set {
-                continue;
-            }
-            self.deficit[j] += n - self.u[j];
-            if self.deficit[j] <= slack {
-                out.push(j);
-            } else {
-                self.level[j] = 0;
-            }
-        }
-        self.nodes = out;
-    }
 }
 
 /// Centre row of a block and how far (radians) any baseline direction of its rows can be from the
@@ -258,10 +104,13 @@ fn row_rotation(grid: &Grid, t: usize, f: usize) -> nalgebra::Matrix3<f64> {
         * elementary(RotAxis::X, grid.phi.angle(f as i64))
 }
 
+/// Pitch and roll index ranges of a block of rows.
+type Block = ((usize, usize), (usize, usize));
+
 /// Per baseline, the top direction boxes some cell of the grid points it into: around each block's
 /// centre direction, elevation +- the block's reach and azimuth +- reach / cos(latitude bound), over
-/// the headings of the grid.
-fn reaches(model: &Model, grid: &Grid, blocks: &[Block]) -> Vec<Reach> {
+/// the headings of the grid. Every top box for the whole domain.
+fn reaches(model: &Model, grid: &Grid) -> Vec<Reach> {
     let psi = &grid.psi;
     let full = psi.period == Some(psi.len);
     let (p_lo, p_hi) = (psi.angle(0), psi.angle(psi.len as i64 - 1));
@@ -275,7 +124,18 @@ fn reaches(model: &Model, grid: &Grid, blocks: &[Block]) -> Vec<Reach> {
     if whole {
         return out;
     }
-    for &(tr, fr) in blocks {
+    let blocks: Vec<Block> = (0..grid.theta.len)
+        .step_by(BLOCK)
+        .flat_map(|t| {
+            (0..grid.phi.len).step_by(BLOCK).map(move |f| {
+                (
+                    (t, (t + BLOCK).min(grid.theta.len)),
+                    (f, (f + BLOCK).min(grid.phi.len)),
+                )
+            })
+        })
+        .collect();
+    for (tr, fr) in blocks {
         let (tc, fc, reach) = block_centre(grid, tr, fr);
         let m = row_rotation(grid, tc, fc);
         for (r, set) in model.baselines.iter().zip(out.iter_mut()) {
@@ -293,55 +153,95 @@ fn reaches(model: &Model, grid: &Grid, blocks: &[Block]) -> Vec<Reach> {
     out
 }
 
-/// Pitch and roll index ranges of a block of rows.
-type Block = ((usize, usize), (usize, usize));
+/// Per-thread state of the row scan.
+struct Scan<'a> {
+    rn: RowNodes<'a>,
+    /// Per baseline: `(beta, raster row)` of the current row.
+    dirs: Vec<(f64, &'a [(u32, f32)])>,
+    nodes: Vec<usize>,
+}
 
-/// Step 3 over one block of rows: the best candidate cell and the cells evaluated.
-#[allow(clippy::too_many_arguments)]
-fn scan_block(
+/// Step 2 of the module docs for row `(t, f)` with rotation `m`: the best cell among the nodes whose
+/// summed bounds reach `need`.
+fn scan_row<'a>(
     model: &Model,
-    grid: &Grid,
-    sets: &[Vec<DirBox>],
-    slack: f64,
-    rn: &mut RowNodes,
-    scan: &mut Scan,
-    t_range: (usize, usize),
-    f_range: (usize, usize),
+    psi: &Axis,
+    maps: &'a [DirMap],
+    need: f64,
+    scan: &mut Scan<'a>,
+    (t, f, m): (usize, usize, &nalgebra::Matrix3<f64>),
 ) -> (f32, usize) {
-    let mut best = (f32::NEG_INFINITY, usize::MAX);
-    let (tc, fc, reach) = block_centre(grid, t_range, f_range);
-    let mc = row_rotation(grid, tc, fc);
-    let mut local: Vec<Vec<DirBox>> = Vec::with_capacity(sets.len());
-    for (r, set) in model.baselines.iter().zip(sets) {
-        let (_, ec) = row_direction(&(mc * r), r.norm());
-        let near: Vec<DirBox> = set
-            .iter()
-            .filter(|b| b.e1 >= ec - reach && b.e0 <= ec + reach)
-            .copied()
-            .collect();
-        if near.is_empty() {
-            return best;
+    let none = (f32::NEG_INFINITY, usize::MAX);
+    scan.dirs.clear();
+    let mut sparsest = 0;
+    for (i, (r, map)) in model.baselines.iter().zip(maps).enumerate() {
+        let w = m * r;
+        let len = r.norm();
+        let e = (w.y / len).clamp(-1.0, 1.0).asin();
+        let row = map.row(e);
+        if row.is_empty() {
+            return none;
         }
-        local.push(near);
+        if row.len() < scan.dirs.get(sparsest).map_or(usize::MAX, |d| d.1.len()) {
+            sparsest = i;
+        }
+        scan.dirs.push(((-w.z).atan2(w.x), row));
     }
-    for t in t_range.0..t_range.1 {
-        for f in f_range.0..f_range.1 {
-            let m = row_rotation(grid, t, f);
-            for (i, (r, near)) in model.baselines.iter().zip(&local).enumerate() {
-                let (beta, e) = row_direction(&(m * r), r.norm());
-                let n = model.n_terms() as f64;
-                scan.mark(&grid.psi, (i, local.len()), beta, e, near, n, slack);
-                if scan.nodes.is_empty() {
-                    break;
+    scan.nodes.clear();
+    let map0 = &maps[sparsest];
+    let (beta0, row0) = scan.dirs[sparsest];
+    for &(bin, u0) in row0 {
+        // Heading nodes g (global index) with psi = origin + g step and a = psi + beta in this bin: the
+        // bin's start minus beta, one node either side for rounding; each is checked by its own bin.
+        let v = (f64::from(bin) * map0.width() - beta0 - psi.origin) / psi.step;
+        let g_mid = floor(v) as i64;
+        // Nodes in the bin have g in [v, v + 1): g_mid + 1 (and g_mid when v is an integer); the outer
+        // two only when rounding of v may have moved it across an integer.
+        let frac = v - floor(v);
+        let edge = !(1e-6..=1.0 - 1e-6).contains(&frac);
+        let (lo, hi) = if edge {
+            (g_mid - 1, g_mid + 2)
+        } else {
+            (g_mid + 1, g_mid + 1)
+        };
+        for g in lo..=hi {
+            let j = g - psi.first;
+            let j = match psi.period {
+                Some(p) => j.rem_euclid(p as i64),
+                None => j,
+            };
+            if !(0..psi.len as i64).contains(&j) {
+                continue;
+            }
+            let j = j as usize;
+            let a = psi.angle(j as i64);
+            if map0.bin(a + beta0) != bin {
+                continue;
+            }
+            let mut sum = f64::from(u0);
+            for (i, &(beta, row)) in scan.dirs.iter().enumerate() {
+                if i == sparsest {
+                    continue;
+                }
+                match lookup(row, maps[i].bin(a + beta)) {
+                    Some(u) => sum += f64::from(u),
+                    None => {
+                        sum = f64::NEG_INFINITY;
+                        break;
+                    }
                 }
             }
-            if !scan.nodes.is_empty() {
-                scan.nodes.sort_unstable();
-                best = better(best, rn.best(t, f, &scan.nodes));
+            if sum >= need {
+                scan.nodes.push(j);
             }
         }
     }
-    best
+    if scan.nodes.is_empty() {
+        return none;
+    }
+    scan.nodes.sort_unstable();
+    scan.nodes.dedup();
+    scan.rn.best(t, f, &scan.nodes)
 }
 
 /// The grid maximum by branch-and-bound (module docs): the same cell and `Z` as [`exhaustive_max`],
@@ -357,20 +257,34 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
     branch_and_bound_limited(model, grid, box_limit(grid))
 }
 
-/// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback.
+/// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback (where the
+/// grid holds at most [`MAX_CELLS`] cells; [`MAX_WORK`] otherwise).
 pub(crate) fn branch_and_bound_limited(
     model: &Model,
     grid: &Grid,
     limit: u64,
 ) -> Result<(GridMax, BnbStats)> {
     check_step(model, grid)?;
-    let exhaustive = |boxes: u64, cells: u64| -> Result<(GridMax, BnbStats)> {
+    let mut stats = BnbStats::default();
+    let feasible = grid.len() <= MAX_CELLS;
+    let limit = if feasible { limit } else { MAX_WORK };
+    // Where the exhaustive pass cannot take over, the search stops with this error instead.
+    let exhaustive = |mut stats: BnbStats, why: &str| -> Result<(GridMax, BnbStats)> {
+        if !feasible {
+            return Err(Error::out_of_range(
+                "step_deg",
+                format!(
+                    "a step of {:.3e} deg gives {:.3e} cells, over the 2^31 the exhaustive pass \
+                     evaluates, and the branch-and-bound cannot search them: {why}; coarsen the step \
+                     or narrow the window",
+                    grid.step().to_degrees(),
+                    grid.len() as f64
+                ),
+            ));
+        }
         let gm = exhaustive_max(model, grid)?;
-        let stats = BnbStats {
-            boxes_bounded: boxes,
-            leaf_cells: cells + gm.cells_evaluated,
-            fallback: true,
-        };
+        stats.leaf_cells += gm.cells_evaluated;
+        stats.fallback = true;
         Ok((
             GridMax {
                 cells_evaluated: stats.boxes_bounded + stats.leaf_cells,
@@ -381,67 +295,99 @@ pub(crate) fn branch_and_bound_limited(
     };
     let margin = match (model.grouping, kernel_margin(model)) {
         (Grouping::PerBaseline, Some(m)) => m,
-        _ => return exhaustive(0, 0),
+        (Grouping::PerBaseline, None) => {
+            return exhaustive(stats, "phases beyond the kernel's checked range")
+        }
+        _ => return exhaustive(stats, "the statistic does not split by baseline"),
     };
+    let rows = grid.theta.len * grid.phi.len;
+    let tops: f64 = (0..model.n_baselines())
+        .map(|i| 2.0 * top_rows(model, i).powi(2))
+        .sum();
+    // Where the exhaustive pass can take over, the budget below decides (a window's search tests only
+    // the top boxes it reaches).
+    if !feasible && tops + rows as f64 > limit as f64 {
+        let why = format!(
+            "it would test at least {tops:.3e} direction boxes and scan {rows:.3e} rows, over its \
+             limit of {limit:.3e}"
+        );
+        return exhaustive(stats, &why);
+    }
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
-    let (inc, mut cells) = incumbent(model, grid, &cps, &sps);
-    let (nb, n) = (model.n_baselines(), model.n_terms() as f64);
-    // 1e-6: f64 rounding of the direction of a node (|dF| <= n |g| |r| 1e-15) with room to spare.
-    let tau = inc.0 as f64 - margin - (nb - 1) as f64 * n - 1e-6;
-    let slack = n - tau;
-    let blocks: Vec<Block> = (0..grid.theta.len)
-        .step_by(BLOCK)
-        .flat_map(|t| {
-            (0..grid.phi.len).step_by(BLOCK).map(move |f| {
-                (
-                    (t, (t + BLOCK).min(grid.theta.len)),
-                    (f, (f + BLOCK).min(grid.phi.len)),
-                )
-            })
-        })
-        .collect();
-    let reach = reaches(model, grid, &blocks);
+    let (nb, n, top) = (model.n_baselines(), model.n_terms() as f64, model.z_upper());
+    let reach = reaches(model, grid);
     let budget = Budget::new(limit);
     let h_min = 0.5 * grid.step();
-    let mut sets = Vec::with_capacity(nb);
-    for (i, r) in reach.iter().enumerate() {
-        match direction_set(model, i, tau, h_min, r, &budget) {
-            Some(s) => sets.push(s),
-            None => return exhaustive(budget.used(), cells),
+    let per_turn = (std::f64::consts::TAU / grid.step()).round() as usize;
+    let rz: Vec<_> = (0..grid.theta.len)
+        .map(|t| elementary(RotAxis::Z, grid.theta.angle(t as i64)))
+        .collect();
+    let rx: Vec<_> = (0..grid.phi.len)
+        .map(|f| elementary(RotAxis::X, grid.phi.angle(f as i64)))
+        .collect();
+    let rows = grid.theta.len * grid.phi.len;
+    let mut deficit = FIRST_DEFICIT * top;
+    let mut target = top - deficit;
+    loop {
+        stats.rounds += 1;
+        if target <= 0.0 {
+            return exhaustive(stats, "no cell reaches the lowest target");
         }
+        // 1e-6: f64 rounding of the direction of a node (|dF| <= n |g| |r| 1e-15) with room to spare.
+        let need = target - margin - 1e-6;
+        let tau = need - (nb - 1) as f64 * n;
+        let mut maps = Vec::with_capacity(nb);
+        for (i, r) in reach.iter().enumerate() {
+            match direction_set(model, i, tau, h_min, r, &budget) {
+                Some(s) => maps.push(DirMap::new(&s, grid.step(), per_turn)),
+                None => {
+                    stats.boxes_bounded = budget.used();
+                    let why = format!("its direction search passed its work limit of {limit:.3e}");
+                    return exhaustive(stats, &why);
+                }
+            }
+        }
+        if !feasible && !budget.spend(rows as u64) {
+            stats.boxes_bounded = budget.used();
+            let why = format!("its rows and direction boxes passed its work limit of {limit:.3e}");
+            return exhaustive(stats, &why);
+        }
+        let (best, leaf) = (0..rows)
+            .into_par_iter()
+            .with_min_len(64)
+            .map_init(
+                || Scan {
+                    rn: RowNodes::new(model, grid, &cps, &sps),
+                    dirs: Vec::with_capacity(nb),
+                    nodes: vec![],
+                },
+                |scan, r| {
+                    let (t, f) = (r / grid.phi.len, r % grid.phi.len);
+                    let m = rz[t] * rx[f];
+                    let before = scan.rn.cells;
+                    let b = scan_row(model, &grid.psi, &maps, need, scan, (t, f, &m));
+                    (b, scan.rn.cells - before)
+                },
+            )
+            .reduce(
+                || ((f32::NEG_INFINITY, usize::MAX), 0),
+                |a, b| (better(a.0, b.0), a.1 + b.1),
+            );
+        stats.leaf_cells += leaf;
+        stats.boxes_bounded = budget.used();
+        if f64::from(best.0) >= target {
+            return Ok((
+                GridMax {
+                    index: grid.unflatten(best.1),
+                    z: best.0,
+                    cells_evaluated: stats.boxes_bounded + stats.leaf_cells,
+                },
+                stats,
+            ));
+        }
+        // Nothing reached the target. A round at the best value found certainly ends the search (that
+        // cell is evaluated again); it is taken unless it lies below the next step of the schedule.
+        deficit *= GROWTH;
+        target = (top - deficit).max(f64::from(best.0));
     }
-    let (best, leaf) = blocks
-        .par_iter()
-        .map_init(
-            || {
-                (
-                    RowNodes::new(model, grid, &cps, &sps),
-                    Scan::new(grid.psi.len),
-                )
-            },
-            |(rn, scan), &(tr, fr)| {
-                let before = rn.cells;
-                let b = scan_block(model, grid, &sets, slack, rn, scan, tr, fr);
-                (b, rn.cells - before)
-            },
-        )
-        .reduce(
-            || ((f32::NEG_INFINITY, usize::MAX), 0),
-            |a, b| (better(a.0, b.0), a.1 + b.1),
-        );
-    cells += leaf;
-    let best = better(best, inc);
-    let stats = BnbStats {
-        boxes_bounded: budget.used() + blocks.len() as u64,
-        leaf_cells: cells,
-        fallback: false,
-    };
-    Ok((
-        GridMax {
-            index: grid.unflatten(best.1),
-            z: best.0,
-            cells_evaluated: stats.boxes_bounded + stats.leaf_cells,
-        },
-        stats,
-    ))
 }

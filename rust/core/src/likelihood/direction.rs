@@ -51,13 +51,20 @@ pub(crate) fn row_direction(w: &Vector3<f64>, len: f64) -> (f64, f64) {
     ((-w.z).atan2(w.x), (w.y / len).clamp(-1.0, 1.0).asin())
 }
 
-/// Top boxes of the direction search for baseline `i`: `(na, ne)` azimuth and elevation bins, wide
-/// enough that the phases move about 1.5 rad across a box (where the test starts to prune), at least
-/// 16 x 8 (to spread over threads and follow a window).
-pub(crate) fn top_bins(model: &Model, i: usize) -> (usize, usize) {
+/// Elevation bins of the top boxes of the direction search for baseline `i` (twice as many azimuth
+/// bins): wide enough that the phases move about 1.5 rad across a box (where the test starts to prune),
+/// at least 8 (to spread over threads and follow a window). A float: the caller checks the count
+/// against its work limit before anything of that size is allocated.
+pub(crate) fn top_rows(model: &Model, i: usize) -> f64 {
     let g_max = model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
     let h = 1.5 / (g_max * model.baselines[i].norm()).max(1e-9);
-    let ne = ((PI / (2.0 * h)).ceil() as usize).clamp(8, 1 << 12);
+    (PI / (2.0 * h)).ceil().max(8.0)
+}
+
+/// Top boxes `(na, ne)` of the direction search for baseline `i` ([`top_rows`]; the count must have
+/// been checked).
+pub(crate) fn top_bins(model: &Model, i: usize) -> (usize, usize) {
+    let ne = top_rows(model, i) as usize;
     (2 * ne, ne)
 }
 
@@ -118,8 +125,8 @@ impl Budget {
         }
     }
 
-    /// Counts `n` boxes; false once the limit is passed (by any thread).
-    fn spend(&self, n: u64) -> bool {
+    /// Counts `n` units of work; false once the limit is passed (by any thread).
+    pub fn spend(&self, n: u64) -> bool {
         if self.used.fetch_add(n, Ordering::Relaxed) + n > self.limit {
             self.over.store(true, Ordering::Relaxed);
         }
@@ -135,7 +142,26 @@ impl Budget {
     }
 }
 
-/// Circular distance of two angles in `[0, 2 pi)`.
+/// `x` reduced to `[0, 2 pi)` up to a few ulps of `x` (either end may be passed by that much), without
+/// the division remainder of `rem_euclid` or a call of `floor` (not inlined without SSE4.1), which cost
+/// more than the rest of a box test. For `|x| < 2^62` (phases here are below 1e4 rad).
+#[inline]
+pub(crate) fn wrap_turn(x: f64) -> f64 {
+    x - TAU * floor(x * (1.0 / TAU))
+}
+
+/// `x.floor()` for `|x| < 2^62` through a truncating conversion.
+#[inline]
+pub(crate) fn floor(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t > x {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// Circular distance of two angles in `[0, 2 pi)` (a few ulps outside is harmless).
 fn circ_dist(a: f64, b: f64) -> f64 {
     let d = (a - b).abs();
     d.min(TAU - d)
@@ -151,7 +177,7 @@ fn arcs_meet(x: &[f64], r: &[f64]) -> bool {
             continue;
         }
         partial = true;
-        let w = (xk - rk).rem_euclid(TAU);
+        let w = wrap_turn(xk - rk);
         if x.iter()
             .zip(r)
             .all(|(&xj, &rj)| rj >= PI || circ_dist(w, xj) <= rj + 1e-9)
@@ -168,6 +194,8 @@ struct Tester<'a> {
     tau: f64,
     /// `acos(1 - s)`, `s = n - tau`.
     arc: f64,
+    /// `|g_k|` per term, rad/m.
+    g_norm: Vec<f64>,
     xs: Vec<f64>,
     radii: Vec<f64>,
     ds: Vec<f64>,
@@ -193,13 +221,13 @@ impl Tester<'_> {
         self.xs.clear();
         self.ds.clear();
         let (mut share_a, mut share_e) = (0.0, 0.0);
-        for (k, g) in m.g.iter().enumerate() {
+        for ((k, g), gn) in m.g.iter().enumerate().zip(&self.g_norm) {
             let x = m.d[self.i * nt + k] + len * g.dot(&u);
             let (da, de) = (len * g.dot(&du_a).abs() * ha, len * g.dot(&du_e).abs() * he);
             share_a += da;
             share_e += de;
-            self.xs.push(x.rem_euclid(TAU));
-            self.ds.push(da + de + len * g.norm() * quad);
+            self.xs.push(wrap_turn(x));
+            self.ds.push(da + de + len * gn * quad);
         }
         (share_a, share_e)
     }
@@ -254,6 +282,7 @@ pub(crate) fn direction_set(
                 i,
                 tau,
                 arc,
+                g_norm: model.g.iter().map(|g| g.norm()).collect(),
                 xs: vec![],
                 radii: vec![],
                 ds: vec![],

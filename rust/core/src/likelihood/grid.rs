@@ -86,9 +86,17 @@ pub struct Grid {
 /// enough that node indices stay exact (a limit of 1e20 deg used to overflow them).
 const MAX_WINDOW_RAD: f64 = 20.0 * PI;
 
-/// Most cells one grid may hold: the flat index and the per-cell work stay bounded (2^31 cells of f32 are
-/// 8 GiB). Counted over the cells a grid actually holds, so a window makes fine steps possible.
-const MAX_CELLS: f64 = 2147483648.0;
+/// Most nodes per turn of a grid over the whole domain (or the whole two-dimensional domain): the cell
+/// count (at most `2^59`) and the flat index stay exact in `usize` and `f64`. What a search may cost is
+/// limited by the search ([`super::search::MAX_CELLS`] for the exhaustive pass, [`super::bnb::MAX_WORK`]
+/// for the branch-and-bound), counted over the work it does.
+const MAX_TURN_NODES: f64 = 1048576.0;
+
+/// Most half-turns of a lattice (a window may use steps far finer than a whole grid).
+const MAX_TURNS: f64 = 2147483648.0;
+
+/// Most cells of a window: its flat index stays exact in `usize` and `f64`.
+const MAX_WINDOW_CELLS: f64 = 4503599627370496.0;
 
 impl Grid {
     /// The whole attitude domain with step at most `step_rad`: `n = 2 ceil(pi / step_rad)` nodes per turn,
@@ -98,9 +106,10 @@ impl Grid {
     /// * `step_rad` - requested step, radians, positive.
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] for a non-positive or non-finite step, or one giving over 2^31 cells.
+    /// [`Error::OutOfRange`] for a non-positive or non-finite step, or one giving over 2^20 nodes per
+    /// turn.
     pub fn full(step_rad: f64) -> Result<Grid> {
-        Grid::lattice(step_rad)?.checked()
+        Grid::lattice(step_rad)?.whole()
     }
 
     /// The nodes of [`Grid::full`] inside `[lo, hi]` ranges (radians) of psi, theta and phi; a periodic
@@ -108,7 +117,7 @@ impl Grid {
     ///
     /// # Errors
     /// [`Error::OutOfRange`] for a non-positive or non-finite step, an inverted window, one with no node,
-    /// or one holding over 2^31 cells (the whole domain may hold more).
+    /// or one of over 2^52 cells (steps may be far finer than [`Grid::full`] accepts).
     pub fn window(step_rad: f64, ranges: [(f64, f64); 3]) -> Result<Grid> {
         let g = Grid::lattice(step_rad)?;
         Grid {
@@ -118,7 +127,7 @@ impl Grid {
                 .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             phi: g.phi.window("window_deg (phi)", ranges[2].0, ranges[2].1)?,
         }
-        .checked()
+        .window_checked()
     }
 
     /// The single-baseline grid: heading and pitch (elevation) of the baseline, roll fixed at zero.
@@ -126,7 +135,7 @@ impl Grid {
     /// # Errors
     /// As [`Grid::full`].
     pub fn two_dimensional(step_rad: f64) -> Result<Grid> {
-        Grid::lattice(step_rad)?.without_roll().checked()
+        Grid::lattice(step_rad)?.without_roll().whole()
     }
 
     /// [`Grid::two_dimensional`] restricted to `[lo, hi]` ranges (radians) of heading and pitch.
@@ -142,10 +151,10 @@ impl Grid {
                 .window("window_deg (theta)", ranges[1].0, ranges[1].1)?,
             ..g
         }
-        .checked()
+        .window_checked()
     }
 
-    /// The lattice of step at most `step_rad` over the whole domain, its size not yet checked.
+    /// The lattice of step at most `step_rad` over the whole domain.
     fn lattice(step_rad: f64) -> Result<Grid> {
         if !(step_rad.is_finite() && step_rad > 0.0) {
             return Err(Error::out_of_range(
@@ -154,7 +163,7 @@ impl Grid {
             ));
         }
         let turns = (PI / step_rad).ceil();
-        if turns > MAX_CELLS {
+        if turns > MAX_TURNS {
             return Err(Error::out_of_range(
                 "step_deg",
                 format!("a step of {:.3e} deg is too fine", step_rad.to_degrees()),
@@ -200,14 +209,31 @@ impl Grid {
         }
     }
 
-    fn checked(self) -> Result<Grid> {
-        let cells = self.psi.len as f64 * self.theta.len as f64 * self.phi.len as f64;
-        if cells > MAX_CELLS {
+    /// The whole-domain grid if its lattice holds at most 2^20 nodes per turn.
+    fn whole(self) -> Result<Grid> {
+        if self.psi.len as f64 > MAX_TURN_NODES {
             return Err(Error::out_of_range(
                 "step_deg",
                 format!(
-                    "a step of {:.3e} deg gives {cells:.3e} cells, over 2^31: coarsen the step or narrow \
-                     the window",
+                    "a step of {:.3e} deg over the whole domain is too fine: over 2^20 nodes per turn \
+                     (steps down to {:.3e} deg; a window may be finer)",
+                    self.step().to_degrees(),
+                    (TAU / MAX_TURN_NODES).to_degrees()
+                ),
+            ));
+        }
+        Ok(self)
+    }
+
+    /// The window if it holds at most 2^52 cells.
+    fn window_checked(self) -> Result<Grid> {
+        let cells = self.psi.len as f64 * self.theta.len as f64 * self.phi.len as f64;
+        if cells > MAX_WINDOW_CELLS {
+            return Err(Error::out_of_range(
+                "window_deg",
+                format!(
+                    "a window of {cells:.3e} cells at a step of {:.3e} deg is over 2^52 cells: \
+                     coarsen the step or narrow the window",
                     self.step().to_degrees()
                 ),
             ));

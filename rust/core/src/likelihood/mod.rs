@@ -37,6 +37,7 @@
 mod bnb;
 mod bound;
 mod direction;
+mod dirmap;
 mod grid;
 mod kernel;
 mod model;
@@ -48,12 +49,12 @@ mod series_tests;
 #[cfg(test)]
 mod tests;
 
-pub use bnb::{box_limit, branch_and_bound, BnbStats};
+pub use bnb::{box_limit, branch_and_bound, BnbStats, MAX_WORK};
 pub use grid::{Axis, Grid};
 pub use kernel::{sincos_f32, SINCOS_ABS_ERROR};
 pub use model::{dcm_enu_from_body, dcm_normal_from_body, Epoch, Model, Statistic};
 pub use refine::{
     estimate, parabolic, polish, Estimate, Refine, Search, AUTO_MAX_STEP, AUTO_MIN_CELLS,
 };
-pub use search::{evaluate_cells, evaluate_grid, exhaustive_max, GridMax};
+pub use search::{evaluate_cells, evaluate_grid, exhaustive_max, GridMax, MAX_CELLS};
 pub use series::{ml_attitude_series, ml_baseline_series, MlEpoch, MlSolution};

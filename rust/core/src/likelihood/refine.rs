@@ -10,7 +10,7 @@ use crate::error::Result;
 use super::bnb::branch_and_bound;
 use super::grid::Grid;
 use super::model::{dcm_normal_from_body, Model};
-use super::search::{evaluate_cells, exhaustive_max, GridMax};
+use super::search::{evaluate_cells, exhaustive_max, GridMax, MAX_CELLS};
 use crate::rotation::euler::YZX;
 
 /// How the grid maximum is found.
@@ -22,21 +22,24 @@ pub enum Search {
     /// from far fewer cells; falls back to the exhaustive pass where it cannot gain.
     BranchAndBound,
     /// Whichever is faster: [`Search::BranchAndBound`] for the ambiguity function on grids of at least
-    /// [`AUTO_MIN_CELLS`] cells whose step is at most [`AUTO_MAX_STEP`] times [`Model::max_step`],
-    /// [`Search::Exhaustive`] otherwise (same result either way).
+    /// [`AUTO_MIN_CELLS`] cells whose step is at most [`AUTO_MAX_STEP`] times [`Model::max_step`], and on
+    /// any grid over [`MAX_CELLS`] (the exhaustive pass refuses those), [`Search::Exhaustive`] otherwise
+    /// (same result either way).
     Auto,
 }
 
 /// Smallest grid [`Search::Auto`] searches by branch-and-bound. Measured (`benches/likelihood.rs`,
-/// `docs/likelihood_search.md`): on the paper's 0.71 m triangle the 1.5 deg grid (7.0e6 cells) is 30-70x
-/// faster by branch-and-bound, the 3 deg grid (8.8e5 cells) slower (the search falls back).
+/// `docs/likelihood_search.md`): on the paper's 0.71 m triangle the 1.5 deg grid (7.0e6 cells) is 18-23x
+/// faster by branch-and-bound with 0.1 rad noise; below about 10^6 cells its fixed costs (direction
+/// search, one pass over the rows) weigh more than the exhaustive pass.
 pub const AUTO_MIN_CELLS: usize = 1 << 22;
 
 /// Coarsest step, as a fraction of [`Model::max_step`] (`lambda / (2 L)`), that [`Search::Auto`] searches
 /// by branch-and-bound. Coarser grids leave their best cell further from the perfect alignment, which
-/// weakens the direction test: a 5 m triangle at 0.5 deg (0.46 of the coarsest step, 0.1 rad noise) fell
-/// back after its full work limit, 0.6-0.9x the exhaustive speed; the paper's 1.5 deg grid is 0.2.
-pub const AUTO_MAX_STEP: f64 = 0.25;
+/// weakens the direction test. Measured: a 5 m triangle at 0.5 deg (0.46 of the coarsest step, 0.1 rad
+/// noise) 12x (1 thread) and 27x (2 threads) faster by branch-and-bound; the paper's 1.5 deg grid is 0.2.
+/// Steps up to the coarsest accepted one were not measured.
+pub const AUTO_MAX_STEP: f64 = 0.5;
 
 /// How the grid maximum is refined between grid nodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -205,8 +208,9 @@ pub fn estimate(model: &Model, grid: &Grid, search: Search, refine: Refine) -> R
     let search = match search {
         Search::Auto
             if model.statistic_splits_by_baseline()
-                && grid.len() >= AUTO_MIN_CELLS
-                && grid.step() <= AUTO_MAX_STEP * model.max_step() =>
+                && (grid.len() > MAX_CELLS
+                    || (grid.len() >= AUTO_MIN_CELLS
+                        && grid.step() <= AUTO_MAX_STEP * model.max_step())) =>
         {
             Search::BranchAndBound
         }

@@ -20,6 +20,27 @@ pub struct GridMax {
     pub cells_evaluated: u64,
 }
 
+/// Most cells the exhaustive pass (and [`evaluate_grid`]) evaluates: the work it does is one kernel cell
+/// per grid cell (2^31 cells of f32 are 8 GiB, about half a minute of the kernel on 2 cores). Larger
+/// grids are searched by [`super::branch_and_bound`], whose limit counts the work it does.
+pub const MAX_CELLS: usize = 1 << 31;
+
+/// Rejects grids of more than [`MAX_CELLS`] cells for a pass over every cell.
+pub(crate) fn check_cells(grid: &Grid) -> Result<()> {
+    if grid.len() > MAX_CELLS {
+        return Err(Error::out_of_range(
+            "step_deg",
+            format!(
+                "a step of {:.3e} deg gives {:.3e} cells, over the 2^31 a pass over every cell evaluates: \
+                 coarsen the step, narrow the window, or search by branch-and-bound (search='auto')",
+                grid.step().to_degrees(),
+                grid.len() as f64
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Rejects grids whose step is coarser than [`Model::max_step`].
 pub(crate) fn check_step(model: &Model, grid: &Grid) -> Result<()> {
     if grid.step() > model.max_step() * (1.0 + 1e-9) {
@@ -52,9 +73,11 @@ pub(crate) fn better(a: (f32, usize), b: (f32, usize)) -> (f32, usize) {
 /// * `grid` - the cells (radians).
 ///
 /// # Errors
-/// [`Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
+/// [`Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`] or the grid holds over
+/// [`MAX_CELLS`] cells.
 pub fn evaluate_grid(model: &Model, grid: &Grid) -> Result<Vec<f32>> {
     check_step(model, grid)?;
+    check_cells(grid)?;
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
     let np = grid.psi.len;
     let mut z = vec![0.0f32; grid.len()];
@@ -77,9 +100,11 @@ pub fn evaluate_grid(model: &Model, grid: &Grid) -> Result<Vec<f32>> {
 /// * `grid` - the cells (radians).
 ///
 /// # Errors
-/// [`Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`].
+/// [`Error::OutOfRange`] when the grid step is coarser than [`Model::max_step`] or the grid holds over
+/// [`MAX_CELLS`] cells.
 pub fn exhaustive_max(model: &Model, grid: &Grid) -> Result<GridMax> {
     check_step(model, grid)?;
+    check_cells(grid)?;
     let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
     let np = grid.psi.len;
     let rows = grid.theta.len * grid.phi.len;

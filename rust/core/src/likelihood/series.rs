@@ -12,8 +12,9 @@
 //! sequential chain; the whole domain is searched where the previous epoch is unsolved (the first one,
 //! or one with fewer than 3 complete signals).
 //!
-//! The work is one grid search per epoch, each grid bounded by the grid's cell limit (2^31 cells,
-//! [`Grid::full`]); the loop polls [`crate::interrupt`] between epochs.
+//! The work is one grid search per epoch, each within its search's work limit ([`super::MAX_CELLS`]
+//! cells for the exhaustive pass, [`super::MAX_WORK`] for the branch-and-bound beyond); the loop polls
+//! [`crate::interrupt`] between epochs.
 
 use std::f64::consts::{PI, TAU};
 

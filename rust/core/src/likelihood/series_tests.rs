@@ -172,7 +172,7 @@ fn attitude_series_equals_the_single_epoch_search() {
 
 #[test]
 fn attitude_series_by_branch_and_bound_equals_the_exhaustive_pass() {
-    // A grid of 2^22 cells or more at a step of 0.25 lambda / (2 L) or finer: `Search::Auto` takes the
+    // A grid of 2^22 cells or more at a step of 0.5 lambda / (2 L) or finer: `Search::Auto` takes the
     // branch-and-bound there, so the batch's cell must match the exhaustive pass's.
     let mut rng = ChaCha8Rng::seed_from_u64(171);
     let b = vec![

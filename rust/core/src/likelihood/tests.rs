@@ -176,14 +176,32 @@ fn bad_input_is_rejected() {
 }
 
 #[test]
-fn cell_limit_counts_the_cells_a_grid_holds() {
-    // 1e-3 deg: 360000 nodes per turn, 2.3e16 cells over the whole domain, 3.5e11 in two dimensions.
+fn limits_count_the_work_a_search_does() {
+    // 1e-4 deg: 3.6e6 nodes per turn, over the lattice's 2^20.
+    let e = Grid::full(1e-4f64.to_radians()).unwrap_err();
+    assert!(e.to_string().contains("2^20 nodes per turn"), "{e}");
+    // 1e-3 deg: 2.3e16 cells over the whole domain. The grid exists; the exhaustive pass refuses it by
+    // its cells, the branch-and-bound by the 6.5e10 rows it would scan, both before any cell is
+    // evaluated.
     let step = 1e-3f64.to_radians();
-    assert!(matches!(Grid::full(step), Err(Error::OutOfRange { .. })));
-    assert!(matches!(
-        Grid::two_dimensional(step),
-        Err(Error::OutOfRange { .. })
-    ));
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let b = triangle(0.71);
+    let los = sky(&mut rng, 6);
+    let model = Model::new(
+        &b,
+        &[epoch(&mut rng, &b, &los, &[L1; 6], [0.0; 3], 0.0)],
+        Statistic::AmbiguityFunction,
+    )
+    .unwrap();
+    let grid = Grid::full(step).unwrap();
+    assert!(grid.len() > MAX_CELLS);
+    let e = exhaustive_max(&model, &grid).unwrap_err().to_string();
+    assert!(e.contains("step_deg") && e.contains("over the 2^31"), "{e}");
+    let e = branch_and_bound(&model, &grid).unwrap_err().to_string();
+    assert!(
+        e.contains("step_deg") && e.contains("rows, over its limit"),
+        "{e}"
+    );
     // A 0.1 deg window per axis holds exactly the lattice nodes inside it: every node in, both outside
     // neighbours out (a 0.1 deg span holds 100 or 101 nodes of step 1e-3 deg).
     let w = 0.05f64.to_radians();
@@ -204,10 +222,6 @@ fn cell_limit_counts_the_cells_a_grid_holds() {
     check(&g2.psi, centre[0]);
     check(&g2.theta, centre[1]);
     assert_eq!((g2.phi.len, g2.phi.angle(0)), (1, 0.0));
-    // A window still over the limit is refused with the step in the message.
-    let wide = centre.map(|c| (c - 0.3, c + 0.3));
-    let err = Grid::window(step, wide);
-    assert!(matches!(err, Err(Error::OutOfRange { .. })));
 }
 
 /// GLONASS L1 FDMA wavelength of channel `k` (-7..=6), metres.
@@ -373,4 +387,33 @@ fn branch_and_bound_equals_exhaustive_on_500_random_scenarios() {
     eprintln!("fallbacks {fallbacks}/500; kernel cells {bnb_cells} of {cells} where it searched");
     // The branch-and-bound itself (not its exhaustive fallback) must carry most of the comparison.
     assert!(fallbacks < 125, "{fallbacks} fallbacks");
+}
+
+#[test]
+fn long_arrays_are_searched_at_eq15_step_without_a_window() {
+    // 5 m and 10 m triangles at eq. (15)'s step lambda / (10 L) (2.2e9 and 1.8e10 cells, more than the
+    // exhaustive pass evaluates), 0.1 rad noise: the branch-and-bound searches the whole domain, and its
+    // cell is the exhaustive maximum of a window of +-4 steps around it (the window holds the truth).
+    let mut rng = ChaCha8Rng::seed_from_u64(15);
+    for l in [5.0, 10.0] {
+        let b = triangle(l);
+        let los = sky(&mut rng, 8);
+        let truth = [0.7, 0.05, -0.1];
+        let e = epoch(&mut rng, &b, &los, &[L1; 8], truth, 0.1);
+        let model = Model::new(&b, &[e], Statistic::AmbiguityFunction).unwrap();
+        let step = model.default_step();
+        let grid = Grid::full(step).unwrap();
+        assert!(grid.len() > MAX_CELLS);
+        let (bb, stats) = branch_and_bound(&model, &grid).unwrap();
+        assert!(!stats.fallback);
+        let at = grid.angles(bb.index.map(|i| i as i64));
+        for (a, t) in at.iter().zip(truth) {
+            assert!((a - t).abs() < 2.0 * step, "{l} m: {at:?}");
+        }
+        let w = 4.5 * step;
+        let win = Grid::window(step, at.map(|a| (a - w, a + w))).unwrap();
+        let ex = exhaustive_max(&model, &win).unwrap();
+        assert_eq!(ex.z, bb.z, "{l} m: {stats:?}");
+        assert_eq!(win.angles(ex.index.map(|i| i as i64)), at, "{l} m");
+    }
 }
