@@ -144,11 +144,11 @@ pub fn ltdl(q: &DMatrix<f64>) -> Result<Ltdl> {
         for j in 0..i {
             lt[(j, i)] = u[(j, i)] / pivot;
         }
-        let li = lt.column(i).rows(0, i).into_owned();
+        let li = &lt.as_slice()[i * n..i * n + i];
+        let cols = u.as_mut_slice();
         for j in 0..i {
             let lij = li[j] * pivot;
-            let mut col = u.column_mut(j);
-            for (a, &l) in col.rows_mut(0, j + 1).iter_mut().zip(li.iter()) {
+            for (a, &l) in cols[j * n..j * n + j + 1].iter_mut().zip(li) {
                 *a -= lij * l;
             }
         }

@@ -122,7 +122,10 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
             if delta < d[j + 1] * (1.0 - SWAP_TOLERANCE) {
                 swap(&mut l, &mut d, &mut z, j, delta);
                 k = j;
-                j = n - 2;
+                // The published loop restarts at n - 2, but for j >= k + 2 nothing it reads (column j of
+                // L, d_j, d_{j+1}) has changed since it was last found not to swap, and no Gauss step
+                // runs there (j > k): resuming at k + 1 is the same sequence of operations.
+                j = (k + 1).min(n - 2);
             } else if j == 0 {
                 break;
             } else {
@@ -131,8 +134,8 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
         }
     }
     Ok(Reduction {
-        z: z.z,
-        z_inv: z.z_inv_t.transpose(),
+        z: z.z.map(|v| v as i64),
+        z_inv: z.z_inv_t.transpose().map(|v| v as i64),
         factor: Ltdl { l, d },
     })
 }
@@ -155,10 +158,12 @@ fn column_pair<T: nalgebra::Scalar>(
 }
 
 /// `Z` and `Z^-1` under construction, with the number of integer Gauss transformations applied.
-/// `Z^-1` is kept transposed, so that both of a step's updates run down contiguous columns.
+/// `Z^-1` is kept transposed, so that both of a step's updates run down contiguous columns. The entries
+/// are integers held in `f64` (exact: they never exceed [`MAX_Z_ENTRY`] = 2^52), where the updates
+/// vectorise.
 struct Transform {
-    z: DMatrix<i64>,
-    z_inv_t: DMatrix<i64>,
+    z: DMatrix<f64>,
+    z_inv_t: DMatrix<f64>,
     steps: usize,
     /// Upper bounds of `max |entry|` of each column of `z` and of `z_inv_t`.
     z_bound: Vec<u64>,
@@ -203,10 +208,10 @@ impl Transform {
         }
         let m = mu as i64;
         let (zj, zi) = column_pair(&mut self.z, j, i);
-        self.z_bound[j] = add_multiple(zj, zi, -m, self.z_bound[j], self.z_bound[i])
+        self.z_bound[j] = add_multiple(zj, zi, -mu, self.z_bound[j], self.z_bound[i])
             .map_err(|(x, y, v)| overflow("Z entry", format!("{x} - {m} x {y} = {v}")))?;
         let (ri, rj) = column_pair(&mut self.z_inv_t, i, j);
-        self.inv_bound[i] = add_multiple(ri, rj, m, self.inv_bound[i], self.inv_bound[j])
+        self.inv_bound[i] = add_multiple(ri, rj, mu, self.inv_bound[i], self.inv_bound[j])
             .map_err(|(x, y, v)| overflow("Z^-1 entry", format!("{x} + {m} x {y} = {v}")))?;
         let (lj, li) = column_pair(l, j, i);
         for (a, &b) in lj[i..].iter_mut().zip(&li[i..]) {
@@ -216,21 +221,30 @@ impl Transform {
     }
 }
 
-/// `dst <- dst + m src` in exact integer arithmetic, refused beyond [`MAX_Z_ENTRY`], given upper bounds
-/// of `max |dst|` and `max |src|`; returns the new bound of `max |dst|`, or the first failing
-/// `(dst, src, result)`.
+/// `dst <- dst + m src` for integers held in `f64` (`|m|`, `|dst|`, `|src|` <= [`MAX_Z_ENTRY`]), exact,
+/// refused beyond [`MAX_Z_ENTRY`], given upper bounds of `max |dst|` and `max |src|`; returns the new
+/// bound of `max |dst|`, or the first failing `(dst, src, result)`.
 ///
-/// When the bounds show that no entry can pass [`MAX_Z_ENTRY`] (always, in practice) the update runs
-/// without per-entry checks; otherwise each entry is computed in `i128` and checked.
+/// When the bounds (tightened to the exact maxima if needed) show that no result can pass
+/// [`MAX_Z_ENTRY`] (always, in practice), every product and sum is an integer of at most 2^52 and so
+/// exact in `f64`; otherwise each entry is computed in `i128` and checked.
 fn add_multiple(
-    dst: &mut [i64],
-    src: &[i64],
-    m: i64,
+    dst: &mut [f64],
+    src: &[f64],
+    m: f64,
     dst_bound: u64,
     src_bound: u64,
 ) -> std::result::Result<u64, (i64, i64, i128)> {
-    // |m|, the bounds <= 2^52 (or a few times that for a bound not yet tightened): no u128 overflow.
-    let bound = dst_bound as u128 + m.unsigned_abs() as u128 * src_bound as u128;
+    let mi = m as i64;
+    // |m| and the bounds are at most 2^52 each (a bound that grows past it is replaced by the exact
+    // maximum): no u128 overflow.
+    let bound_of = |d: u64, s: u64| d as u128 + mi.unsigned_abs() as u128 * s as u128;
+    let mut bound = bound_of(dst_bound, src_bound);
+    if bound > MAX_Z_ENTRY as u128 {
+        // The bounds only ever add up; the entries themselves are usually far smaller.
+        let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs())) as u64;
+        bound = bound_of(max_abs(dst), max_abs(src));
+    }
     if bound <= MAX_Z_ENTRY as u128 {
         for (x, &y) in dst.iter_mut().zip(src) {
             *x += m * y;
@@ -239,11 +253,13 @@ fn add_multiple(
     }
     let mut max = 0u64;
     for (x, &y) in dst.iter_mut().zip(src) {
-        let v = *x as i128 + m as i128 * y as i128;
+        // Integers of at most 2^52: exact as i64.
+        let (xi, yi) = (*x as i64, y as i64);
+        let v = xi as i128 + mi as i128 * yi as i128;
         if v.unsigned_abs() > MAX_Z_ENTRY as u128 {
-            return Err((*x, y, v));
+            return Err((xi, yi, v));
         }
-        *x = v as i64;
+        *x = v as i64 as f64;
         max = max.max(v.unsigned_abs() as u64);
     }
     Ok(max)
@@ -476,7 +492,7 @@ mod tests {
         );
         // A multiplier within range whose product with an existing entry is not.
         let mut t = Transform::identity(2);
-        t.z = DMatrix::from_row_slice(2, 2, &[1, 1 << 40, 0, 1]);
+        t.z = DMatrix::from_row_slice(2, 2, &[1.0, 2f64.powi(40), 0.0, 1.0]);
         t.z_bound = vec![1, 1 << 40];
         let mut l = DMatrix::<f64>::identity(2, 2);
         l[(1, 0)] = 2f64.powi(20);
