@@ -326,7 +326,8 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
     let zf = r.z_f64();
     let za = zf.abs();
     let qz = q * &zf;
-    let zqz = zf.tr_mul(&qz);
+    // (An explicit transpose sends the product to the blocked matrix multiplication; tr_mul does not.)
+    let zqz = zf.transpose() * &qz;
     // Only the diagonal of the rounding scale B = |Z|^T |Q| |Z| + |L|^T D |L| is needed.
     let qa_za = q.abs() * &za;
     let bound = DVector::from_fn(n, |k, _| {
@@ -335,7 +336,7 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
         bq + bl
     });
     let dl = DMatrix::from_fn(n, n, |i, j| d[i] * l[(i, j)]);
-    let ltdl = l.tr_mul(&dl);
+    let ltdl = l.transpose() * dl;
     let scale = n as f64 * f64::EPSILON;
     let mut worst = (0.0, 0, 0);
     'scan: for j in 0..n {
