@@ -5,9 +5,9 @@
 //! de Jonge & Tiberius (1996), LGR-12, section 3.4 (the column-wise reduction also used by RTKLIB's
 //! `reduction`).
 //!
-//! Right or refusing: `Z` and `Z^-1` are kept in `i64` with checked arithmetic and bounded by
-//! [`MAX_Z_ENTRY`] (so they are exact as `f64` too); an overflow stops the reduction with
-//! [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
+//! Right or refusing: `Z` and `Z^-1` are exact integers bounded by [`MAX_Z_ENTRY`] = 2^52 (held in `f64`
+//! while the reduction updates them, where every step is exact under that bound, and returned as `i64`);
+//! a step that would pass the bound stops the reduction with [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
 //! [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer Gauss
 //! transformations (unit triangular) and permutations, and `Z Z^-1 = I` is verified in exact integer
 //! arithmetic.
