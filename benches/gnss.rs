@@ -1,13 +1,21 @@
-//! Criterion benchmarks of the RTK engine (`gnssatt_core::gnss::rtk`): one epoch with about 40 double
-//! differences (GPS 8, GLONASS 6, Galileo 6, BeiDou 6 satellites, two slots each: 44 DDs), float
-//! solution and LAMBDA fix with the gate (`solve_baseline`), and the attitude mode with two rovers.
+//! Criterion benchmarks of the RTK engine (`gnssatt_core::gnss::rtk`), one epoch per call:
+//! - `rtk`: 44 double differences (GPS 8, GLONASS 6, Galileo 6, BeiDou 6 satellites, two slots each),
+//!   float solution and LAMBDA fix with the gate (`solve_baseline`), and the attitude mode with two rovers;
+//! - `rtk_87dd`: the size of a real all-systems, three-frequency session (GPS 9, GLONASS 7, Galileo 8,
+//!   BeiDou 8, QZSS 2 satellites, three slots each: 87 DDs) with the engine's default gate, and its parts:
+//!   the float solution, the decorrelation ([`Problem::new`]), the two-candidate search and partial fixing.
+//!
 //! Epochs are synthetic (seeded): satellites in random directions above 15 degrees at GPS-like ranges,
 //! a 1 m baseline, integer ambiguities and Gaussian noise with the model's elevation sigmas.
 use criterion::{criterion_group, criterion_main, Criterion};
 use gnssatt_core::gnss::geometry::SatGeometry;
-use gnssatt_core::gnss::rtk::{solve_attitude, solve_baseline, DdEpoch, FixOptions, SignalPair};
+use gnssatt_core::gnss::rtk::{
+    float, solve_attitude, solve_baseline, DdEpoch, FixOptions, SignalPair,
+};
 use gnssatt_core::gnss::signal::{carrier_frequency_hz, System, SPEED_OF_LIGHT_M_S};
-use nalgebra::Vector3;
+use gnssatt_core::lambda::validation::{partial_fix, RatioThreshold};
+use gnssatt_core::lambda::{Problem, DEFAULT_MAX_NODES};
+use nalgebra::{DMatrix, DVector, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -16,6 +24,30 @@ const GATE: FixOptions = FixOptions {
     ratio_threshold: 3.0,
     max_failure_rate: 0.0,
 };
+
+/// The engine's default gate (`gnss::options`).
+const DEFAULT_GATE: FixOptions = FixOptions {
+    min_success_rate: 0.5,
+    ratio_threshold: 3.0,
+    max_failure_rate: 0.0,
+};
+
+/// Satellites per system of the 44-DD epochs (two slots).
+const FOUR_SYSTEMS: [(System, usize); 4] = [
+    (System::Gps, 8),
+    (System::Glonass, 6),
+    (System::Galileo, 6),
+    (System::BeiDou, 6),
+];
+
+/// Satellites per system of the 87-DD epochs (three slots): 3 x (8 + 6 + 7 + 7 + 1) = 87.
+const FIVE_SYSTEMS: [(System, usize); 5] = [
+    (System::Gps, 9),
+    (System::Glonass, 7),
+    (System::Galileo, 8),
+    (System::BeiDou, 8),
+    (System::Qzss, 2),
+];
 
 fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>();
@@ -28,15 +60,11 @@ fn normal(rng: &mut ChaCha8Rng) -> f64 {
 fn satellites(
     rng: &mut ChaCha8Rng,
     base: &Vector3<f64>,
+    constellation: &[(System, usize)],
 ) -> Vec<(Vector3<f64>, System, Option<i8>, f64)> {
     let mut out = Vec::new();
     let mut channel = -7i8;
-    for (system, n) in [
-        (System::Gps, 8),
-        (System::Glonass, 6),
-        (System::Galileo, 6),
-        (System::BeiDou, 6),
-    ] {
+    for &(system, n) in constellation {
         for _ in 0..n {
             let az = rng.random::<f64>() * std::f64::consts::TAU;
             let smin = 15f64.to_radians().sin();
@@ -46,7 +74,12 @@ fn satellites(
             let bu = base.dot(&u);
             let rho = -bu + (bu * bu - base.norm_squared() + r * r).sqrt();
             let ch = (system == System::Glonass).then(|| {
-                channel += 2;
+                // Odd channels -5..5 first, then even ones, all within -7..=6.
+                channel = if channel + 2 > 6 {
+                    channel - 11
+                } else {
+                    channel + 2
+                };
                 channel
             });
             out.push((base + rho * u, system, ch, el));
@@ -55,12 +88,21 @@ fn satellites(
     out
 }
 
-fn epoch(rng: &mut ChaCha8Rng, baseline: &Vector3<f64>) -> DdEpoch {
+/// One epoch of `constellation` observed on the first `slots` frequency slots.
+fn epoch_of(
+    rng: &mut ChaCha8Rng,
+    baseline: &Vector3<f64>,
+    constellation: &[(System, usize)],
+    slots: usize,
+) -> DdEpoch {
     let base = Vector3::new(6_378_137.0, 0.0, 0.0);
     let rover = base + baseline;
     let mut signals = Vec::new();
-    for (i, (pos, system, ch, el)) in satellites(rng, &base).into_iter().enumerate() {
-        for slot in [0usize, 1] {
+    for (i, (pos, system, ch, el)) in satellites(rng, &base, constellation)
+        .into_iter()
+        .enumerate()
+    {
+        for slot in 0..slots {
             let lam = SPEED_OF_LIGHT_M_S / carrier_frequency_hz(system, slot, ch).unwrap_or(1.0);
             let sp = 0.003 * (1.0 + 1.0 / el.sin().powi(2)).sqrt();
             let sc = 100.0 * sp;
@@ -90,7 +132,7 @@ fn epoch(rng: &mut ChaCha8Rng, baseline: &Vector3<f64>) -> DdEpoch {
                 rover_phase_cycles: (rr + sp * normal(rng)) / lam + nr,
                 sigma_code_m: sc,
                 sigma_phase_m: sp,
-                arc: (2 * i + slot) as u64,
+                arc: (3 * i + slot) as u64,
             });
         }
     }
@@ -99,6 +141,77 @@ fn epoch(rng: &mut ChaCha8Rng, baseline: &Vector3<f64>) -> DdEpoch {
         rover_prior_m: rover + Vector3::new(1.5, -2.0, 1.0),
         signals,
     }
+}
+
+fn epoch(rng: &mut ChaCha8Rng, baseline: &Vector3<f64>) -> DdEpoch {
+    epoch_of(rng, baseline, &FOUR_SYSTEMS, 2)
+}
+
+/// The float ambiguities (cycles) and their symmetrised covariance (cycles^2) of one epoch.
+fn float_ambiguities(e: &DdEpoch) -> (DVector<f64>, DMatrix<f64>) {
+    let fl = float::solve(std::slice::from_ref(e), &[]).unwrap();
+    let na = fl.ambiguities.len();
+    let q = fl.covariance.view((3, 3), (na, na)).into_owned();
+    (fl.ambiguities_cycles, (&q + q.transpose()) * 0.5)
+}
+
+/// `rtk_87dd`: the whole epoch and its parts at the size of a GRECJ three-frequency session.
+fn bench_87dd(c: &mut Criterion) {
+    let mut rng = ChaCha8Rng::seed_from_u64(87);
+    let epochs: Vec<DdEpoch> = (0..32)
+        .map(|_| epoch_of(&mut rng, &Vector3::new(0.6, -0.7, 0.38), &FIVE_SYSTEMS, 3))
+        .collect();
+    let solved: Vec<_> = epochs
+        .iter()
+        .map(|e| solve_baseline(std::slice::from_ref(e), &[], &DEFAULT_GATE).unwrap())
+        .collect();
+    let fixed = solved.iter().filter(|s| s.fixed).count();
+    let partial = solved
+        .iter()
+        .filter(|s| !s.fixed && s.fixed_ambiguities > 0)
+        .count();
+    println!(
+        "rtk_87dd bench: {fixed}/{} epochs fixed, {partial} partially, {} DDs each",
+        epochs.len(),
+        solved[0].ambiguities
+    );
+    let floats: Vec<_> = epochs.iter().map(float_ambiguities).collect();
+    let problems: Vec<Problem> = floats
+        .iter()
+        .map(|(a, q)| Problem::new(a, q).unwrap())
+        .collect();
+    let mut g = c.benchmark_group("rtk_87dd");
+    let mut i = 0;
+    let mut next = || {
+        i = (i + 1) % epochs.len();
+        i
+    };
+    g.bench_function("solve_baseline", |b| {
+        b.iter(|| {
+            let k = next();
+            solve_baseline(std::slice::from_ref(&epochs[k]), &[], &DEFAULT_GATE).unwrap()
+        })
+    });
+    g.bench_function("float", |b| {
+        b.iter(|| float::solve(std::slice::from_ref(&epochs[next()]), &[]).unwrap())
+    });
+    g.bench_function("problem_new", |b| {
+        b.iter(|| {
+            let (a, q) = &floats[next()];
+            Problem::new(a, q).unwrap()
+        })
+    });
+    g.bench_function("search_2", |b| {
+        b.iter(|| problems[next()].solve(2, DEFAULT_MAX_NODES).unwrap())
+    });
+    // Partial fixing with a gate the full sets pass: the cost of one pass over the subsets.
+    g.bench_function("partial_fix", |b| {
+        b.iter(|| {
+            let (a, q) = &floats[next()];
+            partial_fix(a, q, RatioThreshold::Fixed(3.0), 0.5).unwrap()
+        })
+    });
+    g.finish();
 }
 
 fn bench(c: &mut Criterion) {
@@ -151,5 +264,5 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_87dd);
 criterion_main!(benches);

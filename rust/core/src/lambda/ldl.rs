@@ -116,11 +116,15 @@ pub fn check_covariance(q: &DMatrix<f64>) -> Result<()> {
 pub fn ltdl(q: &DMatrix<f64>) -> Result<Ltdl> {
     check_covariance(q)?;
     let n = q.nrows();
-    let mut a = q.clone();
-    let mut l = DMatrix::<f64>::identity(n, n);
+    // Both factors are built transposed, so that every inner loop runs down a (contiguous) column of
+    // nalgebra's column-major storage: `u[(k, j)]` (k <= j) holds the lower-triangle entry `Q[j, k]`
+    // being reduced, `lt[(k, i)]` holds `L[i, k]`. The arithmetic, and its order, is that of the
+    // row-wise algorithm.
+    let mut u = q.transpose();
+    let mut lt = DMatrix::<f64>::identity(n, n);
     let mut d = DVector::<f64>::zeros(n);
     for i in (0..n).rev() {
-        let pivot = a[(i, i)];
+        let pivot = u[(i, i)];
         let floor = PIVOT_EPSILONS * n as f64 * f64::EPSILON * q[(i, i)].abs();
         // A subnormal pivot has lost its precision (and 1 / pivot overflows): not positive definite to
         // working precision, whatever the scale of Q.
@@ -138,16 +142,21 @@ pub fn ltdl(q: &DMatrix<f64>) -> Result<Ltdl> {
         }
         d[i] = pivot;
         for j in 0..i {
-            l[(i, j)] = a[(i, j)] / pivot;
+            lt[(j, i)] = u[(j, i)] / pivot;
         }
+        let li = &lt.as_slice()[i * n..i * n + i];
+        let cols = u.as_mut_slice();
         for j in 0..i {
-            let lij = l[(i, j)] * pivot;
-            for k in 0..=j {
-                a[(j, k)] -= lij * l[(i, k)];
+            let lij = li[j] * pivot;
+            for (a, &l) in cols[j * n..j * n + j + 1].iter_mut().zip(li) {
+                *a -= lij * l;
             }
         }
     }
-    Ok(Ltdl { l, d })
+    Ok(Ltdl {
+        l: lt.transpose(),
+        d,
+    })
 }
 
 #[cfg(test)]

@@ -31,7 +31,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{ensure_finite, Error, Result};
 pub use bootstrap::bootstrap_success_rate;
-pub use reduction::{reduce, Reduction};
+pub use reduction::{reduce, Reduction, Transformed};
 pub use search::{search, Candidates, DEFAULT_MAX_NODES, MAX_CANDIDATES};
 use verify::{agreeing_order, Metric};
 
@@ -61,6 +61,11 @@ pub struct Problem {
     pub frac: DVector<f64>,
     /// Decorrelated float ambiguities `Z^T (a - round(a))`, cycles.
     pub zhat: DVector<f64>,
+    /// `Q Z` and `Z^T Q Z` as the identity check formed them (for partial fixing).
+    pub transformed: Transformed,
+    /// The original float ambiguities and covariance (conditioning after a partial fix).
+    pub(crate) a: DVector<f64>,
+    pub(crate) q: DMatrix<f64>,
     /// The original covariance, for recomputing norms.
     metric: Metric,
 }
@@ -95,7 +100,7 @@ impl Problem {
                 ),
             ));
         }
-        let reduction = reduce(q)?;
+        let (reduction, transformed) = reduction::reduce_transformed(q)?;
         let metric = Metric::new("LAMBDA", q)?;
         let rounded = a.map(f64::round);
         let frac = a - &rounded;
@@ -105,6 +110,9 @@ impl Problem {
             offset: rounded.map(|v| v as i64),
             frac,
             zhat,
+            transformed,
+            a: a.clone(),
+            q: q.clone(),
             metric,
         })
     }

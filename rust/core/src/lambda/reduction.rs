@@ -5,9 +5,9 @@
 //! de Jonge & Tiberius (1996), LGR-12, section 3.4 (the column-wise reduction also used by RTKLIB's
 //! `reduction`).
 //!
-//! Right or refusing: `Z` and `Z^-1` are kept in `i64` with checked arithmetic and bounded by
-//! [`MAX_Z_ENTRY`] (so they are exact as `f64` too); an overflow stops the reduction with
-//! [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
+//! Right or refusing: `Z` and `Z^-1` are exact integers bounded by [`MAX_Z_ENTRY`] = 2^52 (held in `f64`
+//! while the reduction updates them, where every step is exact under that bound, and returned as `i64`);
+//! a step that would pass the bound stops the reduction with [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
 //! [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer Gauss
 //! transformations (unit triangular) and permutations, and `Z Z^-1 = I` is verified in exact integer
 //! arithmetic.
@@ -58,6 +58,17 @@ impl Reduction {
     }
 }
 
+/// `Q Z` and `Z^T Q Z` formed from the covariance and the exact integer `Z` by [`verify`]: the covariance of
+/// the decorrelated ambiguities and its cross-covariance with the original ones, independent of the
+/// reduction's updates of `L` and `D` (partial fixing takes its subsets' covariances from them).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Transformed {
+    /// `Q Z` (n x n), cycles^2.
+    pub qz: DMatrix<f64>,
+    /// `Z^T Q Z` (n x n), symmetrised, cycles^2.
+    pub zqz: DMatrix<f64>,
+}
+
 /// Decorrelates the covariance of float ambiguities.
 ///
 /// # Arguments
@@ -67,13 +78,21 @@ impl Reduction {
 /// Those of [`ltdl`]: bad shape, non-finite, asymmetric or not positive-definite covariance;
 /// [`Error::Numerical`] when `Z` would exceed [`MAX_Z_ENTRY`] or the identity check fails.
 pub fn reduce(q: &DMatrix<f64>) -> Result<Reduction> {
+    reduce_transformed(q).map(|(r, _)| r)
+}
+
+/// [`reduce`], also returning the products formed by its identity check.
+///
+/// # Errors
+/// Those of [`reduce`].
+pub fn reduce_transformed(q: &DMatrix<f64>) -> Result<(Reduction, Transformed)> {
     let r = reduce_factor(ltdl(q)?)?;
     // The factorisation reads the lower triangle (the symmetry check allows 1e-9 relative between the
     // triangles, far above the identity tolerance), so the identity is checked against that matrix.
     let n = q.nrows();
     let lower = DMatrix::from_fn(n, n, |i, j| q[(i.max(j), i.min(j))]);
-    verify(&lower, &r)?;
-    Ok(r)
+    let t = verify(&lower, &r)?;
+    Ok((r, t))
 }
 
 /// Decorrelates an already factorised covariance `Q = L^T D L` (checked arithmetic on `Z`, but no
@@ -84,11 +103,7 @@ pub fn reduce(q: &DMatrix<f64>) -> Result<Reduction> {
 pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
     let Ltdl { mut l, mut d } = factor;
     let n = d.len();
-    let mut z = Transform {
-        z: DMatrix::identity(n, n),
-        z_inv: DMatrix::identity(n, n),
-        steps: 0,
-    };
+    let mut z = Transform::identity(n);
     if n >= 2 {
         // de Jonge & Tiberius (1996), fig. 3.5: j walks from the second-to-last column towards the first;
         // column j is size-reduced whole while it may have changed since the last swap (j <= k). Reducing
@@ -107,7 +122,10 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
             if delta < d[j + 1] * (1.0 - SWAP_TOLERANCE) {
                 swap(&mut l, &mut d, &mut z, j, delta);
                 k = j;
-                j = n - 2;
+                // The published loop restarts at n - 2, but for j >= k + 2 nothing it reads (column j of
+                // L, d_j, d_{j+1}) has changed since it was last found not to swap, and no Gauss step
+                // runs there (j > k): resuming at k + 1 is the same sequence of operations.
+                j = (k + 1).min(n - 2);
             } else if j == 0 {
                 break;
             } else {
@@ -116,38 +134,72 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
         }
     }
     Ok(Reduction {
-        z: z.z,
-        z_inv: z.z_inv,
+        z: z.z.map(|v| v as i64),
+        z_inv: z.z_inv_t.transpose().map(|v| v as i64),
         factor: Ltdl { l, d },
     })
 }
 
+/// Column `dst` (mutable) and column `src` (`dst != src`) of a column-major matrix, as slices.
+fn column_pair<T: nalgebra::Scalar>(
+    m: &mut DMatrix<T>,
+    dst: usize,
+    src: usize,
+) -> (&mut [T], &[T]) {
+    let r = m.nrows();
+    let data = m.as_mut_slice();
+    if dst < src {
+        let (a, b) = data.split_at_mut(src * r);
+        (&mut a[dst * r..(dst + 1) * r], &b[..r])
+    } else {
+        let (a, b) = data.split_at_mut(dst * r);
+        (&mut b[..r], &a[src * r..(src + 1) * r])
+    }
+}
+
 /// `Z` and `Z^-1` under construction, with the number of integer Gauss transformations applied.
+/// `Z^-1` is kept transposed, so that both of a step's updates run down contiguous columns. The entries
+/// are integers held in `f64` (exact: they never exceed [`MAX_Z_ENTRY`] = 2^52), where the updates
+/// vectorise.
 struct Transform {
-    z: DMatrix<i64>,
-    z_inv: DMatrix<i64>,
+    z: DMatrix<f64>,
+    z_inv_t: DMatrix<f64>,
     steps: usize,
+    /// Upper bounds of `max |entry|` of each column of `z` and of `z_inv_t`.
+    z_bound: Vec<u64>,
+    inv_bound: Vec<u64>,
 }
 
 impl Transform {
+    fn identity(n: usize) -> Transform {
+        Transform {
+            z: DMatrix::identity(n, n),
+            z_inv_t: DMatrix::identity(n, n),
+            steps: 0,
+            z_bound: vec![1; n],
+            inv_bound: vec![1; n],
+        }
+    }
+
     /// Integer Gauss transformation `Z <- Z (I - mu e_i e_j^T)` with `mu = round(L_ij)`, `i > j`: makes
     /// `|L_ij| <= 1/2`. `Z^-1 <- (I + mu e_i e_j^T) Z^-1`.
     fn gauss(&mut self, l: &mut DMatrix<f64>, i: usize, j: usize) -> Result<()> {
         let n = l.nrows();
         let lij = l[(i, j)];
-        let mu = lij.round();
-        if mu == 0.0 {
+        // round() is a library call; most entries are already reduced (and round to 0).
+        if lij.abs() < 0.5 {
             return Ok(());
         }
+        let mu = lij.round();
         self.steps += 1;
+        let steps = self.steps;
         let overflow = |what: &str, value: String| {
             Error::numerical(
                 "LAMBDA decorrelation",
                 format!(
-                    "the integer transformation overflows at dimension {n}, Gauss step {} (column {j}, \
-                     row {i}, L[{i}, {j}] = {lij:e}): {what} {value} exceeds {MAX_Z_ENTRY:e}; the \
-                     covariance is too ill-conditioned to decorrelate exactly",
-                    self.steps
+                    "the integer transformation overflows at dimension {n}, Gauss step {steps} (column \
+                     {j}, row {i}, L[{i}, {j}] = {lij:e}): {what} {value} exceeds {MAX_Z_ENTRY:e}; the \
+                     covariance is too ill-conditioned to decorrelate exactly"
                 ),
             )
         };
@@ -155,38 +207,62 @@ impl Transform {
             return Err(overflow("the multiplier", format!("{mu:e}")));
         }
         let m = mu as i64;
-        // An update x - m y (or x + m y) in i64, refused beyond MAX_Z_ENTRY.
-        let step = |x: i64, y: i64, sign: i64| -> Option<i64> {
-            let v = m.checked_mul(y)?.checked_mul(sign)?.checked_add(x)?;
-            (v.abs() <= MAX_Z_ENTRY).then_some(v)
-        };
-        for r in 0..n {
-            let (zc, zi) = (self.z[(r, j)], self.z[(r, i)]);
-            self.z[(r, j)] = step(zc, zi, -1).ok_or_else(|| {
-                overflow(
-                    "Z entry",
-                    format!(
-                        "{zc} - {m} x {zi} = {}",
-                        zc as i128 - m as i128 * zi as i128
-                    ),
-                )
-            })?;
-            let (ri, rj) = (self.z_inv[(i, r)], self.z_inv[(j, r)]);
-            self.z_inv[(i, r)] = step(ri, rj, 1).ok_or_else(|| {
-                overflow(
-                    "Z^-1 entry",
-                    format!(
-                        "{ri} + {m} x {rj} = {}",
-                        ri as i128 + m as i128 * rj as i128
-                    ),
-                )
-            })?;
-        }
-        for r in i..n {
-            l[(r, j)] -= mu * l[(r, i)];
+        let (zj, zi) = column_pair(&mut self.z, j, i);
+        self.z_bound[j] = add_multiple(zj, zi, -mu, self.z_bound[j], self.z_bound[i])
+            .map_err(|(x, y, v)| overflow("Z entry", format!("{x} - {m} x {y} = {v}")))?;
+        let (ri, rj) = column_pair(&mut self.z_inv_t, i, j);
+        self.inv_bound[i] = add_multiple(ri, rj, mu, self.inv_bound[i], self.inv_bound[j])
+            .map_err(|(x, y, v)| overflow("Z^-1 entry", format!("{x} + {m} x {y} = {v}")))?;
+        let (lj, li) = column_pair(l, j, i);
+        for (a, &b) in lj[i..].iter_mut().zip(&li[i..]) {
+            *a -= mu * b;
         }
         Ok(())
     }
+}
+
+/// `dst <- dst + m src` for integers held in `f64` (`|m|`, `|dst|`, `|src|` <= [`MAX_Z_ENTRY`]), exact,
+/// refused beyond [`MAX_Z_ENTRY`], given upper bounds of `max |dst|` and `max |src|`; returns the new
+/// bound of `max |dst|`, or the first failing `(dst, src, result)`.
+///
+/// When the bounds (tightened to the exact maxima if needed) show that no result can pass
+/// [`MAX_Z_ENTRY`] (always, in practice), every product and sum is an integer of at most 2^52 and so
+/// exact in `f64`; otherwise each entry is computed in `i128` and checked.
+fn add_multiple(
+    dst: &mut [f64],
+    src: &[f64],
+    m: f64,
+    dst_bound: u64,
+    src_bound: u64,
+) -> std::result::Result<u64, (i64, i64, i128)> {
+    let mi = m as i64;
+    // |m| and the bounds are at most 2^52 each (a bound that grows past it is replaced by the exact
+    // maximum): no u128 overflow.
+    let bound_of = |d: u64, s: u64| d as u128 + mi.unsigned_abs() as u128 * s as u128;
+    let mut bound = bound_of(dst_bound, src_bound);
+    if bound > MAX_Z_ENTRY as u128 {
+        // The bounds only ever add up; the entries themselves are usually far smaller.
+        let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs())) as u64;
+        bound = bound_of(max_abs(dst), max_abs(src));
+    }
+    if bound <= MAX_Z_ENTRY as u128 {
+        for (x, &y) in dst.iter_mut().zip(src) {
+            *x += m * y;
+        }
+        return Ok(bound as u64);
+    }
+    let mut max = 0u64;
+    for (x, &y) in dst.iter_mut().zip(src) {
+        // Integers of at most 2^52: exact as i64.
+        let (xi, yi) = (*x as i64, y as i64);
+        let v = xi as i128 + mi as i128 * yi as i128;
+        if v.unsigned_abs() > MAX_Z_ENTRY as u128 {
+            return Err((xi, yi, v));
+        }
+        *x = v as i64 as f64;
+        max = max.max(v.unsigned_abs() as u64);
+    }
+    Ok(max)
 }
 
 /// Swaps ambiguities `k` and `k+1`, updating `L` and `D` so that `L^T D L` stays the transformed
@@ -208,30 +284,24 @@ fn swap(l: &mut DMatrix<f64>, d: &mut DVector<f64>, t: &mut Transform, k: usize,
         l.swap((i, k), (i, k + 1));
     }
     t.z.swap_columns(k, k + 1);
-    t.z_inv.swap_rows(k, k + 1);
+    t.z_inv_t.swap_columns(k, k + 1);
+    t.z_bound.swap(k, k + 1);
+    t.inv_bound.swap(k, k + 1);
 }
 
 /// Checks a reduction of `q`: `Z Z^-1 = I` exactly, `D` positive and finite, `L` finite, and
-/// `Z^T Q Z = L^T D L` within [`IDENTITY_TOLERANCE`].
+/// `Z^T Q Z = L^T D L` within [`IDENTITY_TOLERANCE`]; returns the products it formed.
 ///
 /// # Errors
 /// [`Error::Numerical`] naming the failed check and its numbers.
-pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<()> {
+pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
     let n = q.nrows();
     let what = "LAMBDA decorrelation";
-    // Exact: entries <= 2^52 in magnitude, n <= MAX_DIMENSION terms, so the i128 sums cannot overflow.
-    for i in 0..n {
-        for j in 0..n {
-            let s: i128 = (0..n)
-                .map(|k| r.z[(i, k)] as i128 * r.z_inv[(k, j)] as i128)
-                .sum();
-            if s != (i == j) as i128 {
-                return Err(Error::numerical(
-                    what,
-                    format!("Z Z^-1 is not the identity at [{i}, {j}] ({s}) for dimension {n}"),
-                ));
-            }
-        }
+    if let Some((i, j, s)) = inverse_defect(&r.z, &r.z_inv) {
+        return Err(Error::numerical(
+            what,
+            format!("Z Z^-1 is not the identity at [{i}, {j}] ({s}) for dimension {n}"),
+        ));
     }
     let Ltdl { l, d } = &r.factor;
     if let Some(i) = d
@@ -255,27 +325,33 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<()> {
     }
     let zf = r.z_f64();
     let za = zf.abs();
-    let qz = zf.transpose() * q * &zf;
-    let bound_q = za.transpose() * q.abs() * &za;
-    let la = l.abs();
-    let bound_l = la.transpose() * DMatrix::from_diagonal(d) * &la;
-    let ltdl = r.factor.reconstruct();
+    let qz = q * &zf;
+    // (An explicit transpose sends the product to the blocked matrix multiplication; tr_mul does not.)
+    let zqz = zf.transpose() * &qz;
+    // Only the diagonal of the rounding scale B = |Z|^T |Q| |Z| + |L|^T D |L| is needed.
+    let qa_za = q.abs() * &za;
+    let bound = DVector::from_fn(n, |k, _| {
+        let bq = za.column(k).dot(&qa_za.column(k));
+        let bl: f64 = (k..n).map(|i| l[(i, k)] * l[(i, k)] * d[i]).sum();
+        bq + bl
+    });
+    let dl = DMatrix::from_fn(n, n, |i, j| d[i] * l[(i, j)]);
+    let ltdl = l.transpose() * dl;
     let scale = n as f64 * f64::EPSILON;
     let mut worst = (0.0, 0, 0);
-    for j in 0..n {
+    'scan: for j in 0..n {
         for i in 0..n {
-            let gap = (qz[(i, j)] - ltdl[(i, j)]).abs();
+            let gap = (zqz[(i, j)] - ltdl[(i, j)]).abs();
             let ratio = if gap == 0.0 {
                 0.0
             } else {
-                let b = |k: usize| bound_q[(k, k)] + bound_l[(k, k)];
-                gap / (scale * (b(i) * b(j)).sqrt())
+                gap / (scale * (bound[i] * bound[j]).sqrt())
             };
             // NaN (an overflowed product) counts as a failure too.
             if ratio.is_nan() || ratio > worst.0 {
                 worst = (ratio, i, j);
                 if ratio.is_nan() {
-                    break;
+                    break 'scan;
                 }
             }
         }
@@ -288,12 +364,37 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<()> {
                 "Z^T Q Z differs from L^T D L at [{i}, {j}] by {:.3e} (= {ratio:.3e} n eps times the \
                  rounding scale sqrt(B_ii B_jj), B = |Z|^T|Q||Z| + |L|^T D|L|, allowed \
                  {IDENTITY_TOLERANCE}) for dimension {n}, max|Z| = {}",
-                (qz[(i, j)] - ltdl[(i, j)]).abs(),
+                (zqz[(i, j)] - ltdl[(i, j)]).abs(),
                 r.z.amax()
             ),
         ));
     }
-    Ok(())
+    let zqz = (&zqz + zqz.transpose()) * 0.5;
+    Ok(Transformed { qz, zqz })
+}
+
+/// The first entry `(i, j, value)` where `Z Z^-1` differs from the identity, computed exactly: in `f64`
+/// when every partial sum stays below 2^53 (then the floating-point product is exact in any order),
+/// else in `i128` (entries <= 2^52, n <= MAX_DIMENSION terms: no overflow).
+fn inverse_defect(z: &DMatrix<i64>, z_inv: &DMatrix<i64>) -> Option<(usize, usize, i128)> {
+    let n = z.nrows();
+    let bound = z.amax() as f64 * z_inv.amax() as f64 * n as f64;
+    if bound < 9_007_199_254_740_992.0 {
+        let p = z.map(|v| v as f64) * z_inv.map(|v| v as f64);
+        return (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .find(|&(i, j)| p[(i, j)] != f64::from(u8::from(i == j)))
+            .map(|(i, j)| (i, j, p[(i, j)] as i128));
+    }
+    (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let s: i128 = (0..n)
+                .map(|k| z[(i, k)] as i128 * z_inv[(k, j)] as i128)
+                .sum();
+            (i, j, s)
+        })
+        .find(|&(i, j, s)| s != i128::from(i == j))
 }
 
 #[cfg(test)]
@@ -391,11 +492,9 @@ mod tests {
             "{detail}"
         );
         // A multiplier within range whose product with an existing entry is not.
-        let mut t = Transform {
-            z: DMatrix::from_row_slice(2, 2, &[1, 1 << 40, 0, 1]),
-            z_inv: DMatrix::identity(2, 2),
-            steps: 0,
-        };
+        let mut t = Transform::identity(2);
+        t.z = DMatrix::from_row_slice(2, 2, &[1.0, 2f64.powi(40), 0.0, 1.0]);
+        t.z_bound = vec![1, 1 << 40];
         let mut l = DMatrix::<f64>::identity(2, 2);
         l[(1, 0)] = 2f64.powi(20);
         assert!(matches!(

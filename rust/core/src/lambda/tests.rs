@@ -2,6 +2,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::bootstrap::success_rate;
 use super::test_support::{random_covariance, Lcg};
 use super::validation::{fixed_failure_rate_threshold, partial_fix, ratio_test, RatioThreshold};
 use super::*;
@@ -234,4 +235,62 @@ fn partial_fix_drops_the_weak_end() {
     let pf = partial_fix(&a, &q, RatioThreshold::Fixed(3.0), 0.5).unwrap();
     assert_eq!(pf.fixed_count, 0);
     assert_eq!(pf.ambiguities, a);
+}
+
+/// Partial fixing on correlated problems against an independent computation of every subset: the
+/// subset of the last k decorrelated ambiguities as a problem of its own (`Z_k^T a`, `Z_k^T Q Z_k`
+/// formed here, solved by [`ils`] with its own decorrelation), and the conditioning by explicit inverses.
+/// The fast path takes each subset's covariance from one factorisation of the whole `Z^T Q Z`.
+#[test]
+fn partial_fix_matches_independent_subset_problems() {
+    let mut rng = Lcg(29);
+    let mut partial = 0;
+    for n in [4usize, 8, 15, 24] {
+        for _ in 0..6 {
+            let q = random_covariance(&mut rng, n, 0.02) * 0.05;
+            let a = DVector::from_fn(n, |_, _| {
+                (20.0 * rng.uniform()).round() + 0.15 * rng.normal()
+            });
+            let (gate, c) = (0.5, 2.0);
+            let pf = partial_fix(&a, &q, RatioThreshold::Fixed(c), gate).unwrap();
+            let p = Problem::new(&a, &q).unwrap();
+            let z = p.reduction.z_f64();
+            // The first k from n down whose success rate passes the gate and whose ratio passes c.
+            let mut want = 0;
+            for k in (1..=n).rev() {
+                let sr = success_rate(p.reduction.factor.trailing(k).d.as_slice());
+                if sr < gate {
+                    continue;
+                }
+                let zk = z.columns(n - k, k).into_owned();
+                let qk = zk.transpose() * &q * &zk;
+                let qk = (&qk + qk.transpose()) * 0.5;
+                let s = ils(&zk.tr_mul(&a), &qk, 2).unwrap();
+                let ratio = s.squared_norms[1] / s.squared_norms[0];
+                if ratio >= c {
+                    want = k;
+                    assert!(
+                        (pf.ratio - ratio).abs() < 1e-8 * ratio,
+                        "{} {ratio}",
+                        pf.ratio
+                    );
+                    assert_eq!(pf.values, s.fixed.column(0).into_owned());
+                    if k < n {
+                        let qzk = &q * &zk;
+                        let qk_inv = qk.clone().try_inverse().unwrap();
+                        let r = zk.tr_mul(&a) - s.fixed.column(0).map(|v| v as f64);
+                        let amb = &a - &qzk * &qk_inv * r;
+                        let cov = &q - &qzk * &qk_inv * qzk.transpose();
+                        assert!((&pf.ambiguities - amb).amax() < 1e-8);
+                        assert!((&pf.covariance - cov).amax() < 1e-8 * q.amax());
+                        partial += 1;
+                    }
+                    break;
+                }
+            }
+            assert_eq!(pf.fixed_count, want, "n = {n}");
+        }
+    }
+    // The draws exercise the partial branch, not only full fixes and refusals.
+    assert!(partial >= 3, "{partial} partial fixes");
 }

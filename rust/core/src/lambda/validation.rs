@@ -19,7 +19,7 @@
 //! success rate reaches `min_success_rate` and whose ratio test passes (Teunissen, Joosten & Tiberius
 //! 1999, "Geometry-free ambiguity success rates in case of partial fixing", ION NTM; LAMBDA 3.0 PAR).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Cholesky, DMatrix, DVector};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use super::bootstrap::success_rate;
 use super::ldl::Ltdl;
 use super::search::{search, DEFAULT_MAX_NODES};
-use super::verify::{agreeing_order, Metric};
+use super::verify::agreeing_order;
 use super::{bounded_integer, Problem};
 use crate::error::{Error, Result};
 
@@ -246,6 +246,12 @@ pub fn partial_fix(
     threshold: RatioThreshold,
     min_success_rate: f64,
 ) -> Result<PartialFix> {
+    check_partial(&threshold, min_success_rate)?;
+    Problem::new(a, q)?.partial_fix(threshold, min_success_rate)
+}
+
+/// Checks the arguments of [`partial_fix`].
+fn check_partial(threshold: &RatioThreshold, min_success_rate: f64) -> Result<()> {
     threshold.check()?;
     if !(0.0..=1.0).contains(&min_success_rate) {
         return Err(Error::out_of_range(
@@ -253,78 +259,125 @@ pub fn partial_fix(
             format!("expected a probability in [0, 1], got {min_success_rate}"),
         ));
     }
-    let p = Problem::new(a, q)?;
-    let n = p.len();
-    for k in (1..=n).rev() {
-        let sub = p.reduction.factor.trailing(k);
-        let sr = success_rate(sub.d.as_slice());
-        if sr < min_success_rate {
-            continue;
+    Ok(())
+}
+
+impl Problem {
+    /// [`partial_fix`] of this problem's float ambiguities and covariance, on its decorrelation (one
+    /// reduction serves the full set's ratio test and every subset).
+    ///
+    /// # Errors
+    /// Those of [`partial_fix`] other than the decorrelation's.
+    pub fn partial_fix(
+        &self,
+        threshold: RatioThreshold,
+        min_success_rate: f64,
+    ) -> Result<PartialFix> {
+        check_partial(&threshold, min_success_rate)?;
+        let n = self.len();
+        let mut nested: Option<Nested> = None;
+        for k in (1..=n).rev() {
+            let sub = self.reduction.factor.trailing(k);
+            let sr = success_rate(sub.d.as_slice());
+            if sr < min_success_rate {
+                continue;
+            }
+            let nested = match &mut nested {
+                Some(m) => m,
+                None => nested.insert(Nested::new(&self.transformed.zqz)?),
+            };
+            let zhat = self.zhat.rows(n - k, k).into_owned();
+            let found = search(&sub, &zhat, 2, DEFAULT_MAX_NODES)?;
+            let recomputed: Vec<f64> = found
+                .z
+                .column_iter()
+                .map(|c| nested.squared_norm(&(&zhat - c)))
+                .collect();
+            let order = agreeing_order("LAMBDA partial fix", &found.squared_norms, &recomputed)?;
+            let ratio = ratio_of([recomputed[order[0]], recomputed[order[1]]]);
+            let c = threshold.value(&sub)?;
+            if ratio >= c {
+                let best = found.z.column(order[0]).into_owned();
+                return conditioned(self, nested, &zhat, &best, ratio, c, sr);
+            }
         }
-        let subset = Subset::new(&p, q, k)?;
-        let found = search(&sub, &subset.zhat, 2, DEFAULT_MAX_NODES)?;
-        let norms = subset.verified_norms(&found.z, &found.squared_norms)?;
-        let ratio = ratio_of([norms[0].0, norms[1].0]);
-        let c = threshold.value(&sub)?;
-        if ratio >= c {
-            let best = found.z.column(norms[0].1).into_owned();
-            return conditioned(&p, q, a, &subset, &best, ratio, c, sr);
-        }
+        Ok(PartialFix {
+            fixed_count: 0,
+            combinations: DMatrix::zeros(n, 0),
+            values: DVector::zeros(0),
+            ratio: f64::NAN,
+            threshold: f64::NAN,
+            success_rate: 1.0,
+            ambiguities: self.a.clone(),
+            covariance: self.q.clone(),
+        })
     }
-    Ok(PartialFix {
-        fixed_count: 0,
-        combinations: DMatrix::zeros(n, 0),
-        values: DVector::zeros(0),
-        ratio: f64::NAN,
-        threshold: f64::NAN,
-        success_rate: 1.0,
-        ambiguities: a.clone(),
-        covariance: q.clone(),
-    })
 }
 
-/// The last `k` decorrelated ambiguities as a problem of their own, formed from the original `Q`:
-/// `Z_k^T (a - round(a))` with covariance `Z_k^T Q Z_k`, for recomputing the search's norms.
-struct Subset {
-    /// The last k columns of `Z`, as `f64` (exact).
-    zk: DMatrix<f64>,
-    zhat: DVector<f64>,
-    metric: Metric,
+/// The covariances of every subset of partial fixing at once: the subset of the last `k` decorrelated
+/// ambiguities has covariance `M_k`, the trailing `k x k` block of `M = Z^T Q Z` (formed from `Q` and
+/// the exact `Z`, see [`super::Transformed`]). With `M` in reversed order factorised by Cholesky,
+/// `P M P = C C^T`, the reversed `M_k` is the leading block, whose Cholesky factor is the leading block of
+/// `C`: one factorisation serves every `k` for recomputing the search's norms and for conditioning.
+struct Nested {
+    /// `C` (lower triangle; the upper one is not referenced).
+    c: DMatrix<f64>,
 }
 
-impl Subset {
-    fn new(p: &Problem, q: &DMatrix<f64>, k: usize) -> Result<Subset> {
-        let n = p.len();
-        let zk = p.reduction.z_f64().columns(n - k, k).into_owned();
-        let qk = zk.transpose() * q * &zk;
-        let qk = (&qk + qk.transpose()) * 0.5;
-        let metric = Metric::new("LAMBDA partial fix", &qk)?;
-        Ok(Subset {
-            zhat: p.zhat.rows(n - k, k).into_owned(),
-            zk,
-            metric,
+impl Nested {
+    fn new(zqz: &DMatrix<f64>) -> Result<Nested> {
+        let n = zqz.nrows();
+        let reversed = DMatrix::from_fn(n, n, |i, j| zqz[(n - 1 - i, n - 1 - j)]);
+        let chol = Cholesky::new(reversed).ok_or_else(|| {
+            Error::numerical(
+                "LAMBDA partial fix",
+                format!(
+                    "the Cholesky factorisation of the {n} x {n} decorrelated covariance fails in \
+                     floating point (not positive definite to working precision)"
+                ),
+            )
+        })?;
+        Ok(Nested {
+            c: chol.l_dirty().clone(),
         })
     }
 
-    /// The norms of the candidate columns of `z` recomputed from `Z_k^T a` and `Z_k^T Q Z_k`, each with
-    /// its column, ascending; refused when they disagree with the search's `searched`.
-    fn verified_norms(&self, z: &DMatrix<f64>, searched: &[f64]) -> Result<Vec<(f64, usize)>> {
-        let recomputed: Vec<f64> = z
-            .column_iter()
-            .map(|c| self.metric.squared_norm(&(&self.zhat - c)))
-            .collect();
-        let order = agreeing_order("LAMBDA partial fix", searched, &recomputed)?;
-        Ok(order.into_iter().map(|c| (recomputed[c], c)).collect())
+    /// `C_k^-1 P b` for `b` of `k` rows in decorrelated order.
+    fn whiten(&self, b: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+        let k = b.nrows();
+        let reversed = DMatrix::from_fn(k, b.ncols(), |i, j| b[(k - 1 - i, j)]);
+        self.c
+            .view((0, 0), (k, k))
+            .solve_lower_triangular(&reversed)
+    }
+
+    /// `r^T M_k^-1 r` for a residual `r` of the last `k` decorrelated ambiguities.
+    fn squared_norm(&self, r: &DVector<f64>) -> f64 {
+        let b = DMatrix::from_column_slice(r.len(), 1, r.as_slice());
+        self.whiten(&b).map_or(f64::INFINITY, |y| y.norm_squared())
+    }
+
+    /// `M_k^-1 b` for `b` of `k` rows.
+    fn solve(&self, b: &DMatrix<f64>) -> Result<DMatrix<f64>> {
+        let k = b.nrows();
+        let x = self
+            .whiten(b)
+            .and_then(|y| self.c.view((0, 0), (k, k)).tr_solve_lower_triangular(&y))
+            .ok_or_else(|| {
+                Error::numerical(
+                    "LAMBDA partial fix",
+                    "singular Cholesky factor of the decorrelated covariance",
+                )
+            })?;
+        Ok(DMatrix::from_fn(k, b.ncols(), |i, j| x[(k - 1 - i, j)]))
     }
 }
 
-/// The float solution conditioned on `Z_k^T a = Z_k^T round(a) + best`.
-#[allow(clippy::too_many_arguments)]
+/// The float solution conditioned on `Z_k^T a = Z_k^T round(a) + best` (`zhat`: `Z_k^T (a - round(a))`).
 fn conditioned(
     p: &Problem,
-    q: &DMatrix<f64>,
-    a: &DVector<f64>,
-    s: &Subset,
+    nested: &Nested,
+    zhat: &DVector<f64>,
     best: &DVector<f64>,
     ratio: f64,
     threshold: f64,
@@ -345,10 +398,10 @@ fn conditioned(
     let (ambiguities, covariance) = if k == n {
         (p.to_original(best)?.map(|v| v as f64), DMatrix::zeros(n, n))
     } else {
-        let qzk = q * &s.zk; // n x k
-        let gain = s.metric.solve(&qzk.transpose()).transpose(); // Q Z_k (Z_k^T Q Z_k)^-1
-        let amb = a - &gain * (&s.zhat - best);
-        let cov = q - &gain * qzk.transpose();
+        let qzk = p.transformed.qz.columns(n - k, k); // Q Z_k (n x k)
+        let gain = nested.solve(&qzk.transpose())?.transpose(); // Q Z_k (Z_k^T Q Z_k)^-1
+        let amb = &p.a - &gain * (zhat - best);
+        let cov = &p.q - &gain * qzk.transpose();
         (amb, (&cov + cov.transpose()) * 0.5)
     };
     Ok(PartialFix {

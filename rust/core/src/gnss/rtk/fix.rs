@@ -11,7 +11,7 @@ use super::{BaselineSolution, DdEpoch, FixOptions, FFRT_MAX_AMBIGUITIES, MAX_EPO
 use crate::error::{Error, Result};
 use crate::gnss::options::check_gate;
 use crate::lambda::bootstrap::success_rate;
-use crate::lambda::validation::{partial_fix, RatioThreshold};
+use crate::lambda::validation::RatioThreshold;
 use crate::lambda::{Problem, DEFAULT_MAX_NODES};
 
 /// Conditional variance (cycles^2) below which an ambiguity counts as fixed after partial fixing (the
@@ -120,9 +120,7 @@ pub(crate) fn fix_float(
         let z = best.fixed.column(0).map(|v| v as f64);
         (z, DMatrix::zeros(na, na))
     } else {
-        let pf = partial_fix(
-            a,
-            &q_aa,
+        let pf = problem.partial_fix(
             RatioThreshold::Fixed(fix.ratio_threshold),
             fix.min_success_rate,
         )?;

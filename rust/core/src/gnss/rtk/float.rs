@@ -2,19 +2,22 @@
 //! least squares over one or several epochs, the exact ranges linearised and iterated.
 //!
 //! Each group of each epoch contributes its rows whitened by the Cholesky factor of their covariance
-//! ([`super::dd::covariance`]); the normal matrix of all epochs is solved by Cholesky. Large integer parts
+//! ([`super::dd::covariance`]); the normal matrix of all epochs is solved by blocks, one per system and
+//! slot, through the baseline's Schur complement (`Schur`: Cholesky factors of the small blocks, no
+//! dense factorisation of the whole matrix). Large integer parts
 //! are removed before the adjustment (each signal's phase minus code rounded to cycles, kept per
 //! ambiguity from its first epoch), so the unknowns stay small and exact integers can be restored.
 
 use std::collections::HashMap;
 
-use nalgebra::{Cholesky, DMatrix, DVector, Vector3};
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn, Matrix3, Vector3};
 
 use super::dd::{covariance, groups, Group};
 use super::glonass::{code_row_coefficient, reference_coefficient};
 use super::model::SdRangeModel;
 use super::DdEpoch;
 use crate::error::{Error, Result};
+use crate::gnss::signal::System;
 use crate::gnss::solution::N_SYSTEMS;
 use crate::lambda::ldl::MAX_DIMENSION;
 
@@ -202,15 +205,16 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
         .map(|e| e.rover_prior_m - e.base_m)
         .sum::<Vector3<f64>>()
         / epochs.len() as f64;
+    let blocks = blocks(&prepared, na, p);
     let mut b = mean_prior;
     for _ in 0..MAX_ITERATIONS {
         let (normal, rhs, yty) = accumulate(epochs, &prepared, &b, p, na)?;
-        let chol = Cholesky::new(normal.clone()).ok_or_else(|| degenerate(&normal))?;
-        let x = chol.solve(&rhs);
+        let sol = Schur::solve(&normal, &rhs, &blocks).ok_or_else(|| degenerate(&normal))?;
+        let x = &sol.x;
         let db = Vector3::new(x[0], x[1], x[2]);
         b += db;
         if db.norm() < CONVERGED_M {
-            let covariance = chol.inverse();
+            let covariance = sol.covariance(&blocks);
             if covariance.iter().any(|v| !v.is_finite()) || !b.iter().all(|v| v.is_finite()) {
                 return Err(degenerate(&normal));
             }
@@ -230,6 +234,120 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
         what: "double-difference float solution",
         iterations: MAX_ITERATIONS,
     })
+}
+
+/// The unknowns other than the baseline, one block per (system, slot): the rows of a group involve the
+/// baseline and its own group's unknowns only, so the normal matrix is block diagonal apart from the
+/// baseline's rows and columns.
+fn blocks(prepared: &[Prepared], na: usize, p: usize) -> Vec<Vec<usize>> {
+    let mut keys: Vec<(System, usize)> = Vec::new();
+    let mut block_of: Vec<Option<usize>> = vec![None; p];
+    for pr in prepared {
+        let key = (pr.group.system, pr.group.slot);
+        let k = keys.iter().position(|&x| x == key).unwrap_or_else(|| {
+            keys.push(key);
+            keys.len() - 1
+        });
+        for t in &pr.terms {
+            if let Term::Free(i, _) = *t {
+                block_of[3 + i] = Some(k);
+            }
+        }
+        if let Some((i, _)) = pr.reference {
+            block_of[3 + na + i] = Some(k);
+        }
+    }
+    let mut out = vec![Vec::new(); keys.len()];
+    for (u, b) in block_of.iter().enumerate().skip(3) {
+        match b {
+            Some(k) => out[*k].push(u),
+            None => out.push(vec![u]), // not reached: every unknown comes from a group
+        }
+    }
+    out
+}
+
+/// The normal equations `N x = r` solved by blocks: with `N_bb` the baseline's 3 x 3 block, `N_B` the
+/// diagonal block of unknowns `B` and `N_Bb` its coupling to the baseline, `K_B = N_B^-1 N_Bb`, the
+/// baseline's Schur complement `S = N_bb - sum_B N_Bb^T K_B` gives `x_b = S^-1 (r_b - sum_B N_Bb^T
+/// N_B^-1 r_B)`, `x_B = N_B^-1 r_B - K_B x_b`, and the covariance `N^-1 = G S^-1 G^T + diag(0, N_B^-1)`
+/// with `G = [I; -K_B...]`. The same solution as a dense Cholesky of `N` (which is positive definite
+/// exactly when every `N_B` and `S` are), in O(sum m_B^3 + p^2) instead of O(p^3).
+struct Schur {
+    x: DVector<f64>,
+    s_inv: Matrix3<f64>,
+    /// Per block: `[K_B | N_B^-1 r_B]` (m x 4) and the Cholesky factor of `N_B`.
+    parts: Vec<(DMatrix<f64>, Cholesky<f64, Dyn>)>,
+}
+
+impl Schur {
+    /// `None` when `N` is not (numerically) positive definite.
+    fn solve(normal: &DMatrix<f64>, rhs: &DVector<f64>, blocks: &[Vec<usize>]) -> Option<Schur> {
+        let mut s: Matrix3<f64> = normal.fixed_view::<3, 3>(0, 0).into_owned();
+        let mut sr = Vector3::new(rhs[0], rhs[1], rhs[2]);
+        let mut parts = Vec::with_capacity(blocks.len());
+        for idx in blocks {
+            let m = idx.len();
+            let chol = Cholesky::new(DMatrix::from_fn(m, m, |i, j| normal[(idx[i], idx[j])]))?;
+            let kb = chol.solve(&DMatrix::from_fn(m, 4, |i, j| {
+                if j < 3 {
+                    normal[(idx[i], j)]
+                } else {
+                    rhs[idx[i]]
+                }
+            }));
+            for a in 0..3 {
+                for c in 0..4 {
+                    let v: f64 = (0..m).map(|i| normal[(idx[i], a)] * kb[(i, c)]).sum();
+                    if c < 3 {
+                        s[(a, c)] -= v;
+                    } else {
+                        sr[a] -= v;
+                    }
+                }
+            }
+            parts.push((kb, chol));
+        }
+        let chol_s = ((s + s.transpose()) * 0.5).cholesky()?;
+        let xb = chol_s.solve(&sr);
+        let mut x = DVector::zeros(normal.nrows());
+        x.fixed_rows_mut::<3>(0).copy_from(&xb);
+        for (idx, (kb, _)) in blocks.iter().zip(&parts) {
+            for (i, &u) in idx.iter().enumerate() {
+                x[u] = kb[(i, 3)] - (0..3).map(|a| kb[(i, a)] * xb[a]).sum::<f64>();
+            }
+        }
+        Some(Schur {
+            x,
+            s_inv: chol_s.inverse(),
+            parts,
+        })
+    }
+
+    /// `N^-1`, the covariance of all unknowns.
+    fn covariance(&self, blocks: &[Vec<usize>]) -> DMatrix<f64> {
+        let p = self.x.len();
+        let mut g = DMatrix::<f64>::zeros(p, 3);
+        g.fixed_view_mut::<3, 3>(0, 0).fill_with_identity();
+        for (idx, (kb, _)) in blocks.iter().zip(&self.parts) {
+            for (i, &u) in idx.iter().enumerate() {
+                for a in 0..3 {
+                    g[(u, a)] = -kb[(i, a)];
+                }
+            }
+        }
+        let gs = &g * self.s_inv;
+        let mut cov = gs * g.transpose();
+        for (idx, (_, chol)) in blocks.iter().zip(&self.parts) {
+            let inv = chol.inverse();
+            for (i, &u) in idx.iter().enumerate() {
+                for (j, &v) in idx.iter().enumerate() {
+                    cov[(u, v)] += inv[(i, j)];
+                }
+            }
+        }
+        cov
+    }
 }
 
 /// Normal matrix, right-hand side and `y^T C^-1 y` of every group at baseline `b`.
