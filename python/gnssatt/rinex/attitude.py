@@ -105,8 +105,8 @@ class AttitudeSeries:
         :class:`EngineWarning`).
     code_sigma_scale
         Per rover, the code sigma the receivers showed against the model's, estimated from the float
-        solutions' residuals in moving mode and applied to the code variances (NaN where not estimated:
-        static mode, or fewer than 50 residual degrees of freedom); ``docs/observation_engine.md``.
+        solutions' residuals in moving mode, and applied to the code variances when above 1 (NaN where not
+        estimated: static mode, or fewer than 50 residual degrees of freedom); ``docs/observation_engine.md``.
     """
 
     time: NDArray[np.datetime64]
@@ -234,7 +234,8 @@ class AttitudeSeries:
                     )
         for r, scale in enumerate(self.code_sigma_scale, start=1):
             if np.isfinite(scale):
-                lines.append(f"code noise, rover {r}: {scale:.2f} x the model's sigma (estimated, applied)")
+                applied = "applied" if scale > 1.0 else "not applied below 1"
+                lines.append(f"code noise, rover {r}: {scale:.2f} x the model's sigma (estimated; {applied})")
         return "\n".join(lines)
 
 
