@@ -292,6 +292,14 @@ def ratio_test(
     failure_rate
         Instead of ``threshold``: choose ``c`` for this fixed failure rate, see
         :func:`ratio_threshold_fixed_failure_rate` (``samples`` and ``seed`` apply).
+    samples, seed
+        Simulated float vectors and seed of that simulation, as in
+        :func:`ratio_threshold_fixed_failure_rate`; unused with a fixed ``threshold``.
+
+    Returns
+    -------
+    RatioTestResult
+        Acceptance, ratio, threshold used, the best integer vector and the two best squared norms.
 
     Raises
     ------

@@ -90,6 +90,20 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.
     """Attitude quaternions (n, 4) scalar-last, body -> reference, at ``t`` (s) from ``q0`` with the body
     rates ``rates`` (n, 3) rad/s, ``rates[k]`` held over ``[t[k], t[k+1]]`` (exact for constant rates).
 
+    Parameters
+    ----------
+    q0
+        (4,) initial attitude quaternion, scalar-last, body -> reference (normalised here).
+    t
+        (n,) strictly increasing times, s; ``t[0]`` is the epoch of ``q0``.
+    rates
+        (n, 3) body angular rates in the body frame, rad/s; the last row is not used (no interval follows).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 4) unit quaternions, scalar-last, body -> reference, at ``t``; row 0 is ``q0`` normalised.
+
     Raises
     ------
     InvalidInputError

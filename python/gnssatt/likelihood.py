@@ -424,6 +424,22 @@ def likelihood_grid(
 ) -> LikelihoodGrid:
     """The statistic on the whole grid (float32), for plots and inspection; inputs as :func:`ml_attitude`.
 
+    Parameters
+    ----------
+    phase_diffs, los, wavelength
+        As :func:`ml_attitude`: (m, M) or (epochs, m, M) phase differences, rad; (M, 3) or (epochs, M, 3)
+        unit lines of sight, East-North-Up; wavelengths, m.
+    baselines
+        (m, 3) antenna positions relative to antenna 0, body frame, metres; m >= 1 (a single baseline
+        suffices here; the rotation about it is then not observable).
+    statistic, step_deg, window_deg
+        As :func:`ml_attitude`.
+
+    Returns
+    -------
+    LikelihoodGrid
+        The statistic ``z`` of shape (n_psi, n_theta, n_phi), its axes in degrees and the step used.
+
     Raises
     ------
     InvalidInputError, DegenerateGeometryError

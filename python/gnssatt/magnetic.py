@@ -12,14 +12,14 @@ x along-track, y orbit normal, z radial).
 IGRF-14 degree-1 coefficients (nT) used here, read from the coefficient file ``IGRF14.shc`` distributed with
 ppigrf 2.1.0, which gives the IAGA V-MOD release (Alken et al., IGRF-14, doi:10.5281/zenodo.14012302):
 
-=========  =========  ========  ========
-epoch      g10        g11       h11
-=========  =========  ========  ========
-2015.0     -29441.46  -1501.77  4795.99
-2020.0     -29403.41  -1451.37  4653.35
-2025.0     -29350.0   -1410.3   4545.5
-SV 2025-30 +12.6/yr   +10.0/yr  -21.5/yr
-=========  =========  ========  ========
+==========  =========  ========  ========
+epoch       g10        g11       h11
+==========  =========  ========  ========
+2015.0      -29441.46  -1501.77  4795.99
+2020.0      -29403.41  -1451.37  4653.35
+2025.0      -29350.0   -1410.3   4545.5
+SV 2025-30  +12.6/yr   +10.0/yr  -21.5/yr
+==========  =========  ========  ========
 
 (The 2025-2030 secular variation is the file's 2030 column minus its 2025 column over 5 years.) These are
 not checked here against the NOAA/BGS coefficient table itself; a test compares the dipole with ppigrf at

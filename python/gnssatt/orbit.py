@@ -340,7 +340,7 @@ def tle_states(
     times
         (n,) or () numpy ``datetime64`` instants, UTC.
     dut1_s
-        UT1 - UTC, s, for the Earth rotation (neglecting it, |dUT1| < 0.9 s, turns a LEO position by up to
+        UT1 - UTC, s, for the Earth rotation (neglecting it, ``|dUT1|`` < 0.9 s, turns a LEO position by up to
         about 0.4 km along the equator).
 
     Returns

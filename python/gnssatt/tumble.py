@@ -629,6 +629,9 @@ def fit_rotation(
         ``tol_abs`` between consecutive generations (0.001 in the paper), here required over ``patience``
         consecutive generations: read literally (``patience=1``) the rule fires on the first generation
         in which no trial vector wins, long before the population has converged.
+    patience
+        Consecutive generations over which the ``tol_abs`` rule must hold, 1 <= patience <=
+        ``MAX_GENERATIONS``.
     maxiter
         Generation cap per run.
     max_rate_rad_s
@@ -649,8 +652,10 @@ def fit_rotation(
         within 0.1 deg of those of a 1 s search (the one fit left in a local minimum moved from 82.2 to
         80.4 deg; ``docs/results/visibility-rotation-timing.md``).
 
-    The objective runs the Rust batch propagator over the whole population in parallel (rayon; set
-    ``RAYON_NUM_THREADS`` for the thread count); results do not depend on the thread count.
+    Returns
+    -------
+    RotationFit
+        The best run's initial state, its objective and residual, and every run's state and objective.
 
     Raises
     ------
@@ -665,6 +670,11 @@ def fit_rotation(
         (1e5), ``max_restarts`` above ``MAX_RESTARTS`` (100), one generation needing more than
         ``MAX_RK4_STEPS`` RK4 steps at ``search_step_s``, or the whole fit at its generation cap more
         than ``MAX_FIT_RK4_STEPS`` (1e10).
+
+    Notes
+    -----
+    The objective runs the Rust batch propagator over the whole population in parallel (rayon; set
+    ``RAYON_NUM_THREADS`` for the thread count); results do not depend on the thread count.
     """
     tt = _times(t)
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")

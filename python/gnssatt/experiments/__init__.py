@@ -58,7 +58,23 @@ EXPERIMENTS: dict[str, Experiment] = _load()
 
 
 def get(name: str) -> Experiment:
-    """The experiment called ``name``; :class:`KeyError` listing the known names otherwise."""
+    """The experiment called ``name``; :class:`KeyError` listing the known names otherwise.
+
+    Parameters
+    ----------
+    name
+        An experiment's name as ``gnssatt reproduce --list`` prints it, e.g. ``"matrix-method"``.
+
+    Returns
+    -------
+    Experiment
+        Its summary, ``run`` function and default and quick run counts.
+
+    Raises
+    ------
+    KeyError
+        ``name`` is not an experiment; the message lists the known names.
+    """
     try:
         return EXPERIMENTS[name]
     except KeyError:

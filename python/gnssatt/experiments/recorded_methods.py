@@ -16,8 +16,8 @@ GEONET part (2 stations 3.3 km apart, baseline mode, the pair shipped in :mod:`g
 through :func:`gnssatt.rinex.attitude_from_rinex`): static-session LAMBDA (fixed, and the fraction of
 epochs fixed), single-epoch LAMBDA and held LAMBDA; errors against the static solution and the header
 positions. The ML grid does not run there: its step ``lambda / (10 L)`` is 3.3e-4 deg for 3.3 km,
-so the whole domain needs more than the grid's 2^20 nodes per turn (``docs/limits.md``); a window around a start
-would hold few (3.7e5 for 0.2 deg), but no start for the first epoch is built (and the grid's planar
+so the whole domain needs more than the grid's 2^20 nodes per turn (``docs/limits.md``); a window around a
+start would hold few (3.7e5 for 0.2 deg), but no start for the first epoch is built (and the grid's planar
 wavefront is off by ``L^2 / (2 rho)`` ~ 0.3 m at that length).
 """
 

@@ -59,6 +59,16 @@ KEPLER_FIELDS = (
 def gps_ns(time: NDArray[np.datetime64]) -> NDArray[np.int64]:
     """Nanoseconds since the GPS epoch of GPST ``datetime64`` labels.
 
+    Parameters
+    ----------
+    time
+        Array (any shape) of ``datetime64`` labels in GPS time (no leap seconds applied), any unit.
+
+    Returns
+    -------
+    numpy.ndarray
+        int64 of the same shape: ns since 1980-01-06T00:00:00 GPST.
+
     Raises
     ------
     InvalidTypeError
@@ -240,6 +250,18 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
     counted in :attr:`RinexNav.skipped`. Records are kept in file order, repeated ones included: navigation
     files are grouped by satellite, not sorted in time, and merged files carry one record per message type
     (Galileo I/NAV and F/NAV share a time of clock).
+
+    Parameters
+    ----------
+    path
+        The navigation file (str or ``os.PathLike``). Hatanaka- and gzip/Z/zip/bz2-compressed files are read
+        with the optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``).
+
+    Returns
+    -------
+    RinexNav
+        Keplerian ephemerides (G, E, C, J), GLONASS state vectors, the GPS Klobuchar coefficients, the
+        leap seconds of the header and the RINEX 4 records skipped.
 
     Raises
     ------

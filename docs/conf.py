@@ -1,0 +1,59 @@
+"""Sphinx configuration of the gnssatt API reference site.
+
+Why Sphinx: gnssatt's docstrings are numpydoc (the house style), which Sphinx renders natively through the
+``numpydoc`` extension, and ``sphinx.ext.autosummary`` generates one page per public function and class at
+build time from ``__all__``, so the reference cannot drift from the code. The models are the numpy and scipy
+references, built the same way. ``myst-parser`` makes the existing Markdown pages in ``docs/*.md`` pages of
+the site unchanged.
+
+Build (from the repository root, after ``pip install '.[docs]'``)::
+
+    sphinx-build -W --keep-going -b html docs docs/_build/html
+"""
+
+from __future__ import annotations
+
+import gnssatt
+
+project = "gnssatt"
+author = "gnssatt contributors"
+copyright = "gnssatt contributors, MIT OR Apache-2.0"
+version = release = gnssatt.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "numpydoc",
+    "myst_parser",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+root_doc = "index"
+templates_path = ["_templates"]
+# results/ holds the reproduction artefacts (JSON, CSV, PNG, timing notes) that the README and pages link to;
+# they are files, not pages of the site.
+exclude_patterns = ["_build", "results", "README*", "Thumbs.db", ".DS_Store"]
+
+# One page per public name, generated at build time into api/generated (ignored by git). A module's page lists
+# exactly its __all__, including names it re-exports lazily (PEP 562), as `from gnssatt import *` sees them.
+autosummary_generate = True
+autosummary_ignore_module_all = False
+autosummary_imported_members = False
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_typehints = "none"  # the numpydoc Parameters/Returns sections carry types, shapes and units
+
+# numpydoc renders the sections; autosummary, not numpydoc, lists a class's members (one mechanism, no
+# duplicate stub pages).
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+
+# Markdown pages link to each other by file name (`conventions.md`) and to the repository's files; headings
+# get anchors so that `page.md#section` links resolve.
+myst_heading_anchors = 3
+myst_enable_extensions = ["dollarmath"]
+
+
+html_theme = "alabaster"
+html_title = f"gnssatt {release}"
