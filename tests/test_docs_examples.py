@@ -70,3 +70,20 @@ def test_matrix_method_example_recovers_the_attitude_it_was_built_from() -> None
     for errors in found["errors"].values():
         assert len(errors) == 200
         assert max(errors) < 1.2
+
+
+def test_recorded_data_page_shows_the_scripts_output() -> None:
+    script = EXAMPLES / "recorded_data.py"
+    res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout == _page_output(EXAMPLES / "recorded_data.md")
+
+
+def test_recorded_data_fixes_agree_with_rtklib() -> None:
+    example = runpy.run_path(str(EXAMPLES / "recorded_data.py"), run_name="docs_example")
+    found = example["main"]()
+    fixed, error_mm = found["fixed"], found["error_mm"]
+    # RTKLIB's static L1 + L2 solution is the reference nobody here computed: a wrong integer moves an epoch
+    # by decimetres (an L1 cycle is 19 cm), so every fixed epoch within 5 cm of it is a right fix.
+    assert fixed.sum() >= 0.9 * fixed.size
+    assert np.all(error_mm[fixed] < 50.0)
