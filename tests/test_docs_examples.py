@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "docs" / "examples"
 
@@ -22,11 +23,20 @@ def _page_output(page: Path) -> str:
     return blocks[0]
 
 
-def test_lambda_page_shows_the_scripts_output() -> None:
-    script = EXAMPLES / "lambda_fix.py"
-    res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+@pytest.mark.parametrize(
+    ("script", "page"),
+    [
+        ("lambda_fix.py", "lambda.md"),
+        ("matrix_method.py", "matrix_method.md"),
+        ("recorded_data.py", "recorded_data.md"),
+    ],
+)
+def test_page_shows_the_scripts_output(script: str, page: str) -> None:
+    res = subprocess.run(
+        [sys.executable, str(EXAMPLES / script)], capture_output=True, text=True, timeout=120
+    )
     assert res.returncode == 0, res.stderr
-    assert res.stdout == _page_output(EXAMPLES / "lambda.md")
+    assert res.stdout == _page_output(EXAMPLES / page)
 
 
 def test_lambda_example_is_the_brute_force_ils_solution() -> None:
@@ -51,13 +61,6 @@ def test_lambda_example_is_the_brute_force_ils_solution() -> None:
     assert round(abs(np.linalg.det(z))) == 1
 
 
-def test_matrix_method_page_shows_the_scripts_output() -> None:
-    script = EXAMPLES / "matrix_method.py"
-    res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
-    assert res.returncode == 0, res.stderr
-    assert res.stdout == _page_output(EXAMPLES / "matrix_method.md")
-
-
 def test_matrix_method_example_recovers_the_attitude_it_was_built_from() -> None:
     example = runpy.run_path(str(EXAMPLES / "matrix_method.py"), run_name="docs_example")
     found = example["main"]()
@@ -70,13 +73,6 @@ def test_matrix_method_example_recovers_the_attitude_it_was_built_from() -> None
     for errors in found["errors"].values():
         assert len(errors) == 200
         assert max(errors) < 1.2
-
-
-def test_recorded_data_page_shows_the_scripts_output() -> None:
-    script = EXAMPLES / "recorded_data.py"
-    res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
-    assert res.returncode == 0, res.stderr
-    assert res.stdout == _page_output(EXAMPLES / "recorded_data.md")
 
 
 def test_recorded_data_fixes_agree_with_rtklib() -> None:

@@ -48,6 +48,7 @@ mod output;
 #[cfg(test)]
 mod tests;
 
+use std::borrow::Cow;
 use std::collections::BTreeSet;
 
 use nalgebra::{Matrix3, Vector3};
@@ -180,14 +181,16 @@ impl CodeNoiseScale {
     }
 }
 
-/// `dd` with every code sigma scaled by `sqrt(factor)`.
-fn scale_code(dd: &DdEpoch, factor: f64) -> DdEpoch {
-    let mut out = dd.clone();
-    if factor != 1.0 {
-        let s = factor.sqrt();
-        out.signals.iter_mut().for_each(|p| p.sigma_code_m *= s);
+/// `dd` with every code sigma scaled by `sqrt(factor)`, borrowed unchanged when the factor is 1 (the
+/// usual case: the factor is applied only above 1).
+fn scale_code(dd: &DdEpoch, factor: f64) -> Cow<'_, DdEpoch> {
+    if factor == 1.0 {
+        return Cow::Borrowed(dd);
     }
-    out
+    let mut out = dd.clone();
+    let s = factor.sqrt();
+    out.signals.iter_mut().for_each(|p| p.sigma_code_m *= s);
+    Cow::Owned(out)
 }
 
 /// Inverse-variance mean of baseline lengths: `sum l / sigma^2` and `sum 1 / sigma^2`, `sigma` the
@@ -586,16 +589,21 @@ impl Engine {
             let mut out = Vec::with_capacity(prepared.len());
             for (k, p) in prepared.iter().enumerate() {
                 interrupt::check("GNSS engine")?;
-                let Some(dds) = p.rovers.iter().cloned().collect::<Option<Vec<DdEpoch>>>() else {
+                let Some(dds) = p
+                    .rovers
+                    .iter()
+                    .map(Option::as_ref)
+                    .collect::<Option<Vec<&DdEpoch>>>()
+                else {
                     out.push(None);
                     continue;
                 };
                 dds.iter().for_each(|d| self.count_double_differences(d));
                 let factors: Vec<f64> = self.code_scale.iter().map(|c| c.factor()).collect();
                 let dds: Vec<DdEpoch> = dds
-                    .iter()
+                    .into_iter()
                     .zip(&factors)
-                    .map(|(d, &f)| scale_code(d, f))
+                    .map(|(d, &f)| scale_code(d, f).into_owned())
                     .collect();
                 let body = self.opts.body_baselines_m.clone();
                 out.push(match solve_attitude(&dds, &body, &fix) {
@@ -660,12 +668,12 @@ impl Engine {
                 };
                 let factor = self.code_scale[r].factor();
                 let scaled = scale_code(dd, factor);
-                let mut result = solve_baseline(std::slice::from_ref(&scaled), &held, &fix);
+                let mut result = solve_baseline(std::slice::from_ref(scaled.as_ref()), &held, &fix);
                 let mut unheld = held.is_empty();
                 if static_session.is_none() && !held.is_empty() {
                     let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held));
                     if !keep {
-                        result = solve_baseline(std::slice::from_ref(&scaled), &[], &fix);
+                        result = solve_baseline(std::slice::from_ref(scaled.as_ref()), &[], &fix);
                         unheld = true;
                     }
                 }

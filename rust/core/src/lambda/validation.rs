@@ -185,21 +185,10 @@ pub fn fixed_failure_threshold(
     if 1.0 - success_rate(factor.d.as_slice()) <= failure_rate {
         return Ok(1.0);
     }
-    let n = factor.d.len();
-    let sd = factor.d.map(f64::sqrt);
-    let max_nodes = DEFAULT_MAX_NODES.min(SIMULATION_MAX_NODES / samples.max(1) as u64);
+    let draw = Draws::new(factor, samples, seed);
     let trials: Vec<Option<f64>> = (0..samples)
         .into_par_iter()
-        .map(|t| {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            rng.set_stream(t as u64);
-            let w = DVector::from_fn(n, |i, _| sd[i] * normal(&mut rng));
-            let e = factor.l.tr_mul(&w);
-            let found = search(factor, &e, 2, max_nodes)?;
-            let wrong = found.z.column(0).iter().any(|&v| v != 0.0);
-            let norms = [found.squared_norms[0], found.squared_norms[1]];
-            Ok(wrong.then(|| ratio_of(norms)))
-        })
+        .map(|t| draw.wrong_fix_ratio(t))
         .collect::<Result<_>>()?;
     let mut wrong: Vec<f64> = trials.into_iter().flatten().collect();
     let allowed = (failure_rate * samples as f64).floor() as usize;
@@ -208,6 +197,82 @@ pub fn fixed_failure_threshold(
     }
     wrong.sort_by(|a, b| b.total_cmp(a));
     Ok(wrong[allowed].next_up().max(1.0))
+}
+
+/// Draws simulated between two checks of the count in [`fixed_failure_accepts`] (the decision does not
+/// depend on it).
+const ACCEPT_BLOCK: usize = 1024;
+
+/// Whether ratio `ratio` passes the fixed-failure-rate test, `ratio >= fixed_failure_threshold(..)` with
+/// the same draws, decided without sorting: it passes exactly when at most `floor(P_f samples)` wrong draws
+/// have a ratio of at least `ratio`. Counting lets a failing test stop after the first block of draws that
+/// exceeds the count, which is most of the cost saved where most tests fail (weak single-frequency sets).
+///
+/// # Errors
+/// Those of the search ([`Error::Convergence`] at the node cap).
+pub fn fixed_failure_accepts(
+    factor: &Ltdl,
+    ratio: f64,
+    failure_rate: f64,
+    samples: usize,
+    seed: u64,
+) -> Result<bool> {
+    if ratio < 1.0 {
+        return Ok(false);
+    }
+    if 1.0 - success_rate(factor.d.as_slice()) <= failure_rate {
+        return Ok(true);
+    }
+    let draw = Draws::new(factor, samples, seed);
+    let allowed = (failure_rate * samples as f64).floor() as usize;
+    let mut count = 0usize;
+    for start in (0..samples).step_by(ACCEPT_BLOCK) {
+        let end = (start + ACCEPT_BLOCK).min(samples);
+        count += (start..end)
+            .into_par_iter()
+            .map(|t| {
+                Ok(usize::from(
+                    draw.wrong_fix_ratio(t)?.is_some_and(|r| r >= ratio),
+                ))
+            })
+            .try_reduce(|| 0, |a, b| Ok(a + b))?;
+        if count > allowed {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// The simulation of the fixed-failure-rate test: draw `t` is `Z^T a - Z^T z = L^T w`, `w ~ N(0, D)`, from
+/// ChaCha stream `t` of `seed`, so that every draw is reproducible on its own whatever the threads.
+struct Draws<'a> {
+    factor: &'a Ltdl,
+    sd: DVector<f64>,
+    seed: u64,
+    max_nodes: u64,
+}
+
+impl<'a> Draws<'a> {
+    fn new(factor: &'a Ltdl, samples: usize, seed: u64) -> Self {
+        Draws {
+            factor,
+            sd: factor.d.map(f64::sqrt),
+            seed,
+            max_nodes: DEFAULT_MAX_NODES.min(SIMULATION_MAX_NODES / samples.max(1) as u64),
+        }
+    }
+
+    /// The ratio of draw `t` when its best candidate is wrong, `None` when it is right.
+    fn wrong_fix_ratio(&self, t: usize) -> Result<Option<f64>> {
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        rng.set_stream(t as u64);
+        let w = DVector::from_fn(self.sd.len(), |i, _| self.sd[i] * normal(&mut rng));
+        let e = self.factor.l.tr_mul(&w);
+        let found = search(self.factor, &e, 2, self.max_nodes)?;
+        let wrong = found.z.column(0).iter().any(|&v| v != 0.0);
+        let norms = [found.squared_norms[0], found.squared_norms[1]];
+        Ok(wrong.then(|| ratio_of(norms)))
+    }
 }
 
 /// Outcome of [`partial_fix`].
@@ -428,4 +493,44 @@ fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>();
     let u2: f64 = rng.random();
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+#[cfg(test)]
+mod accepts_tests {
+    use super::*;
+    use crate::lambda::reduce;
+    use nalgebra::DMatrix;
+
+    /// A covariance with conditional variances of a weak single-frequency epoch (success rate well
+    /// below 1), random correlations.
+    fn weak_covariance(n: usize, seed: u64) -> DMatrix<f64> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let a = DMatrix::from_fn(n, n, |_, _| normal(&mut rng));
+        let q = &a * a.transpose() * 0.08 + DMatrix::identity(n, n) * 0.02;
+        (&q + q.transpose()) * 0.5
+    }
+
+    #[test]
+    fn accepts_equals_the_threshold_function() {
+        let mut decided = [0usize; 2];
+        for seed in 0..12u64 {
+            let n = 3 + (seed as usize % 5);
+            let q = weak_covariance(n, seed);
+            let factor = reduce(&q).unwrap().factor;
+            let (rate, draws) = (0.01, 2000);
+            let c = fixed_failure_threshold(&factor, rate, draws, 7).unwrap();
+            // Ratios just below and at the threshold, and values around it.
+            let mut ratios = vec![c, c * 1.5, 1.0, 2.0, 3.0, 10.0];
+            if c > 1.0 {
+                ratios.push(c.next_down());
+            }
+            for r in ratios {
+                let yes = fixed_failure_accepts(&factor, r, rate, draws, 7).unwrap();
+                assert_eq!(yes, r >= c, "seed {seed} ratio {r} threshold {c}");
+                decided[usize::from(yes)] += 1;
+            }
+        }
+        // Both outcomes occurred: the test compares something.
+        assert!(decided[0] > 0 && decided[1] > 0, "{decided:?}");
+    }
 }

@@ -5,13 +5,12 @@
 use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, Vector3};
 
 use super::dd::validate;
-use super::ffrt;
 use super::float::{self, FloatSolution};
 use super::{BaselineSolution, DdEpoch, FixOptions, FFRT_MAX_AMBIGUITIES, MAX_EPOCHS};
 use crate::error::{Error, Result};
 use crate::gnss::options::check_gate;
 use crate::lambda::bootstrap::success_rate;
-use crate::lambda::validation::RatioThreshold;
+use crate::lambda::validation::{fixed_failure_accepts, RatioThreshold};
 use crate::lambda::{Problem, DEFAULT_MAX_NODES};
 
 /// Conditional variance (cycles^2) below which an ambiguity counts as fixed after partial fixing (the
@@ -159,7 +158,7 @@ fn passes_failure_rate(problem: &Problem, ratio: f64, max_failure_rate: f64) -> 
         return Ok(false);
     }
     let draws = (FFRT_DRAWS_PER_FAILURE / max_failure_rate).ceil() as usize;
-    ffrt::accepts(
+    fixed_failure_accepts(
         &problem.reduction.factor,
         ratio,
         max_failure_rate,

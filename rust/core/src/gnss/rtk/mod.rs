@@ -48,7 +48,6 @@
 
 pub mod constrained;
 pub mod dd;
-pub mod ffrt;
 pub mod fix;
 pub mod float;
 pub mod glonass;
@@ -122,7 +121,7 @@ pub struct FixOptions {
     /// In [0, 0.1]; 0 turns it off. A full set below `min_success_rate` whose ratio passes
     /// `ratio_threshold` is still fixed when the ratio also passes the fixed-failure-rate threshold
     /// (Teunissen & Verhagen 2009) for this probability of accepting a wrong fix, computed for the epoch's
-    /// own float covariance by a seeded simulation ([`crate::lambda::validation::fixed_failure_threshold`],
+    /// own float covariance by a seeded simulation ([`crate::lambda::validation::fixed_failure_accepts`],
     /// `ceil(20 / max_failure_rate)` draws), for at most [`FFRT_MAX_AMBIGUITIES`] ambiguities.
     pub max_failure_rate: f64,
 }
