@@ -26,6 +26,7 @@ extensions = [
     "sphinx.ext.mathjax",
     "numpydoc",
     "myst_parser",
+    "matplotlib.sphinxext.plot_directive",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
@@ -54,6 +55,19 @@ numpydoc_xref_param_type = False
 myst_heading_anchors = 3
 myst_enable_extensions = ["dollarmath"]
 
+
+# The worked examples' figures (docs/examples/*.py) are drawn IN the build by matplotlib's plot directive,
+# `.. plot:: examples/<script>.py` in an eval-rst block on each page (MyST's own directive syntax lacks the
+# state machine the plot directive needs; the path is relative to docs/). A script that raises is a warning,
+# so `-W` fails the build. Chosen over sphinx-gallery because matplotlib is already a dependency (nothing to
+# add to the docs extra), the pages stay hand-written Markdown that explain the physics around the code, and
+# the scripts stay plain programs that a user and tests/test_docs_examples.py run as they are. Each script
+# runs once per build as `__main__` (its printed output is discarded: the page shows it, and the tests check
+# the page's copy against what the script prints).
+plot_formats = [("png", 100)]
+plot_html_show_formats = False
+plot_html_show_source_link = False  # each page shows the script with literalinclude
+plot_include_source = False
 
 html_theme = "alabaster"
 html_title = f"gnssatt {release}"
