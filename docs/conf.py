@@ -32,9 +32,9 @@ extensions = [
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
 templates_path = ["_templates"]
-# results/ holds the reproduction artefacts (JSON, CSV, PNG, timing notes) that the README and pages link to;
-# they are files, not pages of the site.
-exclude_patterns = ["_build", "results", "README*", "Thumbs.db", ".DS_Store"]
+# results/ holds the reproduction results, one page per experiment, beside the study files they link to
+# (JSON, CSV, PNG: downloads and images of the site, not pages).
+exclude_patterns = ["_build", "README*", "Thumbs.db", ".DS_Store"]
 
 # One page per public name, generated at build time into api/generated (ignored by git). A module's page lists
 # exactly its __all__, including names it re-exports lazily (PEP 562), as `from gnssatt import *` sees them.
