@@ -107,7 +107,7 @@ def figure(found: dict[str, object]):
     top.axhline(-3 * np.degrees(np.sqrt(after)), color="C3", lw=1.0, ls=":")
     top.set_ylim(-7 * np.degrees(np.sqrt(after)), 7 * np.degrees(np.sqrt(after)))
     top.set_ylabel("attitude error, deg")
-    top.set_title("attitude error after each fix (the first seconds, larger, are clipped)")
+    top.set_title("attitude error after each fix, and 3 sigma (clipped in the first seconds)")
     top.legend(loc="upper right", ncols=3, fontsize=8)
     for axis, name in enumerate("xyz"):
         estimate = np.degrees(found["drift"][:, axis]) * 3600.0

@@ -75,7 +75,7 @@ def main() -> dict[str, object]:
 
 def figure(found: dict[str, object]):
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import ScalarFormatter
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
 
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
     predicted = np.degrees(found["predicted"])
@@ -83,6 +83,7 @@ def figure(found: dict[str, object]):
     top.fill_between(
         U_DEG, -3 * predicted, 3 * predicted, color="C0", alpha=0.15, label="predicted +-3 sigma"
     )
+    top.set_ylim(-8.0, 8.0)  # room for the legend above the polar peaks
     top.set_ylabel("yaw error, deg")
     top.set_title("yaw error of eq. (3) along the orbit")
     top.legend(loc="upper center", ncols=2)
@@ -93,8 +94,10 @@ def figure(found: dict[str, object]):
     bottom.set_title("yaw standard deviation: grows as the horizontal field shrinks over the poles")
     bottom.legend(loc="upper center", ncols=2)
     bottom.set_xticks(np.arange(0, 361, 45))
+    bottom.set_ylim(0.1, 8.0)  # room for the legend above the polar peaks
+    bottom.set_yticks([0.1, 0.2, 0.5, 1.0, 2.0, 5.0])
     bottom.yaxis.set_major_formatter(ScalarFormatter())
-    bottom.yaxis.set_minor_formatter(ScalarFormatter())
+    bottom.yaxis.set_minor_formatter(NullFormatter())
     fig.suptitle(
         f"Magnetometer yaw on a 700 km orbit inclined {INCLINATION_DEG:g} deg, dipole field\n"
         f"{NOISE_T * 1e9:g} nT noise per axis, yaw / pitch / roll = 5 / 3 / 4 deg, pitch and roll exact"
