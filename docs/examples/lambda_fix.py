@@ -47,5 +47,36 @@ def main() -> dict[str, object]:
     return {"fixed": fixed, "norms": norms, "rounded": rounded, "ratio": test, "z": z, "d": d}
 
 
+def figure(found: dict[str, object]):
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2))
+    k = np.arange(3)
+    left.bar(k - 0.2, np.diag(COVARIANCE), width=0.4, label="float ambiguities")
+    left.bar(k + 0.2, np.sort(found["d"])[::-1], width=0.4, label="after decorrelation (conditional)")
+    left.set_xticks(k, ["1st", "2nd", "3rd"])
+    left.set_xlabel("ambiguity (after decorrelation: sorted by variance)")
+    left.set_ylabel("variance, cycles^2")
+    left.set_title("what LAMBDA searches")
+    left.set_ylim(0.0, 1.35 * np.max(np.diag(COVARIANCE)))  # room for the legend above the bars
+    left.legend(loc="upper right", fontsize=8)
+    names = ["rounded float", "ILS best", "ILS second"]
+    values = [squared_norm(found["rounded"]), *found["norms"]]
+    right.bar(names, values, color=["0.6", "C2", "C1"])
+    for x, v in enumerate(values):
+        right.text(x, v, f"{v:.3f}", ha="center", va="bottom")
+    right.set_ylim(0.0, 1.15 * max(values))
+    test = found["ratio"]
+    right.set_xlabel("integer candidate")
+    right.set_ylabel("squared norm (a - z) Q^-1 (a - z), dimensionless")
+    right.set_title(f"ratio {test.ratio:.2f} < threshold {test.threshold:.0f}: keep the float solution")
+    fig.suptitle("LAMBDA on three correlated float ambiguities (variances 6.3 cycles^2)")
+    fig.tight_layout()
+    return fig
+
+
 if __name__ == "__main__":
-    main()
+    import matplotlib.pyplot as plt
+
+    figure(main())
+    plt.show()

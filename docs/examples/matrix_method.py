@@ -52,5 +52,25 @@ def main() -> dict[str, object]:
     return {"exact": exact, "exact_truth": exact_truth, "errors": errors}
 
 
+def figure(found: dict[str, object]):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    bins = np.linspace(0.0, max(max(e) for e in found["errors"].values()) * 1.02, 40)
+    for (method, errors), color in zip(found["errors"].items(), ("C0", "C3"), strict=True):
+        ax.hist(errors, bins=bins, histtype="step", lw=1.5, color=color, label=f"method={method!r}")
+        ax.axvline(np.median(errors), color=color, ls=":", label=f"median {np.median(errors):.3f} deg")
+    ax.set_xlabel("attitude error (angle of the error rotation), deg")
+    ax.set_ylabel(f"trials per bin (of {TRIALS}), count")
+    ax.set_title(f"{TRIALS} random attitudes, {PHASE_NOISE_M * 1e3:.0f} mm noise per range difference")
+    ax.legend(loc="upper right")
+    fig.suptitle("Matrix method: 1 m three-antenna triangle, 6 satellites above 10 deg")
+    fig.tight_layout()
+    return fig
+
+
 if __name__ == "__main__":
-    main()
+    import matplotlib.pyplot as plt
+
+    figure(main())
+    plt.show()

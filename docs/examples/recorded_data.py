@@ -41,8 +41,35 @@ def main() -> dict[str, np.ndarray]:
     )
     length_m = np.linalg.norm(series.baselines_enu_m[0, 0])
     print(f"azimuth of the first epoch {series.angles_deg[0, 0]:.4f} deg, length {length_m:.3f} m")
-    return {"fixed": fixed, "error_mm": error_mm}
+    minutes = (series.time - series.time[0]) / np.timedelta64(1, "s") / 60.0
+    difference_mm = 1e3 * (series.baselines_enu_m[:, 0] - RTKLIB_STATIC_ENU_M)
+    return {"fixed": fixed, "error_mm": error_mm, "minutes": minutes, "difference_mm": difference_mm}
+
+
+def figure(found: dict[str, np.ndarray]):
+    import matplotlib.pyplot as plt
+
+    fixed, minutes, difference = found["fixed"], found["minutes"], found["difference_mm"]
+    fig, ax = plt.subplots(figsize=(9, 4.2))
+    for axis, name in enumerate(("East", "North", "Up")):
+        ax.plot(minutes[fixed], difference[fixed, axis], ".-", lw=0.6, ms=4, label=f"{name}, fixed epochs")
+    ax.set_ylim(-60.0, 60.0)
+    for t in minutes[~fixed]:
+        ax.axvline(t, color="0.6", lw=4, alpha=0.4, zorder=0)
+    ax.plot([], [], color="0.6", lw=4, alpha=0.4, label=f"not fixed ({(~fixed).sum()} epochs, float)")
+    ax.set_xlabel("time from the first epoch (2005-04-02 00:00 GPST), min")
+    ax.set_ylabel("baseline minus RTKLIB static, mm")
+    ax.set_title("each epoch fixed on its own (LAMBDA, L1 + L2, surveyed reference position)")
+    ax.legend(loc="lower left", ncols=4, fontsize=8)
+    fig.suptitle(
+        "GEONET 0759 -> 3040 (3.3 km, 30 s): single-epoch baselines against RTKLIB 2.4.3's static solution"
+    )
+    fig.tight_layout()
+    return fig
 
 
 if __name__ == "__main__":
-    main()
+    import matplotlib.pyplot as plt
+
+    figure(main())
+    plt.show()
