@@ -1,6 +1,6 @@
 """Agreement of broadcast-record positions with independent references, on the real records of tests/data.
 
-Prints the numbers quoted in the README (section on broadcast navigation records):
+Prints the numbers quoted in docs/results/recorded_data.md (broadcast navigation records):
 
 - GLONASS R01, R02 (BRDM00DLR 2013-01-01): records 30 min apart, each propagated 15 min to the midpoint;
   distance between the two positions.
