@@ -438,7 +438,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         {
             "t": T3,
             "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
-            "seed": 1,
+            "rng": 1,
             "axis_sigma_deg": 5.0,
             "max_restarts": 1,
             "min_restarts": 0,
@@ -526,7 +526,10 @@ NONE_OK = {
     ("random_attitude", "n"),
     ("phase_observations", "max_satellites"),
     ("glonass_propagate", "model"),
-    ("fit_rotation", "seed"),
+    ("fit_rotation", "rng"),
+    # rng=None draws fresh entropy in every stochastic entry of the simulator (docs/conventions.md)
+    *((name, "rng") for name in ("random_attitude", "random_los", "simulate_array", "simulate_spaceborne")),
+    *((name, "rng") for name in ("gyro_output", "phase_observations", "attitude_fixes")),
     ("fit_rotation", "axis_sigma_deg"),
     ("simulate_array", "cn0_dbhz"),
 }
@@ -791,8 +794,8 @@ SPECIFIC = [
     ("fit_rotation", "mutation", (0.5,), InvalidInputError),
     ("fit_rotation", "mutation", 2.0, InvalidInputError),
     ("fit_rotation", "mutation", (1.0, 0.5), InvalidInputError),
-    ("fit_rotation", "seed", 2**70, InvalidInputError),
-    ("fit_rotation", "seed", -1, InvalidInputError),
+    ("fit_rotation", "rng", 2**70, InvalidInputError),
+    ("fit_rotation", "rng", -1, InvalidInputError),
     ("fit_rotation", "max_rate_rad_s", 0.0, InvalidInputError),
     ("fit_rotation", "restart", "again", InvalidInputError),
     ("fit_rotation", "polish", "yes", InvalidTypeError),

@@ -214,7 +214,7 @@ ENTRIES: dict[str, Entry] = {
             "window_deg": 10.0,
         },
         nonfinite_ok={"sd_phase", "los", "wavelength"},  # NaN marks absent signals, documented
-        nan_fields={"euler_deg", "z_max"},  # NaN at unsolved epochs, flagged by solved
+        nan_fields={"euler_gost_deg", "z_max"},  # NaN at unsolved epochs, flagged by solved
     ),
     "gnssatt.ml_baseline_series": _e(
         lambda: {

@@ -137,7 +137,7 @@ class GyroOutput:
 def gyro_output(
     t: ArrayLike,
     attitude: Rotation,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     drift_rad_s: ArrayLike,
     arw: float,
@@ -161,7 +161,7 @@ def gyro_output(
     if len(tt) < 2 or np.any(np.diff(tt) <= 0):
         raise InvalidInputError("expected at least 2 strictly increasing gyro time stamps t")
     _per_epoch("attitude", attitude, len(tt))
-    generator("rng", rng)
+    rng = generator("rng", rng)
     arw = scalar("arw", arw, minimum=0.0)
     rrw = scalar("rrw", rrw, minimum=0.0)
     b0 = vector_array("drift_rad_s", drift_rad_s, ndim=1, shape="(3,)")
@@ -306,7 +306,7 @@ def phase_observations(
     t: ArrayLike,
     attitude: Rotation,
     baselines_m: ArrayLike,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     sigma_cycles: float,
     baseline_errors_m: ArrayLike | None = None,
@@ -334,7 +334,7 @@ def phase_observations(
     instance("gnss", gnss, Constellation, "a gnssatt.sim Constellation")
     tt = float_array("t", t, ndim=1, shape="(n_e,)")
     _per_epoch("attitude", attitude, len(tt))
-    generator("rng", rng)
+    rng = generator("rng", rng)
     b = _baselines(baselines_m)
     db = (
         np.zeros_like(b)
@@ -419,7 +419,7 @@ def attitude_fixes(
     phases: PhaseObservations,
     attitude: Rotation,
     baselines_m: ArrayLike,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     sigma_cycles: float,
     min_satellites: int = 3,
@@ -439,7 +439,7 @@ def attitude_fixes(
     """
     instance("phases", phases, PhaseObservations, "gnssatt.sim PhaseObservations")
     _per_epoch("attitude", attitude, len(phases.epoch_t))
-    generator("rng", rng)
+    rng = generator("rng", rng)
     b = _baselines(baselines_m)
     sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
     sigma = scalar("sigma_cycles", sigma, minimum=SIGMA_RANGE_CYCLES[0], maximum=SIGMA_RANGE_CYCLES[1])
