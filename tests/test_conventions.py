@@ -194,9 +194,9 @@ def test_attitude_fixes_rotation_is_the_body_to_eci_attitude() -> None:
     leo = sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=97.0)
     b = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     ph = scen.phase_observations(
-        leo, sim.gps_nominal(), t, truth, b, rng=2, sigma_cycles=1e-4, half_angle_deg=180.0
+        leo, sim.gps_nominal(), t, truth, b, rng=2, phase_sigma_cycles=1e-4, half_angle_deg=180.0
     )
-    fixes = scen.attitude_fixes(ph, truth, b, rng=3, sigma_cycles=1e-4)
+    fixes = scen.attitude_fixes(ph, truth, b, rng=3, phase_sigma_cycles=1e-4)
     assert len(fixes.rotation) == len(fixes.t) == 3
     assert _angle_deg(fixes.rotation, truth) < 0.05  # 1e-4 cycles on 1 m baselines: ~1e-3 deg
 
@@ -251,7 +251,7 @@ LEO = sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=97.0)
 T3 = np.array([0.0, 10.0, 20.0])
 ATT3 = Rotation.from_rotvec(np.zeros((3, 3)))
 B2 = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-PHASES = scen.phase_observations(LEO, GPS, T3, ATT3, B2, rng=2, sigma_cycles=0.01, half_angle_deg=180.0)
+PHASES = scen.phase_observations(LEO, GPS, T3, ATT3, B2, rng=2, phase_sigma_cycles=0.01, half_angle_deg=180.0)
 _R, _V = LEO.state_ecef(T3)
 
 
@@ -288,12 +288,12 @@ STOCHASTIC: dict[str, tuple[Callable[..., Any], Callable[[Any], Any]]] = {
     ),
     "phase_observations": (
         lambda rng: scen.phase_observations(
-            LEO, GPS, T3, ATT3, B2, rng=rng, sigma_cycles=0.01, half_angle_deg=180.0
+            LEO, GPS, T3, ATT3, B2, rng=rng, phase_sigma_cycles=0.01, half_angle_deg=180.0
         ),
         lambda p: p.phase,
     ),
     "attitude_fixes": (
-        lambda rng: scen.attitude_fixes(PHASES, ATT3, B2, rng=rng, sigma_cycles=0.01),
+        lambda rng: scen.attitude_fixes(PHASES, ATT3, B2, rng=rng, phase_sigma_cycles=0.01),
         lambda f: f.rotation.as_quat(),
     ),
     "fit_rotation": (
@@ -430,6 +430,10 @@ def test_renamed_keywords_warn_and_pass_on() -> None:
         a = tumble.fit_rotation(t, axes, seed=5, maxiter=2, popsize=2, polish=False)
     b = tumble.fit_rotation(t, axes, rng=5, maxiter=2, popsize=2, polish=False)
     np.testing.assert_array_equal(a.params, b.params)  # the same integer, the same fit as before the rename
+    with _warns_new_name("phase_sigma_cycles"):
+        old_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, sigma_cycles=0.01)
+    new_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, phase_sigma_cycles=0.01)
+    np.testing.assert_array_equal(old_fixes.rotation.as_quat(), new_fixes.rotation.as_quat())
     with pytest.raises(InvalidInputError, match="both 'seed' and its new name 'rng'"):
         tumble.fit_rotation(t, axes, seed=5, rng=5)
 

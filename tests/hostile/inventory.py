@@ -421,7 +421,7 @@ ENTRIES: dict[str, Entry] = {
             "attitude": Rotation.identity(len(s.phases().epoch_t)),
             "baselines_m": s.BASELINES.copy(),
             "rng": 1,
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
             "min_satellites": 3,
         }
     ),
@@ -452,7 +452,7 @@ ENTRIES: dict[str, Entry] = {
             "attitude": s.gyro()["att"][::10],
             "baselines_m": s.BASELINES.copy(),
             "rng": 1,
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
             "half_angle_deg": 80.0,
         }
     ),

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt._renamed import renamed
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError, InvalidTypeError
 from gnssatt.sim._util import generator, instance, vector_array
 from gnssatt.sim.constellation import Constellation
@@ -300,6 +301,7 @@ def _visible(
     return los, up & earth_occlusion_mask(r_r, r_s, atmosphere_m=atmosphere_m)
 
 
+@renamed(sigma_cycles="phase_sigma_cycles")
 def phase_observations(
     receiver: OrbitalReceiver,
     gnss: Constellation,
@@ -308,7 +310,7 @@ def phase_observations(
     baselines_m: ArrayLike,
     rng: int | np.random.Generator | None = None,
     *,
-    sigma_cycles: float,
+    phase_sigma_cycles: float,
     baseline_errors_m: ArrayLike | None = None,
     half_angle_deg: float = 80.0,
     atmosphere_m: float = 100e3,
@@ -327,7 +329,7 @@ def phase_observations(
     ------
     InvalidInputError
         Bad types, shapes or values: ``half_angle_deg`` outside (0, 180], negative ``atmosphere_m`` or
-        ``sigma_cycles``, ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
+        ``phase_sigma_cycles``, ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
         integer cycles)`` rows.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
@@ -343,7 +345,7 @@ def phase_observations(
     )
     if db.shape != b.shape:
         raise InvalidInputError(f"expected baseline_errors_m of shape {b.shape}, got {db.shape}")
-    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0)
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0)
     half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True, unit="deg")
     scalar("half_angle_deg", half, maximum=180.0, unit="deg")
     arcs_after = float_array("new_arcs_after", new_arcs_after, ndim=1, shape="(k,)")
@@ -415,13 +417,14 @@ class AttitudeFixes:
         _rows("covariance", self.covariance, (n, 3, 3))
 
 
+@renamed(sigma_cycles="phase_sigma_cycles")
 def attitude_fixes(
     phases: PhaseObservations,
     attitude: Rotation,
     baselines_m: ArrayLike,
     rng: int | np.random.Generator | None = None,
     *,
-    sigma_cycles: float,
+    phase_sigma_cycles: float,
     min_satellites: int = 3,
 ) -> AttitudeFixes:
     """The receiver's own attitude solution at each epoch of ``phases`` with at least ``min_satellites``
@@ -433,7 +436,7 @@ def attitude_fixes(
     Raises
     ------
     InvalidInputError
-        Bad types, shapes or values (``min_satellites`` < 1, ``sigma_cycles`` <= 0).
+        Bad types, shapes or values (``min_satellites`` < 1, ``phase_sigma_cycles`` <= 0).
     DegenerateGeometryError
         An epoch whose lines of sight and baselines do not fix all three attitude angles.
     """
@@ -441,8 +444,8 @@ def attitude_fixes(
     _per_epoch("attitude", attitude, len(phases.epoch_t))
     rng = generator("rng", rng)
     b = _baselines(baselines_m)
-    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
-    sigma = scalar("sigma_cycles", sigma, minimum=SIGMA_RANGE_CYCLES[0], maximum=SIGMA_RANGE_CYCLES[1])
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True)
+    sigma = scalar("phase_sigma_cycles", sigma, minimum=SIGMA_RANGE_CYCLES[0], maximum=SIGMA_RANGE_CYCLES[1])
     count = phases.n_visible()
     keep = np.nonzero(count >= integer("min_satellites", min_satellites, minimum=1))[0]
     s_body = attitude[phases.epoch].inv().apply(phases.los)
