@@ -68,7 +68,7 @@ def test_gravity_gradient_equilibrium(inertia: tuple[float, float, float], stabl
 
 def test_fit_recovers_the_initial_state_from_noise_free_axes() -> None:
     t = np.arange(0.0, 1501.0, 1.0)
-    fit = tumble.fit_rotation(t, tumble.propagate_axes(TRUTH, t, MODEL), MODEL, seed=1)
+    fit = tumble.fit_rotation(t, tumble.propagate_axes(TRUTH, t, MODEL), MODEL, rng=1)
     est = tumble.fold_symmetric(fit.params, TRUTH)
     ang_err = np.degrees((est[:3] - TRUTH[:3] + np.pi) % (2 * np.pi) - np.pi)
     assert np.all(np.abs(ang_err) < 2.0), ang_err
@@ -79,7 +79,7 @@ def test_fit_recovers_the_initial_state_from_noise_free_axes() -> None:
 def test_fit_is_reproducible_with_a_seed() -> None:
     t = np.arange(0.0, 301.0, 5.0)
     axes = tumble.propagate_axes(TRUTH, t, MODEL)
-    a, b = (tumble.fit_rotation(t, axes, MODEL, seed=3, maxiter=15, polish=False) for _ in range(2))
+    a, b = (tumble.fit_rotation(t, axes, MODEL, rng=3, maxiter=15, polish=False) for _ in range(2))
     np.testing.assert_array_equal(a.params, b.params)
     assert a.nfev == b.nfev and a.cost == b.cost
 
@@ -154,7 +154,7 @@ def test_restarts_follow_the_noise_threshold(kind: str) -> None:
     t = np.arange(0.0, 61.0, 2.0)
     rng = np.random.default_rng(2)
     meas = _tilted(rng, tumble.propagate_axes(TRUTH, t, MODEL), np.radians(5.0))
-    quick = {"maxiter": 3, "polish": False, "popsize": 5, "seed": 9, "restart": kind}
+    quick = {"maxiter": 3, "polish": False, "popsize": 5, "rng": 9, "restart": kind}
     single = tumble.fit_rotation(t, meas, MODEL, max_restarts=0, **quick)
     # A 0.01-deg noise claim cannot be met after 3 generations: every restart is used, the best kept.
     strict = tumble.fit_rotation(t, meas, MODEL, axis_sigma_deg=0.01, max_restarts=2, **quick)

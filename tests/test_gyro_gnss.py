@@ -68,7 +68,7 @@ def trial(
         att[::10],
         BASELINES,
         rng,
-        sigma_cycles=sigma_cycles,
+        phase_sigma_cycles=sigma_cycles,
         max_satellites=max_satellites,
         slips=slips,
     )
@@ -76,7 +76,11 @@ def trial(
     q0 = att[0] * Rotation.from_rotvec(-e0[:3])
     meas: dict[str, object] = {"phases": ph, "baselines_m": BASELINES}
     if mode == "loose":
-        meas = {"attitude_fixes": sc.attitude_fixes(ph, att[::10], BASELINES, rng, sigma_cycles=sigma_cycles)}
+        meas = {
+            "attitude_fixes": sc.attitude_fixes(
+                ph, att[::10], BASELINES, rng, phase_sigma_cycles=sigma_cycles
+            )
+        }
     elif mode == "matrix":
         meas = {
             "attitude_fixes": phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=sigma_cycles)
@@ -140,9 +144,11 @@ def test_rust_filter_matches_numpy_reference(mode: str) -> None:
     t, att, _ = motion(60.0)
     g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW)
     ph = sc.phase_observations(
-        RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01, max_satellites=4
+        RX, gnss(), t[::10], att[::10], BASELINES, rng, phase_sigma_cycles=0.01, max_satellites=4
     )
-    fixes = sc.attitude_fixes(ph, att[::10], BASELINES, rng, sigma_cycles=0.01) if mode == "loose" else None
+    fixes = (
+        sc.attitude_fixes(ph, att[::10], BASELINES, rng, phase_sigma_cycles=0.01) if mode == "loose" else None
+    )
     phases = ph if mode == "tight" else None
     q0 = att[0] * Rotation.from_rotvec(np.radians([0.3, -0.2, 0.4]))
     r = gyro_gnss_filter(
@@ -224,7 +230,7 @@ def test_validation_stops_the_wrong_fixes_that_an_unvalidated_filter_makes() -> 
 def test_cycle_slip_is_detected_and_the_ambiguity_refixed() -> None:
     t, att, _ = motion(300.0)
     seen = sc.phase_observations(
-        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), phase_sigma_cycles=0.01
     )
     sat = int(np.bincount(seen.satellite).argmax())  # visible throughout (checked below)
     assert np.all(np.isin(np.arange(len(seen.epoch_t)), seen.epoch[seen.satellite == sat]))
@@ -252,7 +258,7 @@ def test_true_error_covariance_matches_monte_carlo_errors() -> None:
         mu, db = rng.normal(0.0, mis, 3), rng.normal(0.0, base, (2, 3))
         g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW, misalignment_rad=mu)
         ph = sc.phase_observations(
-            RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01, baseline_errors_m=db
+            RX, gnss(), t[::10], att[::10], BASELINES, rng, phase_sigma_cycles=0.01, baseline_errors_m=db
         ).without_ambiguities()
         e0 = rng.multivariate_normal(np.zeros(6), P0)
         r = gyro_gnss_filter(
@@ -305,7 +311,7 @@ def test_non_increasing_time_stamps_are_rejected() -> None:
 def test_measurements_outside_the_gyro_record_are_rejected() -> None:
     t, att, _ = motion(60.0)
     ph = sc.phase_observations(
-        RX, gnss(), t[::10] + 5.0, att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+        RX, gnss(), t[::10] + 5.0, att[::10], BASELINES, np.random.default_rng(0), phase_sigma_cycles=0.01
     )
     with pytest.raises(InvalidInputError, match="within the gyro record"):
         gyro_gnss_filter(t, np.zeros((len(t), 3)), **base_args(), baselines_m=BASELINES, phases=ph)
@@ -314,7 +320,7 @@ def test_measurements_outside_the_gyro_record_are_rejected() -> None:
 def test_zero_length_baseline_is_rejected() -> None:
     t, att, _ = motion(60.0)
     ph = sc.phase_observations(
-        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), phase_sigma_cycles=0.01
     )
     bad = BASELINES.copy()
     bad[1] = 0.0
@@ -325,7 +331,7 @@ def test_zero_length_baseline_is_rejected() -> None:
 def test_sensitivity_needs_known_ambiguities() -> None:
     t, att, _ = motion(60.0)
     ph = sc.phase_observations(
-        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), sigma_cycles=0.01
+        RX, gnss(), t[::10], att[::10], BASELINES, np.random.default_rng(0), phase_sigma_cycles=0.01
     )
     with pytest.raises(InvalidInputError, match="known ambiguities"):
         gyro_gnss_filter(
@@ -342,7 +348,7 @@ def test_true_error_covariance_equals_the_filters_without_unmodelled_errors() ->
     rng = np.random.default_rng(2)
     t, att, _ = motion(60.0)
     g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW)
-    ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01)
+    ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, phase_sigma_cycles=0.01)
     r = gyro_gnss_filter(
         t,
         g.rates,
@@ -367,7 +373,7 @@ def test_misalignment_states_make_the_filter_consistent_where_the_reduced_one_is
         rng = np.random.default_rng(seed)
         mu = rng.normal(0.0, sigma_mu, 3)
         g = sc.gyro_output(t, att, rng, drift_rad_s=DRIFT, arw=ARW, misalignment_rad=mu)
-        ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, sigma_cycles=0.01)
+        ph = sc.phase_observations(RX, gnss(), t[::10], att[::10], BASELINES, rng, phase_sigma_cycles=0.01)
         e0 = rng.multivariate_normal(np.zeros(6), P0)
         kw = {
             "initial_rotation": att[0] * Rotation.from_rotvec(-e0[:3]),
@@ -435,7 +441,7 @@ def test_matrix_fix_covariance_matches_monte_carlo_errors(n_sat: int | None) -> 
         att[:1],
         BASELINES,
         np.random.default_rng(0),
-        sigma_cycles=0.0,
+        phase_sigma_cycles=0.0,
         max_satellites=n_sat,
     )
     assert n_sat is not None or len(np.unique(ph.wavelength)) > 1
@@ -456,7 +462,7 @@ def test_matrix_fixes_without_noise_are_the_truth() -> None:
     # pins the sign of the range differences: a wrong sign gives a different rotation, not the truth
     t, att, _ = motion(60.0)
     ph = sc.phase_observations(
-        RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(1), sigma_cycles=0.0
+        RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(1), phase_sigma_cycles=0.0
     )
     fixes = phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=0.01)
     np.testing.assert_array_equal(fixes.t, ph.epoch_t)
@@ -469,7 +475,9 @@ def test_matrix_fixes_without_noise_are_the_truth() -> None:
 def test_matrix_fixes_skip_epochs_that_do_not_fix_the_attitude() -> None:
     t, att, _ = motion(60.0)
     rng = np.random.default_rng(2)
-    ph = sc.phase_observations(RX, gnss(), t[:1], att[:1], BASELINES, rng, sigma_cycles=0.0, max_satellites=3)
+    ph = sc.phase_observations(
+        RX, gnss(), t[:1], att[:1], BASELINES, rng, phase_sigma_cycles=0.0, max_satellites=3
+    )
     los, lam, truth = ph.los, ph.wavelength, att[0]
     tetra = np.vstack([BASELINES, [0.0, 0.0, 0.7]])  # a fourth antenna off the plane
     for baselines, solved in ((BASELINES, [3.0]), (tetra, [2.0, 3.0])):
@@ -497,7 +505,7 @@ def test_matrix_fixes_skip_epochs_that_do_not_fix_the_attitude() -> None:
 def test_matrix_fixes_reject_bad_input() -> None:
     t, att, _ = motion(60.0)
     ph = sc.phase_observations(
-        RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(3), sigma_cycles=0.01
+        RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(3), phase_sigma_cycles=0.01
     )
     with pytest.raises(InvalidInputError, match="ambiguities of shape"):
         phase_attitude_fixes(ph, BASELINES, ph.ambiguity[:-1], sigma_cycles=0.01)

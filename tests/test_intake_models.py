@@ -50,7 +50,7 @@ def _spaceborne() -> SpaceborneMeasurements:
 
 MEAS = _spaceborne()
 PHASES = scen.phase_observations(
-    LEO, GPS, T3, ATT3, BASELINES, np.random.default_rng(2), sigma_cycles=0.01, half_angle_deg=180.0
+    LEO, GPS, T3, ATT3, BASELINES, np.random.default_rng(2), phase_sigma_cycles=0.01, half_angle_deg=180.0
 )
 FILTERED = orbit_nav.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
 
@@ -298,7 +298,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "attitude": ATT3,
             "baselines_m": BASELINES,
             "rng": RNG,
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
             "half_angle_deg": 80.0,
             "atmosphere_m": 1e5,
             "max_satellites": 8,
@@ -313,7 +313,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "attitude": ATT3,
             "baselines_m": BASELINES,
             "rng": RNG,
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
             "min_satellites": 3,
         },
     ),
@@ -438,7 +438,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         {
             "t": T3,
             "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
-            "seed": 1,
+            "rng": 1,
             "axis_sigma_deg": 5.0,
             "max_restarts": 1,
             "min_restarts": 0,
@@ -526,7 +526,10 @@ NONE_OK = {
     ("random_attitude", "n"),
     ("phase_observations", "max_satellites"),
     ("glonass_propagate", "model"),
-    ("fit_rotation", "seed"),
+    ("fit_rotation", "rng"),
+    # rng=None draws fresh entropy in every stochastic entry of the simulator (docs/conventions.md)
+    *((name, "rng") for name in ("random_attitude", "random_los", "simulate_array", "simulate_spaceborne")),
+    *((name, "rng") for name in ("gyro_output", "phase_observations", "attitude_fixes")),
     ("fit_rotation", "axis_sigma_deg"),
     ("simulate_array", "cn0_dbhz"),
 }
@@ -742,7 +745,7 @@ SPECIFIC = [
     ("phase_observations", "slips", np.array([[0.0, 1.0, 0.5]]), InvalidInputError),
     ("phase_observations", "slips", np.array([[0.0, 1.0j, 1.0]]), InvalidTypeError),
     ("phase_observations", "new_arcs_after", np.array([math.nan]), InvalidInputError),
-    ("attitude_fixes", "sigma_cycles", 0.0, InvalidInputError),
+    ("attitude_fixes", "phase_sigma_cycles", 0.0, InvalidInputError),
     ("PhaseObservations", "epoch", PHASES.epoch + 100, InvalidInputError),
     ("PhaseObservations", "epoch", PHASES.epoch + 0.5, InvalidTypeError),
     ("PhaseObservations", "track", PHASES.track[:-1], InvalidInputError),
@@ -791,8 +794,8 @@ SPECIFIC = [
     ("fit_rotation", "mutation", (0.5,), InvalidInputError),
     ("fit_rotation", "mutation", 2.0, InvalidInputError),
     ("fit_rotation", "mutation", (1.0, 0.5), InvalidInputError),
-    ("fit_rotation", "seed", 2**70, InvalidInputError),
-    ("fit_rotation", "seed", -1, InvalidInputError),
+    ("fit_rotation", "rng", 2**70, InvalidInputError),
+    ("fit_rotation", "rng", -1, InvalidInputError),
     ("fit_rotation", "max_rate_rad_s", 0.0, InvalidInputError),
     ("fit_rotation", "restart", "again", InvalidInputError),
     ("fit_rotation", "polish", "yes", InvalidTypeError),
@@ -802,8 +805,8 @@ SPECIFIC = [
     ("orbital_hold_motion", "amplitude_rad", np.full(3, 4.0), InvalidInputError),
     ("attitude_fixes", "baselines_m", np.full((2, 3), 1e20), InvalidInputError),
     ("attitude_fixes", "baselines_m", np.zeros((2, 3)), InvalidInputError),
-    ("attitude_fixes", "sigma_cycles", 1e300, InvalidInputError),
-    ("attitude_fixes", "sigma_cycles", 1e-300, InvalidInputError),
+    ("attitude_fixes", "phase_sigma_cycles", 1e300, InvalidInputError),
+    ("attitude_fixes", "phase_sigma_cycles", 1e-300, InvalidInputError),
     ("simulate_spaceborne", "receiver_velocity_m_s", np.full((3, 3), 1e300), InvalidInputError),
     ("simulate_spaceborne", "receiver_position_m", np.full((3, 3), 1e300), InvalidInputError),
     ("noise_cost_threshold", "n_epochs", 2**63, InvalidInputError),
@@ -981,7 +984,7 @@ def test_white_acceleration_noise_overflow_raises_not_inf() -> None:
 
 def test_attitude_fixes_with_one_baseline_and_one_satellite_is_degenerate() -> None:
     with pytest.raises(DegenerateGeometryError, match="min_satellites"):
-        scen.attitude_fixes(PHASES, ATT3, BASELINES[:1], RNG, sigma_cycles=0.01, min_satellites=1)
+        scen.attitude_fixes(PHASES, ATT3, BASELINES[:1], RNG, phase_sigma_cycles=0.01, min_satellites=1)
 
 
 def test_receiver_fix_skips_collinear_satellites_instead_of_nan() -> None:

@@ -94,7 +94,7 @@ def test_rust_matches_numpy_reference(statistic):
     res = gnssatt.ml_attitude(
         p, los, TRIANGLE, lam, statistic=statistic, step_deg=2.0, window_deg=window, refine=False
     )
-    np.testing.assert_allclose(res.euler_deg, grid.argmax_deg(), atol=1e-9)
+    np.testing.assert_allclose(res.euler_gost_deg, grid.argmax_deg(), atol=1e-9)
     assert res.z_max == pytest.approx(float(grid.z.max()))
 
 
@@ -118,14 +118,14 @@ def test_noise_free_recovery_random_attitudes(name):
         res = gnssatt.ml_attitude(p, los, b, lam, step_deg=1.5)
         err = (res.rotation * rotation_from_euler(truth).inv()).magnitude()
         # Without noise the continuous maximum of Z is the truth: Newton reaches it to rounding.
-        assert np.degrees(err) < 1e-5, (truth, res.euler_deg)
+        assert np.degrees(err) < 1e-5, (truth, res.euler_gost_deg)
         assert res.step_deg == pytest.approx(1.5)
         # Per-axis parabolas (16) ignore the coupling of the Euler angles near the peak. The peak is a
         # tilted ellipsoid, so the grid maximum is the cell nearest the truth or one of its neighbours
         # (<= 1.5 steps per axis), and the parabola moves at most half a step: <= 2 steps per angle.
         para = gnssatt.ml_attitude(p, los, b, lam, step_deg=1.5, refine="parabolic")
-        d = (np.asarray(para.euler_deg) - truth + 180.0) % 360.0 - 180.0
-        assert np.all(np.abs(d) <= 2 * 1.5), (truth, para.euler_deg)
+        d = (np.asarray(para.euler_gost_deg) - truth + 180.0) % 360.0 - 180.0
+        assert np.all(np.abs(d) <= 2 * 1.5), (truth, para.euler_gost_deg)
 
 
 def test_glonass_wavelengths_and_epochs():
@@ -173,7 +173,7 @@ def test_branch_and_bound_equals_exhaustive_on_200_scenarios():
         kw = dict(statistic=stats[trial % 3], step_deg=2.0, window_deg=window, refine=False)
         ex = gnssatt.ml_attitude(p, los, b, L1, search="exhaustive", **kw)
         bb = gnssatt.ml_attitude(p, los, b, L1, search="branch_and_bound", **kw)
-        assert (ex.z_max, tuple(ex.euler_deg)) == (bb.z_max, tuple(bb.euler_deg)), trial
+        assert (ex.z_max, tuple(ex.euler_gost_deg)) == (bb.z_max, tuple(bb.euler_gost_deg)), trial
 
 
 def test_branch_and_bound_saves_cells_on_paper_scenario():
@@ -185,8 +185,8 @@ def test_branch_and_bound_saves_cells_on_paper_scenario():
     bb = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=1.5, refine=False, search="branch_and_bound")
     auto = gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=1.5, refine=False)
     assert bb.z_max == ex.z_max == auto.z_max
-    np.testing.assert_array_equal(bb.euler_deg, ex.euler_deg)
-    np.testing.assert_array_equal(auto.euler_deg, ex.euler_deg)
+    np.testing.assert_array_equal(bb.euler_gost_deg, ex.euler_gost_deg)
+    np.testing.assert_array_equal(auto.euler_gost_deg, ex.euler_gost_deg)
     # 7.0e6 cells: the default search is the branch-and-bound, which evaluates well under 1% of them.
     assert bb.cells_evaluated * 100 < ex.cells_evaluated
     assert auto.cells_evaluated == bb.cells_evaluated
@@ -202,18 +202,18 @@ def test_unknown_search_is_refused():
 
 def test_window_and_prior_from_velocity():
     prior = gnssatt.prior_from_velocity([0.0, 50.0, 0.0])
-    np.testing.assert_allclose(prior.euler_deg, [0.0, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(prior.euler_gost_deg, [0.0, 0.0, 0.0], atol=1e-12)
     east = gnssatt.prior_from_velocity([50.0, 0.0, 5.0], [0.0, -3.0, 0.0])  # turning right while heading east
-    assert east.euler_deg[0] == pytest.approx(-90.0)
-    assert east.euler_deg[1] == pytest.approx(np.degrees(np.arctan2(5, 50)))
-    assert east.euler_deg[2] == pytest.approx(np.degrees(np.arctan2(3.0, 9.80665)))
+    assert east.euler_gost_deg[0] == pytest.approx(-90.0)
+    assert east.euler_gost_deg[1] == pytest.approx(np.degrees(np.arctan2(5, 50)))
+    assert east.euler_gost_deg[2] == pytest.approx(np.degrees(np.arctan2(3.0, 9.80665)))
     rng = np.random.default_rng(7)
     los = sky(rng, 8)
-    truth = east.euler_deg + np.array([3.0, -2.0, 4.0])
+    truth = east.euler_gost_deg + np.array([3.0, -2.0, 4.0])
     p = phases(rng, TRIANGLE, los, L1, truth)
     res = gnssatt.ml_attitude(p, los, TRIANGLE, L1, window_deg=east)
     full = gnssatt.ml_attitude(p, los, TRIANGLE, L1, search="exhaustive")
-    np.testing.assert_allclose(res.euler_deg, full.euler_deg, atol=1e-9)
+    np.testing.assert_allclose(res.euler_gost_deg, full.euler_gost_deg, atol=1e-9)
     assert res.cells_evaluated < full.cells_evaluated / 1000
 
 

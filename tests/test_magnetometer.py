@@ -55,12 +55,12 @@ def test_yaw_matches_truth_in_every_quadrant(rng: np.random.Generator) -> None:
     truth = Rotation.from_euler("ZYX", np.column_stack([psi, theta, phi]))
     b_body = truth.inv().apply(b_orb)
     res = gnssatt.yaw_from_magnetometer(b_body, b_orb, theta, phi)
-    np.testing.assert_allclose(res.yaw, psi, atol=1e-9)
+    np.testing.assert_allclose(res.yaw_rad, psi, atol=1e-9)
     assert np.max((res.rotation * truth.inv()).magnitude()) < 1e-9
     one = gnssatt.yaw_from_magnetometer(
         b_body[0], b_orb[0], np.degrees(theta[0]), np.degrees(phi[0]), degrees=True
     )
-    assert isinstance(one.yaw, float) and one.yaw == pytest.approx(psi[0], abs=1e-9)
+    assert isinstance(one.yaw_rad, float) and one.yaw_rad == pytest.approx(psi[0], abs=1e-9)
     assert one.yaw_deg == pytest.approx(np.degrees(psi[0]), abs=1e-7)
 
 

@@ -138,7 +138,7 @@ def test_euler_angles_are_heading_pitch_roll() -> None:
     los = unit_rows(np.array([[0.3, 0.2, 1.0], [-0.7, 0.1, 0.5], [0.2, -0.8, 0.4]]))
     truth = Rotation.from_euler("ZYX", [-170, 5, -3], degrees=True)
     res = gnssatt.matrix_attitude(TRIANGLE, los, measure(TRIANGLE, los, truth))
-    np.testing.assert_allclose(res.euler_deg, [-170, 5, -3], atol=1e-9)
+    np.testing.assert_allclose(res.heading_pitch_roll_deg, [-170, 5, -3], atol=1e-9)
 
 
 def test_degenerate_geometry_names_the_matrix() -> None:

@@ -82,7 +82,7 @@ def test_attitude_series_equals_ml_attitude_epoch_by_epoch():
 
         def single(pk, sk, lk, win, b=b):
             r = ml_attitude(pk, sk, b, lk, step_deg=3.0, window_deg=win)
-            return r.euler_deg, r.z_max, r.rotation
+            return r.euler_gost_deg, r.z_max, r.rotation
 
         for window in (None, 12.0):
             got = ml_attitude_series(p, s, b, lam, step_deg=3.0, window_deg=window)
@@ -90,11 +90,11 @@ def test_attitude_series_equals_ml_attitude_epoch_by_epoch():
             for k, w in enumerate(want):
                 if w is None:
                     assert not got.solved[k]
-                    assert np.all(np.isnan(got.euler_deg[k])) and np.isnan(got.z_max[k])
+                    assert np.all(np.isnan(got.euler_gost_deg[k])) and np.isnan(got.z_max[k])
                     np.testing.assert_array_equal(got.rotation[k].as_matrix(), np.eye(3))
                     continue
                 assert got.solved[k]
-                np.testing.assert_array_equal(got.euler_deg[k], w[0])
+                np.testing.assert_array_equal(got.euler_gost_deg[k], w[0])
                 assert got.z_max[k] == w[1]
                 np.testing.assert_allclose(got.rotation[k].as_matrix(), w[2].as_matrix(), atol=1e-12)
 
@@ -139,7 +139,7 @@ def test_series_recovers_the_truth_and_mask_equals_nan():
     p, s = np.array(p), np.array(s)
     for window in (None, 5.0):
         got = ml_attitude_series(p, s, b, L1, window_deg=window)
-        np.testing.assert_allclose(got.euler_deg, truths, atol=1e-6)
+        np.testing.assert_allclose(got.euler_gost_deg, truths, atol=1e-6)
         rel = got.rotation * rotation_from_euler(truths).inv()
         assert np.max(rel.magnitude()) < 1e-7
     # A mask is the same as NaN phases; absent signals' los and wavelengths may be NaN.
@@ -153,10 +153,10 @@ def test_series_recovers_the_truth_and_mask_equals_nan():
     lam[1, [0, 3]] = np.nan
     a = ml_attitude_series(p, s, b, L1, mask=mask, step_deg=2.0)
     c = ml_attitude_series(with_nan, s_nan, b, lam, step_deg=2.0)
-    np.testing.assert_array_equal(a.euler_deg, c.euler_deg)
+    np.testing.assert_array_equal(a.euler_gost_deg, c.euler_gost_deg)
     d = ml_attitude_series(p, s, b, L1, step_deg=2.0)
-    assert not np.array_equal(a.euler_deg[1], d.euler_deg[1])
-    np.testing.assert_array_equal(a.euler_deg[[0, 2]], d.euler_deg[[0, 2]])
+    assert not np.array_equal(a.euler_gost_deg[1], d.euler_gost_deg[1])
+    np.testing.assert_array_equal(a.euler_gost_deg[[0, 2]], d.euler_gost_deg[[0, 2]])
 
 
 def test_baseline_series_truth():

@@ -197,8 +197,8 @@ def test_input_errors_have_helpful_messages() -> None:
         sim.simulate_array(geom, att, ant, lam[:5], rng)
     with pytest.raises(InvalidInputError, match="wavelengths_m > 0"):
         sim.simulate_array(geom, att, ant, -lam, rng)
-    with pytest.raises(TypeError, match=r"numpy\.random\.Generator"):
-        sim.simulate_array(geom, att, ant, lam, 42)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"expected rng as an int, a numpy\.random\.Generator"):
+        sim.simulate_array(geom, att, ant, lam, 4.2)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="scipy Rotation"):
         sim.simulate_array(geom, np.eye(3), ant, lam, rng)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="Geometry"):

@@ -35,7 +35,7 @@ def test_fit_from_simulated_visibility_recovers_the_initial_state() -> None:
     # The centroid's accuracy with 48 satellites at 500 km (gnssatt.visibility docstring: 7.6 deg RMS).
     assert 4.0 < rms_deg < 11.0
 
-    fit = tumble.fit_rotation(t, meas, MODEL, seed=1)
+    fit = tumble.fit_rotation(t, meas, MODEL, rng=1)
     # The global minimum lies at or below the objective at the truth.
     assert fit.cost <= tumble.axis_cost(TRUTH, t, meas, MODEL)[0]
     est = tumble.fold_symmetric(fit.params, TRUTH)

@@ -45,6 +45,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, float_array, instance, scalar, shaped
+from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
 
@@ -83,8 +84,10 @@ WINDOW_LIMIT_DEG = 3600.0
 MAX_STEP_DEG = 180.0
 
 
-def rotation_from_euler(euler_deg: ArrayLike) -> Rotation:
-    """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3).
+@renamed(euler_deg="euler_gost_deg")
+def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
+    """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3): the GOST
+    ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``).
 
     Raises
     ------
@@ -92,7 +95,7 @@ def rotation_from_euler(euler_deg: ArrayLike) -> Rotation:
         Wrong shape or non-finite angles (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
         real numbers).
     """
-    angles = shaped("euler_deg", euler_deg, "(3,) or (n, 3)", (3,), (None, 3))
+    angles = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n, 3)", (3,), (None, 3))
     r_normal = Rotation.from_euler("YZX", angles, degrees=True).as_matrix()
     return Rotation.from_matrix(ENU_FROM_NORMAL @ r_normal)
 
@@ -110,14 +113,15 @@ def euler_from_rotation(rotation: Rotation) -> NDArray[np.float64]:
     return np.asarray(Rotation.from_matrix(r_normal).as_euler("YZX", degrees=True))
 
 
+@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class AttitudePrior:
     """A coarse attitude and the search window around it.
 
     Attributes
     ----------
-    euler_deg
-        (psi, theta, phi) of eq. (5), degrees, each in [-360, 360].
+    euler_gost_deg
+        (psi, theta, phi) of eq. (5), degrees, each in [-360, 360]. Formerly ``euler_deg``.
     half_width_deg
         Half-widths of the window in psi, theta, phi, degrees, each in (0, 360].
 
@@ -128,25 +132,27 @@ class AttitudePrior:
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
     """
 
-    euler_deg: NDArray[np.float64]
+    euler_gost_deg: NDArray[np.float64]
     half_width_deg: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        euler = shaped("euler_deg", self.euler_deg, "(3,)", (3,))
+        euler = shaped("euler_gost_deg", self.euler_gost_deg, "(3,)", (3,))
         half = shaped("half_width_deg", self.half_width_deg, "(3,)", (3,))
         if np.any(np.abs(euler) > 360.0):
-            raise InvalidInputError(f"expected euler_deg in [-360, 360] deg, got {euler}")
+            raise InvalidInputError(f"expected euler_gost_deg in [-360, 360] deg, got {euler}")
         if np.any(half <= 0.0) or np.any(half > 360.0):
             raise InvalidInputError(f"expected half_width_deg in (0, 360] deg, got {half}")
-        object.__setattr__(self, "euler_deg", euler)  # frozen: store the checked float64 copies
+        object.__setattr__(self, "euler_gost_deg", euler)  # frozen: store the checked float64 copies
         object.__setattr__(self, "half_width_deg", half)
 
     @property
     def window_deg(self) -> NDArray[np.float64]:
         """(3, 2) ``[lo, hi]`` ranges in degrees of psi, theta, phi."""
-        return np.stack([self.euler_deg - self.half_width_deg, self.euler_deg + self.half_width_deg], axis=1)
+        e, h = self.euler_gost_deg, self.half_width_deg
+        return np.stack([e - h, e + h], axis=1)
 
 
+@renamed(euler_deg="euler_gost_deg", grid_euler_deg="grid_euler_gost_deg")
 @dataclass(frozen=True)
 class LikelihoodAttitude:
     """Attitude from :func:`ml_attitude`.
@@ -155,10 +161,11 @@ class LikelihoodAttitude:
     ----------
     rotation
         Body -> East-North-Up rotation.
-    euler_deg
-        (psi, theta, phi) of eq. (5) in degrees (refined when asked); psi, phi in (-180, 180].
-    grid_euler_deg
-        Angles of the grid maximum, degrees.
+    euler_gost_deg
+        (psi, theta, phi) of eq. (5) in degrees (refined when asked); psi, phi in (-180, 180]. Formerly
+        ``euler_deg``.
+    grid_euler_gost_deg
+        Angles of the grid maximum, degrees, the same sequence. Formerly ``grid_euler_deg``.
     z_max
         The statistic at the grid maximum.
     cells_evaluated
@@ -169,8 +176,8 @@ class LikelihoodAttitude:
     """
 
     rotation: Rotation
-    euler_deg: NDArray[np.float64]
-    grid_euler_deg: NDArray[np.float64]
+    euler_gost_deg: NDArray[np.float64]
+    grid_euler_gost_deg: NDArray[np.float64]
     z_max: float
     cells_evaluated: int
     step_deg: float
@@ -404,8 +411,8 @@ def ml_attitude(
     euler = np.degrees(angles)
     return LikelihoodAttitude(
         rotation=rotation_from_euler(euler),
-        euler_deg=euler,
-        grid_euler_deg=np.degrees(grid_angles),
+        euler_gost_deg=euler,
+        grid_euler_gost_deg=np.degrees(grid_angles),
         z_max=float(z),
         cells_evaluated=int(cells),
         step_deg=float(np.degrees(step)),
@@ -575,9 +582,10 @@ def prior_from_velocity(
         right = np.array([np.cos(compass), -np.sin(compass), 0.0])
         with np.errstate(over="ignore"):  # an infinite lateral acceleration still has a bank angle of 90 deg
             roll = float(np.arctan2(a @ right, g))
-    return AttitudePrior(euler_deg=np.degrees([-compass, pitch, roll]), half_width_deg=hw)
+    return AttitudePrior(euler_gost_deg=np.degrees([-compass, pitch, roll]), half_width_deg=hw)
 
 
+@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class AttitudeSeries:
     """Per-epoch attitudes from :func:`ml_attitude_series`.
@@ -587,9 +595,9 @@ class AttitudeSeries:
     rotation
         (n_ep,) body -> East-North-Up rotations (the convention of :class:`LikelihoodAttitude`); the identity
         where ``solved`` is False.
-    euler_deg
+    euler_gost_deg
         (n_ep, 3) (psi, theta, phi) of eq. (5), degrees, refined as :func:`ml_attitude` with its defaults;
-        NaN where ``solved`` is False.
+        NaN where ``solved`` is False. Formerly ``euler_deg``.
     z_max
         (n_ep,) the ambiguity function at each epoch's grid maximum; NaN where ``solved`` is False.
     solved
@@ -597,7 +605,7 @@ class AttitudeSeries:
     """
 
     rotation: Rotation
-    euler_deg: NDArray[np.float64]
+    euler_gost_deg: NDArray[np.float64]
     z_max: NDArray[np.float64]
     solved: NDArray[np.bool_]
 
@@ -790,7 +798,7 @@ def ml_attitude_series(
     matrices = rotation_from_euler(np.where(solved[:, None], euler_deg, 0.0)).as_matrix()
     return AttitudeSeries(
         rotation=Rotation.from_matrix(np.where(solved[:, None, None], matrices, np.eye(3))),
-        euler_deg=euler_deg,
+        euler_gost_deg=euler_deg,
         z_max=z,
         solved=solved,
     )

@@ -15,6 +15,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import finite_outputs, flag, float_array
+from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError
 from gnssatt.vector_attitude import _vectors, _warn_small
 
@@ -26,14 +27,15 @@ COS_PITCH_WARN = 1e-2
 HORIZONTAL_WARN = 1e-2
 
 
+@renamed(yaw="yaw_rad")
 @dataclass(frozen=True)
 class YawResult:
     """Yaw from :func:`yaw_from_magnetometer`.
 
     Attributes
     ----------
-    yaw
-        psi in radians, (-pi, pi]; float or (epochs,).
+    yaw_rad
+        psi in radians, (-pi, pi]; float or (epochs,). Formerly ``yaw``.
     rotation
         Body -> orbital rotation ``ZYX(yaw, pitch, roll)`` with the given pitch and roll.
     cos_pitch
@@ -43,7 +45,7 @@ class YawResult:
         error from magnetometer errors grows like its reciprocal.
     """
 
-    yaw: float | NDArray[np.float64]
+    yaw_rad: float | NDArray[np.float64]
     rotation: Rotation
     cos_pitch: float | NDArray[np.float64]
     horizontal_fraction: float | NDArray[np.float64]
@@ -51,7 +53,7 @@ class YawResult:
     @property
     def yaw_deg(self) -> float | NDArray[np.float64]:
         """Yaw in degrees."""
-        return np.degrees(self.yaw)
+        return np.degrees(self.yaw_rad)
 
 
 def yaw_from_magnetometer(
@@ -74,7 +76,7 @@ def yaw_from_magnetometer(
     pitch, roll
         theta and phi (scalars or (epochs,)), radians, or degrees with ``degrees=True``.
     degrees
-        Whether pitch and roll are in degrees. ``yaw`` is always radians (``yaw_deg`` for degrees).
+        Whether pitch and roll are in degrees. ``yaw_rad`` is always radians (``yaw_deg`` for degrees).
 
     Raises
     ------

@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, finite_outputs, shaped
+from gnssatt._renamed import renamed
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 
@@ -20,6 +21,7 @@ Method = Literal["svd", "ml", "closed_form", "paper"]
 METHODS = ("svd", "ml", "closed_form", "paper")
 
 
+@renamed(euler_deg="heading_pitch_roll_deg")
 @dataclass(frozen=True)
 class MatrixAttitudeResult:
     """Attitude from :func:`matrix_attitude`.
@@ -35,6 +37,9 @@ class MatrixAttitudeResult:
         orthogonal with noisy data; for the other methods it equals ``rotation.inv().as_matrix()``).
     method
         The method used.
+    heading_pitch_roll_deg
+        (3,) heading, pitch, roll in degrees: the intrinsic ``ZYX`` angles of ``rotation`` (body ->
+        reference), ``rotation.as_euler("ZYX", degrees=True)``. Formerly ``euler_deg``.
     """
 
     rotation: Rotation
@@ -43,7 +48,7 @@ class MatrixAttitudeResult:
     method: Method
 
     @property
-    def euler_deg(self) -> NDArray[np.float64]:
+    def heading_pitch_roll_deg(self) -> NDArray[np.float64]:
         """Heading, pitch, roll in degrees: intrinsic Z-Y'-X'' of body -> reference (docs/conventions.md)."""
         return self.rotation.as_euler("ZYX", degrees=True)
 

@@ -39,6 +39,7 @@ from scipy.stats import chi2
 
 from gnssatt import _core
 from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.sim._util import instance, text, vector_array
 
@@ -381,6 +382,7 @@ def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: fl
     return math.radians(sigma) ** 2 * float(chi2.isf(p, 2 * int(n_epochs)))
 
 
+@renamed(angles_deg="euler_yzy_deg")
 @dataclass(frozen=True)
 class RotationFit:
     """Result of :func:`fit_rotation`.
@@ -406,6 +408,12 @@ class RotationFit:
     cost_threshold
         The objective above which a run was restarted (:func:`noise_cost_threshold`); ``inf`` when no
         ``axis_sigma_deg`` was given.
+    euler_yzy_deg
+        (3,) ``params[:3]`` in degrees: precession psi, attack alpha, spin phi of the intrinsic ``YZY``
+        sequence from the paper's orbital frame ``X0 Y0 Z0`` (``docs/conventions.md``, seed 004), not of
+        ``rotation``'s frame. Formerly ``angles_deg``.
+    omega_deg_s
+        (3,) ``params[3:]``, body rates in deg/s.
     """
 
     params: NDArray[np.float64]
@@ -417,11 +425,11 @@ class RotationFit:
     attempt_params: NDArray[np.float64]
     attempt_costs: NDArray[np.float64]
     cost_threshold: float
-    angles_deg: NDArray[np.float64] = field(init=False)
+    euler_yzy_deg: NDArray[np.float64] = field(init=False)
     omega_deg_s: NDArray[np.float64] = field(init=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "angles_deg", np.degrees(self.params[:3]))
+        object.__setattr__(self, "euler_yzy_deg", np.degrees(self.params[:3]))
         object.__setattr__(self, "omega_deg_s", np.degrees(self.params[3:]))
 
     @property
@@ -557,12 +565,13 @@ def _polished(
     return x, float(obj(x))
 
 
+@renamed(seed="rng")
 def fit_rotation(
     t: ArrayLike,
     measured_axes: ArrayLike,
     model: TumbleModel | None = None,
     *,
-    seed: int | np.random.SeedSequence | None = None,
+    rng: int | np.random.Generator | np.random.SeedSequence | None = None,
     axis_sigma_deg: float | None = None,
     max_restarts: int = 3,
     min_restarts: int = 0,
@@ -590,10 +599,12 @@ def fit_rotation(
         (n_t, 3) measured antenna axes in the library orbital frame (normalised here).
     model
         :class:`TumbleModel`; default ``TumbleModel.circular()``.
-    seed
-        Seed of the optimiser (an integer or a ``numpy.random.SeedSequence``); a fixed seed gives
-        identical results. The first run uses it as given, restart ``k`` the ``k``-th child of
-        ``SeedSequence(seed)``.
+    rng
+        Randomness of the optimiser: an integer in [0, 2**32 - 1] (the same integer, the same fit), a
+        ``numpy.random.Generator`` (used and advanced), a ``numpy.random.SeedSequence`` or None (fresh
+        entropy). The first run uses an integer as scipy's ``seed`` (a Generator or a SeedSequence's
+        Generator as given); restart ``k`` draws from the ``k``-th child of ``SeedSequence(rng)`` (of a
+        Generator: its ``k``-th spawned child). ``seed=`` is the deprecated name of this argument.
     axis_sigma_deg
         Per-component standard deviation of the measured axes' tangent-plane error, degrees (5 for the
         paper's "3 sigma = 15 deg"). When given, a run whose objective lies above
@@ -702,10 +713,12 @@ def fit_rotation(
     text("strategy", strategy)
     if not isinstance(polish, bool | np.bool_):
         raise InvalidTypeError(f"expected polish as a bool, got {type(polish).__name__}")
-    if seed is not None and not isinstance(seed, np.random.SeedSequence):
-        seed = integer("seed", seed, minimum=0)
-        if seed > 2**32 - 1:  # scipy's integer seeds; a SeedSequence takes any entropy
-            raise InvalidInputError(f"expected seed in [0, 2**32 - 1] or a numpy SeedSequence, got {seed}")
+    if rng is not None and not isinstance(rng, np.random.Generator | np.random.SeedSequence):
+        rng = integer("rng", rng, minimum=0)
+        if rng > 2**32 - 1:  # scipy's integer seeds; a SeedSequence takes any entropy
+            raise InvalidInputError(
+                f"expected rng in [0, 2**32 - 1], a numpy Generator or SeedSequence, or None, got {rng}"
+            )
     if isinstance(mutation, tuple | list):
         if len(mutation) != 2:
             raise InvalidInputError(f"expected mutation as F or a (low, high) pair, got {mutation!r}")
@@ -751,19 +764,26 @@ def fit_rotation(
     search = _Objective(tt, m, mdl, search_step_s)
 
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
-    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
-    restart_seeds = root.spawn(max_restarts if threshold < math.inf else min_restarts)
-    first_seed = np.random.default_rng(root) if isinstance(seed, np.random.SeedSequence) else seed
+    # An integer seeds scipy's first run directly and roots the restarts' SeedSequence, as the former
+    # ``seed=`` did, so that fits (and the visibility-rotation figures) keep their numbers.
+    n_spawn = max_restarts if threshold < math.inf else min_restarts
+    first: np.random.Generator | int | None
+    if isinstance(rng, np.random.Generator):
+        first, restarts = rng, rng.spawn(n_spawn)
+    else:
+        root = rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
+        first = np.random.default_rng(root) if isinstance(rng, np.random.SeedSequence) else rng
+        restarts = [np.random.default_rng(c) for c in root.spawn(n_spawn)]
     runs: list[tuple] = []
-    for k, rng in enumerate([first_seed] + [np.random.default_rng(c) for c in restart_seeds]):
+    for k, run_rng in enumerate([first, *restarts]):
         if k > min_restarts and min(r[1] for r in runs) <= threshold:
             break
         # The search runs at search_step_s; each run's result is polished and compared at step_s.
         if k == 0 or restart == "fresh":
-            x, _, nit, stopped = _de_run(search, bounds, rng, opts)
+            x, _, nit, stopped = _de_run(search, bounds, run_rng, opts)
         else:
             fraction = HORIZON_FRACTIONS[(k - 1) % len(HORIZON_FRACTIONS)]
-            x, nit, stopped = _horizon_run(search, bounds, rng, opts, fraction)
+            x, nit, stopped = _horizon_run(search, bounds, run_rng, opts, fraction)
         runs.append((*_polished(obj, x, polish, w), nit, stopped))
     best, cost, _, stopped_by = min(runs, key=lambda r: r[1])
     finite_result("the fitted objective", cost, f"every run diverged; step_s = {step_s} s")

@@ -196,6 +196,12 @@ def mutants(
     return out
 
 
+def none_ok(param: str, default: Any) -> bool:
+    """Whether None is valid input: a parameter defaulting to None, and every ``rng`` (None draws fresh
+    entropy, docs/conventions.md "Randomness", also where ``rng`` comes before a required argument)."""
+    return default is None or param == "rng"
+
+
 def must_refuse_drawn(value: Any, valid_kind: str, *, nonfinite_ok: bool, none_ok: bool) -> bool:
     """Whether the contract requires refusing a value drawn by hypothesis for an argument whose valid
     value is of kind ``valid_kind``."""

@@ -75,7 +75,7 @@ def ambiguity_problem() -> dict[str, Any]:
 def phases() -> sc.PhaseObservations:
     t = np.arange(0.0, 2.1, 1.0)
     att, _ = sc.orbital_hold_motion(ORBITAL, t, np.radians([2.0, 1.0, 3.0]), [200.0, 250.0, 300.0], [0, 1, 2])
-    return sc.phase_observations(ORBITAL, gps(), t, att, BASELINES, rng(), sigma_cycles=0.01)
+    return sc.phase_observations(ORBITAL, gps(), t, att, BASELINES, rng(), phase_sigma_cycles=0.01)
 
 
 @functools.cache

@@ -27,7 +27,7 @@ def drawn_job(name: str, data: st.DataObject) -> tuple[Job, str, Any]:
     valid = entry.build()
     param = data.draw(st.sampled_from(sorted(valid)), label="param")
     value = data.draw(mu.hostile_value(valid[param]), label="value")
-    none_ok = inspect.signature(inv.resolve(name)).parameters[param].default is None
+    none_ok = mu.none_ok(param, inspect.signature(inv.resolve(name)).parameters[param].default)
     refuse = mu.must_refuse_drawn(
         value, mu.kind(valid[param]), nonfinite_ok=param in entry.nonfinite_ok, none_ok=none_ok
     )

@@ -74,7 +74,7 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
         counts=param in entry.counts,
         work=tuple(entry.work.get(param, ())),
         nonfinite_ok=param in entry.nonfinite_ok,
-        none_ok=default is None,
+        none_ok=mu.none_ok(param, default),
         free_text=param in entry.free_text,
     )
     if param in entry.complex_ok:  # documented complex input: the finite complex mutants are valid

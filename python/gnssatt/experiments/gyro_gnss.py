@@ -95,7 +95,7 @@ def _loose_fixes(
     matrix-method solutions of the phases with their true integers."""
     if kind == "matrix":
         return phase_attitude_fixes(ph, _baselines(), ph.ambiguity, sigma_cycles=PHASE_SIGMA_CYCLES)
-    return sc.attitude_fixes(ph, att, _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+    return sc.attitude_fixes(ph, att, _baselines(), rng, phase_sigma_cycles=PHASE_SIGMA_CYCLES)
 
 
 def _summary(r: Any, e: np.ndarray) -> dict[str, np.ndarray]:
@@ -118,7 +118,7 @@ def orbit_trial(
         att[k],
         _baselines(),
         rng,
-        sigma_cycles=PHASE_SIGMA_CYCLES,
+        phase_sigma_cycles=PHASE_SIGMA_CYCLES,
         new_arcs_after=(OUTAGE_S[1],),
     )
     fixes = _loose_fixes(loose_fixes, ph, att[k], rng)
@@ -154,7 +154,7 @@ def two_satellite_trial(
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW)
     k = np.arange(0, len(t), GNSS_EVERY)
     ph = sc.phase_observations(
-        RX, _gnss(), t[k], att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES, max_satellites=2
+        RX, _gnss(), t[k], att[k], _baselines(), rng, phase_sigma_cycles=PHASE_SIGMA_CYCLES, max_satellites=2
     )
     fixes = _loose_fixes(loose_fixes, ph, att[k], rng)
     start = _start(rng, att[0], _p0())
@@ -183,7 +183,14 @@ def sensitivity_trial(
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW, misalignment_rad=mu)
     k = np.arange(0, len(t), GNSS_EVERY)
     ph = sc.phase_observations(
-        RX, _gnss(), t[k], att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES, baseline_errors_m=db
+        RX,
+        _gnss(),
+        t[k],
+        att[k],
+        _baselines(),
+        rng,
+        phase_sigma_cycles=PHASE_SIGMA_CYCLES,
+        baseline_errors_m=db,
     ).without_ambiguities()
     start = _start(rng, att[0], _p0()) | {"output_every": len(t) - 1}
     r = gyro_gnss_filter(
@@ -210,7 +217,9 @@ def misalignment_trial(rng: np.random.Generator, *, sigma_deg: float) -> dict[st
     mu = rng.normal(0.0, math.radians(sigma_deg), 3)
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW, misalignment_rad=mu)
     k = np.arange(0, len(t), GNSS_EVERY)
-    ph = sc.phase_observations(RX, _gnss(), t[k], att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+    ph = sc.phase_observations(
+        RX, _gnss(), t[k], att[k], _baselines(), rng, phase_sigma_cycles=PHASE_SIGMA_CYCLES
+    )
     start = _start(rng, att[0], _p0()) | {
         "output_every": len(t) - 1,
         "baselines_m": _baselines(),
@@ -234,7 +243,9 @@ def linearity_trial(rng: np.random.Generator, *, sigma_att_deg: float) -> float:
     t, att = _motion(LINEARITY_S)
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(DRIFT_DEG_H) * DEG_H, arw=ARW)
     k = np.arange(0, len(t), GNSS_EVERY)
-    ph = sc.phase_observations(RX, _gnss(), t[k], att[k], _baselines(), rng, sigma_cycles=PHASE_SIGMA_CYCLES)
+    ph = sc.phase_observations(
+        RX, _gnss(), t[k], att[k], _baselines(), rng, phase_sigma_cycles=PHASE_SIGMA_CYCLES
+    )
     start = _start(rng, att[0], _p0(sigma_att_deg)) | {"output_every": len(t) - 1}
     r = gyro_gnss_filter(
         t, g.rates, **start, baselines_m=_baselines(), phases=ph, fix_ambiguities=False, slip_false_alarm=None

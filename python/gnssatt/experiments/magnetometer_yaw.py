@@ -51,7 +51,7 @@ def yaw_errors(inclination_deg: float, channel: str, u_deg: np.ndarray) -> dict[
     wrap = lambda a: (a - TRUTH_DEG[0] + 180.0) % 360.0 - 180.0  # noqa: E731
     return {
         "triad": wrap(tri.rotation.as_euler("ZYX", degrees=True)[:, 0]),
-        "eq3": wrap(np.degrees(eq3.yaw)),
+        "eq3": wrap(np.degrees(eq3.yaw_rad)),
         "horizontal_fraction": np.asarray(eq3.horizontal_fraction),
     }
 

@@ -56,7 +56,7 @@ def trial(rng: np.random.Generator, *, sigma_m: float = RANGE_DIFF_SIGMA_M) -> d
     row: dict[str, float] = {"adop": dop}
     for method in METHODS:
         est = matrix_attitude(baselines, los, noisy, method=method)
-        err = (est.euler_deg - np.array(TRUTH_DEG) + 180.0) % 360.0 - 180.0
+        err = (est.heading_pitch_roll_deg - np.array(TRUTH_DEG) + 180.0) % 360.0 - 180.0
         row |= {f"{method}_{k}": float(e) for k, e in zip(ANGLES, err, strict=True)}
         row[f"{method}_total"] = float(np.degrees((est.rotation * truth.inv()).magnitude()))
     return row

@@ -79,7 +79,7 @@ def trial(rng: np.random.Generator, *, sigma_rad: float) -> dict[str, float]:
         ("mean_oracle", consistent, "mean"),
     ):
         est = ml_attitude(p, geom.los, antennas[1:], lam, statistic=statistic, step_deg=STEP_DEG)
-        err = (est.euler_deg - truth + 180.0) % 360.0 - 180.0
+        err = (est.euler_gost_deg - truth + 180.0) % 360.0 - 180.0
         row |= {f"{name}_{a}": float(e) for a, e in zip(ANGLES, err, strict=True)}
         row[f"{name}_total"] = float(np.degrees((est.rotation * rot.inv()).magnitude()))
     return row

@@ -126,7 +126,7 @@ def trial(
         t,
         meas,
         model,
-        seed=int(rng.integers(2**31)),
+        rng=int(rng.integers(2**31)),
         axis_sigma_deg=sigma,
         max_restarts=max_restarts,
         min_restarts=min_restarts,

@@ -147,7 +147,9 @@ class AttitudeSeries:
 
     @property
     def rotation(self) -> Rotation:
-        """Body -> ENU rotations of the solved epochs (attitude mode; rows of ``time[solved]``).
+        """(n,) body -> ENU rotations at the reference antenna, one per epoch (attitude mode), the identity
+        where ``solved`` is False (the batched-result rule of ``docs/conventions.md``, as
+        :class:`gnssatt.AttitudeSeries`).
 
         Raises
         ------
@@ -161,7 +163,8 @@ class AttitudeSeries:
         # Imported here: scipy.spatial costs 0.3-0.7 s that `gnssatt attitude` need not pay in baseline mode.
         from scipy.spatial.transform import Rotation
 
-        return Rotation.from_matrix(self.rotation_matrices[self.solved])
+        ok = self.solved[:, None, None]
+        return Rotation.from_matrix(np.where(ok, np.nan_to_num(self.rotation_matrices), np.eye(3)))
 
     def frequencies(self) -> NDArray[np.str_]:
         """(n,) frequency slots used per epoch, 1-based and joined by ``+`` (``"1+2"``); empty if none."""

@@ -13,7 +13,8 @@ Conventions (fixed for the whole package)
   leading epoch axis everywhere.
 - Carrier phase and Doppler signs as in RINEX (phase grows with range; Doppler positive when approaching);
   measurement model in :mod:`gnssatt.sim.measurements`.
-- Randomness only through a ``numpy.random.Generator`` argument ``rng``.
+- Randomness only through the ``rng`` argument (int, ``numpy.random.Generator`` or None, as scipy's
+  ``rng``: ``numpy.random.default_rng(rng)``; ``docs/conventions.md``, "Randomness").
 
 Typical use::
 

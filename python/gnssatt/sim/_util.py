@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gnssatt import _renamed
 from gnssatt._arrays import float_array
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 
@@ -65,8 +66,8 @@ def instance(name: str, value: Any, cls: type | tuple[type, ...], what: str) -> 
 
 
 def generator(name: str, value: Any) -> np.random.Generator:
-    """``value`` if it is a ``numpy.random.Generator`` (the only source of randomness of the simulator)."""
-    return instance(name, value, np.random.Generator, "a numpy.random.Generator")
+    """The Generator of an ``rng=`` argument (int, Generator or None): :func:`gnssatt._renamed.generator`."""
+    return _renamed.generator(name, value)
 
 
 def text(name: str, value: Any, choices: tuple[str, ...] | None = None) -> str:

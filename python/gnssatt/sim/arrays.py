@@ -54,30 +54,31 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
     return out
 
 
-def random_attitude(rng: np.random.Generator, n: int | None = None) -> Rotation:
+def random_attitude(rng: int | np.random.Generator | None = None, n: int | None = None) -> Rotation:
     """Attitude(s) drawn uniformly over SO(3) from ``rng`` (one ``Rotation``, or ``n`` stacked).
 
     Raises
     ------
     InvalidInputError
-        ``rng`` not a ``numpy.random.Generator``, ``n`` not an integer >= 1
+        ``rng`` not an int, Generator or None, ``n`` not an integer >= 1
         (:class:`~gnssatt.errors.WorkLimitError` above ``MAX_DRAWS``, 1e7).
     """
-    generator("rng", rng)
+    rng = generator("rng", rng)
     if n is not None:
         n = integer("n", n, minimum=1, maximum=MAX_DRAWS)
     return Rotation.random(n, random_state=rng)
 
 
 def random_los(
-    rng: np.random.Generator, n_sat: int, *, min_elevation_deg: float = 0.0
+    rng: int | np.random.Generator | None, n_sat: int, *, min_elevation_deg: float = 0.0
 ) -> NDArray[np.float64]:
     """Unit lines of sight uniform over the spherical cap above ``min_elevation_deg`` (z is up).
 
     Parameters
     ----------
     rng
-        Source of randomness.
+        Source of randomness: ``np.random.default_rng(rng)``, an int seed (reproducible), a
+        ``numpy.random.Generator`` (used and advanced) or None (fresh entropy).
     n_sat
         Number of directions, 1 to ``MAX_DRAWS`` (1e7).
     min_elevation_deg
@@ -87,7 +88,7 @@ def random_los(
     -------
     (n_sat, 3) unit vectors in a local-level frame (ENU or orbital).
     """
-    generator("rng", rng)
+    rng = generator("rng", rng)
     n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_DRAWS)
     el = scalar("min_elevation_deg", min_elevation_deg)
     if not -90.0 <= el < 90.0:

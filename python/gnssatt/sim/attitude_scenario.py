@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt._renamed import renamed
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError, InvalidTypeError
 from gnssatt.sim._util import generator, instance, vector_array
 from gnssatt.sim.constellation import Constellation
@@ -137,7 +138,7 @@ class GyroOutput:
 def gyro_output(
     t: ArrayLike,
     attitude: Rotation,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     drift_rad_s: ArrayLike,
     arw: float,
@@ -161,7 +162,7 @@ def gyro_output(
     if len(tt) < 2 or np.any(np.diff(tt) <= 0):
         raise InvalidInputError("expected at least 2 strictly increasing gyro time stamps t")
     _per_epoch("attitude", attitude, len(tt))
-    generator("rng", rng)
+    rng = generator("rng", rng)
     arw = scalar("arw", arw, minimum=0.0)
     rrw = scalar("rrw", rrw, minimum=0.0)
     b0 = vector_array("drift_rad_s", drift_rad_s, ndim=1, shape="(3,)")
@@ -300,15 +301,16 @@ def _visible(
     return los, up & earth_occlusion_mask(r_r, r_s, atmosphere_m=atmosphere_m)
 
 
+@renamed(sigma_cycles="phase_sigma_cycles")
 def phase_observations(
     receiver: OrbitalReceiver,
     gnss: Constellation,
     t: ArrayLike,
     attitude: Rotation,
     baselines_m: ArrayLike,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
-    sigma_cycles: float,
+    phase_sigma_cycles: float,
     baseline_errors_m: ArrayLike | None = None,
     half_angle_deg: float = 80.0,
     atmosphere_m: float = 100e3,
@@ -327,14 +329,14 @@ def phase_observations(
     ------
     InvalidInputError
         Bad types, shapes or values: ``half_angle_deg`` outside (0, 180], negative ``atmosphere_m`` or
-        ``sigma_cycles``, ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
+        ``phase_sigma_cycles``, ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
         integer cycles)`` rows.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
     instance("gnss", gnss, Constellation, "a gnssatt.sim Constellation")
     tt = float_array("t", t, ndim=1, shape="(n_e,)")
     _per_epoch("attitude", attitude, len(tt))
-    generator("rng", rng)
+    rng = generator("rng", rng)
     b = _baselines(baselines_m)
     db = (
         np.zeros_like(b)
@@ -343,7 +345,7 @@ def phase_observations(
     )
     if db.shape != b.shape:
         raise InvalidInputError(f"expected baseline_errors_m of shape {b.shape}, got {db.shape}")
-    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0)
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0)
     half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True, unit="deg")
     scalar("half_angle_deg", half, maximum=180.0, unit="deg")
     arcs_after = float_array("new_arcs_after", new_arcs_after, ndim=1, shape="(k,)")
@@ -415,13 +417,14 @@ class AttitudeFixes:
         _rows("covariance", self.covariance, (n, 3, 3))
 
 
+@renamed(sigma_cycles="phase_sigma_cycles")
 def attitude_fixes(
     phases: PhaseObservations,
     attitude: Rotation,
     baselines_m: ArrayLike,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
-    sigma_cycles: float,
+    phase_sigma_cycles: float,
     min_satellites: int = 3,
 ) -> AttitudeFixes:
     """The receiver's own attitude solution at each epoch of ``phases`` with at least ``min_satellites``
@@ -433,16 +436,16 @@ def attitude_fixes(
     Raises
     ------
     InvalidInputError
-        Bad types, shapes or values (``min_satellites`` < 1, ``sigma_cycles`` <= 0).
+        Bad types, shapes or values (``min_satellites`` < 1, ``phase_sigma_cycles`` <= 0).
     DegenerateGeometryError
         An epoch whose lines of sight and baselines do not fix all three attitude angles.
     """
     instance("phases", phases, PhaseObservations, "gnssatt.sim PhaseObservations")
     _per_epoch("attitude", attitude, len(phases.epoch_t))
-    generator("rng", rng)
+    rng = generator("rng", rng)
     b = _baselines(baselines_m)
-    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True)
-    sigma = scalar("sigma_cycles", sigma, minimum=SIGMA_RANGE_CYCLES[0], maximum=SIGMA_RANGE_CYCLES[1])
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True)
+    sigma = scalar("phase_sigma_cycles", sigma, minimum=SIGMA_RANGE_CYCLES[0], maximum=SIGMA_RANGE_CYCLES[1])
     count = phases.n_visible()
     keep = np.nonzero(count >= integer("min_satellites", min_satellites, minimum=1))[0]
     s_body = attitude[phases.epoch].inv().apply(phases.los)

@@ -190,7 +190,7 @@ def simulate_array(
     attitude: Rotation,
     antennas_body_m: ArrayLike,
     wavelengths_m: ArrayLike,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     code_sigma_m: float = 0.0,
     phase_sigma_rad: float = 0.0,
@@ -218,7 +218,8 @@ def simulate_array(
     wavelengths_m
         (n_sat,) carrier wavelength per satellite (e.g. ``Constellation.wavelengths_m("L1")``), m.
     rng
-        The only source of randomness.
+        The only source of randomness: ``np.random.default_rng(rng)``, an int seed (reproducible), a
+        ``numpy.random.Generator`` (used and advanced) or None (fresh entropy).
     code_sigma_m
         Standard deviation of the white pseudorange noise, m.
     phase_sigma_rad, phase_sigma_m
@@ -258,7 +259,7 @@ def simulate_array(
         simulated measurement.
     """
     instance("geometry", geometry, Geometry, "a gnssatt.sim Geometry")
-    generator("rng", rng)
+    rng = generator("rng", rng)
     los = geometry.los
     batched = los.ndim == 3
     n_sat = geometry.n_sat

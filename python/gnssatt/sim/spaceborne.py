@@ -191,7 +191,7 @@ def simulate_spaceborne(
     receiver_velocity_m_s: ArrayLike,
     times_s: ArrayLike,
     constellation: Constellation,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     theta0_rad: float = 0.0,
     half_angle_deg: float = 85.0,
@@ -217,7 +217,9 @@ def simulate_spaceborne(
     constellation
         GNSS satellites (ids starting with ``G`` or ``R``).
     rng
-        The only source of randomness (drawn: clock noise, code noise, Doppler noise).
+        The only source of randomness (drawn: clock noise, code noise, Doppler noise):
+        ``np.random.default_rng(rng)``, an int seed (reproducible), a ``numpy.random.Generator``
+        (used and advanced) or None (fresh entropy).
     theta0_rad
         Earth rotation angle at ``t = 0``.
     half_angle_deg
@@ -266,7 +268,7 @@ def simulate_spaceborne(
     if t.size == 0 or np.any(np.diff(t) <= 0):
         raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
     instance("constellation", constellation, Constellation, "a gnssatt.sim Constellation")
-    generator("rng", rng)
+    rng = generator("rng", rng)
     unknown = sorted({i[0] for i in constellation.ids} - set(SYSTEM_INDEX))
     if unknown:
         raise InvalidInputError(f"expected GPS (G) or GLONASS (R) satellites, got systems {unknown}")
