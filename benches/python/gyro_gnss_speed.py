@@ -42,8 +42,10 @@ def main() -> None:
     g = sc.gyro_output(t, att, rng, drift_rad_s=np.array(exp.DRIFT_DEG_H) * exp.DEG_H, arw=exp.ARW)
     k = np.arange(0, len(t), exp.GNSS_EVERY)
     b = exp._baselines()
-    ph = sc.phase_observations(exp.RX, exp._gnss(), t[k], att[k], b, rng, sigma_cycles=exp.PHASE_SIGMA_CYCLES)
-    fixes = sc.attitude_fixes(ph, att[k], b, rng, sigma_cycles=exp.PHASE_SIGMA_CYCLES)
+    ph = sc.phase_observations(
+        exp.RX, exp._gnss(), t[k], att[k], b, rng, phase_sigma_cycles=exp.PHASE_SIGMA_CYCLES
+    )
+    fixes = sc.attitude_fixes(ph, att[k], b, rng, phase_sigma_cycles=exp.PHASE_SIGMA_CYCLES)
     p0 = exp._p0()
     q0 = att[0] * Rotation.from_rotvec(np.radians([0.3, -0.2, 0.4]))
     print(

@@ -70,7 +70,7 @@ def loop(p, los, b, lam, window):
     out, prev = [], None
     for k in range(p.shape[0]):
         win = None if window is None or prev is None else np.stack([prev - window, prev + window], axis=1)
-        prev = gnssatt.ml_attitude(p[k], los[k], b, lam, window_deg=win).euler_deg
+        prev = gnssatt.ml_attitude(p[k], los[k], b, lam, window_deg=win).euler_gost_deg
         out.append(prev)
     return np.array(out)
 
@@ -81,9 +81,9 @@ def child(n_ep, n_sats, reps):
     for window in (None, WINDOW_DEG):
         series = gnssatt.ml_attitude_series(p, los, b, lam, window_deg=window)
         looped = loop(p, los, b, lam, window)
-        if not np.array_equal(series.euler_deg, looped):
+        if not np.array_equal(series.euler_gost_deg, looped):
             raise AssertionError(f"window {window}: batch and loop differ")
-        err = np.max(np.abs((series.euler_deg - truth + 180.0) % 360.0 - 180.0))
+        err = np.max(np.abs((series.euler_gost_deg - truth + 180.0) % 360.0 - 180.0))
         t_series, t_loop = timed_pair(
             lambda w=window: gnssatt.ml_attitude_series(p, los, b, lam, window_deg=w),
             lambda w=window: loop(p, los, b, lam, w),

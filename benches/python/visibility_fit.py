@@ -77,7 +77,7 @@ def main() -> None:
     print(f"cores: {os.cpu_count()}, RAYON_NUM_THREADS={os.environ.get('RAYON_NUM_THREADS', 'unset')}")
 
     t0 = time.perf_counter()
-    fit = tumble.fit_rotation(t, meas, model, seed=1)
+    fit = tumble.fit_rotation(t, meas, model, rng=1)
     dt = time.perf_counter() - t0
     print(
         f"one fit (1501 epochs, 1500 s): {dt:.2f} s, {fit.nfev} objective evaluations, {fit.nit} generations,"

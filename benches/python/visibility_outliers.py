@@ -33,7 +33,7 @@ def main() -> None:
         meas = vr.noisy_axes(rng, tumble.propagate_axes(truth, t, model), vr.AXIS_SIGMA_DEG)
         seed = int(rng.integers(2**31))
         truth_cost = tumble.axis_cost(truth, t, meas, model)[0]
-        fit = tumble.fit_rotation(t, meas, model, seed=seed, axis_sigma_deg=1e-3, max_restarts=3)
+        fit = tumble.fit_rotation(t, meas, model, rng=seed, axis_sigma_deg=1e-3, max_restarts=3)
         errors = [vr.state_errors(p, truth)["attitude_error_deg"] for p in fit.attempt_params]
         print(
             f"trial {i}: alpha {np.degrees(truth[1]):.1f} deg, "

@@ -47,7 +47,7 @@ def main() -> dict[str, object]:
     true_axes = tumble.propagate_axes(TRUTH, t, model)
     sets = visibility(t, true_axes)
     measured = np.array([gnssatt.visibility_axis(v, h, method="margin") for v, h in sets])
-    fit = gnssatt.fit_rotation(t, measured, model, seed=SEED, axis_sigma_deg=AXIS_SIGMA_DEG, min_restarts=1)
+    fit = gnssatt.fit_rotation(t, measured, model, rng=SEED, axis_sigma_deg=AXIS_SIGMA_DEG, min_restarts=1)
     fitted_axes = tumble.propagate_axes(fit.params, t, model)
     # The axis cannot tell a spin by 180 deg about itself: fold onto the truth before comparing.
     folded = tumble.fold_symmetric(fit.params, TRUTH)
