@@ -10,11 +10,13 @@ mod gnss;
 mod gnss_nav;
 mod gnss_options;
 mod gyro_gnss;
+mod gyro_gnss_options;
 mod interruptible;
 mod lambda;
 mod likelihood;
 mod matrix_method;
 mod orbit;
+mod results;
 mod rotation;
 mod wahba;
 
