@@ -1,5 +1,5 @@
 """Type stubs of the compiled extension ``gnssatt._core`` (rust/py/src), held true to the runtime by
-``python -m mypy.stubtest gnssatt._core`` (tests/test_stubs.py and .ci/run): names, parameter names, kinds
+``python -m mypy.stubtest gnssatt._core`` (run by .ci/run after the build): names, parameter names, kinds
 and defaults.
 
 Angles in radians, lengths in metres. Result types are frozen: their attributes are read-only.
