@@ -378,12 +378,6 @@ class _GlonassModelArgs(TypedDict):
     omega_rad_s: float
     lunisolar_m_s2: tuple[float, float, float]
 
-class _OrbitFilterSettings(TypedDict):
-    """Orbit filter settings (``gnssatt.orbit_nav``); a dict at runtime."""
-
-    accel_psd_m2_s3: float
-    step_s: float
-
 @final
 class StateWithStm:
     @property
@@ -472,7 +466,7 @@ def orbit_filter_loose(
     fix_covariance: NDArray[np.float64],
     fix_valid: NDArray[np.bool_],
     model: _GlonassModelArgs,
-    settings: _OrbitFilterSettings,
+    settings: dict[str, float],  # accel_psd_m2_s3, step_s
 ) -> OrbitFilterRun: ...
 def orbit_filter_tight(
     times_s: NDArray[np.float64],
@@ -488,7 +482,7 @@ def orbit_filter_tight(
     code_sigma_m: float,
     doppler_sigma_hz: float,
     model: _GlonassModelArgs,
-    settings: _OrbitFilterSettings,
+    settings: dict[str, float],  # accel_psd_m2_s3, step_s
 ) -> OrbitFilterRun: ...
 
 # gyro_gnss.rs, gyro_gnss_options.rs (arguments built by gnssatt.gyro_gnss)
