@@ -1,7 +1,7 @@
 //! The gyro + GNSS filter's settings as one typed, frozen, keyword-only object
-//! (`gnssatt._core.GyroGnssOptions`), so that `gyro_gnss_filter` takes named arrays and this object instead of
-//! a long positional list. Values are checked by the core when the filter starts (`check_settings`, which
-//! knows whether phases and fixes are present); here only their types and the baselines' shape.
+//! (`gnssatt._core.GyroGnssOptions`), so that `gyro_gnss_filter` takes named arrays and this object instead
+//! of a long positional list. Values are checked by the core when the filter starts (`check_settings`,
+//! which knows whether phases and fixes are present); here only their types and the baselines' shape.
 
 use gnssatt_core::gyro_gnss::{FixSettings, GyroNoise, Sensitivity, Settings};
 use numpy::PyReadonlyArray2;
