@@ -1,13 +1,87 @@
-"""Type stubs of the compiled extension ``gnssatt._core`` (rust/py/src); tests/test_stubs.py checks that
-every native function is declared here.
+"""Type stubs of the compiled extension ``gnssatt._core`` (rust/py/src), held true to the runtime by
+``python -m mypy.stubtest gnssatt._core`` (run by .ci/run after the build): names, parameter names, kinds
+and defaults.
 
-Angles in radians, lengths in metres.
+Angles in radians, lengths in metres. Result types are frozen: their attributes are read-only.
 """
 
-from typing import Any, TypedDict
+from typing import Any, TypedDict, final
 
 import numpy as np
 from numpy.typing import NDArray
+
+# Every name the module adds (stubtest compares this list with the runtime one).
+__all__ = [
+    "DYNAMICS_MAX_RK4_STEPS",
+    "DYNAMICS_MAX_ROTATION_PER_STEP_RAD",
+    "GNSS_DEFAULT_ELEVATION_MASK_DEG",
+    "GNSS_DEFAULT_MAX_FAILURE_RATE",
+    "GNSS_DEFAULT_MIN_SUCCESS_RATE",
+    "GNSS_DEFAULT_RATIO_THRESHOLD",
+    "GNSS_MAX_FREQUENCIES",
+    "LAMBDA_MAX_ABS_AMBIGUITY",
+    "LAMBDA_MAX_CANDIDATES",
+    "LAMBDA_MAX_DIMENSION",
+    "LAMBDA_MAX_NODES",
+    "LAMBDA_MAX_SAMPLES",
+    "ORBIT_MAX_RK4_STEPS",
+    "BnbStats",
+    "Decorrelation",
+    "GnssEngine",
+    "GnssOptions",
+    "GnssSession",
+    "GyroGnssFix",
+    "GyroGnssOptions",
+    "GyroGnssRun",
+    "IlsSolution",
+    "LikelihoodGrid",
+    "MatrixAttitude",
+    "MlEstimate",
+    "MlSeries",
+    "OrbitFilterRun",
+    "OrbitStates",
+    "PartialFix",
+    "RatioTest",
+    "StateWithStm",
+    "TriadBatch",
+    "WahbaBatch",
+    "YawBatch",
+    "__version__",
+    "bnb_stats",
+    "circular_orbit_ecef",
+    "dcm_to_euler",
+    "dcm_to_quat",
+    "euler_to_dcm",
+    "glonass_propagate",
+    "gnss_klobuchar_delay",
+    "gnss_run",
+    "gnss_satellite_states",
+    "gnss_single_point",
+    "gnss_transmit_states",
+    "gyro_gnss_filter",
+    "gyro_propagate",
+    "lambda_bootstrap_success_rate",
+    "lambda_decorrelate",
+    "lambda_ffrt_threshold",
+    "lambda_ils",
+    "lambda_partial_fix",
+    "lambda_ratio_test",
+    "likelihood_grid",
+    "matrix_attitude",
+    "ml_attitude_series",
+    "ml_baseline_series",
+    "ml_search",
+    "nearest_rotation",
+    "orbit_filter_loose",
+    "orbit_filter_tight",
+    "quat_to_dcm",
+    "triad_batch",
+    "tumble_axes",
+    "tumble_cost",
+    "tumble_states",
+    "wahba_batch",
+    "yaw_batch",
+]
 
 __version__: str
 
@@ -19,14 +93,58 @@ def dcm_to_quat(dcm: NDArray[np.float64]) -> tuple[float, float, float, float]: 
 def nearest_rotation(matrix: NDArray[np.float64]) -> NDArray[np.float64]: ...
 
 # matrix_method.rs
+@final
+class MatrixAttitude:
+    @property
+    def dcm_ref_from_body(self) -> NDArray[np.float64]: ...  # (3, 3)
+    @property
+    def raw_body_from_ref(self) -> NDArray[np.float64]: ...  # (3, 3)
+    @property
+    def residual_rms_m(self) -> float: ...
+
 def matrix_attitude(
     baselines: NDArray[np.float64],
     los: NDArray[np.float64],
     range_diffs: NDArray[np.float64],
     method: str = "svd",
-) -> tuple[NDArray[np.float64], NDArray[np.float64], float]: ...
+) -> MatrixAttitude: ...
 
 # likelihood.rs: phase_diffs (E, m, M), los (E, M, 3) ENU, wavelengths (E, M), baselines (m, 3) body.
+@final
+class MlEstimate:
+    @property
+    def angles_rad(self) -> NDArray[np.float64]: ...  # (3,) psi, theta, phi (GOST)
+    @property
+    def grid_angles_rad(self) -> NDArray[np.float64]: ...  # (3,)
+    @property
+    def z_max(self) -> float: ...
+    @property
+    def cells_evaluated(self) -> int: ...
+    @property
+    def step_rad(self) -> float: ...
+    @property
+    def grid_index(self) -> NDArray[np.uint64]: ...  # (3,)
+
+@final
+class BnbStats:
+    @property
+    def boxes_bounded(self) -> int: ...
+    @property
+    def leaf_cells(self) -> int: ...
+    @property
+    def grid_cells(self) -> int: ...
+
+@final
+class LikelihoodGrid:
+    @property
+    def z(self) -> NDArray[np.float32]: ...  # (n_theta, n_phi, n_psi)
+    @property
+    def psi_rad(self) -> NDArray[np.float64]: ...
+    @property
+    def theta_rad(self) -> NDArray[np.float64]: ...
+    @property
+    def phi_rad(self) -> NDArray[np.float64]: ...
+
 def ml_search(
     phase_diffs: NDArray[np.float64],
     los: NDArray[np.float64],
@@ -38,9 +156,7 @@ def ml_search(
     search: str,
     refine: str,
     two_dimensional: bool,
-) -> tuple[
-    tuple[float, float, float], tuple[float, float, float], float, int, float, tuple[int, int, int]
-]: ...
+) -> MlEstimate: ...
 def bnb_stats(
     phase_diffs: NDArray[np.float64],
     los: NDArray[np.float64],
@@ -49,7 +165,7 @@ def bnb_stats(
     statistic: str,
     step_rad: float | None,
     window_rad: list[list[float]] | None,
-) -> tuple[int, int, int]: ...
+) -> BnbStats: ...
 def likelihood_grid(
     phase_diffs: NDArray[np.float64],
     los: NDArray[np.float64],
@@ -59,11 +175,21 @@ def likelihood_grid(
     step_rad: float | None,
     window_rad: list[list[float]] | None,
     two_dimensional: bool,
-) -> tuple[NDArray[np.float32], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+) -> LikelihoodGrid: ...
 
 # likelihood.rs, per-epoch batches: sd_phase (E, n_rover, n_sig) with NaN for absent signals, los
-# (E, n_sig, 3) ENU, wavelengths (E, n_sig). Returns euler_rad (E, 3), direction_rad (E, 2) (compass
-# azimuth, elevation of the first baseline), z_max (E,), solved (E,).
+# (E, n_sig, 3) ENU, wavelengths (E, n_sig).
+@final
+class MlSeries:
+    @property
+    def euler_gost_rad(self) -> NDArray[np.float64]: ...  # (E, 3)
+    @property
+    def direction_rad(self) -> NDArray[np.float64]: ...  # (E, 2) compass azimuth, elevation
+    @property
+    def z_max(self) -> NDArray[np.float64]: ...  # (E,)
+    @property
+    def solved(self) -> NDArray[np.bool_]: ...  # (E,)
+
 def ml_attitude_series(
     sd_phase: NDArray[np.float64],
     los: NDArray[np.float64],
@@ -71,7 +197,7 @@ def ml_attitude_series(
     baselines: NDArray[np.float64],
     step_rad: float | None,
     window_rad: float | None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+) -> MlSeries: ...
 def ml_baseline_series(
     sd_phase: NDArray[np.float64],
     los: NDArray[np.float64],
@@ -79,15 +205,63 @@ def ml_baseline_series(
     baseline_length_m: float,
     step_rad: float | None,
     window_rad: float | None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+) -> MlSeries: ...
 
 # lambda.rs: integer least squares (LAMBDA / MLAMBDA), validation, partial fixing.
+@final
+class IlsSolution:
+    @property
+    def fixed(self) -> NDArray[np.int64]: ...  # (m, n), row k the k-th best
+    @property
+    def squared_norms(self) -> NDArray[np.float64]: ...  # (m,)
+    @property
+    def nodes_visited(self) -> int: ...
+
+@final
+class Decorrelation:
+    @property
+    def z(self) -> NDArray[np.int64]: ...  # (n, n)
+    @property
+    def l(self) -> NDArray[np.float64]: ...  # noqa: E743 (n, n), Z^T Q Z = L^T diag(D) L
+    @property
+    def d(self) -> NDArray[np.float64]: ...  # (n,)
+
+@final
+class RatioTest:
+    @property
+    def accepted(self) -> bool: ...
+    @property
+    def ratio(self) -> float: ...
+    @property
+    def threshold(self) -> float: ...
+    @property
+    def fixed(self) -> NDArray[np.int64]: ...  # (n,)
+    @property
+    def squared_norms(self) -> NDArray[np.float64]: ...  # (2,)
+
+@final
+class PartialFix:
+    @property
+    def fixed_count(self) -> int: ...
+    @property
+    def combinations(self) -> NDArray[np.int64]: ...  # (n, k)
+    @property
+    def values(self) -> NDArray[np.int64]: ...  # (k,)
+    @property
+    def ratio(self) -> float: ...
+    @property
+    def threshold(self) -> float: ...
+    @property
+    def success_rate(self) -> float: ...
+    @property
+    def ambiguities(self) -> NDArray[np.float64]: ...  # (n,)
+    @property
+    def covariance(self) -> NDArray[np.float64]: ...  # (n, n)
+
 def lambda_ils(
     float_ambiguities: NDArray[np.float64], covariance: NDArray[np.float64], candidates: int = 2
-) -> tuple[NDArray[np.int64], NDArray[np.float64], int]: ...
-def lambda_decorrelate(
-    covariance: NDArray[np.float64],
-) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]: ...
+) -> IlsSolution: ...
+def lambda_decorrelate(covariance: NDArray[np.float64]) -> Decorrelation: ...
 def lambda_bootstrap_success_rate(covariance: NDArray[np.float64]) -> float: ...
 def lambda_ffrt_threshold(
     covariance: NDArray[np.float64], failure_rate: float, samples: int, seed: int
@@ -99,7 +273,7 @@ def lambda_ratio_test(
     failure_rate: float | None,
     samples: int,
     seed: int,
-) -> tuple[bool, float, float, NDArray[np.int64], NDArray[np.float64]]: ...
+) -> RatioTest: ...
 def lambda_partial_fix(
     float_ambiguities: NDArray[np.float64],
     covariance: NDArray[np.float64],
@@ -108,21 +282,12 @@ def lambda_partial_fix(
     samples: int,
     seed: int,
     min_success_rate: float,
-) -> tuple[
-    int,
-    NDArray[np.int64],
-    NDArray[np.int64],
-    float,
-    float,
-    float,
-    NDArray[np.float64],
-    NDArray[np.float64],
-]: ...
+) -> PartialFix: ...
 
 # dynamics.rs: params (n, 6) = (psi, alpha, phi) rad (intrinsic YZY, paper orbital axes) and absolute body
 # rates rad/s; axes in the library orbital frame (x along-track, y normal, z radial).
-class TumbleModelArgs(TypedDict):
-    """Seed-004 model parameters, SI units (``gnssatt.tumble.TumbleModel._kwargs()``)."""
+class _TumbleModelArgs(TypedDict):
+    """Seed-004 model parameters, SI units (``gnssatt.tumble.TumbleModel._kwargs()``); a dict at runtime."""
 
     inertia_kg_m2: tuple[float, float, float]
     orbital_rate_rad_s: float
@@ -136,7 +301,7 @@ class TumbleModelArgs(TypedDict):
 def tumble_axes(
     params: NDArray[np.float64],
     times_s: NDArray[np.float64],
-    model: TumbleModelArgs,
+    model: _TumbleModelArgs,
     *,
     step_s: float,
 ) -> NDArray[np.float64]: ...
@@ -144,43 +309,106 @@ def tumble_cost(
     params: NDArray[np.float64],
     times_s: NDArray[np.float64],
     measured: NDArray[np.float64],
-    model: TumbleModelArgs,
+    model: _TumbleModelArgs,
     *,
     step_s: float,
 ) -> NDArray[np.float64]: ...
 def tumble_states(
     param: NDArray[np.float64],
     times_s: NDArray[np.float64],
-    model: TumbleModelArgs,
+    model: _TumbleModelArgs,
     *,
     step_s: float,
 ) -> NDArray[np.float64]: ...
 
 # wahba.rs (epochs flattened by gnssatt.vector_attitude / gnssatt.magnetometer)
+@final
+class WahbaBatch:
+    @property
+    def quat_ref_from_body(self) -> NDArray[np.float64]: ...  # (E, 4) scalar-last
+    @property
+    def covariance_ref(self) -> NDArray[np.float64]: ...  # (E, 3, 3)
+    @property
+    def information_ratio(self) -> NDArray[np.float64]: ...  # (E,)
+    @property
+    def loss(self) -> NDArray[np.float64]: ...  # (E,)
+
+@final
+class TriadBatch:
+    @property
+    def quat_ref_from_body(self) -> NDArray[np.float64]: ...  # (E, 4) scalar-last
+    @property
+    def sin_angle_body(self) -> NDArray[np.float64]: ...  # (E,)
+    @property
+    def sin_angle_ref(self) -> NDArray[np.float64]: ...  # (E,)
+
+@final
+class YawBatch:
+    @property
+    def yaw_rad(self) -> NDArray[np.float64]: ...  # (E,)
+    @property
+    def cos_pitch(self) -> NDArray[np.float64]: ...  # (E,) |cos pitch|
+    @property
+    def horizontal_fraction(self) -> NDArray[np.float64]: ...  # (E,)
+
 def wahba_batch(
     body: NDArray[np.float64],
     reference: NDArray[np.float64],
     weights: NDArray[np.float64],
     pairs: int,
     method: str = "svd",
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+) -> WahbaBatch: ...
 def triad_batch(
     b1: NDArray[np.float64], b2: NDArray[np.float64], r1: NDArray[np.float64], r2: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+) -> TriadBatch: ...
 def yaw_batch(
     b_body: NDArray[np.float64],
     b_orbital: NDArray[np.float64],
     pitch_rad: NDArray[np.float64],
     roll_rad: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+) -> YawBatch: ...
 
-# orbit.rs: states (x, y, z, vx, vy, vz) Earth-fixed, m and m/s; model = gnssatt.orbit.GlonassModel._kwargs().
+# orbit.rs: states (x, y, z, vx, vy, vz) Earth-fixed, m and m/s.
+class _GlonassModelArgs(TypedDict):
+    """ICD model constants, SI units (``gnssatt.orbit.GlonassModel._kwargs()``); a dict at runtime."""
+
+    gm_m3_s2: float
+    j2: float
+    equatorial_radius_m: float
+    omega_rad_s: float
+    lunisolar_m_s2: tuple[float, float, float]
+
+@final
+class StateWithStm:
+    @property
+    def state(self) -> NDArray[np.float64]: ...  # (6,)
+    @property
+    def stm(self) -> NDArray[np.float64]: ...  # (6, 6)
+
+@final
+class OrbitStates:
+    @property
+    def position_m(self) -> NDArray[np.float64]: ...  # (n, 3)
+    @property
+    def velocity_m_s(self) -> NDArray[np.float64]: ...  # (n, 3)
+
+@final
+class OrbitFilterRun:
+    @property
+    def states(self) -> NDArray[np.float64]: ...  # (n, 6)
+    @property
+    def covariances(self) -> NDArray[np.float64]: ...  # (n, 6, 6)
+    @property
+    def nis(self) -> NDArray[np.float64]: ...  # (n,)
+    @property
+    def dof(self) -> NDArray[np.uint64]: ...  # (n,), 0: no update
+
 def glonass_propagate(
-    state: NDArray[np.float64], duration_s: float, model: dict[str, object], *, step_s: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+    state: NDArray[np.float64], duration_s: float, model: _GlonassModelArgs, *, step_s: float
+) -> StateWithStm: ...
 def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+) -> OrbitStates: ...
 
 # gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.session_input.NavInput.kepler / .glonass arrays.
 def gnss_satellite_states(
@@ -237,9 +465,9 @@ def orbit_filter_loose(
     fix_velocity_m_s: NDArray[np.float64],
     fix_covariance: NDArray[np.float64],
     fix_valid: NDArray[np.bool_],
-    model: dict[str, object],
-    settings: dict[str, float],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...
+    model: _GlonassModelArgs,
+    settings: dict[str, float],  # accel_psd_m2_s3, step_s
+) -> OrbitFilterRun: ...
 def orbit_filter_tight(
     times_s: NDArray[np.float64],
     x0: NDArray[np.float64],
@@ -253,32 +481,84 @@ def orbit_filter_tight(
     system: NDArray[np.uint32],
     code_sigma_m: float,
     doppler_sigma_hz: float,
-    model: dict[str, object],
-    settings: dict[str, float],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...
+    model: _GlonassModelArgs,
+    settings: dict[str, float],  # accel_psd_m2_s3, step_s
+) -> OrbitFilterRun: ...
 
-# gyro_gnss.rs (arguments built by gnssatt.gyro_gnss)
+# gyro_gnss.rs, gyro_gnss_options.rs (arguments built by gnssatt.gyro_gnss)
 def gyro_propagate(
     q0: NDArray[np.float64], t: NDArray[np.float64], rates: NDArray[np.float64]
 ) -> NDArray[np.float64]: ...
+
+@final
+class GyroGnssOptions:
+    """The filter's settings, keyword-only; values checked by the core when the filter starts."""
+
+    def __new__(
+        cls,
+        *,
+        arw: float,
+        rrw: float,
+        baselines: NDArray[np.float64],
+        phase_sigma: float,
+        fix_enabled: bool,
+        ratio_threshold: float,
+        min_success_rate: float,
+        slip_threshold: float,
+        known_ambiguities: bool,
+        output_every: int,
+        sensitivity: tuple[float, float] | None = None,
+        misalignment_sigma: float | None = None,
+    ) -> GyroGnssOptions: ...
+
+@final
+class GyroGnssFix:
+    @property
+    def t(self) -> float: ...
+    @property
+    def accepted(self) -> bool: ...
+    @property
+    def ratio(self) -> float: ...
+    @property
+    def success_rate(self) -> float: ...
+    @property
+    def values(self) -> list[tuple[int, int, int]]: ...  # (track, baseline, integer)
+
+@final
+class GyroGnssRun:
+    @property
+    def t(self) -> NDArray[np.float64]: ...  # (n,)
+    @property
+    def quaternion(self) -> NDArray[np.float64]: ...  # (n, 4) scalar-last, body -> reference
+    @property
+    def drift(self) -> NDArray[np.float64]: ...  # (n, 3)
+    @property
+    def covariance(self) -> NDArray[np.float64]: ...  # (n, 6, 6)
+    @property
+    def true_covariance(self) -> NDArray[np.float64]: ...  # (n, 6, 6)
+    @property
+    def misalignment(self) -> NDArray[np.float64]: ...  # (n, 3)
+    @property
+    def misalignment_covariance(self) -> NDArray[np.float64]: ...  # (n, 3, 3)
+    @property
+    def n_float(self) -> NDArray[np.uint64]: ...  # (n,)
+    @property
+    def n_fixed(self) -> NDArray[np.uint64]: ...  # (n,)
+    @property
+    def fixes(self) -> list[GyroGnssFix]: ...
+    @property
+    def slips(self) -> NDArray[np.float64]: ...  # (k, 3) rows (t, track, NIS)
+    @property
+    def nis(self) -> NDArray[np.float64]: ...  # (u, 3) rows (t, NIS, dof)
+
 def gyro_gnss_filter(
     gyro_t: NDArray[np.float64],
     gyro_rates: NDArray[np.float64],
+    *,
     q0: NDArray[np.float64],
     drift0: NDArray[np.float64],
     p0: NDArray[np.float64],
-    arw: float,
-    rrw: float,
-    baselines: NDArray[np.float64],
-    phase_sigma: float,
-    fix_enabled: bool,
-    ratio_threshold: float,
-    min_success_rate: float,
-    slip_threshold: float,
-    known_ambiguities: bool,
-    sensitivity: tuple[float, float] | None,
-    misalignment_sigma: float | None,
-    output_every: int,
+    options: GyroGnssOptions,
     fix_t: NDArray[np.float64],
     fix_q: NDArray[np.float64],
     fix_cov: NDArray[np.float64],
@@ -288,7 +568,7 @@ def gyro_gnss_filter(
     phase_los: NDArray[np.float64],
     phase_wavelength: NDArray[np.float64],
     phase: NDArray[np.float64],
-) -> dict[str, object]: ...
+) -> GyroGnssRun: ...
 
 # Work limits of the core, read by the Python layer (tumble, orbit).
 DYNAMICS_MAX_RK4_STEPS: float
@@ -302,6 +582,7 @@ LAMBDA_MAX_ABS_AMBIGUITY: float
 
 # gnss.rs: the observation engine. Arrays of gnssatt.rinex.session_input.SessionInput (n_rx receivers,
 # n_ep epochs, n_sat satellites, 3 frequency slots) and NavInput; options None take the engine's defaults.
+@final
 class GnssSession:
     """Per-epoch results (n epochs, m rovers, k = 2 angles in baseline mode, 3 in attitude mode)."""
 
@@ -326,11 +607,12 @@ class GnssSession:
     warnings: list[str]
     code_sigma_scale: list[float]
 
+@final
 class GnssOptions:
     """The engine's options, checked when made (None: the engine's default)."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         *,
         systems: str | None = None,
         frequencies: int | None = None,
@@ -345,7 +627,7 @@ class GnssOptions:
         body_baselines_m: NDArray[np.float64] | None = None,
         step_deg: float | None = None,
         window_deg: float | None = None,
-    ) -> None: ...
+    ) -> GnssOptions: ...
 
 def gnss_run(
     time_gpst_ns: NDArray[np.int64],
@@ -364,11 +646,12 @@ def gnss_run(
     options: GnssOptions | None = None,
 ) -> GnssSession: ...
 
+@final
 class GnssEngine:
     """The engine fed a block of epochs at a time (state carried between calls)."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         sats: list[str],
         glonass_channel: NDArray[np.int64],
         n_receivers: int,
@@ -377,7 +660,7 @@ class GnssEngine:
         klobuchar: NDArray[np.float64] | None,
         leap_seconds: int | None,
         options: GnssOptions | None = None,
-    ) -> None: ...
+    ) -> GnssEngine: ...
     def process(
         self,
         time_gpst_ns: NDArray[np.int64],

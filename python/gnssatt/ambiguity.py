@@ -160,7 +160,8 @@ def lambda_ils(
     """
     a, q = _problem(float_ambiguities, covariance)
     m = integer("candidates", candidates, minimum=1, maximum=MAX_CANDIDATES)
-    fixed, norms, _ = _core.lambda_ils(a, q, m)
+    out = _core.lambda_ils(a, q, m)
+    fixed, norms = out.fixed, out.squared_norms
     return fixed, norms
 
 
@@ -191,7 +192,8 @@ def lambda_decorrelate(
     ConvergenceError
         ``Z`` would need entries beyond 2^52, or the identity ``Z.T Q Z = L.T D L`` fails its check.
     """
-    return _core.lambda_decorrelate(_covariance(covariance))
+    out = _core.lambda_decorrelate(_covariance(covariance))
+    return out.z, out.l, out.d
 
 
 def bootstrap_success_rate(covariance: ArrayLike) -> float:
@@ -312,9 +314,8 @@ def ratio_test(
         would be 0/0).
     """
     a, q = _problem(float_ambiguities, covariance)
-    accepted, ratio, c, fixed, norms = _core.lambda_ratio_test(
-        a, q, *_threshold(threshold, failure_rate, samples, seed)
-    )
+    out = _core.lambda_ratio_test(a, q, *_threshold(threshold, failure_rate, samples, seed))
+    accepted, ratio, c, fixed, norms = out.accepted, out.ratio, out.threshold, out.fixed, out.squared_norms
     _defined_ratio("ratio_test", ratio, norms)
     return RatioTestResult(bool(accepted), ratio, c, fixed, norms)
 
@@ -399,7 +400,9 @@ def partial_fix(
     a, q = _problem(float_ambiguities, covariance)
     settings = _threshold(threshold, failure_rate, samples, seed)
     rate = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
-    k, combos, values, ratio, c, sr, amb, cov = _core.lambda_partial_fix(a, q, *settings, rate)
+    out = _core.lambda_partial_fix(a, q, *settings, rate)
+    k, combos, values, ratio = out.fixed_count, out.combinations, out.values, out.ratio
+    c, sr, amb, cov = out.threshold, out.success_rate, out.ambiguities, out.covariance
     if int(k) > 0:
         _defined_ratio("partial_fix", ratio, [ratio])
     return PartialFixResult(int(k), combos, values, ratio, c, sr, amb, cov)

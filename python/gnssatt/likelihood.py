@@ -405,9 +405,11 @@ def ml_attitude(
     statistic = choice("statistic", statistic, get_args(StatisticName))
     search = choice("search", search, get_args(SearchName))
     with _lobe(b):
-        angles, grid_angles, z, cells, step, _ = _core.ml_search(
+        est = _core.ml_search(
             p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, _refine(refine), False
         )
+    angles, grid_angles, z = est.angles_rad, est.grid_angles_rad, est.z_max
+    cells, step = est.cells_evaluated, est.step_rad
     euler = np.degrees(angles)
     return LikelihoodAttitude(
         rotation=rotation_from_euler(euler),
@@ -456,9 +458,8 @@ def likelihood_grid(
     statistic = choice("statistic", statistic, get_args(StatisticName))
     step = _step(step_deg)
     with _lobe(b):
-        z, psi, theta, phi = _core.likelihood_grid(
-            p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1
-        )
+        g = _core.likelihood_grid(p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1)
+    z, psi, theta, phi = g.z, g.psi_rad, g.theta_rad, g.phi_rad
     spaced = [a for a in (psi, theta, phi) if len(a) > 1]
     if spaced:
         actual = float(spaced[0][1] - spaced[0][0])
@@ -519,9 +520,8 @@ def ml_baseline(
         w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
         _rows("window_deg", w2, ("psi", "elevation"))
         win = [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
-    angles, _, z, cells, step, _ = _core.ml_search(
-        p, s, w, b, statistic, _step(step_deg), win, "exhaustive", _refine(refine), True
-    )
+    est = _core.ml_search(p, s, w, b, statistic, _step(step_deg), win, "exhaustive", _refine(refine), True)
+    angles, z, cells, step = est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad
     psi, theta = angles[0], angles[1]
     direction = np.array([-np.sin(psi) * np.cos(theta), np.cos(psi) * np.cos(theta), np.sin(theta)])
     return BaselineDirection(
@@ -793,7 +793,8 @@ def ml_attitude_series(
     step = _step(step_deg)
     window = _series_window(window_deg, step_deg, w, used, float(np.max(np.linalg.norm(b, axis=1))))
     with _lobe(b):
-        euler, _, z, solved = _core.ml_attitude_series(p, s, w, b, step, window)
+        series = _core.ml_attitude_series(p, s, w, b, step, window)
+    euler, z, solved = series.euler_gost_rad, series.z_max, series.solved
     euler_deg = np.degrees(euler)
     matrices = rotation_from_euler(np.where(solved[:, None], euler_deg, 0.0)).as_matrix()
     return AttitudeSeries(
@@ -847,7 +848,8 @@ def ml_baseline_series(
     step = _step(step_deg)
     window = _series_window(window_deg, step_deg, w, used, length)
     with _lobe(np.array([[length, 0.0, 0.0]])):
-        _, direction, z, solved = _core.ml_baseline_series(p, s, w, length, step, window)
+        series = _core.ml_baseline_series(p, s, w, length, step, window)
+    direction, z, solved = series.direction_rad, series.z_max, series.solved
     heading, elevation = direction[:, 0], direction[:, 1]
     enu = np.stack(
         [np.sin(heading) * np.cos(elevation), np.cos(heading) * np.cos(elevation), np.sin(elevation)], axis=1

@@ -128,7 +128,8 @@ def yaw_from_magnetometer(
             f"{peak[1][k]:.3g} at epoch {k}, differing by more than 1e12"
         )
     ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
-    yaw, cos_pitch, horizontal = _core.yaw_batch(*vec, *ang)
+    out = _core.yaw_batch(*vec, *ang)
+    yaw, cos_pitch, horizontal = out.yaw_rad, out.cos_pitch, out.horizontal_fraction
     finite_outputs("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
     _warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
     _warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")

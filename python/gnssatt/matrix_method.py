@@ -110,7 +110,8 @@ def matrix_attitude(
             f"expected range_diffs at most {MAX_BASELINE_M:g} m in magnitude, got {r[k]:.6g} m at index {k}"
         )
     try:
-        dcm, raw, rms = _core.matrix_attitude(b, s, r, method)
+        out = _core.matrix_attitude(b, s, r, method)
+        dcm, raw, rms = out.dcm_ref_from_body, out.raw_body_from_ref, out.residual_rms_m
     except DegenerateGeometryError as exc:
         longest = float(np.max(np.linalg.norm(b, axis=1)))
         if float(np.max(np.abs(r))) > 1e-12 * longest:

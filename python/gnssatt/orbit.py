@@ -191,7 +191,8 @@ def glonass_propagate(
         )
     if d > 0 and 0 < h <= d:  # the core reports the other cases
         rk4_steps("glonass_propagate over duration_s", np.array([d]), h)
-    x, phi = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
+    out = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
+    x, phi = out.state, out.stm
     cause = f"position {r.tolist()} m, velocity {state[3:].tolist()} m/s over {d} s"
     finite_result("the propagated state", x, cause)
     finite_result("the state-transition matrix", phi, cause)
@@ -251,12 +252,13 @@ class CircularOrbit:
             getattr(self, k)
             for k in ("radius_m", "inclination_rad", "raan_rad", "arg_latitude0_rad", "gm_m3_s2")
         ]
-        return _core.circular_orbit_ecef(
+        out = _core.circular_orbit_ecef(
             elements,
             t,
             theta0_rad=scalar("theta0_rad", theta0_rad),
             omega_rad_s=scalar("omega_rad_s", omega_rad_s),
         )
+        return out.position_m, out.velocity_m_s
 
 
 def gmst_rad(jd_ut1: ArrayLike) -> NDArray[np.float64]:

@@ -413,5 +413,5 @@ def orbit_filter(
             m._kwargs(),
             settings,
         )
-    states, covs, nis, dof = out
+    states, covs, nis, dof = out.states, out.covariances, out.nis, out.dof
     return OrbitFilterResult(np.asarray(t), states, covs, nis, dof.astype(np.int64), coupling)

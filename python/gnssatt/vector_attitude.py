@@ -111,7 +111,8 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
         raise InvalidInputError(
             f"expected b1, b2, r1, r2 of one shape (epochs, 3), got {[a.shape for a in arrs]}"
         ) from None
-    quat, sb, sr = _core.triad_batch(*arrs)
+    out = _core.triad_batch(*arrs)
+    quat, sb, sr = out.quat_ref_from_body, out.sin_angle_body, out.sin_angle_ref
     finite_outputs("triad", quaternion=quat, sine=np.concatenate([sb, sr]))
     _warn_small(np.minimum(sb, sr), TRIAD_WARN_SIN, "the sine of the angle between the TRIAD vectors")
     if single:
@@ -224,13 +225,14 @@ def wahba(
     # the core sees weights relative to the largest of each epoch; covariance and loss scale back
     scale = np.max(w, axis=1)
     try:
-        quat, cov, ratio, loss = _core.wahba_batch(
+        out = _core.wahba_batch(
             b3.reshape(-1, 3),
             np.ascontiguousarray(r.reshape(-1, 3)),
             (w / scale[:, None]).reshape(-1),
             n,
             method,
         )
+        quat, cov, ratio, loss = out.quat_ref_from_body, out.covariance_ref, out.information_ratio, out.loss
     except DegenerateGeometryError as exc:
         # the degeneracy is a property of the pairs together: name the arguments that form them
         raise DegenerateGeometryError(

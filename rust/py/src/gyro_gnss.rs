@@ -1,20 +1,21 @@
 //! Bindings of the gyro + multi-antenna GNSS attitude filter (`gnssatt_core::gyro_gnss`). The whole filter
-//! runs with the GIL released; the Python wrapper `gnssatt.gyro_gnss` builds the arguments.
+//! runs with the GIL released; the Python wrapper `gnssatt.gyro_gnss` builds the arguments (settings in a
+//! `GyroGnssOptions`) and reads the typed `GyroGnssRun` back by attribute.
 
 use gnssatt_core::gyro_gnss::kinematics::propagate;
-use gnssatt_core::gyro_gnss::{
-    run, AttitudeFix, FilterRun, FixSettings, GyroNoise, Initial, PhaseEpoch, PhaseObs,
-    Sensitivity, Settings,
-};
+use gnssatt_core::gyro_gnss::{run, AttitudeFix, FilterRun, Initial, PhaseEpoch, PhaseObs};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 use crate::convert::{exact, fixed, quats_to_numpy, rows, square, values, vectors};
 use crate::errors::invalid_input;
+use crate::gyro_gnss_options::GyroGnssOptions;
 use crate::interruptible;
+use crate::results::result_type;
 
 /// Attitude (n, 4) at the time stamps `t` from `q0` and the body rates held over each interval.
 #[pyfunction]
@@ -98,80 +99,112 @@ fn phase_epochs(
     Ok(out)
 }
 
-fn to_dict<'py>(py: Python<'py>, run: FilterRun) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let n = run.t.len();
-    let mat6 =
-        |m: &[Matrix6<f64>]| Array3::from_shape_fn((m.len(), 6, 6), |(k, i, j)| m[k][(i, j)]);
-    d.set_item("t", Array1::from(run.t).into_pyarray(py))?;
-    d.set_item("quaternion", quats_to_numpy(py, &run.quaternion))?;
-    d.set_item(
-        "drift",
-        Array2::from_shape_fn((n, 3), |(k, i)| run.drift[k][i]).into_pyarray(py),
-    )?;
-    d.set_item("covariance", mat6(&run.covariance).into_pyarray(py))?;
-    d.set_item(
-        "true_covariance",
-        mat6(&run.true_covariance).into_pyarray(py),
-    )?;
-    d.set_item(
-        "misalignment",
-        Array2::from_shape_fn((n, 3), |(k, i)| run.misalignment[k][i]).into_pyarray(py),
-    )?;
-    d.set_item(
-        "misalignment_covariance",
-        Array3::from_shape_fn((n, 3, 3), |(k, i, j)| {
-            run.misalignment_covariance[k][(i, j)]
-        })
-        .into_pyarray(py),
-    )?;
-    d.set_item("n_float", Array1::from(run.n_float).into_pyarray(py))?;
-    d.set_item("n_fixed", Array1::from(run.n_fixed).into_pyarray(py))?;
-    let fixes: Vec<_> = run
-        .fixes
-        .into_iter()
-        .map(|f| (f.t, f.accepted, f.ratio, f.success_rate, f.values))
-        .collect();
-    d.set_item("fixes", fixes)?;
-    let slips: Vec<_> = run
-        .slips
-        .into_iter()
-        .map(|s| (s.t, s.track, s.nis))
-        .collect();
-    d.set_item("slips", slips)?;
-    let nis: Vec<_> = run.nis.into_iter().map(|s| (s.t, s.nis, s.dof)).collect();
-    d.set_item("nis", nis)?;
-    Ok(d)
+result_type! {
+    /// One LAMBDA attempt of the filter: `values` are `(track, baseline, integer)` of the best candidate.
+    GyroGnssFix {
+        t: f64,
+        accepted: bool,
+        ratio: f64,
+        success_rate: f64,
+        values: Vec<(i64, usize, i64)>,
+    }
 }
 
-/// Runs the filter; returns a dict (see `gnssatt.gyro_gnss.gyro_gnss_filter`).
+result_type! {
+    /// The filter's output at the recorded gyro times: `t` (n,) s, `quaternion` (n, 4) scalar-last body ->
+    /// reference, `drift` (n, 3) rad/s, `covariance` and `true_covariance` (n, 6, 6) of `[dtheta, ddrift]`,
+    /// `misalignment` (n, 3) rad and its covariance (n, 3, 3), `n_float` / `n_fixed` (n,) ambiguities held,
+    /// `fixes` the LAMBDA attempts, `slips` (k, 3) rows `(t, track, NIS)`, `nis` (u, 3) rows `(t, NIS, dof)`.
+    GyroGnssRun {
+        t: Py<PyArray1<f64>>,
+        quaternion: Py<PyArray2<f64>>,
+        drift: Py<PyArray2<f64>>,
+        covariance: Py<PyArray3<f64>>,
+        true_covariance: Py<PyArray3<f64>>,
+        misalignment: Py<PyArray2<f64>>,
+        misalignment_covariance: Py<PyArray3<f64>>,
+        n_float: Py<PyArray1<usize>>,
+        n_fixed: Py<PyArray1<usize>>,
+        fixes: Vec<Py<GyroGnssFix>>,
+        slips: Py<PyArray2<f64>>,
+        nis: Py<PyArray2<f64>>,
+    }
+}
+
+fn typed(py: Python<'_>, run: FilterRun) -> PyResult<GyroGnssRun> {
+    let n = run.t.len();
+    let mat6 = |m: &[Matrix6<f64>]| {
+        Array3::from_shape_fn((m.len(), 6, 6), |(k, i, j)| m[k][(i, j)])
+            .into_pyarray(py)
+            .unbind()
+    };
+    let rows3 = |v: &[Vector3<f64>]| {
+        Array2::from_shape_fn((v.len(), 3), |(k, i)| v[k][i])
+            .into_pyarray(py)
+            .unbind()
+    };
+    let fixes = run
+        .fixes
+        .into_iter()
+        .map(|f| {
+            Py::new(
+                py,
+                GyroGnssFix {
+                    t: f.t,
+                    accepted: f.accepted,
+                    ratio: f.ratio,
+                    success_rate: f.success_rate,
+                    values: f.values,
+                },
+            )
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    // track ids and degrees of freedom are small integers, exact in f64
+    let slips = Array2::from_shape_fn((run.slips.len(), 3), |(k, j)| {
+        let s = &run.slips[k];
+        [s.t, s.track as f64, s.nis][j]
+    });
+    let nis = Array2::from_shape_fn((run.nis.len(), 3), |(k, j)| {
+        let s = &run.nis[k];
+        [s.t, s.nis, s.dof as f64][j]
+    });
+    Ok(GyroGnssRun {
+        t: Array1::from(run.t).into_pyarray(py).unbind(),
+        quaternion: quats_to_numpy(py, &run.quaternion).unbind(),
+        drift: rows3(&run.drift),
+        covariance: mat6(&run.covariance),
+        true_covariance: mat6(&run.true_covariance),
+        misalignment: rows3(&run.misalignment),
+        misalignment_covariance: Array3::from_shape_fn((n, 3, 3), |(k, i, j)| {
+            run.misalignment_covariance[k][(i, j)]
+        })
+        .into_pyarray(py)
+        .unbind(),
+        n_float: Array1::from(run.n_float).into_pyarray(py).unbind(),
+        n_fixed: Array1::from(run.n_fixed).into_pyarray(py).unbind(),
+        fixes,
+        slips: slips.into_pyarray(py).unbind(),
+        nis: nis.into_pyarray(py).unbind(),
+    })
+}
+
+/// Runs the filter from the initial state `q0` (4,), `drift0` (3,), `p0` (6, 6) over the gyro record, with
+/// attitude fixes `fix_*` and phase rows `phase_*` (empty arrays for none); see
+/// `gnssatt.gyro_gnss.gyro_gnss_filter`.
 #[pyfunction]
 #[pyo3(signature = (
-    gyro_t, gyro_rates, q0, drift0, p0, arw, rrw, baselines, phase_sigma, fix_enabled,
-    ratio_threshold, min_success_rate, slip_threshold, known_ambiguities, sensitivity, misalignment_sigma,
-    output_every,
-    fix_t, fix_q, fix_cov, epoch_t, phase_epoch, phase_track, phase_los, phase_wavelength, phase
+    gyro_t, gyro_rates, *, q0, drift0, p0, options, fix_t, fix_q, fix_cov, epoch_t, phase_epoch, phase_track,
+    phase_los, phase_wavelength, phase
 ))]
 #[allow(clippy::too_many_arguments)]
-fn gyro_gnss_filter<'py>(
-    py: Python<'py>,
+fn gyro_gnss_filter(
+    py: Python<'_>,
     gyro_t: PyReadonlyArray1<'_, f64>,
     gyro_rates: PyReadonlyArray2<'_, f64>,
     q0: PyReadonlyArray1<'_, f64>,
     drift0: PyReadonlyArray1<'_, f64>,
     p0: PyReadonlyArray2<'_, f64>,
-    arw: f64,
-    rrw: f64,
-    baselines: PyReadonlyArray2<'_, f64>,
-    phase_sigma: f64,
-    fix_enabled: bool,
-    ratio_threshold: f64,
-    min_success_rate: f64,
-    slip_threshold: f64,
-    known_ambiguities: bool,
-    sensitivity: Option<(f64, f64)>,
-    misalignment_sigma: Option<f64>,
-    output_every: usize,
+    options: &GyroGnssOptions,
     fix_t: PyReadonlyArray1<'_, f64>,
     fix_q: PyReadonlyArray2<'_, f64>,
     fix_cov: PyReadonlyArray3<'_, f64>,
@@ -181,34 +214,15 @@ fn gyro_gnss_filter<'py>(
     phase_los: PyReadonlyArray2<'_, f64>,
     phase_wavelength: PyReadonlyArray1<'_, f64>,
     phase: PyReadonlyArray2<'_, f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<GyroGnssRun> {
     let gyro_t = values(py, "gyro_t", &gyro_t)?;
     let gyro_rates = vectors(py, "gyro_rates", &gyro_rates)?;
     let drift0 = fixed::<3>(py, "drift0", &drift0)?;
-    let p0 = square::<6>(py, "p0", &p0)?;
-    let baselines = vectors(py, "baselines", &baselines)?;
-    let settings = Settings {
-        noise: GyroNoise { arw, rrw },
-        phase_sigma,
-        fix: FixSettings {
-            enabled: fix_enabled,
-            ratio_threshold,
-            min_success_rate,
-        },
-        slip_threshold,
-        known_ambiguities,
-        sensitivity: sensitivity.map(|(misalignment_sigma, baseline_sigma)| Sensitivity {
-            misalignment_sigma,
-            baseline_sigma,
-        }),
-        misalignment_sigma,
-        output_every,
-        baselines,
-    };
+    let settings = &options.inner;
     let initial = Initial {
         quaternion: fixed::<4>(py, "q0", &q0)?,
         drift: Vector3::new(drift0[0], drift0[1], drift0[2]),
-        covariance: p0,
+        covariance: square::<6>(py, "p0", &p0)?,
     };
     let fix_t = values(py, "fix_t", &fix_t)?;
     let fix_q = rows::<4>(py, "fix_q", &fix_q, Some(fix_t.len()), false)?;
@@ -231,13 +245,16 @@ fn gyro_gnss_filter<'py>(
         &phase,
     )?;
     let result = interruptible::run(py, || {
-        run(&settings, &initial, &gyro_t, &gyro_rates, &fixes, &epochs)
+        run(settings, &initial, &gyro_t, &gyro_rates, &fixes, &epochs)
     })?;
-    to_dict(py, result)
+    typed(py, result)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gyro_propagate, m)?)?;
     m.add_function(wrap_pyfunction!(gyro_gnss_filter, m)?)?;
+    m.add_class::<GyroGnssOptions>()?;
+    m.add_class::<GyroGnssRun>()?;
+    m.add_class::<GyroGnssFix>()?;
     Ok(())
 }

@@ -12,22 +12,22 @@ use pyo3::prelude::*;
 
 use crate::convert::{dmatrix, dvector};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::results::result_type;
 
 /// Default fixed ratio threshold when neither `threshold` nor `failure_rate` is given.
 const DEFAULT_RATIO_THRESHOLD: f64 = 3.0;
 
-fn to_numpy2<'py, T: numpy::Element + Copy>(
-    py: Python<'py>,
-    m: &DMatrix<T>,
-) -> Bound<'py, PyArray2<T>> {
-    Array2::from_shape_fn(m.shape(), |(i, j)| m[(i, j)]).into_pyarray(py)
+fn to_numpy2<T: numpy::Element + Copy>(py: Python<'_>, m: &DMatrix<T>) -> Py<PyArray2<T>> {
+    Array2::from_shape_fn(m.shape(), |(i, j)| m[(i, j)])
+        .into_pyarray(py)
+        .unbind()
 }
 
-fn to_numpy1<'py, T: numpy::Element + Copy>(
-    py: Python<'py>,
+fn to_numpy1<T: numpy::Element + Copy>(
+    py: Python<'_>,
     v: impl IntoIterator<Item = T>,
-) -> Bound<'py, PyArray1<T>> {
-    Array1::from_iter(v).into_pyarray(py)
+) -> Py<PyArray1<T>> {
+    Array1::from_iter(v).into_pyarray(py).unbind()
 }
 
 fn threshold_of(
@@ -51,44 +51,58 @@ fn threshold_of(
     }
 }
 
-/// Returns (fixed (m, n) int64, squared_norms (m,), nodes_visited).
+result_type! {
+    /// The `candidates` best integer vectors: `fixed` (m, n) int64 (row k the k-th best), their
+    /// `squared_norms` (m,) in the metric of the covariance, and the search-tree `nodes_visited`.
+    IlsSolution {
+        fixed: Py<PyArray2<i64>>,
+        squared_norms: Py<PyArray1<f64>>,
+        nodes_visited: u64,
+    }
+}
+
+/// The `candidates` best integer vectors of `float_ambiguities` (n,) in the metric of `covariance` (n, n).
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, candidates = 2))]
-#[allow(clippy::type_complexity)]
-fn lambda_ils<'py>(
-    py: Python<'py>,
+fn lambda_ils(
+    py: Python<'_>,
     float_ambiguities: PyReadonlyArray1<'_, f64>,
     covariance: PyReadonlyArray2<'_, f64>,
     candidates: usize,
-) -> PyResult<(Bound<'py, PyArray2<i64>>, Bound<'py, PyArray1<f64>>, u64)> {
+) -> PyResult<IlsSolution> {
     let a = dvector(py, "float_ambiguities", &float_ambiguities)?;
     let q = dmatrix(py, "covariance", &covariance)?;
     let sol = py.detach(|| ils(&a, &q, candidates)).into_py_result(py)?;
-    Ok((
-        to_numpy2(py, &sol.fixed.transpose()),
-        to_numpy1(py, sol.squared_norms),
-        sol.nodes_visited,
-    ))
+    Ok(IlsSolution {
+        fixed: to_numpy2(py, &sol.fixed.transpose()),
+        squared_norms: to_numpy1(py, sol.squared_norms),
+        nodes_visited: sol.nodes_visited,
+    })
 }
 
-/// Returns (Z (n, n) int64, L (n, n), D (n,)) with Z^T Q Z = L^T diag(D) L.
+result_type! {
+    /// The decorrelation of a covariance Q: `z` (n, n) int64 and the factors `l` (n, n), `d` (n,) with
+    /// `Z^T Q Z = L^T diag(D) L`.
+    Decorrelation {
+        z: Py<PyArray2<i64>>,
+        l: Py<PyArray2<f64>>,
+        d: Py<PyArray1<f64>>,
+    }
+}
+
+/// The LAMBDA decorrelation of `covariance` (n, n).
 #[pyfunction]
-#[allow(clippy::type_complexity)]
-fn lambda_decorrelate<'py>(
-    py: Python<'py>,
+fn lambda_decorrelate(
+    py: Python<'_>,
     covariance: PyReadonlyArray2<'_, f64>,
-) -> PyResult<(
-    Bound<'py, PyArray2<i64>>,
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<f64>>,
-)> {
+) -> PyResult<Decorrelation> {
     let q = dmatrix(py, "covariance", &covariance)?;
     let r = py.detach(|| reduce(&q)).into_py_result(py)?;
-    Ok((
-        to_numpy2(py, &r.z),
-        to_numpy2(py, &r.factor.l),
-        to_numpy1(py, r.factor.d.iter().copied()),
-    ))
+    Ok(Decorrelation {
+        z: to_numpy2(py, &r.z),
+        l: to_numpy2(py, &r.factor.l),
+        d: to_numpy1(py, r.factor.d.iter().copied()),
+    })
 }
 
 /// Bootstrapped success rate of the decorrelated ambiguities.
@@ -115,56 +129,67 @@ fn lambda_ffrt_threshold(
         .into_py_result(py)
 }
 
-/// Returns (accepted, ratio, threshold, fixed (n,) int64, squared_norms (2,)).
+result_type! {
+    /// The ratio test of the two best candidates: `accepted`, the `ratio` second / best squared norm,
+    /// the `threshold` used, the best candidate `fixed` (n,) int64 and both `squared_norms` (2,).
+    RatioTest {
+        accepted: bool,
+        ratio: f64,
+        threshold: f64,
+        fixed: Py<PyArray1<i64>>,
+        squared_norms: Py<PyArray1<f64>>,
+    }
+}
+
+/// The ratio test at a fixed `threshold` or at the threshold of a simulated `failure_rate`.
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, threshold, failure_rate, samples, seed))]
-#[allow(clippy::type_complexity)]
-fn lambda_ratio_test<'py>(
-    py: Python<'py>,
+fn lambda_ratio_test(
+    py: Python<'_>,
     float_ambiguities: PyReadonlyArray1<'_, f64>,
     covariance: PyReadonlyArray2<'_, f64>,
     threshold: Option<f64>,
     failure_rate: Option<f64>,
     samples: usize,
     seed: u64,
-) -> PyResult<(
-    bool,
-    f64,
-    f64,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f64>>,
-)> {
+) -> PyResult<RatioTest> {
     let t = threshold_of(py, threshold, failure_rate, samples, seed)?;
     let a = dvector(py, "float_ambiguities", &float_ambiguities)?;
     let q = dmatrix(py, "covariance", &covariance)?;
     let r = py.detach(|| ratio_test(&a, &q, t)).into_py_result(py)?;
-    Ok((
-        r.accepted,
-        r.ratio,
-        r.threshold,
-        to_numpy1(py, r.fixed.iter().copied()),
-        to_numpy1(py, r.squared_norms),
-    ))
+    Ok(RatioTest {
+        accepted: r.accepted,
+        ratio: r.ratio,
+        threshold: r.threshold,
+        fixed: to_numpy1(py, r.fixed.iter().copied()),
+        squared_norms: to_numpy1(py, r.squared_norms),
+    })
 }
 
-type PartialFixTuple<'py> = (
-    usize,
-    Bound<'py, PyArray2<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    f64,
-    f64,
-    f64,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray2<f64>>,
-);
+result_type! {
+    /// Partial ambiguity resolution: `fixed_count` k decorrelated combinations fixed, their
+    /// `combinations` (n, k) int64 and integer `values` (k,) int64, the ratio test's `ratio` and
+    /// `threshold`, the bootstrapped `success_rate` of the fixed subset, and the float `ambiguities` (n,)
+    /// and `covariance` (n, n) conditioned on the fixed combinations.
+    PartialFix {
+        fixed_count: usize,
+        combinations: Py<PyArray2<i64>>,
+        values: Py<PyArray1<i64>>,
+        ratio: f64,
+        threshold: f64,
+        success_rate: f64,
+        ambiguities: Py<PyArray1<f64>>,
+        covariance: Py<PyArray2<f64>>,
+    }
+}
 
-/// Returns (fixed_count, combinations (n, k) int64, values (k,) int64, ratio, threshold, success_rate,
-/// ambiguities (n,), covariance (n, n)).
+/// The largest subset of decorrelated ambiguities with a bootstrapped success rate of at least
+/// `min_success_rate` that passes the ratio test.
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, threshold, failure_rate, samples, seed, min_success_rate))]
 #[allow(clippy::too_many_arguments)]
-fn lambda_partial_fix<'py>(
-    py: Python<'py>,
+fn lambda_partial_fix(
+    py: Python<'_>,
     float_ambiguities: PyReadonlyArray1<'_, f64>,
     covariance: PyReadonlyArray2<'_, f64>,
     threshold: Option<f64>,
@@ -172,23 +197,23 @@ fn lambda_partial_fix<'py>(
     samples: usize,
     seed: u64,
     min_success_rate: f64,
-) -> PyResult<PartialFixTuple<'py>> {
+) -> PyResult<PartialFix> {
     let t = threshold_of(py, threshold, failure_rate, samples, seed)?;
     let a = dvector(py, "float_ambiguities", &float_ambiguities)?;
     let q = dmatrix(py, "covariance", &covariance)?;
     let r = py
         .detach(|| partial_fix(&a, &q, t, min_success_rate))
         .into_py_result(py)?;
-    Ok((
-        r.fixed_count,
-        to_numpy2(py, &r.combinations),
-        to_numpy1(py, r.values.iter().copied()),
-        r.ratio,
-        r.threshold,
-        r.success_rate,
-        to_numpy1(py, r.ambiguities.iter().copied()),
-        to_numpy2(py, &r.covariance),
-    ))
+    Ok(PartialFix {
+        fixed_count: r.fixed_count,
+        combinations: to_numpy2(py, &r.combinations),
+        values: to_numpy1(py, r.values.iter().copied()),
+        ratio: r.ratio,
+        threshold: r.threshold,
+        success_rate: r.success_rate,
+        ambiguities: to_numpy1(py, r.ambiguities.iter().copied()),
+        covariance: to_numpy2(py, &r.covariance),
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -198,6 +223,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lambda_ffrt_threshold, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_ratio_test, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_partial_fix, m)?)?;
+    m.add_class::<IlsSolution>()?;
+    m.add_class::<Decorrelation>()?;
+    m.add_class::<RatioTest>()?;
+    m.add_class::<PartialFix>()?;
     // The limits live in the core; Python reads them from here instead of restating them.
     m.add(
         "LAMBDA_MAX_CANDIDATES",

@@ -8,13 +8,17 @@ mod dynamics;
 mod errors;
 mod gnss;
 mod gnss_nav;
+mod gnss_nav_input;
 mod gnss_options;
+mod gnss_session;
 mod gyro_gnss;
+mod gyro_gnss_options;
 mod interruptible;
 mod lambda;
 mod likelihood;
 mod matrix_method;
 mod orbit;
+mod results;
 mod rotation;
 mod wahba;
 

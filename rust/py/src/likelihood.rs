@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use crate::convert::vectors;
 use crate::errors::{invalid_input, IntoPyResult};
 use crate::interruptible;
+use crate::results::result_type;
 
 fn model(
     py: Python<'_>,
@@ -77,10 +78,24 @@ fn grid(
     .into_py_result(py)
 }
 
-/// Grid search. Returns (angles_rad, grid_angles_rad, z_max, cells_evaluated, step_rad, grid_index).
+result_type! {
+    /// The grid search's estimate: `angles_rad` (3,) refined and `grid_angles_rad` (3,) of the best node
+    /// (psi, theta, phi, GOST), the statistic's maximum `z_max`, the `cells_evaluated`, the lattice
+    /// `step_rad` and the best node's `grid_index` (3,).
+    MlEstimate {
+        angles_rad: Py<PyArray1<f64>>,
+        grid_angles_rad: Py<PyArray1<f64>>,
+        z_max: f64,
+        cells_evaluated: u64,
+        step_rad: f64,
+        grid_index: Py<PyArray1<usize>>,
+    }
+}
+
+/// Grid search over the attitude angles (psi, theta, phi).
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad, search, refine, two_dimensional))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[allow(clippy::too_many_arguments)]
 fn ml_search(
     py: Python<'_>,
     phase_diffs: PyReadonlyArray3<'_, f64>,
@@ -93,7 +108,7 @@ fn ml_search(
     search: &str,
     refine: &str,
     two_dimensional: bool,
-) -> PyResult<([f64; 3], [f64; 3], f64, u64, f64, [usize; 3])> {
+) -> PyResult<MlEstimate> {
     let refine = match refine {
         "none" => Refine::None,
         "parabolic" => Refine::Parabolic,
@@ -121,17 +136,26 @@ fn ml_search(
     let model = model(py, &phase_diffs, &los, &wavelengths, &baselines, statistic)?;
     let grid = grid(py, &model, step_rad, window_rad, two_dimensional)?;
     let est = interruptible::run(py, || estimate(&model, &grid, search, refine))?;
-    Ok((
-        est.angles_rad,
-        est.grid_angles_rad,
-        est.grid_max.z as f64,
-        est.grid_max.cells_evaluated,
-        est.step_rad,
-        est.grid_max.index,
-    ))
+    Ok(MlEstimate {
+        angles_rad: est.angles_rad.to_vec().into_pyarray(py).unbind(),
+        grid_angles_rad: est.grid_angles_rad.to_vec().into_pyarray(py).unbind(),
+        z_max: est.grid_max.z as f64,
+        cells_evaluated: est.grid_max.cells_evaluated,
+        step_rad: est.step_rad,
+        grid_index: est.grid_max.index.to_vec().into_pyarray(py).unbind(),
+    })
 }
 
-/// Branch-and-bound work counters: (boxes_bounded, leaf_cells, grid_cells).
+result_type! {
+    /// Branch-and-bound work counters: boxes bounded, leaf cells evaluated, and the full grid's cells.
+    BnbStats {
+        boxes_bounded: u64,
+        leaf_cells: u64,
+        grid_cells: u64,
+    }
+}
+
+/// The work of a branch-and-bound search next to the exhaustive grid's.
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad))]
 #[allow(clippy::too_many_arguments)]
@@ -144,19 +168,34 @@ fn bnb_stats(
     statistic: &str,
     step_rad: Option<f64>,
     window_rad: Option<[[f64; 2]; 3]>,
-) -> PyResult<(u64, u64, u64)> {
+) -> PyResult<BnbStats> {
     let model = model(py, &phase_diffs, &los, &wavelengths, &baselines, statistic)?;
     let grid = grid(py, &model, step_rad, window_rad, false)?;
     let (_, s) = interruptible::run(py, || branch_and_bound(&model, &grid))?;
-    Ok((s.boxes_bounded, s.leaf_cells, grid.len() as u64))
+    Ok(BnbStats {
+        boxes_bounded: s.boxes_bounded,
+        leaf_cells: s.leaf_cells,
+        grid_cells: grid.len() as u64,
+    })
 }
 
-/// The whole Z array (float32, shape (n_theta, n_phi, n_psi)) and the axes (radians) psi, theta, phi.
+result_type! {
+    /// The whole statistic `z` (n_theta, n_phi, n_psi) float32 and its axes `psi_rad`, `theta_rad`,
+    /// `phi_rad`.
+    LikelihoodGrid {
+        z: Py<PyArray3<f32>>,
+        psi_rad: Py<PyArray1<f64>>,
+        theta_rad: Py<PyArray1<f64>>,
+        phi_rad: Py<PyArray1<f64>>,
+    }
+}
+
+/// The statistic on every node of the grid.
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad, two_dimensional))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
-fn likelihood_grid<'py>(
-    py: Python<'py>,
+#[allow(clippy::too_many_arguments)]
+fn likelihood_grid(
+    py: Python<'_>,
     phase_diffs: PyReadonlyArray3<'_, f64>,
     los: PyReadonlyArray3<'_, f64>,
     wavelengths: PyReadonlyArray2<'_, f64>,
@@ -165,12 +204,7 @@ fn likelihood_grid<'py>(
     step_rad: Option<f64>,
     window_rad: Option<[[f64; 2]; 3]>,
     two_dimensional: bool,
-) -> PyResult<(
-    Bound<'py, PyArray3<f32>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-)> {
+) -> PyResult<LikelihoodGrid> {
     let model = model(py, &phase_diffs, &los, &wavelengths, &baselines, statistic)?;
     let g = grid(py, &model, step_rad, window_rad, two_dimensional)?;
     let z = interruptible::run(py, || evaluate_grid(&model, &g))?;
@@ -181,13 +215,14 @@ fn likelihood_grid<'py>(
             .map(|j| a.angle(j))
             .collect::<Vec<_>>()
             .into_pyarray(py)
+            .unbind()
     };
-    Ok((
-        z.into_pyarray(py),
-        axis(&g.psi),
-        axis(&g.theta),
-        axis(&g.phi),
-    ))
+    Ok(LikelihoodGrid {
+        z: z.into_pyarray(py).unbind(),
+        psi_rad: axis(&g.psi),
+        theta_rad: axis(&g.theta),
+        phi_rad: axis(&g.phi),
+    })
 }
 
 /// Per-epoch inputs of the series calls: sd_phase (n_ep, n_rover, n_sig) with NaN for absent signals,
@@ -228,44 +263,51 @@ fn series_epochs(
         .collect())
 }
 
-/// (euler_rad (n, 3), direction_rad (n, 2), value (n,), solved (n,)).
-type SeriesArrays<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<bool>>,
-);
+result_type! {
+    /// Per-epoch ML solutions: `euler_gost_rad` (n, 3), `direction_rad` (n, 2) (compass azimuth and
+    /// elevation of the first baseline), the statistic's maximum `z_max` (n,) and `solved` (n,).
+    MlSeries {
+        euler_gost_rad: Py<PyArray2<f64>>,
+        direction_rad: Py<PyArray2<f64>>,
+        z_max: Py<PyArray1<f64>>,
+        solved: Py<PyArray1<bool>>,
+    }
+}
 
-fn series_arrays<'py>(py: Python<'py>, sol: &[MlSolution]) -> PyResult<SeriesArrays<'py>> {
+fn series_arrays(py: Python<'_>, sol: &[MlSolution]) -> MlSeries {
     let n = sol.len();
     let euler = Array2::from_shape_fn((n, 3), |(k, j)| sol[k].euler_gost_rad[j]);
     let direction = Array2::from_shape_fn((n, 2), |(k, j)| sol[k].direction_rad[j]);
-    Ok((
-        euler.into_pyarray(py),
-        direction.into_pyarray(py),
-        sol.iter()
+    MlSeries {
+        euler_gost_rad: euler.into_pyarray(py).unbind(),
+        direction_rad: direction.into_pyarray(py).unbind(),
+        z_max: sol
+            .iter()
             .map(|x| x.value)
             .collect::<Vec<_>>()
-            .into_pyarray(py),
-        sol.iter()
+            .into_pyarray(py)
+            .unbind(),
+        solved: sol
+            .iter()
             .map(|x| x.solved)
             .collect::<Vec<_>>()
-            .into_pyarray(py),
-    ))
+            .into_pyarray(py)
+            .unbind(),
+    }
 }
 
 /// Per-epoch ML attitude over a batch (GIL released, interruptible).
 #[pyfunction]
 #[pyo3(signature = (sd_phase, los, wavelengths, baselines, step_rad, window_rad))]
-fn ml_attitude_series<'py>(
-    py: Python<'py>,
+fn ml_attitude_series(
+    py: Python<'_>,
     sd_phase: PyReadonlyArray3<'_, f64>,
     los: PyReadonlyArray3<'_, f64>,
     wavelengths: PyReadonlyArray2<'_, f64>,
     baselines: PyReadonlyArray2<'_, f64>,
     step_rad: Option<f64>,
     window_rad: Option<f64>,
-) -> PyResult<SeriesArrays<'py>> {
+) -> PyResult<MlSeries> {
     let b: Vec<[f64; 3]> = vectors(py, "baselines", &baselines)?
         .iter()
         .map(|v| [v.x, v.y, v.z])
@@ -274,26 +316,26 @@ fn ml_attitude_series<'py>(
     let sol = interruptible::run(py, || {
         core_attitude_series(&epochs, &b, step_rad, window_rad)
     })?;
-    series_arrays(py, &sol)
+    Ok(series_arrays(py, &sol))
 }
 
 /// Per-epoch ML direction of one baseline over a batch (GIL released, interruptible).
 #[pyfunction]
 #[pyo3(signature = (sd_phase, los, wavelengths, baseline_length_m, step_rad, window_rad))]
-fn ml_baseline_series<'py>(
-    py: Python<'py>,
+fn ml_baseline_series(
+    py: Python<'_>,
     sd_phase: PyReadonlyArray3<'_, f64>,
     los: PyReadonlyArray3<'_, f64>,
     wavelengths: PyReadonlyArray2<'_, f64>,
     baseline_length_m: f64,
     step_rad: Option<f64>,
     window_rad: Option<f64>,
-) -> PyResult<SeriesArrays<'py>> {
+) -> PyResult<MlSeries> {
     let epochs = series_epochs(py, &sd_phase, &los, &wavelengths, 1)?;
     let sol = interruptible::run(py, || {
         core_baseline_series(&epochs, baseline_length_m, step_rad, window_rad)
     })?;
-    series_arrays(py, &sol)
+    Ok(series_arrays(py, &sol))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -302,5 +344,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ml_search, m)?)?;
     m.add_function(wrap_pyfunction!(bnb_stats, m)?)?;
     m.add_function(wrap_pyfunction!(likelihood_grid, m)?)?;
+    m.add_class::<MlEstimate>()?;
+    m.add_class::<BnbStats>()?;
+    m.add_class::<LikelihoodGrid>()?;
+    m.add_class::<MlSeries>()?;
     Ok(())
 }

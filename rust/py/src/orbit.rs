@@ -16,6 +16,7 @@ use pyo3::prelude::*;
 use crate::convert::{exact, fixed, rows, rows3, square, values};
 use crate::errors::{invalid_input, IntoPyResult};
 use crate::interruptible;
+use crate::results::result_type;
 
 /// The ICD model constants, passed as one dict (`gnssatt.orbit.GlonassModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
@@ -44,38 +45,62 @@ fn to_numpy6(m: &Matrix6<f64>) -> Array2<f64> {
     Array2::from_shape_fn((6, 6), |(i, j)| m[(i, j)])
 }
 
-type StateAndStm<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
-type PositionsVelocities<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+result_type! {
+    /// A propagated `state` (6,) and its state-transition matrix `stm` (6, 6) d state / d initial state.
+    StateWithStm {
+        state: Py<PyArray1<f64>>,
+        stm: Py<PyArray2<f64>>,
+    }
+}
 
-/// Propagated state (6,) and state-transition matrix (6, 6).
+result_type! {
+    /// Earth-fixed `position_m` (n, 3) and `velocity_m_s` (n, 3).
+    OrbitStates {
+        position_m: Py<PyArray2<f64>>,
+        velocity_m_s: Py<PyArray2<f64>>,
+    }
+}
+
+result_type! {
+    /// The orbit filter's `states` (n, 6), `covariances` (n, 6, 6), and per epoch the normalised
+    /// innovation squared `nis` (n,) with its degrees of freedom `dof` (n,) (0: no update).
+    OrbitFilterRun {
+        states: Py<PyArray2<f64>>,
+        covariances: Py<PyArray3<f64>>,
+        nis: Py<PyArray1<f64>>,
+        dof: Py<PyArray1<u64>>,
+    }
+}
+
+/// The state propagated over `duration_s` with its state-transition matrix.
 #[pyfunction]
 #[pyo3(signature = (state, duration_s, model, *, step_s))]
-fn glonass_propagate<'py>(
-    py: Python<'py>,
+fn glonass_propagate(
+    py: Python<'_>,
     state: PyReadonlyArray1<'_, f64>,
     duration_s: f64,
     model: ModelArgs,
     step_s: f64,
-) -> PyResult<StateAndStm<'py>> {
+) -> PyResult<StateWithStm> {
     let s = fixed::<6>(py, "state", &state)?;
     let m = GlonassModel::from(model);
     let (x, phi) = interruptible::run(py, || propagate_with_stm(&m, &s, duration_s, step_s))?;
-    Ok((
-        Array1::from_vec(x.to_vec()).into_pyarray(py),
-        to_numpy6(&phi).into_pyarray(py),
-    ))
+    Ok(StateWithStm {
+        state: Array1::from_vec(x.to_vec()).into_pyarray(py).unbind(),
+        stm: to_numpy6(&phi).into_pyarray(py).unbind(),
+    })
 }
 
-/// ECEF positions (n, 3) and velocities (n, 3) of a circular orbit at times (n,).
+/// ECEF positions and velocities of a circular orbit at times (n,).
 #[pyfunction]
 #[pyo3(signature = (elements, times_s, *, theta0_rad, omega_rad_s))]
-fn circular_orbit_ecef<'py>(
-    py: Python<'py>,
+fn circular_orbit_ecef(
+    py: Python<'_>,
     elements: [f64; 5],
     times_s: PyReadonlyArray1<'_, f64>,
     theta0_rad: f64,
     omega_rad_s: f64,
-) -> PyResult<PositionsVelocities<'py>> {
+) -> PyResult<OrbitStates> {
     let o = CircularOrbit {
         radius_m: elements[0],
         inclination_rad: elements[1],
@@ -96,10 +121,14 @@ fn circular_orbit_ecef<'py>(
         .map(|&ti| o.state_ecef(ti, theta0_rad, omega_rad_s))
         .collect();
     let n = states.len();
-    Ok((
-        Array2::from_shape_fn((n, 3), |(i, j)| states[i].0[j]).into_pyarray(py),
-        Array2::from_shape_fn((n, 3), |(i, j)| states[i].1[j]).into_pyarray(py),
-    ))
+    Ok(OrbitStates {
+        position_m: Array2::from_shape_fn((n, 3), |(i, j)| states[i].0[j])
+            .into_pyarray(py)
+            .unbind(),
+        velocity_m_s: Array2::from_shape_fn((n, 3), |(i, j)| states[i].1[j])
+            .into_pyarray(py)
+            .unbind(),
+    })
 }
 
 /// Filter settings, passed as one dict by `gnssatt.orbit_nav`.
@@ -110,21 +139,20 @@ struct FilterArgs {
     step_s: f64,
 }
 
-type FilterArrays<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray3<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<u64>>,
-);
-
-fn output<'py>(py: Python<'py>, out: FilterOutput) -> FilterArrays<'py> {
+fn output(py: Python<'_>, out: FilterOutput) -> OrbitFilterRun {
     let n = out.states.len();
-    (
-        Array2::from_shape_fn((n, 6), |(k, j)| out.states[k][j]).into_pyarray(py),
-        Array3::from_shape_fn((n, 6, 6), |(k, i, j)| out.covariances[k][(i, j)]).into_pyarray(py),
-        Array1::from_vec(out.nis).into_pyarray(py),
-        Array1::from_iter(out.dof.iter().map(|&d| d as u64)).into_pyarray(py),
-    )
+    OrbitFilterRun {
+        states: Array2::from_shape_fn((n, 6), |(k, j)| out.states[k][j])
+            .into_pyarray(py)
+            .unbind(),
+        covariances: Array3::from_shape_fn((n, 6, 6), |(k, i, j)| out.covariances[k][(i, j)])
+            .into_pyarray(py)
+            .unbind(),
+        nis: Array1::from_vec(out.nis).into_pyarray(py).unbind(),
+        dof: Array1::from_iter(out.dof.iter().map(|&d| d as u64))
+            .into_pyarray(py)
+            .unbind(),
+    }
 }
 
 fn config(settings: FilterArgs, model: ModelArgs) -> FilterConfig {
@@ -139,8 +167,8 @@ fn config(settings: FilterArgs, model: ModelArgs) -> FilterConfig {
 #[pyfunction]
 #[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, model, settings))]
 #[allow(clippy::too_many_arguments)]
-fn orbit_filter_loose<'py>(
-    py: Python<'py>,
+fn orbit_filter_loose(
+    py: Python<'_>,
     times_s: PyReadonlyArray1<'_, f64>,
     x0: PyReadonlyArray1<'_, f64>,
     p0: PyReadonlyArray2<'_, f64>,
@@ -150,7 +178,7 @@ fn orbit_filter_loose<'py>(
     fix_valid: PyReadonlyArray1<'_, bool>,
     model: ModelArgs,
     settings: FilterArgs,
-) -> PyResult<FilterArrays<'py>> {
+) -> PyResult<OrbitFilterRun> {
     let t = values(py, "times_s", &times_s)?;
     let n = t.len();
     let x0 = fixed::<6>(py, "x0", &x0)?;
@@ -182,8 +210,8 @@ fn orbit_filter_loose<'py>(
 #[pyfunction]
 #[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, code_sigma_m, doppler_sigma_hz, model, settings))]
 #[allow(clippy::too_many_arguments)]
-fn orbit_filter_tight<'py>(
-    py: Python<'py>,
+fn orbit_filter_tight(
+    py: Python<'_>,
     times_s: PyReadonlyArray1<'_, f64>,
     x0: PyReadonlyArray1<'_, f64>,
     p0: PyReadonlyArray2<'_, f64>,
@@ -198,7 +226,7 @@ fn orbit_filter_tight<'py>(
     doppler_sigma_hz: f64,
     model: ModelArgs,
     settings: FilterArgs,
-) -> PyResult<FilterArrays<'py>> {
+) -> PyResult<OrbitFilterRun> {
     let t = values(py, "times_s", &times_s)?;
     let n = t.len();
     let x0 = fixed::<6>(py, "x0", &x0)?;
@@ -236,6 +264,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(circular_orbit_ecef, m)?)?;
     m.add_function(wrap_pyfunction!(orbit_filter_loose, m)?)?;
     m.add_function(wrap_pyfunction!(orbit_filter_tight, m)?)?;
+    m.add_class::<StateWithStm>()?;
+    m.add_class::<OrbitStates>()?;
+    m.add_class::<OrbitFilterRun>()?;
     // The limit lives in the core; Python reads it from here instead of restating it.
     m.add(
         "ORBIT_MAX_RK4_STEPS",

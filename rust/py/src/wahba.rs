@@ -10,24 +10,53 @@ use pyo3::prelude::*;
 use crate::convert::{matrices_to_numpy, quats_to_numpy, values, vectors};
 use crate::errors::IntoPyResult;
 use crate::interruptible;
+use crate::results::result_type;
 
-type Arr1<'py> = Bound<'py, PyArray1<f64>>;
-type Arr2<'py> = Bound<'py, PyArray2<f64>>;
-type Arr3<'py> = Bound<'py, PyArray3<f64>>;
+type Arr1 = Py<PyArray1<f64>>;
+
+result_type! {
+    /// Wahba's problem per epoch: `quat_ref_from_body` (epochs, 4) scalar-last, `covariance_ref`
+    /// (epochs, 3, 3) of the attitude in the reference frame, rad^2, `information_ratio` and `loss`
+    /// (epochs,).
+    WahbaBatch {
+        quat_ref_from_body: Py<PyArray2<f64>>,
+        covariance_ref: Py<PyArray3<f64>>,
+        information_ratio: Arr1,
+        loss: Arr1,
+    }
+}
+
+result_type! {
+    /// TRIAD per epoch: `quat_ref_from_body` (epochs, 4) scalar-last and the sines of the angle between
+    /// the two vectors in the body and the reference frame, `sin_angle_body` / `sin_angle_ref` (epochs,).
+    TriadBatch {
+        quat_ref_from_body: Py<PyArray2<f64>>,
+        sin_angle_body: Arr1,
+        sin_angle_ref: Arr1,
+    }
+}
+
+result_type! {
+    /// Eq. (3) of seed 002 per epoch: `yaw_rad`, `cos_pitch` (|cos pitch|) and the `horizontal_fraction`
+    /// of the field, each (epochs,).
+    YawBatch {
+        yaw_rad: Arr1,
+        cos_pitch: Arr1,
+        horizontal_fraction: Arr1,
+    }
+}
 
 /// Wahba's problem per epoch. `body`, `reference`: (epochs * pairs, 3); `weights`: (epochs * pairs,).
-/// Returns (quat_ref_from_body (epochs, 4), covariance_ref (epochs, 3, 3), information_ratio (epochs,),
-/// loss (epochs,)).
 #[pyfunction]
 #[pyo3(signature = (body, reference, weights, pairs, method = "svd"))]
-fn wahba_batch<'py>(
-    py: Python<'py>,
+fn wahba_batch(
+    py: Python<'_>,
     body: PyReadonlyArray2<'_, f64>,
     reference: PyReadonlyArray2<'_, f64>,
     weights: PyReadonlyArray1<'_, f64>,
     pairs: usize,
     method: &str,
-) -> PyResult<(Arr2<'py>, Arr3<'py>, Arr1<'py>, Arr1<'py>)> {
+) -> PyResult<WahbaBatch> {
     let method = Method::parse(method).into_py_result(py)?;
     let b = vectors(py, "body", &body)?;
     let r = vectors(py, "reference", &reference)?;
@@ -40,25 +69,24 @@ fn wahba_batch<'py>(
     });
     let ratio: Vec<f64> = sols.iter().map(|s| s.information_ratio).collect();
     let loss: Vec<f64> = sols.iter().map(|s| s.loss).collect();
-    Ok((
-        quats_to_numpy(py, &quats),
-        matrices_to_numpy(py, sols.iter().map(|s| s.covariance_ref)),
-        ratio.to_pyarray(py),
-        loss.to_pyarray(py),
-    ))
+    Ok(WahbaBatch {
+        quat_ref_from_body: quats_to_numpy(py, &quats).unbind(),
+        covariance_ref: matrices_to_numpy(py, sols.iter().map(|s| s.covariance_ref)).unbind(),
+        information_ratio: ratio.to_pyarray(py).unbind(),
+        loss: loss.to_pyarray(py).unbind(),
+    })
 }
 
-/// TRIAD per epoch; every argument (epochs, 3). Returns (quat_ref_from_body (epochs, 4),
-/// sin_angle_body (epochs,), sin_angle_ref (epochs,)).
+/// TRIAD per epoch; every argument (epochs, 3).
 #[pyfunction]
 #[pyo3(name = "triad_batch")]
-fn triad_batch_py<'py>(
-    py: Python<'py>,
+fn triad_batch_py(
+    py: Python<'_>,
     b1: PyReadonlyArray2<'_, f64>,
     b2: PyReadonlyArray2<'_, f64>,
     r1: PyReadonlyArray2<'_, f64>,
     r2: PyReadonlyArray2<'_, f64>,
-) -> PyResult<(Arr2<'py>, Arr1<'py>, Arr1<'py>)> {
+) -> PyResult<TriadBatch> {
     let (b1, b2) = (vectors(py, "b1", &b1)?, vectors(py, "b2", &b2)?);
     let (r1, r2) = (vectors(py, "r1", &r1)?, vectors(py, "r2", &r2)?);
     let sols = interruptible::run(py, || triad_batch(&b1, &b2, &r1, &r2))?;
@@ -68,24 +96,23 @@ fn triad_batch_py<'py>(
         .collect();
     let sb: Vec<f64> = sols.iter().map(|s| s.sin_angle_body).collect();
     let sr: Vec<f64> = sols.iter().map(|s| s.sin_angle_ref).collect();
-    Ok((
-        quats_to_numpy(py, &quats),
-        sb.to_pyarray(py),
-        sr.to_pyarray(py),
-    ))
+    Ok(TriadBatch {
+        quat_ref_from_body: quats_to_numpy(py, &quats).unbind(),
+        sin_angle_body: sb.to_pyarray(py).unbind(),
+        sin_angle_ref: sr.to_pyarray(py).unbind(),
+    })
 }
 
 /// Eq. (3) of seed 002 per epoch: b_body, b_orbital (epochs, 3); pitch_rad, roll_rad (epochs,).
-/// Returns (yaw_rad, |cos pitch|, horizontal fraction), each (epochs,).
 #[pyfunction]
 #[pyo3(name = "yaw_batch")]
-fn yaw_batch_py<'py>(
-    py: Python<'py>,
+fn yaw_batch_py(
+    py: Python<'_>,
     b_body: PyReadonlyArray2<'_, f64>,
     b_orbital: PyReadonlyArray2<'_, f64>,
     pitch_rad: PyReadonlyArray1<'_, f64>,
     roll_rad: PyReadonlyArray1<'_, f64>,
-) -> PyResult<(Arr1<'py>, Arr1<'py>, Arr1<'py>)> {
+) -> PyResult<YawBatch> {
     let b = vectors(py, "b_body", &b_body)?;
     let o = vectors(py, "b_orbital", &b_orbital)?;
     let p = values(py, "pitch", &pitch_rad)?;
@@ -94,12 +121,19 @@ fn yaw_batch_py<'py>(
     let yaw: Vec<f64> = sols.iter().map(|s| s.yaw_rad).collect();
     let cp: Vec<f64> = sols.iter().map(|s| s.cos_pitch).collect();
     let hf: Vec<f64> = sols.iter().map(|s| s.horizontal_fraction).collect();
-    Ok((yaw.to_pyarray(py), cp.to_pyarray(py), hf.to_pyarray(py)))
+    Ok(YawBatch {
+        yaw_rad: yaw.to_pyarray(py).unbind(),
+        cos_pitch: cp.to_pyarray(py).unbind(),
+        horizontal_fraction: hf.to_pyarray(py).unbind(),
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(wahba_batch, m)?)?;
     m.add_function(wrap_pyfunction!(triad_batch_py, m)?)?;
     m.add_function(wrap_pyfunction!(yaw_batch_py, m)?)?;
+    m.add_class::<WahbaBatch>()?;
+    m.add_class::<TriadBatch>()?;
+    m.add_class::<YawBatch>()?;
     Ok(())
 }
