@@ -35,41 +35,42 @@ TUMBLING = np.array([0.7, 1.1, -2.0, 0.01, -0.01, 0.01])
 FILTER_SETTINGS = {"accel_psd_m2_s3": 1e-8, "step_s": 10.0}
 
 
-def _gyro_filter(gyro_t: np.ndarray, *, p0: np.ndarray | None = None, phases: int = 0) -> dict:
+def _gyro_filter(gyro_t: np.ndarray, *, p0: np.ndarray | None = None, phases: int = 0) -> _core.GyroGnssRun:
     """The binding of ``gyro_gnss_filter`` with one baseline, no attitude fix and, when ``phases`` > 0,
     one phase epoch at ``gyro_t[0] + 0.5`` with that many satellites."""
     n = len(gyro_t)
+    options = _core.GyroGnssOptions(
+        arw=1e-5,
+        rrw=0.0,
+        baselines=np.array([[1.0, 0.0, 0.0]]),
+        phase_sigma=0.01,
+        fix_enabled=False,
+        ratio_threshold=3.0,
+        min_success_rate=0.999,
+        slip_threshold=30.0,
+        known_ambiguities=False,
+        output_every=1,
+    )
     return _core.gyro_gnss_filter(
         gyro_t,
         np.zeros((n, 3)),
-        np.array([0.0, 0.0, 0.0, 1.0]),
-        np.zeros(3),
-        np.eye(6) * 1e-4 if p0 is None else p0,
-        1e-5,
-        0.0,
-        np.array([[1.0, 0.0, 0.0]]),
-        0.01,
-        False,
-        3.0,
-        0.999,
-        30.0,
-        False,
-        None,
-        None,
-        1,
-        np.zeros(0),
-        np.zeros((0, 4)),
-        np.zeros((0, 3, 3)),
-        np.array([gyro_t[0] + 0.5]) if phases else np.zeros(0),
-        np.zeros(phases, np.int64),
-        np.arange(phases, dtype=np.int64),
-        np.tile([0.0, 0.0, 1.0], (phases, 1)),
-        np.full(phases, 0.19),
-        np.zeros((phases, 1)),
+        q0=np.array([0.0, 0.0, 0.0, 1.0]),
+        drift0=np.zeros(3),
+        p0=np.eye(6) * 1e-4 if p0 is None else p0,
+        options=options,
+        fix_t=np.zeros(0),
+        fix_q=np.zeros((0, 4)),
+        fix_cov=np.zeros((0, 3, 3)),
+        epoch_t=np.array([gyro_t[0] + 0.5]) if phases else np.zeros(0),
+        phase_epoch=np.zeros(phases, np.int64),
+        phase_track=np.arange(phases, dtype=np.int64),
+        phase_los=np.tile([0.0, 0.0, 1.0], (phases, 1)),
+        phase_wavelength=np.full(phases, 0.19),
+        phase=np.zeros((phases, 1)),
     )
 
 
-def _loose_filter(times_s: np.ndarray, step_s: float) -> tuple:
+def _loose_filter(times_s: np.ndarray, step_s: float) -> _core.OrbitFilterRun:
     n = len(times_s)
     x0 = np.concatenate([ICD_R0, ICD_V0])
     valid = np.zeros(n, bool)
@@ -87,7 +88,7 @@ def _loose_filter(times_s: np.ndarray, step_s: float) -> tuple:
     )
 
 
-def _tight_filter(n_sat: int) -> tuple:
+def _tight_filter(n_sat: int) -> _core.OrbitFilterRun:
     return _core.orbit_filter_tight(
         np.array([0.0]),
         np.concatenate([ICD_R0, ICD_V0]),

@@ -173,7 +173,7 @@ def main():
     print("branch-and-bound vs exhaustive (grid maximum only, refine=False; medians, fresh process each):")
     for name, side, step in BNB_CASES:
         ps, ls = scenario(side=side)
-        boxes, leaves, grid_cells = _core.bnb_stats(
+        stats = _core.bnb_stats(
             b(ps[None]),
             b(ls[None]),
             b(np.full((1, 8), L1)),
@@ -182,6 +182,7 @@ def main():
             np.radians(step),
             None,
         )
+        boxes, leaves, grid_cells = stats.boxes_bounded, stats.leaf_cells, stats.grid_cells
         reps = args.reps if grid_cells < 5e7 else max(1, min(args.reps, 3))
         for n in [1, 2, 16]:
             if n > threads:
