@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt import tumble
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import InvalidInputError
 
 D = np.radians(1.0)

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt import magnetic, orbit, orbit_nav, sim, tumble
+from gnssatt import constants, magnetic, orbit, orbit_nav, sim
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import (
     ConvergenceError,
     DegenerateGeometryError,
@@ -25,9 +26,8 @@ from gnssatt.errors import (
     InvalidTypeError,
     WorkLimitError,
 )
+from gnssatt.observations import SpaceborneMeasurements
 from gnssatt.sim import attitude_scenario as scen
-from gnssatt.sim import constants
-from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 RNG = np.random.default_rng(0)
 GPS = sim.gps_nominal()
@@ -880,11 +880,11 @@ def test_every_public_function_has_cases() -> None:
         "gnssatt.orbit.PropagatedState",
         "gnssatt.orbit_nav.OrbitFilterResult",
         "gnssatt.orbit_nav.ReceiverFixes",
-        "gnssatt.tumble.RotationFit",
-        "gnssatt.tumble.TumbleTrajectory",
+        "gnssatt.attitude.dynamics.RotationFit",
+        "gnssatt.attitude.dynamics.TumbleTrajectory",
         "gnssatt.sim.SpaceborneMeasurements",
         "gnssatt.sim.Receiver",
-        "gnssatt.sim.constants",
+        "gnssatt.constants",
     }
     assert missing - not_inputs == set()
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gnssatt import tumble
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import InvalidInputError
 from gnssatt.experiments import visibility_rotation as vr
 

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from gnssatt import sim, tumble
-from gnssatt.visibility import visibility_axis, visibility_sets
+from gnssatt import sim
+from gnssatt.attitude import dynamics as tumble
+from gnssatt.attitude.visibility import visibility_axis, visibility_sets
 
 TRUTH = np.array([0.7, 1.1, 4.0, *np.radians([1.8, -1.5, 1.6])])
 MODEL = tumble.TumbleModel.circular(500e3)

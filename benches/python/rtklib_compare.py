@@ -351,7 +351,7 @@ def simulated(folder: Path, n_epochs: int, seed: int) -> Dataset:
     """A static 1 m baseline (heading 30 degrees) of ``n_epochs`` at 1 s: every system and frequency of
     ``simulate_gnss_rinex`` (GRECJ, 3 slots), or GPS L1 from ``simulate_rinex_array`` where the simulator
     has only that."""
-    from gnssatt.rinex import scenario
+    from gnssatt.sim import rinex_scenario as scenario
 
     folder.mkdir(parents=True, exist_ok=True)
     ants = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])

@@ -15,9 +15,12 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 from gnssatt._core import __version__
+from gnssatt._moved import MOVED, install, moved_attribute
+
+install()  # old module paths (gnssatt.tumble, gnssatt.sim.frames ...) keep importing, with a warning
 
 if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type checkers and IDEs
-    from gnssatt import errors, magnetic, orbit, rinex, sim, tumble
+    from gnssatt import errors, magnetic, orbit, rinex, sim
     from gnssatt.ambiguity import (
         PartialFixResult,
         RatioTestResult,
@@ -28,16 +31,10 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
         ratio_test,
         ratio_threshold_fixed_failure_rate,
     )
-    from gnssatt.errors import (
-        ConvergenceError,
-        DegenerateGeometryError,
-        GnssattError,
-        GnssattWarning,
-        InvalidInputError,
-        NearDegenerateWarning,
-    )
-    from gnssatt.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
-    from gnssatt.likelihood import (
+    from gnssatt.attitude import dynamics as tumble  # deprecated name of the module
+    from gnssatt.attitude.dynamics import RotationFit, TumbleModel, fit_rotation
+    from gnssatt.attitude.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
+    from gnssatt.attitude.likelihood import (
         AttitudePrior,
         AttitudeSeries,
         BaselineDirection,
@@ -51,14 +48,21 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
         ml_baseline_series,
         prior_from_velocity,
     )
-    from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
-    from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
-    from gnssatt.phase_attitude import phase_attitude_fixes
-    from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
-    from gnssatt.vector_attitude import TriadResult, WahbaResult, triad, wahba
-    from gnssatt.visibility import visibility_axis
+    from gnssatt.attitude.magnetometer import YawResult, yaw_from_magnetometer
+    from gnssatt.attitude.matrix_method import MatrixAttitudeResult, matrix_attitude
+    from gnssatt.attitude.phase_attitude import phase_attitude_fixes
+    from gnssatt.attitude.visibility import visibility_axis
+    from gnssatt.attitude.wahba import TriadResult, WahbaResult, triad, wahba
+    from gnssatt.errors import (
+        ConvergenceError,
+        DegenerateGeometryError,
+        GnssattError,
+        GnssattWarning,
+        InvalidInputError,
+        NearDegenerateWarning,
+    )
 
-_SUBMODULES = frozenset({"errors", "magnetic", "orbit", "rinex", "sim", "tumble"})
+_SUBMODULES = frozenset({"errors", "magnetic", "orbit", "rinex", "sim"})
 
 # Module defining each re-exported name; tests/test_lazy_import.py checks it against the block above.
 _EXPORTS: dict[str, str] = {
@@ -82,8 +86,8 @@ _EXPORTS: dict[str, str] = {
             "InvalidInputError",
             "NearDegenerateWarning",
         ),
-        "gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
-        "likelihood": (
+        "attitude.gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
+        "attitude.likelihood": (
             "AttitudePrior",
             "AttitudeSeries",
             "BaselineDirection",
@@ -97,12 +101,12 @@ _EXPORTS: dict[str, str] = {
             "ml_baseline_series",
             "prior_from_velocity",
         ),
-        "magnetometer": ("YawResult", "yaw_from_magnetometer"),
-        "matrix_method": ("MatrixAttitudeResult", "matrix_attitude"),
-        "phase_attitude": ("phase_attitude_fixes",),
-        "tumble": ("RotationFit", "TumbleModel", "fit_rotation"),
-        "vector_attitude": ("TriadResult", "WahbaResult", "triad", "wahba"),
-        "visibility": ("visibility_axis",),
+        "attitude.magnetometer": ("YawResult", "yaw_from_magnetometer"),
+        "attitude.matrix_method": ("MatrixAttitudeResult", "matrix_attitude"),
+        "attitude.phase_attitude": ("phase_attitude_fixes",),
+        "attitude.dynamics": ("RotationFit", "TumbleModel", "fit_rotation"),
+        "attitude.wahba": ("TriadResult", "WahbaResult", "triad", "wahba"),
+        "attitude.visibility": ("visibility_axis",),
     }.items()
     for name in names
 }
@@ -166,6 +170,8 @@ def __getattr__(name: str) -> Any:
         value: Any = importlib.import_module(f"{__name__}.{name}")
     elif name in _EXPORTS:
         value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    elif f"{__name__}.{name}" in MOVED:  # gnssatt.tumble, gnssatt.matrix_method ...: with a warning
+        return moved_attribute(__name__, name)
     else:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     globals()[name] = value

@@ -52,9 +52,9 @@ def _angles_error(a: np.ndarray, truth: np.ndarray) -> np.ndarray:
 def trial(rng: np.random.Generator) -> dict[str, float]:
     """One geometry and initial heading; every satellite count and method on it."""
     from gnssatt import sim
+    from gnssatt.gnss.attitude import attitude_from_rinex
     from gnssatt.rinex import read_nav, read_obs
-    from gnssatt.rinex.attitude import attitude_from_rinex
-    from gnssatt.rinex.scenario import simulate_rinex_array
+    from gnssatt.sim.rinex_scenario import simulate_rinex_array
 
     ant = sim.equilateral_triangle(1.0, plane="xz")
     body = ant[1:] - ant[0]
@@ -99,9 +99,9 @@ def trial(rng: np.random.Generator) -> dict[str, float]:
 def geonet() -> dict[str, float]:
     """The GEONET pair in baseline mode (module docstring), GPS L1 as the simulated part."""
     from gnssatt.data import geonet_dir
+    from gnssatt.frames import dcm_ecef_from_enu, ecef_to_geodetic
+    from gnssatt.gnss.attitude import attitude_from_rinex
     from gnssatt.rinex import read_nav, read_obs
-    from gnssatt.rinex.attitude import attitude_from_rinex
-    from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
     data = geonet_dir()
     a, b = read_obs(data / "07590920.05o"), read_obs(data / "30400920.05o")

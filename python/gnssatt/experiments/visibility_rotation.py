@@ -33,7 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from gnssatt import montecarlo, tumble
+from gnssatt import montecarlo
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 
@@ -69,7 +70,7 @@ def noisy_axes(rng: np.random.Generator, axes: np.ndarray, sigma_deg: float) -> 
 def visibility_axes(rng: np.random.Generator, t: np.ndarray, axes: np.ndarray) -> np.ndarray:
     """Axes estimated from simulated GPS + GLONASS visibility (500 km, 51.6 deg, random orbit phase)."""
     from gnssatt import sim
-    from gnssatt.visibility import visibility_axis, visibility_sets
+    from gnssatt.attitude.visibility import visibility_axis, visibility_sets
 
     rx = sim.OrbitalReceiver(
         altitude_m=500e3,

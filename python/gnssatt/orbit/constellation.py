@@ -38,17 +38,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import float_array, integer, scalar
+from gnssatt._arrays import float_array, instance, integer, readonly, scalar, text
+from gnssatt.constants import GPS_L1_HZ, GPS_L2_HZ, SPEED_OF_LIGHT_M_S, glonass_frequency_hz
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.sim._util import instance, readonly, text
-from gnssatt.sim.constants import (
-    GPS_L1_HZ,
-    GPS_L2_HZ,
-    SPEED_OF_LIGHT_M_S,
-    glonass_frequency_hz,
-)
-from gnssatt.sim.frames import eci_to_ecef
-from gnssatt.sim.kepler import KeplerOrbits
+from gnssatt.frames import eci_to_ecef
+from gnssatt.orbit.kepler import KeplerOrbits
 
 __all__ = [
     "GLONASS_SLOT_CHANNELS",

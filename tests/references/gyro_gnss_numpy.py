@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
+from gnssatt.observations import AttitudeFixes, PhaseObservations
 
 
 def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -394,7 +394,7 @@ def attitude_from_rinex(
         or system letter, an option out of its range.
     """
     from gnssatt import _core
-    from gnssatt.rinex.session_input import nav_input, session_input
+    from gnssatt.gnss.session_input import nav_input, session_input
 
     method = choice("method", method, ("auto", "ml", "lambda"))
     if motion is not None:

@@ -19,10 +19,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from gnssatt._arrays import checked_array, instance, readonly, real_array, text, vector_array
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import checked_array, instance, readonly, real_array, text, vector_array
-from gnssatt.sim.constellation import Constellation
-from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver
+from gnssatt.orbit.constellation import Constellation
+from gnssatt.orbit.receivers import GroundReceiver, OrbitalReceiver
 
 __all__ = ["Geometry", "elevation_azimuth", "line_of_sight", "los_body"]
 

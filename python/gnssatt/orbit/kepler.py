@@ -15,10 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import integer, scalar
+from gnssatt._arrays import checked_array, integer, readonly, scalar, time_array
+from gnssatt.constants import GM_M3_S2
 from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import checked_array, matvec, readonly, rot_x, rot_z, time_array
-from gnssatt.sim.constants import GM_M3_S2
+from gnssatt.frames import matvec, rot_x, rot_z
 
 __all__ = ["KeplerOrbits", "solve_kepler"]
 
