@@ -19,9 +19,12 @@ import importlib
 import os
 import sys
 import warnings
-from importlib.machinery import ModuleSpec
-from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from importlib.machinery import ModuleSpec
+
+ModuleType = type(sys)  # types.ModuleType, without importing types
 
 #: Old dotted path -> new dotted path. A key names a module or, after its module, an attribute; so does
 #: its value. docs/architecture.md shows the same table.
@@ -106,6 +109,8 @@ class _Finder:
         new = MOVED.get(fullname)
         if new is None or not fullname.startswith("gnssatt."):
             return None
+        from importlib.machinery import ModuleSpec  # only when an old path is used: keeps the import cheap
+
         return ModuleSpec(fullname, _Loader(fullname, new))
 
 
