@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 import gnssatt
+from gnssatt._moved import MOVED
 
 HEAVY = ("scipy.stats", "matplotlib", "gnssatt.sim", "gnssatt.attitude", "gnssatt.orbit")
 
@@ -45,7 +46,7 @@ def test_type_checking_block_matches_the_lazy_table() -> None:
     lazy = {name: f"gnssatt.{module}" for name, module in gnssatt._EXPORTS.items()}
     lazy |= dict.fromkeys(gnssatt._SUBMODULES, "gnssatt")
     # Deprecated module names (gnssatt.tumble) resolve through gnssatt._moved; the block names the new module.
-    moved = {old.rpartition(".")[2]: new for old, new in gnssatt.MOVED.items() if old.count(".") == 1}
+    moved = {old.rpartition(".")[2]: new for old, new in MOVED.items() if old.count(".") == 1}
     lazy |= {name: moved[name].rpartition(".")[0] for name in gnssatt.__all__ if name in moved}
     assert static == lazy
     assert set(gnssatt.__all__) == set(lazy) | {"__version__"}

@@ -61,6 +61,12 @@ def test_a_moved_module_keeps_its_own_identity() -> None:
     assert old.__name__ == old.__spec__.name == "gnssatt.frames"  # the finder gave __spec__ back
 
 
+def test_import_gnssatt_does_not_load_the_table() -> None:
+    code = "import sys, gnssatt; print('gnssatt._moved' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
 def test_the_new_paths_do_not_warn() -> None:
     # A fresh interpreter, warnings as errors: the package itself never goes through an old path.
     modules = [new for new in MOVED.values() if isinstance(_new_object(new), type(gnssatt))]

@@ -3,14 +3,15 @@
 
 One table, :data:`MOVED`, serves both kinds of old path:
 
-- a module (``import gnssatt.tumble``, ``from gnssatt.sim import constants``): a meta-path finder, appended to
-  :data:`sys.meta_path` by :func:`install` (so it is asked only after the real files were not found), answers
-  with the new module itself, so old and new paths give the same object;
+- a module (``import gnssatt.tumble``, ``from gnssatt.sim import constants``): the meta-path finder of
+  ``gnssatt/__init__.py`` (appended to :data:`sys.meta_path`, so asked only after the real files were not
+  found) asks :func:`find_spec`, whose loader answers with the new module itself: old and new paths give
+  the same object;
 - a name a package used to re-export (``gnssatt.rinex.attitude_from_rinex``): the package's ``__getattr__``
   asks :func:`moved_attribute`.
 
-This module imports nothing beyond the standard library's import machinery: ``gnssatt/__init__.py`` installs
-the finder on every ``import gnssatt``, which must stay cheap (``benches/python/import_time.py``).
+Nothing imports this module until an old path or an unknown name is used, so that ``import gnssatt`` stays
+as cheap as before (``benches/python/import_time.py``).
 """
 
 from __future__ import annotations
@@ -101,23 +102,15 @@ class _Loader:
         module.__spec__ = self._spec
 
 
-class _Finder:
-    """Meta-path finder answering only for the module keys of :data:`MOVED`."""
+def find_spec(fullname: str) -> ModuleSpec | None:
+    """The spec that loads an old module path of :data:`MOVED` as its new module, or None (the finder that
+    ``gnssatt/__init__.py`` appends to :data:`sys.meta_path` asks this)."""
+    new = MOVED.get(fullname)
+    if new is None:
+        return None
+    from importlib.machinery import ModuleSpec
 
-    @staticmethod
-    def find_spec(fullname: str, path: Any = None, target: Any = None) -> ModuleSpec | None:
-        new = MOVED.get(fullname)
-        if new is None or not fullname.startswith("gnssatt."):
-            return None
-        from importlib.machinery import ModuleSpec  # only when an old path is used: keeps the import cheap
-
-        return ModuleSpec(fullname, _Loader(fullname, new))
-
-
-def install() -> None:
-    """Append the finder to :data:`sys.meta_path` once (``import gnssatt`` calls it)."""
-    if not any(isinstance(f, _Finder) for f in sys.meta_path):
-        sys.meta_path.append(_Finder())
+    return ModuleSpec(fullname, _Loader(fullname, new))
 
 
 def moved_attribute(module: str, name: str) -> Any:

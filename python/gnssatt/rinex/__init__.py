@@ -8,8 +8,6 @@ Carrier phase in cycles with the RINEX sign (grows with range); see ``docs/conve
 import importlib
 from typing import TYPE_CHECKING, Any
 
-from gnssatt._moved import moved_attribute
-
 if TYPE_CHECKING:
     from gnssatt.rinex.nav import GlonassEphemerides, KeplerEphemerides, RinexNav, gps_ns, read_nav
     from gnssatt.rinex.obs import RinexObs, read_obs
@@ -78,6 +76,8 @@ def __getattr__(name: str) -> Any:
             name=name,
         )
     if name not in _EXPORTS:  # a name that moved out (attitude_from_rinex ...), with a warning, or none
+        from gnssatt._moved import moved_attribute
+
         return moved_attribute(__name__, name)
     value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
     globals()[name] = value
