@@ -30,8 +30,9 @@ def _node(unit: str) -> str:
 
 
 def mermaid() -> str:
-    """The graph as a fenced mermaid block: one subgraph per layer (base at the bottom), one node per unit."""
-    lines = ["```mermaid", "flowchart BT"]
+    """The graph as mermaid text in a plain-text fence (Sphinx has no mermaid lexer and builds with -W): one
+    subgraph per layer (base at the bottom), one node per unit."""
+    lines = ["```text", "flowchart BT"]
     for name, units in layers.LAYERS:
         lines.append(f"  subgraph {name}")
         lines += [f'    {_node(u)}["{"gnssatt" if u == "__init__" else u}"]' for u in units]
