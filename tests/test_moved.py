@@ -58,6 +58,7 @@ def test_a_moved_module_keeps_its_own_identity() -> None:
     _forget("gnssatt.sim.frames")
     with pytest.warns(DeprecationWarning):
         old = importlib.import_module("gnssatt.sim.frames")
+    assert old.__spec__ is not None
     assert old.__name__ == old.__spec__.name == "gnssatt.frames"  # the finder gave __spec__ back
 
 

@@ -20,12 +20,10 @@ import importlib
 import os
 import sys
 import warnings
-from typing import TYPE_CHECKING, Any
-
-if TYPE_CHECKING:
-    from importlib.machinery import ModuleSpec
-
-ModuleType = type(sys)  # types.ModuleType, without importing types
+from importlib.abc import Loader
+from importlib.machinery import ModuleSpec
+from types import ModuleType
+from typing import Any
 
 #: Old dotted path -> new dotted path. A key names a module or, after its module, an attribute; so does
 #: its value. docs/architecture.md shows the same table.
@@ -83,7 +81,7 @@ def _resolve(path: str) -> Any:
         return getattr(importlib.import_module(module), name)
 
 
-class _Loader:
+class _Loader(Loader):
     """Loads an old module path as the new module object (no second copy, no re-execution)."""
 
     def __init__(self, old: str, new: str) -> None:
@@ -106,11 +104,7 @@ def find_spec(fullname: str) -> ModuleSpec | None:
     """The spec that loads an old module path of :data:`MOVED` as its new module, or None (the finder that
     ``gnssatt/__init__.py`` appends to :data:`sys.meta_path` asks this)."""
     new = MOVED.get(fullname)
-    if new is None:
-        return None
-    from importlib.machinery import ModuleSpec
-
-    return ModuleSpec(fullname, _Loader(fullname, new))
+    return None if new is None else ModuleSpec(fullname, _Loader(fullname, new))
 
 
 def moved_attribute(module: str, name: str) -> Any:
