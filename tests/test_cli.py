@@ -12,7 +12,7 @@ import pytest
 from gnssatt.cli import main
 from gnssatt.errors import ConvergenceError, InternalError, InvalidInputError, RinexError, WorkLimitError
 from gnssatt.experiments import EXPERIMENTS
-from gnssatt.rinex.scenario import simulate_rinex_array
+from gnssatt.sim.rinex_scenario import simulate_rinex_array
 
 
 def test_list(capsys: pytest.CaptureFixture[str]) -> None:
@@ -225,7 +225,7 @@ def test_library_failures_are_one_line(
     def fail(*args: object, **kwargs: object) -> None:
         raise raised
 
-    monkeypatch.setattr("gnssatt.rinex.attitude.attitude_from_rinex", fail)
+    monkeypatch.setattr("gnssatt.gnss.attitude.attitude_from_rinex", fail)
     argv = ["attitude", "--obs", "a.o", "--obs", "b.o", "--nav", "c.n", "--out", str(tmp_path / "r.csv")]
     assert main(argv) == status
     assert says in _one_error_line(capsys)

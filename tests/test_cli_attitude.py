@@ -66,7 +66,7 @@ def test_library_messages_name_the_options(
     def fail(*args: object, **kwargs: object) -> None:
         raise InvalidInputError(message)
 
-    monkeypatch.setattr("gnssatt.rinex.attitude.attitude_from_rinex", fail)
+    monkeypatch.setattr("gnssatt.gnss.attitude.attitude_from_rinex", fail)
     assert main([*BASE, "--out", str(tmp_path / "r.csv")]) == 2
     assert says in _one_error_line(capsys)
 

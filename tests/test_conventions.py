@@ -19,10 +19,13 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import likelihood, sim, tumble
-from gnssatt._renamed import generator, renamed
+from gnssatt import sim
+from gnssatt._arrays import generator
+from gnssatt._renamed import renamed
+from gnssatt.attitude import dynamics as tumble
+from gnssatt.attitude import likelihood
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.rinex.attitude import AttitudeSeries as RinexAttitudeSeries
+from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
 
 # (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, seed 001)
@@ -340,9 +343,9 @@ SEED_KEPT = {
     "gnssatt.ambiguity.ratio_threshold_fixed_failure_rate",
     "gnssatt.ambiguity.ratio_test",
     "gnssatt.ambiguity.partial_fix",
-    "gnssatt.rinex.scenario.simulate_rinex_array",  # to take rng=
+    "gnssatt.sim.rinex_scenario.simulate_rinex_array",  # to take rng=
 }
-RNG_ELSEWHERE = {"gnssatt.orbit_nav.noisy_orbit", "gnssatt.rinex.scenario.simulate_gnss_rinex"}
+RNG_ELSEWHERE = {"gnssatt.orbit_nav.noisy_orbit", "gnssatt.sim.rinex_scenario.simulate_gnss_rinex"}
 
 
 def _public_functions() -> dict[str, Any]:

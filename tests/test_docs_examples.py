@@ -218,7 +218,7 @@ def _brute_force_margin(visible: np.ndarray, invisible: np.ndarray, n: int = 200
 
 def test_tumbling_fit_axes_are_the_brute_force_margin_optimum() -> None:
     import gnssatt
-    from gnssatt import tumble
+    from gnssatt.attitude import dynamics as tumble
 
     example, _, found = _run("tumbling_fit.py")
     signed = []

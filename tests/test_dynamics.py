@@ -1,4 +1,5 @@
-"""Seed 004: rotational dynamics (Rust RK4 via gnssatt.tumble) and the differential-evolution fit."""
+"""Seed 004: rotational dynamics (Rust RK4 via gnssatt.attitude.dynamics) and the differential-evolution
+fit."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt import tumble
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import InvalidInputError
 
 D = np.radians(1.0)

@@ -15,8 +15,8 @@ import pytest
 
 from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError
+from gnssatt.gnss.attitude import AttitudeSeries, attitude_from_rinex
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.attitude import AttitudeSeries, attitude_from_rinex
 
 PROTOTYPE = json.loads((Path(__file__).parent / "data" / "prototype_geonet.json").read_text())
 
@@ -151,7 +151,7 @@ def _angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def test_every_system_and_slot_is_used_and_the_truth_is_within_the_sigmas(tmp_path: Path) -> None:
-    from gnssatt.rinex.scenario import simulate_gnss_rinex
+    from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
 
     s = simulate_gnss_rinex(tmp_path, np.array([[0.0, 0, 0], [1.0, 0, 0]]), [-40.0, 5.0, 0.0], rng=7)
     r = attitude_from_rinex(s.obs_paths, s.nav_path, method="lambda", motion="moving")
@@ -171,7 +171,7 @@ def test_every_system_and_slot_is_used_and_the_truth_is_within_the_sigmas(tmp_pa
 
 def test_attitude_mode_every_system_truth_within_sigmas(tmp_path: Path) -> None:
     from gnssatt import sim
-    from gnssatt.rinex.scenario import simulate_gnss_rinex
+    from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
 
     ant = sim.equilateral_triangle(1.0, plane="xz")
     s = simulate_gnss_rinex(tmp_path, ant, [-40.0, 5.0, 3.0], n_epochs=5, rng=8)
@@ -187,7 +187,7 @@ def test_attitude_mode_every_system_truth_within_sigmas(tmp_path: Path) -> None:
 
 
 def test_a_base_position_far_from_the_code_solution_is_warned() -> None:
-    from gnssatt.rinex.attitude import EngineWarning
+    from gnssatt.gnss.attitude import EngineWarning
 
     obs, nav = _files()
     far = obs[0].approx_position_m + np.array([0.0, 0.0, 500.0])

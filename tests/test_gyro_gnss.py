@@ -12,15 +12,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from references.gyro_gnss_numpy import run_reference
 from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import sim
-from gnssatt._gyro_gnss_numpy import run_reference
+from gnssatt.attitude.gyro_gnss import gyro_gnss_filter, gyro_propagate
+from gnssatt.attitude.phase_attitude import phase_attitude_fixes
 from gnssatt.errors import InvalidInputError
 from gnssatt.experiments import gyro_gnss as exp
-from gnssatt.gyro_gnss import gyro_gnss_filter, gyro_propagate
-from gnssatt.phase_attitude import phase_attitude_fixes
 from gnssatt.sim import attitude_scenario as sc
 
 RX = sim.OrbitalReceiver(altitude_m=700e3, inclination_deg=51.6)

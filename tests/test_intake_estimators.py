@@ -30,17 +30,17 @@ from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt import (
-    geometry,
+from gnssatt import geometry, rotation, sim
+from gnssatt.attitude import (
     gyro_gnss,
     likelihood,
     magnetometer,
     matrix_method,
     phase_attitude,
-    rotation,
-    sim,
-    vector_attitude,
     visibility,
+)
+from gnssatt.attitude import (
+    wahba as vector_attitude,
 )
 from gnssatt.errors import (
     GnssattError,

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt import magnetic, orbit, orbit_nav, sim, tumble
+from gnssatt import constants, magnetic, orbit, orbit_nav, sim
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import (
     ConvergenceError,
     DegenerateGeometryError,
@@ -25,9 +26,8 @@ from gnssatt.errors import (
     InvalidTypeError,
     WorkLimitError,
 )
+from gnssatt.observations import SpaceborneMeasurements
 from gnssatt.sim import attitude_scenario as scen
-from gnssatt.sim import constants
-from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 RNG = np.random.default_rng(0)
 GPS = sim.gps_nominal()
@@ -87,7 +87,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         magnetic.igrf_field_ecef,
         {"position_ecef_m": np.array([7e6, 0.0, 0.0]), "decimal_year": 2020.0, "max_degree": 13},
     ),
-    # gnssatt.sim.frames
+    # gnssatt.frames
     "earth_rotation_angle": (sim.earth_rotation_angle, {"t": T3, "theta0_rad": 0.1}),
     "dcm_eci_from_ecef": (sim.dcm_eci_from_ecef, {"t": T3, "theta0_rad": 0.1}),
     "dcm_ecef_from_eci": (sim.dcm_ecef_from_eci, {"t": 1.0, "theta0_rad": 0.1}),
@@ -102,7 +102,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "sim.geodetic_to_ecef": (sim.geodetic_to_ecef, {"lat_deg": 10.0, "lon_deg": 20.0, "height_m": 0.0}),
     "ecef_to_geodetic": (sim.ecef_to_geodetic, {"r_ecef": np.array([7e6, 0.0, 1e6])}),
     "dcm_ecef_from_enu": (sim.dcm_ecef_from_enu, {"lat_deg": 10.0, "lon_deg": 20.0}),
-    # gnssatt.sim.geometry
+    # gnssatt.orbit.line_of_sight
     "Geometry.from_los": (
         sim.Geometry.from_los,
         {"los": np.array([[0, 0, 1.0], [0, 1, 1.0]]), "range_m": 2e7, "range_rate_mps": 0.0, "frame": "enu"},
@@ -124,7 +124,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "los_body": (sim.los_body, {"los": np.array([[0, 0, 1.0]]), "attitude": Rotation.identity()}),
     "elevation_azimuth": (sim.elevation_azimuth, {"los_enu": np.array([[0, 0.6, 0.8]])}),
     "line_of_sight": (sim.line_of_sight, {"receiver": GROUND, "constellation": GPS, "t": T3}),
-    # gnssatt.sim.kepler
+    # gnssatt.orbit.kepler
     "solve_kepler": (
         sim.solve_kepler,
         {"mean_anomaly_rad": np.array([0.1, 2.0]), "eccentricity": 0.1, "tol": 1e-14, "max_iter": 50},
@@ -147,7 +147,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     ),
     "KeplerOrbits.state_eci": (KEPLER.state_eci, {"t": T3}),
     "KeplerOrbits.subset": (KEPLER.subset, {"index": np.array([0, 1])}),
-    # gnssatt.sim.visibility
+    # gnssatt.orbit.masks
     "elevation_mask": (sim.elevation_mask, {"los_ref": np.array([[0, 0.6, 0.8]]), "mask_deg": 10.0}),
     "antenna_cone_mask": (
         sim.antenna_cone_mask,
@@ -171,7 +171,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "equilateral_triangle": (sim.equilateral_triangle, {"side_m": 1.0, "plane": "xy"}),
     "random_attitude": (sim.random_attitude, {"rng": RNG, "n": 3}),
     "random_los": (sim.random_los, {"rng": RNG, "n_sat": 3, "min_elevation_deg": 10.0}),
-    # gnssatt.sim.constellation
+    # gnssatt.orbit.constellation
     "Constellation": (
         sim.Constellation,
         {
@@ -200,7 +200,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "raan0_deg": 0.0,
         },
     ),
-    # gnssatt.sim.constants
+    # gnssatt.constants
     "glonass_frequency_hz": (constants.glonass_frequency_hz, {"k": np.array([-7, 6]), "band": "L1"}),
     "glonass_wavelength_m": (constants.glonass_wavelength_m, {"k": 1, "band": "L2"}),
     # gnssatt.sim.measurements
@@ -224,7 +224,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "integration_time_s": 1e-3,
         },
     ),
-    # gnssatt.sim.receivers
+    # gnssatt.orbit.receivers
     "GroundReceiver": (
         sim.GroundReceiver,
         {"lat_deg": 10.0, "lon_deg": 20.0, "height_m": 0.0, "theta0_rad": 0.0},
@@ -396,7 +396,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         },
     ),
     "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
-    # gnssatt.tumble
+    # gnssatt.attitude.dynamics
     "TumbleModel": (
         tumble.TumbleModel,
         {
@@ -883,11 +883,11 @@ def test_every_public_function_has_cases() -> None:
         "gnssatt.orbit.PropagatedState",
         "gnssatt.orbit_nav.OrbitFilterResult",
         "gnssatt.orbit_nav.ReceiverFixes",
-        "gnssatt.tumble.RotationFit",
-        "gnssatt.tumble.TumbleTrajectory",
+        "gnssatt.attitude.dynamics.RotationFit",
+        "gnssatt.attitude.dynamics.TumbleTrajectory",
         "gnssatt.sim.SpaceborneMeasurements",
         "gnssatt.sim.Receiver",
-        "gnssatt.sim.constants",
+        "gnssatt.constants",
     }
     assert missing - not_inputs == set()
 

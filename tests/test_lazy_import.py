@@ -10,8 +10,9 @@ from pathlib import Path
 import pytest
 
 import gnssatt
+from gnssatt._moved import MOVED
 
-HEAVY = ("scipy.stats", "matplotlib", "gnssatt.sim", "gnssatt.tumble", "gnssatt.orbit")
+HEAVY = ("scipy.stats", "matplotlib", "gnssatt.sim", "gnssatt.attitude", "gnssatt.orbit")
 
 
 def test_import_does_not_load_heavy_modules() -> None:
@@ -25,7 +26,7 @@ def test_every_public_name_resolves_and_is_listed() -> None:
     for name in gnssatt.__all__:
         assert getattr(gnssatt, name) is not None, name
     assert set(gnssatt.__all__) <= set(dir(gnssatt))
-    assert gnssatt.matrix_attitude is gnssatt.matrix_method.matrix_attitude  # type: ignore[attr-defined]
+    assert gnssatt.matrix_attitude is gnssatt.attitude.matrix_method.matrix_attitude  # type: ignore[attr-defined]
 
 
 def test_unknown_attribute_raises_attribute_error() -> None:
@@ -41,8 +42,11 @@ def test_type_checking_block_matches_the_lazy_table() -> None:
     for node in block.body:
         assert isinstance(node, ast.ImportFrom) and node.module is not None
         for alias in node.names:
-            static[alias.name] = node.module
+            static[alias.asname or alias.name] = node.module
     lazy = {name: f"gnssatt.{module}" for name, module in gnssatt._EXPORTS.items()}
     lazy |= dict.fromkeys(gnssatt._SUBMODULES, "gnssatt")
+    # Deprecated module names (gnssatt.tumble) resolve through gnssatt._moved; the block names the new module.
+    moved = {old.rpartition(".")[2]: new for old, new in MOVED.items() if old.count(".") == 1}
+    lazy |= {name: moved[name].rpartition(".")[0] for name in gnssatt.__all__ if name in moved}
     assert static == lazy
     assert set(gnssatt.__all__) == set(lazy) | {"__version__"}

@@ -18,14 +18,15 @@ import time
 import numpy as np
 import pytest
 
-from gnssatt import _core, orbit, tumble
+from gnssatt import _core, orbit
+from gnssatt.attitude import dynamics as tumble
+from gnssatt.attitude.gyro_gnss import gyro_propagate
 from gnssatt.errors import (
     ConvergenceError,
     DegenerateGeometryError,
     InvalidInputError,
     WorkLimitError,
 )
-from gnssatt.gyro_gnss import gyro_propagate
 from gnssatt.orbit import GlonassModel
 
 # The GLONASS ICD appendix J state, m and m/s.
@@ -206,7 +207,7 @@ CHILD = textwrap.dedent(
     """
     import time
     import numpy as np
-    from gnssatt import tumble
+    from gnssatt.attitude import dynamics as tumble
 
     print("ready", flush=True)
     try:

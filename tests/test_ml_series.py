@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt.errors import DegenerateGeometryError, InvalidInputError
-from gnssatt.likelihood import (
+from gnssatt.attitude.likelihood import (
     ml_attitude,
     ml_attitude_series,
     ml_baseline,
     ml_baseline_series,
     rotation_from_euler,
 )
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
 L1, L2 = 299792458.0 / 1575.42e6, 299792458.0 / 1227.6e6
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from references.orbit_reference import tight_filter
 from scipy.stats import chi2
 
 from gnssatt import orbit, sim
-from gnssatt._orbit_reference import tight_filter
 from gnssatt.errors import InvalidInputError
 from gnssatt.orbit_nav import noisy_orbit, orbit_filter, receiver_fix
 

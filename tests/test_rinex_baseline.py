@@ -11,9 +11,9 @@ import pytest
 
 from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError, RinexError
+from gnssatt.frames import dcm_ecef_from_enu, ecef_to_geodetic
+from gnssatt.gnss.attitude import attitude_from_rinex
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.attitude import attitude_from_rinex
-from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
 DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")

@@ -14,9 +14,9 @@ import pytest
 
 from gnssatt import sim
 from gnssatt.errors import InvalidInputError
+from gnssatt.gnss.attitude import AttitudeSeries, attitude_from_rinex
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.attitude import AttitudeSeries, attitude_from_rinex
-from gnssatt.rinex.scenario import SimulatedRinex, simulate_rinex_array
+from gnssatt.sim.rinex_scenario import SimulatedRinex, simulate_rinex_array
 
 SIGMA_PHASE = 0.002
 N_EP = 20

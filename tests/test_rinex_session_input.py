@@ -11,16 +11,16 @@ import pytest
 
 from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError, RinexError
-from gnssatt.rinex import read_nav, read_obs, write_obs
-from gnssatt.rinex.nav import gps_ns
-from gnssatt.rinex.obs import RinexObs
-from gnssatt.rinex.session_input import (
+from gnssatt.gnss.session_input import (
     NO_CHANNEL,
     EpochsDroppedWarning,
     SystemDroppedWarning,
     nav_input,
     session_input,
 )
+from gnssatt.rinex import read_nav, read_obs, write_obs
+from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.obs import RinexObs
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 DATA = Path(__file__).parent / "data"

@@ -110,7 +110,7 @@ def test_rinex2_mixed_file(tmp_path: Path) -> None:
 def test_a_phase_every_file_has_is_preferred_and_mixed_modes_warned(tmp_path: Path) -> None:
     import warnings
 
-    from gnssatt.rinex.session_input import MixedTrackingWarning, session_input
+    from gnssatt.gnss.session_input import MixedTrackingWarning, session_input
 
     # Base: L1C and L1W (RTKLIB's priority takes C); rover: L1W only. Paired per file, a double difference
     # would mix C/A and P(Y) phases; the common mode W is chosen for both.

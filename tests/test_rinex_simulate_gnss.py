@@ -16,18 +16,18 @@ import pytest
 
 from gnssatt import _core
 from gnssatt.errors import InvalidInputError
+from gnssatt.gnss.session_input import NavInput, nav_input, session_input
 from gnssatt.rinex import read_nav, read_obs
 from gnssatt.rinex.nav import gps_ns
-from gnssatt.rinex.scenario import (
+from gnssatt.rinex.signals import slot_frequency_hz
+from gnssatt.rinex.writer import write_nav_from_constellation
+from gnssatt.sim.rinex_scenario import (
     KLOBUCHAR,
     SIM_CODES,
     SimulatedGnss,
     gnss_constellation,
     simulate_gnss_rinex,
 )
-from gnssatt.rinex.session_input import NavInput, nav_input, session_input
-from gnssatt.rinex.signals import slot_frequency_hz
-from gnssatt.rinex.writer import write_nav_from_constellation
 
 C = 299_792_458.0
 OMEGA_E = 7.2921151467e-5  # IS-GPS-200 (the simulator's Earth)

@@ -10,9 +10,9 @@ from functools import cache
 import numpy as np
 
 from gnssatt.data import geonet_dir
+from gnssatt.gnss.attitude import attitude_from_rinex
+from gnssatt.gnss.session_input import session_input
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.attitude import attitude_from_rinex
-from gnssatt.rinex.session_input import session_input
 
 #: RTKLIB 2.4.3 static L1 + L2 solution of the pair (issue 16), ENU at the base, m.
 RTKLIB_STATIC_ENU_M = np.array([953.6732, -3196.1396, 4.6497])

@@ -7,8 +7,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gnssatt import sim
+from gnssatt.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_B_M, WGS84_E2
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_B_M, WGS84_E2
 
 A, B = WGS84_A_M, WGS84_B_M
 

@@ -8,8 +8,8 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import sim
+from gnssatt.constants import GPS_L1_WAVELENGTH_M, SPEED_OF_LIGHT_M_S
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim.constants import GPS_L1_WAVELENGTH_M, SPEED_OF_LIGHT_M_S
 
 LAM = GPS_L1_WAVELENGTH_M
 

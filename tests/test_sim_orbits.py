@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from gnssatt import sim
+from gnssatt import constants, sim
+from gnssatt.constants import GM_M3_S2, GPS_L1_HZ, SPEED_OF_LIGHT_M_S
 from gnssatt.errors import ConvergenceError, InvalidInputError
-from gnssatt.sim.constants import GM_M3_S2, GPS_L1_HZ, SPEED_OF_LIGHT_M_S
 
 
 def elements_from_state(r: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
@@ -161,14 +161,14 @@ def test_glonass_nominal_geometry_and_channels() -> None:
 
 
 def test_glonass_frequency_errors() -> None:
-    assert sim.constants.glonass_frequency_hz(-7) == pytest.approx(1598.0625e6)
-    assert sim.constants.glonass_frequency_hz(6, "L2") == pytest.approx(1248.625e6)
+    assert constants.glonass_frequency_hz(-7) == pytest.approx(1598.0625e6)
+    assert constants.glonass_frequency_hz(6, "L2") == pytest.approx(1248.625e6)
     with pytest.raises(InvalidInputError, match=r"-7\.\.6"):
-        sim.constants.glonass_frequency_hz(7)
+        constants.glonass_frequency_hz(7)
     with pytest.raises(TypeError, match="integer"):
-        sim.constants.glonass_frequency_hz(0.5)
+        constants.glonass_frequency_hz(0.5)
     with pytest.raises(InvalidInputError, match="band"):
-        sim.constants.glonass_frequency_hz(0, "L5")
+        constants.glonass_frequency_hz(0, "L5")
 
 
 def test_constellation_combine_select_and_shapes() -> None:

@@ -7,8 +7,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gnssatt import sim
+from gnssatt.constants import WGS84_A_M
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim.constants import WGS84_A_M
 
 
 def test_elevation_mask_overhead_and_below_horizon() -> None:

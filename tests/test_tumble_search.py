@@ -1,8 +1,8 @@
 """Seed 004: the fit's global search on long RK4 steps with interpolated outputs (``search_step_s``).
 
-The differential evolution of :func:`gnssatt.tumble.fit_rotation` propagates on steps of about 5 s with
-the axes at 1 s interpolated (cubic Hermite), then polishes on the 1 s objective; checked here against a
-converged propagation and against the same fit searched at 1 s.
+The differential evolution of :func:`gnssatt.attitude.dynamics.fit_rotation` propagates on steps of about
+5 s with the axes at 1 s interpolated (cubic Hermite), then polishes on the 1 s objective; checked here
+against a converged propagation and against the same fit searched at 1 s.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gnssatt import tumble
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import InvalidInputError
 from gnssatt.experiments import visibility_rotation as vr
 

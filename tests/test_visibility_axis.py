@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from gnssatt import sim
+from gnssatt.attitude.visibility import visibility_axis, visibility_sets
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
-from gnssatt.visibility import visibility_axis, visibility_sets
 
 
 @pytest.fixture(scope="module")

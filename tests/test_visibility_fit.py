@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from gnssatt import sim, tumble
-from gnssatt.visibility import visibility_axis, visibility_sets
+from gnssatt import sim
+from gnssatt.attitude import dynamics as tumble
+from gnssatt.attitude.visibility import visibility_axis, visibility_sets
 
 TRUTH = np.array([0.7, 1.1, 4.0, *np.radians([1.8, -1.5, 1.6])])
 MODEL = tumble.TumbleModel.circular(500e3)
@@ -32,7 +33,8 @@ def test_fit_from_simulated_visibility_recovers_the_initial_state() -> None:
     meas = np.array([visibility_axis(v, h, method="centroid") for v, h in sets])
     err = np.arccos(np.clip(np.sum(meas * axes, axis=1), -1.0, 1.0))
     rms_deg = np.degrees(np.sqrt(np.mean(err**2)))
-    # The centroid's accuracy with 48 satellites at 500 km (gnssatt.visibility docstring: 7.6 deg RMS).
+    # The centroid's accuracy with 48 satellites at 500 km (gnssatt.attitude.visibility docstring: 7.6 deg
+    # RMS).
     assert 4.0 < rms_deg < 11.0
 
     fit = tumble.fit_rotation(t, meas, MODEL, rng=1)

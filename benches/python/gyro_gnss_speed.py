@@ -12,15 +12,20 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gnssatt._gyro_gnss_numpy import run_reference
+from gnssatt.attitude.gyro_gnss import gyro_gnss_filter
 from gnssatt.experiments import gyro_gnss as exp
-from gnssatt.gyro_gnss import gyro_gnss_filter
 from gnssatt.sim import attitude_scenario as sc
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))  # the numpy references
+
+from references.gyro_gnss_numpy import run_reference
 
 
 def median_time(fn, reps: int) -> float:  # type: ignore[no-untyped-def]

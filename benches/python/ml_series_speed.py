@@ -6,7 +6,7 @@ machine has them), in one run.
 The batch is the simulated part of ``reproduce recorded-methods``: a 1 m equilateral triangle in the body
 X-Z plane, heading turning 3 deg per epoch, pitch and roll oscillating by a few degrees, 1 s epochs above
 50 N 36.2 E, the highest GPS L1 satellites of the nominal constellation, 2 mm white phase noise (the
-simulator behind :mod:`gnssatt.rinex.scenario`). Default step (eq. (15), ``lambda / (10 L)`` = 1.09 deg:
+simulator behind :mod:`gnssatt.sim.rinex_scenario`). Default step (eq. (15), ``lambda / (10 L)`` = 1.09 deg:
 1.8e7 cells, searched by branch-and-bound), window +-10 deg around the previous epoch as in that study.
 Each child also checks that the batch and the loop give the same angles bit for bit and prints the
 worst angle error against the truth.
@@ -27,7 +27,7 @@ import numpy as np
 
 import gnssatt
 from gnssatt import sim
-from gnssatt.likelihood import rotation_from_euler
+from gnssatt.attitude.likelihood import rotation_from_euler
 
 WINDOW_DEG = 10.0
 

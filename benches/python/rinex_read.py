@@ -21,7 +21,7 @@ import numpy as np
 
 from gnssatt.data import geonet_dir
 from gnssatt.rinex import read_obs
-from gnssatt.rinex.scenario import simulate_rinex_array
+from gnssatt.sim.rinex_scenario import simulate_rinex_array
 
 DEFAULT = geonet_dir() / "07590920.05o"
 

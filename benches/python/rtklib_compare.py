@@ -5,7 +5,8 @@
 
 Datasets: ``geonet`` (the GEONET pair shipped in ``gnssatt.data``: 3.3 km, GPS L1/L2, 120 epochs, base 0759 at
 its header position) and ``sim`` (a simulated 1 m static baseline, 300 epochs at 1 s, every system and
-frequency ``gnssatt.rinex.scenario`` writes). Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
+frequency ``gnssatt.sim.rinex_scenario`` writes).
+Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
 ``movingbase-instantaneous.conf``; gnssatt ``--motion moving``) and static (``static-continuous.conf``;
 ``--motion static``), with ``--method lambda``; each number of frequencies (``-f N`` / ``--frequencies N``)
 and system set (``pos1-navsys`` in a conf copy / ``--systems``) the files hold; base position ``-r`` /
@@ -351,7 +352,7 @@ def simulated(folder: Path, n_epochs: int, seed: int) -> Dataset:
     """A static 1 m baseline (heading 30 degrees) of ``n_epochs`` at 1 s: every system and frequency of
     ``simulate_gnss_rinex`` (GRECJ, 3 slots), or GPS L1 from ``simulate_rinex_array`` where the simulator
     has only that."""
-    from gnssatt.rinex import scenario
+    from gnssatt.sim import rinex_scenario as scenario
 
     folder.mkdir(parents=True, exist_ok=True)
     ants = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])

@@ -30,8 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 import gnssatt.data
-from gnssatt.rinex.attitude import attitude_from_rinex
-from gnssatt.rinex.scenario import simulate_gnss_rinex
+from gnssatt.gnss.attitude import attitude_from_rinex
+from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
 
 RULES = {
     "ratio only": {"min_success_rate": 0.0, "max_failure_rate": 0.0},

@@ -14,7 +14,8 @@ import time
 
 import numpy as np
 
-from gnssatt import montecarlo, tumble
+from gnssatt import montecarlo
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.experiments import visibility_rotation as vr
 
 

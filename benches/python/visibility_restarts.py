@@ -1,10 +1,10 @@
 """Seed 004: how often the differential-evolution fit ends in a local minimum, and what restarts buy.
 
 Runs the ``visibility-rotation`` trials (paper setup: 1500 s, 5 deg per axis component, rates up to
-3 deg/s) on the same seeds with each restart kind of ``gnssatt.tumble.fit_rotation`` and prints, per
-kind, the share of fits whose objective exceeds ``tumble.noise_cost_threshold`` (tail 1e-3: more than
-the noise explains) and of attitude errors over 15 deg, for the first run alone and after restarts, with
-the mean restarts and the wall time. The first run is the same for every kind (same seed).
+3 deg/s) on the same seeds with each restart kind of ``gnssatt.attitude.dynamics.fit_rotation`` and
+prints, per kind, the share of fits whose objective exceeds ``dynamics.noise_cost_threshold`` (tail 1e-3:
+more than the noise explains) and of attitude errors over 15 deg, for the first run alone and after
+restarts, with the mean restarts and the wall time. The first run is the same for every kind (same seed).
 
 Run: ``RAYON_NUM_THREADS=1 python benches/python/visibility_restarts.py [--trials 24] [--seed 1]``
 (two worker processes).

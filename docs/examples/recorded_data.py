@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from gnssatt.data import geonet_dir
-from gnssatt.rinex import attitude_from_rinex
+from gnssatt.gnss.attitude import attitude_from_rinex
 
 #: APPROX POSITION XYZ of 0759's header, ECEF m (the station's surveyed position).
 BASE_ECEF_M = (-3976219.5082, 3382372.5671, 3652512.9849)

@@ -15,7 +15,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import sim, tumble
+from gnssatt import sim
+from gnssatt.attitude import dynamics
 
 SEED = 7
 DURATION_S = 600.0
@@ -44,13 +45,13 @@ def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def main() -> dict[str, object]:
     model = gnssatt.TumbleModel.circular(ALTITUDE_M)
     t = np.arange(0.0, DURATION_S + STEP_S / 2, STEP_S)
-    true_axes = tumble.propagate_axes(TRUTH, t, model)
+    true_axes = dynamics.propagate_axes(TRUTH, t, model)
     sets = visibility(t, true_axes)
     measured = np.array([gnssatt.visibility_axis(v, h, method="margin") for v, h in sets])
     fit = gnssatt.fit_rotation(t, measured, model, rng=SEED, axis_sigma_deg=AXIS_SIGMA_DEG, min_restarts=1)
-    fitted_axes = tumble.propagate_axes(fit.params, t, model)
+    fitted_axes = dynamics.propagate_axes(fit.params, t, model)
     # The axis cannot tell a spin by 180 deg about itself: fold onto the truth before comparing.
-    folded = tumble.fold_symmetric(fit.params, TRUTH)
+    folded = dynamics.fold_symmetric(fit.params, TRUTH)
     attitude_error = Rotation.from_euler("YZY", folded[:3]) * Rotation.from_euler("YZY", TRUTH[:3]).inv()
     rate_error = np.degrees(folded[3:] - TRUTH[3:])
 

@@ -12,12 +12,31 @@ simulator, :mod:`scipy.stats` and matplotlib load only when something needs them
 from __future__ import annotations
 
 import importlib
+import sys
 from typing import TYPE_CHECKING, Any
 
 from gnssatt._core import __version__
 
+
+class _OldPaths:
+    """Meta-path finder for the old module paths (``gnssatt.tumble``, ``gnssatt.sim.frames`` ...): asked only
+    after the real files were not found, it hands over to :mod:`gnssatt._moved` (table, warning, loader),
+    imported then, so that ``import gnssatt`` does not pay for it."""
+
+    @staticmethod
+    def find_spec(fullname: str, path: Any = None, target: Any = None) -> Any:
+        if not fullname.startswith(f"{__name__}."):
+            return None
+        from gnssatt._moved import find_spec
+
+        return find_spec(fullname)
+
+
+if not any(getattr(f, "__module__", None) == __name__ for f in sys.meta_path):
+    sys.meta_path.append(_OldPaths)
+
 if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type checkers and IDEs
-    from gnssatt import errors, magnetic, orbit, rinex, sim, tumble
+    from gnssatt import ambiguity, attitude, errors, gnss, magnetic, orbit, rinex, sim
     from gnssatt.ambiguity import (
         PartialFixResult,
         RatioTestResult,
@@ -28,16 +47,9 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
         ratio_test,
         ratio_threshold_fixed_failure_rate,
     )
-    from gnssatt.errors import (
-        ConvergenceError,
-        DegenerateGeometryError,
-        GnssattError,
-        GnssattWarning,
-        InvalidInputError,
-        NearDegenerateWarning,
-    )
-    from gnssatt.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
-    from gnssatt.likelihood import (
+    from gnssatt.attitude.dynamics import RotationFit, TumbleModel, fit_rotation
+    from gnssatt.attitude.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
+    from gnssatt.attitude.likelihood import (
         AttitudePrior,
         AttitudeSeries,
         BaselineDirection,
@@ -51,14 +63,21 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
         ml_baseline_series,
         prior_from_velocity,
     )
-    from gnssatt.magnetometer import YawResult, yaw_from_magnetometer
-    from gnssatt.matrix_method import MatrixAttitudeResult, matrix_attitude
-    from gnssatt.phase_attitude import phase_attitude_fixes
-    from gnssatt.tumble import RotationFit, TumbleModel, fit_rotation
-    from gnssatt.vector_attitude import TriadResult, WahbaResult, triad, wahba
-    from gnssatt.visibility import visibility_axis
+    from gnssatt.attitude.magnetometer import YawResult, yaw_from_magnetometer
+    from gnssatt.attitude.matrix_method import MatrixAttitudeResult, matrix_attitude
+    from gnssatt.attitude.phase_attitude import phase_attitude_fixes
+    from gnssatt.attitude.visibility import visibility_axis
+    from gnssatt.attitude.wahba import TriadResult, WahbaResult, triad, wahba
+    from gnssatt.errors import (
+        ConvergenceError,
+        DegenerateGeometryError,
+        GnssattError,
+        GnssattWarning,
+        InvalidInputError,
+        NearDegenerateWarning,
+    )
 
-_SUBMODULES = frozenset({"errors", "magnetic", "orbit", "rinex", "sim", "tumble"})
+_SUBMODULES = frozenset({"ambiguity", "attitude", "errors", "gnss", "magnetic", "orbit", "rinex", "sim"})
 
 # Module defining each re-exported name; tests/test_lazy_import.py checks it against the block above.
 _EXPORTS: dict[str, str] = {
@@ -82,8 +101,8 @@ _EXPORTS: dict[str, str] = {
             "InvalidInputError",
             "NearDegenerateWarning",
         ),
-        "gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
-        "likelihood": (
+        "attitude.gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
+        "attitude.likelihood": (
             "AttitudePrior",
             "AttitudeSeries",
             "BaselineDirection",
@@ -97,12 +116,12 @@ _EXPORTS: dict[str, str] = {
             "ml_baseline_series",
             "prior_from_velocity",
         ),
-        "magnetometer": ("YawResult", "yaw_from_magnetometer"),
-        "matrix_method": ("MatrixAttitudeResult", "matrix_attitude"),
-        "phase_attitude": ("phase_attitude_fixes",),
-        "tumble": ("RotationFit", "TumbleModel", "fit_rotation"),
-        "vector_attitude": ("TriadResult", "WahbaResult", "triad", "wahba"),
-        "visibility": ("visibility_axis",),
+        "attitude.magnetometer": ("YawResult", "yaw_from_magnetometer"),
+        "attitude.matrix_method": ("MatrixAttitudeResult", "matrix_attitude"),
+        "attitude.phase_attitude": ("phase_attitude_fixes",),
+        "attitude.dynamics": ("RotationFit", "TumbleModel", "fit_rotation"),
+        "attitude.wahba": ("TriadResult", "WahbaResult", "triad", "wahba"),
+        "attitude.visibility": ("visibility_axis",),
     }.items()
     for name in names
 }
@@ -130,9 +149,12 @@ __all__ = [
     "WahbaResult",
     "YawResult",
     "__version__",
+    "ambiguity",
+    "attitude",
     "bootstrap_success_rate",
     "errors",
     "fit_rotation",
+    "gnss",
     "gyro_gnss_filter",
     "gyro_propagate",
     "lambda_decorrelate",
@@ -153,7 +175,6 @@ __all__ = [
     "rinex",
     "sim",
     "triad",
-    "tumble",
     "visibility_axis",
     "wahba",
     "yaw_from_magnetometer",
@@ -166,8 +187,10 @@ def __getattr__(name: str) -> Any:
         value: Any = importlib.import_module(f"{__name__}.{name}")
     elif name in _EXPORTS:
         value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    else:  # an old name (gnssatt.tumble, gnssatt.matrix_method ...) with a warning, or AttributeError
+        from gnssatt._moved import moved_attribute
+
+        return moved_attribute(__name__, name)
     globals()[name] = value
     return value
 

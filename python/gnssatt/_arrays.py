@@ -19,17 +19,25 @@ from numpy.typing import NDArray
 from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
+    "checked_array",
     "choice",
     "finite_outputs",
     "finite_result",
     "flag",
     "float_array",
+    "generator",
     "instance",
     "integer",
     "integer_array",
+    "readonly",
+    "real_array",
+    "rows",
     "scalar",
     "shaped",
+    "text",
+    "time_array",
     "unit_rows",
+    "vector_array",
 ]
 
 
@@ -262,3 +270,107 @@ def finite_outputs(what: str, **outputs: Any) -> None:
                 f"{what} gave a non-finite {name} from finite input: {arr[k]} at index {k} of shape "
                 f"{arr.shape}"
             )
+
+
+# Intake of times, 3-vectors and typed arguments of the models and the simulator (once gnssatt.sim._util).
+
+
+def checked_array(name: str, value: Any, *, ndim: tuple[int, ...], shape: str) -> NDArray[np.float64]:
+    """Like :func:`gnssatt._arrays.float_array`, but 0-d input stays 0-d."""
+    allowed = (*ndim, 1) if 0 in ndim else ndim
+    arr = float_array(name, value, ndim=allowed, shape=shape)
+    if np.ndim(value) == 0:
+        return arr.reshape(())
+    if arr.ndim not in ndim:
+        raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+    return arr
+
+
+def time_array(t: Any) -> NDArray[np.float64]:
+    """``t`` (seconds from the scenario epoch) as a float64 array of shape () or (n_t,)."""
+    return checked_array("t", t, ndim=(0, 1), shape="() or (n_t,)")
+
+
+def real_array(name: str, value: Any) -> NDArray[np.float64]:
+    """``value`` as a float64 array of real numbers that may hold NaN (where a value is unknown or not
+    measured); complex, boolean, object, text and ragged input is refused as in ``float_array``."""
+    try:
+        arr = np.array(value)
+    except ValueError as exc:  # ragged nested sequences
+        raise InvalidTypeError(f"expected {name} as a real numeric array, got {exc}") from exc
+    if arr.dtype.kind not in "iuf":
+        raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
+def vector_array(
+    name: str, value: Any, *, ndim: int | tuple[int, ...], shape: str, nonzero: bool = False
+) -> NDArray[np.float64]:
+    """Like :func:`gnssatt._arrays.float_array` for arrays of 3-vectors: the last axis must have length 3
+    and, with ``nonzero``, no vector may be zero (a direction is to be taken from it)."""
+    arr = float_array(name, value, ndim=ndim, shape=shape)
+    if arr.shape[-1:] != (3,):
+        raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+    if nonzero and arr.size:
+        with np.errstate(over="ignore"):  # only zero matters here
+            norm = np.linalg.norm(arr, axis=-1)
+        if np.any(norm == 0.0):
+            bad = tuple(int(i) for i in np.argwhere(norm == 0.0)[0])
+            raise InvalidInputError(f"expected non-zero vectors in {name}, got a zero vector at index {bad}")
+    return arr
+
+
+#: What an ``rng=`` argument accepts (scipy's convention): an integer seed, a Generator or None (fresh
+#: entropy). A ``numpy.random.SeedSequence`` is also taken, since ``default_rng`` takes it.
+RNG_TYPES = "an int, a numpy.random.Generator, a numpy.random.SeedSequence or None"
+
+
+def generator(name: str, value: Any) -> np.random.Generator:
+    """``numpy.random.default_rng(value)`` for an ``rng=`` argument: a Generator is used as given (and
+    advanced), an integer seeds a new one (the same integer, the same draws), None draws fresh entropy.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` of another kind (a float, a bool, the legacy ``RandomState``).
+    InvalidInputError
+        A negative integer seed (``default_rng`` refuses it).
+    """
+    if isinstance(value, bool) or not (
+        value is None
+        or isinstance(value, np.random.Generator | np.random.SeedSequence)
+        or isinstance(value, int | np.integer)
+    ):
+        raise InvalidTypeError(f"expected {name} as {RNG_TYPES}, got {type(value).__name__}")
+    if isinstance(value, int | np.integer) and value < 0:
+        raise InvalidInputError(f"expected {name} as a non-negative integer seed, got {value}")
+    return np.random.default_rng(value)
+
+
+def text(name: str, value: Any, choices: tuple[str, ...] | None = None) -> str:
+    """``value`` if it is a ``str`` (one of ``choices`` where given)."""
+    instance(name, value, str, "a str")
+    if choices is not None and value not in choices:
+        raise InvalidInputError(f"expected {name} one of {list(choices)}, got {value!r}")
+    return value
+
+
+def readonly(*arrays: NDArray[Any] | None) -> None:
+    """Mark arrays read-only (results held by frozen dataclasses)."""
+    for a in arrays:
+        if isinstance(a, np.ndarray):
+            a.flags.writeable = False
+
+
+def rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = False) -> int:
+    """Checks a field of a result type that is also an input: its shape (``()`` stands for any (n,)), a
+    finite real array, or integers; returns its first dimension."""
+    if integers:
+        arr = np.asarray(value)
+        if arr.size and arr.dtype.kind not in "iu":
+            raise InvalidTypeError(f"expected {name} as integers, got dtype {arr.dtype}")
+    else:
+        arr = float_array(name, value, ndim=max(len(shape), 1), shape=str(shape or "(n,)"))
+    if (shape and arr.shape != shape) or (not shape and arr.ndim != 1):
+        raise InvalidInputError(f"expected {name} of shape {shape or '(n,)'}, got {arr.shape}")
+    return int(arr.shape[0])

@@ -287,7 +287,8 @@ def lambda_partial_fix(
 # dynamics.rs: params (n, 6) = (psi, alpha, phi) rad (intrinsic YZY, paper orbital axes) and absolute body
 # rates rad/s; axes in the library orbital frame (x along-track, y normal, z radial).
 class _TumbleModelArgs(TypedDict):
-    """Seed-004 model parameters, SI units (``gnssatt.tumble.TumbleModel._kwargs()``); a dict at runtime."""
+    """Seed-004 model parameters, SI units (``gnssatt.attitude.dynamics.TumbleModel._kwargs()``); a dict at
+    runtime."""
 
     inertia_kg_m2: tuple[float, float, float]
     orbital_rate_rad_s: float
@@ -321,7 +322,7 @@ def tumble_states(
     step_s: float,
 ) -> NDArray[np.float64]: ...
 
-# wahba.rs (epochs flattened by gnssatt.vector_attitude / gnssatt.magnetometer)
+# wahba.rs (epochs flattened by gnssatt.attitude.wahba / gnssatt.attitude.magnetometer)
 @final
 class WahbaBatch:
     @property
@@ -410,7 +411,7 @@ def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> OrbitStates: ...
 
-# gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.session_input.NavInput.kepler / .glonass arrays.
+# gnss_nav.rs (test-facing): nav dicts = gnssatt.gnss.session_input.NavInput.kepler / .glonass arrays.
 def gnss_satellite_states(
     kepler: dict[str, NDArray[Any]],
     glonass: dict[str, NDArray[Any]],
@@ -485,7 +486,7 @@ def orbit_filter_tight(
     settings: dict[str, float],  # accel_psd_m2_s3, step_s
 ) -> OrbitFilterRun: ...
 
-# gyro_gnss.rs, gyro_gnss_options.rs (arguments built by gnssatt.gyro_gnss)
+# gyro_gnss.rs, gyro_gnss_options.rs (arguments built by gnssatt.attitude.gyro_gnss)
 def gyro_propagate(
     q0: NDArray[np.float64], t: NDArray[np.float64], rates: NDArray[np.float64]
 ) -> NDArray[np.float64]: ...
@@ -580,7 +581,7 @@ LAMBDA_MAX_DIMENSION: int
 LAMBDA_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
 
-# gnss.rs: the observation engine. Arrays of gnssatt.rinex.session_input.SessionInput (n_rx receivers,
+# gnss.rs: the observation engine. Arrays of gnssatt.gnss.session_input.SessionInput (n_rx receivers,
 # n_ep epochs, n_sat satellites, 3 frequency slots) and NavInput; options None take the engine's defaults.
 @final
 class GnssSession:
@@ -672,7 +673,7 @@ class GnssEngine:
         approx_position_m: NDArray[np.float64],
     ) -> GnssSession: ...
 
-# The engine's defaults (rust/core/src/gnss/options.rs), read by gnssatt.rinex.attitude and the CLI.
+# The engine's defaults (rust/core/src/gnss/options.rs), read by gnssatt.gnss.attitude and the CLI.
 GNSS_DEFAULT_MIN_SUCCESS_RATE: float
 GNSS_DEFAULT_RATIO_THRESHOLD: float
 GNSS_DEFAULT_MAX_FAILURE_RATE: float

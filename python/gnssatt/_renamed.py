@@ -1,5 +1,5 @@
-"""The one mechanism for public names renamed to the conventions of ``docs/conventions.md``, and the one
-intake of random-number generators.
+"""The one mechanism for public names renamed to the conventions of ``docs/conventions.md`` (the one
+``rng=`` intake is :func:`gnssatt._arrays.generator`).
 
 A renamed keyword or attribute keeps working for one release and says which name replaces it, with a
 :class:`DeprecationWarning` (``docs/conventions.md``, "Renamed names").
@@ -12,39 +12,11 @@ import warnings
 from collections.abc import Callable
 from typing import Any, TypeVar
 
-import numpy as np
+from gnssatt.errors import InvalidInputError
 
-from gnssatt.errors import InvalidInputError, InvalidTypeError
-
-__all__ = ["RNG_TYPES", "generator", "renamed"]
+__all__ = ["renamed"]
 
 T = TypeVar("T")
-
-#: What an ``rng=`` argument accepts (scipy's convention): an integer seed, a Generator or None (fresh
-#: entropy). A ``numpy.random.SeedSequence`` is also taken, since ``default_rng`` takes it.
-RNG_TYPES = "an int, a numpy.random.Generator, a numpy.random.SeedSequence or None"
-
-
-def generator(name: str, value: Any) -> np.random.Generator:
-    """``numpy.random.default_rng(value)`` for an ``rng=`` argument: a Generator is used as given (and
-    advanced), an integer seeds a new one (the same integer, the same draws), None draws fresh entropy.
-
-    Raises
-    ------
-    InvalidTypeError
-        ``value`` of another kind (a float, a bool, the legacy ``RandomState``).
-    InvalidInputError
-        A negative integer seed (``default_rng`` refuses it).
-    """
-    if isinstance(value, bool) or not (
-        value is None
-        or isinstance(value, np.random.Generator | np.random.SeedSequence)
-        or isinstance(value, int | np.integer)
-    ):
-        raise InvalidTypeError(f"expected {name} as {RNG_TYPES}, got {type(value).__name__}")
-    if isinstance(value, int | np.integer) and value < 0:
-        raise InvalidInputError(f"expected {name} as a non-negative integer seed, got {value}")
-    return np.random.default_rng(value)
 
 
 def _warn(owner: str, old: str, new: str) -> None:

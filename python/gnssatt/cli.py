@@ -139,7 +139,7 @@ def _reproduce(args: argparse.Namespace) -> int:
 def _attitude(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gnssatt.rinex.attitude import attitude_from_rinex
+    from gnssatt.gnss.attitude import attitude_from_rinex
 
     png = args.out.with_suffix(".png")
     if png == args.out:

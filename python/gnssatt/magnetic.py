@@ -31,9 +31,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import integer, scalar
+from gnssatt import constants as _constants
+from gnssatt._arrays import checked_array, integer, scalar, vector_array
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import checked_array, vector_array
 
 __all__ = [
     "EARTH_DIPOLE_T_M3",
@@ -51,8 +51,8 @@ __all__ = [
 #: IGRF reference radius a (m).
 IGRF_REFERENCE_RADIUS_M = 6_371_200.0
 #: WGS-84 semi-major axis (m) and flattening.
-WGS84_A_M = 6_378_137.0
-WGS84_F = 1.0 / 298.257223563
+WGS84_A_M = _constants.WGS84_A_M
+WGS84_F = _constants.WGS84_F
 _E2 = WGS84_F * (2.0 - WGS84_F)
 
 # Degree-1 Gauss coefficients (g10, g11, h11) in nT at the IGRF-14 epochs, and the 2025-2030 SV in nT/yr.

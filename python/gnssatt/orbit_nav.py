@@ -16,11 +16,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import finite_result, float_array, scalar
+from gnssatt._arrays import finite_result, float_array, instance, real_array, scalar, text
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
+from gnssatt.observations import SpaceborneMeasurements
 from gnssatt.orbit import MIN_ORBIT_RADIUS_M, GlonassModel, glonass_propagate, rk4_steps
-from gnssatt.sim._util import instance, real_array, text
-from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 #: Most epochs of :func:`noisy_orbit` (a Python loop, about 0.1 ms per epoch).
 MAX_EPOCHS = 1_000_000

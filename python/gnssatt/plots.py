@@ -11,8 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
-    from gnssatt.likelihood import LikelihoodGrid
-    from gnssatt.rinex.attitude import AttitudeSeries
+    from gnssatt.attitude.likelihood import LikelihoodGrid
+    from gnssatt.gnss.attitude import AttitudeSeries
 
 __all__ = [
     "attitude_series",
@@ -105,7 +105,7 @@ def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) 
 
 
 def attitude_series(series: AttitudeSeries, path: Path) -> Path:
-    """Time series of the angles of :func:`gnssatt.rinex.attitude.attitude_from_rinex` (one panel each)."""
+    """Time series of the angles of :func:`gnssatt.gnss.attitude.attitude_from_rinex` (one panel each)."""
     plt = _pyplot()
     names = series.angle_names
     minutes = (series.time - series.time[0]).astype("timedelta64[ms]").astype(np.float64) / 60_000.0
@@ -171,12 +171,13 @@ def dipole_vs_igrf(
     The tilted dipole equals ppigrf's degree-1 field (tests/test_magnetic.py); the differences shown are
     the non-dipole field (largest over the South Atlantic Anomaly and near the dip equator)."""
     from gnssatt import magnetic
+    from gnssatt.constants import GM_M3_S2, OMEGA_E_RAD_S
 
     plt = _pyplot()
     u = np.radians(np.linspace(0.0, 360.0, 361))
     inc = np.radians(inclination_deg)
-    period = 2 * np.pi * np.sqrt(radius_m**3 / 3.986004418e14)
-    era = 7.2921151467e-5 * period * u / (2 * np.pi)
+    period = 2 * np.pi * np.sqrt(radius_m**3 / GM_M3_S2)
+    era = OMEGA_E_RAD_S * period * u / (2 * np.pi)
     r_eci = radius_m * np.stack([np.cos(u), np.sin(u) * np.cos(inc), np.sin(u) * np.sin(inc)], -1)
     c, s = np.cos(era), np.sin(era)
     r_ecef = np.stack(

@@ -8,13 +8,23 @@ exist so the papers' sequences can be checked against an implementation that is 
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import choice, flag, shaped
+from gnssatt._arrays import checked_array, choice, flag, shaped
 
-__all__ = ["SEQUENCES", "dcm_to_euler", "dcm_to_quat", "euler_to_dcm", "nearest_rotation", "quat_to_dcm"]
+__all__ = [
+    "SEQUENCES",
+    "dcm_to_euler",
+    "dcm_to_quat",
+    "euler_to_dcm",
+    "nearest_rotation",
+    "quat_to_dcm",
+    "wrap_rad",
+]
 
 #: The intrinsic sequences, upper case only: scipy reads lower case as extrinsic, which these are not.
 SEQUENCES = (
@@ -109,3 +119,9 @@ def nearest_rotation(matrix: ArrayLike) -> NDArray[np.float64]:
     # core's products neither overflow nor underflow
     big = float(np.max(np.abs(m)))
     return _core.nearest_rotation(m / big if big > 0.0 else m)
+
+
+def wrap_rad(x: Any) -> NDArray[np.float64]:
+    """Angles (rad, any shape, finite) wrapped to [-pi, pi)."""
+    arr = checked_array("x", x, ndim=tuple(range(33)), shape="(...)")
+    return (arr + np.pi) % (2.0 * np.pi) - np.pi

@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from gnssatt.data import geonet_dir
+from gnssatt.gnss.attitude import attitude_from_rinex
 from gnssatt.rinex import read_nav, read_obs
 from gnssatt.rinex.align import align_receivers
-from gnssatt.rinex.attitude import attitude_from_rinex
 from gnssatt.rinex.baseline import static_baseline
 from gnssatt.rinex.epoch_lambda import epoch_lambda
 

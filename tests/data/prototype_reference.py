@@ -37,8 +37,8 @@ from gnssatt.rinex import read_nav, read_obs
 from gnssatt.rinex.ephemeris import satellite_states, transmit_states
 from gnssatt.rinex.iono import klobuchar_delay_m
 from gnssatt.rinex.nav import GlonassEphemerides, KeplerEphemerides, RinexNav, gps_ns
-from gnssatt.rinex.scenario import KLOBUCHAR
 from gnssatt.rinex.spp import single_point_positions
+from gnssatt.sim.rinex_scenario import KLOBUCHAR
 
 DATA = Path(__file__).resolve().parent
 NAV_FILES = [

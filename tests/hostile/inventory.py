@@ -24,7 +24,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import montecarlo, sim, tumble
+from gnssatt import montecarlo, sim
+from gnssatt.attitude import dynamics as tumble
 
 from . import scenario as s
 
@@ -35,10 +36,10 @@ PREFERRED = (
     "gnssatt.sim",
     "gnssatt.orbit",
     "gnssatt.orbit_nav",
-    "gnssatt.tumble",
+    "gnssatt.attitude.dynamics",
     "gnssatt.rinex",
     "gnssatt.montecarlo",
-    "gnssatt.visibility",
+    "gnssatt.attitude.visibility",
     "gnssatt.rotation",
     "gnssatt.geometry",
 )
@@ -457,8 +458,8 @@ ENTRIES: dict[str, Entry] = {
         }
     ),
     "gnssatt.sim.attitude_scenario.right_jacobian": _e(lambda: {"a": np.array([0.1, -0.2, 0.3])}),
-    "gnssatt.sim.constants.glonass_frequency_hz": _e(lambda: {"k": np.array([-7, 0, 6]), "band": "L1"}),
-    "gnssatt.sim.constants.glonass_wavelength_m": _e(lambda: {"k": np.array([-7, 0, 6]), "band": "L2"}),
+    "gnssatt.constants.glonass_frequency_hz": _e(lambda: {"k": np.array([-7, 0, 6]), "band": "L1"}),
+    "gnssatt.constants.glonass_wavelength_m": _e(lambda: {"k": np.array([-7, 0, 6]), "band": "L2"}),
     # --- gnssatt.orbit ---
     "gnssatt.orbit.glonass_propagate": _e(
         lambda: {
@@ -512,8 +513,8 @@ ENTRIES: dict[str, Entry] = {
         lambda: {"measurements": _sb()["meas"]}, nan_output="invalid epochs' fixes are NaN, flagged by valid"
     ),
     "gnssatt.orbit_nav.white_acceleration_noise": _e(lambda: {"accel_psd_m2_s3": 1e-8, "dt_s": 10.0}),
-    # --- gnssatt.tumble ---
-    "gnssatt.tumble.axis_cost": _e(
+    # --- gnssatt.attitude.dynamics ---
+    "gnssatt.attitude.dynamics.axis_cost": _e(
         lambda: {
             **_tumble_args(),
             "measured_axes": tumble.propagate_axes(
@@ -523,16 +524,16 @@ ENTRIES: dict[str, Entry] = {
         },
         work={"step_s": WORK_TINY_STEP},
     ),
-    "gnssatt.tumble.fold_symmetric": _e(
+    "gnssatt.attitude.dynamics.fold_symmetric": _e(
         lambda: {"params": s.TUMBLE_TRUTH.copy(), "reference": s.TUMBLE_TRUTH + 0.1}
     ),
-    "gnssatt.tumble.noise_cost_threshold": _e(
+    "gnssatt.attitude.dynamics.noise_cost_threshold": _e(
         lambda: {"n_epochs": 100, "axis_sigma_deg": 1.0, "false_restart": 1e-3}, counts={"n_epochs"}
     ),
-    "gnssatt.tumble.propagate": _e(
+    "gnssatt.attitude.dynamics.propagate": _e(
         lambda: {**_tumble_args(), "step_s": 1.0}, work={"step_s": WORK_TINY_STEP}
     ),
-    "gnssatt.tumble.propagate_axes": _e(
+    "gnssatt.attitude.dynamics.propagate_axes": _e(
         lambda: {**_tumble_args(), "step_s": 1.0}, work={"step_s": WORK_TINY_STEP}
     ),
     # --- gnssatt.rinex ---
@@ -542,7 +543,7 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.rinex.read_nav": _e(
         lambda: {"path": s.rinex_array().nav_path}, nan_output="absent header Klobuchar coefficients are NaN"
     ),
-    "gnssatt.rinex.attitude_from_rinex": _e(
+    "gnssatt.gnss.attitude.attitude_from_rinex": _e(
         lambda: {
             "observations": list(s.rinex_array().obs_paths),
             "nav": s.rinex_array().nav_path,
@@ -579,7 +580,7 @@ ENTRIES: dict[str, Entry] = {
         nonfinite_ok={"observations"},
         free_text={"marker_name"},
     ),
-    "gnssatt.rinex.scenario.simulate_rinex_array": _e(
+    "gnssatt.sim.rinex_scenario.simulate_rinex_array": _e(
         lambda: {
             "folder": s.folder(),
             "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
@@ -590,8 +591,8 @@ ENTRIES: dict[str, Entry] = {
         },
         counts={"n_sats"},
     ),
-    "gnssatt.rinex.scenario.gnss_constellation": _e(lambda: {"systems": "GRE", "lon_deg": 36.2}),
-    "gnssatt.rinex.scenario.simulate_gnss_rinex": _e(
+    "gnssatt.sim.rinex_scenario.gnss_constellation": _e(lambda: {"systems": "GRE", "lon_deg": 36.2}),
+    "gnssatt.sim.rinex_scenario.simulate_gnss_rinex": _e(
         lambda: {
             "folder": s.folder(),
             "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
@@ -617,11 +618,11 @@ ENTRIES: dict[str, Entry] = {
         },
         counts={"n_epochs", "n_sats"},
     ),
-    "gnssatt.rinex.session_input.nav_input": _e(
+    "gnssatt.gnss.session_input.nav_input": _e(
         lambda: {"nav": s.rinex_read()["nav"]},
         nan_output="group delays, fit interval and data source are NaN where a system has none",
     ),
-    "gnssatt.rinex.session_input.session_input": _e(
+    "gnssatt.gnss.session_input.session_input": _e(
         lambda: {"observations": _obs(), "systems": "G", "frequencies": 1, "nav": s.rinex_read()["nav"]},
         nan_output="absent observations (slots, satellites, epochs) are NaN",
     ),
@@ -635,7 +636,7 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.sim.atmosphere.troposphere_delay_m": _e(
         lambda: {"lat_rad": 0.8, "height_m": 150.0, "elevation_rad": np.array([0.2, 1.0])}
     ),
-    "gnssatt.rinex.scenario.write_array_rinex": _e(
+    "gnssatt.sim.rinex_scenario.write_array_rinex": _e(
         lambda: {
             "folder": s.folder(),
             "measurements": sim.simulate_array(
@@ -660,8 +661,8 @@ ENTRIES: dict[str, Entry] = {
         counts={"n_trials", "chunksize"},
     ),
     "gnssatt.montecarlo.trial_generators": _e(lambda: {"seed": 1, "n_trials": 3}, counts={"n_trials"}),
-    # --- gnssatt.visibility ---
-    "gnssatt.visibility.visibility_sets": _e(
+    # --- gnssatt.attitude.visibility ---
+    "gnssatt.attitude.visibility.visibility_sets": _e(
         lambda: {
             "receiver": s.ORBITAL,
             "constellation": s.gps(),

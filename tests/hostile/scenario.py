@@ -14,9 +14,10 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gnssatt import orbit, rinex, sim, tumble
-from gnssatt.rinex import scenario as rinex_scenario
+from gnssatt import orbit, rinex, sim
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.sim import attitude_scenario as sc
+from gnssatt.sim import rinex_scenario
 
 SEED = 20261202
 BASELINES = sim.equilateral_triangle(1.0)[1:]

@@ -27,11 +27,11 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from gnssatt import montecarlo, sim
+from gnssatt.attitude.gyro_gnss import gyro_gnss_filter
+from gnssatt.attitude.phase_attitude import phase_attitude_fixes
 from gnssatt.errors import InvalidInputError
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
-from gnssatt.gyro_gnss import gyro_gnss_filter
-from gnssatt.phase_attitude import phase_attitude_fixes
 from gnssatt.sim import attitude_scenario as sc
 
 NAME = "gyro-gnss"

@@ -19,12 +19,12 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from gnssatt.attitude.magnetometer import yaw_from_magnetometer
+from gnssatt.attitude.wahba import triad
 from gnssatt.errors import NearDegenerateWarning
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 from gnssatt.magnetic import dipole_orbital
-from gnssatt.magnetometer import yaw_from_magnetometer
-from gnssatt.vector_attitude import triad
 
 NAME = "magnetometer-yaw"
 TRUTH_DEG = (5.0, 3.0, 4.0)  # psi, theta, phi: ZYX body -> orbital

@@ -20,11 +20,11 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from gnssatt import montecarlo
+from gnssatt.attitude.matrix_method import matrix_attitude
 from gnssatt.errors import DegenerateGeometryError
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 from gnssatt.geometry import attitude_dop
-from gnssatt.matrix_method import matrix_attitude
 from gnssatt.sim import equilateral_triangle, random_los
 
 NAME = "matrix-method"

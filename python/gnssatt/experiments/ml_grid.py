@@ -24,9 +24,9 @@ from typing import Any
 import numpy as np
 
 from gnssatt import montecarlo, sim
+from gnssatt.attitude.likelihood import likelihood_grid, ml_attitude, rotation_from_euler
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
-from gnssatt.likelihood import likelihood_grid, ml_attitude, rotation_from_euler
 
 NAME = "ml-grid"
 SIDE_M = 0.71

@@ -3,7 +3,7 @@
 Simulated part: a rotating three-antenna platform (equilateral triangle of 1 m sides in the body X-Z plane,
 heading turning 3 deg per epoch, pitch and roll oscillating by a few degrees, 20 epochs at 1 s) above
 50 N 36.2 E, GPS L1, code 0.3 m and phase 2 mm white noise, written to RINEX 3 by
-:func:`gnssatt.rinex.scenario.simulate_rinex_array` and read back; each trial draws the start time (so the
+:func:`gnssatt.sim.rinex_scenario.simulate_rinex_array` and read back; each trial draws the start time (so the
 satellite geometry) and keeps the 5, 6, 7 or 8 highest satellites. Methods, on the same aligned data:
 ``ml`` (whole-domain grid each epoch; all through
 :func:`gnssatt.rinex.attitude_from_rinex`, GPS L1), ``ml_window`` (+/- 10 deg around the previous epoch),
@@ -52,9 +52,9 @@ def _angles_error(a: np.ndarray, truth: np.ndarray) -> np.ndarray:
 def trial(rng: np.random.Generator) -> dict[str, float]:
     """One geometry and initial heading; every satellite count and method on it."""
     from gnssatt import sim
+    from gnssatt.gnss.attitude import attitude_from_rinex
     from gnssatt.rinex import read_nav, read_obs
-    from gnssatt.rinex.attitude import attitude_from_rinex
-    from gnssatt.rinex.scenario import simulate_rinex_array
+    from gnssatt.sim.rinex_scenario import simulate_rinex_array
 
     ant = sim.equilateral_triangle(1.0, plane="xz")
     body = ant[1:] - ant[0]
@@ -99,9 +99,9 @@ def trial(rng: np.random.Generator) -> dict[str, float]:
 def geonet() -> dict[str, float]:
     """The GEONET pair in baseline mode (module docstring), GPS L1 as the simulated part."""
     from gnssatt.data import geonet_dir
+    from gnssatt.frames import dcm_ecef_from_enu, ecef_to_geodetic
+    from gnssatt.gnss.attitude import attitude_from_rinex
     from gnssatt.rinex import read_nav, read_obs
-    from gnssatt.rinex.attitude import attitude_from_rinex
-    from gnssatt.sim.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
     data = geonet_dir()
     a, b = read_obs(data / "07590920.05o"), read_obs(data / "30400920.05o")

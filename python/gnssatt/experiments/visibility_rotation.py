@@ -6,10 +6,12 @@ on objective (1), stop when the objective changes by less than 0.001; worst sigm
 and 0.12 deg/s in the rates (figures 3-4).
 
 Here each trial draws the angles as the paper does and the rate uniformly in the 3 deg/s ball; the
-measured axis at every second is the true one (``gnssatt.tumble.propagate_axes``, the default
-:class:`~gnssatt.tumble.TumbleModel`, an assumed 3U-class nanosatellite at 500 km) tilted by a Gaussian
+measured axis at every second is the true one (``gnssatt.attitude.dynamics.propagate_axes``, the default
+:class:`~gnssatt.attitude.dynamics.TumbleModel`,
+an assumed 3U-class nanosatellite at 500 km) tilted by a Gaussian
 tangent-plane error of 5 deg per component (3 sigma = 15 deg). ``measurements="visibility"`` instead
-derives each axis from simulated GPS + GLONASS visibility (``gnssatt.visibility``, centroid estimator).
+derives each axis from simulated GPS + GLONASS visibility (``gnssatt.attitude.visibility``, centroid
+estimator).
 The fit's 180-deg spin ambiguity (``tumble.fold_symmetric``) is removed before the errors are taken.
 
 A single DE run over the whole 1500 s ends in a local minimum in about a third of the trials; the fit
@@ -33,7 +35,8 @@ from typing import Any
 
 import numpy as np
 
-from gnssatt import montecarlo, tumble
+from gnssatt import montecarlo
+from gnssatt.attitude import dynamics as tumble
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 
@@ -69,7 +72,7 @@ def noisy_axes(rng: np.random.Generator, axes: np.ndarray, sigma_deg: float) -> 
 def visibility_axes(rng: np.random.Generator, t: np.ndarray, axes: np.ndarray) -> np.ndarray:
     """Axes estimated from simulated GPS + GLONASS visibility (500 km, 51.6 deg, random orbit phase)."""
     from gnssatt import sim
-    from gnssatt.visibility import visibility_axis, visibility_sets
+    from gnssatt.attitude.visibility import visibility_axis, visibility_sets
 
     rx = sim.OrbitalReceiver(
         altitude_m=500e3,
@@ -108,8 +111,9 @@ def trial(
     deg/s.
 
     With ``measurements="noise"`` the fit restarts (up to ``max_restarts`` times, seeds from this
-    trial's stream, ``restart`` as in :func:`gnssatt.tumble.fit_rotation`) while its objective exceeds
-    what 5-deg axis noise explains (:func:`gnssatt.tumble.noise_cost_threshold`, tail 1e-3). The row
+    trial's stream, ``restart`` as in :func:`gnssatt.attitude.dynamics.fit_rotation`) while its
+    objective exceeds what 5-deg axis noise explains (:func:`gnssatt.attitude.dynamics.noise_cost_threshold`,
+    tail 1e-3). The row
     also holds the first run's errors (``first_run_*``): the fit without restarts, on the same seed.
     ``min_restarts`` restarts run whatever the first objective (a local minimum within the noise spread
     passes the threshold).

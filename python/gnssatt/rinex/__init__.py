@@ -1,5 +1,5 @@
-"""Recorded receiver data: RINEX reading and writing, and attitude or baseline direction from recorded files
-through the Rust observation engine (:func:`attitude_from_rinex`).
+"""Recorded receiver data: RINEX reading and writing only. Attitude or baseline direction from recorded files
+through the Rust observation engine is :func:`gnssatt.gnss.attitude.attitude_from_rinex`.
 
 Time scale: GPST throughout (``datetime64[ns]`` labels, or integer nanoseconds since the GPS epoch).
 Carrier phase in cycles with the RINEX sign (grows with range); see ``docs/conventions.md``.
@@ -9,7 +9,6 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from gnssatt.rinex.attitude import AttitudeSeries, attitude_from_rinex
     from gnssatt.rinex.nav import GlonassEphemerides, KeplerEphemerides, RinexNav, gps_ns, read_nav
     from gnssatt.rinex.obs import RinexObs, read_obs
     from gnssatt.rinex.writer import write_nav_from_constellation, write_obs
@@ -17,8 +16,6 @@ if TYPE_CHECKING:
 # Names imported on first access (PEP 562): `gnssatt attitude` needs only the reader and the engine, not
 # the writer or the simulator it serves.
 _EXPORTS = {
-    "AttitudeSeries": "attitude",
-    "attitude_from_rinex": "attitude",
     "GlonassEphemerides": "nav",
     "KeplerEphemerides": "nav",
     "RinexNav": "nav",
@@ -30,11 +27,14 @@ _EXPORTS = {
     "write_obs": "writer",
 }
 
-_SESSION = "gnssatt.rinex.session_input.session_input (observations on common epochs and signals)"
-_SOLVE = "gnssatt.rinex.attitude_from_rinex (motion='static' or 'moving'; baselines, fixed flags, sigmas)"
+_SESSION = "gnssatt.gnss.session_input.session_input (observations on common epochs and signals)"
+_SOLVE = (
+    "gnssatt.gnss.attitude.attitude_from_rinex (motion='static' or 'moving'; baselines, fixed flags, sigmas)"
+)
 _ENGINE = (
-    "gnssatt.rinex.attitude_from_rinex, which evaluates them in the engine (the evaluations themselves: "
-    "gnssatt._core.gnss_satellite_states and gnss_transmit_states on gnssatt.rinex.session_input.nav_input)"
+    "gnssatt.gnss.attitude.attitude_from_rinex, which evaluates them in the engine (the evaluations "
+    "themselves: gnssatt._core.gnss_satellite_states and gnss_transmit_states on "
+    "gnssatt.gnss.session_input.nav_input)"
 )
 #: Names of the Python prototype of the observation engine, deleted after the engine reproduced its results
 #: (issue 16; tests/test_gnss_prototype_reference.py): what replaces each.
@@ -53,12 +53,10 @@ _REMOVED = {
 }
 
 __all__ = [
-    "AttitudeSeries",
     "GlonassEphemerides",
     "KeplerEphemerides",
     "RinexNav",
     "RinexObs",
-    "attitude_from_rinex",
     "gps_ns",
     "read_nav",
     "read_obs",
@@ -77,8 +75,10 @@ def __getattr__(name: str) -> Any:
             f"favour of the Rust engine; use {_REMOVED[name]}",
             name=name,
         )
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    if name not in _EXPORTS:  # a name that moved out (attitude_from_rinex ...), with a warning, or none
+        from gnssatt._moved import moved_attribute
+
+        return moved_attribute(__name__, name)
     value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
     globals()[name] = value
     return value

@@ -16,7 +16,7 @@ list after those it lists, and only among codes with at least one value in the f
 and phase of the same attribute are preferred when both exist (a pair tracked together); Doppler and
 signal strength follow the phase's attribute where they can. RINEX 2 codes carry no attribute: ``C1``
 counts as attribute C, ``P1`` as P, the phase ``L1`` goes with either (GPS band 1 prefers C1, band 2 P2).
-In a session (:func:`~gnssatt.rinex.session_input.session_input`) the phase codes every file has come first
+In a session (:func:`~gnssatt.gnss.session_input.session_input`) the phase codes every file has come first
 (``preferred_phases``), so that a double difference pairs phases of one tracking mode: receivers need not
 align the phases of different modes, which can differ by a quarter cycle (RINEX 3 ``SYS / PHASE SHIFT``).
 """

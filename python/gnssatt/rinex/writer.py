@@ -17,18 +17,19 @@ from os import PathLike
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gnssatt import constants as _constants
 from gnssatt._arrays import instance, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.orbit.constellation import Constellation
 from gnssatt.rinex._fields import output_path, sat_list, time_labels
 from gnssatt.rinex.nav import GPS_EPOCH, gps_ns
-from gnssatt.sim.constellation import Constellation
 
 __all__ = ["write_nav_from_constellation", "write_obs"]
 
 #: Gravitational constants and Earth rotation rates of each system's ICD (GPS/QZSS IS-GPS-200, Galileo
 #: OS SIS ICD, BeiDou BDS-SIS-ICD); the simulator's Earth turns at ``_OMEGA_E``.
 _MU = {"G": 3.986005e14, "J": 3.986005e14, "E": 3.986004418e14, "C": 3.986004418e14, "R": 3.9860044e14}
-_OMEGA_E = 7.2921151467e-5
+_OMEGA_E = _constants.OMEGA_E_RAD_S
 _OMEGA = {"G": _OMEGA_E, "J": _OMEGA_E, "E": _OMEGA_E, "C": 7.292115e-5}
 _BDT_NS = 14 * 1_000_000_000
 _BDT_WEEK = 1356
@@ -269,7 +270,7 @@ def write_nav_from_constellation(
     (written as ``LEAP SECONDS``), the first at or before ``epoch_gpst + start_s``: the first from the
     two-body orbit, the next ones continuing it by the ICD's equations of motion, whose J2 term moves it
     99 m from the two-body orbit in 30 minutes; so simulate ranges from the records read back (as
-    :func:`gnssatt.rinex.scenario.simulate_gnss_rinex` does), not from the orbits.
+    :func:`gnssatt.sim.rinex_scenario.simulate_gnss_rinex` does), not from the orbits.
 
     Parameters
     ----------

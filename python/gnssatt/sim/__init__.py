@@ -32,18 +32,7 @@ Typical use::
     dphi = meas.phase_diffs()  # (2, n_visible), rad
 """
 
-from gnssatt.sim import constants
-from gnssatt.sim.arrays import equilateral_triangle, random_attitude, random_los
-from gnssatt.sim.constellation import (
-    GLONASS_SLOT_CHANNELS,
-    GPS_BASELINE_SLOTS,
-    GPS_SLOT_EPOCH_GHA_RAD,
-    Constellation,
-    glonass_nominal,
-    gps_nominal,
-    walker,
-)
-from gnssatt.sim.frames import (
+from gnssatt.frames import (
     dcm_ecef_from_eci,
     dcm_ecef_from_enu,
     dcm_eci_from_ecef,
@@ -53,8 +42,21 @@ from gnssatt.sim.frames import (
     eci_to_ecef,
     geodetic_to_ecef,
 )
-from gnssatt.sim.geometry import Geometry, elevation_azimuth, line_of_sight, los_body
-from gnssatt.sim.kepler import KeplerOrbits, solve_kepler
+from gnssatt.observations import SpaceborneMeasurements
+from gnssatt.orbit.constellation import (
+    GLONASS_SLOT_CHANNELS,
+    GPS_BASELINE_SLOTS,
+    GPS_SLOT_EPOCH_GHA_RAD,
+    Constellation,
+    glonass_nominal,
+    gps_nominal,
+    walker,
+)
+from gnssatt.orbit.kepler import KeplerOrbits, solve_kepler
+from gnssatt.orbit.line_of_sight import Geometry, elevation_azimuth, line_of_sight, los_body
+from gnssatt.orbit.masks import antenna_cone_mask, earth_occlusion_mask, elevation_mask
+from gnssatt.orbit.receivers import GroundReceiver, OrbitalReceiver, Receiver
+from gnssatt.sim.arrays import equilateral_triangle, random_attitude, random_los
 from gnssatt.sim.measurements import (
     ArrayMeasurements,
     correlator_amplitude,
@@ -62,9 +64,7 @@ from gnssatt.sim.measurements import (
     simulate_array,
     wrap_rad,
 )
-from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver, Receiver
-from gnssatt.sim.spaceborne import SpaceborneMeasurements, simulate_spaceborne
-from gnssatt.sim.visibility import antenna_cone_mask, earth_occlusion_mask, elevation_mask
+from gnssatt.sim.spaceborne import simulate_spaceborne
 
 __all__ = [
     "GLONASS_SLOT_CHANNELS",
@@ -79,7 +79,6 @@ __all__ = [
     "Receiver",
     "SpaceborneMeasurements",
     "antenna_cone_mask",
-    "constants",
     "correlator_amplitude",
     "dcm_ecef_from_eci",
     "dcm_ecef_from_enu",

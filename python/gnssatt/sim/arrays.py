@@ -13,9 +13,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import integer, scalar
+from gnssatt._arrays import generator, integer, scalar, text
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import generator, text
 
 __all__ = ["equilateral_triangle", "random_attitude", "random_los"]
 

@@ -26,13 +26,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt._arrays import finite_result, float_array, generator, instance, integer, scalar, vector_array
+from gnssatt._arrays import rows as _rows
 from gnssatt._renamed import renamed
-from gnssatt.errors import DegenerateGeometryError, InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import generator, instance, vector_array
-from gnssatt.sim.constellation import Constellation
-from gnssatt.sim.receivers import OrbitalReceiver
-from gnssatt.sim.visibility import earth_occlusion_mask
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.observations import AttitudeFixes, PhaseObservations
+from gnssatt.orbit.constellation import Constellation
+from gnssatt.orbit.masks import earth_occlusion_mask
+from gnssatt.orbit.receivers import OrbitalReceiver
 
 __all__ = [
     "AttitudeFixes",
@@ -182,20 +183,6 @@ def gyro_output(
     )
 
 
-def _rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = False) -> int:
-    """Checks a field of a result type that is also an input: its shape (``()`` stands for any (n,)), a
-    finite real array, or integers; returns its first dimension."""
-    if integers:
-        arr = np.asarray(value)
-        if arr.size and arr.dtype.kind not in "iu":
-            raise InvalidTypeError(f"expected {name} as integers, got dtype {arr.dtype}")
-    else:
-        arr = float_array(name, value, ndim=max(len(shape), 1), shape=str(shape or "(n,)"))
-    if (shape and arr.shape != shape) or (not shape and arr.ndim != 1):
-        raise InvalidInputError(f"expected {name} of shape {shape or '(n,)'}, got {arr.shape}")
-    return int(arr.shape[0])
-
-
 def _baselines(value: ArrayLike) -> NDArray[np.float64]:
     b = vector_array("baselines_m", value, ndim=2, shape="(m, 3)", nonzero=True)
     norm = np.linalg.norm(b, axis=1)
@@ -213,75 +200,6 @@ def _per_epoch(name: str, attitude: Any, n: int) -> Rotation:
         got = "a single rotation" if attitude.single else f"{len(attitude)} rotations"
         raise InvalidInputError(f"expected {name} as {n} rotations (one per epoch), got {got}")
     return attitude
-
-
-@dataclass(frozen=True)
-class PhaseObservations:
-    """Carrier-phase first differences, one row per (epoch, tracked satellite).
-
-    Attributes
-    ----------
-    epoch_t
-        (n_e,) epoch times, s.
-    epoch
-        (n_rows,) index into ``epoch_t``, non-decreasing.
-    track
-        (n_rows,) arc id: a new id means new ambiguities (satellite rose, or lock was lost).
-    los
-        (n_rows, 3) unit lines of sight receiver -> satellite, ECI.
-    wavelength
-        (n_rows,) m.
-    phase
-        (n_rows, m) first differences slave ``i`` minus master, cycles.
-    ambiguity
-        (n_rows, m) true integers ``N_ik`` of each row (for checking fixes).
-    satellite
-        (n_rows,) index of the satellite in the constellation.
-    """
-
-    epoch_t: NDArray[np.float64]
-    epoch: NDArray[np.int64]
-    track: NDArray[np.int64]
-    los: NDArray[np.float64]
-    wavelength: NDArray[np.float64]
-    phase: NDArray[np.float64]
-    ambiguity: NDArray[np.int64]
-    satellite: NDArray[np.int64]
-
-    def __post_init__(self) -> None:
-        # Also the intake of the phase-based solvers (gnssatt.phase_attitude_fixes, attitude_fixes).
-        n_e = _rows("epoch_t", self.epoch_t, ())
-        n = _rows("epoch", self.epoch, (), integers=True)
-        if n and (np.min(self.epoch) < 0 or np.max(self.epoch) >= n_e):
-            raise InvalidInputError(
-                f"expected epoch as indices into epoch_t, in [0, {n_e}), got {self.epoch}"[:300]
-            )
-        _rows("track", self.track, (n,), integers=True)
-        _rows("satellite", self.satellite, (n,), integers=True)
-        _rows("los", self.los, (n, 3))
-        _rows("wavelength", self.wavelength, (n,))
-        if n and np.min(self.wavelength) <= 0:
-            raise InvalidInputError(f"expected wavelength > 0, got minimum {np.min(self.wavelength)}")
-        phase = float_array("phase", self.phase, ndim=2, shape="(n_rows, m)")
-        _rows("phase", phase, (n, phase.shape[1]))
-        _rows("ambiguity", self.ambiguity, phase.shape, integers=True)
-
-    def without_ambiguities(self) -> PhaseObservations:
-        """The same rows with the true integers removed (for a filter told ``known_ambiguities``)."""
-        return PhaseObservations(
-            self.epoch_t,
-            self.epoch,
-            self.track,
-            self.los,
-            self.wavelength,
-            self.phase - self.ambiguity,
-            np.zeros_like(self.ambiguity),
-            self.satellite,
-        )
-
-    def n_visible(self) -> NDArray[np.int64]:
-        """(n_e,) satellites per epoch."""
-        return np.bincount(self.epoch, minlength=len(self.epoch_t))
 
 
 def _visible(
@@ -396,25 +314,6 @@ def _slips(slips: ArrayLike, n_sat: int) -> NDArray[np.float64]:
     if np.any(cycles != np.round(cycles)) or np.abs(cycles).max() > 2**31:
         raise InvalidInputError(f"expected slips' cycles as integers within +-2^31, got {cycles.tolist()}")
     return rows
-
-
-@dataclass(frozen=True)
-class AttitudeFixes:
-    """Attitude solutions of the receiver: ``rotation`` body -> ECI at ``t`` with the covariance (n, 3, 3) of
-    its body-frame rotation-vector error, rad^2."""
-
-    t: NDArray[np.float64]
-    rotation: Rotation
-    covariance: NDArray[np.float64]
-
-    def __post_init__(self) -> None:
-        # Also an input of gnssatt.gyro_gnss_filter.
-        n = _rows("t", self.t, ())
-        instance("rotation", self.rotation, Rotation, "a scipy Rotation")
-        if self.rotation.single or len(self.rotation) != n:
-            got = "a single rotation" if self.rotation.single else f"{len(self.rotation)} rotations"
-            raise InvalidInputError(f"expected rotation as {n} rotations (one per t), got {got}")
-        _rows("covariance", self.covariance, (n, 3, 3))
 
 
 @renamed(sigma_cycles="phase_sigma_cycles")

@@ -35,11 +35,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt._arrays import (
+    checked_array,
+    finite_result,
+    float_array,
+    generator,
+    instance,
+    integer,
+    readonly,
+    scalar,
+    text,
+)
+from gnssatt.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import checked_array, generator, instance, readonly, text, wrap_rad
-from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
-from gnssatt.sim.geometry import Geometry, _attitude_matrices
+from gnssatt.orbit.line_of_sight import Geometry, _attitude_matrices
+from gnssatt.rotation import wrap_rad
 
 __all__ = ["ArrayMeasurements", "correlator_amplitude", "phase_diffs", "simulate_array", "wrap_rad"]
 
@@ -209,7 +219,7 @@ def simulate_array(
     Parameters
     ----------
     geometry
-        Lines of sight, ranges and range rates (:func:`~gnssatt.sim.geometry.line_of_sight` or
+        Lines of sight, ranges and range rates (:func:`~gnssatt.orbit.line_of_sight.line_of_sight` or
         :meth:`Geometry.from_los`), one epoch or n_t epochs.
     attitude
         Body -> reference rotation: one, or n_t (one per epoch).

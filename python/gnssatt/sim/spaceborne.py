@@ -19,142 +19,30 @@ epoch k:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt._arrays import (
+    finite_result,
+    float_array,
+    generator,
+    instance,
+    integer,
+    scalar,
+    vector_array,
+)
+from gnssatt.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.errors import InvalidInputError, WorkLimitError
-from gnssatt.sim._util import generator, instance, real_array, text, vector_array
-from gnssatt.sim.constants import SPEED_OF_LIGHT_M_S
-from gnssatt.sim.constellation import Constellation
-from gnssatt.sim.visibility import antenna_cone_mask, earth_occlusion_mask
+from gnssatt.observations import SYSTEM_INDEX, SpaceborneMeasurements
+from gnssatt.orbit.constellation import Constellation
+from gnssatt.orbit.masks import antenna_cone_mask, earth_occlusion_mask
 
 __all__ = ["SpaceborneMeasurements", "simulate_spaceborne"]
 
-#: System index of each satellite id prefix (the filters difference within a system only).
-SYSTEM_INDEX = {"G": 0, "R": 1}
 #: Most ``outages`` windows of :func:`simulate_spaceborne` (each is a Python loop over its epochs).
 MAX_OUTAGES = 10_000
-
-
-@dataclass(frozen=True)
-class SpaceborneMeasurements:
-    """Measurements of a spaceborne receiver and the truth behind them.
-
-    Attributes
-    ----------
-    times_s
-        (n_t,) epochs, s.
-    ids
-        (n_sat,) satellite ids (``G..`` GPS, ``R..`` GLONASS).
-    system
-        (n_sat,) uint32 system index (0 GPS, 1 GLONASS).
-    wavelength_m
-        (n_sat,) L1 carrier wavelengths, m.
-    sat_position_m, sat_velocity_m_s
-        (n_t, n_sat, 3) satellite states, ECEF.
-    pseudorange_m, doppler_hz
-        (n_t, n_sat) measurements (NaN where not visible).
-    visible
-        (n_t, n_sat) tracked.
-    code_sigma_m, doppler_sigma_hz
-        Noise standard deviations used.
-    clock_bias_s, clock_drift
-        (n_t,) truth: receiver clock bias (s) and drift (s/s).
-    isb_m
-        Truth: GLONASS minus GPS inter-system bias, m.
-    """
-
-    times_s: NDArray[np.float64]
-    ids: tuple[str, ...]
-    system: NDArray[np.uint32]
-    wavelength_m: NDArray[np.float64]
-    sat_position_m: NDArray[np.float64]
-    sat_velocity_m_s: NDArray[np.float64]
-    pseudorange_m: NDArray[np.float64]
-    doppler_hz: NDArray[np.float64]
-    visible: NDArray[np.bool_]
-    code_sigma_m: float
-    doppler_sigma_hz: float
-    clock_bias_s: NDArray[np.float64]
-    clock_drift: NDArray[np.float64]
-    isb_m: float
-
-    def __post_init__(self) -> None:
-        # Also the intake of real receivers' data in this layout (gnssatt.orbit_nav): every field is checked
-        # for shape and type, the truth and the satellite states for finiteness, the measurements where
-        # tracked (NaN elsewhere).
-        t = float_array("times_s", self.times_s, ndim=1, shape="(n_t,)")
-        if t.size == 0 or np.any(np.diff(t) <= 0):
-            raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
-        ids = instance("ids", self.ids, tuple, "a tuple of str")
-        if not all(isinstance(i, str) and i[:1] in SYSTEM_INDEX for i in ids):
-            raise InvalidInputError(
-                f"expected ids as str starting with one of {list(SYSTEM_INDEX)}, got {ids!r}"[:300]
-            )
-        n_t, n_sat = t.size, len(ids)
-        system = np.asarray(self.system)
-        if system.dtype.kind not in "iu" or system.shape != (n_sat,):
-            raise InvalidInputError(
-                f"expected system as ({n_sat},) integers, got {system.dtype} {system.shape}"
-            )
-        if np.any((system < 0) | (system >= len(SYSTEM_INDEX))):
-            raise InvalidInputError(
-                f"expected system indices in [0, {len(SYSTEM_INDEX)}), got {np.unique(system).tolist()}"
-            )
-        lam = float_array("wavelength_m", self.wavelength_m, ndim=1, shape=f"({n_sat},)")
-        if lam.shape != (n_sat,) or np.any(lam <= 0):
-            raise InvalidInputError(f"expected wavelength_m of shape ({n_sat},), each > 0")
-        visible = np.asarray(self.visible)
-        if visible.dtype != bool or visible.shape != (n_t, n_sat):
-            raise InvalidInputError(
-                f"expected visible as booleans of shape ({n_t}, {n_sat}), got {visible.dtype} {visible.shape}"
-            )
-        for name in ("sat_position_m", "sat_velocity_m_s"):
-            arr = vector_array(name, getattr(self, name), ndim=3, shape=f"({n_t}, {n_sat}, 3)")
-            if arr.shape != (n_t, n_sat, 3):
-                raise InvalidInputError(f"expected {name} of shape ({n_t}, {n_sat}, 3), got {arr.shape}")
-        for name in ("pseudorange_m", "doppler_hz"):
-            arr = real_array(name, getattr(self, name))
-            if arr.shape != (n_t, n_sat):
-                raise InvalidInputError(f"expected {name} of shape ({n_t}, {n_sat}), got {arr.shape}")
-            if not np.all(np.isfinite(arr[visible])):
-                raise InvalidInputError(f"{name} contains a non-finite value where visible")
-        for name in ("clock_bias_s", "clock_drift"):
-            arr = float_array(name, getattr(self, name), ndim=1, shape=f"({n_t},)")
-            if arr.shape != (n_t,):
-                raise InvalidInputError(f"expected {name} of shape ({n_t},), got {arr.shape}")
-        scalar("code_sigma_m", self.code_sigma_m, minimum=0.0, strict=True)
-        scalar("doppler_sigma_hz", self.doppler_sigma_hz, minimum=0.0, strict=True)
-        scalar("isb_m", self.isb_m)
-
-    def select_systems(self, prefixes: str) -> SpaceborneMeasurements:
-        """Only the satellites whose id starts with one of ``prefixes`` (e.g. ``"G"`` or ``"GR"``)."""
-        text("prefixes", prefixes)
-        keep = np.array([i[0] in prefixes for i in self.ids], dtype=bool)
-        if not keep.any():
-            raise InvalidInputError(
-                f"expected prefixes naming systems among {sorted({i[0] for i in self.ids})}, got {prefixes!r}"
-            )
-        return SpaceborneMeasurements(
-            self.times_s,
-            tuple(i for i, k in zip(self.ids, keep, strict=True) if k),
-            self.system[keep],
-            self.wavelength_m[keep],
-            self.sat_position_m[:, keep],
-            self.sat_velocity_m_s[:, keep],
-            self.pseudorange_m[:, keep],
-            self.doppler_hz[:, keep],
-            self.visible[:, keep],
-            self.code_sigma_m,
-            self.doppler_sigma_hz,
-            self.clock_bias_s,
-            self.clock_drift,
-            self.isb_m,
-        )
 
 
 def _outages(outages: Sequence[tuple[float, float, int]]) -> list[tuple[float, float, int]]:

@@ -1,4 +1,4 @@
-//! Binding of the seed-004 rotational dynamics. The Python layer (`gnssatt.visibility`) packs the model
+//! Binding of the seed-004 rotational dynamics. The Python layer (`gnssatt.attitude.visibility`) packs the model
 //! parameters; `params` rows are `(psi, alpha, phi, wx, wy, wz)` (rad, rad/s), axes come back in the
 //! library's orbital frame (x along-track, y orbit normal, z radial).
 
@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use crate::convert::{fixed, rows, values};
 use crate::interruptible;
 
-/// The model parameters, passed as one dict (`gnssatt.tumble.TumbleModel._kwargs()`), SI units.
+/// The model parameters, passed as one dict (`gnssatt.attitude.dynamics.TumbleModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 struct ModelArgs {

@@ -1,6 +1,6 @@
 //! Bindings of the observation engine (`gnssatt_core::gnss`): `gnss_run` processes a whole session in one
 //! GIL-released call, `GnssEngine.process` the same engine a block of epochs at a time (state carried
-//! between calls). Inputs are the arrays of `gnssatt.rinex.session_input.SessionInput` and `NavInput`
+//! between calls). Inputs are the arrays of `gnssatt.gnss.session_input.SessionInput` and `NavInput`
 //! (navigation dictionaries converted by `gnss_nav_input::nav_from_py`); results are a frozen
 //! [`GnssSession`] of per-epoch numpy arrays (`gnss_session.rs`). Options come as one checked
 //! [`GnssOptions`] (`gnss_options.rs`; `None`: the engine's defaults).

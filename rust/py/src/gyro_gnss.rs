@@ -1,5 +1,5 @@
 //! Bindings of the gyro + multi-antenna GNSS attitude filter (`gnssatt_core::gyro_gnss`). The whole filter
-//! runs with the GIL released; the Python wrapper `gnssatt.gyro_gnss` builds the arguments (settings in a
+//! runs with the GIL released; the Python wrapper `gnssatt.attitude.gyro_gnss` builds the arguments (settings in a
 //! `GyroGnssOptions`) and reads the typed `GyroGnssRun` back by attribute.
 
 use gnssatt_core::gyro_gnss::kinematics::propagate;
@@ -190,7 +190,7 @@ fn typed(py: Python<'_>, run: FilterRun) -> PyResult<GyroGnssRun> {
 
 /// Runs the filter from the initial state `q0` (4,), `drift0` (3,), `p0` (6, 6) over the gyro record, with
 /// attitude fixes `fix_*` and phase rows `phase_*` (empty arrays for none); see
-/// `gnssatt.gyro_gnss.gyro_gnss_filter`.
+/// `gnssatt.attitude.gyro_gnss.gyro_gnss_filter`.
 #[pyfunction]
 #[pyo3(signature = (
     gyro_t, gyro_rates, *, q0, drift0, p0, options, fix_t, fix_q, fix_cov, epoch_t, phase_epoch, phase_track,

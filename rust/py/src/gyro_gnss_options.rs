@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 
 use crate::convert::vectors;
 
-/// Settings of the gyro + GNSS filter (see `gnssatt.gyro_gnss.gyro_gnss_filter` for the meaning of each).
+/// Settings of the gyro + GNSS filter (see `gnssatt.attitude.gyro_gnss.gyro_gnss_filter` for the meaning of each).
 ///
 /// `arw` rad/s/sqrt(Hz), `rrw` rad/s^2/sqrt(Hz), `baselines` (m, 3) body frame m, `phase_sigma` cycles,
 /// `slip_threshold` the chi-square NIS threshold (inf disables), `sensitivity`

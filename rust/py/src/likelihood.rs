@@ -1,4 +1,4 @@
-//! Binding of the seed-001 maximum-likelihood grid search. The Python layer (`gnssatt.likelihood`)
+//! Binding of the seed-001 maximum-likelihood grid search. The Python layer (`gnssatt.attitude.likelihood`)
 //! broadcasts inputs to (epochs, m, M) phases, (epochs, M, 3) lines of sight and (epochs, M) wavelengths.
 
 use gnssatt_core::likelihood::{

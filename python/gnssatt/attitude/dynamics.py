@@ -38,10 +38,10 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import finite_result, float_array, integer, scalar
+from gnssatt import constants as _constants
+from gnssatt._arrays import finite_result, float_array, instance, integer, scalar, text, vector_array
 from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.sim._util import instance, text, vector_array
 
 __all__ = [
     "RotationFit",
@@ -55,8 +55,8 @@ __all__ = [
     "propagate_axes",
 ]
 
-GM_M3_S2 = 3.986004418e14
-EARTH_RADIUS_M = 6378137.0
+GM_M3_S2 = _constants.GM_M3_S2
+EARTH_RADIUS_M = _constants.WGS84_A_M
 # Library orbital (x along, y normal, z radial) from the paper's (X0 radial, Y0 along, Z0 normal).
 DCM_ORBITAL_FROM_ORB0 = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 MAX_RATE_RAD_S = math.radians(3.0)

@@ -1,7 +1,7 @@
 """Two-body Keplerian orbits propagated to any time, positions and velocities in ECI.
 
 Conventions of :mod:`gnssatt.sim`: SI units and radians inside; ``t`` in seconds from the scenario epoch;
-ECI is J2000-like without precession or nutation (see :mod:`gnssatt.sim.frames`). No perturbations: the
+ECI is J2000-like without precession or nutation (see :mod:`gnssatt.frames`). No perturbations: the
 node and perigee stay fixed in ECI. The state at ``t`` follows from the mean anomaly
 ``M(t) = M0 + n t`` (``n = sqrt(GM / a^3)``), Kepler's equation ``M = E - e sin E`` solved by Newton's
 method, and the perifocal -> ECI rotation ``Rz(RAAN) Rx(i) Rz(omega)`` (Vallado, *Fundamentals of
@@ -15,10 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import integer, scalar
+from gnssatt._arrays import checked_array, integer, readonly, scalar, time_array
+from gnssatt.constants import GM_M3_S2
 from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import checked_array, matvec, readonly, rot_x, rot_z, time_array
-from gnssatt.sim.constants import GM_M3_S2
+from gnssatt.frames import matvec, rot_x, rot_z
 
 __all__ = ["KeplerOrbits", "solve_kepler"]
 

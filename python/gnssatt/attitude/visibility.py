@@ -211,7 +211,10 @@ def visibility_sets(
         (:class:`~gnssatt.errors.InvalidTypeError` for a ``receiver`` or ``constellation`` of another type,
         values that are not real numbers).
     """
-    from gnssatt.sim import Constellation, OrbitalReceiver, earth_occlusion_mask, line_of_sight
+    from gnssatt.orbit.constellation import Constellation
+    from gnssatt.orbit.line_of_sight import line_of_sight
+    from gnssatt.orbit.masks import earth_occlusion_mask
+    from gnssatt.orbit.receivers import OrbitalReceiver
 
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim.OrbitalReceiver")
     instance("constellation", constellation, Constellation, "a gnssatt.sim.Constellation")

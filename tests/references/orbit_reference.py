@@ -9,8 +9,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import block_diag, expm
 
+from gnssatt.observations import SpaceborneMeasurements
 from gnssatt.orbit import GlonassModel
-from gnssatt.sim.spaceborne import SpaceborneMeasurements
 
 
 def _accel(m: GlonassModel, r: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -19,10 +19,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core, sim
 from gnssatt._arrays import flag, instance, integer, scalar, shaped
+from gnssatt.attitude.likelihood import rotation_from_euler
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.likelihood import rotation_from_euler
+from gnssatt.gnss.session_input import NavInput, nav_input
 from gnssatt.rinex._fields import folder_path, sat_list
-from gnssatt.rinex.session_input import NavInput, nav_input
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
 
 __all__ = [

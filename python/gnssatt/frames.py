@@ -21,10 +21,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import finite_result, scalar
+from gnssatt._arrays import checked_array, finite_result, scalar, time_array, vector_array
+from gnssatt.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 from gnssatt.errors import ConvergenceError, InvalidInputError
-from gnssatt.sim._util import checked_array, matvec, rot_z, time_array, vector_array
-from gnssatt.sim.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 
 __all__ = [
     "dcm_ecef_from_eci",
@@ -233,3 +232,25 @@ def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
     north = [-sl * co, -sl * so, cl]
     up = [cl * co, cl * so, sl]
     return np.array([east, north, up]).T
+
+
+# Elementary rotations and batched products shared by the frames and the orbit models.
+
+
+def matvec(m: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``m @ v`` over the last axes with broadcasting: m (..., 3, 3), v (..., 3) -> (..., 3)."""
+    return np.einsum("...ij,...j->...i", m, v)
+
+
+def rot_x(angle: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """Active rotation matrices about x by ``angle`` (rad), shape (..., 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2)
+
+
+def rot_z(angle: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """Active rotation matrices about z by ``angle`` (rad), shape (..., 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)

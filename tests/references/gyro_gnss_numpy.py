@@ -1,6 +1,6 @@
-"""Slow numpy reference of the gyro + GNSS filter of :mod:`gnssatt.gyro_gnss` (no ambiguity fixing, no slip
-test, no sensitivity analysis), written from the equations rather than from the Rust code: the test suite
-compares the two, and ``benches/python/gyro_gnss_speed.py`` times them.
+"""Slow numpy reference of the gyro + GNSS filter of :mod:`gnssatt.attitude.gyro_gnss` (no ambiguity fixing,
+no slip test, no sensitivity analysis), written from the equations rather than from the Rust code: the test
+suite compares the two, and ``benches/python/gyro_gnss_speed.py`` times them.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
+from gnssatt.observations import AttitudeFixes, PhaseObservations
 
 
 def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -11,11 +11,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array, scalar
+from gnssatt._arrays import float_array, scalar, vector_array
+from gnssatt.constants import WGS84_A_M
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import vector_array
-from gnssatt.sim.constants import WGS84_A_M
-from gnssatt.sim.geometry import los_body
+from gnssatt.orbit.line_of_sight import los_body
 
 __all__ = ["antenna_cone_mask", "earth_occlusion_mask", "elevation_mask"]
 

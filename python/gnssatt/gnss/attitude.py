@@ -5,8 +5,8 @@ Two antennas and no baselines: baseline-direction mode, the azimuth (clockwise f
 of the vector from the first antenna to the second. Three or more antennas with body-frame baselines:
 attitude mode, heading / pitch / roll (eq. (5) of seed 001, compass heading ``= -psi``).
 
-Python only reads the files (:func:`~gnssatt.rinex.session_input.session_input`,
-:func:`~gnssatt.rinex.session_input.nav_input`), checks the arguments and shapes the results; the engine
+Python only reads the files (:func:`~gnssatt.gnss.session_input.session_input`,
+:func:`~gnssatt.gnss.session_input.nav_input`), checks the arguments and shapes the results; the engine
 does the rest in one GIL-released call: single-point positioning of every receiver (Klobuchar,
 Saastamoinen), double differences of every system and frequency slot chosen, float solution, LAMBDA fixing
 with a success-rate gate and partial fixing (or the ambiguity-function grid, ``method="ml"``).
@@ -397,7 +397,7 @@ def attitude_from_rinex(
         or system letter, an option out of its range.
     """
     from gnssatt import _core
-    from gnssatt.rinex.session_input import nav_input, session_input
+    from gnssatt.gnss.session_input import nav_input, session_input
 
     method = choice("method", method, ("auto", "ml", "lambda"))
     if motion is not None:

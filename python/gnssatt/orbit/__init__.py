@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import finite_result, float_array, scalar
+from gnssatt import constants as _constants
+from gnssatt._arrays import checked_array, finite_result, float_array, instance, scalar, vector_array
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.sim._util import checked_array, instance, vector_array
 
 __all__ = [
     "CircularOrbit",
@@ -30,7 +30,7 @@ __all__ = [
 ]
 
 #: Earth rotation rate of the GLONASS CDMA ICD (2016) and WGS-84, rad/s.
-OMEGA_E_RAD_S = 7.2921151467e-5
+OMEGA_E_RAD_S = _constants.OMEGA_E_RAD_S
 #: Most RK4 steps of one :func:`glonass_propagate` call (and of all the steps of one
 #: :func:`gnssatt.orbit_nav.noisy_orbit` or :func:`gnssatt.orbit_nav.orbit_filter` call): the core's
 #: limit, about 58 days in 1 s steps, some 8 s of work.
@@ -225,7 +225,7 @@ class CircularOrbit:
     inclination_rad: float
     raan_rad: float
     arg_latitude0_rad: float
-    gm_m3_s2: float = 3.986004418e14
+    gm_m3_s2: float = _constants.GM_M3_S2
 
     def __post_init__(self) -> None:
         for name in ("inclination_rad", "raan_rad", "arg_latitude0_rad"):

@@ -3,7 +3,7 @@ low Earth orbit.
 
 Conventions of :mod:`gnssatt.sim`: SI units and radians inside (arguments in degrees end in ``_deg``);
 ``t`` in seconds from the scenario epoch; scalar ``t`` -> unbatched outputs, ``t`` of shape (n_t,) -> a
-leading epoch axis. Frames as in :mod:`gnssatt.sim.frames`.
+leading epoch axis. Frames as in :mod:`gnssatt.frames`.
 
 Each receiver has a *reference frame* in which attitudes are expressed (``rotation.apply(v_body)`` gives
 reference coordinates):
@@ -24,17 +24,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import scalar
+from gnssatt._arrays import scalar, time_array
+from gnssatt.constants import GM_M3_S2, WGS84_A_M
 from gnssatt.errors import InvalidInputError
-from gnssatt.sim._util import rot_x, rot_z, time_array
-from gnssatt.sim.constants import GM_M3_S2, WGS84_A_M
-from gnssatt.sim.frames import (
+from gnssatt.frames import (
     MAX_DEPTH_M,
     dcm_ecef_from_enu,
     dcm_eci_from_ecef,
     ecef_to_eci,
     eci_to_ecef,
     geodetic_to_ecef,
+    rot_x,
+    rot_z,
 )
 
 __all__ = ["GroundReceiver", "OrbitalReceiver", "Receiver"]

@@ -16,8 +16,8 @@ from scipy.spatial.transform import Rotation
 from gnssatt import _core
 from gnssatt._arrays import finite_outputs, flag, float_array
 from gnssatt._renamed import renamed
+from gnssatt.attitude.wahba import _vectors, _warn_small
 from gnssatt.errors import InvalidInputError
-from gnssatt.vector_attitude import _vectors, _warn_small
 
 __all__ = ["YawResult", "yaw_from_magnetometer"]
 

@@ -3,7 +3,7 @@
 Conventions of :mod:`gnssatt.sim`: SI units and radians inside; ``t`` in seconds from the scenario epoch.
 Lines of sight ``gamma_k`` are unit vectors from the receiver (its reference point) to satellite k, given in
 the receiver's reference frame (ENU on the ground, the orbital frame in orbit; see
-:mod:`gnssatt.sim.receivers`). Body-frame lines of sight use an attitude ``Rotation`` mapping body ->
+:mod:`gnssatt.orbit.receivers`). Body-frame lines of sight use an attitude ``Rotation`` mapping body ->
 reference: ``gamma_body = attitude.inv().apply(gamma_ref)``.
 
 Ranges are instantaneous geometric distances (no light-time, Sagnac, clock or atmosphere terms); range rates
@@ -19,10 +19,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from gnssatt._arrays import checked_array, instance, readonly, real_array, text, vector_array
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.sim._util import checked_array, instance, readonly, real_array, text, vector_array
-from gnssatt.sim.constellation import Constellation
-from gnssatt.sim.receivers import GroundReceiver, OrbitalReceiver
+from gnssatt.orbit.constellation import Constellation
+from gnssatt.orbit.receivers import GroundReceiver, OrbitalReceiver
 
 __all__ = ["Geometry", "elevation_azimuth", "line_of_sight", "los_body"]
 
@@ -241,10 +241,10 @@ def line_of_sight(
     Parameters
     ----------
     receiver
-        A :class:`~gnssatt.sim.receivers.GroundReceiver` (lines of sight in ENU) or
-        :class:`~gnssatt.sim.receivers.OrbitalReceiver` (orbital frame).
+        A :class:`~gnssatt.orbit.receivers.GroundReceiver` (lines of sight in ENU) or
+        :class:`~gnssatt.orbit.receivers.OrbitalReceiver` (orbital frame).
     constellation
-        The satellites; no visibility test is applied here (see :mod:`gnssatt.sim.visibility`).
+        The satellites; no visibility test is applied here (see :mod:`gnssatt.orbit.masks`).
     t
         Seconds from the epoch, () or (n_t,).
 

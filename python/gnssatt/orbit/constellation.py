@@ -1,8 +1,8 @@
 """GNSS constellations: nominal GPS and GLONASS, Walker patterns, satellite states at any time.
 
 Conventions of :mod:`gnssatt.sim`: SI units and radians inside (arguments in degrees end in ``_deg``);
-``t`` in seconds from the scenario epoch; ECI/ECEF as in :mod:`gnssatt.sim.frames` (ECEF = ECI rotated by
-``theta0 + OMEGA_E t``). Orbits are two-body Keplerian (:class:`~gnssatt.sim.kepler.KeplerOrbits`), so the
+``t`` in seconds from the scenario epoch; ECI/ECEF as in :mod:`gnssatt.frames` (ECEF = ECI rotated by
+``theta0 + OMEGA_E t``). Orbits are two-body Keplerian (:class:`~gnssatt.orbit.kepler.KeplerOrbits`), so the
 nominal constellations keep their geometry but drift from the real ones over days (no J2 node regression).
 
 Sources of the nominal elements
@@ -38,17 +38,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import float_array, integer, scalar
+from gnssatt._arrays import float_array, instance, integer, readonly, scalar, text
+from gnssatt.constants import GPS_L1_HZ, GPS_L2_HZ, SPEED_OF_LIGHT_M_S, glonass_frequency_hz
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.sim._util import instance, readonly, text
-from gnssatt.sim.constants import (
-    GPS_L1_HZ,
-    GPS_L2_HZ,
-    SPEED_OF_LIGHT_M_S,
-    glonass_frequency_hz,
-)
-from gnssatt.sim.frames import eci_to_ecef
-from gnssatt.sim.kepler import KeplerOrbits
+from gnssatt.frames import eci_to_ecef
+from gnssatt.orbit.kepler import KeplerOrbits
 
 __all__ = [
     "GLONASS_SLOT_CHANNELS",

@@ -34,7 +34,7 @@ from gnssatt import _core
 from gnssatt._arrays import finite_outputs, flag, instance, integer, integer_array, scalar, shaped
 from gnssatt.errors import InvalidInputError
 from gnssatt.geometry import checked_baselines
-from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
+from gnssatt.observations import AttitudeFixes, PhaseObservations
 
 __all__ = [
     "MAX_GYRO_NOISE",

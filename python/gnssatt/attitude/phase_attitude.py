@@ -13,10 +13,10 @@ from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import instance, integer_array, scalar, shaped, unit_rows
+from gnssatt.attitude.matrix_method import matrix_attitude
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
-from gnssatt.matrix_method import matrix_attitude
-from gnssatt.sim.attitude_scenario import AttitudeFixes, PhaseObservations
+from gnssatt.observations import AttitudeFixes, PhaseObservations
 
 __all__ = ["MAX_SIGMA_CYCLES", "phase_attitude_fixes"]
 
