@@ -61,7 +61,8 @@ use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
 use super::rtk::{
-    model::SdRangeModel, solve_attitude, solve_baseline, AttitudeSolution, BaselineSolution,
+    model::SdRangeModel, solve_attitude, solve_baseline, solve_known_length, AttitudeSolution,
+    BaselineSolution,
     DdEpoch, FixOptions, SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
@@ -270,6 +271,16 @@ impl Engine {
                     "expected one body baseline per rover ({}), got {}",
                     n_receivers - 1,
                     opts.body_baselines_m.len()
+                ),
+            ));
+        }
+        if !opts.baseline_lengths_m.is_empty() && opts.baseline_lengths_m.len() + 1 != n_receivers {
+            return Err(Error::out_of_range(
+                "--baseline-length",
+                format!(
+                    "expected one length per rover ({}), got {}",
+                    n_receivers - 1,
+                    opts.baseline_lengths_m.len()
                 ),
             ));
         }
@@ -638,7 +649,7 @@ impl Engine {
                         .filter(|d| !d.signals.is_empty()),
                 );
                 let all = std::mem::take(&mut self.static_epochs[r]);
-                let sol = match solve_baseline(&all, &[], &fix) {
+                let sol = match self.solve(r, &all, &[], &fix) {
                     Ok(s) => Some(s),
                     Err(e) if leaves_epoch_unsolved(&e) => {
                         self.warn_once(
@@ -668,12 +679,12 @@ impl Engine {
                 };
                 let factor = self.code_scale[r].factor();
                 let scaled = scale_code(dd, factor);
-                let mut result = solve_baseline(std::slice::from_ref(scaled.as_ref()), &held, &fix);
+                let mut result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &held, &fix);
                 let mut unheld = held.is_empty();
                 if static_session.is_none() && !held.is_empty() {
                     let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held));
                     if !keep {
-                        result = solve_baseline(std::slice::from_ref(scaled.as_ref()), &[], &fix);
+                        result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix);
                         unheld = true;
                     }
                 }
@@ -714,6 +725,20 @@ impl Engine {
                 Some(baseline_estimate(&base, &sols?))
             })
             .collect())
+    }
+
+    /// Rover `r`'s baseline over `epochs`: with its known length when there is one.
+    fn solve(
+        &self,
+        r: usize,
+        epochs: &[DdEpoch],
+        held: &[(u64, u64, i64)],
+        fix: &FixOptions,
+    ) -> Result<BaselineSolution> {
+        match self.opts.baseline_lengths_m.get(r) {
+            Some(&l) => solve_known_length(epochs, held, l, fix),
+            None => solve_baseline(epochs, held, fix),
+        }
     }
 
     fn note_unsolved(&mut self, k: usize, t: i64, e: &Error) {
@@ -817,7 +842,11 @@ impl Engine {
         }
         // The grid's baseline length: a few percent of error in it moves the grid's maximum to a wrong
         // direction, so the grid runs only once the length is known.
-        let length = match self.length[0].known() {
+        let known = match self.opts.baseline_lengths_m.first() {
+            Some(&l) => Ok(l),
+            None => self.length[0].known(),
+        };
+        let length = match known {
             Ok(l) => l,
             Err((l, sigma)) => {
                 if self.opts.method == Method::Ml {

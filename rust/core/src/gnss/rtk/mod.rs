@@ -51,6 +51,7 @@ pub mod dd;
 pub mod fix;
 pub mod float;
 pub mod glonass;
+pub mod known_length;
 pub mod model;
 
 #[cfg(test)]
@@ -66,6 +67,7 @@ use super::solution::N_SYSTEMS;
 
 pub use constrained::solve_attitude;
 pub use fix::solve_baseline;
+pub use known_length::solve_known_length;
 
 /// Most signals (satellite x slot) in one epoch.
 pub const MAX_SIGNALS: usize = 512;
