@@ -19,9 +19,10 @@
 //!    frequency known (GLONASS channel). Sigmas are elevation-weighted (`phase_sigma`, `code_sigma` at
 //!    the base's elevation). Arc identities come from the slip detection of [`arcs`].
 //! 4. Estimation: `Lambda`: [`crate::gnss::rtk::solve_baseline`] per rover (baseline mode, no body
-//!    baselines) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
+//!    baselines; [`crate::gnss::rtk::solve_known_length`] for a rover whose distance is in
+//!    `baseline_lengths_m`) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
 //!    single differences at the base's reception instant (see [`ml`]); in baseline mode the baseline
-//!    length is the inverse-variance mean of the LAMBDA solutions' lengths so far (fixed, partially fixed
+//!    length is the known one (`baseline_lengths_m`), else the inverse-variance mean of the LAMBDA solutions' lengths so far (fixed, partially fixed
 //!    or float; epochs taken as independent), used once its sigma is below
 //!    [`GRID_LENGTH_RELATIVE_SIGMA`] of it. Until then the grid is not run: the epochs keep their LAMBDA
 //!    solution and a warning says so (a grid searched at a wrong length returns wrong directions).
@@ -62,8 +63,7 @@ use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
 use super::rtk::{
     model::SdRangeModel, solve_attitude, solve_baseline, solve_known_length, AttitudeSolution,
-    BaselineSolution,
-    DdEpoch, FixOptions, SignalPair,
+    BaselineSolution, DdEpoch, FixOptions, SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
 use super::solution::{EpochSolution, N_SYSTEMS};

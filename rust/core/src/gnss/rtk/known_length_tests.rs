@@ -96,14 +96,18 @@ fn constrained_search_matches_brute_force() {
         let mut costs: Vec<f64> = (0..10_000)
             .map(|j| {
                 let v = all.z.column(j).into_owned();
-                c.cost(&fl.baseline_m, &problem.zhat, &v, all.squared_norms[j]).0
+                c.cost(&fl.baseline_m, &problem.zhat, &v, all.squared_norms[j])
+                    .0
             })
             .collect();
         costs.sort_by(f64::total_cmp);
         if costs[1] > all.squared_norms[9_999] {
             continue;
         }
-        assert!((costs[0] - found.cost).abs() <= 1e-9 * costs[0].max(1.0), "{costs:?}");
+        assert!(
+            (costs[0] - found.cost).abs() <= 1e-9 * costs[0].max(1.0),
+            "{costs:?}"
+        );
         assert!((costs[1] - found.second).abs() <= 1e-9 * costs[1].max(1.0));
         checked += 1;
     }
@@ -163,7 +167,13 @@ fn refuses_a_length_out_of_range() {
     for l in [0.0, -1.0, f64::NAN, 2e4] {
         let err = solve_known_length(std::slice::from_ref(&e), &[], l, &DEFAULT).unwrap_err();
         assert!(
-            matches!(&err, Error::OutOfRange { name: "--baseline-length", .. }),
+            matches!(
+                &err,
+                Error::OutOfRange {
+                    name: "--baseline-length",
+                    ..
+                }
+            ),
             "{err:?}"
         );
     }
