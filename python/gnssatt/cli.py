@@ -28,6 +28,7 @@ _OPTION_NAMES = {
     "ratio_threshold": "--ratio-threshold",
     "max_failure_rate": "--max-failure-rate",
     "base_position_m": "--base-position",
+    "baseline_length_m": "--baseline-length",
     "n_trials": "--runs",
     "seed": "--seed",
 }
