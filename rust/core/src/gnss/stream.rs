@@ -144,6 +144,10 @@ pub const CODE_SCALE_MIN_DOF: f64 = 50.0;
 /// below 1 is reported, not applied, see [`CodeNoiseScale`]), and at most `10^2`.
 pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (1.0, 100.0);
 
+/// Range of the code variance factor applied to a rover with a known length (both ways, see
+/// `CodeNoiseScale::known_length_factor`): at most `10^2` up, `10^-2` down.
+pub const KNOWN_LENGTH_FACTOR_RANGE: (f64, f64) = (0.01, 100.0);
+
 /// Variance-component estimate of the receivers' code noise against the model (`code_sigma`,
 /// `a^2 + b^2 / sin^2 el`): the float solutions' weighted squared residuals over their degrees of freedom,
 /// summed over the epochs solved so far in moving mode (single epochs without held integers, where the
@@ -165,6 +169,15 @@ impl CodeNoiseScale {
     /// The variance factor to apply to the model's code variances.
     fn factor(&self) -> f64 {
         let (lo, hi) = CODE_SCALE_FACTOR_RANGE;
+        self.estimate().map_or(1.0, |f| f.clamp(lo, hi))
+    }
+
+    /// The variance factor of a rover with a known length: the estimate either way, within
+    /// [`KNOWN_LENGTH_FACTOR_RANGE`]. The constrained fix is gated by a success rate simulated from the
+    /// float covariance, which is only as right as the noise model; its ratio test is on the constrained
+    /// objective, not the unconstrained ratio whose threshold the unscaled model was calibrated for.
+    fn known_length_factor(&self) -> f64 {
+        let (lo, hi) = KNOWN_LENGTH_FACTOR_RANGE;
         self.estimate().map_or(1.0, |f| f.clamp(lo, hi))
     }
 
@@ -677,7 +690,11 @@ impl Engine {
                     (None, true) => present(&self.held[r], dd),
                     (None, false) => Vec::new(),
                 };
-                let factor = self.code_scale[r].factor();
+                let factor = if self.opts.baseline_lengths_m.is_empty() {
+                    self.code_scale[r].factor()
+                } else {
+                    self.code_scale[r].known_length_factor()
+                };
                 let scaled = scale_code(dd, factor);
                 let mut result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &held, &fix);
                 let mut unheld = held.is_empty();
