@@ -36,6 +36,10 @@
 //! fit of the multivariate constrained LAMBDA, Teunissen 2010, J. Geodesy 84:751-762), then the rotation
 //! ENU <- body from Wahba's problem ([`crate::wahba`]).
 //!
+//! A known antenna separation ([`known_length`], baseline mode): the length-constrained integer
+//! least-squares problem of the GNSS compass (Teunissen 2010, J. Geodesy 84:433-447), searched by
+//! expansion with a guarantee and gated by its own simulated success rate.
+//!
 //! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call, at most
 //! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution; attitude mode: at most
 //! [`constrained::MAX_ROVERS`] rovers, [`constrained::CANDIDATES`] integer candidates per rover and
