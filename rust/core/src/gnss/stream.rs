@@ -157,7 +157,8 @@ pub const KNOWN_LENGTH_FACTOR_RANGE: (f64, f64) = (0.01, 100.0);
 /// receiver (the usual case: GEONET's is 0.37 of the model's sigma) is reported and not applied: scaling the
 /// variances down made the ratio test at its threshold of 3 (calibrated, like RTKLIB's, on this
 /// conservative model) refuse correct fixes (simulated GPS L1+L2 single epochs, 0.51 of the model: 99.7 %
-/// fixed unscaled, 94.0 % scaled).
+/// fixed unscaled, 94.0 % scaled). A rover with a known length is scaled both ways
+/// ([`CodeNoiseScale::known_length_factor`]).
 #[derive(Debug, Clone, Copy, Default)]
 struct CodeNoiseScale {
     /// Sum of weighted squared residuals with the model's (unscaled) variances.
