@@ -20,6 +20,7 @@ gnssatt: ``gnssatt attitude`` of this interpreter's package (its console script 
 else ``python -m gnssatt``), run as a user runs it (subprocess: interpreter start, import, reading, solving,
 CSV and plot written). Options it lacks (``--frequencies``, ``--base-position``...)
 are detected from ``gnssatt attitude --help``; runs that need a missing one are skipped and say so.
+``--known-length``: gnssatt's single-epoch runs also get ``--baseline-length``, the reference's length.
 
 Metrics per tool and run: fix rate (RTKLIB Q=1, gnssatt ``fixed``) over the session's epochs; wrong fixes
 (fixed epochs whose baseline is more than ``--wrong-fix-m`` from the reference); median and 95th percentile
@@ -395,9 +396,16 @@ class Rtklib:
 
 
 def gnssatt_command(
-    ds: Dataset, motion: str, systems: str, freqs: int, out: Path, options: frozenset[str]
+    ds: Dataset,
+    motion: str,
+    systems: str,
+    freqs: int,
+    out: Path,
+    options: frozenset[str],
+    known_length_m: float | None = None,
 ) -> tuple[list[str] | None, str]:
-    """The ``gnssatt attitude`` command of one run, or None and why (an option this version lacks)."""
+    """The ``gnssatt attitude`` command of one run, or None and why (an option this version lacks);
+    ``known_length_m``: single epochs get ``--baseline-length`` (the reference's length)."""
     exe = Path(sys.executable).with_name("gnssatt")
     cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "gnssatt"]
     cmd += ["attitude", "--obs", str(ds.base_obs), "--obs", str(ds.rover_obs)]
@@ -412,6 +420,10 @@ def gnssatt_command(
         cmd += ["--systems", systems]
     elif "--systems" in options:
         cmd += ["--systems", "G"]
+    if known_length_m is not None and motion == "moving":
+        if "--baseline-length" not in options:
+            return None, "no --baseline-length"
+        cmd += ["--baseline-length", f"{known_length_m:.4f}"]
     if "--frequencies" in options:
         cmd += ["--frequencies", str(freqs)]
     elif freqs != 1:
@@ -482,6 +494,7 @@ class Settings:
     repeats: int
     wrong_fix_m: float
     timeout_s: float
+    known_length: bool = False
 
 
 def measure(
@@ -516,7 +529,8 @@ def compare(ds: Dataset, rtk: Rtklib | None, folder: Path, opts: Settings) -> tu
             same = motion in ours
             if not same:
                 out = folder / f"gnssatt-{motion}-{systems}-f{freqs}.csv"
-                cmd, why = gnssatt_command(ds, motion, systems, freqs, out, opts.options)
+                known = length if opts.known_length else None
+                cmd, why = gnssatt_command(ds, motion, systems, freqs, out, opts.options, known)
                 ours[motion] = Timed(cmd or [], note=why)
                 if cmd is not None:
                     read = partial(parse_gnssatt_csv, reference_length_m=length)
@@ -606,6 +620,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument(
         "--timeout-s", type=float, default=600.0, help="longest run of one command, s (default 600)"
     )
+    ap.add_argument(
+        "--known-length",
+        action="store_true",
+        help="gnssatt's single-epoch runs get --baseline-length: the reference's length (the truth, or "
+        "RTKLIB's static solution for GEONET)",
+    )
     args = ap.parse_args(argv)
     names = [n.strip() for n in args.datasets.split(",") if n.strip()]
     if not names or any(n not in ("geonet", "sim") for n in names):
@@ -632,7 +652,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         [sys.executable, "-m", "gnssatt", "attitude", "--help"], capture_output=True, text=True, check=True
     ).stdout
     options = help_options(exe_help)
-    settings = Settings(options, args.repeats, args.wrong_fix_m, args.timeout_s)
+    settings = Settings(options, args.repeats, args.wrong_fix_m, args.timeout_s, args.known_length)
     # The machine may be shared: the load beside the CPU count says how far wall times are inflated.
     machine = f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the start"
     report: dict[str, object] = {

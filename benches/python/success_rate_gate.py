@@ -1,7 +1,8 @@
 """Fixed epochs and wrong fixes of single-epoch LAMBDA per acceptance rule, simulated and real.
 
-Usage: ``python benches/python/success_rate_gate.py [--seeds N] [--epochs E]`` (defaults 10 seeds of 60 epochs
-at 60 s). For every seed (a different start time and noise), three simulated 1 m baselines
+Usage: ``python benches/python/success_rate_gate.py [--seeds N] [--epochs E] [--length L] [--sets ...]
+[--rules ...]`` (defaults 10 seeds of 60 epochs at 60 s, 1 m, every set and rule). For every seed (a different
+start time and noise), three simulated baselines of ``--length`` metres
 (``simulate_gnss_rinex``: GPS L1, GPS L1+L2, GPS+Galileo L1; code 0.3 m, phase 2 mm, troposphere and broadcast
 ionosphere) and the GEONET pair shipped in the package (3.3 km, 120 epochs, GPS L1 and L1+L2) are solved
 epoch by epoch (``motion="moving"``, ``method="lambda"``) under each acceptance rule:
@@ -10,7 +11,10 @@ epoch by epoch (``motion="moving"``, ``method="lambda"``) under each acceptance 
 - ``gate 0.5``: bootstrapped success rate >= 0.5 and ratio >= 3;
 - ``gate 0.5 + FFRT 1e-3`` (the default) and ``+ FFRT 1e-2``: as ``gate 0.5``, and below the gate the full
   set is still fixed when its ratio also passes the fixed-failure-rate test for that probability of a wrong
-  fix.
+  fix;
+- ``gate 0.5 + known length``: the defaults with the antennas' distance given (``baseline_length_m``: the
+  simulated length, or for GEONET the length of RTKLIB's static L1+L2 solution below, 3335.389 m): the
+  length-constrained fix gated by its simulated success rate, else the default rule.
 
 A fix is wrong when its baseline is more than 5 cm from the truth (simulation) or from RTKLIB 2.4.3's static
 L1+L2 solution of the GEONET pair (ENU 953.6732, -3196.1396, 4.6497 m at the base's header position, measured
@@ -38,16 +42,18 @@ RULES = {
     "gate 0.5": {"min_success_rate": 0.5, "max_failure_rate": 0.0},
     "gate 0.5 + FFRT 1e-3": {"min_success_rate": 0.5, "max_failure_rate": 1e-3},
     "gate 0.5 + FFRT 1e-2": {"min_success_rate": 0.5, "max_failure_rate": 1e-2},
+    "gate 0.5 + known length": {"min_success_rate": 0.5, "max_failure_rate": 0.0, "known_length": True},
 }
 SIM_SETS = (("G", 1), ("G", 2), ("GE", 1))
 GEONET_BASE_M = (-3976219.5082, 3382372.5671, 3652512.9849)
 GEONET_REFERENCE_ENU_M = np.array([953.6732, -3196.1396, 4.6497])
+GEONET_REFERENCE_LENGTH_M = float(np.linalg.norm(GEONET_REFERENCE_ENU_M))
 WRONG_M = 0.05
 
 
-def cases(seeds: int, epochs: int) -> Iterator[tuple[str, dict, NDArray[np.float64]]]:
-    """(label, attitude_from_rinex arguments, reference ENU per epoch) of every data set."""
-    antennas = np.array([[0.0, 0, 0], [1.0, 0, 0]])
+def cases(seeds: int, epochs: int, length_m: float) -> Iterator[tuple[str, dict, NDArray[np.float64], float]]:
+    """(label, attitude_from_rinex arguments, reference ENU per epoch, antenna distance) of every data set."""
+    antennas = np.array([[0.0, 0, 0], [length_m, 0, 0]])
     for seed in range(seeds):
         for systems, freqs in SIM_SETS:
             sim = simulate_gnss_rinex(
@@ -56,14 +62,14 @@ def cases(seeds: int, epochs: int) -> Iterator[tuple[str, dict, NDArray[np.float
             )  # fmt: skip
             args = {"observations": list(sim.obs_paths), "nav": sim.nav_path, "systems": systems,
                     "frequencies": freqs}  # fmt: skip
-            yield f"sim {systems} f{freqs}", args, np.asarray(sim.baselines_enu_m)[:, 0, :]
+            yield f"sim {systems} f{freqs}", args, np.asarray(sim.baselines_enu_m)[:, 0, :], length_m
     d = gnssatt.data.geonet_dir()
     obs = [d / "07590920.05o", d / "30400920.05o"]
     nav = [d / "07590920.05n", d / "30400920.05n"]
     for freqs in (1, 2):
         args = {"observations": obs, "nav": nav, "systems": "G", "frequencies": freqs,
                 "base_position_m": GEONET_BASE_M}  # fmt: skip
-        yield f"GEONET G f{freqs}", args, GEONET_REFERENCE_ENU_M[None, :]
+        yield f"GEONET G f{freqs}", args, GEONET_REFERENCE_ENU_M[None, :], GEONET_REFERENCE_LENGTH_M
 
 
 def binomial_upper(n: int, p: float) -> int:
@@ -77,13 +83,22 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--epochs", type=int, default=60)
+    ap.add_argument("--length", type=float, default=1.0, help="simulated antenna distance, m (default 1)")
+    ap.add_argument("--sets", nargs="+", default=None, help="labels of the sets to run (e.g. 'GEONET G f1')")
+    ap.add_argument("--rules", nargs="+", default=list(RULES), choices=list(RULES), help="rules to run")
     a = ap.parse_args()
+    rules = {r: RULES[r] for r in a.rules}
     warnings.simplefilter("ignore")
     totals: dict[tuple[str, str], list[int]] = {}
-    grey: dict[str, list[int]] = {r: [0, 0, 0] for r in RULES}  # below the gate: epochs, fixed, wrong
-    for label, args, reference in cases(a.seeds, a.epochs):
+    grey: dict[str, list[int]] = {r: [0, 0, 0] for r in rules}  # below the gate: epochs, fixed, wrong
+    for label, args, reference, length in cases(a.seeds, a.epochs, a.length):
+        if a.sets is not None and label not in a.sets:
+            continue
         gate_fixed = None
-        for rule, opts in RULES.items():
+        for rule, rule_opts in rules.items():
+            opts = {k: v for k, v in rule_opts.items() if k != "known_length"}
+            if rule_opts.get("known_length"):
+                opts["baseline_length_m"] = length
             s = attitude_from_rinex(method="lambda", motion="moving", ratio_threshold=3.0, **args, **opts)
             err = np.linalg.norm(s.baselines_enu_m[:, 0] - reference, axis=-1)
             fixed = s.fixed.astype(bool)
@@ -101,13 +116,15 @@ def main() -> None:
                 g[1] += int((fixed & ~gate_fixed).sum())
                 g[2] += int((wrong & ~gate_fixed).sum())
         print(label, "done", flush=True)
-    print("\n| data | epochs | " + " | ".join(RULES) + " |")
-    print("|---|---|" + "---|" * len(RULES))
+    print("\n| data | epochs | " + " | ".join(rules) + " |")
+    print("|---|---|" + "---|" * len(rules))
     for label in dict.fromkeys(k[0] for k in totals):
-        cells = [f"{totals[(label, r)][1]} fixed, {totals[(label, r)][2]} wrong" for r in RULES]
-        print(f"| {label} | {totals[(label, next(iter(RULES)))][0]} | " + " | ".join(cells) + " |")
+        cells = [f"{totals[(label, r)][1]} fixed, {totals[(label, r)][2]} wrong" for r in rules]
+        print(f"| {label} | {totals[(label, next(iter(rules)))][0]} | " + " | ".join(cells) + " |")
     print("\nBelow the gate (simulations): epochs with success rate < 0.5, fixed there, wrong among them")
     for rule, rate in (("gate 0.5 + FFRT 1e-3", 1e-3), ("gate 0.5 + FFRT 1e-2", 1e-2)):
+        if rule not in grey:
+            continue
         n, f, w = grey[rule]
         bound = binomial_upper(n, rate)
         print(f"{rule}: {n} epochs, {f} fixed, {w} wrong (binomial 97.5 % bound at {rate}: {bound})")

@@ -28,6 +28,7 @@ _OPTION_NAMES = {
     "ratio_threshold": "--ratio-threshold",
     "max_failure_rate": "--max-failure-rate",
     "base_position_m": "--base-position",
+    "baseline_length_m": "--baseline-length",
     "n_trials": "--runs",
     "seed": "--seed",
 }
@@ -172,6 +173,7 @@ def _attitude(args: argparse.Namespace) -> int:
             base_position_m=args.base_position,
             step_deg=args.step,
             window_deg=args.window,
+            baseline_length_m=args.baseline_length,
         )
     series.to_csv(args.out)
     if not args.no_plot:
@@ -318,6 +320,15 @@ def _main(argv: Sequence[str] | None) -> int:
         type=Path,
         default=None,
         help="text file of (n_ant - 1) rows 'x y z' (body frame, m); omit for two antennas",
+    )
+    att.add_argument(
+        "--baseline-length",
+        type=_real(0.01, 1e4),
+        nargs="+",
+        default=None,
+        metavar="M",
+        help="known distance of each rover antenna from the first, m (two antennas: one value; baseline "
+        "mode): the integers are fixed with this length constraint",
     )
     att.add_argument(
         "--out", type=Path, default=Path("results.csv"), help="CSV output (plot: same name .png)"

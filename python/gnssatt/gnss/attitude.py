@@ -337,6 +337,7 @@ def attitude_from_rinex(
     base_position_m: ArrayLike | None = None,
     step_deg: float | None = None,
     window_deg: float | None = None,
+    baseline_length_m: ArrayLike | None = None,
 ) -> AttitudeSeries:
     """Attitude (with ``baselines``) or baseline direction (two antennas, none) at every common epoch.
 
@@ -379,6 +380,10 @@ def attitude_from_rinex(
     step_deg, window_deg
         ML grid step (default eq. (15) of seed 001) and search window around the previous epoch's solution
         (default the whole domain), degrees.
+    baseline_length_m
+        Baseline mode: the known distance of each rover antenna from the reference antenna (a number for
+        two antennas, else (n_ant - 1,)), m, in [0.01, 1e4]: the integers are fixed with the length
+        constraint, gated by its own simulated success rate (``docs/observation_engine.md``).
 
     Returns
     -------
@@ -426,6 +431,9 @@ def attitude_from_rinex(
         )
     observations = _obs_list("observations", observations)
     n_rover = len(observations) - 1
+    if baseline_length_m is not None:
+        lengths = shaped("baseline_length_m", np.atleast_1d(baseline_length_m), "(n_ant - 1,)", (n_rover,))
+        opts["baseline_lengths_m"] = [float(v) for v in lengths]
     if baselines is not None:
         b = shaped("baselines", baselines, "(n_ant - 1, 3)", (n_rover, 3))
         if n_rover < 2:

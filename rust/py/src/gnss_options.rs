@@ -23,7 +23,8 @@ impl GnssOptions {
     #[pyo3(signature = (
         *, systems = None, frequencies = None, elevation_mask_deg = None, base_position_m = None,
         motion = None, method = None, continuity = None, min_success_rate = None, ratio_threshold = None,
-        max_failure_rate = None, body_baselines_m = None, step_deg = None, window_deg = None
+        max_failure_rate = None, body_baselines_m = None, step_deg = None, window_deg = None,
+        baseline_lengths_m = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -41,6 +42,7 @@ impl GnssOptions {
         body_baselines_m: Option<PyReadonlyArray2<'py, f64>>,
         step_deg: Option<f64>,
         window_deg: Option<f64>,
+        baseline_lengths_m: Option<Vec<f64>>,
     ) -> PyResult<GnssOptions> {
         let mut o = EngineOptions::default();
         if let Some(s) = systems {
@@ -107,6 +109,9 @@ impl GnssOptions {
         }
         if let Some(b) = body_baselines_m {
             o.body_baselines_m = rows::<3>(py, "body_baselines_m", &b, None, false)?;
+        }
+        if let Some(l) = baseline_lengths_m {
+            o.baseline_lengths_m = l;
         }
         o.ml_step_rad = step_deg.map(f64::to_radians);
         o.ml_window_rad = window_deg.map(f64::to_radians);

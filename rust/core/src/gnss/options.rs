@@ -1,5 +1,6 @@
 //! Settings of the observation engine, with the defaults a user would expect.
 
+use super::rtk::known_length::LENGTH_RANGE_M;
 use super::signal::{System, MAX_FREQUENCIES};
 use crate::error::{Error, Result};
 
@@ -72,6 +73,10 @@ pub struct EngineOptions {
     /// Body-frame antenna positions relative to the reference antenna (attitude mode: seed 001's body
     /// frame, X nose, Y up, Z right wing), m; empty in baseline mode.
     pub body_baselines_m: Vec<[f64; 3]>,
+    /// Baseline mode: each rover's known distance from the reference antenna (a surveyed antenna
+    /// separation), m, one per rover; empty when unknown. The integers are then fixed with the length
+    /// constraint (`rtk::known_length`), and the grid uses the length.
+    pub baseline_lengths_m: Vec<f64>,
     /// ML grid step, rad (`None`: eq. (15) of seed 001); window around the previous epoch's solution,
     /// rad (`None`: whole domain).
     pub ml_step_rad: Option<f64>,
@@ -97,6 +102,7 @@ impl Default for EngineOptions {
             },
             code_sigma: ElevationSigma { a_m: 0.3, b_m: 0.3 },
             body_baselines_m: Vec::new(),
+            baseline_lengths_m: Vec::new(),
             ml_step_rad: None,
             ml_window_rad: None,
         }
@@ -168,6 +174,24 @@ impl EngineOptions {
                     format!("expected finite body coordinates within 1e4 m, row {i} is {b:?}"),
                 ));
             }
+        }
+        if !self.baseline_lengths_m.is_empty() && !self.body_baselines_m.is_empty() {
+            return Err(Error::out_of_range(
+                "--baseline-length",
+                "expected either body baselines (attitude mode, their lengths are known) or baseline \
+                 lengths (baseline mode), got both",
+            ));
+        }
+        let (lo, hi) = LENGTH_RANGE_M;
+        if let Some(l) = self
+            .baseline_lengths_m
+            .iter()
+            .find(|l| !(lo..=hi).contains(*l))
+        {
+            return Err(Error::out_of_range(
+                "--baseline-length",
+                format!("expected lengths in [{lo}, {hi}] m, got {l} m"),
+            ));
         }
         for (name, v) in [
             ("--step", self.ml_step_rad),

@@ -19,9 +19,10 @@
 //!    frequency known (GLONASS channel). Sigmas are elevation-weighted (`phase_sigma`, `code_sigma` at
 //!    the base's elevation). Arc identities come from the slip detection of [`arcs`].
 //! 4. Estimation: `Lambda`: [`crate::gnss::rtk::solve_baseline`] per rover (baseline mode, no body
-//!    baselines) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
+//!    baselines; [`crate::gnss::rtk::solve_known_length`] for a rover whose distance is in
+//!    `baseline_lengths_m`) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
 //!    single differences at the base's reception instant (see [`ml`]); in baseline mode the baseline
-//!    length is the inverse-variance mean of the LAMBDA solutions' lengths so far (fixed, partially fixed
+//!    length is the known one (`baseline_lengths_m`), else the inverse-variance mean of the LAMBDA solutions' lengths so far (fixed, partially fixed
 //!    or float; epochs taken as independent), used once its sigma is below
 //!    [`GRID_LENGTH_RELATIVE_SIGMA`] of it. Until then the grid is not run: the epochs keep their LAMBDA
 //!    solution and a warning says so (a grid searched at a wrong length returns wrong directions).
@@ -61,8 +62,8 @@ use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
 use super::rtk::{
-    model::SdRangeModel, solve_attitude, solve_baseline, AttitudeSolution, BaselineSolution,
-    DdEpoch, FixOptions, SignalPair,
+    model::SdRangeModel, solve_attitude, solve_baseline, solve_known_length, AttitudeSolution,
+    BaselineSolution, DdEpoch, FixOptions, SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
 use super::solution::{EpochSolution, N_SYSTEMS};
@@ -143,6 +144,10 @@ pub const CODE_SCALE_MIN_DOF: f64 = 50.0;
 /// below 1 is reported, not applied, see [`CodeNoiseScale`]), and at most `10^2`.
 pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (1.0, 100.0);
 
+/// Range of the code variance factor applied to a rover with a known length (both ways, see
+/// `CodeNoiseScale::known_length_factor`): at most `10^2` up, `10^-2` down.
+pub const KNOWN_LENGTH_FACTOR_RANGE: (f64, f64) = (0.01, 100.0);
+
 /// Variance-component estimate of the receivers' code noise against the model (`code_sigma`,
 /// `a^2 + b^2 / sin^2 el`): the float solutions' weighted squared residuals over their degrees of freedom,
 /// summed over the epochs solved so far in moving mode (single epochs without held integers, where the
@@ -152,7 +157,8 @@ pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (1.0, 100.0);
 /// receiver (the usual case: GEONET's is 0.37 of the model's sigma) is reported and not applied: scaling the
 /// variances down made the ratio test at its threshold of 3 (calibrated, like RTKLIB's, on this
 /// conservative model) refuse correct fixes (simulated GPS L1+L2 single epochs, 0.51 of the model: 99.7 %
-/// fixed unscaled, 94.0 % scaled).
+/// fixed unscaled, 94.0 % scaled). A rover with a known length is scaled both ways
+/// ([`CodeNoiseScale::known_length_factor`]).
 #[derive(Debug, Clone, Copy, Default)]
 struct CodeNoiseScale {
     /// Sum of weighted squared residuals with the model's (unscaled) variances.
@@ -164,6 +170,15 @@ impl CodeNoiseScale {
     /// The variance factor to apply to the model's code variances.
     fn factor(&self) -> f64 {
         let (lo, hi) = CODE_SCALE_FACTOR_RANGE;
+        self.estimate().map_or(1.0, |f| f.clamp(lo, hi))
+    }
+
+    /// The variance factor of a rover with a known length: the estimate either way, within
+    /// [`KNOWN_LENGTH_FACTOR_RANGE`]. The constrained fix is gated by a success rate simulated from the
+    /// float covariance, which is only as right as the noise model; its ratio test is on the constrained
+    /// objective, not the unconstrained ratio whose threshold the unscaled model was calibrated for.
+    fn known_length_factor(&self) -> f64 {
+        let (lo, hi) = KNOWN_LENGTH_FACTOR_RANGE;
         self.estimate().map_or(1.0, |f| f.clamp(lo, hi))
     }
 
@@ -270,6 +285,16 @@ impl Engine {
                     "expected one body baseline per rover ({}), got {}",
                     n_receivers - 1,
                     opts.body_baselines_m.len()
+                ),
+            ));
+        }
+        if !opts.baseline_lengths_m.is_empty() && opts.baseline_lengths_m.len() + 1 != n_receivers {
+            return Err(Error::out_of_range(
+                "--baseline-length",
+                format!(
+                    "expected one length per rover ({}), got {}",
+                    n_receivers - 1,
+                    opts.baseline_lengths_m.len()
                 ),
             ));
         }
@@ -638,7 +663,7 @@ impl Engine {
                         .filter(|d| !d.signals.is_empty()),
                 );
                 let all = std::mem::take(&mut self.static_epochs[r]);
-                let sol = match solve_baseline(&all, &[], &fix) {
+                let sol = match self.solve(r, &all, &[], &fix) {
                     Ok(s) => Some(s),
                     Err(e) if leaves_epoch_unsolved(&e) => {
                         self.warn_once(
@@ -666,14 +691,18 @@ impl Engine {
                     (None, true) => present(&self.held[r], dd),
                     (None, false) => Vec::new(),
                 };
-                let factor = self.code_scale[r].factor();
+                let factor = if self.opts.baseline_lengths_m.is_empty() {
+                    self.code_scale[r].factor()
+                } else {
+                    self.code_scale[r].known_length_factor()
+                };
                 let scaled = scale_code(dd, factor);
-                let mut result = solve_baseline(std::slice::from_ref(scaled.as_ref()), &held, &fix);
+                let mut result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &held, &fix);
                 let mut unheld = held.is_empty();
                 if static_session.is_none() && !held.is_empty() {
                     let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held));
                     if !keep {
-                        result = solve_baseline(std::slice::from_ref(scaled.as_ref()), &[], &fix);
+                        result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix);
                         unheld = true;
                     }
                 }
@@ -714,6 +743,20 @@ impl Engine {
                 Some(baseline_estimate(&base, &sols?))
             })
             .collect())
+    }
+
+    /// Rover `r`'s baseline over `epochs`: with its known length when there is one.
+    fn solve(
+        &self,
+        r: usize,
+        epochs: &[DdEpoch],
+        held: &[(u64, u64, i64)],
+        fix: &FixOptions,
+    ) -> Result<BaselineSolution> {
+        match self.opts.baseline_lengths_m.get(r) {
+            Some(&l) => solve_known_length(epochs, held, l, fix),
+            None => solve_baseline(epochs, held, fix),
+        }
     }
 
     fn note_unsolved(&mut self, k: usize, t: i64, e: &Error) {
@@ -817,7 +860,11 @@ impl Engine {
         }
         // The grid's baseline length: a few percent of error in it moves the grid's maximum to a wrong
         // direction, so the grid runs only once the length is known.
-        let length = match self.length[0].known() {
+        let known = match self.opts.baseline_lengths_m.first() {
+            Some(&l) => Ok(l),
+            None => self.length[0].known(),
+        };
+        let length = match known {
             Ok(l) => l,
             Err((l, sigma)) => {
                 if self.opts.method == Method::Ml {

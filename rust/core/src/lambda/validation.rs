@@ -489,7 +489,7 @@ fn ratio_of(norms: [f64; 2]) -> f64 {
     }
 }
 /// Standard normal draw (Box-Muller, one of the pair).
-fn normal(rng: &mut ChaCha8Rng) -> f64 {
+pub(crate) fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>();
     let u2: f64 = rng.random();
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()

@@ -20,11 +20,11 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::enu_at;
-use super::fix::{fix_float, validate_input};
+use super::fix::{ambiguity_problem, fix_problem, validate_input};
 use super::float::{self, FloatSolution};
 use super::{AttitudeSolution, BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{ensure_finite, Error, Result};
-use crate::lambda::{Problem, DEFAULT_MAX_NODES};
+use crate::lambda::DEFAULT_MAX_NODES;
 use crate::wahba;
 
 /// ILS candidates searched per rover.
@@ -169,11 +169,15 @@ fn rover(
     keep: usize,
 ) -> Result<Rover> {
     let fl = float::solve(std::slice::from_ref(epoch), &[])?;
-    let unconstrained = fix_float(&fl, &[], fix)?;
+    // One decorrelation serves the unconstrained fix and the candidate search.
+    let (problem, q_aa) = ambiguity_problem(&fl)?.ok_or_else(|| Error::Shape {
+        name: "epochs",
+        expected: "float ambiguities in every rover's epoch".into(),
+        actual: "none".into(),
+    })?;
+    let unconstrained = fix_problem(&fl, &[], fix, &problem, &q_aa)?;
     let na = fl.ambiguities.len();
     let a = &fl.ambiguities_cycles;
-    let q_aa = fl.covariance.view((3, 3), (na, na)).into_owned();
-    let q_aa = (&q_aa + q_aa.transpose()) * 0.5;
     let q_ab = fl.covariance.view((3, 0), (na, 3)).into_owned();
     let k: DMatrix<f64> = nalgebra::Cholesky::new(q_aa.clone())
         .ok_or_else(|| Error::numerical("attitude fix", "float ambiguity covariance not positive"))?
@@ -181,7 +185,6 @@ fn rover(
     let q_bb = fl.covariance.fixed_view::<3, 3>(0, 0).into_owned();
     let red = q_ab.transpose() * &k;
     let q_cond = q_bb - Matrix3::from_fn(|i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
-    let problem = Problem::new(a, &q_aa)?;
     let found = problem.solve(CANDIDATES, DEFAULT_MAX_NODES)?;
     let mut candidates: Vec<(DVector<i64>, f64, Vector3<f64>, f64)> = (0..CANDIDATES)
         .map(|c| {
@@ -282,7 +285,7 @@ fn constrained_solution(
 
 /// Wilson-Hilferty approximation of the chi-square quantile with `dof` degrees of freedom at the
 /// standard normal quantile [`PLAUSIBLE_Z`] (relative error under 1 % for dof >= 3).
-fn chi2_quantile(dof: usize) -> f64 {
+pub(super) fn chi2_quantile(dof: usize) -> f64 {
     let k = dof.max(1) as f64;
     let c = 2.0 / (9.0 * k);
     k * (1.0 - c + PLAUSIBLE_Z * c.sqrt()).powi(3)

@@ -84,11 +84,29 @@ pub(crate) fn fix_float(
     held: &[(u64, u64, i64)],
     fix: &FixOptions,
 ) -> Result<BaselineSolution> {
+    match ambiguity_problem(fl)? {
+        None => Ok(float_result(fl, held)),
+        Some((problem, q_aa)) => fix_problem(fl, held, fix, &problem, &q_aa),
+    }
+}
+
+/// The decorrelated float ambiguities of `fl` and their (symmetrised) covariance; `None` when every
+/// ambiguity was held.
+pub(crate) fn ambiguity_problem(fl: &FloatSolution) -> Result<Option<(Problem, DMatrix<f64>)>> {
     let na = fl.ambiguities.len();
-    let q_bb: Matrix3<f64> = fl.covariance.fixed_view::<3, 3>(0, 0).into_owned();
-    let mut out = BaselineSolution {
+    if na == 0 {
+        return Ok(None);
+    }
+    let q_aa = symmetric(&fl.covariance.view((3, 3), (na, na)).into_owned());
+    Ok(Some((Problem::new(&fl.ambiguities_cycles, &q_aa)?, q_aa)))
+}
+
+/// The float solution as a result: nothing fixed beyond the held integers.
+pub(crate) fn float_result(fl: &FloatSolution, held: &[(u64, u64, i64)]) -> BaselineSolution {
+    let na = fl.ambiguities.len();
+    BaselineSolution {
         baseline_m: fl.baseline_m,
-        covariance_m2: q_bb,
+        covariance_m2: fl.covariance.fixed_view::<3, 3>(0, 0).into_owned(),
         fixed: na == 0,
         fixed_ambiguities: fl.used_held.len(),
         ambiguities: na + fl.used_held.len(),
@@ -100,19 +118,27 @@ pub(crate) fn fix_float(
         satellites_per_system: fl.summary.satellites_per_system,
         float_chi2: fl.chi2,
         float_dof: fl.dof,
-    };
-    if na == 0 {
-        return Ok(out);
     }
+}
+
+/// [`fix_float`] with the decorrelated problem of `fl` ([`ambiguity_problem`]) already made: the gate,
+/// the ratio test, partial fixing.
+pub(crate) fn fix_problem(
+    fl: &FloatSolution,
+    held: &[(u64, u64, i64)],
+    fix: &FixOptions,
+    problem: &Problem,
+    q_aa: &DMatrix<f64>,
+) -> Result<BaselineSolution> {
+    let na = fl.ambiguities.len();
+    let mut out = float_result(fl, held);
     let a = &fl.ambiguities_cycles;
-    let q_aa = symmetric(&fl.covariance.view((3, 3), (na, na)).into_owned());
-    let problem = Problem::new(a, &q_aa)?;
     let best = problem.solve(2, DEFAULT_MAX_NODES)?;
     out.success_rate = success_rate(problem.reduction.factor.d.as_slice());
     out.ratio = ratio(best.squared_norms[0], best.squared_norms[1]);
     let accept = out.ratio >= fix.ratio_threshold
         && (out.success_rate >= fix.min_success_rate
-            || passes_failure_rate(&problem, out.ratio, fix.max_failure_rate)?);
+            || passes_failure_rate(problem, out.ratio, fix.max_failure_rate)?);
     let (conditioned, q_cond) = if accept {
         out.fixed = true;
         out.fixed_ambiguities += na;
@@ -130,7 +156,7 @@ pub(crate) fn fix_float(
         out.ratio = pf.ratio;
         (pf.ambiguities, pf.covariance)
     };
-    let (b, cov) = condition(fl, &q_aa, a, &conditioned, &q_cond)?;
+    let (b, cov) = condition(fl, q_aa, a, &conditioned, &q_cond)?;
     out.baseline_m = b;
     out.covariance_m2 = cov;
     for (i, amb) in fl.ambiguities.iter().enumerate() {

@@ -36,6 +36,10 @@
 //! fit of the multivariate constrained LAMBDA, Teunissen 2010, J. Geodesy 84:751-762), then the rotation
 //! ENU <- body from Wahba's problem ([`crate::wahba`]).
 //!
+//! A known antenna separation ([`known_length`], baseline mode): the length-constrained integer
+//! least-squares problem of the GNSS compass (Teunissen 2010, J. Geodesy 84:433-447), searched by
+//! expansion with a guarantee and gated by its own simulated success rate.
+//!
 //! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call, at most
 //! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution; attitude mode: at most
 //! [`constrained::MAX_ROVERS`] rovers, [`constrained::CANDIDATES`] integer candidates per rover and
@@ -51,6 +55,7 @@ pub mod dd;
 pub mod fix;
 pub mod float;
 pub mod glonass;
+pub mod known_length;
 pub mod model;
 
 #[cfg(test)]
@@ -66,6 +71,7 @@ use super::solution::N_SYSTEMS;
 
 pub use constrained::solve_attitude;
 pub use fix::solve_baseline;
+pub use known_length::solve_known_length;
 
 /// Most signals (satellite x slot) in one epoch.
 pub const MAX_SIGNALS: usize = 512;

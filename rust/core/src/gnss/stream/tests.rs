@@ -9,6 +9,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::Engine;
+use crate::error::Error;
 use crate::gnss::ephemeris::Ephemerides;
 use crate::gnss::geometry::satellite_geometry;
 use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
@@ -644,4 +645,70 @@ fn the_code_noise_scale_recovers_the_simulated_noise() {
     )
     .unwrap();
     assert!(stat.code_sigma_scale[0].is_nan());
+}
+
+#[test]
+fn a_known_length_gives_the_grid_its_length_at_once_and_is_checked() {
+    // As above (GPS L1, a gate nothing passes), with the length given: the grid runs from the first epoch
+    // and returns the baseline at that length, within the grid's direction error (a few degrees: 5 cm).
+    let b = [0.6, -0.8, 0.05];
+    let truth = simulate(3, &[b], 11);
+    let length = Vector3::from(b).norm();
+    let opts = EngineOptions {
+        systems: vec![System::Gps],
+        frequencies: 1,
+        method: Method::Ml,
+        min_success_rate: 0.99999,
+        baseline_lengths_m: vec![length],
+        ..EngineOptions::default()
+    };
+    let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+    for e in &sol.epochs {
+        assert!(e.solved && e.method == Method::Ml, "{e:?}");
+        let got = Vector3::from(e.baselines_enu_m[0]);
+        assert!((got.norm() - length).abs() < 1e-9);
+        assert!((got - Vector3::from(b)).norm() < 0.05, "{got}");
+    }
+    // One length per rover, and not with body baselines.
+    let two = EngineOptions {
+        baseline_lengths_m: vec![1.0, 2.0],
+        ..options()
+    };
+    let e = Engine::new(
+        &truth.nav,
+        two,
+        truth.obs.sats.clone(),
+        truth.obs.glonass_channel.clone(),
+        2,
+    );
+    assert!(matches!(
+        e,
+        Err(Error::OutOfRange {
+            name: "--baseline-length",
+            ..
+        })
+    ));
+    let both = EngineOptions {
+        baseline_lengths_m: vec![1.0],
+        body_baselines_m: vec![[1.0, 0.0, 0.0]],
+        ..options()
+    };
+    assert!(matches!(
+        both.validate(),
+        Err(Error::OutOfRange {
+            name: "--baseline-length",
+            ..
+        })
+    ));
+    let short = EngineOptions {
+        baseline_lengths_m: vec![0.001],
+        ..options()
+    };
+    assert!(matches!(
+        short.validate(),
+        Err(Error::OutOfRange {
+            name: "--baseline-length",
+            ..
+        })
+    ));
 }
