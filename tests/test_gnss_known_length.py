@@ -14,7 +14,7 @@ import pytest
 from gnssatt.cli import main
 from gnssatt.data import geonet_dir
 from gnssatt.errors import InvalidInputError
-from gnssatt.rinex.attitude import AttitudeSeries, attitude_from_rinex
+from gnssatt.gnss.attitude import AttitudeSeries, attitude_from_rinex
 
 #: RTKLIB 2.4.3's static L1+L2 solution of the GEONET pair, ENU at the base's header position, m
 #: (benches/python/rtklib_compare.py; the same reference as benches/python/success_rate_gate.py).
@@ -64,7 +64,7 @@ def test_simulated_known_length_fixes_are_right_and_on_the_sphere(tmp_path: Path
     measured), every fix within 5 cm of the truth and its length within 1 cm of the one given (a
     constrained fix is put on the sphere, to the length's 2 mm sigma). With GPS L1 alone the simulator has
     6-7 satellites and neither way fixes an epoch at the defaults (docs/observation_engine.md)."""
-    from gnssatt.rinex.scenario import simulate_gnss_rinex
+    from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
 
     sim = simulate_gnss_rinex(
         tmp_path, np.array([[0.0, 0, 0], [length_m, 0, 0]]), [30, 0, 0], systems="GE", frequencies=1,

@@ -5,6 +5,7 @@ and defaults.
 Angles in radians, lengths in metres. Result types are frozen: their attributes are read-only.
 """
 
+from collections.abc import Sequence
 from typing import Any, TypedDict, final
 
 import numpy as np
@@ -628,6 +629,7 @@ class GnssOptions:
         body_baselines_m: NDArray[np.float64] | None = None,
         step_deg: float | None = None,
         window_deg: float | None = None,
+        baseline_lengths_m: Sequence[float] | None = None,
     ) -> GnssOptions: ...
 
 def gnss_run(
