@@ -15,8 +15,8 @@
 //! >= tau = n - s` somewhere in the box, one phase direction `w` makes every term contribute at least
 //! `1 - s` (the others contribute at most 1), i.e. every phase lies within `delta_k + acos(1 - s)` of
 //! `w`: the arcs of those radii around the centre phases share a point. A box whose arcs do not is
-//! dropped. Boxes at the grid's resolution are kept if the relaxed bound of [`modulus_bound`] (each
-//! phase free in its arc, maximised exactly) reaches `tau`.
+//! dropped. Leaf boxes (half-width `h_min`, a fraction of the grid step) are kept if the relaxed bound
+//! of [`modulus_bound`] (each phase free in its arc, maximised exactly) reaches `tau`.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
