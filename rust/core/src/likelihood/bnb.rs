@@ -90,12 +90,25 @@ pub fn box_limit(grid: &Grid) -> u64 {
     grid.len() as u64 / 128
 }
 
-/// Half-width of the direction search's leaf boxes, as a fraction of the grid step. Leaves of half a
-/// step (one bin of the raster) leave each phase of a long baseline free over about +-0.7 rad (5 m
-/// array at 0.5 deg), so the relaxed bound keeps most bins it is asked about; a quarter step keeps
-/// 3.5x fewer bins and evaluates 18x fewer kernel cells there for 17 % more boxes (measured on the
-/// `bnb_vs_grid` bench's 5 m array; an eighth of a step costs 25 % more boxes again).
-const LEAF: f64 = 0.25;
+/// Half-width (radians) of baseline `i`'s leaf boxes in the direction search. Leaves of half a step (one
+/// bin of the raster) leave each phase free over `+- g |r_i| step / 2`; where a step moves a phase by
+/// more than `FINE_LEAF` rad (5 m array at 0.5 deg: 1.44 rad) the relaxed bound then keeps most bins it
+/// is asked about, and leaves of a quarter step keep 3.5x fewer bins and evaluate 18x fewer kernel
+/// cells for 17 % more boxes (measured on the `bnb_vs_grid` bench's 5 m array; an eighth of a step
+/// costs 25 % more boxes again). Below it (the paper's array at 1.5 deg: 0.61 rad) quarter-step leaves
+/// cost 13 % more boxes for no gain in time, and more searches of small grids hit their box limit.
+fn leaf_half_width(model: &Model, i: usize, step: f64) -> f64 {
+    let g_max = model.g.iter().map(|g| g.norm()).fold(0.0, f64::max);
+    if g_max * model.baselines[i].norm() * step > FINE_LEAF {
+        0.25 * step
+    } else {
+        0.5 * step
+    }
+}
+
+/// Phase motion per grid step (rad) above which the direction search uses quarter-step leaves
+/// ([`leaf_half_width`]).
+const FINE_LEAF: f64 = 1.0;
 
 /// Centre row of a block and how far (radians) any baseline direction of its rows can be from the
 /// centre's: each rotation moves a direction by at most its angle.
@@ -331,7 +344,6 @@ pub(crate) fn branch_and_bound_limited(
     let (nb, n, top) = (model.n_baselines(), model.n_terms() as f64, model.z_upper());
     let reach = reaches(model, grid);
     let budget = Budget::new(limit);
-    let h_min = LEAF * grid.step();
     let per_turn = (std::f64::consts::TAU / grid.step()).round() as usize;
     let trig: Vec<(f64, f64)> = (0..grid.theta.len)
         .map(|t| {
@@ -359,7 +371,14 @@ pub(crate) fn branch_and_bound_limited(
         let tau = need - (nb - 1) as f64 * n;
         let mut maps = Vec::with_capacity(nb);
         for (i, r) in reach.iter().enumerate() {
-            match direction_set(model, i, tau, h_min, r, &budget) {
+            match direction_set(
+                model,
+                i,
+                tau,
+                leaf_half_width(model, i, grid.step()),
+                r,
+                &budget,
+            ) {
                 Some(s) => maps.push(DirMap::new(&s, grid.step(), per_turn)),
                 None => {
                     stats.boxes_bounded = budget.used();
