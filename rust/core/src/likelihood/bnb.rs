@@ -18,9 +18,9 @@
 //!    looked up in the other baselines' rows (`psi = a - beta`), and the nodes with `sum_i U_i >= T -
 //!    margin` are evaluated by the kernel with the full pass's tables.
 //!
-//! The first target is `m n (1 - FIRST_DEFICIT)`; a round that finds nothing at `T` doubles the deficit
-//! `m n - T` (or stops at the best value it found, which the next round then certainly reaches). No
-//! coarse pass is needed for a first incumbent, and no side lobe can mislead one.
+//! The first target is `m n (1 - FIRST_DEFICIT)`; a round that finds nothing at `T` multiplies the
+//! deficit `m n - T` by `GROWTH` (or stops at the best value it found, which the next round then
+//! certainly reaches). No coarse pass is needed for a first incumbent, and no side lobe can mislead one.
 //!
 //! Every cell with kernel `Z >= T` is evaluated, by the same kernel code with the same inputs as the
 //! exhaustive pass, so the result is the exhaustive maximum bit for bit: the same float32 `Z` and, among
