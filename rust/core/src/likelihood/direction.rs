@@ -15,8 +15,8 @@
 //! >= tau = n - s` somewhere in the box, one phase direction `w` makes every term contribute at least
 //! `1 - s` (the others contribute at most 1), i.e. every phase lies within `delta_k + acos(1 - s)` of
 //! `w`: the arcs of those radii around the centre phases share a point. A box whose arcs do not is
-//! dropped. Boxes at the grid's resolution are kept if the relaxed bound of [`modulus_bound`] (each
-//! phase free in its arc, maximised exactly) reaches `tau`.
+//! dropped. Leaf boxes (half-width `h_min`, a fraction of the grid step) are kept if the relaxed bound
+//! of [`modulus_bound`] (each phase free in its arc, maximised exactly) reaches `tau`.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -38,7 +38,9 @@ pub(crate) struct DirBox {
     pub bound: f64,
 }
 
-/// Unit direction of parameters `(a, e)` in the normal frame.
+/// Unit direction of parameters `(a, e)` in the normal frame (the box test builds it from the sines it
+/// needs anyway).
+#[cfg(test)]
 pub(crate) fn unit(a: f64, e: f64) -> Vector3<f64> {
     let (sa, ca) = a.sin_cos();
     let (se, ce) = e.sin_cos();
@@ -177,7 +179,8 @@ fn arcs_meet(x: &[f64], r: &[f64]) -> bool {
             continue;
         }
         partial = true;
-        let w = wrap_turn(xk - rk);
+        // xk - rk lies in (-pi, 2 pi): adding a turn below 0 wraps it without a floor (see wrap_turn).
+        let w = if xk < rk { xk - rk + TAU } else { xk - rk };
         if x.iter()
             .zip(r)
             .all(|(&xj, &rj)| rj >= PI || circ_dist(w, xj) <= rj + 1e-9)
@@ -213,7 +216,7 @@ impl Tester<'_> {
         let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
         let (sa, ca) = a.sin_cos();
         let (se, ce) = e.sin_cos();
-        let u = unit(a, e);
+        let u = Vector3::new(ce * ca, se, -ce * sa);
         let du_a = Vector3::new(-ce * sa, 0.0, -ce * ca);
         let du_e = Vector3::new(-se * ca, ce, se * sa);
         let quad = 0.5 * (ha + he) * (ha + he);
