@@ -105,7 +105,7 @@ def child(reps, search, side, step):
     run()  # warm-up
     t = timed(run, reps)
     r = run()
-    print(f"{t:.6f} {r.z_max!r} {' '.join(repr(float(a)) for a in r.grid_euler_deg)}")
+    print(f"{t:.6f} {r.z_max!r} {' '.join(repr(float(a)) for a in r.grid_euler_gost_deg)}")
 
 
 def in_child(n, reps, search, side=0.71, step=STEP):

@@ -376,7 +376,7 @@ def ml_attitude(
         ``"exhaustive"``: every cell, in parallel. ``"branch_and_bound"``: exact (the same grid cell and
         ``z_max`` as the exhaustive pass, bit for bit), parallel, through per-baseline direction sets; it
         falls back to the exhaustive pass for the per-satellite statistics and where its bounding work
-        would exceed one box per 256 cells (``docs/likelihood_search.md``).
+        would exceed one box per 128 cells (``docs/likelihood_search.md``).
     refine
         ``True`` or ``"newton"`` (default): the parabolic interpolation (16), then Newton's method on the
         statistic (float64, full Hessian, trust region of one grid step), i.e. the continuous maximum of
