@@ -373,6 +373,7 @@ def orbit_filter(
     instance("data", data, SpaceborneMeasurements | ReceiverFixes, "SpaceborneMeasurements or ReceiverFixes")
     t_all = float_array("data.times_s", data.times_s, ndim=1, shape="(n_t,)")
     rk4_steps("orbit_filter over data.times_s", np.diff(t_all), settings["step_s"])
+    fixes: ReceiverFixes | None
     if isinstance(data, ReceiverFixes):
         if coupling != "loose":
             raise InvalidInputError("receiver fixes can only drive the loosely coupled filter")

@@ -145,15 +145,15 @@ class TumbleModel:
             raise InvalidInputError(f"expected altitude_m above -6378137 m, got {altitude_m}")
         return cls(orbital_rate_rad_s=math.sqrt(GM_M3_S2 / r**3), speed_m_s=math.sqrt(GM_M3_S2 / r), **kwargs)
 
-    def _kwargs(self) -> dict[str, Any]:
+    def _kwargs(self) -> _core._TumbleModelArgs:
         return {
-            "inertia_kg_m2": tuple(float(v) for v in self.inertia_kg_m2),
+            "inertia_kg_m2": self.inertia_kg_m2,
             "orbital_rate_rad_s": float(self.orbital_rate_rad_s),
             "gravity_gradient": bool(self.gravity_gradient),
             "density_kg_m3": float(self.density_kg_m3),
             "drag_coefficient": float(self.drag_coefficient),
             "area_m2": float(self.area_m2),
-            "cp_offset_m": tuple(float(v) for v in self.cp_offset_m),
+            "cp_offset_m": self.cp_offset_m,
             "speed_m_s": float(self.speed_m_s),
         }
 

@@ -18,7 +18,7 @@ from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
 
 Method = Literal["svd", "ml", "closed_form", "paper"]
-METHODS = ("svd", "ml", "closed_form", "paper")
+METHODS: tuple[Method, ...] = ("svd", "ml", "closed_form", "paper")
 
 
 @renamed(euler_deg="heading_pitch_roll_deg")
