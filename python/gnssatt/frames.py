@@ -233,7 +233,8 @@ def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
     east = [-so, co, 0.0]
     north = [-sl * co, -sl * so, cl]
     up = [cl * co, cl * so, sl]
-    return np.array([east, north, up], dtype=np.float64).T
+    dcm: NDArray[np.float64] = np.array([east, north, up]).T  # numpy types an array from lists as Any
+    return dcm
 
 
 # Elementary rotations and batched products shared by the frames and the orbit models.

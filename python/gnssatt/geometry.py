@@ -75,7 +75,8 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     if not r.single:
         raise InvalidInputError(f"expected rotation as a single Rotation, got a stack of {len(r)}")
     g: NDArray[np.float64] = np.cross(r.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
-    return g.T @ g
+    fisher: NDArray[np.float64] = g.T @ g  # numpy types this matmul as Any
+    return fisher
 
 
 def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> float:

@@ -297,7 +297,8 @@ class OrbitFilterResult:
 
     def sigma(self) -> NDArray[np.float64]:
         """(n_t, 6) standard deviations of the state."""
-        return np.sqrt(np.einsum("kii->ki", self.covariances))
+        sigma: NDArray[np.float64] = np.sqrt(np.einsum("kii->ki", self.covariances))  # einsum is typed Any
+        return sigma
 
 
 def orbit_filter(

@@ -211,7 +211,7 @@ def _common(times: list[NDArray[np.int64]], tol: int) -> list[NDArray[np.int64]]
 def _carried_lli(lli: NDArray[np.uint8], kept: NDArray[np.int64]) -> NDArray[np.uint8]:
     """LLI at the kept epochs with bit 0 of the dropped epochs since the previous kept one ORed in (a slip
     flagged at an epoch the session does not see still happened)."""
-    out = lli[kept].copy()
+    out: NDArray[np.uint8] = lli[kept].copy()  # numpy types fancy indexing as Any
     lost = (lli & 1).astype(bool)
     # epoch e's slip belongs to the first kept epoch at or after it
     owner = np.searchsorted(kept, np.arange(len(lli)))
