@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import math
 import operator
-from typing import Any
+from types import UnionType
+from typing import Any, TypeVar, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,6 +40,11 @@ __all__ = [
     "unit_rows",
     "vector_array",
 ]
+
+# The checked value keeps the type the caller names: the class given to ``instance``, the literal options
+# given to ``choice``.
+_T = TypeVar("_T")
+_Choice = TypeVar("_Choice", bound=str)
 
 
 def _describe(value: Any) -> str:
@@ -195,7 +201,7 @@ def integer_array(name: str, value: Any, shape: str, *patterns: tuple[int | None
     return a.astype(np.int64)
 
 
-def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
+def choice(name: str, value: Any, options: tuple[_Choice, ...]) -> _Choice:
     """``value`` as one of the strings ``options`` (a method, a statistic, an Euler sequence ...).
 
     Raises
@@ -210,7 +216,7 @@ def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
         raise InvalidTypeError(f"expected {name} as one of {listed}, got {_describe(value)}")
     if value not in options:
         raise InvalidInputError(f"expected {name} as one of {listed}, got {value!r}")
-    return value
+    return options[options.index(value)]  # the equal option itself, typed as one of the options
 
 
 def flag(name: str, value: Any) -> bool:
@@ -226,7 +232,11 @@ def flag(name: str, value: Any) -> bool:
     return bool(value)
 
 
-def instance(name: str, value: Any, cls: type | tuple[type, ...], what: str) -> Any:
+@overload
+def instance(name: str, value: Any, cls: type[_T], what: str) -> _T: ...
+@overload
+def instance(name: str, value: Any, cls: UnionType | tuple[type, ...], what: str) -> Any: ...
+def instance(name: str, value: Any, cls: type | UnionType | tuple[type, ...], what: str) -> Any:
     """``value`` itself if it is an instance of ``cls``; ``what`` says what is expected in the message.
 
     Raises
@@ -239,7 +249,7 @@ def instance(name: str, value: Any, cls: type | tuple[type, ...], what: str) -> 
     return value
 
 
-def finite_result(what: str, value: Any, cause: str) -> Any:
+def finite_result(what: str, value: _T, cause: str) -> _T:
     """``value`` unchanged if every entry is finite; otherwise a :class:`~gnssatt.errors.ConvergenceError`.
 
     The last guard of computations whose intermediates can overflow on finite but extreme input (fast
@@ -349,10 +359,10 @@ def generator(name: str, value: Any) -> np.random.Generator:
 
 def text(name: str, value: Any, choices: tuple[str, ...] | None = None) -> str:
     """``value`` if it is a ``str`` (one of ``choices`` where given)."""
-    instance(name, value, str, "a str")
-    if choices is not None and value not in choices:
-        raise InvalidInputError(f"expected {name} one of {list(choices)}, got {value!r}")
-    return value
+    checked = instance(name, value, str, "a str")
+    if choices is not None and checked not in choices:
+        raise InvalidInputError(f"expected {name} one of {list(choices)}, got {checked!r}")
+    return checked
 
 
 def readonly(*arrays: NDArray[Any] | None) -> None:

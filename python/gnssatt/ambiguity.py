@@ -243,8 +243,8 @@ def ratio_threshold_fixed_failure_rate(
         A simulated search exceeded its share of the 1e9 nodes of the whole simulation.
     """
     q = _covariance(covariance)
-    scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True)
-    _, rate, n_samples, seed_ = _threshold(None, failure_rate, samples, seed)
+    rate = scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True)
+    _, _, n_samples, seed_ = _threshold(None, rate, samples, seed)
     return _core.lambda_ffrt_threshold(q, rate, n_samples, seed_)
 
 

@@ -80,7 +80,9 @@ def _batch_dcm(dcm: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.f
     return matvec(dcm, v)
 
 
-def _same_shape(name: str, v: NDArray[np.float64], ref_name: str, ref: NDArray[np.float64]) -> NDArray:
+def _same_shape(
+    name: str, v: NDArray[np.float64], ref_name: str, ref: NDArray[np.float64]
+) -> NDArray[np.float64]:
     if v.shape != ref.shape:
         raise InvalidInputError(f"expected {name} of the shape of {ref_name}, {ref.shape}, got {v.shape}")
     return v
@@ -231,7 +233,8 @@ def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
     east = [-so, co, 0.0]
     north = [-sl * co, -sl * so, cl]
     up = [cl * co, cl * so, sl]
-    return np.array([east, north, up]).T
+    dcm: NDArray[np.float64] = np.array([east, north, up]).T  # numpy types an array from lists as Any
+    return dcm
 
 
 # Elementary rotations and batched products shared by the frames and the orbit models.
@@ -239,7 +242,8 @@ def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
 
 def matvec(m: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
     """``m @ v`` over the last axes with broadcasting: m (..., 3, 3), v (..., 3) -> (..., 3)."""
-    return np.einsum("...ij,...j->...i", m, v)
+    out: NDArray[np.float64] = np.einsum("...ij,...j->...i", m, v)  # numpy types einsum's result as Any
+    return out
 
 
 def rot_x(angle: NDArray[np.float64] | float) -> NDArray[np.float64]:

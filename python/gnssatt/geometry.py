@@ -74,8 +74,9 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     r = instance("rotation", rotation, Rotation, "a single scipy Rotation")
     if not r.single:
         raise InvalidInputError(f"expected rotation as a single Rotation, got a stack of {len(r)}")
-    g = np.cross(r.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
-    return g.T @ g
+    g: NDArray[np.float64] = np.cross(r.apply(b)[:, None, :], s[None, :, :]).reshape(-1, 3)
+    fisher: NDArray[np.float64] = g.T @ g  # numpy types this matmul as Any
+    return fisher
 
 
 def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> float:

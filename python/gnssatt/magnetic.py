@@ -120,7 +120,11 @@ def dipole_orbital(
         raise InvalidInputError(
             f"expected u and radius of broadcastable shapes, got {u.shape}, {r.shape}"
         ) from exc
-    return scale[..., None] * np.stack([np.cos(u) * si, np.full_like(u, ci), -2.0 * np.sin(u) * si], axis=-1)
+    # typed here: numpy types broadcast_arrays' results as Any
+    field: NDArray[np.float64] = scale[..., None] * np.stack(
+        [np.cos(u) * si, np.full_like(u, ci), -2.0 * np.sin(u) * si], axis=-1
+    )
+    return field
 
 
 def dipole_coefficients(decimal_year: float) -> NDArray[np.float64]:
@@ -132,7 +136,8 @@ def dipole_coefficients(decimal_year: float) -> NDArray[np.float64]:
             f"expected decimal_year, a decimal year in [2015.0, 2030.0] (IGRF-14), got {t}"
         )
     if t >= _EPOCHS[-1]:
-        return _GAUSS_NT[-1] + (t - _EPOCHS[-1]) * _SV_NT_PER_YEAR
+        extrapolated: NDArray[np.float64] = _GAUSS_NT[-1] + (t - _EPOCHS[-1]) * _SV_NT_PER_YEAR
+        return extrapolated
     return np.array([np.interp(t, _EPOCHS, _GAUSS_NT[:, k]) for k in range(3)])
 
 
@@ -171,7 +176,9 @@ def _geodetic(
         ) from exc
 
 
-def geodetic_to_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike) -> NDArray:
+def geodetic_to_ecef(
+    latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike
+) -> NDArray[np.float64]:
     """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres.
 
     Raises
@@ -235,7 +242,9 @@ def dipole_field_ecef(position_ecef_m: ArrayLike, decimal_year: float) -> NDArra
     g = np.array([g11, h11, g10])
     norm = np.linalg.norm(r, axis=-1, keepdims=True)
     rh = r / norm
-    return IGRF_REFERENCE_RADIUS_M**3 * (3.0 * (rh @ g)[..., None] * rh - g) / norm**3
+    # typed here: numpy types np.linalg.norm over an axis as Any
+    field: NDArray[np.float64] = IGRF_REFERENCE_RADIUS_M**3 * (3.0 * (rh @ g)[..., None] * rh - g) / norm**3
+    return field
 
 
 def _positions(name: str, value: ArrayLike) -> NDArray[np.float64]:
@@ -289,7 +298,11 @@ def dipole_field_ned(
         (..., 3) ``[north, east, down]`` in tesla.
     """
     b = dipole_field_ecef(geodetic_to_ecef(latitude_deg, longitude_deg, height_m), decimal_year)
-    return np.einsum("...ij,...j->...i", dcm_ned_from_ecef(latitude_deg, longitude_deg), b)
+    # typed here: numpy types einsum's result as Any
+    ned: NDArray[np.float64] = np.einsum(
+        "...ij,...j->...i", dcm_ned_from_ecef(latitude_deg, longitude_deg), b
+    )
+    return ned
 
 
 def _datetime(decimal_year: float):  # type: ignore[no-untyped-def]
@@ -336,4 +349,6 @@ def igrf_field_ecef(
     e_r = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)
     e_th = np.stack([np.cos(th) * np.cos(ph), np.cos(th) * np.sin(ph), -np.sin(th)], axis=-1)
     e_ph = np.stack([-np.sin(ph), np.cos(ph), np.zeros_like(ph)], axis=-1)
-    return 1e-9 * (br[..., None] * e_r + bth[..., None] * e_th + bph[..., None] * e_ph)
+    # typed here: ppigrf is untyped, so its components are Any
+    field: NDArray[np.float64] = 1e-9 * (br[..., None] * e_r + bth[..., None] * e_th + bph[..., None] * e_ph)
+    return field

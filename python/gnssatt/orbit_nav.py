@@ -297,7 +297,8 @@ class OrbitFilterResult:
 
     def sigma(self) -> NDArray[np.float64]:
         """(n_t, 6) standard deviations of the state."""
-        return np.sqrt(np.einsum("kii->ki", self.covariances))
+        sigma: NDArray[np.float64] = np.sqrt(np.einsum("kii->ki", self.covariances))  # einsum is typed Any
+        return sigma
 
 
 def orbit_filter(
@@ -373,6 +374,7 @@ def orbit_filter(
     instance("data", data, SpaceborneMeasurements | ReceiverFixes, "SpaceborneMeasurements or ReceiverFixes")
     t_all = float_array("data.times_s", data.times_s, ndim=1, shape="(n_t,)")
     rk4_steps("orbit_filter over data.times_s", np.diff(t_all), settings["step_s"])
+    fixes: ReceiverFixes | None
     if isinstance(data, ReceiverFixes):
         if coupling != "loose":
             raise InvalidInputError("receiver fixes can only drive the loosely coupled filter")

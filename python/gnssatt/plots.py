@@ -24,13 +24,12 @@ __all__ = [
 ]
 
 
-def _pyplot():  # type: ignore[no-untyped-def]
+def _agg() -> None:
+    """The Agg backend, chosen before pyplot is imported (each figure imports pyplot itself after this call,
+    so that mypy sees the module's types)."""
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def error_vs_geometry(
@@ -38,7 +37,9 @@ def error_vs_geometry(
 ) -> Path:
     """Each trial's total attitude error against its Cramer-Rao bound (log-log), one series per estimator,
     with the binned RMS error and the line error = bound; saved as PNG at ``path``."""
-    plt = _pyplot()
+    _agg()
+    import matplotlib.pyplot as plt
+
     crb = np.asarray(crb_deg, dtype=float)
     edges = np.quantile(crb, np.linspace(0, 1, 11))
     idx = np.clip(np.digitize(crb, edges[1:-1]), 0, 9)
@@ -69,7 +70,9 @@ def error_vs_geometry(
 def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) -> Path:
     """Seed 001 figures 1-2: Z over (pitch, roll) at the grid heading nearest the truth, and over
     (heading, pitch) at the grid roll nearest the truth; the truth marked; saved as PNG."""
-    plt = _pyplot()
+    _agg()
+    import matplotlib.pyplot as plt
+
     psi, theta, phi = (float(v) for v in np.asarray(truth_deg, dtype=float))
     i = int(np.argmin(np.abs((grid.psi_deg - psi + 180.0) % 360.0 - 180.0)))
     q = int(np.argmin(np.abs((grid.phi_deg - phi + 180.0) % 360.0 - 180.0)))
@@ -106,7 +109,9 @@ def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) 
 
 def attitude_series(series: AttitudeSeries, path: Path) -> Path:
     """Time series of the angles of :func:`gnssatt.gnss.attitude.attitude_from_rinex` (one panel each)."""
-    plt = _pyplot()
+    _agg()
+    import matplotlib.pyplot as plt
+
     names = series.angle_names
     minutes = (series.time - series.time[0]).astype("timedelta64[ms]").astype(np.float64) / 60_000.0
     fig, axes = plt.subplots(len(names), 1, figsize=(8, 2.2 * len(names)), sharex=True, squeeze=False)
@@ -125,7 +130,9 @@ def attitude_series(series: AttitudeSeries, path: Path) -> Path:
 def error_histograms(errors: Mapping[str, ArrayLike], path: Path, *, title: str, unit: str) -> Path:
     """One histogram (probability density) per error series, titled with its mean ``M`` and standard
     deviation ``sigma``, like seed 004's figures 3 and 4; saved as PNG at ``path``."""
-    plt = _pyplot()
+    _agg()
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, len(errors), figsize=(4 * len(errors), 3.6), dpi=120, squeeze=False)
     for ax, (label, values) in zip(axes[0], errors.items(), strict=True):
         v = np.asarray(values, dtype=float)
@@ -145,7 +152,9 @@ def yaw_error_along_orbit(
 ) -> Path:
     """Yaw error against argument of latitude, one panel per inclination: TRIAD solid, eq. (3) dashed
     (as the paper's figs. 2 and 3); saved as PNG at ``path``."""
-    plt = _pyplot()
+    _agg()
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(len(curves), 1, figsize=(7, 2.8 * len(curves)), dpi=120, sharex=True)
     for ax, (inc, err) in zip(np.atleast_1d(axes), curves.items(), strict=True):
         ax.plot(u_deg, err["triad"], "k-", label="TRIAD (local vertical + field)")
@@ -173,7 +182,9 @@ def dipole_vs_igrf(
     from gnssatt import magnetic
     from gnssatt.constants import GM_M3_S2, OMEGA_E_RAD_S
 
-    plt = _pyplot()
+    _agg()
+    import matplotlib.pyplot as plt
+
     u = np.radians(np.linspace(0.0, 360.0, 361))
     inc = np.radians(inclination_deg)
     period = 2 * np.pi * np.sqrt(radius_m**3 / GM_M3_S2)
@@ -191,7 +202,8 @@ def dipole_vs_igrf(
 
     def ang(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         cosang = np.sum(a * b, -1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(b, axis=-1)
-        return np.degrees(np.arccos(np.clip(cosang, -1, 1)))
+        angle: np.ndarray = np.degrees(np.arccos(np.clip(cosang, -1, 1)))  # norm over an axis is typed Any
+        return angle
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 5.5), dpi=120, sharex=True)
     results = {}

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -145,15 +145,15 @@ class TumbleModel:
             raise InvalidInputError(f"expected altitude_m above -6378137 m, got {altitude_m}")
         return cls(orbital_rate_rad_s=math.sqrt(GM_M3_S2 / r**3), speed_m_s=math.sqrt(GM_M3_S2 / r), **kwargs)
 
-    def _kwargs(self) -> dict[str, Any]:
+    def _kwargs(self) -> _core._TumbleModelArgs:
         return {
-            "inertia_kg_m2": tuple(float(v) for v in self.inertia_kg_m2),
+            "inertia_kg_m2": self.inertia_kg_m2,
             "orbital_rate_rad_s": float(self.orbital_rate_rad_s),
             "gravity_gradient": bool(self.gravity_gradient),
             "density_kg_m3": float(self.density_kg_m3),
             "drag_coefficient": float(self.drag_coefficient),
             "area_m2": float(self.area_m2),
-            "cp_offset_m": tuple(float(v) for v in self.cp_offset_m),
+            "cp_offset_m": self.cp_offset_m,
             "speed_m_s": float(self.speed_m_s),
         }
 
@@ -482,10 +482,26 @@ def _canonical(params: NDArray[np.float64]) -> NDArray[np.float64]:
     """The same state with ``psi, phi in [0, 2 pi)``, ``alpha in [0, pi]`` (``YZY`` angles are 2-to-1)."""
     angles = Rotation.from_euler("YZY", params[:3]).as_euler("YZY") % (2 * math.pi)
     angles[1] = min(angles[1], 2 * math.pi - angles[1])  # as_euler gives [0, pi]; guard a rounded 2 pi
-    return np.r_[angles, params[3:]]
+    state: NDArray[np.float64] = np.r_[angles, params[3:]]  # scipy is untyped, so angles are Any
+    return state
 
 
-def _de_run(obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: dict[str, Any]) -> tuple:
+class _DeOptions(TypedDict):
+    """The differential-evolution settings of :func:`fit_rotation`, checked."""
+
+    popsize: int
+    mutation: float | tuple[float, float]
+    recombination: float
+    strategy: str
+    tol_abs: float
+    patience: int
+    maxiter: int
+    polish: bool
+
+
+def _de_run(
+    obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: _DeOptions
+) -> tuple[NDArray[np.float64], float, int, str]:
     """One differential-evolution run with the paper's stopping rule, unpolished: (x, cost, generations,
     stopped_by)."""
     obj.population, obj.means = None, []
@@ -521,8 +537,8 @@ def _de_run(obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts:
 
 
 def _horizon_run(
-    obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: dict[str, Any], fraction: float
-) -> tuple:
+    obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: _DeOptions, fraction: float
+) -> tuple[NDArray[np.float64], int, str]:
     """Differential evolution on the first ``fraction`` of the span, then Nelder-Mead over doubling windows.
 
     Over a short window the axis history depends smoothly on the state and the global basin is wide;
@@ -732,7 +748,7 @@ def fit_rotation(
         mutation = scalar("mutation", mutation, minimum=0.0)
         if mutation >= 2.0:
             raise InvalidInputError(f"expected mutation in [0, 2), got {mutation}")
-    opts = {
+    opts: _DeOptions = {
         "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
         "mutation": mutation,
         "recombination": scalar("recombination", recombination, minimum=0.0, maximum=1.0),
@@ -774,7 +790,7 @@ def fit_rotation(
         root = rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
         first = np.random.default_rng(root) if isinstance(rng, np.random.SeedSequence) else rng
         restarts = [np.random.default_rng(c) for c in root.spawn(n_spawn)]
-    runs: list[tuple] = []
+    runs: list[tuple[NDArray[np.float64], float, int, str]] = []
     for k, run_rng in enumerate([first, *restarts]):
         if k > min_restarts and min(r[1] for r in runs) <= threshold:
             break

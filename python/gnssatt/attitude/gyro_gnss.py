@@ -175,7 +175,9 @@ class GyroGnssResult:
         if p is None:
             raise InvalidInputError("no true-error covariance: run with sensitivity=(...)")
         e = shaped("errors", errors, f"(n, 6) = ({len(p)}, 6)", (len(p), 6))
-        return np.einsum("ki,ki->k", e, np.linalg.solve(p, e[..., None])[..., 0])
+        # typed here: numpy types einsum's result as Any
+        nees: NDArray[np.float64] = np.einsum("ki,ki->k", e, np.linalg.solve(p, e[..., None])[..., 0])
+        return nees
 
 
 def _covariance(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:

@@ -633,7 +633,9 @@ class BaselineSeries:
     solved: NDArray[np.bool_]
 
 
-def _gaps(name: str, value: ArrayLike, *, ndim: int | tuple[int, ...], shape: str) -> tuple[NDArray, NDArray]:
+def _gaps(
+    name: str, value: ArrayLike, *, ndim: int | tuple[int, ...], shape: str
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """:func:`float_array` where NaN marks an absent value: (the values with NaN replaced by 0, the gaps)."""
     raw = value
     gaps: NDArray[np.bool_] | bool = False
@@ -713,7 +715,11 @@ def _series_intake(
 
 
 def _series_window(
-    window_deg: float | None, step_deg: float | None, w: NDArray, used: NDArray, longest: float
+    window_deg: float | None,
+    step_deg: float | None,
+    w: NDArray[np.float64],
+    used: NDArray[np.bool_],
+    longest: float,
 ) -> float | None:
     """The window half-width in radians, refused when finer than the step of some epoch (it could hold no
     grid node): ``step_deg``, or eq. (15)'s ``lambda_min / (10 L_max)`` of the epoch's signals."""

@@ -18,7 +18,7 @@ from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
 
 Method = Literal["svd", "ml", "closed_form", "paper"]
-METHODS = ("svd", "ml", "closed_form", "paper")
+METHODS: tuple[Method, ...] = ("svd", "ml", "closed_form", "paper")
 
 
 @renamed(euler_deg="heading_pitch_roll_deg")
@@ -50,7 +50,8 @@ class MatrixAttitudeResult:
     @property
     def heading_pitch_roll_deg(self) -> NDArray[np.float64]:
         """Heading, pitch, roll in degrees: intrinsic Z-Y'-X'' of body -> reference (docs/conventions.md)."""
-        return self.rotation.as_euler("ZYX", degrees=True)
+        angles: NDArray[np.float64] = self.rotation.as_euler("ZYX", degrees=True)  # scipy is untyped
+        return angles
 
 
 def matrix_attitude(

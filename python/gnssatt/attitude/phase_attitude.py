@@ -117,10 +117,10 @@ def phase_attitude_fixes(
         range_diffs = -(phase - amb) * wavelength[:, None]  # (n_rows, m), m
     too_far = ~(np.abs(range_diffs) <= MAX_BASELINE_M)
     if np.any(too_far):
-        k = tuple(int(i) for i in np.argwhere(too_far)[0])
+        at = tuple(int(i) for i in np.argwhere(too_far)[0])
         raise InvalidInputError(
             f"expected (phases.phase - ambiguities) * phases.wavelength at most {MAX_BASELINE_M:g} m in "
-            f"magnitude (a range difference never exceeds the baseline), got {range_diffs[k]:.6g} m at {k}"
+            f"magnitude (a range difference never exceeds the baseline), got {range_diffs[at]:.6g} m at {at}"
         )
     order = np.argsort(epoch, kind="stable")
     starts = np.searchsorted(epoch[order], np.arange(len(epoch_t) + 1))

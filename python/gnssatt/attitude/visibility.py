@@ -68,7 +68,8 @@ def _paper_axis(vis: NDArray[np.float64], inv: NDArray[np.float64]) -> NDArray[n
     n = np.linalg.norm(a)
     if n < 1e-12:
         raise DegenerateGeometryError("eq. (5) gives a zero axis: visible and invisible satellites balance")
-    return a / n
+    unit: NDArray[np.float64] = a / n  # numpy types np.linalg.norm as Any
+    return unit
 
 
 def _margin_axis(

@@ -24,7 +24,7 @@ from gnssatt.errors import DegenerateGeometryError, InvalidInputError, NearDegen
 __all__ = ["TriadResult", "WahbaResult", "triad", "wahba"]
 
 Method = Literal["svd", "davenport", "quest"]
-METHODS = ("svd", "davenport", "quest")
+METHODS: tuple[Method, ...] = ("svd", "davenport", "quest")
 
 #: TRIAD warns when the sine of the angle between its two vectors (either frame) is below this.
 TRIAD_WARN_SIN = 1e-2

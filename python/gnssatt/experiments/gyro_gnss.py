@@ -27,7 +27,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from gnssatt import montecarlo, sim
-from gnssatt.attitude.gyro_gnss import gyro_gnss_filter
+from gnssatt.attitude.gyro_gnss import GyroGnssResult, gyro_gnss_filter
 from gnssatt.attitude.phase_attitude import phase_attitude_fixes
 from gnssatt.errors import InvalidInputError
 from gnssatt.experiments import Experiment
@@ -161,7 +161,10 @@ def two_satellite_trial(
     tight = gyro_gnss_filter(t, g.rates, **start, baselines_m=_baselines(), phases=ph)
     loose = gyro_gnss_filter(t, g.rates, **start, attitude_fixes=fixes)
     e = tight.errors(att[k], g.drift[k])
-    s3 = lambda r: 3 * math.degrees(math.sqrt(np.linalg.eigvalsh(r.covariance[-1][:3, :3]).max()))  # noqa: E731
+
+    def s3(r: GyroGnssResult) -> float:
+        return 3 * math.degrees(math.sqrt(np.linalg.eigvalsh(r.covariance[-1][:3, :3]).max()))
+
     return {
         "tight_3sigma_deg": s3(tight),
         "loose_3sigma_deg": s3(loose),
@@ -254,7 +257,8 @@ def linearity_trial(rng: np.random.Generator, *, sigma_att_deg: float) -> float:
 
 
 def _rms(x: np.ndarray, axis: Any = None) -> np.ndarray:
-    return np.sqrt(np.mean(np.square(x, dtype=np.float64), axis=axis))
+    rms: np.ndarray = np.sqrt(np.mean(np.square(x, dtype=np.float64), axis=axis))  # np.mean is typed Any
+    return rms
 
 
 def run(
@@ -348,7 +352,10 @@ def _sensitivity(mc: Any, runs: int) -> dict[str, Any]:
 
     def sigmas(mis: float, base: float) -> tuple[float, float]:
         r = sensitivity_trial(np.random.default_rng(0), misalignment_deg=mis, baseline_mm=base, draw=False)
-        worst = lambda p: math.degrees(math.sqrt(float(np.max(np.diag(p)[:3]))))  # noqa: E731
+
+        def worst(p: np.ndarray) -> float:
+            return math.degrees(math.sqrt(float(np.max(np.diag(p)[:3]))))
+
         return worst(r["reported"]), worst(r["true"])
 
     base_sweep = [sigmas(0.0, b) for b in BASELINE_ERRORS_MM]

@@ -48,7 +48,10 @@ def yaw_errors(inclination_deg: float, channel: str, u_deg: np.ndarray) -> dict[
         warnings.simplefilter("ignore", NearDegenerateWarning)  # near-polar: reported, not hidden (below)
         eq3 = yaw_from_magnetometer(measured, b_orb, np.full(len(u_deg), theta), np.full(len(u_deg), phi))
         tri = triad(truth.inv().apply(up), measured, up, b_orb)
-    wrap = lambda a: (a - TRUTH_DEG[0] + 180.0) % 360.0 - 180.0  # noqa: E731
+
+    def wrap(a: np.ndarray) -> np.ndarray:
+        return (a - TRUTH_DEG[0] + 180.0) % 360.0 - 180.0
+
     return {
         "triad": wrap(tri.rotation.as_euler("ZYX", degrees=True)[:, 0]),
         "eq3": wrap(np.degrees(eq3.yaw_rad)),

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from gnssatt import montecarlo
-from gnssatt.attitude.matrix_method import matrix_attitude
+from gnssatt.attitude.matrix_method import Method, matrix_attitude
 from gnssatt.errors import DegenerateGeometryError
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
@@ -34,7 +34,7 @@ PHASE_SIGMA_M = 0.004
 RANGE_DIFF_SIGMA_M = PHASE_SIGMA_M * np.sqrt(2.0)
 ELEVATION_MASK_DEG = 10.0
 N_SATELLITES = 3
-METHODS = ("svd", "ml")
+METHODS: tuple[Method, ...] = ("svd", "ml")
 ANGLES = ("heading", "pitch", "roll")
 # A trial whose total error exceeds this many Cramer-Rao bounds fell into the mirror solution.
 OUTLIER_BOUNDS = 5.0

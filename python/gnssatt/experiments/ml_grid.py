@@ -22,9 +22,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gnssatt import montecarlo, sim
-from gnssatt.attitude.likelihood import likelihood_grid, ml_attitude, rotation_from_euler
+from gnssatt.attitude.likelihood import StatisticName, likelihood_grid, ml_attitude, rotation_from_euler
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 
@@ -42,9 +43,9 @@ ANOMALY_DEG = 5.0
 RECEIVER = {"lat_deg": 50.0, "lon_deg": 36.2, "height_m": 150.0}
 
 
-def scenario(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Lines of sight (8, 3) ENU and wavelengths (8,) of the 8 highest GPS satellites at a random time, and
-    an attitude (psi, theta, phi) in degrees (eq. (5))."""
+def scenario(rng: np.random.Generator) -> tuple[sim.Geometry, NDArray[np.float64], NDArray[np.float64]]:
+    """The geometry of the 8 highest GPS satellites at a random time (``los`` (8, 3) ENU), their wavelengths
+    (8,) in metres, and an attitude (psi, theta, phi) in degrees (eq. (5))."""
     gps = sim.gps_nominal()
     rx = sim.GroundReceiver(**RECEIVER)
     while True:
@@ -73,11 +74,12 @@ def trial(rng: np.random.Generator, *, sigma_rad: float) -> dict[str, float]:
     consistent = unwrapped - 2 * np.pi * meas.ambiguities
     consistent = consistent[1:] - consistent[0]
     row: dict[str, float] = {}
-    for name, p, statistic in (
+    cases: tuple[tuple[str, NDArray[np.float64], StatisticName], ...] = (
         ("af", wrapped, "ambiguity_function"),
         ("dd", wrapped, "double_difference"),
         ("mean_oracle", consistent, "mean"),
-    ):
+    )
+    for name, p, statistic in cases:
         est = ml_attitude(p, geom.los, antennas[1:], lam, statistic=statistic, step_deg=STEP_DEG)
         err = (est.euler_gost_deg - truth + 180.0) % 360.0 - 180.0
         row |= {f"{name}_{a}": float(e) for a, e in zip(ANGLES, err, strict=True)}

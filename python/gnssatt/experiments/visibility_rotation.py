@@ -55,7 +55,8 @@ def random_initial_state(rng: np.random.Generator) -> np.ndarray:
         w = rng.uniform(-1.0, 1.0, 3)
         if w @ w <= 1.0:
             break
-    return np.r_[angles, w * math.radians(MAX_RATE_DEG_S)]
+    state: np.ndarray = np.r_[angles, w * math.radians(MAX_RATE_DEG_S)]  # numpy types np.r_ as Any
+    return state
 
 
 def noisy_axes(rng: np.random.Generator, axes: np.ndarray, sigma_deg: float) -> np.ndarray:
@@ -66,7 +67,8 @@ def noisy_axes(rng: np.random.Generator, axes: np.ndarray, sigma_deg: float) -> 
     e2 = np.cross(axes, e1)
     d = rng.normal(0.0, math.radians(sigma_deg), (len(axes), 2))
     out = axes + d[:, :1] * e1 + d[:, 1:] * e2
-    return out / np.linalg.norm(out, axis=1, keepdims=True)
+    unit: np.ndarray = out / np.linalg.norm(out, axis=1, keepdims=True)  # norm over an axis is typed Any
+    return unit
 
 
 def visibility_axes(rng: np.random.Generator, t: np.ndarray, axes: np.ndarray) -> np.ndarray:

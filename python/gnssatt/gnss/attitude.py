@@ -23,7 +23,7 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from os import PathLike
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -136,7 +136,8 @@ class AttitudeSeries:
     @property
     def solved(self) -> NDArray[np.bool_]:
         """(n,) epochs with every angle finite."""
-        return np.all(np.isfinite(self.angles_deg), axis=1)
+        solved: NDArray[np.bool_] = np.all(np.isfinite(self.angles_deg), axis=1)  # np.all is typed Any
+        return solved
 
     @property
     def baseline_length_m(self) -> float:
@@ -406,7 +407,7 @@ def attitude_from_rinex(
 
     method = choice("method", method, ("auto", "ml", "lambda"))
     if motion is not None:
-        motion = choice("motion", motion, ("static", "moving"))
+        motion = choice("motion", motion, get_args(MotionName))
     continuity = flag("continuity", continuity)
     systems = _systems(systems)
     n_freq = _frequencies(frequencies)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -132,8 +133,8 @@ class NavInput:
         GPS - UTC from the header, or None.
     """
 
-    kepler: dict[str, NDArray]
-    glonass: dict[str, NDArray]
+    kepler: dict[str, NDArray[Any]]
+    glonass: dict[str, NDArray[Any]]
     klobuchar: NDArray[np.float64] | None
     leap_seconds: int | None
 
@@ -210,7 +211,7 @@ def _common(times: list[NDArray[np.int64]], tol: int) -> list[NDArray[np.int64]]
 def _carried_lli(lli: NDArray[np.uint8], kept: NDArray[np.int64]) -> NDArray[np.uint8]:
     """LLI at the kept epochs with bit 0 of the dropped epochs since the previous kept one ORed in (a slip
     flagged at an epoch the session does not see still happened)."""
-    out = lli[kept].copy()
+    out: NDArray[np.uint8] = lli[kept].copy()  # numpy types fancy indexing as Any
     lost = (lli & 1).astype(bool)
     # epoch e's slip belongs to the first kept epoch at or after it
     owner = np.searchsorted(kept, np.arange(len(lli)))
@@ -458,7 +459,7 @@ def _common_sats(
             if s[0] not in used:
                 continue
             cols = [o.codes.index(c.phase) for c in ch[s[0]] if c.phase is not None]
-            if cols and np.isfinite(o.data[np.ix_(kept, [k], cols)]).any():
+            if cols and np.isfinite(o.data[np.ix_(kept, np.array([k]), np.array(cols))]).any():
                 seen.add(s)
         common = seen if common is None else common & seen
     return tuple(sorted(common or (), key=lambda s: (SYSTEMS.index(s[0]), int(s[1:]))))
@@ -505,7 +506,7 @@ def nav_input(nav: RinexNav) -> NavInput:
     f = k.fields
     system = np.array([s[0] for s in k.sats.tolist()], dtype="U1")
     gps_like = (system == "G") | (system == "J")
-    kepler: dict[str, NDArray] = {
+    kepler: dict[str, NDArray[Any]] = {
         "sat": np.asarray(k.sats, dtype="U3"),
         "toc_gpst_ns": np.ascontiguousarray(k.toc_ns, dtype=np.int64),
         "toe_gpst_ns": np.ascontiguousarray(k.toe_ns, dtype=np.int64),
@@ -522,7 +523,7 @@ def nav_input(nav: RinexNav) -> NavInput:
     )
     kepler["data_source"] = np.where(system == "E", f["codes_l2"], np.nan)
     g = nav.glonass
-    glonass: dict[str, NDArray] = {
+    glonass: dict[str, NDArray[Any]] = {
         "sat": np.asarray(g.sats, dtype="U3"),
         "tb_gpst_ns": np.ascontiguousarray(g.tb_ns, dtype=np.int64),
         "clock_bias_s": np.ascontiguousarray(g.clock_bias, dtype=np.float64),

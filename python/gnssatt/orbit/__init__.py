@@ -9,7 +9,6 @@ velocities relative to the rotating Earth. ``ECEF = Rz(theta) ECI`` with ``theta
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -78,13 +77,13 @@ class GlonassModel:
                 f"{self.equatorial_radius_m}"
             )
 
-    def _kwargs(self) -> dict[str, Any]:
+    def _kwargs(self) -> _core._GlonassModelArgs:
         return {
             "gm_m3_s2": self.gm_m3_s2,
             "j2": self.j2,
             "equatorial_radius_m": self.equatorial_radius_m,
             "omega_rad_s": self.omega_rad_s,
-            "lunisolar_m_s2": list(self.lunisolar_m_s2),
+            "lunisolar_m_s2": self.lunisolar_m_s2,
         }
 
 

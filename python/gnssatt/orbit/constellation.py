@@ -258,7 +258,7 @@ def gps_nominal(*, extra_slots_deg: Sequence[tuple[float, float]] = ()) -> Const
         More than ``MAX_SATELLITES - 24`` extra satellites.
     """
     pairs = list(GPS_BASELINE_SLOTS.values())
-    extra = list(instance("extra_slots_deg", extra_slots_deg, Sequence, "a sequence of (raan, u) pairs"))
+    extra = list(instance("extra_slots_deg", extra_slots_deg, (Sequence,), "a sequence of (raan, u) pairs"))
     if len(extra) > MAX_SATELLITES - 24:
         raise WorkLimitError(f"{len(extra)} extra_slots_deg exceed the limit of {MAX_SATELLITES - 24}")
     for k, p in enumerate(extra):

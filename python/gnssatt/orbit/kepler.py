@@ -142,7 +142,15 @@ class KeplerOrbits:
     ) -> KeplerOrbits:
         """Circular orbits (e = 0, argument of perigee 0) from the argument of latitude at ``t = 0``."""
         u = np.atleast_1d(checked_array("arg_latitude_rad", arg_latitude_rad, ndim=(0, 1), shape="(n,)"))
-        return cls(semi_major_axis_m, np.zeros_like(u), inclination_rad, raan_rad, np.zeros_like(u), u)
+        a, i, raan = (
+            checked_array(k, v, ndim=(0, 1), shape="(n,)")
+            for k, v in (
+                ("semi_major_axis_m", semi_major_axis_m),
+                ("inclination_rad", inclination_rad),
+                ("raan_rad", raan_rad),
+            )
+        )
+        return cls(a, np.zeros_like(u), i, raan, np.zeros_like(u), u)
 
     def __len__(self) -> int:
         return int(self.semi_major_axis_m.shape[0])

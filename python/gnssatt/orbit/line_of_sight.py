@@ -188,7 +188,7 @@ class Geometry:
 
 def _attitude_matrices(attitude: Any, n_t: int | None) -> NDArray[np.float64]:
     instance("attitude", attitude, Rotation, "a scipy Rotation")
-    m = attitude.as_matrix()
+    m: NDArray[np.float64] = attitude.as_matrix()
     if m.ndim == 3:
         if n_t is None or m.shape[0] != n_t:
             want = "a single Rotation" if n_t is None else f"a single Rotation or {n_t} rotations"
@@ -215,7 +215,8 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
     m = _attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
     if m.ndim == 3:
-        return np.einsum("tji,tkj->tki", m, g)
+        body: NDArray[np.float64] = np.einsum("tji,tkj->tki", m, g)  # numpy types einsum's result as Any
+        return body
     return g @ m
 
 

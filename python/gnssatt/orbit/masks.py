@@ -33,7 +33,9 @@ def elevation_mask(los_ref: ArrayLike, mask_deg: float = 0.0) -> NDArray[np.bool
     m = scalar("mask_deg", mask_deg)
     if abs(m) > 90:
         raise InvalidInputError(f"expected mask_deg in [-90, 90], got {m}")
-    return g[..., 2] / np.linalg.norm(g, axis=-1) >= np.sin(np.radians(m))
+    # typed here: numpy types np.linalg.norm over an axis as Any
+    above: NDArray[np.bool_] = g[..., 2] / np.linalg.norm(g, axis=-1) >= np.sin(np.radians(m))
+    return above
 
 
 def antenna_cone_mask(
@@ -65,7 +67,9 @@ def antenna_cone_mask(
     vector_array("los_ref", los_ref, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)", nonzero=True)
     g_body = los_body(los_ref, attitude)
     cos_angle = g_body @ (b / np.linalg.norm(b)) / np.linalg.norm(g_body, axis=-1)
-    return cos_angle >= np.cos(np.radians(h)) - 1e-12
+    # typed here: numpy types np.linalg.norm over an axis as Any
+    inside: NDArray[np.bool_] = cos_angle >= np.cos(np.radians(h)) - 1e-12
+    return inside
 
 
 def earth_occlusion_mask(
@@ -103,4 +107,6 @@ def earth_occlusion_mask(
     dd = np.sum(d * d, axis=-1)
     frac = np.clip(-np.sum(r * d, axis=-1) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
     closest = r + frac[..., None] * d
-    return np.linalg.norm(closest, axis=-1) > big_r
+    # typed here: numpy types np.linalg.norm over an axis as Any
+    clear: NDArray[np.bool_] = np.linalg.norm(closest, axis=-1) > big_r
+    return clear

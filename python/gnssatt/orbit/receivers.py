@@ -157,7 +157,7 @@ class OrbitalReceiver:
 
     def arg_latitude_rad(self, t: ArrayLike) -> NDArray[np.float64]:
         """Argument of latitude ``u(t) = u0 + n t``, rad (not wrapped), shape of ``t``."""
-        return np.radians(self.arg_latitude_deg) + self.mean_motion_rad_s * time_array(t)
+        return float(np.radians(self.arg_latitude_deg)) + self.mean_motion_rad_s * time_array(t)
 
     def dcm_eci_from_orbital(self, t: ArrayLike) -> NDArray[np.float64]:
         """Rotation orbital frame -> ECI at ``t``, (3, 3) or (n_t, 3, 3).
@@ -172,7 +172,8 @@ class OrbitalReceiver:
         in_plane = np.stack(
             [np.stack([-s, z, c], -1), np.stack([c, z, s], -1), np.stack([z, np.ones_like(u), z], -1)], -2
         )
-        return q @ in_plane
+        dcm: NDArray[np.float64] = q @ in_plane
+        return dcm
 
     def dcm_eci_from_reference(self, t: ArrayLike) -> NDArray[np.float64]:
         """Rotation reference frame (orbital) -> ECI at ``t``, (3, 3) or (n_t, 3, 3)."""

@@ -27,6 +27,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gnssatt._arrays import instance, integer, scalar
 from gnssatt.errors import InvalidInputError
@@ -164,7 +165,8 @@ def _usable(obs: RinexObs, system: str) -> list[list[str]]:
     rows = np.array([s[0] == system for s in obs.sats], dtype=bool)
     present = set()
     if rows.any():
-        filled = np.isfinite(obs.data[:, rows, :]).any(axis=(0, 1))
+        # np.any rather than the method: numpy types the method over axes as a scalar or an array
+        filled: NDArray[np.bool_] = np.any(np.isfinite(obs.data[:, rows, :]), axis=(0, 1))
         present = {c for c, f in zip(obs.codes, filled, strict=True) if f}
     return [
         [c for c in types if c in present and c[1] in bands and c[0] in "CPLDS"]

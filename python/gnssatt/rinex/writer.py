@@ -61,7 +61,8 @@ def _hdr(text: str, label: str) -> str:
 
 
 def _parts(t: np.datetime64) -> tuple[int, int, int, int, int, float]:
-    s = str(np.datetime64(t, "ns"))
+    # numpy's stubs have no datetime64(datetime64, unit) overload; numpy converts the unit
+    s = str(np.datetime64(t, "ns"))  # type: ignore[call-overload]
     date, clock = s.split("T")
     y, mo, d = (int(x) for x in date.split("-"))
     hh, mi, sec = clock.split(":")
@@ -145,7 +146,8 @@ def write_obs(
     channels = _glonass_channels(glonass_channels)
     systems = sorted({s[0] for s in sats})
     sys_of = np.array([s[0] for s in sats])
-    has = np.isfinite(data).any(axis=0)  # (n_sat, n_codes)
+    # np.any rather than the method: numpy types the method over an axis as a scalar or an array
+    has: NDArray[np.bool_] = np.any(np.isfinite(data), axis=0)  # (n_sat, n_codes)
     sys_codes = {}
     for sy in systems:
         cols = [j for j in range(len(codes)) if has[sys_of == sy, j].any()]
@@ -311,7 +313,8 @@ def write_nav_from_constellation(
     epoch = time_labels("epoch_gpst", epoch_gpst)
     if epoch.ndim != 0:
         raise InvalidInputError(f"expected epoch_gpst as one datetime64 label, got shape {epoch.shape}")
-    epoch_gpst = epoch[()]
+    # numpy's stubs type [()] as an array; on this 0-d array it is the datetime64 scalar
+    epoch_gpst = epoch[()]  # type: ignore[assignment]
     start = round(scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s"))
     span_s = scalar("span_s", span_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     ids = constellation.ids

@@ -20,7 +20,7 @@ Conventions (``docs/conventions.md``, "Gyro + GNSS filter"):
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -75,7 +75,8 @@ def right_jacobian(a: ArrayLike) -> NDArray[np.float64]:
     ths = np.where(small, 1.0, th)
     c1 = np.where(small, 0.5 - th**2 / 24.0, (1.0 - np.cos(ths)) / ths**2)
     c2 = np.where(small, 1.0 / 6.0 - th**2 / 120.0, (ths - np.sin(ths)) / ths**3)
-    return np.eye(3) - c1 * k + c2 * (k @ k)
+    jac: NDArray[np.float64] = np.eye(3) - c1 * k + c2 * (k @ k)  # numpy types np.where's result as Any
+    return jac
 
 
 def orbital_hold_motion(
@@ -353,7 +354,8 @@ def attitude_fixes(
     np.add.at(info, phases.epoch, np.einsum("rim,rin->rmn", h, h))
     try:
         np.linalg.cholesky(info[keep])
-        cov = sigma**2 * np.linalg.inv(info[keep])
+        # numpy types inv of a float64 array as floating[Any]; it is float64
+        cov = cast(NDArray[np.float64], sigma**2 * np.linalg.inv(info[keep]))
         root = np.linalg.cholesky(cov)
     except np.linalg.LinAlgError as exc:
         bad = [int(k) for k in keep if np.linalg.matrix_rank(info[k]) < 3][:5]

@@ -192,7 +192,8 @@ def _vector(name: str, value: Any, n: int, what: str) -> NDArray[np.float64]:
     arr = checked_array(name, value, ndim=(0, 1), shape=f"() or ({what},)")
     if arr.ndim == 1 and arr.shape != (n,):
         raise InvalidInputError(f"expected {name} of shape () or ({n},) ({what}), got {arr.shape}")
-    return np.broadcast_to(arr, (n,)).copy()
+    full: NDArray[np.float64] = np.broadcast_to(arr, (n,)).copy()  # numpy types broadcast_to as Any
+    return full
 
 
 def simulate_array(

@@ -521,7 +521,8 @@ def simulate_gnss_rinex(
         else np.random.default_rng(None if rng is None else integer("rng", rng, minimum=0))
     )
     if receiver_clock_s is None:
-        dt_rx = gen.uniform(-1e-4, 1e-4, size=n_ant)
+        # a shape tuple: with an untyped int size numpy's stubs pick the overload of a single float draw
+        dt_rx = gen.uniform(-1e-4, 1e-4, size=(n_ant,))
     else:
         dt_rx = shaped("receiver_clock_s", receiver_clock_s, f"({n_ant},)", (n_ant,))
         if np.any(np.abs(dt_rx) > MAX_CLOCK_S):

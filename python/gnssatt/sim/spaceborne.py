@@ -46,7 +46,7 @@ MAX_OUTAGES = 10_000
 
 
 def _outages(outages: Sequence[tuple[float, float, int]]) -> list[tuple[float, float, int]]:
-    windows = list(instance("outages", outages, Sequence, "a sequence of (t_start_s, t_end_s, max_sats)"))
+    windows = list(instance("outages", outages, (Sequence,), "a sequence of (t_start_s, t_end_s, max_sats)"))
     if len(windows) > MAX_OUTAGES:
         raise WorkLimitError(f"{len(windows)} outages windows exceed the limit of {MAX_OUTAGES}")
     out = []
