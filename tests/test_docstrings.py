@@ -46,12 +46,6 @@ API_INDEX = ROOT / "docs" / "api" / "index.md"
 
 #: Functions whose docstrings still lack sections: qualified name -> the missing sections.
 KNOWN_MISSING: dict[str, tuple[str, ...]] = {
-    "gnssatt.ambiguity.bootstrap_success_rate": ("Returns", "Raises", "Examples"),
-    "gnssatt.ambiguity.lambda_decorrelate": ("Examples",),
-    "gnssatt.ambiguity.lambda_ils": ("Examples",),
-    "gnssatt.ambiguity.partial_fix": ("Returns", "Examples"),
-    "gnssatt.ambiguity.ratio_test": ("Examples",),
-    "gnssatt.ambiguity.ratio_threshold_fixed_failure_rate": ("Returns", "Examples"),
     "gnssatt.attitude.dynamics.axis_cost": ("Parameters", "Returns", "Raises", "Examples"),
     "gnssatt.attitude.dynamics.fit_rotation": ("Examples",),
     "gnssatt.attitude.dynamics.fold_symmetric": ("Parameters", "Returns", "Raises", "Examples"),
