@@ -46,15 +46,6 @@ API_INDEX = ROOT / "docs" / "api" / "index.md"
 
 #: Functions whose docstrings still lack sections: qualified name -> the missing sections.
 KNOWN_MISSING: dict[str, tuple[str, ...]] = {
-    "gnssatt.attitude.dynamics.axis_cost": ("Parameters", "Returns", "Raises", "Examples"),
-    "gnssatt.attitude.dynamics.fit_rotation": ("Examples",),
-    "gnssatt.attitude.dynamics.fold_symmetric": ("Parameters", "Returns", "Raises", "Examples"),
-    "gnssatt.attitude.dynamics.noise_cost_threshold": ("Returns", "Raises", "Examples"),
-    "gnssatt.attitude.dynamics.propagate": ("Parameters", "Returns", "Raises", "Examples"),
-    "gnssatt.attitude.dynamics.propagate_axes": ("Examples",),
-    "gnssatt.attitude.gyro_gnss.gyro_gnss_filter": ("Returns", "Examples"),
-    "gnssatt.attitude.gyro_gnss.gyro_propagate": ("Examples",),
-    "gnssatt.attitude.visibility.visibility_axis": ("Examples",),
     "gnssatt.experiments.get": ("Examples",),
     "gnssatt.gnss.attitude.attitude_from_rinex": ("Examples",),
     "gnssatt.magnetic.dcm_ned_from_ecef": ("Parameters", "Returns", "Examples"),
