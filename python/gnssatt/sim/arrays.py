@@ -138,8 +138,9 @@ def random_los(
     Raises
     ------
     InvalidInputError
-        ``rng`` not an int, Generator or None, ``n_sat`` not an integer >= 1, ``min_elevation_deg`` outside
-        [-90, 90) (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong type).
+        A negative ``rng`` seed, ``n_sat`` below 1, ``min_elevation_deg`` outside [-90, 90)
+        (:class:`~gnssatt.errors.InvalidTypeError` for an ``rng`` that is not an int, Generator or None, and
+        other values of the wrong type).
     WorkLimitError
         ``n_sat`` above ``MAX_DRAWS`` (1e7).
 
