@@ -56,10 +56,6 @@ KNOWN_MISSING: dict[str, tuple[str, ...]] = {
     "gnssatt.magnetic.dipole_orbital": ("Examples",),
     "gnssatt.magnetic.geodetic_to_ecef": ("Parameters", "Returns", "Examples"),
     "gnssatt.magnetic.igrf_field_ecef": ("Parameters", "Returns", "Examples"),
-    "gnssatt.sim.measurements.correlator_amplitude": ("Returns", "Raises", "Examples"),
-    "gnssatt.sim.measurements.phase_diffs": ("Raises", "Examples"),
-    "gnssatt.sim.measurements.simulate_array": ("Examples",),
-    "gnssatt.sim.spaceborne.simulate_spaceborne": ("Returns", "Examples"),
 }
 
 
