@@ -48,14 +48,6 @@ API_INDEX = ROOT / "docs" / "api" / "index.md"
 KNOWN_MISSING: dict[str, tuple[str, ...]] = {
     "gnssatt.experiments.get": ("Examples",),
     "gnssatt.gnss.attitude.attitude_from_rinex": ("Examples",),
-    "gnssatt.magnetic.dcm_ned_from_ecef": ("Parameters", "Returns", "Examples"),
-    "gnssatt.magnetic.dipole_coefficients": ("Parameters", "Returns", "Raises", "Examples"),
-    "gnssatt.magnetic.dipole_field_ecef": ("Returns", "Examples"),
-    "gnssatt.magnetic.dipole_field_eci": ("Parameters", "Returns", "Raises", "Examples"),
-    "gnssatt.magnetic.dipole_field_ned": ("Raises", "Examples"),
-    "gnssatt.magnetic.dipole_orbital": ("Examples",),
-    "gnssatt.magnetic.geodetic_to_ecef": ("Parameters", "Returns", "Examples"),
-    "gnssatt.magnetic.igrf_field_ecef": ("Parameters", "Returns", "Examples"),
 }
 
 
