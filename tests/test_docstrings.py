@@ -12,8 +12,7 @@ docstring is parsed with :class:`numpydoc.docscrape.FunctionDoc` and must have
 - ``Examples``, which the second test runs as doctests.
 
 Classes are documented by the examples of the functions that make them; exceptions and constants carry no
-sections. Functions still missing sections are listed in :data:`KNOWN_MISSING`; an entry that is complete
-fails the test, so the list only shrinks.
+sections. Every public function has all its sections: a new one without them fails here.
 
 The doctests run through :mod:`doctest` on the imported package rather than through
 ``pytest --doctest-modules python/gnssatt``: CI runs this suite a second time against the installed wheel
@@ -43,12 +42,6 @@ import gnssatt  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 API_INDEX = ROOT / "docs" / "api" / "index.md"
-
-#: Functions whose docstrings still lack sections: qualified name -> the missing sections.
-KNOWN_MISSING: dict[str, tuple[str, ...]] = {
-    "gnssatt.experiments.get": ("Examples",),
-    "gnssatt.gnss.attitude.attitude_from_rinex": ("Examples",),
-}
 
 
 def api_modules() -> list[str]:
@@ -142,10 +135,7 @@ def test_missing_sections_are_detected() -> None:
 @pytest.mark.parametrize("name", sorted(FUNCTIONS))
 def test_numpydoc_sections(name: str) -> None:
     missing = missing_sections(FUNCTIONS[name])
-    expected = KNOWN_MISSING.get(name, ())
-    if expected:
-        assert missing, f"{name} is complete now: remove it from KNOWN_MISSING"
-    assert missing == expected, f"{name}: docstring lacks {', '.join(missing)} (numpydoc sections)"
+    assert not missing, f"{name}: docstring lacks {', '.join(missing)} (numpydoc sections)"
 
 
 def package_modules() -> list[str]:
