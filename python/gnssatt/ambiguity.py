@@ -157,6 +157,20 @@ def lambda_ils(
         ``candidates > MAX_CANDIDATES`` or n > :data:`MAX_DIMENSION`.
     ConvergenceError
         The search exceeded :data:`MAX_NODES`, or an exactness check failed (the message gives the numbers).
+
+    Examples
+    --------
+    Two independent ambiguities of variance 0.01 cycles²: the best vector rounds each, the second moves the
+    one nearer to half a cycle; ``(0.1² + 0.05²) / 0.01 = 1.25`` and ``(0.9² + 0.05²) / 0.01 = 81.25``:
+
+    >>> import numpy as np
+    >>> from gnssatt import lambda_ils
+    >>> fixed, squared_norms = lambda_ils([1.1, -2.05], np.diag([0.01, 0.01]))
+    >>> fixed
+    array([[ 1, -2],
+           [ 2, -2]])
+    >>> np.round(squared_norms, 6)
+    array([ 1.25, 81.25])
     """
     a, q = _problem(float_ambiguities, covariance)
     m = integer("candidates", candidates, minimum=1, maximum=MAX_CANDIDATES)
@@ -191,6 +205,21 @@ def lambda_decorrelate(
         As :func:`lambda_ils` for the covariance.
     ConvergenceError
         ``Z`` would need entries beyond 2^52, or the identity ``Z.T Q Z = L.T D L`` fails its check.
+
+    Examples
+    --------
+    A strongly correlated pair (variances 1.0 and 0.9): the difference of the two ambiguities, the last
+    column of ``Z``, has variance ``1.0 - 2 * 0.94 + 0.9 = 0.02``:
+
+    >>> import numpy as np
+    >>> from gnssatt import lambda_decorrelate
+    >>> Q = np.array([[1.0, 0.94], [0.94, 0.9]])
+    >>> Z, L, D = lambda_decorrelate(Q)
+    >>> Z
+    array([[-2,  1],
+           [ 3, -1]])
+    >>> np.round(D, 6)
+    array([0.82, 0.02])
     """
     out = _core.lambda_decorrelate(_covariance(covariance))
     return out.z, out.l, out.d
@@ -206,6 +235,27 @@ def bootstrap_success_rate(covariance: ArrayLike) -> float:
     ----------
     covariance
         (n, n) symmetric positive-definite covariance of the float ambiguities, cycles².
+
+    Returns
+    -------
+    float
+        Probability in [0, 1] that bootstrapping fixes the correct integers.
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`lambda_ils` for the covariance.
+    ConvergenceError
+        As :func:`lambda_decorrelate`.
+
+    Examples
+    --------
+    Two independent ambiguities of standard deviation 0.1 cycles: ``(2 Phi(5) - 1)^2``:
+
+    >>> import numpy as np
+    >>> from gnssatt import bootstrap_success_rate
+    >>> round(bootstrap_success_rate(np.diag([0.01, 0.01])), 7)
+    0.9999989
     """
     return _core.lambda_bootstrap_success_rate(_covariance(covariance))
 
@@ -232,6 +282,11 @@ def ratio_threshold_fixed_failure_rate(
     seed
         Seed of the simulation (one independent stream per sample), 0 <= seed < 2^64.
 
+    Returns
+    -------
+    float
+        The threshold ``c >= 1``.
+
     Raises
     ------
     InvalidInputError
@@ -241,6 +296,17 @@ def ratio_threshold_fixed_failure_rate(
         ``samples > MAX_SAMPLES``.
     ConvergenceError
         A simulated search exceeded its share of the 1e9 nodes of the whole simulation.
+
+    Examples
+    --------
+    A 1 % failure rate for two independent ambiguities of standard deviation 0.32 cycles, from 10,000
+    seeded samples (the same seed gives the same ``c``):
+
+    >>> import numpy as np
+    >>> from gnssatt import ratio_threshold_fixed_failure_rate
+    >>> c = ratio_threshold_fixed_failure_rate(np.diag([0.1, 0.1]), 0.01, samples=10_000, seed=0)
+    >>> round(c, 2)
+    12.91
     """
     q = _covariance(covariance)
     rate = scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True)
@@ -312,6 +378,17 @@ def ratio_test(
         As :func:`lambda_ils` and :func:`ratio_threshold_fixed_failure_rate`; the two candidates are exact
         or the call raises. ``ConvergenceError`` also when both squared norms underflow to 0 (the ratio
         would be 0/0).
+
+    Examples
+    --------
+    The ratio of the two best squared norms of the :func:`lambda_ils` example, ``81.25 / 1.25 = 65``, passes
+    the default threshold 3:
+
+    >>> import numpy as np
+    >>> from gnssatt import ratio_test
+    >>> result = ratio_test([1.1, -2.05], np.diag([0.01, 0.01]))
+    >>> bool(result.accepted), round(result.ratio, 6), result.fixed
+    (True, 65.0, array([ 1, -2]))
     """
     a, q = _problem(float_ambiguities, covariance)
     out = _core.lambda_ratio_test(a, q, *_threshold(threshold, failure_rate, samples, seed))
@@ -390,12 +467,31 @@ def partial_fix(
     threshold, failure_rate, samples, seed
         The ratio test applied to each subset, as in :func:`ratio_test`.
 
+    Returns
+    -------
+    PartialFixResult
+        The number of fixed decorrelated ambiguities, their integer combinations and values, the ratio and
+        threshold of the subset fixed, its bootstrapped success rate, and the float ambiguities and covariance
+        conditioned on it.
+
     Raises
     ------
     InvalidInputError, WorkLimitError, ConvergenceError
         As :func:`ratio_test`; the norms of each subset are recomputed from ``Z_k.T @ a`` and
         ``Z_k.T @ Q @ Z_k`` and checked, and the fixed values are exact integers within
         :data:`MAX_ABS_AMBIGUITY`, or the call raises.
+
+    Examples
+    --------
+    Three correlated ambiguities whose full set fails the ratio test (ratio 1.41 < 3); the two most precise
+    decorrelated ambiguities pass it and are fixed:
+
+    >>> import numpy as np
+    >>> from gnssatt import partial_fix
+    >>> Q = np.array([[6.29, 5.978, 0.544], [5.978, 6.292, 2.340], [0.544, 2.340, 6.288]])
+    >>> result = partial_fix([5.45, 3.10, 2.97], Q)
+    >>> result.fixed_count, round(result.ratio, 2), result.values
+    (2, 3.49, array([10,  2]))
     """
     a, q = _problem(float_ambiguities, covariance)
     settings = _threshold(threshold, failure_rate, samples, seed)

@@ -97,7 +97,19 @@ def glonass_frequency_hz(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
 
     Returns
     -------
-    Frequencies in Hz, same shape as ``k``.
+    ndarray
+        Frequencies in Hz, same shape as ``k``.
+
+    Raises
+    ------
+    InvalidInputError
+        A channel outside -7..6 or not an integer, or a band other than ``"L1"``/``"L2"``.
+
+    Examples
+    --------
+    >>> from gnssatt.constants import glonass_frequency_hz
+    >>> glonass_frequency_hz([-7, 0, 6]) / 1e6
+    array([1598.0625, 1602.    , 1605.375 ])
     """
     ch = _channels(k)
     if band == "L1":
@@ -110,5 +122,31 @@ def glonass_frequency_hz(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
 
 
 def glonass_wavelength_m(k: ArrayLike, band: str = "L1") -> NDArray[np.float64]:
-    """GLONASS carrier wavelength of channel ``k`` in metres (``c / glonass_frequency_hz(k, band)``)."""
+    """GLONASS carrier wavelength of channel ``k`` in metres (``c / glonass_frequency_hz(k, band)``).
+
+    Parameters
+    ----------
+    k
+        Channel number(s), integers in -7..6, any shape.
+    band
+        ``"L1"`` or ``"L2"``.
+
+    Returns
+    -------
+    ndarray
+        Wavelengths in m, same shape as ``k``.
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`glonass_frequency_hz`.
+
+    Examples
+    --------
+    Channel 0 on L1: 299792458 m/s / 1602 MHz:
+
+    >>> from gnssatt.constants import glonass_wavelength_m
+    >>> round(float(glonass_wavelength_m(0)), 5)
+    0.18714
+    """
     return SPEED_OF_LIGHT_M_S / glonass_frequency_hz(k, band)

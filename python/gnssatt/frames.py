@@ -50,17 +50,96 @@ _GEODETIC_ITERATIONS = 60
 
 
 def earth_rotation_angle(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
-    """Earth rotation angle ``theta0 + OMEGA_E t`` in radians (not wrapped), shape of ``t``."""
+    """Earth rotation angle ``theta0 + OMEGA_E t`` in radians (not wrapped), shape of ``t``.
+
+    Parameters
+    ----------
+    t
+        Seconds from the epoch, shape () or (n_t,).
+    theta0_rad
+        Earth rotation angle at ``t = 0``, rad.
+
+    Returns
+    -------
+    ndarray
+        Angle in rad, shape of ``t``.
+
+    Raises
+    ------
+    InvalidInputError
+        A non-finite or non-numeric ``t`` or ``theta0_rad``, or ``t`` of more than one axis.
+
+    Examples
+    --------
+    One sidereal day (86164.0905 s) turns the Earth by 2 pi:
+
+    >>> from gnssatt.frames import earth_rotation_angle
+    >>> round(float(earth_rotation_angle(86164.0905)), 4)
+    6.2832
+    """
     return scalar("theta0_rad", theta0_rad) + OMEGA_E_RAD_S * time_array(t)
 
 
 def dcm_eci_from_ecef(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
-    """Rotation ECEF -> ECI at time ``t``: ``Rz(theta(t))``, shape (3, 3) or (n_t, 3, 3)."""
+    """Rotation ECEF -> ECI at time ``t``: ``Rz(theta(t))``, shape (3, 3) or (n_t, 3, 3).
+
+    Parameters
+    ----------
+    t
+        Seconds from the epoch, shape () or (n_t,).
+    theta0_rad
+        Earth rotation angle at ``t = 0``, rad.
+
+    Returns
+    -------
+    ndarray
+        ``v_eci = dcm @ v_ecef``, shape (3, 3), or (n_t, 3, 3) for ``t`` of shape (n_t,).
+
+    Raises
+    ------
+    InvalidInputError
+        A non-finite or non-numeric ``t`` or ``theta0_rad``, or ``t`` of more than one axis.
+
+    Examples
+    --------
+    A quarter of a sidereal day later the ECEF x axis points along ECI y:
+
+    >>> import numpy as np
+    >>> from gnssatt.frames import dcm_eci_from_ecef
+    >>> np.round(dcm_eci_from_ecef(86164.0905 / 4) @ [1.0, 0.0, 0.0], 6) + 0.0
+    array([0., 1., 0.])
+    """
     return rot_z(earth_rotation_angle(t, theta0_rad))
 
 
 def dcm_ecef_from_eci(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
-    """Rotation ECI -> ECEF at time ``t``: ``Rz(theta(t))^T``, shape (3, 3) or (n_t, 3, 3)."""
+    """Rotation ECI -> ECEF at time ``t``: ``Rz(theta(t))^T``, shape (3, 3) or (n_t, 3, 3).
+
+    Parameters
+    ----------
+    t
+        Seconds from the epoch, shape () or (n_t,).
+    theta0_rad
+        Earth rotation angle at ``t = 0``, rad.
+
+    Returns
+    -------
+    ndarray
+        ``v_ecef = dcm @ v_eci``, the transpose of :func:`dcm_eci_from_ecef`, shape (3, 3) or (n_t, 3, 3).
+
+    Raises
+    ------
+    InvalidInputError
+        A non-finite or non-numeric ``t`` or ``theta0_rad``, or ``t`` of more than one axis.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gnssatt.frames import dcm_ecef_from_eci
+    >>> np.round(dcm_ecef_from_eci([0.0, 86164.0905 / 4]) @ [0.0, 1.0, 0.0], 6) + 0.0
+    array([[0., 1., 0.],
+           [1., 0., 0.]])
+    """
     return np.swapaxes(dcm_eci_from_ecef(t, theta0_rad), -1, -2)
 
 
@@ -102,6 +181,28 @@ def eci_to_ecef(
         Seconds from the epoch, () or (n_t,).
     theta0_rad
         Earth rotation angle at ``t = 0``.
+
+    Returns
+    -------
+    r_ecef, v_ecef : ndarray
+        Position (m) and velocity (m/s) in ECEF, shape of ``r_eci``.
+
+    Raises
+    ------
+    InvalidInputError
+        Shapes other than (..., 3), ``v_eci`` of another shape than ``r_eci``, a leading axis that does
+        not match ``t``, non-finite values.
+
+    Examples
+    --------
+    At ``t = 0`` the frames coincide, and the ECEF velocity is the inertial one less ``omega x r``
+    (7.292e-5 rad/s times 7000 km is 510.4 m/s):
+
+    >>> import numpy as np
+    >>> from gnssatt.frames import eci_to_ecef
+    >>> r, v = eci_to_ecef([7000e3, 0.0, 0.0], [0.0, 7500.0, 0.0], 0.0)
+    >>> np.round(v, 1) + 0.0
+    array([   0. , 6989.6,    0. ])
     """
     r = vector_array("r_eci", r_eci, ndim=(1, 2, 3), shape="(..., 3)")
     v = _same_shape("v_eci", vector_array("v_eci", v_eci, ndim=(1, 2, 3), shape="(..., 3)"), "r_eci", r)
@@ -113,7 +214,38 @@ def ecef_to_eci(
     r_ecef: ArrayLike, v_ecef: ArrayLike, t: ArrayLike, theta0_rad: float = 0.0
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Position and velocity from ECEF to ECI (``v_eci = R v_ecef + omega x r_eci``); shapes as
-    :func:`eci_to_ecef`."""
+    :func:`eci_to_ecef`.
+
+    Parameters
+    ----------
+    r_ecef, v_ecef
+        (..., 3) position (m) and velocity (m/s) in ECEF; with an array ``t`` of shape (n_t,), the leading
+        axis is the epoch axis (n_t, ..., 3), or a single (3,) pair is broadcast to every epoch.
+    t
+        Seconds from the epoch, () or (n_t,).
+    theta0_rad
+        Earth rotation angle at ``t = 0``.
+
+    Returns
+    -------
+    r_eci, v_eci : ndarray
+        Position (m) and velocity (m/s) in ECI, shape (..., 3) (or (n_t, 3) for a (3,) input).
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`eci_to_ecef`.
+
+    Examples
+    --------
+    A point at rest on the equator moves at ``omega r`` (465.1 m/s at 6378 km) in ECI:
+
+    >>> import numpy as np
+    >>> from gnssatt.frames import ecef_to_eci
+    >>> r, v = ecef_to_eci([6378137.0, 0.0, 0.0], [0.0, 0.0, 0.0], 0.0)
+    >>> np.round(v, 1) + 0.0
+    array([  0. , 465.1,   0. ])
+    """
     r = vector_array("r_ecef", r_ecef, ndim=(1, 2, 3), shape="(..., 3)")
     v = _same_shape("v_ecef", vector_array("v_ecef", v_ecef, ndim=(1, 2, 3), shape="(..., 3)"), "r_ecef", r)
     m = dcm_eci_from_ecef(t, theta0_rad)
@@ -130,11 +262,33 @@ def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike
     ``N = a / sqrt(1 - e^2 sin^2 lat)``, ``x = (N + h) cos lat cos lon``, ``y = (N + h) cos lat sin lon``,
     ``z = (N (1 - e^2) + h) sin lat``.
 
+    Parameters
+    ----------
+    lat_deg, lon_deg
+        Geodetic latitude and longitude, deg, shape () or (n,).
+    height_m
+        Height above the WGS-84 ellipsoid, m, shape () or (n,).
+
+    Returns
+    -------
+    ndarray
+        ECEF position, m, shape (3,) or (n, 3).
+
     Raises
     ------
     InvalidInputError
         Latitudes outside [-90, 90] deg, heights below ``-MAX_DEPTH_M`` (-6278 km) or above 1e12 m,
         non-finite values, shapes that do not broadcast.
+
+    Examples
+    --------
+    The pole lies at the semi-minor axis ``b = a (1 - f)`` = 6356752.314 m:
+
+    >>> import numpy as np
+    >>> from gnssatt.frames import geodetic_to_ecef
+    >>> np.round(geodetic_to_ecef([0.0, 90.0], 0.0, 0.0), 3) + 0.0
+    array([[6378137.   ,       0.   ,       0.   ],
+           [      0.   ,       0.   , 6356752.314]])
     """
     lat_d = _latitudes("lat_deg", checked_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
     lon = np.radians(checked_array("lon_deg", lon_deg, ndim=(0, 1), shape="() or (n,)"))
@@ -173,6 +327,16 @@ def ecef_to_geodetic(r_ecef: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDA
     Fixed-point iteration on the latitude, until it changes by less than 1e-13 rad (4 iterations at the
     surface, about 40 at 100 km from the centre).
 
+    Parameters
+    ----------
+    r_ecef
+        ECEF positions, m, shape (3,) or (n, 3).
+
+    Returns
+    -------
+    lat_deg, lon_deg, height_m : ndarray
+        Geodetic latitude and longitude (deg) and height above the ellipsoid (m), shape () or (n,).
+
     Raises
     ------
     InvalidInputError
@@ -180,6 +344,15 @@ def ecef_to_geodetic(r_ecef: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDA
         coordinates are not unique, or a non-finite one.
     ConvergenceError
         The iteration did not converge or produced a non-finite value (not expected outside that sphere).
+
+    Examples
+    --------
+    100 m above the equator at 90 deg East:
+
+    >>> from gnssatt.frames import ecef_to_geodetic
+    >>> lat, lon, h = ecef_to_geodetic([0.0, 6378137.0 + 100.0, 0.0])
+    >>> print(f"{float(lat):.6f} {float(lon):.6f} {float(h):.3f}")
+    0.000000 90.000000 100.000
     """
     r = vector_array("r_ecef", r_ecef, ndim=(1, 2), shape="(3,) or (n, 3)")
     radius = np.linalg.norm(r, axis=-1)
@@ -222,10 +395,31 @@ def _height(lat: NDArray[np.float64], p: NDArray[np.float64], z: NDArray[np.floa
 def dcm_ecef_from_enu(lat_deg: float, lon_deg: float) -> NDArray[np.float64]:
     """Rotation ENU -> ECEF at a geodetic point: columns are the E, N, U unit vectors, shape (3, 3).
 
+    Parameters
+    ----------
+    lat_deg, lon_deg
+        Geodetic latitude and longitude of the point, deg.
+
+    Returns
+    -------
+    ndarray
+        ``v_ecef = dcm @ v_enu``, shape (3, 3).
+
     Raises
     ------
     InvalidInputError
         ``lat_deg`` outside [-90, 90], non-finite or non-numeric arguments.
+
+    Examples
+    --------
+    At latitude 0, longitude 0, East is ECEF y, North is z and Up is x:
+
+    >>> import numpy as np
+    >>> from gnssatt.frames import dcm_ecef_from_enu
+    >>> np.round(dcm_ecef_from_enu(0.0, 0.0), 6) + 0.0
+    array([[0., 0., 1.],
+           [1., 0., 0.],
+           [0., 1., 0.]])
     """
     lat = np.radians(scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0, unit="deg"))
     lon = np.radians(scalar("lon_deg", lon_deg))

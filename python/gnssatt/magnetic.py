@@ -107,6 +107,18 @@ def dipole_orbital(
         Non-finite or non-real input, ``radius`` outside [``MIN_RADIUS_M``, ``MAX_RADIUS_M``] (1e6 to
         1e12 m), ``inclination`` outside [0, pi], a negative ``strength`` or above 1e30 T m^3, shapes that
         do not broadcast.
+
+    Examples
+    --------
+    On a polar orbit (``i = 90`` deg) the field at the equator (``u = 0``) points along-track, to the north,
+    and over the pole (``u = 90`` deg) it points down with twice that strength:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import EARTH_DIPOLE_T_M3, dipole_orbital
+    >>> field = dipole_orbital([0.0, np.pi / 2], np.pi / 2, 7e6)  # (2, 3) T
+    >>> np.round(field / (EARTH_DIPOLE_T_M3 / 7e6**3), 6) + 0.0
+    array([[ 1.,  0.,  0.],
+           [ 0.,  0., -2.]])
     """
     u = checked_array("u", u, ndim=_ANY_NDIM, shape="(...)")
     r = _radii("radius", checked_array("radius", radius, ndim=_ANY_NDIM, shape="(...)"))
@@ -129,7 +141,38 @@ def dipole_orbital(
 
 def dipole_coefficients(decimal_year: float) -> NDArray[np.float64]:
     """IGRF-14 ``(g10, g11, h11)`` in nT at ``decimal_year`` (2015.0 to 2030.0): linear between the
-    5-yearly models, the secular variation after 2025.0."""
+    5-yearly models, the secular variation after 2025.0.
+
+    Parameters
+    ----------
+    decimal_year
+        Epoch as a decimal year, in [2015.0, 2030.0].
+
+    Returns
+    -------
+    numpy.ndarray
+        (3,) ``(g10, g11, h11)``, nT.
+
+    Raises
+    ------
+    InvalidInputError
+        A year outside [2015.0, 2030.0] or not finite (:class:`~gnssatt.errors.InvalidTypeError` for a value
+        that is not a real number).
+
+    Examples
+    --------
+    The table at 2020.0, the midpoint of 2020 and 2025 at 2022.5, and two years of secular variation after
+    2025.0 (``-29350.0 + 2 * 12.6 = -29324.8`` ...):
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import dipole_coefficients
+    >>> dipole_coefficients(2020.0).tolist()
+    [-29403.41, -1451.37, 4653.35]
+    >>> np.round(dipole_coefficients(2022.5), 6).tolist()
+    [-29376.705, -1430.835, 4599.425]
+    >>> np.round(dipole_coefficients(2027.0), 6).tolist()
+    [-29324.8, -1390.3, 4502.5]
+    """
     t = scalar("decimal_year", decimal_year)
     if not _EPOCHS[0] <= t <= _LAST_YEAR:
         raise InvalidInputError(
@@ -181,11 +224,34 @@ def geodetic_to_ecef(
 ) -> NDArray[np.float64]:
     """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres.
 
+    Parameters
+    ----------
+    latitude_deg, longitude_deg
+        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together.
+    height_m
+        Height above the WGS-84 ellipsoid, m, broadcast with them.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) ECEF positions, m.
+
     Raises
     ------
     InvalidInputError
         Non-finite or non-real input, latitudes outside [-90, 90], heights that bring the point nearer the
         centre than ``MIN_RADIUS_M`` or beyond ``MAX_RADIUS_M``, shapes that do not broadcast.
+
+    Examples
+    --------
+    The equator at longitude 0 is ``(a, 0, 0)``; the north pole is ``(0, 0, b)`` with the semi-minor axis
+    ``b = a (1 - f) = 6356752.314`` m:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import geodetic_to_ecef
+    >>> np.round(geodetic_to_ecef([0.0, 90.0], 0.0, 0.0), 3) + 0.0
+    array([[6378137.   ,       0.   ,       0.   ],
+           [      0.   ,       0.   , 6356752.314]])
     """
     lat, lon, h = _geodetic(latitude_deg, longitude_deg, height_m)
     n = WGS84_A_M / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
@@ -202,10 +268,31 @@ def geodetic_to_ecef(
 def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
     """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point.
 
+    Parameters
+    ----------
+    latitude_deg, longitude_deg
+        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3, 3) rotation matrices ECEF -> NED; rows are the north, east and down unit vectors in ECEF.
+
     Raises
     ------
     InvalidInputError
         Non-finite or non-real input, latitudes outside [-90, 90], shapes that do not broadcast.
+
+    Examples
+    --------
+    At latitude 0, longitude 0 north is ECEF +z, east +y and down -x:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import dcm_ned_from_ecef
+    >>> np.round(dcm_ned_from_ecef(0.0, 0.0), 12) + 0.0
+    array([[ 0.,  0.,  1.],
+           [ 0.,  1.,  0.],
+           [-1.,  0.,  0.]])
     """
     lat, lon = _geodetic(latitude_deg, longitude_deg)
     sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
@@ -231,11 +318,33 @@ def dipole_field_ecef(position_ecef_m: ArrayLike, decimal_year: float) -> NDArra
     decimal_year
         Epoch, 2015.0 to 2030.0.
 
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) field, ECEF components, tesla.
+
     Raises
     ------
     InvalidInputError
         Wrong shape, non-finite or non-real input, a position outside that radius range, a year outside
         the model.
+
+    Examples
+    --------
+    At the reference radius on the dipole's axis (along ``g``) the field is ``2 g``; on its equator
+    (normal to ``g``) it is ``-g``:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import IGRF_REFERENCE_RADIUS_M, dipole_coefficients, dipole_field_ecef
+    >>> g10, g11, h11 = dipole_coefficients(2025.0)
+    >>> g = np.array([g11, h11, g10]) * 1e-9  # T
+    >>> axis = g / np.linalg.norm(g)
+    >>> np.round(dipole_field_ecef(IGRF_REFERENCE_RADIUS_M * axis, 2025.0) / g, 9)
+    array([2., 2., 2.])
+    >>> normal = np.cross(axis, [0.0, 0.0, 1.0])
+    >>> normal /= np.linalg.norm(normal)
+    >>> np.round(dipole_field_ecef(IGRF_REFERENCE_RADIUS_M * normal, 2025.0) / g, 9)
+    array([-1., -1., -1.])
     """
     r = _positions("position_ecef_m", position_ecef_m)
     g10, g11, h11 = dipole_coefficients(decimal_year) * 1e-9
@@ -261,7 +370,40 @@ def dipole_field_eci(
     (docs/conventions.md), so ``B_eci = R_z(theta) B_ecef(R_z(-theta) r_eci)``. Tesla, (..., 3).
 
     ``earth_rotation_angle_rad`` broadcasts against the leading shape of ``position_eci_m``; errors as
-    :func:`dipole_field_ecef`."""
+    :func:`dipole_field_ecef`.
+
+    Parameters
+    ----------
+    position_eci_m
+        (..., 3) ECI positions, m, ``MIN_RADIUS_M`` to ``MAX_RADIUS_M`` (1e6 to 1e12 m) from the centre.
+    decimal_year
+        Epoch, 2015.0 to 2030.0.
+    earth_rotation_angle_rad
+        Earth rotation angle ``theta``, rad: () or broadcastable to the leading shape of ``position_eci_m``.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) field, ECI components, tesla (the broadcast leading shape).
+
+    Raises
+    ------
+    InvalidInputError
+        As :func:`dipole_field_ecef`; an ``earth_rotation_angle_rad`` that does not broadcast or is not
+        finite.
+
+    Examples
+    --------
+    With the Earth turned by 90 deg, ECI +y is ECEF +x, and the ECEF field there, ``(bx, by, bz)``, appears
+    in ECI as ``(-by, bx, bz)``:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import dipole_field_ecef, dipole_field_eci
+    >>> np.round(dipole_field_ecef([7e6, 0.0, 0.0], 2025.0) * 1e9, 3)  # nT
+    array([-2126.724, -3427.293, 22129.811])
+    >>> np.round(dipole_field_eci([0.0, 7e6, 0.0], 2025.0, np.pi / 2) * 1e9, 3)  # nT
+    array([ 3427.293, -2126.724, 22129.811])
+    """
     r = _positions("position_eci_m", position_eci_m)
     th = checked_array("earth_rotation_angle_rad", earth_rotation_angle_rad, ndim=_ANY_NDIM, shape="(...)")
     try:
@@ -296,6 +438,25 @@ def dipole_field_ned(
     -------
     ndarray
         (..., 3) ``[north, east, down]`` in tesla.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or non-real input, latitudes outside [-90, 90], heights that bring the point nearer the
+        centre than ``MIN_RADIUS_M`` or beyond ``MAX_RADIUS_M``, shapes that do not broadcast, a year outside
+        the model.
+
+    Examples
+    --------
+    The NED components are the ECEF field turned, so the strength is the same; in the northern hemisphere
+    the field dips downwards:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import dipole_field_ecef, dipole_field_ned, geodetic_to_ecef
+    >>> ned = dipole_field_ned(45.0, 0.0, 0.0, 2025.0)  # (3,) T
+    >>> ecef = dipole_field_ecef(geodetic_to_ecef(45.0, 0.0, 0.0), 2025.0)
+    >>> bool(np.isclose(np.linalg.norm(ned), np.linalg.norm(ecef), rtol=1e-12, atol=0.0)), bool(ned[2] > 0)
+    (True, True)
     """
     b = dipole_field_ecef(geodetic_to_ecef(latitude_deg, longitude_deg, height_m), decimal_year)
     # typed here: numpy types einsum's result as Any
@@ -321,12 +482,36 @@ def igrf_field_ecef(
     Needs the optional dependency ``ppigrf`` (``pip install gnssatt[igrf]``), which carries the IGRF-14
     coefficient file and works offline.
 
+    Parameters
+    ----------
+    position_ecef_m
+        (..., 3) positions in metres, ``MIN_RADIUS_M`` to ``MAX_RADIUS_M`` (1e6 to 1e12 m) from the centre.
+    decimal_year
+        Epoch, 1900.0 to 2030.0.
+    max_degree
+        Highest degree of the expansion, 1 to 13.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) field, ECEF components, tesla.
+
     Raises
     ------
     ImportError
         ppigrf is not installed.
     InvalidInputError
         As :func:`dipole_field_ecef`; ``max_degree`` outside 1..13.
+
+    Examples
+    --------
+    Cut at degree 1 the IGRF is the centred tilted dipole of :func:`dipole_field_ecef`:
+
+    >>> import numpy as np
+    >>> from gnssatt.magnetic import dipole_field_ecef, geodetic_to_ecef, igrf_field_ecef
+    >>> position = geodetic_to_ecef(45.0, 10.0, 500e3)  # (3,) m
+    >>> np.round(igrf_field_ecef(position, 2025.0, max_degree=1) / dipole_field_ecef(position, 2025.0), 6)
+    array([1., 1., 1.])
     """
     r = _positions("position_ecef_m", position_ecef_m)
     year = scalar("decimal_year", decimal_year, minimum=1900.0, maximum=_LAST_YEAR)

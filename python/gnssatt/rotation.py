@@ -122,6 +122,29 @@ def nearest_rotation(matrix: ArrayLike) -> NDArray[np.float64]:
 
 
 def wrap_rad(x: Any) -> NDArray[np.float64]:
-    """Angles (rad, any shape, finite) wrapped to [-pi, pi)."""
+    """Angles (rad, any shape, finite) wrapped to [-pi, pi).
+
+    Parameters
+    ----------
+    x
+        Angles, rad, any shape.
+
+    Returns
+    -------
+    ndarray
+        ``x`` wrapped to [-pi, pi), same shape.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or non-numeric values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gnssatt.rotation import wrap_rad
+    >>> np.round(wrap_rad([np.pi, 1.5 * np.pi, -0.5]), 4)
+    array([-3.1416, -1.5708, -0.5   ])
+    """
     arr = checked_array("x", x, ndim=tuple(range(33)), shape="(...)")
     return (arr + np.pi) % (2.0 * np.pi) - np.pi

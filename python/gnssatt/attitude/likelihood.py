@@ -384,6 +384,12 @@ def ml_attitude(
         because the axes of eq. (5) are coupled it leaves errors of a fraction of a step even without
         noise. ``False``: the grid node.
 
+    Returns
+    -------
+    LikelihoodAttitude
+        The body -> ENU rotation, its eq. (5) angles (deg), the grid node found, ``z_max``, the number of
+        cells evaluated and the step used (deg).
+
     Raises
     ------
     InvalidInputError
@@ -400,6 +406,23 @@ def ml_attitude(
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
     DegenerateGeometryError
         Collinear baselines.
+
+    Examples
+    --------
+    Noise-free phases of a 1 m triangle and six satellites (wavelength 0.19 m) give back the attitude they
+    were made with:
+
+    >>> import numpy as np
+    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.sim import equilateral_triangle, random_los
+    >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
+    >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
+    >>> true = rotation_from_euler([30.0, 10.0, -5.0])  # psi, theta, phi in deg
+    >>> phase_diffs = -2 * np.pi / 0.19 * (true.apply(baselines) @ los.T)  # (2, 6) rad, RINEX sign
+    >>> from gnssatt import ml_attitude
+    >>> result = ml_attitude(phase_diffs, los, baselines, 0.19)
+    >>> np.round(result.euler_gost_deg, 6) + 0.0
+    array([30., 10., -5.])
     """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=2)
     statistic = choice("statistic", statistic, get_args(StatisticName))
@@ -453,6 +476,25 @@ def likelihood_grid(
     ------
     InvalidInputError, DegenerateGeometryError
         As :func:`ml_attitude` (one baseline suffices here).
+
+    Examples
+    --------
+    On a 5 deg grid the largest statistic lies at the node of the true attitude:
+
+    >>> import numpy as np
+    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.sim import equilateral_triangle, random_los
+    >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
+    >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
+    >>> true = rotation_from_euler([30.0, 10.0, -5.0])  # psi, theta, phi in deg
+    >>> phase_diffs = -2 * np.pi / 0.19 * (true.apply(baselines) @ los.T)  # (2, 6) rad, RINEX sign
+    >>> from gnssatt import likelihood_grid
+    >>> grid = likelihood_grid(phase_diffs, los, baselines, 0.19, step_deg=5.0)
+    >>> grid.z.shape
+    (72, 37, 72)
+    >>> i, j, k = np.unravel_index(np.argmax(grid.z), grid.z.shape)
+    >>> [round(float(a), 6) for a in (grid.psi_deg[i], grid.theta_deg[j], grid.phi_deg[k])]
+    [30.0, 10.0, -5.0]
     """
     p, s, w, b = _intake(phase_diffs, los, baselines, wavelength, n_baselines=1)
     statistic = choice("statistic", statistic, get_args(StatisticName))
@@ -503,10 +545,33 @@ def ml_baseline(
     window_deg
         ``None`` or (2, 2) ``[lo, hi]`` of the eq. (5) heading ``psi`` (= -compass heading) and elevation.
 
+    Returns
+    -------
+    BaselineDirection
+        Compass heading and elevation (deg) of the baseline, its unit direction in ENU, ``z_max``, the cells
+        evaluated and the step used (deg).
+
     Raises
     ------
     InvalidInputError, DegenerateGeometryError
         As :func:`ml_attitude`.
+
+    Examples
+    --------
+    The first baseline of the :func:`ml_attitude` example points along body X, i.e. at heading
+    ``-psi = 330`` deg and elevation ``theta = 10`` deg:
+
+    >>> import numpy as np
+    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.sim import equilateral_triangle, random_los
+    >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
+    >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
+    >>> true = rotation_from_euler([30.0, 10.0, -5.0])  # psi, theta, phi in deg
+    >>> phase_diffs = -2 * np.pi / 0.19 * (true.apply(baselines) @ los.T)  # (2, 6) rad, RINEX sign
+    >>> from gnssatt import ml_baseline
+    >>> result = ml_baseline(phase_diffs[0], los, 1.0, 0.19)
+    >>> round(result.heading_deg, 6), round(result.elevation_deg, 6)
+    (330.0, 10.0)
     """
     p = float_array("phase_diffs", phase_diffs, ndim=(1, 2), shape="(M,) or (epochs, M)")
     p = p[:, None, :] if p.ndim == 2 else p[None, None, :]
@@ -558,12 +623,28 @@ def prior_from_velocity(
     gravity
         m/s^2, > 0.
 
+    Returns
+    -------
+    AttitudePrior
+        The eq. (5) angles ``(psi, theta, phi)`` of the coarse attitude and the window half-widths, deg.
+
     Raises
     ------
     InvalidInputError
         Wrong shapes, non-finite values, a velocity with a horizontal speed below 1e-9 m/s, half-widths
         out of range, ``gravity <= 0`` (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
         real numbers).
+
+    Examples
+    --------
+    Flying north at 100 m/s while accelerating at 1 g to the west, a coordinated left turn: heading 0 and a
+    45 deg bank to the left (negative roll):
+
+    >>> import numpy as np
+    >>> from gnssatt import prior_from_velocity
+    >>> prior = prior_from_velocity([0.0, 100.0, 0.0], [-9.80665, 0.0, 0.0])
+    >>> np.round(prior.euler_gost_deg, 6) + 0.0
+    array([  0.,   0., -45.])
     """
     v = shaped("velocity_enu", velocity_enu, "(3,)", (3,))
     a = None if acceleration_enu is None else shaped("acceleration_enu", acceleration_enu, "(3,)", (3,))
@@ -783,6 +864,12 @@ def ml_attitude_series(
         ``None`` (every epoch searches the whole domain) or the half-width in degrees, in (0, 360] and at
         least the grid step, of the window around the previous epoch's solution.
 
+    Returns
+    -------
+    AttitudeSeries
+        Per epoch: the body -> ENU rotation, the eq. (5) angles (deg, NaN where unsolved), ``z_max`` and
+        whether the epoch was solved.
+
     Raises
     ------
     InvalidInputError
@@ -790,6 +877,25 @@ def ml_attitude_series(
         a signal used, no epoch, a window finer than the step.
     DegenerateGeometryError
         Collinear baselines.
+
+    Examples
+    --------
+    Two epochs of the :func:`ml_attitude` example, the second turned by 2 deg in psi:
+
+    >>> import numpy as np
+    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.sim import equilateral_triangle, random_los
+    >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
+    >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
+    >>> true = rotation_from_euler([30.0, 10.0, -5.0])  # psi, theta, phi in deg
+    >>> phase_diffs = -2 * np.pi / 0.19 * (true.apply(baselines) @ los.T)  # (2, 6) rad, RINEX sign
+    >>> from gnssatt import ml_attitude_series
+    >>> second = rotation_from_euler([32.0, 10.0, -5.0])
+    >>> sd_phase = np.stack([phase_diffs, -2 * np.pi / 0.19 * (second.apply(baselines) @ los.T)])
+    >>> series = ml_attitude_series(sd_phase, los, baselines, 0.19)
+    >>> np.round(series.euler_gost_deg, 6) + 0.0
+    array([[30., 10., -5.],
+           [32., 10., -5.]])
     """
     b = checked_baselines("baselines", baselines)
     if b.shape[0] < 2:
@@ -836,10 +942,34 @@ def ml_baseline_series(
     mask
         ``None`` or a boolean (n_ep, n_sig) array, True where the signal is present.
 
+    Returns
+    -------
+    BaselineSeries
+        Per epoch: compass heading and elevation (deg, NaN where unsolved), the unit direction in ENU,
+        ``z_max`` and whether the epoch was solved.
+
     Raises
     ------
     InvalidInputError
         As :func:`ml_attitude_series`.
+
+    Examples
+    --------
+    The first baseline of the :func:`ml_attitude_series` example: heading ``-psi``, elevation ``theta``:
+
+    >>> import numpy as np
+    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.sim import equilateral_triangle, random_los
+    >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
+    >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
+    >>> true = rotation_from_euler([30.0, 10.0, -5.0])  # psi, theta, phi in deg
+    >>> phase_diffs = -2 * np.pi / 0.19 * (true.apply(baselines) @ los.T)  # (2, 6) rad, RINEX sign
+    >>> from gnssatt import ml_baseline_series
+    >>> second = rotation_from_euler([32.0, 10.0, -5.0])
+    >>> sd_phase = np.stack([phase_diffs[0], -2 * np.pi / 0.19 * (second.apply(baselines[0]) @ los.T)])
+    >>> series = ml_baseline_series(sd_phase, los, 1.0, 0.19)
+    >>> np.round(series.heading_deg, 6), np.round(series.elevation_deg, 6)
+    (array([330., 328.]), array([10., 10.]))
     """
     length = scalar(
         "baseline_length_m", baseline_length_m, minimum=MIN_BASELINE_M, maximum=MAX_BASELINE_M, unit="m"

@@ -78,6 +78,12 @@ def yaw_from_magnetometer(
     degrees
         Whether pitch and roll are in degrees. ``yaw_rad`` is always radians (``yaw_deg`` for degrees).
 
+    Returns
+    -------
+    YawResult
+        ``yaw_rad`` (float, or (epochs,) for batch input), the body -> orbital ``rotation``, ``|cos(pitch)|``
+        and the horizontal fraction of the reference field.
+
     Raises
     ------
     InvalidInputError
@@ -93,6 +99,23 @@ def yaw_from_magnetometer(
     NearDegenerateWarning
         ``|cos(pitch)|`` below :data:`COS_PITCH_WARN` or the horizontal fraction below
         :data:`HORIZONTAL_WARN`.
+
+    Examples
+    --------
+    The field a noise-free magnetometer reads at yaw 50, pitch 4, roll -3 deg gives back the yaw; the
+    horizontal fraction is ``sqrt(20^2 + 5^2) / sqrt(20^2 + 5^2 + 40^2) = sqrt(425 / 2025)``:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.attitude.magnetometer import yaw_from_magnetometer
+    >>> b_orbital = np.array([20.0, -5.0, 40.0])  # uT, orbital frame
+    >>> true = Rotation.from_euler("ZYX", [50.0, 4.0, -3.0], degrees=True)  # body -> orbital
+    >>> b_body = true.inv().apply(b_orbital)  # uT, body frame
+    >>> result = yaw_from_magnetometer(b_body, b_orbital, 4.0, -3.0, degrees=True)
+    >>> round(float(result.yaw_deg), 6)
+    50.0
+    >>> round(result.horizontal_fraction, 6), round(float(np.sqrt(425 / 2025)), 6)
+    (0.458123, 0.458123)
     """
     bb = _vectors("b_body", b_body)
     bo = _vectors("b_orbital", b_orbital)

@@ -164,6 +164,25 @@ def visibility_axis(
         More than :data:`MAX_SATELLITES` lines of sight in all.
     DegenerateGeometryError
         Coplanar lines of sight (eq. (5) singular).
+
+    Examples
+    --------
+    Four satellites 30 deg above the antenna's horizon are received and four 30 deg below are not, at azimuths
+    0, 90, 180, 270 deg: by symmetry the axis is the zenith. Turn the whole sky 40 deg about X and the axis
+    follows, to ``(0, -sin 40, cos 40)``:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.attitude.visibility import visibility_axis
+    >>> az, el = np.radians([0.0, 90.0, 180.0, 270.0]), np.radians(30.0)
+    >>> up = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.full(4, np.sin(el))])
+    >>> down = up * [1.0, 1.0, -1.0]  # (4, 3) unit lines of sight below the horizon
+    >>> np.round(visibility_axis(up, down), 6) + 0.0
+    array([0., 0., 1.])
+    >>> turn = Rotation.from_euler("x", 40.0, degrees=True)
+    >>> axis = visibility_axis(turn.apply(up), turn.apply(down), method="centroid")
+    >>> np.round(axis, 6) + 0.0, np.round([-np.sin(np.radians(40.0)), np.cos(np.radians(40.0))], 6)
+    (array([ 0.      , -0.642788,  0.766044]), array([-0.642788,  0.766044]))
     """
     method = choice("method", method, get_args(Method))
     vis = _los("visible_los", visible_los)

@@ -102,6 +102,21 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
     -----
     NearDegenerateWarning
         The sine of the angle between the two vectors is below :data:`TRIAD_WARN_SIN`.
+
+    Examples
+    --------
+    Body X and Y measured along reference Y and -X: a 90 deg turn about Z. ``b1`` need not be a unit vector,
+    and ``b2`` need not be normal to it (only its component normal to ``b1`` is used):
+
+    >>> import numpy as np
+    >>> from gnssatt.attitude.wahba import triad
+    >>> result = triad([2.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0])
+    >>> np.round(result.rotation.as_matrix(), 6) + 0.0
+    array([[ 0., -1.,  0.],
+           [ 1.,  0.,  0.],
+           [ 0.,  0.,  1.]])
+    >>> round(result.sin_angle_body, 6)  # 45 deg between b1 and b2
+    0.707107
     """
     arrs = [rescaled(_vectors(n, v)) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
     single = all(a.ndim == 1 for a in arrs)
@@ -191,6 +206,29 @@ def wahba(
     -----
     NearDegenerateWarning
         ``information_ratio`` below :data:`WAHBA_WARN_RATIO`.
+
+    Examples
+    --------
+    Noise-free vector pairs give back the attitude they were made with, at zero loss:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.attitude.wahba import wahba
+    >>> true = Rotation.from_euler("zyx", [40.0, -10.0, 5.0], degrees=True)  # body -> reference
+    >>> body = np.eye(3)  # (3, 3) unit vectors, body frame
+    >>> result = wahba(body, true.apply(body))
+    >>> np.round(result.rotation.as_euler("zyx", degrees=True), 6) + 0.0
+    array([ 40., -10.,   5.])
+    >>> round(result.loss, 9) + 0.0
+    0.0
+
+    Two orthogonal reference vectors X and Y with unit weights: ``P = [diag(0, 1, 1) + diag(1, 0, 1)]^-1``,
+    the rotation about Z (fixed by both) half as uncertain in variance:
+
+    >>> np.round(wahba(body[:2], body[:2]).covariance, 6) + 0.0
+    array([[1. , 0. , 0. ],
+           [0. , 1. , 0. ],
+           [0. , 0. , 0.5]])
     """
     b = rescaled(shaped("body", body, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
     r = rescaled(shaped("ref", ref, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))

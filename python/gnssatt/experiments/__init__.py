@@ -74,6 +74,20 @@ def get(name: str) -> Experiment:
     ------
     KeyError
         ``name`` is not an experiment; the message lists the known names.
+
+    Examples
+    --------
+    Every name of :data:`EXPERIMENTS` gives back its experiment; an unknown name lists the known ones:
+
+    >>> from gnssatt.experiments import EXPERIMENTS, get
+    >>> get("matrix-method").name
+    'matrix-method'
+    >>> all(get(name) is experiment for name, experiment in EXPERIMENTS.items())
+    True
+    >>> get("matrix method")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+        ...
+    KeyError: "unknown experiment 'matrix method'; known: matrix-method, ml-grid, ..."
     """
     try:
         return EXPERIMENTS[name]

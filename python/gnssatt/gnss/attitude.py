@@ -401,6 +401,30 @@ def attitude_from_rinex(
     InvalidInputError
         Fewer than two observations, baselines of the wrong shape or not finite, an unknown method, motion
         or system letter, an option out of its range.
+
+    Examples
+    --------
+    Three epochs of a 1 m triangle simulated at heading 330, pitch 10, roll -5 deg (eq. (5) angles
+    ``psi = 30``, ``theta = 10``, ``phi = -5``; GPS + Galileo, two frequencies, phase noise 0.01 mm, code
+    1 cm, no atmosphere), written as RINEX and read back: every epoch fixed, the attitude given back:
+
+    >>> import tempfile
+    >>> import numpy as np
+    >>> from gnssatt.gnss.attitude import attitude_from_rinex
+    >>> from gnssatt.sim import equilateral_triangle
+    >>> from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
+    >>> antennas = equilateral_triangle(1.0, plane="xz")  # (3, 3) m, body (X nose, Y up, Z right wing)
+    >>> quiet = {"phase_sigma_m": 1e-5, "code_sigma_m": 0.01, "atmosphere": False}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     sim = simulate_gnss_rinex(folder, antennas, [30.0, 10.0, -5.0], systems="GE", frequencies=2,
+    ...                               n_epochs=3, rng=1, **quiet)
+    ...     series = attitude_from_rinex(list(sim.obs_paths), sim.nav_path, antennas[1:])
+    >>> series.mode, series.angle_names, series.fixed.tolist()
+    ('attitude', ('heading_deg', 'pitch_deg', 'roll_deg'), [1, 1, 1])
+    >>> np.round(series.angles_deg, 1) + 0.0
+    array([[330.,  10.,  -5.],
+           [330.,  10.,  -5.],
+           [330.,  10.,  -5.]])
     """
     from gnssatt import _core
     from gnssatt.gnss.session_input import nav_input, session_input

@@ -169,6 +169,24 @@ def glonass_propagate(
         More than ``MAX_RK4_STEPS`` (1e7) steps.
     ConvergenceError
         The integration overflowed (absurd velocities or model constants: the state left float64).
+
+    Examples
+    --------
+    Central gravity alone in inertial axes (``j2 = 0``, ``omega_rad_s = 0``): a circular orbit of 25 500 km
+    turns by 90 deg in a quarter of its period ``2 pi sqrt(r^3 / GM)``, and the state-transition matrix of
+    this Hamiltonian flow preserves phase-space volume (determinant 1):
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit import GlonassModel, glonass_propagate
+    >>> gm, r = 398600.4418e9, 25_500e3  # m^3/s^2, m
+    >>> quarter = 0.5 * np.pi * np.sqrt(r**3 / gm)  # s
+    >>> model = GlonassModel(j2=0.0, omega_rad_s=0.0)
+    >>> v = np.sqrt(gm / r)  # m/s, circular
+    >>> state = glonass_propagate([r, 0.0, 0.0], [0.0, v, 0.0], quarter, step_s=50.0, model=model)
+    >>> np.round(state.position_m / 1e3, 3) + 0.0  # km
+    array([    0., 25500.,     0.])
+    >>> round(float(np.linalg.det(state.stm)), 6)
+    1.0
     """
     m = instance("model", model if model is not None else GlonassModel(), GlonassModel, "a GlonassModel")
     if lunisolar_m_s2 is not None:
@@ -263,10 +281,30 @@ class CircularOrbit:
 def gmst_rad(jd_ut1: ArrayLike) -> NDArray[np.float64]:
     """Greenwich mean sidereal time (IAU-82, Vallado's ``gstime``) of UT1 Julian dates, rad in [0, 2 pi).
 
+    Parameters
+    ----------
+    jd_ut1
+        () or (n,) Julian dates in UT1, days, within ``JULIAN_DATE_RANGE``.
+
+    Returns
+    -------
+    numpy.ndarray
+        GMST, rad in [0, 2 pi), of the shape of ``jd_ut1``.
+
     Raises
     ------
     InvalidInputError
         Julian dates outside ``JULIAN_DATE_RANGE`` ([0, 1e7]), non-finite or non-real.
+
+    Examples
+    --------
+    At J2000.0 (JD 2451545.0, ``T = 0``) the polynomial leaves its constant term, 67310.54841 s of
+    sidereal time, i.e. ``67310.54841 / 240 = 280.460618`` deg:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit import gmst_rad
+    >>> round(float(np.degrees(gmst_rad(2451545.0))), 6)
+    280.460618
     """
     jd = checked_array("jd_ut1", jd_ut1, ndim=(0, 1), shape="() or (n,)")
     lo, hi = JULIAN_DATE_RANGE
@@ -294,6 +332,34 @@ def teme_to_ecef(
         (n, 3) or (3,) TEME position (m) and velocity (m/s).
     jd_ut1
         () or (n,) Julian dates in UT1.
+
+    Returns
+    -------
+    position_m, velocity_m_s
+        (n, 3) or (3,) Earth-fixed position (m) and velocity relative to the rotating Earth (m/s).
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, ``r_teme_m`` and ``v_teme_m_s`` of different shapes, a ``jd_ut1`` that is not one date
+        per position, non-finite values or Julian dates outside ``JULIAN_DATE_RANGE``
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+
+    Examples
+    --------
+    A point that turns with the Earth (``v_teme = omega_E x r_teme``) is at rest in Earth-fixed axes; the
+    rotation about Z keeps the radius and the Z component:
+
+    >>> import numpy as np
+    >>> from gnssatt.constants import OMEGA_E_RAD_S
+    >>> from gnssatt.orbit import teme_to_ecef
+    >>> r_teme = np.array([7000e3, 1000e3, 2000e3])  # m
+    >>> v_teme = np.cross([0.0, 0.0, OMEGA_E_RAD_S], r_teme)  # m/s
+    >>> r, v = teme_to_ecef(r_teme, v_teme, 2451545.0)
+    >>> np.round(v, 9) + 0.0
+    array([0., 0., 0.])
+    >>> round(float(np.linalg.norm(r) - np.linalg.norm(r_teme)), 6) + 0.0, float(r[2])
+    (0.0, 2000000.0)
     """
     r = vector_array("r_teme_m", r_teme_m, ndim=(1, 2), shape="(n, 3)")
     v = vector_array("v_teme_m_s", v_teme_m_s, ndim=(1, 2), shape="(n, 3)")
@@ -358,6 +424,21 @@ def tle_states(
         an unparsable TLE, or SGP4 reports an error (e.g. decayed orbit) at some time.
     ConvergenceError
         SGP4 returns a non-finite state for the elements.
+
+    Examples
+    --------
+    Satellite 00005 (Vanguard 1) of the SGP4 verification set, 360 min after its epoch, where Vallado et
+    al. (2006) give the TEME position ``(-7154.031, -3783.177, -3536.194)`` km: the Earth-fixed position
+    keeps its Z component and its radius (8831.606 km):
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit import tle_states
+    >>> line1 = "1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753"
+    >>> line2 = "2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667"
+    >>> t = np.datetime64("2000-06-27T18:50:19.733568") + np.timedelta64(360, "m")  # UTC
+    >>> r, v = tle_states(line1, line2, np.array([t]))
+    >>> round(float(r[0, 2]) / 1e3, 3), round(float(np.linalg.norm(r[0])) / 1e3, 3)  # km
+    (-3536.194, 8831.606)
     """
     instance("line1", line1, str, "a str")
     instance("line2", line2, str, "a str")

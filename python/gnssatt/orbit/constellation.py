@@ -256,6 +256,22 @@ def gps_nominal(*, extra_slots_deg: Sequence[tuple[float, float]] = ()) -> Const
         A pair that is not two finite numbers (:class:`~gnssatt.errors.InvalidTypeError` for non-numbers).
     WorkLimitError
         More than ``MAX_SATELLITES - 24`` extra satellites.
+
+    Examples
+    --------
+    Every satellite is on the 26 559.7 km circle, with a period of half a sidereal day (11.9658 h) and the L1
+    wavelength ``c / 1575.42 MHz``; an extra satellite comes last as ``G25``:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit.constellation import gps_nominal
+    >>> gps = gps_nominal(extra_slots_deg=[(272.847, 100.0)])
+    >>> len(gps), gps.ids[0], gps.slots[0], gps.ids[-1]
+    (25, 'G01', 'A1', 'G25')
+    >>> r, v = gps.state_eci(0.0)  # (25, 3) m, m/s
+    >>> np.unique(np.round(np.linalg.norm(r, axis=1) / 1e3, 3))  # km
+    array([26559.7])
+    >>> round(float(gps.orbits.period_s[0]) / 3600.0, 4), round(float(gps.wavelengths_m("L1")[0]), 6)
+    (11.9658, 0.190294)
     """
     pairs = list(GPS_BASELINE_SLOTS.values())
     extra = list(instance("extra_slots_deg", extra_slots_deg, (Sequence,), "a sequence of (raan, u) pairs"))
@@ -290,6 +306,26 @@ def glonass_nominal(*, raan0_deg: float = 0.0, arg_latitude0_deg: float = 0.0) -
     -------
     Constellation
         ``R01``..``R24`` for slots 1..24 with L1/L2 FDMA frequencies of their channels (module docstring).
+
+    Raises
+    ------
+    InvalidInputError
+        ``raan0_deg`` or ``arg_latitude0_deg`` not finite (:class:`~gnssatt.errors.InvalidTypeError` for
+        values that are not real numbers).
+
+    Examples
+    --------
+    Slot 10 has channel -7, so its L1 carrier is ``1602 - 7 * 0.5625 = 1598.0625`` MHz; slots 1 and 5 are
+    antipodal (45 deg x 4 apart in one plane) and share channel 1:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit.constellation import glonass_nominal
+    >>> glo = glonass_nominal()
+    >>> glo.ids[9], int(glo.glonass_channels[9]), float(glo.frequencies_hz["L1"][9]) / 1e6
+    ('R10', -7, 1598.0625)
+    >>> r, v = glo.state_eci(0.0)  # (24, 3) m, m/s
+    >>> np.round(r[0] + r[4], 6) + 0.0, glo.glonass_channels[[0, 4]].tolist()
+    (array([0., 0., 0.]), [1, 1])
     """
     raan0 = scalar("raan0_deg", raan0_deg)
     u0 = scalar("arg_latitude0_deg", arg_latitude0_deg)
@@ -320,6 +356,31 @@ def walker(
     Plane p (0-based) has RAAN ``raan0 + 360 p / n_planes``; satellite j of plane p has argument of latitude
     ``360 j / (n_sat / n_planes) + 360 phasing p / n_sat`` degrees at ``t = 0``.
 
+    Parameters
+    ----------
+    n_sat
+        Number of satellites, 1 to ``MAX_SATELLITES``, a multiple of ``n_planes``.
+    n_planes
+        Number of equally spaced orbital planes, >= 1.
+    phasing
+        Walker phasing factor ``f``: plane ``p`` is shifted by ``360 f p / n_sat`` deg in argument of
+        latitude.
+    inclination_deg
+        Inclination in ECI, degrees, in [0, 180].
+    semi_major_axis_m
+        Orbit radius, m, > 0.
+    prefix
+        One-letter RINEX system of the ids (``"G"`` gives ``G01``, ``G02``, ...).
+    frequency_hz
+        Carrier frequency of every satellite, Hz, > 0 (band ``"L1"``).
+    raan0_deg
+        RAAN of plane 0, degrees.
+
+    Returns
+    -------
+    Constellation
+        ``n_sat`` satellites, plane by plane, with empty slot names and one band ``"L1"``.
+
     Raises
     ------
     InvalidInputError
@@ -327,6 +388,21 @@ def walker(
         ``semi_major_axis_m`` <= 0, ``frequency_hz`` <= 0, ``prefix`` not a one-letter str.
     WorkLimitError
         ``n_sat`` above ``MAX_SATELLITES`` (100,000).
+
+    Examples
+    --------
+    A polar ``90: 6/3/1`` pattern: two satellites per plane 180 deg apart; satellite 2 (plane 1, first of its
+    plane) has RAAN 120 deg and argument of latitude ``360 * 1 * 1 / 6 = 60`` deg, i.e. the unit position
+    ``Rz(120) (cos 60, 0, sin 60) = (-0.25, 0.433013, 0.866025)``:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit.constellation import walker
+    >>> pattern = walker(6, 3, 1, inclination_deg=90.0, semi_major_axis_m=7e6)
+    >>> pattern.ids
+    ('G01', 'G02', 'G03', 'G04', 'G05', 'G06')
+    >>> r, v = pattern.state_eci(0.0)  # (6, 3) m, m/s
+    >>> np.round(r[2] / 7e6, 6) + 0.0
+    array([-0.25    ,  0.433013,  0.866025])
     """
     n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_SATELLITES)
     n_planes = integer("n_planes", n_planes, minimum=1)

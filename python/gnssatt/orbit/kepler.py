@@ -56,6 +56,19 @@ def solve_kepler(
         ``max_iter`` above ``MAX_KEPLER_ITERATIONS``.
     ConvergenceError
         Newton's method did not reach ``tol`` within ``max_iter`` iterations.
+
+    Examples
+    --------
+    Mean anomalies made from chosen eccentric anomalies, ``M = E - e sin E``, give them back; at apoapsis
+    ``M = E = pi`` whatever the eccentricity:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit.kepler import solve_kepler
+    >>> e_true, ecc = np.array([0.5, 2.0, 3.0]), np.array([0.1, 0.9, 0.5])
+    >>> np.round(solve_kepler(e_true - ecc * np.sin(e_true), ecc), 12)
+    array([0.5, 2. , 3. ])
+    >>> round(float(solve_kepler(np.pi, 0.7)), 12)
+    3.14159265359
     """
     m = checked_array("mean_anomaly_rad", mean_anomaly_rad, ndim=(0, 1, 2, 3), shape="(...)")
     e = checked_array("eccentricity", eccentricity, ndim=(0, 1, 2, 3), shape="(...)")

@@ -211,6 +211,23 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     Returns
     -------
     Body-frame unit vectors, shape of ``los``.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes or non-finite lines of sight, a number of rotations other than one or n_t
+        (:class:`~gnssatt.errors.InvalidTypeError` for an ``attitude`` that is not a scipy ``Rotation``).
+
+    Examples
+    --------
+    A body turned 90 deg about Up (its X axis to the North): a satellite due North lies along body X:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.orbit.line_of_sight import los_body
+    >>> attitude = Rotation.from_euler("z", 90.0, degrees=True)  # body -> ENU
+    >>> np.round(los_body([[0.0, 1.0, 0.0]], attitude), 6) + 0.0
+    array([[1., 0., 0.]])
     """
     g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
     m = _attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
@@ -227,6 +244,27 @@ def elevation_azimuth(los_enu: ArrayLike) -> tuple[NDArray[np.float64], NDArray[
     ----------
     los_enu
         (..., 3) unit lines of sight in ENU.
+
+    Returns
+    -------
+    elevation, azimuth
+        Arrays of the leading shape of ``los_enu``, rad: elevation in [-pi/2, pi/2], azimuth in [0, 2 pi).
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values or a zero vector (:class:`~gnssatt.errors.InvalidTypeError` for values
+        that are not real numbers).
+
+    Examples
+    --------
+    North-east at 45 deg up, and due East on the horizon:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit.line_of_sight import elevation_azimuth
+    >>> el, az = elevation_azimuth([[0.5, 0.5, np.sqrt(0.5)], [1.0, 0.0, 0.0]])
+    >>> np.round(np.degrees(el), 6) + 0.0, np.round(np.degrees(az), 6) + 0.0
+    (array([45.,  0.]), array([45., 90.]))
     """
     g = vector_array("los_enu", los_enu, ndim=(1, 2, 3), shape="(..., 3)", nonzero=True)
     el = np.arcsin(np.clip(g[..., 2] / np.linalg.norm(g, axis=-1), -1.0, 1.0))
@@ -253,6 +291,29 @@ def line_of_sight(
     -------
     Geometry
         Unbatched for a scalar ``t``, with a leading epoch axis for an array.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or wrongly shaped ``t``, a receiver that coincides with a satellite
+        (:class:`~gnssatt.errors.InvalidTypeError` for a ``receiver`` or ``constellation`` of another type).
+
+    Examples
+    --------
+    A satellite 1000 km straight above an equatorial receiver at ``t = 0``: the line of sight is the orbital
+    frame's zenith, the range 1000 km, and the range rate zero (both velocities are normal to it):
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit.constellation import walker
+    >>> from gnssatt.orbit.line_of_sight import line_of_sight
+    >>> from gnssatt.orbit.receivers import OrbitalReceiver
+    >>> receiver = OrbitalReceiver(500e3, inclination_deg=0.0)  # m, deg
+    >>> above = walker(1, 1, 0, inclination_deg=0.0, semi_major_axis_m=receiver.radius_m + 1000e3)
+    >>> geometry = line_of_sight(receiver, above, 0.0)
+    >>> geometry.frame, np.round(geometry.los, 6) + 0.0
+    ('orbital', array([[0., 0., 1.]]))
+    >>> np.round(geometry.range_m, 3), np.round(geometry.range_rate_mps, 6) + 0.0
+    (array([1000000.]), array([0.]))
     """
     instance("receiver", receiver, GroundReceiver | OrbitalReceiver, "a GroundReceiver or OrbitalReceiver")
     instance("constellation", constellation, Constellation, "a Constellation")

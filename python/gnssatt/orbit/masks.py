@@ -28,6 +28,26 @@ def elevation_mask(los_ref: ArrayLike, mask_deg: float = 0.0) -> NDArray[np.bool
         (..., 3) unit lines of sight in a frame whose z axis is the local vertical (ENU or orbital).
     mask_deg
         Elevation mask, degrees, in [-90, 90].
+
+    Returns
+    -------
+    numpy.ndarray
+        Boolean, the leading shape of ``los_ref``.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, a zero vector, ``mask_deg`` outside [-90, 90]
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gnssatt.orbit.masks import elevation_mask
+    >>> el = np.radians([10.0, 30.0])
+    >>> los = np.column_stack([np.zeros(2), np.cos(el), np.sin(el)])  # (2, 3) ENU, due North
+    >>> elevation_mask(los, 15.0)
+    array([False,  True])
     """
     g = vector_array("los_ref", los_ref, ndim=(1, 2, 3), shape="(..., 3)", nonzero=True)
     m = scalar("mask_deg", mask_deg)
@@ -57,6 +77,30 @@ def antenna_cone_mask(
     half_angle_deg
         Cone half-angle, degrees, in (0, 180]; 90 is a hemispherical antenna (strictly above its horizon
         plane counts; a satellite exactly in that plane is visible).
+
+    Returns
+    -------
+    numpy.ndarray
+        Boolean, (n_sat,) or (n_t, n_sat).
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes, non-finite values, a zero boresight, ``half_angle_deg`` outside (0, 180], a number of
+        rotations other than one or n_t (:class:`~gnssatt.errors.InvalidTypeError` for an ``attitude`` that
+        is not a scipy ``Rotation``).
+
+    Examples
+    --------
+    A body pitched 90 deg about Y points its +z boresight at reference +x: a 30 deg cone holds a satellite on
+    +x, not one at the zenith:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.orbit.masks import antenna_cone_mask
+    >>> attitude = Rotation.from_euler("y", 90.0, degrees=True)  # body -> reference
+    >>> antenna_cone_mask(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]), attitude, half_angle_deg=30.0)
+    array([False,  True])
     """
     b = float_array("boresight_body", boresight_body, ndim=1, shape="(3,)")
     if b.shape != (3,) or np.linalg.norm(b) < 1e-12:
@@ -91,6 +135,29 @@ def earth_occlusion_mask(
         Height of the grazing layer to exclude (e.g. 100e3 for tropo/ionospheric grazing), m, >= 0.
     radius_m
         Radius of the Earth sphere, m.
+
+    Returns
+    -------
+    numpy.ndarray
+        Boolean, (n_sat,) or (n_t, n_sat).
+
+    Raises
+    ------
+    InvalidInputError
+        Shapes that do not pair up as above, non-finite values, ``radius_m <= 0``, ``atmosphere_m < 0``
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+
+    Examples
+    --------
+    A segment parallel to Y at ``x = 6450`` km passes 71.9 km above the 6378.137 km sphere: clear, but
+    inside a 100 km grazing layer; a satellite at the mirror point through the centre is hidden:
+
+    >>> from gnssatt.orbit.masks import earth_occlusion_mask
+    >>> receiver = [6.45e6, -1e7, 0.0]  # m
+    >>> earth_occlusion_mask(receiver, [[6.45e6, 1e7, 0.0], [-6.45e6, 1e7, 0.0]])
+    array([ True, False])
+    >>> earth_occlusion_mask(receiver, [[6.45e6, 1e7, 0.0]], atmosphere_m=100e3)
+    array([False])
     """
     r = float_array("receiver_m", receiver_m, ndim=(1, 2), shape="(3,) or (n_t, 3)")
     s = float_array("satellites_m", satellites_m, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")

@@ -75,6 +75,15 @@ def gps_ns(time: NDArray[np.datetime64]) -> NDArray[np.int64]:
         ``time`` is not of a datetime64 dtype.
     InvalidInputError
         ``time`` holds NaT or a label outside the years 1980 to 2199.
+
+    Examples
+    --------
+    The GPS epoch is 0, and one week and one second later is ``(7 * 86400 + 1) * 1e9`` ns:
+
+    >>> import numpy as np
+    >>> from gnssatt.rinex.nav import gps_ns
+    >>> gps_ns(np.array(["1980-01-06T00:00:00", "1980-01-13T00:00:01"], dtype="datetime64[s]")).tolist()
+    [0, 604801000000000]
     """
     time = time_labels("time", time)
     return (time - GPS_EPOCH).astype(np.int64)
@@ -272,6 +281,31 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         number in its range; the message names the file and line. Every other failure while reading becomes
         a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
         ``os.PathLike``, ``InvalidInputError`` if it is empty.
+
+    Examples
+    --------
+    A file written from the nominal GPS orbits (:func:`~gnssatt.rinex.writer.write_nav_from_constellation`)
+    reads back with their elements: semi-major axis 26 559.7 km, inclination 55 deg, circular, one record per
+    hour for each satellite:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from gnssatt.orbit.constellation import gps_nominal
+    >>> from gnssatt.rinex import read_nav, write_nav_from_constellation
+    >>> gps = gps_nominal().select(["G01", "G02"])
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "sim.nav"
+    ...     epoch = np.datetime64("2024-03-01T00:00:00")  # GPST
+    ...     toe_ns = write_nav_from_constellation(path, gps, epoch, span_s=3600.0)
+    ...     nav = read_nav(path)
+    >>> nav.kepler.sats.tolist(), nav.leap_seconds
+    (['G01', 'G01', 'G02', 'G02'], 18)
+    >>> fields = nav.kepler.fields
+    >>> np.round(fields["sqrt_a"] ** 2 / 1e3, 3), np.round(np.degrees(fields["i0"]), 9), fields["e"]
+    (array([26559.7, 26559.7, 26559.7, 26559.7]), array([55., 55., 55., 55.]), array([0., 0., 0., 0.]))
+    >>> (np.diff(nav.kepler.toe_ns[:2]) / 1e9).tolist(), bool(nav.kepler.toe_ns[0] == toe_ns[0])
+    ([3600.0], True)
     """
     p = path_text(path)
     with reading(p) as cursor:

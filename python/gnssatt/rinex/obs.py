@@ -440,6 +440,26 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
         (the size of the dense arrays returned) is refused before they are allocated.
         ``InvalidTypeError`` if ``path`` is not a str or ``os.PathLike``, ``InvalidInputError`` if it is
         empty.
+
+    Examples
+    --------
+    A file written by :func:`~gnssatt.rinex.writer.write_obs` reads back with its labels, satellites, codes
+    and values (NaN where a field is blank):
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from gnssatt.rinex import read_obs, write_obs
+    >>> time = np.array(["2024-03-01T00:00:00", "2024-03-01T00:00:30"], dtype="datetime64[ns]")  # GPST
+    >>> phase = np.array([[110_356_087.125, np.nan], [110_356_612.5, 123_264_018.25]])  # (2, 2) cycles
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "sim.obs"
+    ...     write_obs(path, time, ["G05", "R07"], {"L1C": phase}, glonass_channels={"R07": 5})
+    ...     obs = read_obs(path)
+    >>> obs.time.tolist() == time.tolist(), obs.sats, obs.glonass_channels
+    (True, ('G05', 'R07'), {'R07': 5})
+    >>> bool(np.array_equal(obs.get("L1C"), phase, equal_nan=True))
+    True
     """
     p = path_text(path)
     with reading(p) as cursor:

@@ -115,6 +115,26 @@ def write_obs(
         ``MAX_OBSERVATION``; ``approx_position_m`` not a finite (3,) within ``MAX_POSITION_M``;
         ``marker_name`` longer than 60 characters or not printable ASCII; ``lli`` not digits 0-9 of
         codes in ``observations``; ``glonass_channels`` not GLONASS ids with channels in -7..6.
+
+    Examples
+    --------
+    Two epochs of two GPS satellites written and read back (:func:`~gnssatt.rinex.obs.read_obs`): the values
+    survive to the file's 3 decimals, and a NaN stays a blank field:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from gnssatt.rinex import read_obs, write_obs
+    >>> time = np.array(["2024-03-01T00:00:00", "2024-03-01T00:00:30"], dtype="datetime64[ns]")  # GPST
+    >>> c1c = np.array([[21_000_123.456, 23_456_789.012], [21_000_223.456, np.nan]])  # (2, 2) m
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "sim.obs"
+    ...     write_obs(path, time, ["G05", "G12"], {"C1C": c1c, "L1C": np.round(c1c / 0.190294, 3)})
+    ...     obs = read_obs(path)
+    >>> obs.version, obs.sats, obs.codes
+    (3.04, ('G05', 'G12'), ('C1C', 'L1C'))
+    >>> bool(np.array_equal(obs.get("C1C"), c1c, equal_nan=True))
+    True
     """
     path = output_path("path", path)
     t = time_labels("time", time)
@@ -307,6 +327,23 @@ def write_nav_from_constellation(
         ``path`` empty, a folder or in a missing folder; ids of other systems or BeiDou GEO ids (C01-C05,
         C59-C63); ``epoch_gpst`` not a single label in range; ``start_s`` or ``span_s`` out of range;
         ``clock_bias_s`` not finite (n_sat,) within 1 ms; ``klobuchar`` not finite (8,) below 1e9.
+
+    Examples
+    --------
+    The first records of every GPS satellite start at the epoch itself, 2024-03-01 00:00:00 GPST, 16 126
+    days after the GPS epoch (1980-01-06); reading the file back: :func:`~gnssatt.rinex.nav.read_nav`.
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from gnssatt.orbit.constellation import gps_nominal
+    >>> from gnssatt.rinex.writer import write_nav_from_constellation
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     toe_ns = write_nav_from_constellation(
+    ...         Path(folder) / "sim.nav", gps_nominal(), np.datetime64("2024-03-01T00:00:00")
+    ...     )
+    >>> toe_ns.shape, bool(np.all(toe_ns == 16126 * 86400 * 10**9))
+    ((24,), True)
     """
     path = output_path("path", path)
     constellation = instance("constellation", constellation, Constellation, "a sim.Constellation")

@@ -40,6 +40,28 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
     Returns
     -------
     (3, 3) antenna positions, body frame, m; row i is antenna i.
+
+    Raises
+    ------
+    InvalidInputError
+        ``side_m`` not positive and finite, ``plane`` not ``"xy"``, ``"xz"`` or ``"yz"``
+        (:class:`~gnssatt.errors.InvalidTypeError` for a ``side_m`` that is not a real number or a ``plane``
+        that is not text).
+
+    Examples
+    --------
+    Every pair of antennas is one side apart:
+
+    >>> import numpy as np
+    >>> from gnssatt.sim.arrays import equilateral_triangle
+    >>> antennas = equilateral_triangle(1.0)  # (3, 3) m, body
+    >>> np.round(antennas, 6) + 0.0
+    array([[0.      , 0.      , 0.      ],
+           [1.      , 0.      , 0.      ],
+           [0.5     , 0.866025, 0.      ]])
+    >>> i, j = np.triu_indices(3, 1)
+    >>> np.round(np.linalg.norm(antennas[i] - antennas[j], axis=1), 12)
+    array([1., 1., 1.])
     """
     s = scalar("side_m", side_m, minimum=0.0, strict=True)
     text("plane", plane)
@@ -56,11 +78,37 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
 def random_attitude(rng: int | np.random.Generator | None = None, n: int | None = None) -> Rotation:
     """Attitude(s) drawn uniformly over SO(3) from ``rng`` (one ``Rotation``, or ``n`` stacked).
 
+    Parameters
+    ----------
+    rng
+        Source of randomness: ``np.random.default_rng(rng)``, an int seed (reproducible), a
+        ``numpy.random.Generator`` (used and advanced) or None (fresh entropy).
+    n
+        Number of attitudes, 1 to ``MAX_DRAWS`` (1e7), or None for a single one.
+
+    Returns
+    -------
+    scipy.spatial.transform.Rotation
+        Body -> reference rotation: a single one for ``n=None``, else ``n`` stacked.
+
     Raises
     ------
     InvalidInputError
         ``rng`` not an int, Generator or None, ``n`` not an integer >= 1
         (:class:`~gnssatt.errors.WorkLimitError` above ``MAX_DRAWS``, 1e7).
+
+    Examples
+    --------
+    The same seed gives the same attitude; under the uniform (Haar) distribution the trace of the rotation
+    matrix has mean 0, which 100 000 draws reproduce to about 0.003:
+
+    >>> import numpy as np
+    >>> from gnssatt.sim.arrays import random_attitude
+    >>> bool(np.allclose(random_attitude(7).as_quat(), random_attitude(7).as_quat()))
+    True
+    >>> draws = random_attitude(7, 100_000)
+    >>> len(draws), bool(abs(np.trace(draws.as_matrix(), axis1=1, axis2=2).mean()) < 0.02)
+    (100000, True)
     """
     rng = generator("rng", rng)
     if n is not None:
@@ -86,6 +134,29 @@ def random_los(
     Returns
     -------
     (n_sat, 3) unit vectors in a local-level frame (ENU or orbital).
+
+    Raises
+    ------
+    InvalidInputError
+        A negative ``rng`` seed, ``n_sat`` below 1, ``min_elevation_deg`` outside [-90, 90)
+        (:class:`~gnssatt.errors.InvalidTypeError` for an ``rng`` that is not an int, Generator or None, and
+        other values of the wrong type).
+    WorkLimitError
+        ``n_sat`` above ``MAX_DRAWS`` (1e7).
+
+    Examples
+    --------
+    Unit vectors, none below the mask; uniform over the cap, their up component is uniform on
+    ``[sin 15 deg, 1]``, with mean ``(sin 15 deg + 1) / 2 = 0.63``:
+
+    >>> import numpy as np
+    >>> from gnssatt.sim.arrays import random_los
+    >>> los = random_los(3, 100_000, min_elevation_deg=15.0)  # (100000, 3), ENU
+    >>> low = np.sin(np.radians(15.0))
+    >>> bool(np.allclose(np.linalg.norm(los, axis=1), 1.0)), bool(np.all(los[:, 2] >= low))
+    (True, True)
+    >>> round(float(los[:, 2].mean()), 2), round(float((low + 1.0) / 2.0), 2)
+    (0.63, 0.63)
     """
     rng = generator("rng", rng)
     n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_DRAWS)

@@ -152,6 +152,25 @@ def phase_diffs(phases: ArrayLike) -> NDArray[np.float64]:
     Returns
     -------
     (..., n_ant - 1, M) radians.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shapes (fewer than 2 antennas), non-finite values (:class:`~gnssatt.errors.InvalidTypeError` for
+        values that are not numbers, ragged sequences).
+
+    Examples
+    --------
+    Antenna 1 minus antenna 0 for two signals; ``3.0 - (-3.0) = 6`` rad wraps to ``6 - 2 pi``. Correlator
+    outputs ``exp(j phase)`` give the same differences:
+
+    >>> import numpy as np
+    >>> from gnssatt.sim.measurements import phase_diffs
+    >>> phases = np.array([[0.1, -3.0], [0.4, 3.0]])  # (n_ant = 2, M = 2) rad
+    >>> np.round(phase_diffs(phases), 6), round(6.0 - 2.0 * np.pi, 6)
+    (array([[ 0.3     , -0.283185]]), -0.283185)
+    >>> np.round(phase_diffs(np.exp(1j * phases)), 6)
+    array([[ 0.3     , -0.283185]])
     """
     try:
         arr = np.asarray(phases)
@@ -178,6 +197,27 @@ def correlator_amplitude(cn0_dbhz: ArrayLike, integration_time_s: float) -> NDAr
         Carrier-to-noise density ratio, dB-Hz, () or (n_sat,), each in ``CN0_RANGE_DBHZ`` ([-100, 200]).
     integration_time_s
         Coherent integration time ``T``, s, in (0, 1e6].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``A``, the shape of ``cn0_dbhz``, in units of the noise standard deviation per I and Q.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite values, ``cn0_dbhz`` outside ``CN0_RANGE_DBHZ``, ``integration_time_s`` outside (0, 1e6]
+        (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+
+    Examples
+    --------
+    50 dB-Hz over 1 ms: ``A = sqrt(2 * 1e5 * 1e-3) = sqrt(200)``, a phase noise of ``1 / A = 0.0707`` rad;
+    10 dB less divides ``A`` by ``sqrt(10)``:
+
+    >>> import numpy as np
+    >>> from gnssatt.sim.measurements import correlator_amplitude
+    >>> np.round(correlator_amplitude([50.0, 40.0], 1e-3), 6), round(float(np.sqrt(200.0)), 6)
+    (array([14.142136,  4.472136]), 14.142136)
     """
     c = checked_array("cn0_dbhz", cn0_dbhz, ndim=(0, 1), shape="() or (n_sat,)")
     lo, hi = CN0_RANGE_DBHZ
@@ -268,6 +308,27 @@ def simulate_array(
     ConvergenceError
         Finite but extreme inputs (noise levels, clock biases, ranges near the float limit) overflowed a
         simulated measurement.
+
+    Examples
+    --------
+    Noise-free phases with zero ambiguities, oscillator and satellite phases: the difference of an antenna
+    5 cm along body X is ``-2 pi (gamma . R r_1) / lambda``, zero for a satellite at the zenith and
+    ``-2 pi 0.05 / 0.19 = -1.653470`` rad for one on the X axis; the pseudoranges are the far-field ranges:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.orbit.line_of_sight import Geometry
+    >>> from gnssatt.sim.measurements import simulate_array
+    >>> geometry = Geometry.from_los([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], range_m=2.2e7)  # ENU, m
+    >>> antennas = [[0.0, 0.0, 0.0], [0.05, 0.0, 0.0]]  # (2, 3) m, body
+    >>> zeros = {"ambiguities": np.zeros((2, 2), int), "oscillator_phases_rad": [0.0, 0.0],
+    ...          "satellite_phases_rad": [0.0, 0.0]}
+    >>> m = simulate_array(geometry, Rotation.identity(), antennas, [0.19, 0.19], rng=1, **zeros)
+    >>> np.round(m.phase_diffs(), 6) + 0.0, round(-2 * np.pi * 0.05 / 0.19, 6)
+    (array([[ 0.     , -1.65347]]), -1.65347)
+    >>> np.round(m.pseudorange_m, 3)
+    array([[22000000.  , 22000000.  ],
+           [22000000.  , 21999999.95]])
     """
     instance("geometry", geometry, Geometry, "a gnssatt.sim Geometry")
     rng = generator("rng", rng)

@@ -126,6 +126,12 @@ def simulate_spaceborne(
         ``(t_start_s, t_end_s, max_sats)`` windows (inclusive) that keep at most ``max_sats`` satellites;
         at most ``MAX_OUTAGES`` (10,000) windows.
 
+    Returns
+    -------
+    SpaceborneMeasurements
+        Per epoch and satellite: pseudoranges (m), Doppler (Hz), visibility, the satellites' ECEF states and
+        wavelengths, with the true clock bias and drift and the noise levels used.
+
     Raises
     ------
     InvalidInputError
@@ -133,6 +139,25 @@ def simulate_spaceborne(
         receiver at the Earth's centre or at a satellite.
     ConvergenceError
         Finite but extreme noise levels or clock parameters overflowed a measurement.
+
+    Examples
+    --------
+    Without clock random walk and with negligible code noise, a visible GPS pseudorange exceeds the geometric
+    range by ``c dt``: ``c * 1e-4 s = 29979.246`` m at the first epoch, and 10 s of a 1e-8 drift later
+    ``c * (1e-4 + 1e-7) = 30009.225`` m:
+
+    >>> import numpy as np
+    >>> from gnssatt.orbit import CircularOrbit
+    >>> from gnssatt.orbit.constellation import gps_nominal
+    >>> from gnssatt.sim.spaceborne import simulate_spaceborne
+    >>> t = np.array([0.0, 10.0])  # s
+    >>> r, v = CircularOrbit(6_878_137.0, np.radians(51.6), 0.0, 0.0).state_ecef(t)  # (2, 3) m, m/s
+    >>> quiet = {"code_sigma_m": 1e-6, "q_bias_s2_s": 0.0, "q_drift_1_s": 0.0}
+    >>> s = simulate_spaceborne(r, v, t, gps_nominal(), rng=1, clock_bias0_s=1e-4, clock_drift0=1e-8, **quiet)
+    >>> rho = np.linalg.norm(s.sat_position_m - r[:, None, :], axis=-1)  # (2, 24) m
+    >>> excess = np.where(s.visible, s.pseudorange_m - rho, np.nan)
+    >>> [sorted(set(np.round(row[s.visible[k]], 3).tolist())) for k, row in enumerate(excess)]
+    [[29979.246], [30009.225]]
     """
     r = vector_array("receiver_position_m", receiver_position_m, ndim=2, shape="(n_t, 3)", nonzero=True)
     v = vector_array("receiver_velocity_m_s", receiver_velocity_m_s, ndim=2, shape="(n_t, 3)")
