@@ -29,8 +29,6 @@ use nalgebra::{Matrix3, Matrix6, Vector3};
 
 use crate::lambda::gate::Gate;
 
-#[cfg(test)]
-pub(crate) use filter::fix_decision;
 pub use filter::{run, MAX_FILTER_SAMPLES, MAX_FILTER_STATES};
 
 /// Gyro noise densities.

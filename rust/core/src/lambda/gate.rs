@@ -176,7 +176,7 @@ impl Gate {
         let rate = success_rate(problem.reduction.factor.d.as_slice());
         let ratio = ratio_of([first, second]);
         // The simulation runs last: only a set that passes the ratio but not the success rate needs it.
-        let reason = if !(ratio >= self.ratio_threshold) {
+        let reason = if !at_least(ratio, self.ratio_threshold) {
             Reason::LowRatio
         } else if rate >= self.min_success_rate {
             Reason::Passed
@@ -227,14 +227,14 @@ impl Gate {
             accepted: false,
             reason,
         };
-        if !(ratio >= self.ratio_threshold) {
+        if !at_least(ratio, self.ratio_threshold) {
             return Ok(refused(Reason::LowRatio));
         }
-        if !(cost <= cost_limit) {
+        if !at_least(cost_limit, cost) {
             return Ok(refused(Reason::Implausible));
         }
         let rate = success()?;
-        let gated = floor.is_some_and(|f| !(rate >= self.min_success_rate.max(f)));
+        let gated = floor.is_some_and(|f| !at_least(rate, self.min_success_rate.max(f)));
         Ok(Decision {
             success_rate: rate,
             ratio,
@@ -246,6 +246,11 @@ impl Gate {
             },
         })
     }
+}
+
+/// `value >= minimum`, false when either is NaN: a NaN ratio, objective or rate never passes a test.
+fn at_least(value: f64, minimum: f64) -> bool {
+    value >= minimum
 }
 
 #[cfg(test)]
