@@ -227,6 +227,29 @@ def test_validation_stops_the_wrong_fixes_that_an_unvalidated_filter_makes() -> 
     assert wrong_bad >= 5
 
 
+def test_fixed_failure_rate_test_admits_fixes_the_success_rate_gate_alone_refuses() -> None:
+    # The observation engine's gate (lambda::gate): with min_success_rate = 1 only a converged float set
+    # (bootstrapped rate 1 in f64) fixes; with max_failure_rate > 0 the fixed-failure-rate test admits
+    # earlier sets whose ratio makes a wrong fix unlikely.
+    runs = 10
+    kw = {"sigma_cycles": 0.3, "max_satellites": 2, "min_success_rate": 1.0}
+    off = [trial(seed, **kw) for seed in range(runs)]
+    on = [trial(seed, **kw, max_failure_rate=0.01) for seed in range(runs)]
+    assert all(f.success_rate >= 1.0 for r, _, _ in off for f in r.fixes if f.accepted)
+    admitted = [f for r, _, _ in on for f in r.fixes if f.accepted and f.success_rate < 1.0]
+    assert len(admitted) >= runs
+    n_on, wrong_on = wrong_fixes(on)
+    # each admitted fix has a wrong-fix probability of at most about 0.01: with n_on < 200 fixes,
+    # P(>= 7 wrong | p = 0.01) < 5e-3 (binomial)
+    assert n_on < 200 and wrong_on <= 6
+
+
+def test_max_failure_rate_outside_its_range_is_rejected() -> None:
+    for bad in (-0.01, 0.2, float("nan")):
+        with pytest.raises(InvalidInputError, match="max_failure_rate"):
+            gyro_gnss_filter(np.arange(11.0), np.zeros((11, 3)), **base_args(), max_failure_rate=bad)
+
+
 def test_cycle_slip_is_detected_and_the_ambiguity_refixed() -> None:
     t, att, _ = motion(300.0)
     seen = sc.phase_observations(

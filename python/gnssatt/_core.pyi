@@ -511,6 +511,7 @@ class GyroGnssOptions:
         output_every: int,
         sensitivity: tuple[float, float] | None = None,
         misalignment_sigma: float | None = None,
+        max_failure_rate: float = 0.0,
     ) -> GyroGnssOptions: ...
 
 @final

@@ -237,6 +237,7 @@ def gyro_gnss_filter(
     fix_ambiguities: bool = True,
     ratio_threshold: float = 3.0,
     min_success_rate: float = 0.999,
+    max_failure_rate: float = 0.0,
     slip_false_alarm: float | None = 1e-6,
     known_ambiguities: bool = False,
     sensitivity: tuple[float, float] | None = None,
@@ -261,9 +262,12 @@ def gyro_gnss_filter(
         Standard deviation of one first difference, cycles.
     attitude_fixes, phases
         Loosely coupled and/or tightly coupled measurements, within ``[gyro_t[0], gyro_t[-1]]``.
-    fix_ambiguities, ratio_threshold, min_success_rate
-        LAMBDA fixing, accepted when the bootstrapped success rate of the float ambiguities reaches
-        ``min_success_rate`` and the ratio test passes ``ratio_threshold``.
+    fix_ambiguities, ratio_threshold, min_success_rate, max_failure_rate
+        LAMBDA fixing through the same gate as the observation engine (``gnssatt attitude``,
+        ``lambda::gate`` in the core): accepted when the ratio test passes ``ratio_threshold`` and the
+        bootstrapped success rate of the float ambiguities reaches ``min_success_rate`` or, when
+        ``max_failure_rate`` > 0, the ratio passes the fixed-failure-rate test for that probability of a
+        wrong fix (0 turns the test off; at most 0.1).
     slip_false_alarm
         False-alarm probability of the per-satellite chi-square innovation test (cycle slips, wrong fixes);
         ``None`` disables it.
@@ -292,8 +296,9 @@ def gyro_gnss_filter(
         an ``initial_covariance`` that is not symmetric positive definite; ``arw``, ``rrw`` or a
         ``sensitivity`` sigma below 0; ``arw`` or ``rrw`` above :data:`MAX_GYRO_NOISE`;
         ``phase_sigma_cycles`` not in (0, :data:`MAX_PHASE_SIGMA_CYCLES`]; ``misalignment_sigma_rad`` not
-        above 0; ``ratio_threshold`` below 1; ``min_success_rate`` outside
-        [0, 1]; ``slip_false_alarm`` outside (0, 1); ``output_every`` below 1; baselines outside the limits of
+        above 0; ``ratio_threshold`` below 1; ``min_success_rate`` outside [0, 1]; ``max_failure_rate``
+        outside [0, 0.1]; ``slip_false_alarm`` outside (0, 1); ``output_every`` below 1; baselines outside
+        the limits of
         :func:`gnssatt.geometry.checked_baselines`; measurements outside the gyro record or inconsistent
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind: text, ``None``, complex,
         a ``phases`` that is not :class:`~gnssatt.sim.attitude_scenario.PhaseObservations` ...).
@@ -347,6 +352,7 @@ def gyro_gnss_filter(
     fix = flag("fix_ambiguities", fix_ambiguities)
     ratio = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
     success = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
+    failure = scalar("max_failure_rate", max_failure_rate, minimum=0.0, maximum=0.1)
     known = flag("known_ambiguities", known_ambiguities)
     every = min(integer("output_every", output_every, minimum=1), max(len(t), 1))  # beyond n: first and last
     if phases is not None and baselines_m is None:
@@ -424,6 +430,7 @@ def gyro_gnss_filter(
         output_every=every,
         sensitivity=sens,
         misalignment_sigma=mis,
+        max_failure_rate=failure,
     )
     fix_t, fix_q, fix_cov = fx
     epoch_t, phase_epoch, phase_track, phase_los, phase_wavelength, phase = ph

@@ -4,6 +4,7 @@
 //! which knows whether phases and fixes are present); here only their types and the baselines' shape.
 
 use gnssatt_core::gyro_gnss::{FixSettings, GyroNoise, Sensitivity, Settings};
+use gnssatt_core::lambda::gate::Gate;
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 
@@ -13,7 +14,8 @@ use crate::convert::vectors;
 ///
 /// `arw` rad/s/sqrt(Hz), `rrw` rad/s^2/sqrt(Hz), `baselines` (m, 3) body frame m, `phase_sigma` cycles,
 /// `slip_threshold` the chi-square NIS threshold (inf disables), `sensitivity`
-/// `(misalignment_sigma_rad, baseline_sigma_m)`, `misalignment_sigma` rad.
+/// `(misalignment_sigma_rad, baseline_sigma_m)`, `misalignment_sigma` rad, `max_failure_rate` the
+/// fixed-failure-rate test below the success-rate gate (0 off, at most 0.1), as the observation engine's.
 #[pyclass(frozen, module = "gnssatt._core")]
 pub struct GyroGnssOptions {
     pub inner: Settings,
@@ -24,7 +26,8 @@ impl GyroGnssOptions {
     #[new]
     #[pyo3(signature = (
         *, arw, rrw, baselines, phase_sigma, fix_enabled, ratio_threshold, min_success_rate, slip_threshold,
-        known_ambiguities, output_every, sensitivity = None, misalignment_sigma = None
+        known_ambiguities, output_every, sensitivity = None, misalignment_sigma = None,
+        max_failure_rate = 0.0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -41,6 +44,7 @@ impl GyroGnssOptions {
         output_every: usize,
         sensitivity: Option<(f64, f64)>,
         misalignment_sigma: Option<f64>,
+        max_failure_rate: f64,
     ) -> PyResult<GyroGnssOptions> {
         Ok(GyroGnssOptions {
             inner: Settings {
@@ -49,8 +53,11 @@ impl GyroGnssOptions {
                 phase_sigma,
                 fix: FixSettings {
                     enabled: fix_enabled,
-                    ratio_threshold,
-                    min_success_rate,
+                    gate: Gate {
+                        min_success_rate,
+                        ratio_threshold,
+                        max_failure_rate,
+                    },
                 },
                 slip_threshold,
                 known_ambiguities,

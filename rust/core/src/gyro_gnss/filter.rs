@@ -10,6 +10,7 @@ use super::{AttitudeFix, FilterRun, FixAttempt, Initial, Nis, PhaseEpoch, Settin
 use crate::error::{ensure_finite, Error, Result};
 use crate::kalman::{discretize, predict_covariance, symmetrize, update};
 use crate::lambda::bootstrap::success_rate;
+use crate::lambda::gate::{Decision, Gate, Names, Reason};
 use crate::lambda::Problem;
 use crate::{guard, interrupt};
 
@@ -530,8 +531,8 @@ impl<'a> Filter<'a> {
         self.float_tracks.remove(g);
     }
 
-    /// LAMBDA on all float ambiguities, gated by the bootstrapped success rate and the ratio test; an
-    /// accepted fix conditions the other states on the integers and removes the ambiguities from the state.
+    /// LAMBDA on all float ambiguities, accepted or refused by the gate ([`fix_decision`]); an accepted
+    /// fix conditions the other states on the integers and removes the ambiguities from the state.
     fn try_fix(&mut self, t: f64, out: &mut FilterRun) -> Result<()> {
         let m = self.m();
         let n = self.x.len();
@@ -539,49 +540,23 @@ impl<'a> Filter<'a> {
         let na = n - nc;
         let a = self.x.rows(nc, na).into_owned();
         let qa = symmetrize(self.p.view((nc, nc), (na, na)).into_owned());
-        // A covariance the reduction cannot decorrelate exactly is not fixable at this epoch: the filter
-        // goes on with float ambiguities rather than stop the run.
-        let problem = match Problem::new(&a, &qa) {
-            Ok(problem) => problem,
-            Err(Error::Numerical { .. } | Error::Convergence { .. }) => return Ok(()),
-            Err(e) => return Err(e),
+        let Some((decision, best)) = fix_decision(&self.s.fix.gate, &a, &qa)? else {
+            return Ok(());
         };
-        let success_rate = success_rate(problem.reduction.factor.d.as_slice());
-        let label = |v: &DVector<i64>| -> Vec<(i64, usize, i64)> {
-            (0..na)
-                .map(|i| (self.float_tracks[i / m], i % m, v[i]))
-                .collect()
-        };
-        let mut attempt = FixAttempt {
+        out.fixes.push(FixAttempt {
             t,
-            accepted: false,
-            ratio: 0.0,
-            success_rate,
-            values: Vec::new(),
-        };
-        if success_rate < self.s.fix.min_success_rate {
-            out.fixes.push(attempt);
+            accepted: decision.accepted,
+            ratio: decision.ratio,
+            success_rate: decision.success_rate,
+            values: best.as_ref().map_or_else(Vec::new, |v| {
+                (0..na)
+                    .map(|i| (self.float_tracks[i / m], i % m, v[i]))
+                    .collect()
+            }),
+        });
+        let Some(fixed) = best.filter(|_| decision.accepted) else {
             return Ok(());
-        }
-        // A float solution too vague for the search, or one the search cannot answer exactly (the LAMBDA
-        // refuses rather than return a wrong integer), is not fixable yet; the cap keeps one epoch cheap.
-        let best = match problem.solve(2, MAX_FIX_NODES) {
-            Ok(best) => best,
-            Err(Error::Convergence { .. } | Error::Numerical { .. }) => {
-                out.fixes.push(attempt);
-                return Ok(());
-            }
-            Err(e) => return Err(e),
         };
-        let fixed = best.fixed.column(0).into_owned();
-        attempt.ratio = best.squared_norms[1] / best.squared_norms[0].max(f64::MIN_POSITIVE);
-        attempt.accepted = attempt.ratio >= self.s.fix.ratio_threshold;
-        attempt.values = label(&fixed);
-        let accepted = attempt.accepted;
-        out.fixes.push(attempt);
-        if !accepted {
-            return Ok(());
-        }
         let chol = qa.clone().cholesky().ok_or(Error::DegenerateGeometry {
             what: "ambiguity fix".into(),
             matrix: "float ambiguity covariance",
@@ -601,6 +576,49 @@ impl<'a> Filter<'a> {
         self.float_tracks.clear();
         self.reset();
         Ok(())
+    }
+}
+
+/// The gate's decision on the filter's float ambiguities `a` (cycles) with covariance `qa` (cycles^2),
+/// and the best integers when a search ran; `None` when the covariance cannot be decorrelated exactly
+/// (no attempt is recorded).
+///
+/// The filter goes on with float ambiguities rather than stop the run where the engine would report an
+/// error: a covariance the reduction cannot decorrelate exactly, a float solution too vague for the
+/// capped search or one the search cannot answer exactly (the LAMBDA refuses rather than return a wrong
+/// integer) is not fixable at this epoch; the cap keeps one epoch cheap.
+///
+/// # Errors
+/// Those of [`Problem::new`] other than [`Error::Numerical`] and [`Error::Convergence`].
+pub(crate) fn fix_decision(
+    gate: &Gate,
+    a: &DVector<f64>,
+    qa: &DMatrix<f64>,
+) -> Result<Option<(Decision, Option<DVector<i64>>)>> {
+    let not_fixable = |e: &Error| matches!(e, Error::Numerical { .. } | Error::Convergence { .. });
+    let problem = match Problem::new(a, qa) {
+        Ok(problem) => problem,
+        Err(e) if not_fixable(&e) => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    if let Some(refused) = gate.before_search(&problem) {
+        return Ok(Some((refused, None)));
+    }
+    let searched = problem
+        .solve(2, MAX_FIX_NODES)
+        .and_then(|best| Ok((gate.decide(&problem, &best)?, best)));
+    match searched {
+        Ok((decision, best)) => Ok(Some((decision, Some(best.fixed.column(0).into_owned())))),
+        Err(e) if not_fixable(&e) => Ok(Some((
+            Decision {
+                success_rate: success_rate(problem.reduction.factor.d.as_slice()),
+                ratio: 0.0,
+                accepted: false,
+                reason: Reason::Unsearched,
+            },
+            None,
+        ))),
+        Err(e) => Err(e),
     }
 }
 
@@ -637,19 +655,7 @@ fn check_settings(s: &Settings, phases: bool, fixes: bool) -> Result<()> {
             format!("expected a finite value > 0 cycles, got {}", s.phase_sigma),
         ));
     }
-    let fx = &s.fix;
-    if !(fx.ratio_threshold >= 1.0 && fx.ratio_threshold.is_finite()) {
-        return Err(Error::out_of_range(
-            "ratio_threshold",
-            format!("expected a finite value >= 1, got {}", fx.ratio_threshold),
-        ));
-    }
-    if !(0.0..=1.0).contains(&fx.min_success_rate) {
-        return Err(Error::out_of_range(
-            "min_success_rate",
-            format!("expected a value in [0, 1], got {}", fx.min_success_rate),
-        ));
-    }
+    s.fix.gate.check(&Names::PYTHON)?;
     if s.slip_threshold.is_nan() || s.slip_threshold <= 0.0 {
         return Err(Error::out_of_range(
             "slip_threshold",

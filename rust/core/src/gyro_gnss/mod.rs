@@ -27,6 +27,8 @@ mod tests;
 
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
+use crate::lambda::gate::Gate;
+
 pub use filter::{run, MAX_FILTER_SAMPLES, MAX_FILTER_STATES};
 
 /// Gyro noise densities.
@@ -43,10 +45,12 @@ pub struct GyroNoise {
 pub struct FixSettings {
     /// Try to fix the float ambiguities after every phase update.
     pub enabled: bool,
-    /// Accept a fix when the ratio (second best / best squared norm) reaches this, >= 1.
-    pub ratio_threshold: f64,
-    /// Attempt a fix only when the bootstrapped success rate reaches this, in [0, 1].
-    pub min_success_rate: f64,
+    /// Accepts or refuses each attempt: the ILS rule of [`crate::lambda::gate`] (bootstrapped success
+    /// rate, ratio test, fixed-failure-rate test when `max_failure_rate > 0`), the one the observation
+    /// engine uses. Partial fixing is not attempted: a fixed decorrelated combination spans several
+    /// tracks, so the state would keep ambiguities with a singular covariance that the next attempt's
+    /// decorrelation refuses, and a satellite that sets would take a share of fixed combinations with it.
+    pub gate: Gate,
 }
 
 /// Unmodelled errors of the sensitivity analysis: the filter ignores them, the covariance of the TRUE
@@ -127,7 +131,8 @@ pub struct PhaseEpoch {
 pub struct FixAttempt {
     pub t: f64,
     pub accepted: bool,
-    /// Ratio of the second-best to the best squared norm (0 when the success-rate gate stopped it).
+    /// Ratio of the second-best to the best squared norm (0 when the gate refused before the search or
+    /// the search could not be completed; infinite for a zero best norm).
     pub ratio: f64,
     pub success_rate: f64,
     /// `(track, baseline index, integer)` of the best candidate.

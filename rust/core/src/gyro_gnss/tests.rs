@@ -3,6 +3,7 @@ use nalgebra::{Matrix3, Matrix6, UnitQuaternion, Vector3};
 use super::kinematics::{propagate, skew, unit, MAX_ANGLE_PER_SAMPLE_RAD};
 use super::*;
 use crate::error::Error;
+use crate::lambda::gate::Gate;
 
 fn settings(baselines: Vec<Vector3<f64>>) -> Settings {
     Settings {
@@ -14,8 +15,11 @@ fn settings(baselines: Vec<Vector3<f64>>) -> Settings {
         phase_sigma: 0.01,
         fix: FixSettings {
             enabled: true,
-            ratio_threshold: 3.0,
-            min_success_rate: 0.999,
+            gate: Gate {
+                min_success_rate: 0.999,
+                ratio_threshold: 3.0,
+                max_failure_rate: 0.0,
+            },
         },
         slip_threshold: 30.0,
         known_ambiguities: false,

@@ -1,5 +1,6 @@
 //! LAMBDA integer ambiguity resolution: decorrelation, exact integer least-squares (ILS) search for the
-//! best candidates, the bootstrapped success rate, and validation (ratio test, partial fixing).
+//! best candidates, the bootstrapped success rate, validation (ratio test, partial fixing) and the one
+//! gate that accepts or refuses a fix ([`gate`]).
 //!
 //! Float ambiguities `a` (cycles) with covariance `Q` (cycles^2) are decorrelated by a unimodular
 //! integer `Z` (`z = Z^T a`, covariance `Z^T Q Z = L^T D L`), searched there, and mapped back with
@@ -16,6 +17,7 @@
 //! search nodes.
 
 pub mod bootstrap;
+pub mod gate;
 pub mod ldl;
 pub mod reduction;
 pub mod search;

@@ -481,7 +481,8 @@ fn conditioned(
     })
 }
 
-fn ratio_of(norms: [f64; 2]) -> f64 {
+/// `second / best` of two squared norms (infinite for a zero best: the float vector is an integer one).
+pub(crate) fn ratio_of(norms: [f64; 2]) -> f64 {
     if norms[0] > 0.0 {
         norms[1] / norms[0]
     } else {

@@ -12,10 +12,10 @@
 //! candidates are ranked by `||a - z||^2 + (|b(z)| - |f|)^2 / (u^T Q_b|a u)` (the length constraint to
 //! first order, `u = b(z) / |b(z)|`), the best of each are combined (at most [`MAX_COMBINATIONS`]) and
 //! scored with the full objective, `R` from the weighted orthogonal Procrustes problem
-//! ([`crate::wahba::svd`]). The best combination is accepted when the second best's objective is at least
-//! `ratio_threshold` times larger and its own objective is plausible (below the `1 - 1e-9` chi-square
-//! quantile of its degrees of freedom, which refuses a best that is only the least wrong of a list that
-//! missed the truth). Rovers are treated as independent (their shared base observations are ignored).
+//! ([`crate::wahba::svd`]). The best combination is accepted by the constrained rule of
+//! [`crate::lambda::gate`]: the second best's objective is at least `ratio_threshold` times larger and
+//! its own objective is plausible (below the `1 - 1e-9` chi-square quantile of its degrees of freedom,
+//! which refuses a best that is only the least wrong of a list that missed the truth). Rovers are treated as independent (their shared base observations are ignored).
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
@@ -83,10 +83,16 @@ pub fn solve_attitude(
     let (best, ratio) = best_combination(&rovers, &body);
     let dof: usize =
         rovers.iter().map(|r| r.fl.ambiguities.len()).sum::<usize>() + 3 * rovers.len() - 3;
-    let accepted = best
-        .as_ref()
-        .filter(|(_, cost)| ratio >= fix.ratio_threshold && *cost <= chi2_quantile(dof))
-        .map(|(choice, _)| choice.clone());
+    // The constrained rule of the gate, its success rate reported (the rovers' unconstrained product),
+    // not gated.
+    let accepted = match &best {
+        Some((choice, cost)) => fix
+            .gate()
+            .decide_constrained(ratio, *cost, chi2_quantile(dof), None, || Ok(success))?
+            .accepted
+            .then(|| choice.clone()),
+        None => None,
+    };
     let baselines: Vec<BaselineSolution> = match &accepted {
         Some(choice) => rovers
             .iter()

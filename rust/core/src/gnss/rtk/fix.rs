@@ -1,17 +1,17 @@
-//! Integer fixing of the float ambiguities: the full set when its bootstrapped success rate reaches the
-//! gate and its ratio test passes, else the largest decorrelated subset that does (partial fixing,
+//! Integer fixing of the float ambiguities: the full set when the gate accepts it (the ILS rule of
+//! [`crate::lambda::gate`]: ratio test, bootstrapped success rate, fixed-failure-rate test below it),
+//! else the largest decorrelated subset that does (partial fixing,
 //! [`crate::lambda::validation::partial_fix`]); the baseline conditioned on what was fixed.
 
 use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, Vector3};
 
 use super::dd::validate;
 use super::float::{self, FloatSolution};
-use super::{BaselineSolution, DdEpoch, FixOptions, FFRT_MAX_AMBIGUITIES, MAX_EPOCHS};
+use super::{BaselineSolution, DdEpoch, FixOptions, MAX_EPOCHS};
 use crate::error::{Error, Result};
-use crate::gnss::options::check_gate;
-use crate::lambda::bootstrap::success_rate;
-use crate::lambda::validation::{fixed_failure_accepts, RatioThreshold};
-use crate::lambda::{Problem, DEFAULT_MAX_NODES};
+use crate::lambda::gate::{Decision, Gate, Names};
+use crate::lambda::validation::RatioThreshold;
+use crate::lambda::{IlsSolution, Problem, DEFAULT_MAX_NODES};
 
 /// Conditional variance (cycles^2) below which an ambiguity counts as fixed after partial fixing (the
 /// conditioned covariance of a fixed ambiguity is zero up to rounding).
@@ -23,11 +23,16 @@ impl FixOptions {
     /// # Errors
     /// [`Error::OutOfRange`] naming the CLI option.
     pub fn validate(&self) -> Result<()> {
-        check_gate(
-            self.min_success_rate,
-            self.ratio_threshold,
-            self.max_failure_rate,
-        )
+        self.gate().check(&Names::CLI)
+    }
+
+    /// The fixing gate these options set.
+    pub fn gate(&self) -> Gate {
+        Gate {
+            min_success_rate: self.min_success_rate,
+            ratio_threshold: self.ratio_threshold,
+            max_failure_rate: self.max_failure_rate,
+        }
     }
 }
 
@@ -133,12 +138,10 @@ pub(crate) fn fix_problem(
     let na = fl.ambiguities.len();
     let mut out = float_result(fl, held);
     let a = &fl.ambiguities_cycles;
-    let best = problem.solve(2, DEFAULT_MAX_NODES)?;
-    out.success_rate = success_rate(problem.reduction.factor.d.as_slice());
-    out.ratio = ratio(best.squared_norms[0], best.squared_norms[1]);
-    let accept = out.ratio >= fix.ratio_threshold
-        && (out.success_rate >= fix.min_success_rate
-            || passes_failure_rate(problem, out.ratio, fix.max_failure_rate)?);
+    let (decision, best) = full_fix_decision(fix, problem)?;
+    out.success_rate = decision.success_rate;
+    out.ratio = decision.ratio;
+    let accept = decision.accepted;
     let (conditioned, q_cond) = if accept {
         out.fixed = true;
         out.fixed_ambiguities += na;
@@ -169,28 +172,17 @@ pub(crate) fn fix_problem(
     Ok(out)
 }
 
-/// Draws of the fixed-failure-rate simulation per unit of `1 / max_failure_rate`: the threshold is then
-/// set by the 21st largest wrong-fix ratio of the draws (relative standard error of the failure rate
-/// about 1 / sqrt(20) = 22 %).
-const FFRT_DRAWS_PER_FAILURE: f64 = 20.0;
-
-/// Seed of the simulation: the same epoch gives the same decision in every run.
-const FFRT_SEED: u64 = 16;
-
-/// Whether `ratio` passes the fixed-failure-rate test of `problem` for `max_failure_rate` (never when
-/// off or beyond [`FFRT_MAX_AMBIGUITIES`]).
-fn passes_failure_rate(problem: &Problem, ratio: f64, max_failure_rate: f64) -> Result<bool> {
-    if max_failure_rate <= 0.0 || problem.len() > FFRT_MAX_AMBIGUITIES {
-        return Ok(false);
-    }
-    let draws = (FFRT_DRAWS_PER_FAILURE / max_failure_rate).ceil() as usize;
-    fixed_failure_accepts(
-        &problem.reduction.factor,
-        ratio,
-        max_failure_rate,
-        draws,
-        FFRT_SEED,
-    )
+/// The gate's decision on the full set of `problem` and its two best candidates (the engine searches
+/// whatever the success rate: partial fixing and the reported ratio need the search).
+///
+/// # Errors
+/// Those of [`Problem::solve`] and [`Gate::decide`].
+pub(crate) fn full_fix_decision(
+    fix: &FixOptions,
+    problem: &Problem,
+) -> Result<(Decision, IlsSolution)> {
+    let best = problem.solve(2, DEFAULT_MAX_NODES)?;
+    Ok((fix.gate().decide(problem, &best)?, best))
 }
 
 /// The held integers that occurred, in the order given.
@@ -199,15 +191,6 @@ fn held_integers(fl: &FloatSolution, held: &[(u64, u64, i64)]) -> Vec<(u64, u64,
         .copied()
         .filter(|&(a, r, _)| fl.used_held.contains(&(a, r)))
         .collect()
-}
-
-/// `second / best` (infinite for a zero best norm: the float vector is an integer vector).
-fn ratio(best: f64, second: f64) -> f64 {
-    if best > 0.0 {
-        second / best
-    } else {
-        f64::INFINITY
-    }
 }
 
 fn symmetric(m: &DMatrix<f64>) -> DMatrix<f64> {

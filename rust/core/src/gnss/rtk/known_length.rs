@@ -24,8 +24,9 @@
 //! Giorgi & Buist 2011, GPS Solutions 15:15-28), and so does this module, for the epoch's own
 //! covariance: [`SUCCESS_DRAWS`] seeded draws of the float errors around the fixed solution, each solved
 //! by the same constrained search, the success rate the share whose best candidate is the truth (a draw
-//! whose search cannot be completed counts as a failure). A fix is accepted when that rate reaches
-//! `min_success_rate` or [`MIN_SUCCESS_RATE`], whichever is higher, the constrained ratio `F(second) / F(best)` reaches `ratio_threshold` (the
+//! whose search cannot be completed counts as a failure). A fix is accepted by the constrained rule of
+//! [`crate::lambda::gate`]: that rate reaches `min_success_rate` or [`MIN_SUCCESS_RATE`], whichever is
+//! higher, the constrained ratio `F(second) / F(best)` reaches `ratio_threshold` (the
 //! discrimination test used with C-LAMBDA), and `F(best)` is plausible (below the `1 - 1e-9` chi-square
 //! quantile of `n + 1` degrees of freedom: a best that is only the least wrong of a list that missed the
 //! truth is refused). Otherwise the epoch gets the unconstrained fix of [`super::fix`] (gate, ratio,
@@ -257,19 +258,22 @@ fn constrained_fix(
     } else {
         f64::INFINITY
     };
-    if ratio < fix.ratio_threshold || found.cost > chi2_quantile(na + 1) {
-        return Ok(None);
-    }
     // The baseline on the sphere, first order: the length as an observation of `u^T b`.
     let u = found.baseline_m / found.baseline_m.norm().max(f64::MIN_POSITIVE);
+    let decision = fix.gate().decide_constrained(
+        ratio,
+        found.cost,
+        chi2_quantile(na + 1),
+        Some(MIN_SUCCESS_RATE),
+        || c.success_rate(&(u * length_m)),
+    )?;
+    if !decision.accepted {
+        return Ok(None);
+    }
     let qu = q_cond * u;
     let s = u.dot(&qu) + LENGTH_SIGMA_M * LENGTH_SIGMA_M;
     let baseline_m = found.baseline_m + qu * ((length_m - found.baseline_m.norm()) / s);
     let covariance_m2 = q_cond - qu * qu.transpose() / s;
-    let success = c.success_rate(&(u * length_m))?;
-    if success < fix.min_success_rate.max(MIN_SUCCESS_RATE) {
-        return Ok(None);
-    }
     let z = problem.to_original(&found.best)?;
     let mut out = float_result(fl, held);
     out.baseline_m = baseline_m;
@@ -277,7 +281,7 @@ fn constrained_fix(
     out.fixed = true;
     out.fixed_ambiguities += na;
     out.ratio = ratio;
-    out.success_rate = success;
+    out.success_rate = decision.success_rate;
     out.integers.extend(
         fl.ambiguities
             .iter()
