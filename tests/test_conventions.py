@@ -23,6 +23,7 @@ from gnssatt import sim
 from gnssatt._arrays import generator
 from gnssatt._renamed import renamed
 from gnssatt.attitude import dynamics as tumble
+from gnssatt.attitude import gyro_gnss
 from gnssatt.attitude import likelihood
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
@@ -205,7 +206,7 @@ def test_attitude_fixes_rotation_is_the_body_to_eci_attitude() -> None:
 
 
 # Every public attitude result type of the package: the structural rule, so that a new result without
-# .rotation fails here. gyro_propagate returns an ndarray (listed in docs/conventions.md, for `boundary`).
+# .rotation fails here.
 ATTITUDE_RESULTS = [
     gnssatt.MatrixAttitudeResult,
     gnssatt.LikelihoodAttitude,
@@ -218,6 +219,7 @@ ATTITUDE_RESULTS = [
     tumble.TumbleTrajectory,
     scen.AttitudeFixes,
     gnssatt.GyroGnssResult,
+    gyro_gnss.GyroPropagation,
 ]
 
 
@@ -238,12 +240,26 @@ def test_no_attitude_result_has_an_unnamed_euler_field(cls: type) -> None:
     assert not {"euler_deg", "euler_rad", "euler", "angles_deg", "yaw"} & names or cls is RinexAttitudeSeries
 
 
-@pytest.mark.xfail(
-    strict=True, reason="gyro_propagate returns (n, 4) quaternions; .rotation is for `boundary`"
-)
 def test_gyro_propagate_result_has_rotation() -> None:
-    out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0], np.zeros((2, 3)))
-    assert isinstance(out.rotation, Rotation)
+    # a constant rate about body z: the closed form is the truth, R(t) = Rz(w t)
+    w = 0.3
+    out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0, 2.0], np.tile([0.0, 0.0, w], (3, 1)))
+    assert isinstance(out.rotation, Rotation) and len(out.rotation) == 3
+    assert _angle_deg(out.rotation, Rotation.from_rotvec(np.outer([0.0, 1.0, 2.0], [0.0, 0.0, w]))) < 1e-10
+
+
+def test_gyro_propagate_result_read_as_an_array_warns_and_gives_the_quaternions() -> None:
+    out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0], np.tile([0.0, 0.0, 0.3], (2, 1)))
+    with _warns_new_name_of("quaternions"):
+        array = np.asarray(out)
+    np.testing.assert_array_equal(array, out.quaternions)
+    with _warns_new_name_of("quaternions"):
+        np.testing.assert_array_equal(out[1], out.quaternions[1])
+    np.testing.assert_allclose(Rotation.from_quat(out.quaternions).as_matrix(), out.rotation.as_matrix())
+
+
+def _warns_new_name_of(new: str) -> Any:
+    return pytest.warns(DeprecationWarning, match=f"use its '{new}'")
 
 
 # --- rng= on every stochastic entry -------------------------------------------------------------------
