@@ -23,8 +23,7 @@ from gnssatt import sim
 from gnssatt._arrays import generator
 from gnssatt._renamed import renamed
 from gnssatt.attitude import dynamics as tumble
-from gnssatt.attitude import gyro_gnss
-from gnssatt.attitude import likelihood
+from gnssatt.attitude import gyro_gnss, likelihood
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
