@@ -529,7 +529,7 @@ NONE_OK = {
     ("fit_rotation", "rng"),
     # rng=None draws fresh entropy in every stochastic entry of the simulator (docs/conventions.md)
     *((name, "rng") for name in ("random_attitude", "random_los", "simulate_array", "simulate_spaceborne")),
-    *((name, "rng") for name in ("gyro_output", "phase_observations", "attitude_fixes")),
+    *((name, "rng") for name in ("gyro_output", "phase_observations", "attitude_fixes", "noisy_orbit")),
     ("fit_rotation", "axis_sigma_deg"),
     ("simulate_array", "cn0_dbhz"),
 }

@@ -492,7 +492,7 @@ ENTRIES: dict[str, Entry] = {
         lambda: {
             "x0": _sb()["x0"].copy(),
             "times_s": _sb()["t"].copy(),
-            "rng": s.rng(),
+            "rng": 1,
             "accel_psd_m2_s3": 1e-8,
             "step_s": 10.0,
         },
