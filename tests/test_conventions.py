@@ -27,6 +27,7 @@ from gnssatt.attitude import gyro_gnss, likelihood
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
+from gnssatt.sim import rinex_scenario
 
 # (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, seed 001)
 ENU_FROM_NUE = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
@@ -356,17 +357,19 @@ def test_rng_of_another_kind_is_refused_by_name(name: str, bad: Any) -> None:
         _draws(name, bad)
 
 
-# The documented exceptions keeping ``seed`` (docs/conventions.md, "Randomness"), and the entries still to
-# change (their files are outside this change; listed in the audit there).
+# The documented exceptions keeping ``seed`` (docs/conventions.md, "Randomness").
 SEED_KEPT = {
     "gnssatt.montecarlo.run",
     "gnssatt.montecarlo.trial_generators",
     "gnssatt.ambiguity.ratio_threshold_fixed_failure_rate",
     "gnssatt.ambiguity.ratio_test",
     "gnssatt.ambiguity.partial_fix",
-    "gnssatt.sim.rinex_scenario.simulate_rinex_array",  # to take rng=
 }
-RNG_ELSEWHERE = {"gnssatt.sim.rinex_scenario.simulate_gnss_rinex"}
+# rng= tested elsewhere: each call writes RINEX files (tests/test_rinex_simulate_gnss.py, and below)
+RNG_ELSEWHERE = {
+    "gnssatt.sim.rinex_scenario.simulate_gnss_rinex",
+    "gnssatt.sim.rinex_scenario.simulate_rinex_array",
+}
 
 
 def _public_functions() -> dict[str, Any]:
@@ -460,6 +463,28 @@ def test_renamed_keywords_warn_and_pass_on() -> None:
     np.testing.assert_array_equal(old_fixes.rotation.as_quat(), new_fixes.rotation.as_quat())
     with pytest.raises(InvalidInputError, match="both 'seed' and its new name 'rng'"):
         tumble.fit_rotation(t, axes, seed=5, rng=5)
+
+
+def test_simulate_rinex_array_reads_rng_as_default_rng_and_keeps_the_old_names(tmp_path: Any) -> None:
+    def run(sub: str, **kw: Any) -> tuple[bytes, ...]:
+        folder = tmp_path / sub
+        folder.mkdir()
+        ant = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+        s = rinex_scenario.simulate_rinex_array(folder, ant, interval_s=1.0, n_sats=5, **kw)
+        return tuple(p.read_bytes() for p in s.obs_paths)
+
+    euler = np.array([[-40.0, 5.0, 3.0], [-41.0, 5.0, 3.0]])
+    new = run("new", euler_gost_deg=euler, rng=3)
+    assert run("generator", euler_gost_deg=euler, rng=np.random.default_rng(3)) == new
+    assert run("other", euler_gost_deg=euler, rng=4) != new  # the draws do depend on the seed
+    with _warns_new_name("rng"), _warns_new_name("euler_gost_deg"):
+        old = run("old", euler_deg=euler, seed=3)
+    assert old == new  # the same integer, the same files as before the rename
+    folder = tmp_path / "truth"
+    folder.mkdir()
+    truth = rinex_scenario.simulate_rinex_array(folder, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], euler, rng=1)
+    with _warns_new_name("euler_gost_deg"):
+        np.testing.assert_array_equal(truth.euler_deg, euler)
 
 
 def test_new_names_do_not_warn() -> None:

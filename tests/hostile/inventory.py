@@ -584,9 +584,9 @@ ENTRIES: dict[str, Entry] = {
         lambda: {
             "folder": s.folder(),
             "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
-            "euler_deg": np.zeros((2, 3)),
+            "euler_gost_deg": np.zeros((2, 3)),
             "interval_s": 1.0,
-            "seed": 1,
+            "rng": 1,
             "n_sats": 5,
         },
         counts={"n_sats"},
@@ -596,7 +596,7 @@ ENTRIES: dict[str, Entry] = {
         lambda: {
             "folder": s.folder(),
             "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
-            "euler_deg": np.array([-40.0, 5.0, 3.0]),
+            "euler_gost_deg": np.array([-40.0, 5.0, 3.0]),
             "systems": "GC",
             "frequencies": 2,
             "n_epochs": 2,
