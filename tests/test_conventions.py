@@ -24,6 +24,7 @@ from gnssatt._arrays import generator
 from gnssatt._renamed import renamed
 from gnssatt.attitude import dynamics as tumble
 from gnssatt.attitude import gyro_gnss, likelihood
+from gnssatt.attitude.phase_attitude import phase_attitude_fixes
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
@@ -461,6 +462,12 @@ def test_renamed_keywords_warn_and_pass_on() -> None:
         old_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, sigma_cycles=0.01)
     new_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, phase_sigma_cycles=0.01)
     np.testing.assert_array_equal(old_fixes.rotation.as_quat(), new_fixes.rotation.as_quat())
+    with _warns_new_name("phase_sigma_cycles"):
+        old_phase = phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, sigma_cycles=0.01)
+    new_phase = phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, phase_sigma_cycles=0.01)
+    np.testing.assert_array_equal(old_phase.covariance, new_phase.covariance)
+    with pytest.raises(InvalidInputError, match="both 'sigma_cycles' and its new name 'phase_sigma_cycles'"):
+        phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, sigma_cycles=0.01, phase_sigma_cycles=0.01)
     with pytest.raises(InvalidInputError, match="both 'seed' and its new name 'rng'"):
         tumble.fit_rotation(t, axes, seed=5, rng=5)
 

@@ -494,7 +494,7 @@ FUNCTIONS: tuple[Function, ...] = (
             "phases": _observations(),
             "baselines_m": BASELINES,
             "ambiguities": _observations().ambiguity,
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
         },
         (
             Arg("phases", "object"),
@@ -505,7 +505,7 @@ FUNCTIONS: tuple[Function, ...] = (
                 shapes=(np.zeros((15, 2)), np.zeros(15)),
                 out_of_range=(np.full((15, 3), 0.5),),
             ),
-            Arg("sigma_cycles", "scalar", out_of_range=(0.0, -1.0, 1e160)),
+            Arg("phase_sigma_cycles", "scalar", out_of_range=(0.0, -1.0, 1e160)),
         ),
     ),
     Function(

@@ -273,7 +273,7 @@ ENTRIES: dict[str, Entry] = {
             "phases": s.phases(),
             "baselines_m": s.BASELINES.copy(),
             "ambiguities": s.phases().ambiguity.copy(),
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
         }
     ),
     "gnssatt.fit_rotation": _e(
