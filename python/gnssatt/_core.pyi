@@ -412,7 +412,7 @@ def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> OrbitStates: ...
 
-# gnss_nav.rs (test-facing): nav dicts = gnssatt.gnss.session_input.NavInput.kepler / .glonass arrays.
+# gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.nav.NavInput.kepler / .glonass arrays.
 def gnss_satellite_states(
     kepler: dict[str, NDArray[Any]],
     glonass: dict[str, NDArray[Any]],
@@ -583,7 +583,8 @@ LAMBDA_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
 
 # gnss.rs: the observation engine. Arrays of gnssatt.gnss.session_input.SessionInput (n_rx receivers,
-# n_ep epochs, n_sat satellites, 3 frequency slots) and NavInput; options None take the engine's defaults.
+# n_ep epochs, n_sat satellites, 3 frequency slots) and gnssatt.rinex.nav.NavInput; options None take the
+# engine's defaults.
 @final
 class GnssSession:
     """Per-epoch results (n epochs, m rovers, k = 2 angles in baseline mode, 3 in attitude mode)."""

@@ -681,6 +681,10 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.rotation.euler_to_dcm": _e(lambda: {"seq": "ZYX", "angles": np.array([0.3, 0.2, 0.1])}),
     "gnssatt.rotation.nearest_rotation": _e(lambda: {"matrix": np.eye(3) + 0.01}),
     "gnssatt.rotation.quat_to_dcm": _e(lambda: {"quat": np.array([0.1, 0.2, 0.3, 0.9])}),
+    "gnssatt.rotation.rotation_from_euler": _e(lambda: {"euler_gost_deg": np.array([-40.0, 5.0, 3.0])}),
+    "gnssatt.rotation.euler_from_rotation": _e(
+        lambda: {"rotation": Rotation.from_euler("YZX", [10.0, 5.0, 3.0], degrees=True)}
+    ),
     "gnssatt.geometry.attitude_dop": _e(
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}
     ),

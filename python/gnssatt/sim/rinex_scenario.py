@@ -18,13 +18,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core, sim
-from gnssatt._arrays import flag, generator, instance, integer, scalar, shaped
+from gnssatt._arrays import flag, folder_path, generator, instance, integer, sat_list, scalar, shaped
 from gnssatt._renamed import renamed
-from gnssatt.attitude.likelihood import rotation_from_euler
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.gnss.session_input import NavInput, nav_input
-from gnssatt.rinex._fields import folder_path, sat_list
+from gnssatt.rinex.nav import NavInput, nav_input
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
+from gnssatt.rotation import rotation_from_euler
 
 __all__ = [
     "KLOBUCHAR",
