@@ -35,6 +35,10 @@ from gnssatt import constants as _constants
 from gnssatt._arrays import checked_array, integer, scalar, vector_array
 from gnssatt.errors import InvalidInputError
 
+# One geodetic -> ECEF conversion, in the base layer; this module's former copy (keywords latitude_deg,
+# longitude_deg, still taken with a DeprecationWarning) is the same function.
+from gnssatt.frames import geodetic_to_ecef as geodetic_to_ecef
+
 __all__ = [
     "EARTH_DIPOLE_T_M3",
     "IGRF_REFERENCE_RADIUS_M",
@@ -44,7 +48,6 @@ __all__ = [
     "dipole_field_eci",
     "dipole_field_ned",
     "dipole_orbital",
-    "geodetic_to_ecef",
     "igrf_field_ecef",
 ]
 
@@ -171,27 +174,6 @@ def _geodetic(
         ) from exc
 
 
-def geodetic_to_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike) -> NDArray:
-    """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres.
-
-    Raises
-    ------
-    InvalidInputError
-        Non-finite or non-real input, latitudes outside [-90, 90], heights that bring the point nearer the
-        centre than ``MIN_RADIUS_M`` or beyond ``MAX_RADIUS_M``, shapes that do not broadcast.
-    """
-    lat, lon, h = _geodetic(latitude_deg, longitude_deg, height_m)
-    n = WGS84_A_M / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
-    return np.stack(
-        [
-            (n + h) * np.cos(lat) * np.cos(lon),
-            (n + h) * np.cos(lat) * np.sin(lon),
-            (n * (1.0 - _E2) + h) * np.sin(lat),
-        ],
-        axis=-1,
-    )
-
-
 def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
     """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point.
 
@@ -288,6 +270,9 @@ def dipole_field_ned(
     ndarray
         (..., 3) ``[north, east, down]`` in tesla.
     """
+    # checked here first, under this function's names and its own bound on heights (the dipole needs
+    # MIN_RADIUS_M from the centre), before frames' conversion checks them again
+    _geodetic(latitude_deg, longitude_deg, height_m)
     b = dipole_field_ecef(geodetic_to_ecef(latitude_deg, longitude_deg, height_m), decimal_year)
     return np.einsum("...ij,...j->...i", dcm_ned_from_ecef(latitude_deg, longitude_deg), b)
 

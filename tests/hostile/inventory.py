@@ -308,9 +308,6 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.magnetic.dipole_orbital": _e(
         lambda: {"u": np.linspace(0.0, 6.0, 5), "inclination": 0.9, "radius": 6.9e6, "strength": 7.7e15}
     ),
-    "gnssatt.magnetic.geodetic_to_ecef": _e(
-        lambda: {"latitude_deg": 50.0, "longitude_deg": 36.2, "height_m": 150.0}
-    ),
     "gnssatt.magnetic.igrf_field_ecef": _e(
         lambda: {"position_ecef_m": np.array([7e6, 0.0, 1e6]), "decimal_year": 2025.0, "max_degree": 13},
         counts={"max_degree"},
