@@ -321,7 +321,10 @@ def _transmit(
                 nav.kepler, nav.glonass, nav.klobuchar, nav.leap_seconds, ids[z], t[z], rx[z], clk[z]
             )
         )
-    p, c, el, az, ok = (np.concatenate([q[k] for q in parts]) for k in range(5))
+    p, c, el, az, ok = (
+        np.concatenate([getattr(q, k) for q in parts])
+        for k in ("position_m", "clock_s", "elevation_rad", "azimuth_rad", "valid")
+    )
     full = (*shape, n_sat)
     geometry = _Geometry(p.reshape(*full, 3), c.reshape(full), el.reshape(full), az.reshape(full))
     return ok.reshape(full), geometry
