@@ -78,6 +78,60 @@ def _series_inputs() -> tuple[np.ndarray, ...]:
     return np.repeat(p, 2, axis=0), np.repeat(s, 2, axis=0), np.repeat(w, 2, axis=0), b
 
 
+# One circular GPS record (e = 0, no harmonic terms, no clock drift): the orbit is a circle of radius
+# sqrt_a^2 whatever the time, the clock af0 (no relativistic term at e = 0), valid for fit_interval_h / 2
+# either side of toe; at toe the argument of latitude m0 + omega is 0, so the satellite is over the equator
+# (where geodetic and geocentric vertical agree).
+TOE_NS = 1_293_494_400 * 10**9  # 2021-01-01T00:00:00 GPST, ns since the GPS epoch
+SQRT_A = 5153.7
+AF0 = 1e-4
+FIT_H = 4.0
+
+
+def _gps_record() -> dict[str, np.ndarray]:
+    rec = {
+        "sat": np.array(["G07"]),
+        "toc_gpst_ns": np.array([TOE_NS], dtype=np.int64),
+        "toe_gpst_ns": np.array([TOE_NS], dtype=np.int64),
+        "af": np.array([[AF0, 0.0, 0.0]]),
+        "tgd_s": np.array([[0.0, np.nan]]),
+    }
+    scalars = {
+        "crs": 0.0, "delta_n": 0.0, "m0": 0.3, "cuc": 0.0, "e": 0.0, "cus": 0.0, "sqrt_a": SQRT_A,
+        "cic": 0.0, "omega0": 1.1, "cis": 0.0, "i0": 0.96, "crc": 0.0, "omega": -0.3, "omega_dot": 0.0,
+        "idot": 0.0, "health": 0.0, "iode": 1.0, "accuracy_m": 2.0, "fit_interval_h": FIT_H,
+        "data_source": np.nan,
+    }  # fmt: skip
+    rec.update({k: np.array([v]) for k, v in scalars.items()})
+    return rec
+
+
+def _satellite_states() -> _core.SatelliteStates:
+    """G07 at toe (valid) and 1 s past the end of its fit interval (not valid)."""
+    late = TOE_NS + int(FIT_H / 2 * 3600 + 1) * 10**9
+    t = np.array([TOE_NS, late])
+    return _core.gnss_satellite_states(_gps_record(), {}, None, None, ["G07", "G07"], t)
+
+
+def _transmit_states() -> _core.TransmitStates:
+    """G07 received at toe by a receiver on the equator right under it, and a satellite the navigation
+    data do not have (G08)."""
+    at_toe = _satellite_states().position_m[0]
+    receiver = 6.371e6 * at_toe / np.linalg.norm(at_toe)
+    return _core.gnss_transmit_states(
+        _gps_record(), {}, None, None, ["G07", "G08"], np.array([TOE_NS, TOE_NS]), np.tile(receiver, (2, 1)),
+        np.zeros(2),
+    )  # fmt: skip
+
+
+def _single_points() -> _core.SinglePoints:
+    """Two epochs without any code: no solution, so NaN rows and no satellite used."""
+    return _core.gnss_single_point(
+        _gps_record(), {}, None, None, np.array([TOE_NS, TOE_NS + 10**9]), ["G07"], np.array([99]),
+        np.full((2, 1, 3), np.nan),
+    )  # fmt: skip
+
+
 # A fixed case of every binding with a typed result: (class, call).
 CASES: dict[str, Callable[[], object]] = {
     "IlsSolution": lambda: _core.lambda_ils(A3, Q3, 3),
@@ -111,6 +165,9 @@ CASES: dict[str, Callable[[], object]] = {
         {"accel_psd_m2_s3": 1e-8, "step_s": 10.0},
     ),
     "GyroGnssRun": lambda: _gyro_run(np.array([0.0, 0.1, 0.2]), np.zeros((3, 3)), _gyro_options()),
+    "SatelliteStates": _satellite_states,
+    "TransmitStates": _transmit_states,
+    "SinglePoints": _single_points,
 }
 
 
@@ -270,3 +327,35 @@ def test_orbit_filter_run_reports_no_update_without_a_fix() -> None:
     assert isinstance(out, _core.OrbitFilterRun)
     assert out.states.shape == (2, 6) and out.covariances.shape == (2, 6, 6)
     assert out.dof[1] == 0 and out.dof[0] > 0
+
+
+def test_satellite_states_fields_on_a_circular_orbit() -> None:
+    out = _satellite_states()
+    assert out.position_m.shape == (2, 3) and out.clock_s.shape == (2,) and out.valid.dtype == np.bool_
+    assert list(out.valid) == [True, False]
+    assert np.linalg.norm(out.position_m[0]) == pytest.approx(SQRT_A**2, rel=1e-12)
+    assert abs(out.position_m[0, 2]) < 1e-6  # over the equator
+    assert out.clock_s[0] == pytest.approx(AF0, abs=1e-18)
+    assert np.isnan(out.position_m[1]).all() and np.isnan(out.clock_s[1])
+
+
+def test_transmit_states_fields_for_a_receiver_under_the_satellite() -> None:
+    out = _transmit_states()
+    assert list(out.valid) == [True, False]
+    # the circle keeps its radius through light time and the Earth's turn (a rotation about z)
+    assert np.linalg.norm(out.position_m[0]) == pytest.approx(SQRT_A**2, rel=1e-12)
+    # straight overhead at the equator, up to the satellite's motion in the ~67 ms of light time (3.9 km/s
+    # over 20,000 km: ~1.3e-5 rad)
+    assert abs(out.elevation_rad[0] - np.pi / 2) < 1e-4
+    assert out.clock_s[0] == pytest.approx(AF0, abs=1e-18)
+    for field in (out.clock_s, out.elevation_rad, out.azimuth_rad):
+        assert np.isnan(field[1])
+    assert np.isnan(out.position_m[1]).all()
+
+
+def test_single_points_without_code_are_empty_rows() -> None:
+    out = _single_points()
+    assert out.position_m.shape == (2, 3) and out.clock_s.shape == (2, 5)
+    assert out.satellites.dtype == np.int64 and list(out.satellites) == [0, 0]
+    assert np.isnan(out.position_m).all() and np.isnan(out.clock_s).all()
+    assert np.isnan(out.residual_rms_m).all()

@@ -232,7 +232,7 @@ def test_library_failures_are_one_line(
 
 
 def test_attitude_reports_the_files_it_wrote(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    files = simulate_rinex_array(tmp_path, [[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]], [-40.0, 5.0, 0.0])
+    files = simulate_rinex_array(tmp_path, [[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]], [-40.0, 5.0, 0.0], rng=0)
     out = tmp_path / "run" / "series.csv"
     argv = ["attitude", "--nav", str(files.nav_path), "--out", str(out), "--elevation-mask", "5"]
     for p in files.obs_paths:

@@ -19,14 +19,16 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import sim
+from gnssatt import orbit_nav, sim
 from gnssatt._arrays import generator
 from gnssatt._renamed import renamed
 from gnssatt.attitude import dynamics as tumble
-from gnssatt.attitude import likelihood
+from gnssatt.attitude import gyro_gnss, likelihood
+from gnssatt.attitude.phase_attitude import phase_attitude_fixes
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
+from gnssatt.sim import rinex_scenario
 
 # (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, seed 001)
 ENU_FROM_NUE = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
@@ -205,7 +207,7 @@ def test_attitude_fixes_rotation_is_the_body_to_eci_attitude() -> None:
 
 
 # Every public attitude result type of the package: the structural rule, so that a new result without
-# .rotation fails here. gyro_propagate returns an ndarray (listed in docs/conventions.md, for `boundary`).
+# .rotation fails here.
 ATTITUDE_RESULTS = [
     gnssatt.MatrixAttitudeResult,
     gnssatt.LikelihoodAttitude,
@@ -218,6 +220,7 @@ ATTITUDE_RESULTS = [
     tumble.TumbleTrajectory,
     scen.AttitudeFixes,
     gnssatt.GyroGnssResult,
+    gyro_gnss.GyroPropagation,
 ]
 
 
@@ -238,12 +241,26 @@ def test_no_attitude_result_has_an_unnamed_euler_field(cls: type) -> None:
     assert not {"euler_deg", "euler_rad", "euler", "angles_deg", "yaw"} & names or cls is RinexAttitudeSeries
 
 
-@pytest.mark.xfail(
-    strict=True, reason="gyro_propagate returns (n, 4) quaternions; .rotation is for `boundary`"
-)
 def test_gyro_propagate_result_has_rotation() -> None:
-    out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0], np.zeros((2, 3)))
-    assert isinstance(out.rotation, Rotation)
+    # a constant rate about body z: the closed form is the truth, R(t) = Rz(w t)
+    w = 0.3
+    out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0, 2.0], np.tile([0.0, 0.0, w], (3, 1)))
+    assert isinstance(out.rotation, Rotation) and len(out.rotation) == 3
+    assert _angle_deg(out.rotation, Rotation.from_rotvec(np.outer([0.0, 1.0, 2.0], [0.0, 0.0, w]))) < 1e-10
+
+
+def test_gyro_propagate_result_read_as_an_array_warns_and_gives_the_quaternions() -> None:
+    out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0], np.tile([0.0, 0.0, 0.3], (2, 1)))
+    with _warns_new_name_of("quaternions"):
+        array = np.asarray(out)
+    np.testing.assert_array_equal(array, out.quaternions)
+    with _warns_new_name_of("quaternions"):
+        np.testing.assert_array_equal(out[1], out.quaternions[1])
+    np.testing.assert_allclose(Rotation.from_quat(out.quaternions).as_matrix(), out.rotation.as_matrix())
+
+
+def _warns_new_name_of(new: str) -> Any:
+    return pytest.warns(DeprecationWarning, match=f"use its '{new}'")
 
 
 # --- rng= on every stochastic entry -------------------------------------------------------------------
@@ -299,6 +316,12 @@ STOCHASTIC: dict[str, tuple[Callable[..., Any], Callable[[Any], Any]]] = {
         lambda rng: scen.attitude_fixes(PHASES, ATT3, B2, rng=rng, phase_sigma_cycles=0.01),
         lambda f: f.rotation.as_quat(),
     ),
+    "noisy_orbit": (
+        lambda rng: orbit_nav.noisy_orbit(
+            np.concatenate([_R[0], _V[0]]), T3, rng=rng, accel_psd_m2_s3=1e-6, step_s=10.0
+        ),
+        lambda x: x,
+    ),
     "fit_rotation": (
         lambda rng: tumble.fit_rotation(
             np.arange(0.0, 60.0, 10.0), _fit_axes(), rng=rng, maxiter=2, popsize=2, polish=False
@@ -335,17 +358,19 @@ def test_rng_of_another_kind_is_refused_by_name(name: str, bad: Any) -> None:
         _draws(name, bad)
 
 
-# The documented exceptions keeping ``seed`` (docs/conventions.md, "Randomness"), and the entries still to
-# change (their files are outside this change; listed in the audit there).
+# The documented exceptions keeping ``seed`` (docs/conventions.md, "Randomness").
 SEED_KEPT = {
     "gnssatt.montecarlo.run",
     "gnssatt.montecarlo.trial_generators",
     "gnssatt.ambiguity.ratio_threshold_fixed_failure_rate",
     "gnssatt.ambiguity.ratio_test",
     "gnssatt.ambiguity.partial_fix",
-    "gnssatt.sim.rinex_scenario.simulate_rinex_array",  # to take rng=
 }
-RNG_ELSEWHERE = {"gnssatt.orbit_nav.noisy_orbit", "gnssatt.sim.rinex_scenario.simulate_gnss_rinex"}
+# rng= tested elsewhere: each call writes RINEX files (tests/test_rinex_simulate_gnss.py, and below)
+RNG_ELSEWHERE = {
+    "gnssatt.sim.rinex_scenario.simulate_gnss_rinex",
+    "gnssatt.sim.rinex_scenario.simulate_rinex_array",
+}
 
 
 def _public_functions() -> dict[str, Any]:
@@ -437,8 +462,36 @@ def test_renamed_keywords_warn_and_pass_on() -> None:
         old_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, sigma_cycles=0.01)
     new_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, phase_sigma_cycles=0.01)
     np.testing.assert_array_equal(old_fixes.rotation.as_quat(), new_fixes.rotation.as_quat())
+    with _warns_new_name("phase_sigma_cycles"):
+        old_phase = phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, sigma_cycles=0.01)
+    new_phase = phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, phase_sigma_cycles=0.01)
+    np.testing.assert_array_equal(old_phase.covariance, new_phase.covariance)
+    with pytest.raises(InvalidInputError, match="both 'sigma_cycles' and its new name 'phase_sigma_cycles'"):
+        phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, sigma_cycles=0.01, phase_sigma_cycles=0.01)
     with pytest.raises(InvalidInputError, match="both 'seed' and its new name 'rng'"):
         tumble.fit_rotation(t, axes, seed=5, rng=5)
+
+
+def test_simulate_rinex_array_reads_rng_as_default_rng_and_keeps_the_old_names(tmp_path: Any) -> None:
+    def run(sub: str, **kw: Any) -> tuple[bytes, ...]:
+        folder = tmp_path / sub
+        folder.mkdir()
+        ant = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+        s = rinex_scenario.simulate_rinex_array(folder, ant, interval_s=1.0, n_sats=5, **kw)
+        return tuple(p.read_bytes() for p in s.obs_paths)
+
+    euler = np.array([[-40.0, 5.0, 3.0], [-41.0, 5.0, 3.0]])
+    new = run("new", euler_gost_deg=euler, rng=3)
+    assert run("generator", euler_gost_deg=euler, rng=np.random.default_rng(3)) == new
+    assert run("other", euler_gost_deg=euler, rng=4) != new  # the draws do depend on the seed
+    with _warns_new_name("rng"), _warns_new_name("euler_gost_deg"):
+        old = run("old", euler_deg=euler, seed=3)
+    assert old == new  # the same integer, the same files as before the rename
+    folder = tmp_path / "truth"
+    folder.mkdir()
+    truth = rinex_scenario.simulate_rinex_array(folder, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], euler, rng=1)
+    with _warns_new_name("euler_gost_deg"):
+        np.testing.assert_array_equal(truth.euler_deg, euler)
 
 
 def test_new_names_do_not_warn() -> None:

@@ -177,7 +177,7 @@ def test_attitude_mode_every_system_truth_within_sigmas(tmp_path: Path) -> None:
     s = simulate_gnss_rinex(tmp_path, ant, [-40.0, 5.0, 3.0], n_epochs=5, rng=8)
     r = attitude_from_rinex(s.obs_paths, s.nav_path, ant[1:] - ant[0], method="lambda")
     assert r.mode == "attitude" and r.fixed.all() and (r.double_differences[:, :2] > 0).all()
-    psi, theta, phi = s.euler_deg.T
+    psi, theta, phi = s.euler_gost_deg.T
     truth = np.stack([(-psi) % 360.0, theta, phi], axis=1)
     err = _angle_error(r.angles_deg, truth)
     assert np.all(np.abs(err) < K_SIGMA * r.angle_sigmas_deg), (err, r.angle_sigmas_deg)

@@ -84,15 +84,17 @@ def test_satellite_states_reproduce_the_prototype(kind: str) -> None:
     for k, r in enumerate(rows):
         kepler, glonass = _one_record(r["file"], r["table"], r["record"])
         if kind == "ephemeris":
-            p, c, ok = _core.gnss_satellite_states(
+            out = _core.gnss_satellite_states(
                 kepler, glonass, None, None, [r["sat"]], np.array([r["t_gpst_ns"]], dtype=np.int64)
             )
+            p, c, ok = out.position_m, out.clock_s, out.valid
         else:
-            p, c, el, az, ok = _core.gnss_transmit_states(
+            tx = _core.gnss_transmit_states(
                 kepler, glonass, None, None, [r["sat"]], np.array([r["t_rx_gpst_ns"]], dtype=np.int64),
                 np.array([REFERENCE["receiver_m"]]), np.array([REFERENCE["receiver_clock_s"]]),
             )  # fmt: skip
-            assert np.isfinite(el[0]) and 0.0 <= az[0] < 2 * np.pi
+            p, c, ok = tx.position_m, tx.clock_s, tx.valid
+            assert np.isfinite(tx.elevation_rad[0]) and 0.0 <= tx.azimuth_rad[0] < 2 * np.pi
         assert ok[0], r
         position[k], clock[k] = p[0], c[0]
     np.testing.assert_allclose(position, np.array(_column(rows, "position_m")), rtol=0, atol=1e-3)
@@ -131,10 +133,11 @@ def test_single_point_positions_reproduce_the_prototype(station: str) -> None:
     code = np.full((len(obs.time), len(obs.sats), 3), np.nan)
     code[:, :, 0] = c1
     t = np.array(ref["time_gpst_ns"], dtype=np.int64)
-    pos, _, n, _ = _core.gnss_single_point(
+    sp = _core.gnss_single_point(
         nav.kepler, nav.glonass, nav.klobuchar, nav.leap_seconds, t, list(obs.sats),
         np.full(len(obs.sats), 99, dtype=np.int64), code,
     )  # fmt: skip
+    pos, n = sp.position_m, sp.satellites
     proto = np.array(ref["position_m"], dtype=float)
     assert np.isfinite(proto).all() and np.isfinite(pos).all() and len(pos) == 120
     d = np.linalg.norm(pos - proto, axis=1)

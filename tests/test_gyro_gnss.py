@@ -51,7 +51,7 @@ def trial(
     seed: int,
     duration_s: float = 300.0,
     *,
-    sigma_cycles: float = 0.01,
+    phase_sigma_cycles: float = 0.01,
     max_satellites: int | None = None,
     mode: str = "tight",
     slips: tuple = (),
@@ -68,7 +68,7 @@ def trial(
         att[::10],
         BASELINES,
         rng,
-        phase_sigma_cycles=sigma_cycles,
+        phase_sigma_cycles=phase_sigma_cycles,
         max_satellites=max_satellites,
         slips=slips,
     )
@@ -78,12 +78,14 @@ def trial(
     if mode == "loose":
         meas = {
             "attitude_fixes": sc.attitude_fixes(
-                ph, att[::10], BASELINES, rng, phase_sigma_cycles=sigma_cycles
+                ph, att[::10], BASELINES, rng, phase_sigma_cycles=phase_sigma_cycles
             )
         }
     elif mode == "matrix":
         meas = {
-            "attitude_fixes": phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=sigma_cycles)
+            "attitude_fixes": phase_attitude_fixes(
+                ph, BASELINES, ph.ambiguity, phase_sigma_cycles=phase_sigma_cycles
+            )
         }
     r = gyro_gnss_filter(
         t,
@@ -92,7 +94,7 @@ def trial(
         initial_covariance=P0,
         initial_drift=DRIFT - e0[3:],
         arw=ARW,
-        phase_sigma_cycles=sigma_cycles,
+        phase_sigma_cycles=phase_sigma_cycles,
         output_every=10,
         **meas,
         **kw,
@@ -111,7 +113,7 @@ def test_constant_rate_propagation_matches_closed_form() -> None:
     w = np.array([0.01, -0.02, 0.03])
     t = np.linspace(0.0, 100.0, 1001)
     q0 = Rotation.from_euler("ZYX", [30.0, 10.0, -20.0], degrees=True)
-    q = Rotation.from_quat(gyro_propagate(q0.as_quat(), t, np.tile(w, (len(t), 1))))
+    q = gyro_propagate(q0.as_quat(), t, np.tile(w, (len(t), 1))).rotation
     closed = q0 * Rotation.from_rotvec(np.outer(t, w))
     assert np.max((q.inv() * closed).magnitude()) < 1e-12
 
@@ -131,7 +133,7 @@ def test_truth_rate_is_the_derivative_of_the_truth_attitude() -> None:
 def test_noise_free_gyro_reproduces_the_truth() -> None:
     t, att, _ = motion(300.0)
     g = sc.gyro_output(t, att, np.random.default_rng(0), drift_rad_s=np.zeros(3), arw=0.0)
-    q = Rotation.from_quat(gyro_propagate(att[0].as_quat(), t, g.rates))
+    q = gyro_propagate(att[0].as_quat(), t, g.rates).rotation
     assert np.max((q.inv() * att).magnitude()) < 1e-9
 
 
@@ -216,7 +218,7 @@ def test_validation_stops_the_wrong_fixes_that_an_unvalidated_filter_makes() -> 
     # noisy phases (0.3 cycle) and two satellites: the first float solutions round wrongly about a third of
     # the time
     runs = 20
-    kw = {"sigma_cycles": 0.3, "max_satellites": 2}
+    kw = {"phase_sigma_cycles": 0.3, "max_satellites": 2}
     checked = [trial(seed, **kw) for seed in range(runs)]
     unchecked = [trial(seed, **kw, ratio_threshold=1.0, min_success_rate=0.0) for seed in range(runs)]
     n_ok, wrong_ok = wrong_fixes(checked)
@@ -469,7 +471,7 @@ def test_matrix_fix_covariance_matches_monte_carlo_errors(n_sat: int | None) -> 
     )
     assert n_sat is not None or len(np.unique(ph.wavelength)) > 1
     mc = repeated_epoch(ph.los, ph.wavelength, att[0], BASELINES, sigma, draws)
-    fixes = phase_attitude_fixes(mc, BASELINES, mc.ambiguity, sigma_cycles=sigma)
+    fixes = phase_attitude_fixes(mc, BASELINES, mc.ambiguity, phase_sigma_cycles=sigma)
     assert len(fixes.t) == draws
     eta = (fixes.rotation.inv() * att[0]).as_rotvec()  # R_true = R_hat exp([eta x])
     z = np.linalg.solve(np.linalg.cholesky(fixes.covariance), eta[..., None])[..., 0]
@@ -487,11 +489,11 @@ def test_matrix_fixes_without_noise_are_the_truth() -> None:
     ph = sc.phase_observations(
         RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(1), phase_sigma_cycles=0.0
     )
-    fixes = phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=0.01)
+    fixes = phase_attitude_fixes(ph, BASELINES, ph.ambiguity, phase_sigma_cycles=0.01)
     np.testing.assert_array_equal(fixes.t, ph.epoch_t)
     assert np.max((fixes.rotation.inv() * att[::100]).magnitude()) < 1e-9
     known = ph.without_ambiguities()
-    again = phase_attitude_fixes(known, BASELINES, known.ambiguity, sigma_cycles=0.01)
+    again = phase_attitude_fixes(known, BASELINES, known.ambiguity, phase_sigma_cycles=0.01)
     assert np.max((again.rotation.inv() * fixes.rotation).magnitude()) < 1e-12
 
 
@@ -518,7 +520,7 @@ def test_matrix_fixes_skip_epochs_that_do_not_fix_the_attitude() -> None:
             np.zeros((len(rows), len(baselines)), np.int64),
             k,
         )
-        fixes = phase_attitude_fixes(obs, baselines, obs.ambiguity, sigma_cycles=0.01)
+        fixes = phase_attitude_fixes(obs, baselines, obs.ambiguity, phase_sigma_cycles=0.01)
         # two lines of sight fix the attitude of a non-coplanar array, not of a coplanar one
         np.testing.assert_array_equal(fixes.t, solved)
         assert fixes.covariance.shape == (len(solved), 3, 3)
@@ -531,17 +533,18 @@ def test_matrix_fixes_reject_bad_input() -> None:
         RX, gnss(), t[::100], att[::100], BASELINES, np.random.default_rng(3), phase_sigma_cycles=0.01
     )
     with pytest.raises(InvalidInputError, match="ambiguities of shape"):
-        phase_attitude_fixes(ph, BASELINES, ph.ambiguity[:-1], sigma_cycles=0.01)
+        phase_attitude_fixes(ph, BASELINES, ph.ambiguity[:-1], phase_sigma_cycles=0.01)
     with pytest.raises(InvalidInputError, match="expected integers in ambiguities"):
-        phase_attitude_fixes(ph, BASELINES, ph.ambiguity + 0.5, sigma_cycles=0.01)
+        phase_attitude_fixes(ph, BASELINES, ph.ambiguity + 0.5, phase_sigma_cycles=0.01)
     with pytest.raises(InvalidInputError, match="for the 3 rows of baselines_m"):
-        phase_attitude_fixes(ph, np.vstack([BASELINES, [0.0, 0.0, 1.0]]), ph.ambiguity, sigma_cycles=0.01)
+        extra = np.vstack([BASELINES, [0.0, 0.0, 1.0]])
+        phase_attitude_fixes(ph, extra, ph.ambiguity, phase_sigma_cycles=0.01)
     with pytest.raises(InvalidInputError, match=r"baselines_m of shape \(m, 3\)"):
-        phase_attitude_fixes(ph, BASELINES[:, :2], ph.ambiguity, sigma_cycles=0.01)
-    with pytest.raises(InvalidInputError, match="sigma_cycles > 0"):
-        phase_attitude_fixes(ph, BASELINES, ph.ambiguity, sigma_cycles=0.0)
+        phase_attitude_fixes(ph, BASELINES[:, :2], ph.ambiguity, phase_sigma_cycles=0.01)
+    with pytest.raises(InvalidInputError, match="phase_sigma_cycles > 0"):
+        phase_attitude_fixes(ph, BASELINES, ph.ambiguity, phase_sigma_cycles=0.0)
     with pytest.raises(TypeError, match="PhaseObservations"):
-        phase_attitude_fixes(ph.phase, BASELINES, ph.ambiguity, sigma_cycles=0.01)  # type: ignore[arg-type]
+        phase_attitude_fixes(ph.phase, BASELINES, ph.ambiguity, phase_sigma_cycles=0.01)  # type: ignore[arg-type]
 
 
 def test_experiment_feeds_the_loose_filter_with_matrix_fixes(tmp_path: Path) -> None:

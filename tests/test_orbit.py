@@ -155,9 +155,10 @@ def test_engine_glonass_ephemeris_matches_the_numpy_reference(offset_s: float) -
     acc = np.array([1e-6, 2e-6, -3e-6])
     tb = 1_000_000_000_000_000
     record = _glonass_record(np.concatenate([ICD_R0, ICD_V0]), acc, tb)
-    pos, _, valid = _core.gnss_satellite_states(
+    states = _core.gnss_satellite_states(
         {}, record, None, None, ["R01"], np.array([tb]), offset_s=np.array([offset_s])
     )
+    pos, valid = states.position_m, states.valid
     assert valid.all()
     m = orbit.GlonassModel(
         gm_m3_s2=398600.4418e9, j2=1.0826257e-3, equatorial_radius_m=6378136.0, omega_rad_s=7.292115e-5,

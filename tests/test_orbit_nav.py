@@ -23,7 +23,7 @@ def _scenario(
     rng = np.random.default_rng(seed)
     t = np.arange(n_t) * 10.0
     r, v = LEO.state_ecef(t[:1])
-    truth = noisy_orbit(np.concatenate([r[0], v[0]]), t, rng, accel_psd_m2_s3=q)
+    truth = noisy_orbit(np.concatenate([r[0], v[0]]), t, rng=rng, accel_psd_m2_s3=q)
     meas = sim.simulate_spaceborne(truth[:, :3], truth[:, 3:], t, constellation, rng, **kwargs)  # type: ignore[arg-type]
     x0 = truth[0] + rng.multivariate_normal(np.zeros(6), P0)
     return truth, meas, x0

@@ -37,7 +37,7 @@ def satellite_states(
     ``offset_s``."""
     ni = nav if isinstance(nav, NavInput) else nav_input(nav)
     n = len(sats)
-    return _core.gnss_satellite_states(
+    s = _core.gnss_satellite_states(
         ni.kepler,
         ni.glonass,
         None,
@@ -46,6 +46,7 @@ def satellite_states(
         np.full(n, t_ns, dtype=np.int64),
         offset_s=np.full(n, offset_s),
     )
+    return s.position_m, s.clock_s, s.valid
 
 
 def _row(sats: np.ndarray, sat: str, k: int = 0) -> int:
@@ -87,7 +88,7 @@ def test_glonass_positions_at_tb_and_between_records() -> None:
         pa, pb = (
             _core.gnss_satellite_states(
                 {}, {f: v[r : r + 1] for f, v in glo.items()}, None, None, [sat], np.array([mid])
-            )[0][0]
+            ).position_m[0]
             for r in (a, b)
         )
         # ICD (ed. 5.1, A.3.1.2) quotes the simplified algorithm's position error within +-15 min of t_b

@@ -39,7 +39,7 @@ def _euler() -> np.ndarray:
 @pytest.fixture(scope="module")
 def rotating(tmp_path_factory: pytest.TempPathFactory) -> SimulatedRinex:
     folder = tmp_path_factory.mktemp("rotating")
-    return simulate_rinex_array(folder, ANT, _euler(), seed=1, phase_sigma_m=SIGMA_PHASE)
+    return simulate_rinex_array(folder, ANT, _euler(), rng=1, phase_sigma_m=SIGMA_PHASE)
 
 
 @cache
@@ -59,7 +59,9 @@ def _fixed_errors(series: AttitudeSeries, s: SimulatedRinex) -> np.ndarray:
     """(n_fixed, n_rovers) 3-D baseline errors of the fixed epochs, m; checks on the way that their angle
     errors are within ``WRONG_SIGMAS`` of the engine's one-sigma."""
     fixed = series.fixed == 1
-    truth = np.stack([(-s.euler_deg[:, 0]) % 360.0, s.euler_deg[:, 1], s.euler_deg[:, 2]], axis=1)
+    truth = np.stack(
+        [(-s.euler_gost_deg[:, 0]) % 360.0, s.euler_gost_deg[:, 1], s.euler_gost_deg[:, 2]], axis=1
+    )
     angle = (series.angles_deg - truth + 180.0) % 360.0 - 180.0
     normalised = np.abs(angle[fixed]) / series.angle_sigmas_deg[fixed]
     assert normalised.max() < WRONG_SIGMAS, normalised.max()
@@ -106,7 +108,9 @@ def test_undetected_slip_drops_held_integers(rotating: SimulatedRinex) -> None:
 
 def test_attitude_lambda_and_windowed_ml_agree_with_truth(rotating: SimulatedRinex) -> None:
     s = rotating
-    truth = np.stack([(-s.euler_deg[:, 0]) % 360.0, s.euler_deg[:, 1], s.euler_deg[:, 2]], axis=1)
+    truth = np.stack(
+        [(-s.euler_gost_deg[:, 0]) % 360.0, s.euler_gost_deg[:, 1], s.euler_gost_deg[:, 2]], axis=1
+    )
     lam = attitude_from_rinex(s.obs_paths, s.nav_path, BODY, method="lambda", elevation_mask_deg=5.0)
     assert set(lam.method) == {"lambda"} and lam.fixed.sum() >= 10
     d = (lam.angles_deg[lam.fixed == 1] - truth[lam.fixed == 1] + 180.0) % 360.0 - 180.0

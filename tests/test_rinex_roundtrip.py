@@ -45,9 +45,10 @@ def test_written_files_read_back(tmp_path: Path) -> None:
     gps = sim.gps_nominal()
     n = len(gps.ids)
     t = np.full(n, int(gps_ns(np.array([T0]))[0]), dtype=np.int64)
-    pos, clk, valid = _core.gnss_satellite_states(
+    states = _core.gnss_satellite_states(
         nav.kepler, nav.glonass, None, None, list(gps.ids), t, offset_s=np.full(n, 60.0)
     )
+    pos, clk, valid = states.position_m, states.clock_s, states.valid
     truth, _ = gps.state_ecef(60.0)
     assert valid.all() and np.all(np.abs(clk) < 1e-15)
     assert np.max(np.linalg.norm(pos - truth, axis=1)) < 1e-3  # broadcast model reproduces two-body orbits

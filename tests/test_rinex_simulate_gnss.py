@@ -43,7 +43,8 @@ def satellite_states(
     n = len(sats)
     off = np.broadcast_to(np.asarray(offset_s, dtype=np.float64), (n,)).copy()
     t = np.full(n, t_ns, dtype=np.int64)
-    return _core.gnss_satellite_states(nav.kepler, nav.glonass, None, None, sats, t, offset_s=off)
+    s = _core.gnss_satellite_states(nav.kepler, nav.glonass, None, None, sats, t, offset_s=off)
+    return s.position_m, s.clock_s, s.valid
 
 
 def klobuchar_l1_s(
@@ -222,7 +223,7 @@ def test_neighbouring_glonass_records_agree(tmp_path: Path) -> None:
             a, b = (
                 _core.gnss_satellite_states(
                     {}, {f: v[r : r + 1] for f, v in g.items()}, None, None, [sat], np.array([mid])
-                )[0][0]
+                ).position_m[0]
                 for r in rows[k : k + 2]
             )
             assert np.linalg.norm(a - b) < 2e-3
@@ -281,11 +282,11 @@ def test_engine_code_solution_recovers_the_antennas(tmp_path: Path) -> None:
     si = session_input([read_obs(p) for p in s.obs_paths], nav=nav)
     ni = nav_input(nav)
     for r in range(2):
-        pos, clk, n, _ = _core.gnss_single_point(
+        sp = _core.gnss_single_point(
             ni.kepler, ni.glonass, ni.klobuchar, ni.leap_seconds, si.time_gpst_ns, list(si.sats),
             si.glonass_channel, np.ascontiguousarray(si.code_m[r]), approx_position_m=si.approx_position_m[r],
             systems="GRECJ", frequencies=1, elevation_mask_deg=5.0,
         )  # fmt: skip
-        assert (n == len(s.sats)).all()
-        np.testing.assert_allclose(pos, s.antenna_ecef_m[:, r], atol=5e-3)
-        np.testing.assert_allclose(clk, s.receiver_clock_s[r], atol=1e-10)  # every system's clock
+        assert (sp.satellites == len(s.sats)).all()
+        np.testing.assert_allclose(sp.position_m, s.antenna_ecef_m[:, r], atol=5e-3)
+        np.testing.assert_allclose(sp.clock_s, s.receiver_clock_s[r], atol=1e-10)  # every system's clock

@@ -33,6 +33,26 @@ def test_geodetic_known_points() -> None:
     assert sim.geodetic_to_ecef(10.0, 20.0, 30.0).shape == (3,)
 
 
+def test_one_geodetic_to_ecef_for_frames_sim_and_magnetic() -> None:
+    from gnssatt import frames, magnetic
+
+    assert magnetic.geodetic_to_ecef is frames.geodetic_to_ecef is sim.geodetic_to_ecef
+    # closed forms on a (2, 2) grid (magnetic's former contract: any shape): equator at the prime meridian
+    # (a, 0, 0), at 90 E (0, a, 0), the poles (0, 0, +-b), each raised by h along its normal
+    lat, lon = np.array([[0.0, 0.0], [90.0, -90.0]]), np.array([[0.0, 90.0], [0.0, 45.0]])
+    h = np.array([[0.0, 500.0], [100.0, 0.0]])
+    want = np.array([[[A, 0, 0], [0, A + 500, 0]], [[0, 0, B + 100], [0, 0, -B]]])
+    np.testing.assert_allclose(magnetic.geodetic_to_ecef(lat, lon, h), want, rtol=0, atol=1e-6)
+    # frames' former lower bound of heights (100 km from the centre under the equator) for both
+    np.testing.assert_allclose(magnetic.geodetic_to_ecef(0.0, 0.0, -A + 2e5), [2e5, 0, 0], atol=1e-6)
+    with (
+        pytest.warns(DeprecationWarning, match="'lat_deg'"),
+        pytest.warns(DeprecationWarning, match="'lon_deg'"),
+    ):
+        old = magnetic.geodetic_to_ecef(latitude_deg=90.0, longitude_deg=0.0, height_m=0.0)
+    np.testing.assert_allclose(old, [0, 0, B], atol=1e-6)
+
+
 def test_geodetic_round_trip_independent_inverse() -> None:
     rng = np.random.default_rng(3)
     lat = rng.uniform(-89, 89, 200)

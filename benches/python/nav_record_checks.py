@@ -45,9 +45,9 @@ def satellite_states(
     """The engine's positions (ECEF of the instant), clocks and validity at GPST ``t_ns`` + ``offset_s``."""
     n = len(sats)
     t = np.full(n, t_ns, dtype=np.int64)
-    return _core.gnss_satellite_states(
-        nav.kepler, nav.glonass, None, None, sats, t, offset_s=np.full(n, offset_s)
-    )
+    off = np.full(n, offset_s)
+    s = _core.gnss_satellite_states(nav.kepler, nav.glonass, None, None, sats, t, offset_s=off)
+    return s.position_m, s.clock_s, s.valid
 
 
 def _alone(nav: NavInput, table: str, row: int) -> NavInput:

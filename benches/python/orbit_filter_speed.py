@@ -32,7 +32,7 @@ def main() -> None:
     rng = np.random.default_rng(0)
     t = np.arange(0.0, 5670.0, 1.0)
     r, v = ORBIT.state_ecef(t[:1])
-    truth = noisy_orbit(np.concatenate([r[0], v[0]]), t, rng, accel_psd_m2_s3=Q_M2_S3)
+    truth = noisy_orbit(np.concatenate([r[0], v[0]]), t, rng=rng, accel_psd_m2_s3=Q_M2_S3)
     cons = sim.gps_nominal() + sim.glonass_nominal()
     meas = sim.simulate_spaceborne(truth[:, :3], truth[:, 3:], t, cons, rng)
     x0 = truth[0] + rng.multivariate_normal(np.zeros(6), P0)

@@ -48,7 +48,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         if args.simulated > 0:
             ants = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
-            simulate_rinex_array(tmp, ants, np.zeros((args.simulated, 3)))
+            simulate_rinex_array(tmp, ants, np.zeros((args.simulated, 3)), rng=0)
             files.append(Path(tmp) / "ant0.24o")
         for f in files:
             ours = _median(lambda f=f: read_obs(f), 20 if f.stat().st_size < 5e6 else 5)

@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import math
 import operator
+import re
+from os import PathLike
+from pathlib import Path
 from types import UnionType
 from typing import Any, TypeVar, overload
 
@@ -26,13 +29,16 @@ __all__ = [
     "finite_result",
     "flag",
     "float_array",
+    "folder_path",
     "generator",
     "instance",
     "integer",
     "integer_array",
+    "path_text",
     "readonly",
     "real_array",
     "rows",
+    "sat_list",
     "scalar",
     "shaped",
     "text",
@@ -384,3 +390,58 @@ def rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = Fals
     if (shape and arr.shape != shape) or (not shape and arr.ndim != 1):
         raise InvalidInputError(f"expected {name} of shape {shape or '(n,)'}, got {arr.shape}")
     return int(arr.shape[0])
+
+
+#: A satellite id: system letter and a two-digit PRN from 01.
+_SAT_ID = re.compile(r"[GRECJSI](?:0[1-9]|[1-9]\d)")
+
+
+def path_text(path: object, name: str = "path") -> str:
+    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor),
+    and so is an empty name."""
+    if not isinstance(path, str | PathLike):
+        raise InvalidTypeError(f"expected {name} as a str or os.PathLike, got {type(path).__name__}")
+    text = str(path)
+    if not text:
+        raise InvalidInputError(f"expected {name} as a file name, got an empty one")
+    return text
+
+
+def folder_path(name: str, value: object) -> Path:
+    """An existing folder given as a str or os.PathLike (an empty name is refused, not read as ``.``).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a str or os.PathLike.
+    InvalidInputError
+        ``value`` is empty or not an existing folder.
+    """
+    p = Path(path_text(value, name))
+    if not p.is_dir():
+        raise InvalidInputError(f"expected {name} as an existing folder, got {str(p)!r}")
+    return p
+
+
+def sat_list(name: str, value: object) -> list[str]:
+    """Satellite ids (a list, tuple or 1-d array of texts such as ``"G01"``) as a list of str.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``value`` is not a sequence of texts (a single text too: ``"G01"`` would be three satellites).
+    InvalidInputError
+        No entry, or an entry that is not a satellite id (system letter GRECJSI and a two-digit PRN from 01).
+    """
+    if isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind == "U":
+        value = [str(v) for v in value]
+    if not isinstance(value, list | tuple) or not all(isinstance(v, str) for v in value):
+        raise InvalidTypeError(
+            f"expected {name} as a list of satellite ids such as 'G01', got {type(value).__name__}"
+        )
+    if not value:
+        raise InvalidInputError(f"expected at least one satellite id in {name}, got none")
+    for i, v in enumerate(value):
+        if not _SAT_ID.fullmatch(v):
+            raise InvalidInputError(f"expected satellite ids such as 'G01' in {name}, got {v!r} at index {i}")
+    return list(value)

@@ -43,7 +43,10 @@ __all__ = [
     "OrbitStates",
     "PartialFix",
     "RatioTest",
+    "SatelliteStates",
+    "SinglePoints",
     "StateWithStm",
+    "TransmitStates",
     "TriadBatch",
     "WahbaBatch",
     "YawBatch",
@@ -412,7 +415,40 @@ def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> OrbitStates: ...
 
-# gnss_nav.rs (test-facing): nav dicts = gnssatt.gnss.session_input.NavInput.kepler / .glonass arrays.
+# gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.nav.NavInput.kepler / .glonass arrays.
+@final
+class SatelliteStates:
+    @property
+    def position_m(self) -> NDArray[np.float64]: ...  # (n, 3) ECEF of the instant, NaN where not valid
+    @property
+    def clock_s(self) -> NDArray[np.float64]: ...  # (n,)
+    @property
+    def valid(self) -> NDArray[np.bool_]: ...  # (n,)
+
+@final
+class TransmitStates:
+    @property
+    def position_m(self) -> NDArray[np.float64]: ...  # (n, 3) at transmission, ECEF of reception
+    @property
+    def clock_s(self) -> NDArray[np.float64]: ...  # (n,) at transmission
+    @property
+    def elevation_rad(self) -> NDArray[np.float64]: ...  # (n,)
+    @property
+    def azimuth_rad(self) -> NDArray[np.float64]: ...  # (n,) clockwise from North
+    @property
+    def valid(self) -> NDArray[np.bool_]: ...  # (n,)
+
+@final
+class SinglePoints:
+    @property
+    def position_m(self) -> NDArray[np.float64]: ...  # (n_ep, 3) ECEF
+    @property
+    def clock_s(self) -> NDArray[np.float64]: ...  # (n_ep, 5) per system G R E C J, NaN where none
+    @property
+    def satellites(self) -> NDArray[np.int64]: ...  # (n_ep,) used
+    @property
+    def residual_rms_m(self) -> NDArray[np.float64]: ...  # (n_ep,)
+
 def gnss_satellite_states(
     kepler: dict[str, NDArray[Any]],
     glonass: dict[str, NDArray[Any]],
@@ -422,7 +458,7 @@ def gnss_satellite_states(
     t_gpst_ns: NDArray[np.int64],
     *,
     offset_s: NDArray[np.float64] | None = None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+) -> SatelliteStates: ...
 def gnss_transmit_states(
     kepler: dict[str, NDArray[Any]],
     glonass: dict[str, NDArray[Any]],
@@ -432,9 +468,7 @@ def gnss_transmit_states(
     t_rx_gpst_ns: NDArray[np.int64],
     receiver_m: NDArray[np.float64],
     receiver_clock_s: NDArray[np.float64],
-) -> tuple[
-    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]
-]: ...
+) -> TransmitStates: ...
 def gnss_klobuchar_delay(
     coefficients: NDArray[np.float64],
     t_gpst_ns: NDArray[np.int64],
@@ -458,7 +492,7 @@ def gnss_single_point(
     systems: str = "GRECJ",
     frequencies: int = 1,
     elevation_mask_deg: float = 10.0,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]: ...
+) -> SinglePoints: ...
 def orbit_filter_loose(
     times_s: NDArray[np.float64],
     x0: NDArray[np.float64],
@@ -584,7 +618,8 @@ LAMBDA_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
 
 # gnss.rs: the observation engine. Arrays of gnssatt.gnss.session_input.SessionInput (n_rx receivers,
-# n_ep epochs, n_sat satellites, 3 frequency slots) and NavInput; options None take the engine's defaults.
+# n_ep epochs, n_sat satellites, 3 frequency slots) and gnssatt.rinex.nav.NavInput; options None take the
+# engine's defaults.
 @final
 class GnssSession:
     """Per-epoch results (n epochs, m rovers, k = 2 angles in baseline mode, 3 in attitude mode)."""

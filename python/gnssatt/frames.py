@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import checked_array, finite_result, scalar, time_array, vector_array
+from gnssatt._renamed import renamed
 from gnssatt.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 from gnssatt.errors import ConvergenceError, InvalidInputError
 
@@ -47,6 +48,8 @@ MAX_DEPTH_M = WGS84_A_M - MIN_GEODETIC_RADIUS_M
 #: Most fixed-point iterations of :func:`ecef_to_geodetic`: the error shrinks by about ``a e^2 / r`` per
 #: iteration (0.43 at ``MIN_GEODETIC_RADIUS_M``, 0.007 at the surface), so 60 reach 1e-13 rad everywhere.
 _GEODETIC_ITERATIONS = 60
+#: Any number of dimensions (numpy's limit is 32).
+_ANY_NDIM = tuple(range(33))
 
 
 def earth_rotation_angle(t: ArrayLike, theta0_rad: float = 0.0) -> NDArray[np.float64]:
@@ -256,29 +259,36 @@ def ecef_to_eci(
     return r_i, _batch_dcm(m, v) + _omega_cross(r_i)
 
 
+@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike) -> NDArray[np.float64]:
-    """ECEF position (m) of geodetic WGS-84 coordinates; inputs broadcast, output shape (..., 3).
+    """ECEF position (m) of geodetic WGS-84 coordinates; inputs of any shapes that broadcast together,
+    output shape (..., 3).
 
     ``N = a / sqrt(1 - e^2 sin^2 lat)``, ``x = (N + h) cos lat cos lon``, ``y = (N + h) cos lat sin lon``,
     ``z = (N (1 - e^2) + h) sin lat``.
 
+    The one implementation: ``gnssatt.magnetic.geodetic_to_ecef`` and ``gnssatt.sim.geodetic_to_ecef`` are
+    this function; the magnetic one's keywords ``latitude_deg`` and ``longitude_deg`` are deprecated names
+    of ``lat_deg`` and ``lon_deg``.
+
     Parameters
     ----------
     lat_deg, lon_deg
-        Geodetic latitude and longitude, deg, shape () or (n,).
+        Geodetic latitude in [-90, 90] and longitude, degrees.
     height_m
-        Height above the WGS-84 ellipsoid, m, shape () or (n,).
+        Height above the ellipsoid, m, in [``-MAX_DEPTH_M``, 1e12].
 
     Returns
     -------
     ndarray
-        ECEF position, m, shape (3,) or (n, 3).
+        ECEF position, m, shape ``broadcast(lat_deg, lon_deg, height_m).shape + (3,)``.
 
     Raises
     ------
     InvalidInputError
         Latitudes outside [-90, 90] deg, heights below ``-MAX_DEPTH_M`` (-6278 km) or above 1e12 m,
-        non-finite values, shapes that do not broadcast.
+        non-finite values, shapes that do not broadcast (:class:`~gnssatt.errors.InvalidTypeError` for values
+        that are not real numbers).
 
     Examples
     --------
@@ -290,16 +300,17 @@ def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike
     array([[6378137.   ,       0.   ,       0.   ],
            [      0.   ,       0.   , 6356752.314]])
     """
-    lat_d = _latitudes("lat_deg", checked_array("lat_deg", lat_deg, ndim=(0, 1), shape="() or (n,)"))
-    lon = np.radians(checked_array("lon_deg", lon_deg, ndim=(0, 1), shape="() or (n,)"))
-    h = checked_array("height_m", height_m, ndim=(0, 1), shape="() or (n,)")
+    lat_d = _latitudes("lat_deg", checked_array("lat_deg", lat_deg, ndim=_ANY_NDIM, shape="(...)"))
+    lon = np.radians(checked_array("lon_deg", lon_deg, ndim=_ANY_NDIM, shape="(...)"))
+    h = checked_array("height_m", height_m, ndim=_ANY_NDIM, shape="(...)")
     if h.size and (h.min() < -MAX_DEPTH_M or h.max() > 1e12):
         raise InvalidInputError(f"expected height_m in [{-MAX_DEPTH_M}, 1e12] m, got [{h.min()}, {h.max()}]")
     try:
         np.broadcast_shapes(lat_d.shape, lon.shape, h.shape)
     except ValueError as exc:
         raise InvalidInputError(
-            f"expected lat_deg, lon_deg and height_m of one shape, got {lat_d.shape}, {lon.shape}, {h.shape}"
+            f"expected lat_deg, lon_deg and height_m of shapes that broadcast together, got {lat_d.shape}, "
+            f"{lon.shape}, {h.shape}"
         ) from exc
     lat = np.radians(lat_d)
     n = WGS84_A_M / np.sqrt(1.0 - WGS84_E2 * np.sin(lat) ** 2)

@@ -35,6 +35,10 @@ from gnssatt import constants as _constants
 from gnssatt._arrays import checked_array, integer, scalar, vector_array
 from gnssatt.errors import InvalidInputError
 
+# One geodetic -> ECEF conversion, in the base layer; this module's former copy (keywords latitude_deg,
+# longitude_deg, still taken with a DeprecationWarning) is the same function.
+from gnssatt.frames import geodetic_to_ecef as geodetic_to_ecef
+
 __all__ = [
     "EARTH_DIPOLE_T_M3",
     "IGRF_REFERENCE_RADIUS_M",
@@ -44,7 +48,6 @@ __all__ = [
     "dipole_field_eci",
     "dipole_field_ned",
     "dipole_orbital",
-    "geodetic_to_ecef",
     "igrf_field_ecef",
 ]
 
@@ -217,52 +220,6 @@ def _geodetic(
         raise InvalidInputError(
             f"expected latitude_deg, longitude_deg, height_m of broadcastable shapes, got {shapes}"
         ) from exc
-
-
-def geodetic_to_ecef(
-    latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike
-) -> NDArray[np.float64]:
-    """WGS-84 geodetic latitude, longitude (deg) and ellipsoidal height (m) to ECEF (..., 3) metres.
-
-    Parameters
-    ----------
-    latitude_deg, longitude_deg
-        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together.
-    height_m
-        Height above the WGS-84 ellipsoid, m, broadcast with them.
-
-    Returns
-    -------
-    numpy.ndarray
-        (..., 3) ECEF positions, m.
-
-    Raises
-    ------
-    InvalidInputError
-        Non-finite or non-real input, latitudes outside [-90, 90], heights that bring the point nearer the
-        centre than ``MIN_RADIUS_M`` or beyond ``MAX_RADIUS_M``, shapes that do not broadcast.
-
-    Examples
-    --------
-    The equator at longitude 0 is ``(a, 0, 0)``; the north pole is ``(0, 0, b)`` with the semi-minor axis
-    ``b = a (1 - f) = 6356752.314`` m:
-
-    >>> import numpy as np
-    >>> from gnssatt.magnetic import geodetic_to_ecef
-    >>> np.round(geodetic_to_ecef([0.0, 90.0], 0.0, 0.0), 3) + 0.0
-    array([[6378137.   ,       0.   ,       0.   ],
-           [      0.   ,       0.   , 6356752.314]])
-    """
-    lat, lon, h = _geodetic(latitude_deg, longitude_deg, height_m)
-    n = WGS84_A_M / np.sqrt(1.0 - _E2 * np.sin(lat) ** 2)
-    return np.stack(
-        [
-            (n + h) * np.cos(lat) * np.cos(lon),
-            (n + h) * np.cos(lat) * np.sin(lon),
-            (n * (1.0 - _E2) + h) * np.sin(lat),
-        ],
-        axis=-1,
-    )
 
 
 def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
@@ -458,6 +415,9 @@ def dipole_field_ned(
     >>> bool(np.isclose(np.linalg.norm(ned), np.linalg.norm(ecef), rtol=1e-12, atol=0.0)), bool(ned[2] > 0)
     (True, True)
     """
+    # checked here first, under this function's names and its own bound on heights (the dipole needs
+    # MIN_RADIUS_M from the centre), before frames' conversion checks them again
+    _geodetic(latitude_deg, longitude_deg, height_m)
     b = dipole_field_ecef(geodetic_to_ecef(latitude_deg, longitude_deg, height_m), decimal_year)
     # typed here: numpy types einsum's result as Any
     ned: NDArray[np.float64] = np.einsum(

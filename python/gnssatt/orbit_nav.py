@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
-from gnssatt._arrays import finite_result, float_array, instance, real_array, scalar, text
+from gnssatt._arrays import finite_result, float_array, generator, instance, real_array, scalar, text
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.observations import SpaceborneMeasurements
 from gnssatt.orbit import MIN_ORBIT_RADIUS_M, GlonassModel, glonass_propagate, rk4_steps
@@ -95,7 +95,7 @@ def _accel_psd(value: float) -> float:
 def noisy_orbit(
     x0: ArrayLike,
     times_s: ArrayLike,
-    rng: np.random.Generator,
+    rng: int | np.random.Generator | None = None,
     *,
     accel_psd_m2_s3: float,
     step_s: float = 10.0,
@@ -106,6 +106,8 @@ def noisy_orbit(
     discretisation gives; the gravity-gradient correction is ``(n dt)^2 ~ 1e-4`` of it for 10 s in LEO).
 
     Returns (n_t, 6) states at ``times_s`` (strictly increasing, at least one); the first is ``x0``.
+    ``rng`` draws the noise: an int, a Generator (advanced) or None (fresh entropy), as
+    ``numpy.random.default_rng`` reads it.
 
     Raises
     ------
@@ -129,16 +131,14 @@ def noisy_orbit(
         raise WorkLimitError(f"noisy_orbit: times_s has {t.size} epochs, beyond the limit of {MAX_EPOCHS}")
     q = _accel_psd(accel_psd_m2_s3)
     step_s = scalar("step_s", step_s, minimum=0.0, strict=True)
-    instance("rng", rng, np.random.Generator, "a numpy.random.Generator")
-    if model is not None:
-        instance("model", model, GlonassModel, "a GlonassModel")
+    gen = generator("rng", rng)
     rk4_steps("noisy_orbit over times_s", np.diff(t), step_s)
     out = np.empty((t.size, 6))
     out[0] = x
     for k in range(1, t.size):
         dt = t[k] - t[k - 1]
         p = glonass_propagate(out[k - 1, :3], out[k - 1, 3:], dt, step_s=min(step_s, dt), model=model)
-        out[k] = p.state + rng.multivariate_normal(np.zeros(6), white_acceleration_noise(q, dt))
+        out[k] = p.state + gen.multivariate_normal(np.zeros(6), white_acceleration_noise(q, dt))
     return out
 
 

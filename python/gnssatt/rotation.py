@@ -4,6 +4,10 @@ Matrices are active body -> reference maps (like :meth:`scipy.spatial.transform.
 Euler sequences are intrinsic (scipy's upper-case axes); quaternions are scalar-last ``[x, y, z, w]``.
 scipy's :class:`~scipy.spatial.transform.Rotation` remains the public currency of results; these functions
 exist so the papers' sequences can be checked against an implementation that is not scipy's.
+
+The GOST 20058-80 angles of seed 001 (:func:`rotation_from_euler`, :func:`euler_from_rotation`) live here,
+below both the estimator that searches them (:mod:`gnssatt.attitude.likelihood`) and the simulator that
+writes their truth.
 """
 
 from __future__ import annotations
@@ -12,17 +16,22 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import checked_array, choice, flag, shaped
+from gnssatt._arrays import checked_array, choice, flag, instance, shaped
+from gnssatt._renamed import renamed
 
 __all__ = [
+    "ENU_FROM_NORMAL",
     "SEQUENCES",
     "dcm_to_euler",
     "dcm_to_quat",
+    "euler_from_rotation",
     "euler_to_dcm",
     "nearest_rotation",
     "quat_to_dcm",
+    "rotation_from_euler",
     "wrap_rad",
 ]
 
@@ -148,3 +157,38 @@ def wrap_rad(x: Any) -> NDArray[np.float64]:
     """
     arr = checked_array("x", x, ndim=tuple(range(33)), shape="(...)")
     return (arr + np.pi) % (2.0 * np.pi) - np.pi
+
+
+#: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U): the GOST normal frame of seed 001 into ENU.
+ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+
+
+@renamed(euler_deg="euler_gost_deg")
+def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
+    """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3): the GOST
+    ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``). Also importable
+    from :mod:`gnssatt.attitude.likelihood`, its former home.
+
+    Raises
+    ------
+    InvalidInputError
+        Wrong shape or non-finite angles (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
+        real numbers).
+    """
+    angles = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n, 3)", (3,), (None, 3))
+    r_normal = Rotation.from_euler("YZX", angles, degrees=True).as_matrix()
+    return Rotation.from_matrix(ENU_FROM_NORMAL @ r_normal)
+
+
+def euler_from_rotation(rotation: Rotation) -> NDArray[np.float64]:
+    """Eq. (5) angles ``(psi, theta, phi)`` in degrees of a body -> ENU rotation (single or a stack): the
+    inverse of :func:`rotation_from_euler`. Also importable from :mod:`gnssatt.attitude.likelihood`.
+
+    Raises
+    ------
+    InvalidTypeError
+        ``rotation`` is not a scipy :class:`~scipy.spatial.transform.Rotation`.
+    """
+    r = instance("rotation", rotation, Rotation, "a scipy Rotation")
+    r_normal = ENU_FROM_NORMAL.T @ r.as_matrix()
+    return np.asarray(Rotation.from_matrix(r_normal).as_euler("YZX", degrees=True))

@@ -273,7 +273,7 @@ ENTRIES: dict[str, Entry] = {
             "phases": s.phases(),
             "baselines_m": s.BASELINES.copy(),
             "ambiguities": s.phases().ambiguity.copy(),
-            "sigma_cycles": 0.01,
+            "phase_sigma_cycles": 0.01,
         }
     ),
     "gnssatt.fit_rotation": _e(
@@ -307,9 +307,6 @@ ENTRIES: dict[str, Entry] = {
     ),
     "gnssatt.magnetic.dipole_orbital": _e(
         lambda: {"u": np.linspace(0.0, 6.0, 5), "inclination": 0.9, "radius": 6.9e6, "strength": 7.7e15}
-    ),
-    "gnssatt.magnetic.geodetic_to_ecef": _e(
-        lambda: {"latitude_deg": 50.0, "longitude_deg": 36.2, "height_m": 150.0}
     ),
     "gnssatt.magnetic.igrf_field_ecef": _e(
         lambda: {"position_ecef_m": np.array([7e6, 0.0, 1e6]), "decimal_year": 2025.0, "max_degree": 13},
@@ -492,7 +489,7 @@ ENTRIES: dict[str, Entry] = {
         lambda: {
             "x0": _sb()["x0"].copy(),
             "times_s": _sb()["t"].copy(),
-            "rng": s.rng(),
+            "rng": 1,
             "accel_psd_m2_s3": 1e-8,
             "step_s": 10.0,
         },
@@ -584,9 +581,9 @@ ENTRIES: dict[str, Entry] = {
         lambda: {
             "folder": s.folder(),
             "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
-            "euler_deg": np.zeros((2, 3)),
+            "euler_gost_deg": np.zeros((2, 3)),
             "interval_s": 1.0,
-            "seed": 1,
+            "rng": 1,
             "n_sats": 5,
         },
         counts={"n_sats"},
@@ -596,7 +593,7 @@ ENTRIES: dict[str, Entry] = {
         lambda: {
             "folder": s.folder(),
             "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
-            "euler_deg": np.array([-40.0, 5.0, 3.0]),
+            "euler_gost_deg": np.array([-40.0, 5.0, 3.0]),
             "systems": "GC",
             "frequencies": 2,
             "n_epochs": 2,
@@ -681,6 +678,10 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.rotation.euler_to_dcm": _e(lambda: {"seq": "ZYX", "angles": np.array([0.3, 0.2, 0.1])}),
     "gnssatt.rotation.nearest_rotation": _e(lambda: {"matrix": np.eye(3) + 0.01}),
     "gnssatt.rotation.quat_to_dcm": _e(lambda: {"quat": np.array([0.1, 0.2, 0.3, 0.9])}),
+    "gnssatt.rotation.rotation_from_euler": _e(lambda: {"euler_gost_deg": np.array([-40.0, 5.0, 3.0])}),
+    "gnssatt.rotation.euler_from_rotation": _e(
+        lambda: {"rotation": Rotation.from_euler("YZX", [10.0, 5.0, 3.0], degrees=True)}
+    ),
     "gnssatt.geometry.attitude_dop": _e(
         lambda: {"baselines": s.BASELINES.copy(), "los": _att()["los"].copy(), "rotation": _att()["rotation"]}
     ),

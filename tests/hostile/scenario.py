@@ -109,7 +109,7 @@ def rinex_array() -> rinex_scenario.SimulatedRinex:
     out = folder() / "array"
     out.mkdir()
     ant = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
-    return rinex_scenario.simulate_rinex_array(out, ant, np.zeros((8, 3)), n_sats=6, seed=SEED)
+    return rinex_scenario.simulate_rinex_array(out, ant, np.zeros((8, 3)), n_sats=6, rng=SEED)
 
 
 @functools.cache

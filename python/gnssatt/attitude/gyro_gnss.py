@@ -22,6 +22,7 @@ are in error by those amounts, which the filter ignores (phase updates with know
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -43,6 +44,7 @@ __all__ = [
     "MIN_GYRO_INTERVAL_S",
     "FixAttempt",
     "GyroGnssResult",
+    "GyroPropagation",
     "gyro_gnss_filter",
     "gyro_propagate",
 ]
@@ -86,7 +88,36 @@ def _times_and_rates(
     return tt, w
 
 
-def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.float64]:
+@dataclass(frozen=True)
+class GyroPropagation:
+    """Attitudes of :func:`gyro_propagate` at its times ``t`` (s).
+
+    ``rotation`` body -> reference (the reference of ``q0``), one per time; ``quaternions`` the same, (n, 4)
+    scalar-last, as the core computed them (row 0 is ``q0`` normalised).
+    """
+
+    t: NDArray[np.float64]
+    rotation: Rotation
+    quaternions: NDArray[np.float64]
+
+    # The (n, 4) array gyro_propagate returned before it had a result type, kept for one release.
+    def _deprecated_array(self) -> NDArray[np.float64]:
+        warnings.warn(
+            "gyro_propagate returns a GyroPropagation: use its 'quaternions' or 'rotation' instead of "
+            "the result as an array (removed in the next release)",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+        return self.quaternions
+
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray[Any]:
+        return np.asarray(self._deprecated_array(), dtype=dtype)
+
+    def __getitem__(self, key: Any) -> Any:
+        return self._deprecated_array()[key]
+
+
+def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> GyroPropagation:
     """Attitude quaternions (n, 4) scalar-last, body -> reference, at ``t`` (s) from ``q0`` with the body
     rates ``rates`` (n, 3) rad/s, ``rates[k]`` held over ``[t[k], t[k+1]]`` (exact for constant rates).
 
@@ -101,8 +132,10 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.
 
     Returns
     -------
-    numpy.ndarray
-        (n, 4) unit quaternions, scalar-last, body -> reference, at ``t``; row 0 is ``q0`` normalised.
+    GyroPropagation
+        ``rotation`` (n attitudes, body -> reference) and ``quaternions`` (n, 4), scalar-last, at ``t``; row
+        0 is ``q0`` normalised. Read as an array (the former return), it is ``quaternions`` with a
+        :class:`DeprecationWarning`, for one release.
 
     Raises
     ------
@@ -123,10 +156,13 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> NDArray[np.
     array([0.      , 0.      , 0.479426, 0.877583])
     """
     q = shaped("q0", q0, "(4,)", (4,))
+    # the core normalises q0 by its norm, whose square overflows (or underflows) far from 1: scale first
+    largest = float(np.max(np.abs(q)))
+    q = q / largest if largest > 0.0 else q
     tt, w = _times_and_rates("t", t, "rates", rates)
     out = _core.gyro_propagate(q, tt, w)
     finite_outputs("gyro_propagate", quaternions=out)
-    return out
+    return GyroPropagation(tt, Rotation.from_quat(out), out)
 
 
 @dataclass(frozen=True)

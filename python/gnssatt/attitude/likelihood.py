@@ -44,10 +44,16 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, float_array, instance, scalar, shaped
+from gnssatt._arrays import choice, float_array, scalar, shaped
 from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
+
+# The GOST Euler sequence lives in gnssatt.rotation (the base layer, which the simulator may import); these
+# names stay here too, the paths users and older code know.
+from gnssatt.rotation import ENU_FROM_NORMAL as ENU_FROM_NORMAL
+from gnssatt.rotation import euler_from_rotation as euler_from_rotation
+from gnssatt.rotation import rotation_from_euler as rotation_from_euler
 
 __all__ = [
     "AttitudePrior",
@@ -68,9 +74,6 @@ StatisticName = Literal["ambiguity_function", "mean", "double_difference"]
 SearchName = Literal["auto", "exhaustive", "branch_and_bound"]
 RefineName = bool | Literal["parabolic", "newton"]
 
-#: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U).
-ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-
 #: Largest magnitude of a phase difference, radians: any multiple of 2 pi may be added, but above this the
 #: float64 spacing (1.2e-4 rad) no longer carries the fraction of a cycle the statistic needs.
 MAX_PHASE_RAD = 1e12
@@ -82,35 +85,6 @@ MIN_WAVELENGTH_M, MAX_WAVELENGTH_M = 1e-6, 1e6
 WINDOW_LIMIT_DEG = 3600.0
 #: Largest grid step, degrees (coarser than a half turn is no grid).
 MAX_STEP_DEG = 180.0
-
-
-@renamed(euler_deg="euler_gost_deg")
-def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
-    """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3): the GOST
-    ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``).
-
-    Raises
-    ------
-    InvalidInputError
-        Wrong shape or non-finite angles (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
-        real numbers).
-    """
-    angles = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n, 3)", (3,), (None, 3))
-    r_normal = Rotation.from_euler("YZX", angles, degrees=True).as_matrix()
-    return Rotation.from_matrix(ENU_FROM_NORMAL @ r_normal)
-
-
-def euler_from_rotation(rotation: Rotation) -> NDArray[np.float64]:
-    """Eq. (5) angles ``(psi, theta, phi)`` in degrees of a body -> ENU rotation (single or a stack).
-
-    Raises
-    ------
-    InvalidTypeError
-        ``rotation`` is not a scipy :class:`~scipy.spatial.transform.Rotation`.
-    """
-    r = instance("rotation", rotation, Rotation, "a scipy Rotation")
-    r_normal = ENU_FROM_NORMAL.T @ r.as_matrix()
-    return np.asarray(Rotation.from_matrix(r_normal).as_euler("YZX", degrees=True))
 
 
 @renamed(euler_deg="euler_gost_deg")

@@ -16,7 +16,7 @@ from scipy.spatial.transform import Rotation
 from gnssatt import _core
 from gnssatt._arrays import finite_outputs, flag, float_array
 from gnssatt._renamed import renamed
-from gnssatt.attitude.wahba import _vectors, _warn_small
+from gnssatt.attitude.wahba import checked_vectors, warn_small
 from gnssatt.errors import InvalidInputError
 
 __all__ = ["YawResult", "yaw_from_magnetometer"]
@@ -117,8 +117,8 @@ def yaw_from_magnetometer(
     >>> round(result.horizontal_fraction, 6), round(float(np.sqrt(425 / 2025)), 6)
     (0.458123, 0.458123)
     """
-    bb = _vectors("b_body", b_body)
-    bo = _vectors("b_orbital", b_orbital)
+    bb = checked_vectors("b_body", b_body)
+    bo = checked_vectors("b_orbital", b_orbital)
     p = float_array("pitch", pitch, ndim=(0, 1), shape="() or (epochs,)")
     r = float_array("roll", roll, ndim=(0, 1), shape="() or (epochs,)")
     # float_array makes scalars (1,): decide single-epoch output from the arguments themselves.
@@ -154,8 +154,8 @@ def yaw_from_magnetometer(
     out = _core.yaw_batch(*vec, *ang)
     yaw, cos_pitch, horizontal = out.yaw_rad, out.cos_pitch, out.horizontal_fraction
     finite_outputs("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
-    _warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
-    _warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
+    warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
+    warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
     rotation = Rotation.from_euler("ZYX", np.column_stack([yaw, ang[0], ang[1]]))
     if single:
         return YawResult(float(yaw[0]), rotation[0], float(cos_pitch[0]), float(horizontal[0]))

@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import instance, integer_array, scalar, shaped, unit_rows
+from gnssatt._renamed import renamed
 from gnssatt.attitude.matrix_method import matrix_attitude
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
@@ -25,12 +26,13 @@ __all__ = ["MAX_SIGMA_CYCLES", "phase_attitude_fixes"]
 MAX_SIGMA_CYCLES = 1e3
 
 
+@renamed(sigma_cycles="phase_sigma_cycles")
 def phase_attitude_fixes(
     phases: PhaseObservations,
     baselines_m: ArrayLike,
     ambiguities: ArrayLike,
     *,
-    sigma_cycles: float,
+    phase_sigma_cycles: float,
 ) -> AttitudeFixes:
     """Attitude (body -> ECI) and its covariance at each epoch of ``phases`` that fixes the attitude.
 
@@ -46,9 +48,10 @@ def phase_attitude_fixes(
         (n_rows, m) integers ``N_ik`` of the rows of ``phases``, as fixed by the user (e.g. with
         :func:`gnssatt.lambda_ils`); in simulation ``phases.ambiguity`` (the truth), or zeros with
         :meth:`~gnssatt.sim.attitude_scenario.PhaseObservations.without_ambiguities`.
-    sigma_cycles
+    phase_sigma_cycles
         Standard deviation of one first difference, cycles, in (0, :data:`MAX_SIGMA_CYCLES`]; first
-        differences are taken as independent, as the simulator and the filter take them.
+        differences are taken as independent, as the simulator and the filter take them. Formerly
+        ``sigma_cycles`` (deprecated).
 
     Returns
     -------
@@ -64,7 +67,7 @@ def phase_attitude_fixes(
     satellite ``k`` than the master (the phase grows with range). Its derivative in ``eta`` at ``R_hat`` is
     ``H_ik = (b_i x s_k)^T`` m/rad with ``s_k = R_hat^T los_k`` (body frame). ``matrix_attitude`` minimises
     the unweighted sum of squared residuals, so the covariance is the Gauss-Newton sandwich
-    ``(H^T H)^-1 H^T W H (H^T H)^-1`` with ``W = diag((sigma_cycles lambda_k)^2)``; with one wavelength
+    ``(H^T H)^-1 H^T W H (H^T H)^-1`` with ``W = diag((phase_sigma_cycles lambda_k)^2)``; with one wavelength
     (GPS only) this is ``sigma^2 (H^T H)^-1``. GLONASS wavelengths differ by up to about 1 %, so the
     unweighted estimate is within a fraction of a percent of the weighted one.
 
@@ -79,7 +82,8 @@ def phase_attitude_fixes(
         outside ``[0, len(phases.epoch_t))``, lines of sight that are not unit vectors, non-positive
         wavelengths, non-integer ambiguities, range differences ``(phase - N) lambda`` beyond
         :data:`~gnssatt.geometry.MAX_BASELINE_M`, baselines outside the limits of
-        :func:`~gnssatt.geometry.checked_baselines`, ``sigma_cycles`` outside (0, :data:`MAX_SIGMA_CYCLES`];
+        :func:`~gnssatt.geometry.checked_baselines`, ``phase_sigma_cycles`` outside (0,
+        :data:`MAX_SIGMA_CYCLES`];
         :class:`~gnssatt.errors.InvalidTypeError` for a ``phases`` that is not
         :class:`~gnssatt.sim.attitude_scenario.PhaseObservations` or values that are not real numbers.
     ConvergenceError
@@ -133,9 +137,11 @@ def phase_attitude_fixes(
         (n_rows, m),
     )
     amb = integer_array("ambiguities", ambiguities, f"(n_rows, m) = ({n_rows}, {m})", (n_rows, m))
-    sigma = scalar("sigma_cycles", sigma_cycles, minimum=0.0, strict=True, unit="cycles")
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True, unit="cycles")
     if sigma > MAX_SIGMA_CYCLES:
-        raise InvalidInputError(f"expected sigma_cycles <= {MAX_SIGMA_CYCLES:g} cycles, got {sigma} cycles")
+        raise InvalidInputError(
+            f"expected phase_sigma_cycles <= {MAX_SIGMA_CYCLES:g} cycles, got {sigma} cycles"
+        )
 
     with np.errstate(over="ignore"):
         range_diffs = -(phase - amb) * wavelength[:, None]  # (n_rows, m), m

@@ -33,7 +33,10 @@ TRIAD_WARN_SIN = 1e-2
 WAHBA_WARN_RATIO = 1e-4
 
 
-def _warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
+def warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
+    """A :class:`~gnssatt.errors.NearDegenerateWarning` where ``values`` (per epoch) fall below ``limit``,
+    naming ``what``, how many epochs and the smallest; shared with :mod:`gnssatt.attitude.magnetometer`
+    (a helper of the estimators, not user API, so not in ``__all__``)."""
     small = values < limit
     if np.any(small):
         k = int(np.argmin(values))
@@ -45,7 +48,9 @@ def _warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
         )
 
 
-def _vectors(name: str, value: ArrayLike) -> NDArray[np.float64]:
+def checked_vectors(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    """``value`` as (3,) or (epochs, 3) finite reals, checked under ``name``; shared with
+    :mod:`gnssatt.attitude.magnetometer` (not in ``__all__``)."""
     return shaped(name, value, "(3,) or (epochs, 3)", (3,), (None, 3))
 
 
@@ -118,7 +123,7 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
     >>> round(result.sin_angle_body, 6)  # 45 deg between b1 and b2
     0.707107
     """
-    arrs = [rescaled(_vectors(n, v)) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
+    arrs = [rescaled(checked_vectors(n, v)) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
     single = all(a.ndim == 1 for a in arrs)
     try:
         arrs = [np.ascontiguousarray(a) for a in np.broadcast_arrays(*(np.atleast_2d(a) for a in arrs))]
@@ -129,7 +134,7 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
     out = _core.triad_batch(*arrs)
     quat, sb, sr = out.quat_ref_from_body, out.sin_angle_body, out.sin_angle_ref
     finite_outputs("triad", quaternion=quat, sine=np.concatenate([sb, sr]))
-    _warn_small(np.minimum(sb, sr), TRIAD_WARN_SIN, "the sine of the angle between the TRIAD vectors")
+    warn_small(np.minimum(sb, sr), TRIAD_WARN_SIN, "the sine of the angle between the TRIAD vectors")
     if single:
         return TriadResult(Rotation.from_quat(quat[0]), float(sb[0]), float(sr[0]))
     return TriadResult(Rotation.from_quat(quat), sb, sr)
@@ -279,7 +284,7 @@ def wahba(
     with np.errstate(over="ignore"):
         cov, loss = cov / scale[:, None, None], loss * scale
     finite_outputs("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)
-    _warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")
+    warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")
     if single:
         return WahbaResult(Rotation.from_quat(quat[0]), cov[0], float(ratio[0]), float(loss[0]), method)
     return WahbaResult(Rotation.from_quat(quat), cov, ratio, loss, method)

@@ -94,7 +94,7 @@ def _loose_fixes(
     """The loosely coupled input: simulated solutions (truth times a draw from their covariance), or the
     matrix-method solutions of the phases with their true integers."""
     if kind == "matrix":
-        return phase_attitude_fixes(ph, _baselines(), ph.ambiguity, sigma_cycles=PHASE_SIGMA_CYCLES)
+        return phase_attitude_fixes(ph, _baselines(), ph.ambiguity, phase_sigma_cycles=PHASE_SIGMA_CYCLES)
     return sc.attitude_fixes(ph, att, _baselines(), rng, phase_sigma_cycles=PHASE_SIGMA_CYCLES)
 
 

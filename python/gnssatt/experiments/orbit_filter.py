@@ -44,7 +44,7 @@ def _label(coupling: str, systems: str) -> str:
 def trial(rng: np.random.Generator) -> dict[str, Any]:
     """One run: truth, measurements, and the four filters' errors, sigmas, NEES and NIS."""
     r, v = ORBIT.state_ecef(TIMES_S[:1])
-    truth = noisy_orbit(np.concatenate([r[0], v[0]]), TIMES_S, rng, accel_psd_m2_s3=Q_M2_S3)
+    truth = noisy_orbit(np.concatenate([r[0], v[0]]), TIMES_S, rng=rng, accel_psd_m2_s3=Q_M2_S3)
     cons = sim.gps_nominal() + sim.glonass_nominal()
     meas = sim.simulate_spaceborne(truth[:, :3], truth[:, 3:], TIMES_S, cons, rng, outages=OUTAGES)
     x0 = truth[0] + rng.multivariate_normal(np.zeros(6), P0)

@@ -68,7 +68,7 @@ def trial(rng: np.random.Generator) -> dict[str, float]:
     for n in N_SATS:
         with tempfile.TemporaryDirectory() as folder:
             s = simulate_rinex_array(
-                folder, ant, euler, seed=int(rng.integers(2**31)), n_sats=n, start_s=start
+                folder, ant, euler, rng=int(rng.integers(2**31)), n_sats=n, start_s=start
             )
             obs, nav = [read_obs(p) for p in s.obs_paths], read_nav(s.nav_path)
         for name in METHODS:

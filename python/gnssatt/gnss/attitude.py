@@ -6,7 +6,7 @@ of the vector from the first antenna to the second. Three or more antennas with 
 attitude mode, heading / pitch / roll (eq. (5) of seed 001, compass heading ``= -psi``).
 
 Python only reads the files (:func:`~gnssatt.gnss.session_input.session_input`,
-:func:`~gnssatt.gnss.session_input.nav_input`), checks the arguments and shapes the results; the engine
+:func:`~gnssatt.rinex.nav.nav_input`), checks the arguments and shapes the results; the engine
 does the rest in one GIL-released call: single-point positioning of every receiver (Klobuchar,
 Saastamoinen), double differences of every system and frequency slot chosen, float solution, LAMBDA fixing
 with a success-rate gate and partial fixing (or the ambiguity-function grid, ``method="ml"``).
@@ -28,9 +28,8 @@ from typing import TYPE_CHECKING, Any, Literal, get_args
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import choice, flag, scalar, shaped
+from gnssatt._arrays import choice, flag, path_text, scalar, shaped
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError
-from gnssatt.rinex._fields import path_text
 from gnssatt.rinex.nav import RinexNav, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
 

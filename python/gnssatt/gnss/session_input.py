@@ -1,5 +1,6 @@
 """What the observation engine takes from RINEX files: the session's observations on common epochs
-(:func:`session_input`) and the navigation records as arrays (:func:`nav_input`).
+(:func:`session_input`) and the navigation records as arrays (:func:`~gnssatt.rinex.nav.nav_input`, which
+lives with the navigation reader so that the simulator can use it too; importable from here as before).
 
 Both return plain numpy arrays in C order, laid out as the Rust core's ``Observations`` and ``NavData``
 (``rust/core/src/gnss/observations.rs``, ``navdata.rs``), so that the binding passes them on unchanged.
@@ -10,14 +11,13 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt._arrays import instance, integer
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
-from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, leap_seconds
+from gnssatt.rinex.nav import GPS_EPOCH, NavInput, RinexNav, leap_seconds, nav_input
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.rinex.signals import SignalChoice, choose_signals, phase_codes, slot_frequency_hz
 
@@ -109,34 +109,6 @@ class SessionInput:
     approx_position_m: NDArray[np.float64]
     signal_codes: dict[str, dict[str, tuple[str, ...]]]
     epochs_dropped: tuple[int, ...]
-
-
-@dataclass(frozen=True)
-class NavInput:
-    """Broadcast records as arrays, one per field of the core's ``KeplerRecord`` / ``GlonassRecord``.
-
-    Attributes
-    ----------
-    kepler
-        ``"sat"`` (n,) str; ``"toc_gpst_ns"``, ``"toe_gpst_ns"`` (n,) int64; ``"af"`` (n, 3); ``"tgd_s"``
-        (n, 2); ``"crs"``, ``"delta_n"``, ``"m0"``, ``"cuc"``, ``"e"``, ``"cus"``, ``"sqrt_a"``, ``"cic"``,
-        ``"omega0"``, ``"cis"``, ``"i0"``, ``"crc"``, ``"omega"``, ``"omega_dot"``, ``"idot"``,
-        ``"health"`` (raw word), ``"iode"``, ``"accuracy_m"``, ``"fit_interval_h"``, ``"data_source"``
-        (n,) float64 (SI units and radians as in the file; see ``navdata.rs`` for each system's meaning).
-    glonass
-        ``"sat"`` (m,) str; ``"tb_gpst_ns"`` (m,) int64; ``"clock_bias_s"`` (-tau_n), ``"gamma_n"``,
-        ``"health"`` (m,) float64; ``"position_m"``, ``"velocity_m_s"``, ``"acceleration_m_s2"`` (m, 3)
-        float64 (PZ-90 ECEF); ``"channel"`` (m,) int64.
-    klobuchar
-        (8,) GPS alpha0..3, beta0..3, or None where the header gives none.
-    leap_seconds
-        GPS - UTC from the header, or None.
-    """
-
-    kepler: dict[str, NDArray[Any]]
-    glonass: dict[str, NDArray[Any]]
-    klobuchar: NDArray[np.float64] | None
-    leap_seconds: int | None
 
 
 def _warn_mixed_tracking(
@@ -479,65 +451,3 @@ def _channels(sats: tuple[str, ...], files: list[RinexObs], nav: RinexNav | None
         if s[0] == "R" and s in known and -7 <= known[s] <= 6:
             out[k] = known[s]
     return out
-
-
-_KEPLER_SAME = (
-    "crs", "delta_n", "m0", "cuc", "e", "cus", "sqrt_a", "cic", "omega0", "cis", "i0", "crc", "omega",
-    "omega_dot", "idot", "health", "iode",
-)  # fmt: skip
-
-
-def nav_input(nav: RinexNav) -> NavInput:
-    """The records of ``nav`` as the arrays of :class:`NavInput`.
-
-    Per system (RINEX 3 navigation layout): ``tgd_s`` is GPS/QZSS ``[TGD, NaN]``, Galileo
-    ``[BGD E5a/E1, BGD E5b/E1]``, BeiDou ``[TGD1, TGD2]``; ``data_source`` the Galileo data-source word
-    (NaN for other systems); ``fit_interval_h`` the GPS fit interval (hours), 0 (the system default) for
-    QZSS, whose files give a flag there, and NaN for Galileo and BeiDou, which have none; ``health`` the raw
-    word (QZSS's L1C/A health bit 0 and BeiDou's SatH1 included: the ephemeris interprets it).
-
-    Raises
-    ------
-    InvalidTypeError
-        ``nav`` is not a :class:`~gnssatt.rinex.nav.RinexNav`.
-    """
-    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
-    k = nav.kepler
-    f = k.fields
-    system = np.array([s[0] for s in k.sats.tolist()], dtype="U1")
-    gps_like = (system == "G") | (system == "J")
-    kepler: dict[str, NDArray[Any]] = {
-        "sat": np.asarray(k.sats, dtype="U3"),
-        "toc_gpst_ns": np.ascontiguousarray(k.toc_ns, dtype=np.int64),
-        "toe_gpst_ns": np.ascontiguousarray(k.toe_ns, dtype=np.int64),
-        "af": np.ascontiguousarray(k.af, dtype=np.float64).reshape(-1, 3),
-    }
-    for name in _KEPLER_SAME:
-        kepler[name] = np.ascontiguousarray(f[name], dtype=np.float64)
-    kepler["tgd_s"] = np.ascontiguousarray(
-        np.stack([f["tgd"], np.where(gps_like, np.nan, f["iodc_tgd2"])], axis=-1).reshape(-1, 2)
-    )
-    kepler["accuracy_m"] = np.ascontiguousarray(f["accuracy"], dtype=np.float64)
-    kepler["fit_interval_h"] = np.where(
-        system == "G", f["fit_interval"], np.where(system == "J", 0.0, np.nan)
-    )
-    kepler["data_source"] = np.where(system == "E", f["codes_l2"], np.nan)
-    g = nav.glonass
-    glonass: dict[str, NDArray[Any]] = {
-        "sat": np.asarray(g.sats, dtype="U3"),
-        "tb_gpst_ns": np.ascontiguousarray(g.tb_ns, dtype=np.int64),
-        "clock_bias_s": np.ascontiguousarray(g.clock_bias, dtype=np.float64),
-        "gamma_n": np.ascontiguousarray(g.gamma_n, dtype=np.float64),
-        "position_m": np.ascontiguousarray(g.position_m, dtype=np.float64).reshape(-1, 3),
-        "velocity_m_s": np.ascontiguousarray(g.velocity_m_s, dtype=np.float64).reshape(-1, 3),
-        "acceleration_m_s2": np.ascontiguousarray(g.acceleration_m_s2, dtype=np.float64).reshape(-1, 3),
-        "channel": np.ascontiguousarray(g.channel, dtype=np.int64),
-        "health": np.ascontiguousarray(g.health, dtype=np.float64),
-    }
-    coeffs = np.concatenate([nav.iono_alpha, nav.iono_beta]).astype(np.float64)
-    return NavInput(
-        kepler=kepler,
-        glonass=glonass,
-        klobuchar=coeffs if np.all(np.isfinite(coeffs)) else None,
-        leap_seconds=nav.leap_seconds,
-    )

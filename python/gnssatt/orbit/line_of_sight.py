@@ -186,7 +186,18 @@ class Geometry:
         )
 
 
-def _attitude_matrices(attitude: Any, n_t: int | None) -> NDArray[np.float64]:
+def attitude_matrices(attitude: Any, n_t: int | None) -> NDArray[np.float64]:
+    """Body -> reference matrices of ``attitude``, a scipy Rotation: (3, 3) for a single one, (n_t, 3, 3) for
+    one per epoch (``n_t`` None: only a single one is accepted). Shared with the simulator's measurements
+    (not in ``__all__``).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``attitude`` is not a scipy Rotation.
+    InvalidInputError
+        A stack of another length than ``n_t``, or any stack where ``n_t`` is None.
+    """
     instance("attitude", attitude, Rotation, "a scipy Rotation")
     m: NDArray[np.float64] = attitude.as_matrix()
     if m.ndim == 3:
@@ -230,7 +241,7 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     array([[1., 0., 0.]])
     """
     g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
-    m = _attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
+    m = attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
     if m.ndim == 3:
         body: NDArray[np.float64] = np.einsum("tji,tkj->tki", m, g)  # numpy types einsum's result as Any
         return body

@@ -14,11 +14,13 @@ import re
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
+# Argument checks that other units share live in the intake; the readers and the writer take them from here
+# as before.
+from gnssatt._arrays import folder_path, path_text, sat_list
 from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
 
 __all__ = [
@@ -35,8 +37,6 @@ __all__ = [
     "sat_list",
     "time_labels",
 ]
-
-_SAT_ID = re.compile(r"[GRECJSI](?:0[1-9]|[1-9]\d)")
 
 _NUMBER = re.compile(r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?\s*")
 _INTEGER = re.compile(r"\s*[+-]?\d+\s*")
@@ -68,17 +68,6 @@ def reading(path: str) -> Iterator[Cursor]:
         ) from exc
 
 
-def path_text(path: object, name: str = "path") -> str:
-    """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor),
-    and so is an empty name."""
-    if not isinstance(path, str | PathLike):
-        raise InvalidTypeError(f"expected {name} as a str or os.PathLike, got {type(path).__name__}")
-    text = str(path)
-    if not text:
-        raise InvalidInputError(f"expected {name} as a file name, got an empty one")
-    return text
-
-
 def output_path(name: str, value: object) -> Path:
     """A file to write: a non-empty path whose folder exists and which is not itself a folder.
 
@@ -95,46 +84,6 @@ def output_path(name: str, value: object) -> Path:
     if not p.parent.is_dir():
         raise InvalidInputError(f"expected {name} in an existing folder, got {str(p)!r}")
     return p
-
-
-def folder_path(name: str, value: object) -> Path:
-    """An existing folder given as a str or os.PathLike (an empty name is refused, not read as ``.``).
-
-    Raises
-    ------
-    InvalidTypeError
-        ``value`` is not a str or os.PathLike.
-    InvalidInputError
-        ``value`` is empty or not an existing folder.
-    """
-    p = Path(path_text(value, name))
-    if not p.is_dir():
-        raise InvalidInputError(f"expected {name} as an existing folder, got {str(p)!r}")
-    return p
-
-
-def sat_list(name: str, value: object) -> list[str]:
-    """Satellite ids (a list, tuple or 1-d array of texts such as ``"G01"``) as a list of str.
-
-    Raises
-    ------
-    InvalidTypeError
-        ``value`` is not a sequence of texts (a single text too: ``"G01"`` would be three satellites).
-    InvalidInputError
-        No entry, or an entry that is not a satellite id (system letter GRECJSI and a two-digit PRN from 01).
-    """
-    if isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind == "U":
-        value = [str(v) for v in value]
-    if not isinstance(value, list | tuple) or not all(isinstance(v, str) for v in value):
-        raise InvalidTypeError(
-            f"expected {name} as a list of satellite ids such as 'G01', got {type(value).__name__}"
-        )
-    if not value:
-        raise InvalidInputError(f"expected at least one satellite id in {name}, got none")
-    for i, v in enumerate(value):
-        if not _SAT_ID.fullmatch(v):
-            raise InvalidInputError(f"expected satellite ids such as 'G01' in {name}, got {v!r} at index {i}")
-    return list(value)
 
 
 def time_labels(name: str, value: object) -> np.ndarray:

@@ -12,10 +12,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from os import PathLike
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from gnssatt._arrays import instance
 from gnssatt.errors import RinexError
 from gnssatt.rinex._fields import (
     HEADER_LABELS,
@@ -29,7 +31,16 @@ from gnssatt.rinex._fields import (
     time_labels,
 )
 
-__all__ = ["GPS_EPOCH", "GlonassEphemerides", "KeplerEphemerides", "RinexNav", "gps_ns", "read_nav"]
+__all__ = [
+    "GPS_EPOCH",
+    "GlonassEphemerides",
+    "KeplerEphemerides",
+    "NavInput",
+    "RinexNav",
+    "gps_ns",
+    "nav_input",
+    "read_nav",
+]
 
 #: The GPS epoch as datetime64[ns].
 GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
@@ -507,3 +518,93 @@ def _v4_klobuchar(
     v += _values(p, i + 3, lines[i + 2], 4, 4)
     v += _values(p, i + 4, lines[i + 3], 4, 1)
     return np.array(v[:4]), np.array(v[4:8])
+
+
+@dataclass(frozen=True)
+class NavInput:
+    """Broadcast records as arrays, one per field of the core's ``KeplerRecord`` / ``GlonassRecord``.
+
+    Attributes
+    ----------
+    kepler
+        ``"sat"`` (n,) str; ``"toc_gpst_ns"``, ``"toe_gpst_ns"`` (n,) int64; ``"af"`` (n, 3); ``"tgd_s"``
+        (n, 2); ``"crs"``, ``"delta_n"``, ``"m0"``, ``"cuc"``, ``"e"``, ``"cus"``, ``"sqrt_a"``, ``"cic"``,
+        ``"omega0"``, ``"cis"``, ``"i0"``, ``"crc"``, ``"omega"``, ``"omega_dot"``, ``"idot"``,
+        ``"health"`` (raw word), ``"iode"``, ``"accuracy_m"``, ``"fit_interval_h"``, ``"data_source"``
+        (n,) float64 (SI units and radians as in the file; see ``navdata.rs`` for each system's meaning).
+    glonass
+        ``"sat"`` (m,) str; ``"tb_gpst_ns"`` (m,) int64; ``"clock_bias_s"`` (-tau_n), ``"gamma_n"``,
+        ``"health"`` (m,) float64; ``"position_m"``, ``"velocity_m_s"``, ``"acceleration_m_s2"`` (m, 3)
+        float64 (PZ-90 ECEF); ``"channel"`` (m,) int64.
+    klobuchar
+        (8,) GPS alpha0..3, beta0..3, or None where the header gives none.
+    leap_seconds
+        GPS - UTC from the header, or None.
+    """
+
+    kepler: dict[str, NDArray[Any]]
+    glonass: dict[str, NDArray[Any]]
+    klobuchar: NDArray[np.float64] | None
+    leap_seconds: int | None
+
+
+_KEPLER_SAME = (
+    "crs", "delta_n", "m0", "cuc", "e", "cus", "sqrt_a", "cic", "omega0", "cis", "i0", "crc", "omega",
+    "omega_dot", "idot", "health", "iode",
+)  # fmt: skip
+
+
+def nav_input(nav: RinexNav) -> NavInput:
+    """The records of ``nav`` as the arrays of :class:`NavInput`.
+
+    Per system (RINEX 3 navigation layout): ``tgd_s`` is GPS/QZSS ``[TGD, NaN]``, Galileo
+    ``[BGD E5a/E1, BGD E5b/E1]``, BeiDou ``[TGD1, TGD2]``; ``data_source`` the Galileo data-source word
+    (NaN for other systems); ``fit_interval_h`` the GPS fit interval (hours), 0 (the system default) for
+    QZSS, whose files give a flag there, and NaN for Galileo and BeiDou, which have none; ``health`` the raw
+    word (QZSS's L1C/A health bit 0 and BeiDou's SatH1 included: the ephemeris interprets it).
+
+    Raises
+    ------
+    InvalidTypeError
+        ``nav`` is not a :class:`~gnssatt.rinex.nav.RinexNav`.
+    """
+    nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
+    k = nav.kepler
+    f = k.fields
+    system = np.array([s[0] for s in k.sats.tolist()], dtype="U1")
+    gps_like = (system == "G") | (system == "J")
+    kepler: dict[str, NDArray[Any]] = {
+        "sat": np.asarray(k.sats, dtype="U3"),
+        "toc_gpst_ns": np.ascontiguousarray(k.toc_ns, dtype=np.int64),
+        "toe_gpst_ns": np.ascontiguousarray(k.toe_ns, dtype=np.int64),
+        "af": np.ascontiguousarray(k.af, dtype=np.float64).reshape(-1, 3),
+    }
+    for name in _KEPLER_SAME:
+        kepler[name] = np.ascontiguousarray(f[name], dtype=np.float64)
+    kepler["tgd_s"] = np.ascontiguousarray(
+        np.stack([f["tgd"], np.where(gps_like, np.nan, f["iodc_tgd2"])], axis=-1).reshape(-1, 2)
+    )
+    kepler["accuracy_m"] = np.ascontiguousarray(f["accuracy"], dtype=np.float64)
+    kepler["fit_interval_h"] = np.where(
+        system == "G", f["fit_interval"], np.where(system == "J", 0.0, np.nan)
+    )
+    kepler["data_source"] = np.where(system == "E", f["codes_l2"], np.nan)
+    g = nav.glonass
+    glonass: dict[str, NDArray[Any]] = {
+        "sat": np.asarray(g.sats, dtype="U3"),
+        "tb_gpst_ns": np.ascontiguousarray(g.tb_ns, dtype=np.int64),
+        "clock_bias_s": np.ascontiguousarray(g.clock_bias, dtype=np.float64),
+        "gamma_n": np.ascontiguousarray(g.gamma_n, dtype=np.float64),
+        "position_m": np.ascontiguousarray(g.position_m, dtype=np.float64).reshape(-1, 3),
+        "velocity_m_s": np.ascontiguousarray(g.velocity_m_s, dtype=np.float64).reshape(-1, 3),
+        "acceleration_m_s2": np.ascontiguousarray(g.acceleration_m_s2, dtype=np.float64).reshape(-1, 3),
+        "channel": np.ascontiguousarray(g.channel, dtype=np.int64),
+        "health": np.ascontiguousarray(g.health, dtype=np.float64),
+    }
+    coeffs = np.concatenate([nav.iono_alpha, nav.iono_beta]).astype(np.float64)
+    return NavInput(
+        kepler=kepler,
+        glonass=glonass,
+        klobuchar=coeffs if np.all(np.isfinite(coeffs)) else None,
+        leap_seconds=nav.leap_seconds,
+    )

@@ -48,7 +48,7 @@ from gnssatt._arrays import (
 )
 from gnssatt.constants import SPEED_OF_LIGHT_M_S
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.orbit.line_of_sight import Geometry, _attitude_matrices
+from gnssatt.orbit.line_of_sight import Geometry, attitude_matrices
 from gnssatt.rotation import wrap_rad
 
 __all__ = ["ArrayMeasurements", "correlator_amplitude", "phase_diffs", "simulate_array", "wrap_rad"]
@@ -345,7 +345,7 @@ def simulate_array(
         raise InvalidInputError(f"expected wavelengths_m of shape ({n_sat},) (n_sat), got {lam.shape}")
     if np.any(lam <= 0):
         raise InvalidInputError(f"expected wavelengths_m > 0, got minimum {lam.min()}")
-    m = _attitude_matrices(attitude, los.shape[0] if batched else None)
+    m = attitude_matrices(attitude, los.shape[0] if batched else None)
     sig_code = scalar("code_sigma_m", code_sigma_m, minimum=0.0)
     sig_rad = scalar("phase_sigma_rad", phase_sigma_rad, minimum=0.0)
     sig_m = scalar("phase_sigma_m", phase_sigma_m, minimum=0.0)

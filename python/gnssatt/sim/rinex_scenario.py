@@ -18,12 +18,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core, sim
-from gnssatt._arrays import flag, instance, integer, scalar, shaped
-from gnssatt.attitude.likelihood import rotation_from_euler
+from gnssatt._arrays import flag, folder_path, generator, instance, integer, sat_list, scalar, shaped
+from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.gnss.session_input import NavInput, nav_input
-from gnssatt.rinex._fields import folder_path, sat_list
+from gnssatt.rinex.nav import NavInput, nav_input
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
+from gnssatt.rotation import rotation_from_euler
 
 __all__ = [
     "KLOBUCHAR",
@@ -39,6 +39,7 @@ __all__ = [
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 
 
+@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class SimulatedRinex:
     """Files and truth of :func:`simulate_rinex_array`.
@@ -51,8 +52,9 @@ class SimulatedRinex:
         RINEX 3 GPS navigation file.
     time
         (n_ep,) GPST labels, ``datetime64[ns]``.
-    euler_deg
-        (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` (compass heading ``-psi``), degrees.
+    euler_gost_deg
+        (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` (compass heading ``-psi``), degrees. Formerly
+        ``euler_deg``.
     baselines_enu_m
         (n_ep, n_ant - 1, 3) true baselines in East-North-Up, m.
     sats
@@ -62,7 +64,7 @@ class SimulatedRinex:
     obs_paths: tuple[Path, ...]
     nav_path: Path
     time: NDArray[np.datetime64]
-    euler_deg: NDArray[np.float64]
+    euler_gost_deg: NDArray[np.float64]
     baselines_enu_m: NDArray[np.float64]
     sats: tuple[str, ...]
 
@@ -77,13 +79,14 @@ MAX_INTERVAL_S = 86400.0
 MAX_EPOCHS = 100_000
 
 
+@renamed(seed="rng", euler_deg="euler_gost_deg")
 def simulate_rinex_array(
     folder: str | PathLike[str],
     antennas_body_m: ArrayLike,
-    euler_deg: ArrayLike,
+    euler_gost_deg: ArrayLike,
     *,
     interval_s: float = 1.0,
-    seed: int = 0,
+    rng: int | np.random.Generator | None = None,
     n_sats: int | None = None,
     code_sigma_m: float = 0.3,
     phase_sigma_m: float = 0.002,
@@ -103,12 +106,14 @@ def simulate_rinex_array(
     antennas_body_m
         (n_ant, 3) antenna positions in the body frame of seed 001 (X nose, Y up, Z right wing), the first
         the reference antenna, m.
-    euler_deg
+    euler_gost_deg
         (n_ep, 3) eq. (5) angles per epoch, degrees (a rotating platform), or (3,) for a static one.
+        Formerly ``euler_deg``.
     interval_s
-        Epoch spacing, s; the number of epochs is that of ``euler_deg`` (static: 10).
-    seed
-        Seed of the noise, ambiguities and clocks.
+        Epoch spacing, s; the number of epochs is that of ``euler_gost_deg`` (static: 10).
+    rng
+        Seed or generator of the noise, ambiguities and clocks: an int (the former ``seed``, the same
+        draws), a Generator (advanced) or None (fresh entropy).
     n_sats
         Keep only this many satellites (the highest at the first epoch); None keeps all above the mask.
     code_sigma_m, phase_sigma_m
@@ -127,29 +132,29 @@ def simulate_rinex_array(
         An argument of the wrong kind (``folder`` not a path, arrays not real, counts not integers).
     InvalidInputError
         ``folder`` not an existing folder; ``antennas_body_m`` not (n_ant >= 2, 3) or beyond
-        ``MAX_ANTENNA_M``; ``euler_deg`` not (3,) or (n_ep >= 1, 3) within ``MAX_ANGLE_DEG``;
-        ``interval_s`` not in ``[MIN_INTERVAL_S, MAX_INTERVAL_S]``; ``seed`` negative; ``n_sats`` below 1;
-        noise levels negative or above ``MAX_SIGMA_M``; angles out of range; ``|start_s|`` above
+        ``MAX_ANTENNA_M``; ``euler_gost_deg`` not (3,) or (n_ep >= 1, 3) within ``MAX_ANGLE_DEG``;
+        ``interval_s`` not in ``[MIN_INTERVAL_S, MAX_INTERVAL_S]``; ``rng`` a negative integer; ``n_sats``
+        below 1; noise levels negative or above ``MAX_SIGMA_M``; angles out of range; ``|start_s|`` above
         ``MAX_START_S``.
     WorkLimitError
         More than ``MAX_EPOCHS`` epochs.
     """
-    eul = shaped("euler_deg", euler_deg, "(3,) or (n_ep >= 1, 3)", (3,), (None, 3))
+    eul = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n_ep >= 1, 3)", (3,), (None, 3))
     if eul.shape == (3,):
         eul = np.tile(eul, (10, 1))
     if eul.shape[0] < 1:
-        raise InvalidInputError(f"expected euler_deg of shape (3,) or (n_ep >= 1, 3), got {eul.shape}")
+        raise InvalidInputError(f"expected euler_gost_deg of shape (3,) or (n_ep >= 1, 3), got {eul.shape}")
     if eul.shape[0] > MAX_EPOCHS:
-        raise WorkLimitError(f"euler_deg has {eul.shape[0]} epochs, above the limit of {MAX_EPOCHS}")
-    rng = np.random.default_rng(integer("seed", seed, minimum=0))
+        raise WorkLimitError(f"euler_gost_deg has {eul.shape[0]} epochs, above the limit of {MAX_EPOCHS}")
+    gen = generator("rng", rng)
     ant = shaped("antennas_body_m", antennas_body_m, "(n_ant >= 2, 3)", (None, 3))
     s = simulate_gnss_rinex(
-        folder, ant, eul, systems="G", frequencies=1, interval_s=interval_s, start_s=start_s, rng=rng,
-        receiver_clock_s=rng.uniform(-1e-7, 1e-7, size=len(ant)), code_sigma_m=code_sigma_m,
+        folder, ant, eul, systems="G", frequencies=1, interval_s=interval_s, start_s=start_s, rng=gen,
+        receiver_clock_s=gen.uniform(-1e-7, 1e-7, size=len(ant)), code_sigma_m=code_sigma_m,
         phase_sigma_m=phase_sigma_m, elevation_min_deg=elevation_min_deg, lat_deg=lat_deg, lon_deg=lon_deg,
         n_sats=n_sats, file_names=("ant{i}.24o", "sim.24n"), atmosphere=False,
     )  # fmt: skip
-    return SimulatedRinex(s.obs_paths, s.nav_path, s.time, s.euler_deg, s.baselines_enu_m, s.sats)
+    return SimulatedRinex(s.obs_paths, s.nav_path, s.time, s.euler_gost_deg, s.baselines_enu_m, s.sats)
 
 
 def write_array_rinex(
@@ -228,6 +233,7 @@ _C = 299_792_458.0
 _DOPPLER_H_S = 0.05
 
 
+@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class SimulatedGnss:
     """Files and truth of :func:`simulate_gnss_rinex`.
@@ -242,8 +248,9 @@ class SimulatedGnss:
         (n_ep,) epoch labels (GPST), ``datetime64[ns]``; every receiver labels the same epochs.
     sats
         Satellites written (above the mask at every epoch at the reference antenna).
-    euler_deg
+    euler_gost_deg
         (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` of the platform (body -> ENU), degrees.
+        Formerly ``euler_deg``.
     baselines_enu_m
         (n_ep, n_ant - 1, 3) true baselines antenna i - antenna 0 in East-North-Up at antenna 0, m.
     antenna_ecef_m
@@ -266,7 +273,7 @@ class SimulatedGnss:
     nav_path: Path
     time: NDArray[np.datetime64]
     sats: tuple[str, ...]
-    euler_deg: NDArray[np.float64]
+    euler_gost_deg: NDArray[np.float64]
     baselines_enu_m: NDArray[np.float64]
     antenna_ecef_m: NDArray[np.float64]
     receiver_clock_s: NDArray[np.float64]
@@ -314,7 +321,10 @@ def _transmit(
                 nav.kepler, nav.glonass, nav.klobuchar, nav.leap_seconds, ids[z], t[z], rx[z], clk[z]
             )
         )
-    p, c, el, az, ok = (np.concatenate([q[k] for q in parts]) for k in range(5))
+    p, c, el, az, ok = (
+        np.concatenate([getattr(q, k) for q in parts])
+        for k in ("position_m", "clock_s", "elevation_rad", "azimuth_rad", "valid")
+    )
     full = (*shape, n_sat)
     geometry = _Geometry(p.reshape(*full, 3), c.reshape(full), el.reshape(full), az.reshape(full))
     return ok.reshape(full), geometry
@@ -382,10 +392,11 @@ def gnss_constellation(systems: str = "GRECJ", *, lon_deg: float = 36.2) -> sim.
     return out
 
 
+@renamed(euler_deg="euler_gost_deg")
 def simulate_gnss_rinex(
     folder: str | PathLike[str],
     antennas_body_m: ArrayLike,
-    euler_deg: ArrayLike,
+    euler_gost_deg: ArrayLike,
     *,
     systems: str = "GRECJ",
     frequencies: int = 3,
@@ -427,14 +438,15 @@ def simulate_gnss_rinex(
         Existing folder for ``gnss<i>.rnx`` and ``gnss_nav.rnx``.
     antennas_body_m
         (n_ant, 3) antenna positions in the body frame (as :func:`simulate_rinex_array`), 2 to 16 antennas.
-    euler_deg
-        (3,) platform attitude (static) or (n_epochs, 3) per epoch, eq. (5) angles, degrees.
+    euler_gost_deg
+        (3,) platform attitude (static) or (n_epochs, 3) per epoch, eq. (5) angles, degrees. Formerly
+        ``euler_deg``.
     systems
         Letters of the systems, from ``"GRECJ"``.
     frequencies
         Slots written, 1 to 3 (GLONASS has two).
     n_epochs, interval_s, start_s
-        Number of epochs (taken from ``euler_deg`` when it has a row per epoch), their spacing (s, from
+        Number of epochs (taken from ``euler_gost_deg`` when it has a row per epoch), their spacing (s, from
         ``MIN_INTERVAL_S`` to ``MAX_INTERVAL_S``; the session at most ``MAX_SPAN_S``) and the time of the
         first epoch after ``2024-03-01T10:00:00`` GPST (s, other satellite geometries; ``|start_s|`` up
         to ``MAX_START_S``).
@@ -482,7 +494,7 @@ def simulate_gnss_rinex(
             f"expected antennas_body_m of shape (2..16, 3) within {MAX_ANTENNA_M} m, got {ant.shape}"
         )
     n_ant = ant.shape[0]
-    eul = shaped("euler_deg", euler_deg, "(3,) or (n_epochs, 3)", (3,), (None, 3))
+    eul = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n_epochs, 3)", (3,), (None, 3))
     if eul.ndim == 2:
         n_epochs = eul.shape[0]
     n_epochs = integer("n_epochs", n_epochs, minimum=1)
@@ -491,7 +503,7 @@ def simulate_gnss_rinex(
     if eul.ndim == 1:
         eul = np.tile(eul, (n_epochs, 1))
     if np.any(np.abs(eul) > MAX_ANGLE_DEG):
-        raise InvalidInputError(f"expected |euler_deg| <= {MAX_ANGLE_DEG} degrees")
+        raise InvalidInputError(f"expected |euler_gost_deg| <= {MAX_ANGLE_DEG} degrees")
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=3)
     interval_s = scalar("interval_s", interval_s, minimum=MIN_INTERVAL_S, maximum=MAX_INTERVAL_S, unit="s")
     start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
@@ -515,11 +527,7 @@ def simulate_gnss_rinex(
         raise InvalidInputError(
             f"expected file_names as two file names, the first with '{{i}}', got {file_names!r}"
         )
-    gen = (
-        rng
-        if isinstance(rng, np.random.Generator)
-        else np.random.default_rng(None if rng is None else integer("rng", rng, minimum=0))
-    )
+    gen = generator("rng", rng)
     if receiver_clock_s is None:
         # a shape tuple: with an untyped int size numpy's stubs pick the overload of a single float draw
         dt_rx = gen.uniform(-1e-4, 1e-4, size=(n_ant,))
@@ -649,7 +657,7 @@ def simulate_gnss_rinex(
         nav_path=nav_path,
         time=times,
         sats=tuple(sats),
-        euler_deg=eul,
+        euler_gost_deg=eul,
         baselines_enu_m=np.einsum("tij,aj->tai", rot, rel),
         antenna_ecef_m=pos,
         receiver_clock_s=dt_rx,

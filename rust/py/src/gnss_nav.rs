@@ -23,6 +23,7 @@ use crate::convert::{exact, fixed, rows, values};
 use crate::errors::{invalid_input, IntoPyResult};
 use crate::gnss_nav_input::{nav_from_py, sat_from_str};
 use crate::interruptible;
+use crate::results::result_type;
 
 /// Most evaluations (satellite, instant) of one call of [`gnss_transmit_states`] or
 /// [`gnss_klobuchar_delay`]: a GLONASS state costs up to 30 Runge-Kutta steps, about 10 us, so the
@@ -63,15 +64,20 @@ fn within(py: Python<'_>, name: &str, v: &[f64], lo: f64, hi: f64, unit: &str) -
     }
 }
 
-type States<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<bool>>,
-);
+result_type! {
+    /// Broadcast states of `gnss_satellite_states`, one row per evaluation: `position_m` (n, 3) ECEF m
+    /// (frame of the instant), `clock_s` (n,) s (relativistic term included, no group delay) and `valid`
+    /// (n,); NaN where not valid.
+    SatelliteStates {
+        position_m: Py<PyArray2<f64>>,
+        clock_s: Py<PyArray1<f64>>,
+        valid: Py<PyArray1<bool>>,
+    }
+}
 
 /// Broadcast positions (n, 3) ECEF m (frame of the transmit instant), clocks (n,) s (relativistic term
-/// included, no group delay) and validity (n,) of `sats[i]` at GPST `t_gpst_ns[i] + offset_s[i]`;
-/// NaN where not valid (no healthy record within its validity interval).
+/// included, no group delay) and validity (n,) of `sats[i]` at GPST `t_gpst_ns[i] + offset_s[i]`, as
+/// [`SatelliteStates`]; NaN where not valid (no healthy record within its validity interval).
 #[pyfunction]
 #[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, sats, t_gpst_ns, *, offset_s=None))]
 #[allow(clippy::too_many_arguments)]
@@ -84,7 +90,7 @@ fn gnss_satellite_states<'py>(
     sats: Vec<String>,
     t_gpst_ns: PyReadonlyArray1<'py, i64>,
     offset_s: Option<PyReadonlyArray1<'py, f64>>,
-) -> PyResult<States<'py>> {
+) -> PyResult<SatelliteStates> {
     let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
     let n = sats.len();
     let ids = sats
@@ -107,24 +113,29 @@ fn gnss_satellite_states<'py>(
     });
     let clk = Array1::from_shape_fn(n, |i| states[i].map_or(f64::NAN, |s| s.clock_s));
     let ok = Array1::from_shape_fn(n, |i| states[i].is_some());
-    Ok((
-        pos.into_pyarray(py),
-        clk.into_pyarray(py),
-        ok.into_pyarray(py),
-    ))
+    Ok(SatelliteStates {
+        position_m: pos.into_pyarray(py).unbind(),
+        clock_s: clk.into_pyarray(py).unbind(),
+        valid: ok.into_pyarray(py).unbind(),
+    })
 }
 
-type Points<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f64>>,
-);
+result_type! {
+    /// Single-point solutions of `gnss_single_point`, one row per epoch: `position_m` (n_ep, 3) ECEF m,
+    /// `clock_s` (n_ep, 5) receiver clock per system G R E C J, s (NaN where not estimated), `satellites`
+    /// (n_ep,) used and `residual_rms_m` (n_ep,) m; NaN rows (and 0 satellites) where no solution.
+    SinglePoints {
+        position_m: Py<PyArray2<f64>>,
+        clock_s: Py<PyArray2<f64>>,
+        satellites: Py<PyArray1<i64>>,
+        residual_rms_m: Py<PyArray1<f64>>,
+    }
+}
 
 /// Single-point solutions of one receiver at every epoch (test-facing): code `code_m` (n_ep, n_sat, 3)
-/// m, NaN where absent; `glonass_channel` (n_sat,), 99 where none. Returns position (n_ep, 3) ECEF m,
-/// clocks (n_ep, 5) s per system (NaN where not estimated), satellites used (n_ep,) and residual RMS
-/// (n_ep,) m; rows of epochs without a solution are NaN (and 0 satellites).
+/// m, NaN where absent; `glonass_channel` (n_sat,), 99 where none. Returns [`SinglePoints`]: position
+/// (n_ep, 3) ECEF m, clocks (n_ep, 5) s per system (NaN where not estimated), satellites used (n_ep,) and
+/// residual RMS (n_ep,) m; rows of epochs without a solution are NaN (and 0 satellites).
 #[pyfunction]
 #[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, time_gpst_ns, sats, glonass_channel,
                     code_m, *, approx_position_m=None, systems="GRECJ", frequencies=1,
@@ -144,7 +155,7 @@ fn gnss_single_point<'py>(
     systems: &str,
     frequencies: usize,
     elevation_mask_deg: f64,
-) -> PyResult<Points<'py>> {
+) -> PyResult<SinglePoints> {
     let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
     let ids = sats
         .iter()
@@ -210,28 +221,35 @@ fn gnss_single_point<'py>(
     let rms = Array1::from_shape_fn(ne, |i| {
         solutions[i].as_ref().map_or(f64::NAN, |s| s.residual_rms_m)
     });
-    Ok((
-        pos.into_pyarray(py),
-        clk.into_pyarray(py),
-        n.into_pyarray(py),
-        rms.into_pyarray(py),
-    ))
+    Ok(SinglePoints {
+        position_m: pos.into_pyarray(py).unbind(),
+        clock_s: clk.into_pyarray(py).unbind(),
+        satellites: n.into_pyarray(py).unbind(),
+        residual_rms_m: rms.into_pyarray(py).unbind(),
+    })
 }
 
-type Transmits<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<bool>>,
-);
+result_type! {
+    /// Satellites as received, from `gnss_transmit_states`, one row per evaluation: `position_m` (n, 3) at
+    /// transmission in the ECEF frame of reception, m; `clock_s` (n,) satellite clock at transmission, s;
+    /// `elevation_rad`, `azimuth_rad` (n,) at the receiver (azimuth clockwise from North); `valid` (n,);
+    /// NaN where not valid.
+    TransmitStates {
+        position_m: Py<PyArray2<f64>>,
+        clock_s: Py<PyArray1<f64>>,
+        elevation_rad: Py<PyArray1<f64>>,
+        azimuth_rad: Py<PyArray1<f64>>,
+        valid: Py<PyArray1<bool>>,
+    }
+}
 
 /// Satellite `sats[i]` as received at GPST label `t_rx_gpst_ns[i]` by a receiver at `receiver_m[i]`
 /// (ECEF, m) whose clock reads `receiver_clock_s[i]` ahead (true reception = label - clock): light time
-/// iterated from the receiver, Earth rotation during it (the core's `satellite_geometry`). Returns the
-/// transmit-time position in the ECEF frame of reception (n, 3) m, the satellite clock at transmission
-/// (n,) s (relativistic term included, no group delay), elevation and azimuth (clockwise from North) at
-/// the receiver's geodetic position (n,) rad, and validity (n,); NaN where not valid (no usable record).
+/// iterated from the receiver, Earth rotation during it (the core's `satellite_geometry`). Returns, as
+/// [`TransmitStates`], the transmit-time position in the ECEF frame of reception (n, 3) m, the satellite
+/// clock at transmission (n,) s (relativistic term included, no group delay), elevation and azimuth
+/// (clockwise from North) at the receiver's geodetic position (n,) rad, and validity (n,); NaN where not
+/// valid (no usable record).
 #[pyfunction]
 #[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, sats, t_rx_gpst_ns, receiver_m,
                     receiver_clock_s))]
@@ -246,7 +264,7 @@ fn gnss_transmit_states<'py>(
     t_rx_gpst_ns: PyReadonlyArray1<'py, i64>,
     receiver_m: PyReadonlyArray2<'py, f64>,
     receiver_clock_s: PyReadonlyArray1<'py, f64>,
-) -> PyResult<Transmits<'py>> {
+) -> PyResult<TransmitStates> {
     let n = sats.len();
     evaluations(py, n)?;
     let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
@@ -310,13 +328,13 @@ fn gnss_transmit_states<'py>(
     let el = per(|g| g.elevation_rad);
     let az = per(|g| g.azimuth_rad);
     let ok = Array1::from_shape_fn(n, |i| geometry[i].is_some());
-    Ok((
-        pos.into_pyarray(py),
-        clk.into_pyarray(py),
-        el.into_pyarray(py),
-        az.into_pyarray(py),
-        ok.into_pyarray(py),
-    ))
+    Ok(TransmitStates {
+        position_m: pos.into_pyarray(py).unbind(),
+        clock_s: clk.into_pyarray(py).unbind(),
+        elevation_rad: el.into_pyarray(py).unbind(),
+        azimuth_rad: az.into_pyarray(py).unbind(),
+        valid: ok.into_pyarray(py).unbind(),
+    })
 }
 
 /// Slant ionospheric group delay of the broadcast Klobuchar model (IS-GPS-200 20.3.3.5.2.5, the core's
@@ -381,6 +399,9 @@ fn gnss_klobuchar_delay<'py>(
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<SatelliteStates>()?;
+    m.add_class::<SinglePoints>()?;
+    m.add_class::<TransmitStates>()?;
     m.add_function(wrap_pyfunction!(gnss_satellite_states, m)?)?;
     m.add_function(wrap_pyfunction!(gnss_transmit_states, m)?)?;
     m.add_function(wrap_pyfunction!(gnss_klobuchar_delay, m)?)?;

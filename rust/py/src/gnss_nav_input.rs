@@ -1,4 +1,4 @@
-//! Broadcast navigation data from Python (`NavInput` of `gnssatt.gnss.session_input`: one numpy array
+//! Broadcast navigation data from Python (`NavInput` of `gnssatt.rinex.nav`: one numpy array
 //! per record field) into the core's `NavData`, and satellite ids from their text (`"G05"`); used by the
 //! ephemeris evaluations (`gnss_nav`) and the observation engine (`gnss`).
 
@@ -269,7 +269,7 @@ fn glonass_records(py: Python<'_>, dict: &Bound<'_, PyDict>) -> PyResult<Vec<Glo
 }
 
 /// `NavData` from the arrays of a `NavInput` (one array per record field, see the module documentation
-/// of `gnssatt.gnss.session_input`); the records' values are checked by `Ephemerides::new`.
+/// of `gnssatt.rinex.nav`); the records' values are checked by `Ephemerides::new`.
 pub fn nav_from_py(
     kepler: &Bound<PyDict>,
     glonass: &Bound<PyDict>,
