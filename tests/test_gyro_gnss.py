@@ -234,7 +234,7 @@ def test_fixed_failure_rate_test_admits_fixes_the_success_rate_gate_alone_refuse
     # (bootstrapped rate 1 in f64) fixes; with max_failure_rate > 0 the fixed-failure-rate test admits
     # earlier sets whose ratio makes a wrong fix unlikely.
     runs = 10
-    kw = {"sigma_cycles": 0.3, "max_satellites": 2, "min_success_rate": 1.0}
+    kw = {"phase_sigma_cycles": 0.3, "max_satellites": 2, "min_success_rate": 1.0}
     off = [trial(seed, **kw) for seed in range(runs)]
     on = [trial(seed, **kw, max_failure_rate=0.01) for seed in range(runs)]
     assert all(f.success_rate >= 1.0 for r, _, _ in off for f in r.fixes if f.accepted)

@@ -152,7 +152,7 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> GyroPropaga
     >>> from gnssatt.attitude.gyro_gnss import gyro_propagate
     >>> t = np.arange(11.0)  # s
     >>> rates = np.tile([0.0, 0.0, 0.1], (11, 1))  # (11, 3) rad/s, body
-    >>> np.round(gyro_propagate([0.0, 0.0, 0.0, 1.0], t, rates)[-1], 6) + 0.0
+    >>> np.round(gyro_propagate([0.0, 0.0, 0.0, 1.0], t, rates).quaternions[-1], 6) + 0.0
     array([0.      , 0.      , 0.479426, 0.877583])
     """
     q = shaped("q0", q0, "(4,)", (4,))

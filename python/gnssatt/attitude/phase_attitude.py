@@ -106,10 +106,10 @@ def phase_attitude_fixes(
     >>> phase = -(true.inv().apply(los) @ baselines.T) / 0.19 + ints  # (4, 2) cycles
     >>> rows, epoch = np.arange(4), np.zeros(4, int)  # one row per satellite, all at epoch 0
     >>> obs = PhaseObservations(np.array([0.0]), epoch, rows, los, np.full(4, 0.19), phase, ints, rows)
-    >>> fixes = phase_attitude_fixes(obs, baselines, ints, sigma_cycles=0.01)
+    >>> fixes = phase_attitude_fixes(obs, baselines, ints, phase_sigma_cycles=0.01)
     >>> fixes.t, np.round(fixes.rotation.as_euler("ZYX", degrees=True), 6) + 0.0
     (array([0.]), array([[30.,  5., -2.]]))
-    >>> twice = phase_attitude_fixes(obs, baselines, ints, sigma_cycles=0.02)
+    >>> twice = phase_attitude_fixes(obs, baselines, ints, phase_sigma_cycles=0.02)
     >>> bool(np.allclose(twice.covariance, 4.0 * fixes.covariance))
     True
     """
