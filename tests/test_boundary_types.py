@@ -136,16 +136,32 @@ def _single_points() -> _core.SinglePoints:
 CASES: dict[str, Callable[[], object]] = {
     "IlsSolution": lambda: _core.lambda_ils(A3, Q3, 3),
     "Decorrelation": lambda: _core.lambda_decorrelate(Q3),
-    "RatioTest": lambda: _core.lambda_ratio_test(A3, Q3, None, None, 1000, 0),
-    "PartialFix": lambda: _core.lambda_partial_fix(A3, Q3, None, None, 1000, 0, 0.9),
+    "RatioTest": lambda: _core.lambda_ratio_test(
+        A3, Q3, threshold=None, failure_rate=None, samples=1000, seed=0
+    ),
+    "PartialFix": lambda: _core.lambda_partial_fix(
+        A3, Q3, threshold=None, failure_rate=None, samples=1000, seed=0, min_success_rate=0.9
+    ),
     "MatrixAttitude": lambda: _core.matrix_attitude(np.eye(3), np.eye(3), np.eye(3)),
     # 0.09 rad: just finer than half the main lobe of the 1 m baseline (0.095 rad), 1.7e5 grid cells
-    "MlEstimate": lambda: _core.ml_search(*_ml_inputs(), "mean", 0.09, None, "auto", "newton", False),
-    "BnbStats": lambda: _core.bnb_stats(*_ml_inputs(), "mean", 0.09, None),
-    "LikelihoodGrid": lambda: _core.likelihood_grid(
-        *_ml_inputs(), "mean", 0.05, [[0.0, 0.3], [0.0, 0.2], [0.0, 0.1]], False
+    "MlEstimate": lambda: _core.ml_search(
+        *_ml_inputs(),
+        statistic="mean",
+        step_rad=0.09,
+        window_rad=None,
+        search="auto",
+        refine="newton",
+        two_dimensional=False,
     ),
-    "MlSeries": lambda: _core.ml_attitude_series(*_series_inputs(), None, None),
+    "BnbStats": lambda: _core.bnb_stats(*_ml_inputs(), statistic="mean", step_rad=0.09, window_rad=None),
+    "LikelihoodGrid": lambda: _core.likelihood_grid(
+        *_ml_inputs(),
+        statistic="mean",
+        step_rad=0.05,
+        window_rad=[[0.0, 0.3], [0.0, 0.2], [0.0, 0.1]],
+        two_dimensional=False,
+    ),
+    "MlSeries": lambda: _core.ml_attitude_series(*_series_inputs(), step_rad=None, window_rad=None),
     "WahbaBatch": lambda: _core.wahba_batch(np.eye(3), np.eye(3), np.ones(3), 3),
     "TriadBatch": lambda: _core.triad_batch(*(np.eye(3)[None, k] for k in (0, 1, 0, 1))),
     "YawBatch": lambda: _core.yaw_batch(np.eye(3)[:1], np.eye(3)[:1], np.zeros(1), np.zeros(1)),
@@ -161,8 +177,8 @@ CASES: dict[str, Callable[[], object]] = {
         np.tile(ICD_STATE[3:], (2, 1)),
         np.tile(np.eye(6), (2, 1, 1)),
         np.array([True, False]),
-        GlonassModel()._kwargs(),
-        {"accel_psd_m2_s3": 1e-8, "step_s": 10.0},
+        model=GlonassModel()._kwargs(),
+        settings={"accel_psd_m2_s3": 1e-8, "step_s": 10.0},
     ),
     "GyroGnssRun": lambda: _gyro_run(np.array([0.0, 0.1, 0.2]), np.zeros((3, 3)), _gyro_options()),
     "SatelliteStates": _satellite_states,
@@ -290,7 +306,7 @@ def test_decorrelation_and_ratio_test_fields() -> None:
     dec = _core.lambda_decorrelate(Q3)
     assert abs(round(np.linalg.det(dec.z))) == 1
     np.testing.assert_allclose(dec.z.T @ Q3 @ dec.z, dec.l.T @ np.diag(dec.d) @ dec.l, rtol=1e-12, atol=1e-15)
-    test = _core.lambda_ratio_test(A3, Q3, 2.0, None, 10, 0)
+    test = _core.lambda_ratio_test(A3, Q3, threshold=2.0, failure_rate=None, samples=10, seed=0)
     best = _core.lambda_ils(A3, Q3, 2)
     np.testing.assert_array_equal(test.fixed, best.fixed[0])
     assert test.ratio == pytest.approx(best.squared_norms[1] / best.squared_norms[0], rel=1e-12)

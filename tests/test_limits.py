@@ -84,8 +84,8 @@ def _loose_filter(times_s: np.ndarray, step_s: float) -> _core.OrbitFilterRun:
         np.tile(ICD_V0, (n, 1)),
         np.tile(np.eye(6), (n, 1, 1)),
         valid,
-        GlonassModel()._kwargs(),
-        {**FILTER_SETTINGS, "step_s": step_s},
+        model=GlonassModel()._kwargs(),
+        settings={**FILTER_SETTINGS, "step_s": step_s},
     )
 
 
@@ -101,10 +101,10 @@ def _tight_filter(n_sat: int) -> _core.OrbitFilterRun:
         np.zeros((1, n_sat), bool),
         np.full(n_sat, 0.19),
         np.zeros(n_sat, np.uint32),
-        1.0,
-        0.0,
-        GlonassModel()._kwargs(),
-        FILTER_SETTINGS,
+        code_sigma_m=1.0,
+        doppler_sigma_hz=0.0,
+        model=GlonassModel()._kwargs(),
+        settings=FILTER_SETTINGS,
     )
 
 

@@ -178,9 +178,9 @@ def main():
             b(ls[None]),
             b(np.full((1, 8), L1)),
             b(side * UNIT_TRIANGLE),
-            "ambiguity_function",
-            np.radians(step),
-            None,
+            statistic="ambiguity_function",
+            step_rad=np.radians(step),
+            window_rad=None,
         )
         boxes, leaves, grid_cells = stats.boxes_bounded, stats.leaf_cells, stats.grid_cells
         reps = args.reps if grid_cells < 5e7 else max(1, min(args.reps, 3))

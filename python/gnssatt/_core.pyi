@@ -154,6 +154,7 @@ def ml_search(
     los: NDArray[np.float64],
     wavelengths: NDArray[np.float64],
     baselines: NDArray[np.float64],
+    *,
     statistic: str,
     step_rad: float | None,
     window_rad: list[list[float]] | None,
@@ -166,6 +167,7 @@ def bnb_stats(
     los: NDArray[np.float64],
     wavelengths: NDArray[np.float64],
     baselines: NDArray[np.float64],
+    *,
     statistic: str,
     step_rad: float | None,
     window_rad: list[list[float]] | None,
@@ -175,6 +177,7 @@ def likelihood_grid(
     los: NDArray[np.float64],
     wavelengths: NDArray[np.float64],
     baselines: NDArray[np.float64],
+    *,
     statistic: str,
     step_rad: float | None,
     window_rad: list[list[float]] | None,
@@ -199,6 +202,7 @@ def ml_attitude_series(
     los: NDArray[np.float64],
     wavelengths: NDArray[np.float64],
     baselines: NDArray[np.float64],
+    *,
     step_rad: float | None,
     window_rad: float | None,
 ) -> MlSeries: ...
@@ -207,6 +211,7 @@ def ml_baseline_series(
     los: NDArray[np.float64],
     wavelengths: NDArray[np.float64],
     baseline_length_m: float,
+    *,
     step_rad: float | None,
     window_rad: float | None,
 ) -> MlSeries: ...
@@ -273,6 +278,7 @@ def lambda_ffrt_threshold(
 def lambda_ratio_test(
     float_ambiguities: NDArray[np.float64],
     covariance: NDArray[np.float64],
+    *,
     threshold: float | None,
     failure_rate: float | None,
     samples: int,
@@ -281,6 +287,7 @@ def lambda_ratio_test(
 def lambda_partial_fix(
     float_ambiguities: NDArray[np.float64],
     covariance: NDArray[np.float64],
+    *,
     threshold: float | None,
     failure_rate: float | None,
     samples: int,
@@ -501,6 +508,7 @@ def orbit_filter_loose(
     fix_velocity_m_s: NDArray[np.float64],
     fix_covariance: NDArray[np.float64],
     fix_valid: NDArray[np.bool_],
+    *,
     model: _GlonassModelArgs,
     settings: dict[str, float],  # accel_psd_m2_s3, step_s
 ) -> OrbitFilterRun: ...
@@ -515,6 +523,7 @@ def orbit_filter_tight(
     visible: NDArray[np.bool_],
     wavelength_m: NDArray[np.float64],
     system: NDArray[np.uint32],
+    *,
     code_sigma_m: float,
     doppler_sigma_hz: float,
     model: _GlonassModelArgs,

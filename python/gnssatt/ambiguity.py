@@ -25,7 +25,7 @@ the fixed-failure-rate threshold share 1e9 nodes between their samples.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -99,21 +99,28 @@ def _covariance(covariance: Any) -> NDArray[np.float64]:
     return q
 
 
-def _threshold(
-    threshold: Any, failure_rate: Any, samples: Any, seed: Any
-) -> tuple[float | None, float | None, int, int]:
+class _RatioSettings(TypedDict):
+    """The ratio-test keywords of ``_core.lambda_ratio_test`` and ``_core.lambda_partial_fix``."""
+
+    threshold: float | None
+    failure_rate: float | None
+    samples: int
+    seed: int
+
+
+def _threshold(threshold: Any, failure_rate: Any, samples: Any, seed: Any) -> _RatioSettings:
     """The ratio-test settings, checked and named (the Rust core checks them again)."""
     if threshold is not None and failure_rate is not None:
         raise InvalidInputError(
             f"expected either threshold or failure_rate, got both ({threshold!r} and {failure_rate!r})"
         )
-    return (
-        None if threshold is None else scalar("threshold", threshold, minimum=1.0),
-        None
+    return _RatioSettings(
+        threshold=None if threshold is None else scalar("threshold", threshold, minimum=1.0),
+        failure_rate=None
         if failure_rate is None
         else scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True),
-        integer("samples", samples, minimum=1, maximum=MAX_SAMPLES),
-        integer("seed", seed, minimum=0, maximum=_MAX_SEED),
+        samples=integer("samples", samples, minimum=1, maximum=MAX_SAMPLES),
+        seed=integer("seed", seed, minimum=0, maximum=_MAX_SEED),
     )
 
 
@@ -310,8 +317,8 @@ def ratio_threshold_fixed_failure_rate(
     """
     q = _covariance(covariance)
     rate = scalar("failure_rate", failure_rate, minimum=0.0, maximum=1.0, strict=True)
-    _, _, n_samples, seed_ = _threshold(None, rate, samples, seed)
-    return _core.lambda_ffrt_threshold(q, rate, n_samples, seed_)
+    checked = _threshold(None, rate, samples, seed)
+    return _core.lambda_ffrt_threshold(q, rate, checked["samples"], checked["seed"])
 
 
 @dataclass(frozen=True)
@@ -391,7 +398,7 @@ def ratio_test(
     (True, 65.0, array([ 1, -2]))
     """
     a, q = _problem(float_ambiguities, covariance)
-    out = _core.lambda_ratio_test(a, q, *_threshold(threshold, failure_rate, samples, seed))
+    out = _core.lambda_ratio_test(a, q, **_threshold(threshold, failure_rate, samples, seed))
     accepted, ratio, c, fixed, norms = out.accepted, out.ratio, out.threshold, out.fixed, out.squared_norms
     _defined_ratio("ratio_test", ratio, norms)
     return RatioTestResult(bool(accepted), ratio, c, fixed, norms)
@@ -496,7 +503,7 @@ def partial_fix(
     a, q = _problem(float_ambiguities, covariance)
     settings = _threshold(threshold, failure_rate, samples, seed)
     rate = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
-    out = _core.lambda_partial_fix(a, q, *settings, rate)
+    out = _core.lambda_partial_fix(a, q, **settings, min_success_rate=rate)
     k, combos, values, ratio = out.fixed_count, out.combinations, out.values, out.ratio
     c, sr, amb, cov = out.threshold, out.success_rate, out.ambiguities, out.covariance
     if int(k) > 0:

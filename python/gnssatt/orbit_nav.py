@@ -391,8 +391,8 @@ def orbit_filter(
             np.ascontiguousarray(fixes.velocity_m_s),
             np.ascontiguousarray(fixes.covariance),
             np.ascontiguousarray(fixes.valid, dtype=bool),
-            m._kwargs(),
-            settings,
+            model=m._kwargs(),
+            settings=settings,
         )
     else:
         d = data
@@ -409,10 +409,10 @@ def orbit_filter(
             np.ascontiguousarray(d.visible, dtype=bool),
             np.ascontiguousarray(d.wavelength_m),
             np.ascontiguousarray(d.system, dtype=np.uint32),
-            float(d.code_sigma_m),
-            float(d.doppler_sigma_hz) if use_doppler else 0.0,
-            m._kwargs(),
-            settings,
+            code_sigma_m=float(d.code_sigma_m),
+            doppler_sigma_hz=float(d.doppler_sigma_hz) if use_doppler else 0.0,
+            model=m._kwargs(),
+            settings=settings,
         )
     states, covs, nis, dof = out.states, out.covariances, out.nis, out.dof
     return OrbitFilterResult(np.asarray(t), states, covs, nis, dof.astype(np.int64), coupling)

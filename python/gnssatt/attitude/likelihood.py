@@ -403,7 +403,16 @@ def ml_attitude(
     search = choice("search", search, get_args(SearchName))
     with _lobe(b):
         est = _core.ml_search(
-            p, s, w, b, statistic, _step(step_deg), _window(window_deg), search, _refine(refine), False
+            p,
+            s,
+            w,
+            b,
+            statistic=statistic,
+            step_rad=_step(step_deg),
+            window_rad=_window(window_deg),
+            search=search,
+            refine=_refine(refine),
+            two_dimensional=False,
         )
     angles, grid_angles, z = est.angles_rad, est.grid_angles_rad, est.z_max
     cells, step = est.cells_evaluated, est.step_rad
@@ -474,7 +483,16 @@ def likelihood_grid(
     statistic = choice("statistic", statistic, get_args(StatisticName))
     step = _step(step_deg)
     with _lobe(b):
-        g = _core.likelihood_grid(p, s, w, b, statistic, step, _window(window_deg), b.shape[0] == 1)
+        g = _core.likelihood_grid(
+            p,
+            s,
+            w,
+            b,
+            statistic=statistic,
+            step_rad=step,
+            window_rad=_window(window_deg),
+            two_dimensional=b.shape[0] == 1,
+        )
     z, psi, theta, phi = g.z, g.psi_rad, g.theta_rad, g.phi_rad
     spaced = [a for a in (psi, theta, phi) if len(a) > 1]
     if spaced:
@@ -559,7 +577,18 @@ def ml_baseline(
         w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
         _rows("window_deg", w2, ("psi", "elevation"))
         win = [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
-    est = _core.ml_search(p, s, w, b, statistic, _step(step_deg), win, "exhaustive", _refine(refine), True)
+    est = _core.ml_search(
+        p,
+        s,
+        w,
+        b,
+        statistic=statistic,
+        step_rad=_step(step_deg),
+        window_rad=win,
+        search="exhaustive",
+        refine=_refine(refine),
+        two_dimensional=True,
+    )
     angles, z, cells, step = est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad
     psi, theta = angles[0], angles[1]
     direction = np.array([-np.sin(psi) * np.cos(theta), np.cos(psi) * np.cos(theta), np.sin(theta)])
@@ -879,7 +908,7 @@ def ml_attitude_series(
     step = _step(step_deg)
     window = _series_window(window_deg, step_deg, w, used, float(np.max(np.linalg.norm(b, axis=1))))
     with _lobe(b):
-        series = _core.ml_attitude_series(p, s, w, b, step, window)
+        series = _core.ml_attitude_series(p, s, w, b, step_rad=step, window_rad=window)
     euler, z, solved = series.euler_gost_rad, series.z_max, series.solved
     euler_deg = np.degrees(euler)
     matrices = rotation_from_euler(np.where(solved[:, None], euler_deg, 0.0)).as_matrix()
@@ -958,7 +987,7 @@ def ml_baseline_series(
     step = _step(step_deg)
     window = _series_window(window_deg, step_deg, w, used, length)
     with _lobe(np.array([[length, 0.0, 0.0]])):
-        series = _core.ml_baseline_series(p, s, w, length, step, window)
+        series = _core.ml_baseline_series(p, s, w, length, step_rad=step, window_rad=window)
     direction, z, solved = series.direction_rad, series.z_max, series.solved
     heading, elevation = direction[:, 0], direction[:, 1]
     enu = np.stack(

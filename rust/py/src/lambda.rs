@@ -143,7 +143,7 @@ result_type! {
 
 /// The ratio test at a fixed `threshold` or at the threshold of a simulated `failure_rate`.
 #[pyfunction]
-#[pyo3(signature = (float_ambiguities, covariance, threshold, failure_rate, samples, seed))]
+#[pyo3(signature = (float_ambiguities, covariance, *, threshold, failure_rate, samples, seed))]
 fn lambda_ratio_test(
     py: Python<'_>,
     float_ambiguities: PyReadonlyArray1<'_, f64>,
@@ -186,7 +186,7 @@ result_type! {
 /// The largest subset of decorrelated ambiguities with a bootstrapped success rate of at least
 /// `min_success_rate` that passes the ratio test.
 #[pyfunction]
-#[pyo3(signature = (float_ambiguities, covariance, threshold, failure_rate, samples, seed, min_success_rate))]
+#[pyo3(signature = (float_ambiguities, covariance, *, threshold, failure_rate, samples, seed, min_success_rate))]
 #[allow(clippy::too_many_arguments)]
 fn lambda_partial_fix(
     py: Python<'_>,

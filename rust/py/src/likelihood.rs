@@ -94,7 +94,7 @@ result_type! {
 
 /// Grid search over the attitude angles (psi, theta, phi).
 #[pyfunction]
-#[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad, search, refine, two_dimensional))]
+#[pyo3(signature = (phase_diffs, los, wavelengths, baselines, *, statistic, step_rad, window_rad, search, refine, two_dimensional))]
 #[allow(clippy::too_many_arguments)]
 fn ml_search(
     py: Python<'_>,
@@ -157,7 +157,7 @@ result_type! {
 
 /// The work of a branch-and-bound search next to the exhaustive grid's.
 #[pyfunction]
-#[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad))]
+#[pyo3(signature = (phase_diffs, los, wavelengths, baselines, *, statistic, step_rad, window_rad))]
 #[allow(clippy::too_many_arguments)]
 fn bnb_stats(
     py: Python<'_>,
@@ -192,7 +192,7 @@ result_type! {
 
 /// The statistic on every node of the grid.
 #[pyfunction]
-#[pyo3(signature = (phase_diffs, los, wavelengths, baselines, statistic, step_rad, window_rad, two_dimensional))]
+#[pyo3(signature = (phase_diffs, los, wavelengths, baselines, *, statistic, step_rad, window_rad, two_dimensional))]
 #[allow(clippy::too_many_arguments)]
 fn likelihood_grid(
     py: Python<'_>,
@@ -298,7 +298,7 @@ fn series_arrays(py: Python<'_>, sol: &[MlSolution]) -> MlSeries {
 
 /// Per-epoch ML attitude over a batch (GIL released, interruptible).
 #[pyfunction]
-#[pyo3(signature = (sd_phase, los, wavelengths, baselines, step_rad, window_rad))]
+#[pyo3(signature = (sd_phase, los, wavelengths, baselines, *, step_rad, window_rad))]
 fn ml_attitude_series(
     py: Python<'_>,
     sd_phase: PyReadonlyArray3<'_, f64>,
@@ -321,7 +321,7 @@ fn ml_attitude_series(
 
 /// Per-epoch ML direction of one baseline over a batch (GIL released, interruptible).
 #[pyfunction]
-#[pyo3(signature = (sd_phase, los, wavelengths, baseline_length_m, step_rad, window_rad))]
+#[pyo3(signature = (sd_phase, los, wavelengths, baseline_length_m, *, step_rad, window_rad))]
 fn ml_baseline_series(
     py: Python<'_>,
     sd_phase: PyReadonlyArray3<'_, f64>,

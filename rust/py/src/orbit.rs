@@ -165,7 +165,7 @@ fn config(settings: FilterArgs, model: ModelArgs) -> FilterConfig {
 
 /// Loosely coupled run: fixes (n_t, 3) x2, their covariances (n_t, 6, 6) and validity (n_t,).
 #[pyfunction]
-#[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, model, settings))]
+#[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, *, model, settings))]
 #[allow(clippy::too_many_arguments)]
 fn orbit_filter_loose(
     py: Python<'_>,
@@ -208,7 +208,7 @@ fn orbit_filter_loose(
 /// Tightly coupled run: satellite states (n_t, n_sat, 3) x2, pseudoranges, Doppler and tracking (n_t,
 /// n_sat), wavelengths and systems (n_sat,), noise sigmas.
 #[pyfunction]
-#[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, code_sigma_m, doppler_sigma_hz, model, settings))]
+#[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, *, code_sigma_m, doppler_sigma_hz, model, settings))]
 #[allow(clippy::too_many_arguments)]
 fn orbit_filter_tight(
     py: Python<'_>,
