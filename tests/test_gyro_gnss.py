@@ -547,8 +547,9 @@ def test_matrix_fixes_reject_bad_input() -> None:
         phase_attitude_fixes(ph.phase, BASELINES, ph.ambiguity, phase_sigma_cycles=0.01)  # type: ignore[arg-type]
 
 
-def test_experiment_feeds_the_loose_filter_with_matrix_fixes(tmp_path: Path) -> None:
-    r = exp.orbit_trial(np.random.default_rng(4), duration_s=120.0, loose_fixes="matrix")
+@pytest.mark.parametrize("kind", ["matrix", "simulated"])
+def test_experiment_feeds_the_loose_filter_with_consistent_fixes(kind: str, tmp_path: Path) -> None:
+    r = exp.orbit_trial(np.random.default_rng(4), duration_s=120.0, loose_fixes=kind)  # type: ignore[arg-type]
     # a consistent filter exceeds this NEES with probability 1e-3; wrongly signed or scaled fixes do not stay
     # under it
     assert r["loose"]["nees"][-1] < chi2.isf(LEVEL, 6)
