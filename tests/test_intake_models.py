@@ -66,7 +66,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         magnetic.geodetic_to_ecef,
         {"lat_deg": np.array([10.0, 20.0]), "lon_deg": 5.0, "height_m": 100.0},
     ),
-    "dcm_ned_from_ecef": (magnetic.dcm_ned_from_ecef, {"latitude_deg": 10.0, "longitude_deg": 5.0}),
+    "dcm_ned_from_ecef": (magnetic.dcm_ned_from_ecef, {"lat_deg": 10.0, "lon_deg": 5.0}),
     "dipole_field_ecef": (
         magnetic.dipole_field_ecef,
         {"position_ecef_m": np.array([[7e6, 0.0, 0.0]]), "decimal_year": 2020.0},
@@ -81,7 +81,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     ),
     "dipole_field_ned": (
         magnetic.dipole_field_ned,
-        {"latitude_deg": 10.0, "longitude_deg": 5.0, "height_m": 100.0, "decimal_year": 2020.0},
+        {"lat_deg": 10.0, "lon_deg": 5.0, "height_m": 100.0, "decimal_year": 2020.0},
     ),
     "igrf_field_ecef": (
         magnetic.igrf_field_ecef,
@@ -654,10 +654,10 @@ SPECIFIC = [
     ("dipole_coefficients", "decimal_year", 1999.0, InvalidInputError),
     ("magnetic.geodetic_to_ecef", "lat_deg", 91.0, InvalidInputError),
     ("magnetic.geodetic_to_ecef", "height_m", -6.3e6, InvalidInputError),
-    ("dcm_ned_from_ecef", "latitude_deg", -90.5, InvalidInputError),
+    ("dcm_ned_from_ecef", "lat_deg", -90.5, InvalidInputError),
     ("dipole_field_ecef", "position_ecef_m", np.zeros(3), InvalidInputError),
     ("dipole_field_ecef", "position_ecef_m", np.array([1e300, 0, 0]), InvalidInputError),
-    ("dipole_field_ned", "latitude_deg", 100.0, InvalidInputError),
+    ("dipole_field_ned", "lat_deg", 100.0, InvalidInputError),
     ("igrf_field_ecef", "max_degree", 14, InvalidInputError),
     ("igrf_field_ecef", "position_ecef_m", np.zeros(3), InvalidInputError),
     ("sim.geodetic_to_ecef", "lat_deg", 90.5, InvalidInputError),

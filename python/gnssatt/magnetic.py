@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import constants as _constants
 from gnssatt._arrays import checked_array, integer, scalar, vector_array
+from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError
 
 # One geodetic -> ECEF conversion, in the base layer; this module's former copy (keywords latitude_deg,
@@ -197,13 +198,13 @@ def _radii(name: str, r: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _geodetic(
-    latitude_deg: ArrayLike, longitude_deg: ArrayLike, *height_m: ArrayLike
+    lat_deg: ArrayLike, lon_deg: ArrayLike, *height_m: ArrayLike
 ) -> tuple[NDArray[np.float64], ...]:
     """Checked latitudes (rad, in [-pi/2, pi/2]), longitudes (rad) and heights (m), broadcast together."""
-    lat = checked_array("latitude_deg", latitude_deg, ndim=_ANY_NDIM, shape="(...)")
+    lat = checked_array("lat_deg", lat_deg, ndim=_ANY_NDIM, shape="(...)")
     if lat.size and np.max(np.abs(lat)) > 90.0:
-        raise InvalidInputError(f"expected latitude_deg in [-90, 90], got {lat.flat[np.argmax(np.abs(lat))]}")
-    lon = checked_array("longitude_deg", longitude_deg, ndim=_ANY_NDIM, shape="(...)")
+        raise InvalidInputError(f"expected lat_deg in [-90, 90], got {lat.flat[np.argmax(np.abs(lat))]}")
+    lon = checked_array("lon_deg", lon_deg, ndim=_ANY_NDIM, shape="(...)")
     arrays = [np.radians(lat), np.radians(lon)]
     for value in height_m:  # one height or none
         h = checked_array("height_m", value, ndim=_ANY_NDIM, shape="(...)")
@@ -218,17 +219,19 @@ def _geodetic(
     except ValueError as exc:
         shapes = [a.shape for a in arrays]
         raise InvalidInputError(
-            f"expected latitude_deg, longitude_deg, height_m of broadcastable shapes, got {shapes}"
+            f"expected lat_deg, lon_deg, height_m of broadcastable shapes, got {shapes}"
         ) from exc
 
 
-def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
+@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
+def dcm_ned_from_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike) -> NDArray[np.float64]:
     """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point.
 
     Parameters
     ----------
-    latitude_deg, longitude_deg
-        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together.
+    lat_deg, lon_deg
+        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together (formerly
+        ``latitude_deg``, ``longitude_deg``, still taken with a :class:`DeprecationWarning`).
 
     Returns
     -------
@@ -251,7 +254,7 @@ def dcm_ned_from_ecef(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDAr
            [ 0.,  1.,  0.],
            [-1.,  0.,  0.]])
     """
-    lat, lon = _geodetic(latitude_deg, longitude_deg)
+    lat, lon = _geodetic(lat_deg, lon_deg)
     sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
     zero = np.zeros_like(sl * so)
     rows = [
@@ -377,15 +380,17 @@ def dipole_field_eci(
     return np.stack([c * b[..., 0] - s * b[..., 1], s * b[..., 0] + c * b[..., 1], b[..., 2]], axis=-1)
 
 
+@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def dipole_field_ned(
-    latitude_deg: ArrayLike, longitude_deg: ArrayLike, height_m: ArrayLike, decimal_year: float
+    lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike, decimal_year: float
 ) -> NDArray[np.float64]:
     """Centred tilted dipole of IGRF-14 degree 1 in geodetic north-east-down, tesla.
 
     Parameters
     ----------
-    latitude_deg, longitude_deg
-        WGS-84 geodetic latitude and longitude, degrees (broadcast together).
+    lat_deg, lon_deg
+        WGS-84 geodetic latitude and longitude, degrees (broadcast together; formerly ``latitude_deg``,
+        ``longitude_deg``, still taken with a :class:`DeprecationWarning`).
     height_m
         Height above the WGS-84 ellipsoid, metres.
     decimal_year
@@ -417,11 +422,11 @@ def dipole_field_ned(
     """
     # checked here first, under this function's names and its own bound on heights (the dipole needs
     # MIN_RADIUS_M from the centre), before frames' conversion checks them again
-    _geodetic(latitude_deg, longitude_deg, height_m)
-    b = dipole_field_ecef(geodetic_to_ecef(latitude_deg, longitude_deg, height_m), decimal_year)
+    _geodetic(lat_deg, lon_deg, height_m)
+    b = dipole_field_ecef(geodetic_to_ecef(lat_deg, lon_deg, height_m), decimal_year)
     # typed here: numpy types einsum's result as Any
     ned: NDArray[np.float64] = np.einsum(
-        "...ij,...j->...i", dcm_ned_from_ecef(latitude_deg, longitude_deg), b
+        "...ij,...j->...i", dcm_ned_from_ecef(lat_deg, lon_deg), b
     )
     return ned
 

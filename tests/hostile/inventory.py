@@ -290,7 +290,7 @@ ENTRIES: dict[str, Entry] = {
         }
     ),
     # --- gnssatt.magnetic ---
-    "gnssatt.magnetic.dcm_ned_from_ecef": _e(lambda: {"latitude_deg": 50.0, "longitude_deg": 36.2}),
+    "gnssatt.magnetic.dcm_ned_from_ecef": _e(lambda: {"lat_deg": 50.0, "lon_deg": 36.2}),
     "gnssatt.magnetic.dipole_coefficients": _e(lambda: {"decimal_year": 2025.0}),
     "gnssatt.magnetic.dipole_field_ecef": _e(
         lambda: {"position_ecef_m": np.array([7e6, 0.0, 1e6]), "decimal_year": 2025.0}
@@ -303,7 +303,7 @@ ENTRIES: dict[str, Entry] = {
         }
     ),
     "gnssatt.magnetic.dipole_field_ned": _e(
-        lambda: {"latitude_deg": 50.0, "longitude_deg": 36.2, "height_m": 500e3, "decimal_year": 2025.0}
+        lambda: {"lat_deg": 50.0, "lon_deg": 36.2, "height_m": 500e3, "decimal_year": 2025.0}
     ),
     "gnssatt.magnetic.dipole_orbital": _e(
         lambda: {"u": np.linspace(0.0, 6.0, 5), "inclination": 0.9, "radius": 6.9e6, "strength": 7.7e15}
