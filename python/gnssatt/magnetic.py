@@ -425,9 +425,7 @@ def dipole_field_ned(
     _geodetic(lat_deg, lon_deg, height_m)
     b = dipole_field_ecef(geodetic_to_ecef(lat_deg, lon_deg, height_m), decimal_year)
     # typed here: numpy types einsum's result as Any
-    ned: NDArray[np.float64] = np.einsum(
-        "...ij,...j->...i", dcm_ned_from_ecef(lat_deg, lon_deg), b
-    )
+    ned: NDArray[np.float64] = np.einsum("...ij,...j->...i", dcm_ned_from_ecef(lat_deg, lon_deg), b)
     return ned
 
 
