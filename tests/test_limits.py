@@ -205,10 +205,14 @@ def test_wahba_weights_that_overflow_raise_instead_of_nan() -> None:
 
 CHILD = textwrap.dedent(
     """
+    import signal
     import time
     import numpy as np
     from gnssatt.attitude import dynamics as tumble
 
+    # A child of a background job inherits SIGINT ignored, and Python then installs no KeyboardInterrupt
+    # handler: install it, so the test measures the library and not how the test runner was started.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     print("ready", flush=True)
     try:
         # 2.8e7 RK4 steps, under the 3e7 limit: several seconds uninterrupted.
