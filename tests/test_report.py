@@ -23,3 +23,19 @@ def test_nan_and_inf_statistics_are_written_as_null(tmp_path):
     assert loaded["measured"] == {"rms_deg": None, "by_axis": [1.0, None, None], "nested": {"x": None}}
     assert loaded["paper"] == {"rms_deg": 0.5, "bias_deg": None}
     assert doc["measured"]["rms_deg"] is None
+
+
+def test_an_unknown_experiment_is_a_value_error_naming_the_parameter_and_the_known_names():
+    import pytest
+
+    from gnssatt.errors import InvalidInputError, UnknownNameError
+    from gnssatt.experiments import EXPERIMENTS, get
+
+    with pytest.raises(UnknownNameError) as info:
+        get("matrix method")
+    message = str(info.value)
+    # a ValueError of the package (the house rule) that still answers ``except KeyError`` (a look-up)
+    assert isinstance(info.value, InvalidInputError) and isinstance(info.value, KeyError)
+    # str() reads as a sentence, not as KeyError's quoted repr
+    assert message.startswith("name: unknown experiment 'matrix method'")
+    assert all(name in message for name in EXPERIMENTS)

@@ -123,10 +123,10 @@ def _reproduce(args: argparse.Namespace) -> int:
         return 0
     if args.all == bool(args.names):
         raise _UsageError("reproduce: give experiment names, --all, or --list")
-    try:
-        chosen = list(EXPERIMENTS.values()) if args.all else [get(n) for n in args.names]
-    except KeyError as exc:
-        raise _UsageError(f"reproduce: {exc.args[0]}") from None
+    unknown = [n for n in args.names if n not in EXPERIMENTS]
+    if unknown:
+        raise _UsageError(f"reproduce: unknown experiment {unknown[0]!r}; known: {', '.join(EXPERIMENTS)}")
+    chosen = list(EXPERIMENTS.values()) if args.all else [get(n) for n in args.names]
     _writable("--out", args.out, folder=True)
     for exp in chosen:
         runs = args.runs or (exp.quick_runs if args.all else exp.default_runs)

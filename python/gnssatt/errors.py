@@ -16,6 +16,7 @@ __all__ = [
     "InvalidTypeError",
     "NearDegenerateWarning",
     "RinexError",
+    "UnknownNameError",
     "WorkLimitError",
 ]
 
@@ -40,6 +41,17 @@ class DegenerateGeometryError(InvalidInputError):
 class WorkLimitError(InvalidInputError):
     """A requested amount of work or memory (candidates, samples, integration steps, grid cells) exceeds its
     documented limit; raised before any work starts, with the requested number and the limit."""
+
+
+class UnknownNameError(InvalidInputError, KeyError):
+    """A name (of an experiment, a model...) that is not among the known ones; the message lists them.
+
+    Also a :class:`KeyError`, the error of a failed look-up, so ``except KeyError`` keeps working.
+    """
+
+    def __str__(self) -> str:
+        # KeyError's str() is the repr of its argument (quotes around a message): a message reads better.
+        return ValueError.__str__(self)
 
 
 class ConvergenceError(GnssattError):

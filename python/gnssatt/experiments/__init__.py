@@ -14,6 +14,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
+from gnssatt.errors import UnknownNameError
+
 __all__ = ["EXPERIMENTS", "Experiment", "RunExperiment", "get"]
 
 
@@ -58,7 +60,8 @@ EXPERIMENTS: dict[str, Experiment] = _load()
 
 
 def get(name: str) -> Experiment:
-    """The experiment called ``name``; :class:`KeyError` listing the known names otherwise.
+    """The experiment called ``name``; :class:`~gnssatt.errors.UnknownNameError` listing the known names
+    otherwise.
 
     Parameters
     ----------
@@ -72,8 +75,9 @@ def get(name: str) -> Experiment:
 
     Raises
     ------
-    KeyError
-        ``name`` is not an experiment; the message lists the known names.
+    UnknownNameError
+        ``name`` is not an experiment; the message names the parameter and lists the known names (also a
+        :class:`ValueError` and a :class:`KeyError`).
 
     Examples
     --------
@@ -87,9 +91,11 @@ def get(name: str) -> Experiment:
     >>> get("matrix method")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
         ...
-    KeyError: "unknown experiment 'matrix method'; known: matrix-method, ml-grid, ..."
+    gnssatt.errors.UnknownNameError: name: unknown experiment 'matrix method'; known: matrix-method, ...
     """
     try:
         return EXPERIMENTS[name]
     except KeyError:
-        raise KeyError(f"unknown experiment {name!r}; known: {', '.join(EXPERIMENTS)}") from None
+        raise UnknownNameError(
+            f"name: unknown experiment {name!r}; known: {', '.join(EXPERIMENTS)}"
+        ) from None
