@@ -300,11 +300,11 @@ def simulate_array(
 
     Raises
     ------
-    TypeError
-        ``geometry``, ``attitude`` or ``rng`` of the wrong type, non-numeric arrays, non-integer ambiguities.
+    InvalidTypeError
+        ``geometry``, ``attitude`` or ``rng`` of the wrong type, non-numeric arrays, non-integer ambiguities
+        (also a ``TypeError``).
     InvalidInputError
-        Wrong shapes, non-finite values, negative noise levels or non-positive wavelengths (an
-        :class:`~gnssatt.errors.InvalidTypeError`, also a ``TypeError``, for the wrong types above).
+        Wrong shapes, non-finite values, negative noise levels or non-positive wavelengths.
     ConvergenceError
         Finite but extreme inputs (noise levels, clock biases, ranges near the float limit) overflowed a
         simulated measurement.
