@@ -33,7 +33,7 @@ from gnssatt.orbit import GlonassModel
 ICD_R0 = np.array([7003.008789e3, -12206.626953e3, 21280.765625e3])
 ICD_V0 = np.array([0.7835417e3, 2.8042530e3, 1.3525150e3])
 TUMBLING = np.array([0.7, 1.1, -2.0, 0.01, -0.01, 0.01])
-FILTER_SETTINGS = {"accel_psd_m2_s3": 1e-8, "step_s": 10.0}
+ACCEL_PSD_M2_S3 = 1e-8
 
 
 def _gyro_filter(gyro_t: np.ndarray, *, p0: np.ndarray | None = None, phases: int = 0) -> _core.GyroGnssRun:
@@ -85,7 +85,8 @@ def _loose_filter(times_s: np.ndarray, step_s: float) -> _core.OrbitFilterRun:
         np.tile(np.eye(6), (n, 1, 1)),
         valid,
         model=GlonassModel()._kwargs(),
-        settings={**FILTER_SETTINGS, "step_s": step_s},
+        accel_psd_m2_s3=ACCEL_PSD_M2_S3,
+        step_s=step_s,
     )
 
 
@@ -104,7 +105,8 @@ def _tight_filter(n_sat: int) -> _core.OrbitFilterRun:
         code_sigma_m=1.0,
         doppler_sigma_hz=0.0,
         model=GlonassModel()._kwargs(),
-        settings=FILTER_SETTINGS,
+        accel_psd_m2_s3=ACCEL_PSD_M2_S3,
+        step_s=10.0,
     )
 
 

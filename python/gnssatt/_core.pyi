@@ -510,7 +510,8 @@ def orbit_filter_loose(
     fix_valid: NDArray[np.bool_],
     *,
     model: _GlonassModelArgs,
-    settings: dict[str, float],  # accel_psd_m2_s3, step_s
+    accel_psd_m2_s3: float,
+    step_s: float,
 ) -> OrbitFilterRun: ...
 def orbit_filter_tight(
     times_s: NDArray[np.float64],
@@ -527,7 +528,8 @@ def orbit_filter_tight(
     code_sigma_m: float,
     doppler_sigma_hz: float,
     model: _GlonassModelArgs,
-    settings: dict[str, float],  # accel_psd_m2_s3, step_s
+    accel_psd_m2_s3: float,
+    step_s: float,
 ) -> OrbitFilterRun: ...
 
 # gyro_gnss.rs, gyro_gnss_options.rs (arguments built by gnssatt.attitude.gyro_gnss)

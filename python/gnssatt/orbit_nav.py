@@ -362,10 +362,8 @@ def orbit_filter(
     smallest = float(np.linalg.eigvalsh(p)[0])
     if smallest < -1e-9 * np.max(np.abs(p)):
         raise InvalidInputError(f"expected p0 positive semi-definite, got an eigenvalue of {smallest:.3e}")
-    settings = {
-        "accel_psd_m2_s3": _accel_psd(accel_psd_m2_s3),
-        "step_s": scalar("step_s", step_s, minimum=0.0, strict=True),
-    }
+    psd = _accel_psd(accel_psd_m2_s3)
+    h = scalar("step_s", step_s, minimum=0.0, strict=True)
     text("coupling", coupling)
     if coupling not in ("loose", "tight"):
         raise InvalidInputError(f"expected coupling 'loose' or 'tight', got {coupling!r}")
@@ -373,7 +371,7 @@ def orbit_filter(
         raise InvalidTypeError(f"expected use_doppler as a bool, got {type(use_doppler).__name__}")
     instance("data", data, SpaceborneMeasurements | ReceiverFixes, "SpaceborneMeasurements or ReceiverFixes")
     t_all = float_array("data.times_s", data.times_s, ndim=1, shape="(n_t,)")
-    rk4_steps("orbit_filter over data.times_s", np.diff(t_all), settings["step_s"])
+    rk4_steps("orbit_filter over data.times_s", np.diff(t_all), h)
     fixes: ReceiverFixes | None
     if isinstance(data, ReceiverFixes):
         if coupling != "loose":
@@ -392,7 +390,8 @@ def orbit_filter(
             np.ascontiguousarray(fixes.covariance),
             np.ascontiguousarray(fixes.valid, dtype=bool),
             model=m._kwargs(),
-            settings=settings,
+            accel_psd_m2_s3=psd,
+            step_s=h,
         )
     else:
         d = data
@@ -412,7 +411,8 @@ def orbit_filter(
             code_sigma_m=float(d.code_sigma_m),
             doppler_sigma_hz=float(d.doppler_sigma_hz) if use_doppler else 0.0,
             model=m._kwargs(),
-            settings=settings,
+            accel_psd_m2_s3=psd,
+            step_s=h,
         )
     states, covs, nis, dof = out.states, out.covariances, out.nis, out.dof
     return OrbitFilterResult(np.asarray(t), states, covs, nis, dof.astype(np.int64), coupling)

@@ -131,14 +131,6 @@ fn circular_orbit_ecef(
     })
 }
 
-/// Filter settings, passed as one dict by `gnssatt.orbit_nav`.
-#[derive(FromPyObject)]
-#[pyo3(from_item_all)]
-struct FilterArgs {
-    accel_psd_m2_s3: f64,
-    step_s: f64,
-}
-
 fn output(py: Python<'_>, out: FilterOutput) -> OrbitFilterRun {
     let n = out.states.len();
     OrbitFilterRun {
@@ -155,17 +147,17 @@ fn output(py: Python<'_>, out: FilterOutput) -> OrbitFilterRun {
     }
 }
 
-fn config(settings: FilterArgs, model: ModelArgs) -> FilterConfig {
+fn config(model: ModelArgs, accel_psd_m2_s3: f64, step_s: f64) -> FilterConfig {
     FilterConfig {
         model: model.into(),
-        accel_psd_m2_s3: settings.accel_psd_m2_s3,
-        step_s: settings.step_s,
+        accel_psd_m2_s3,
+        step_s,
     }
 }
 
 /// Loosely coupled run: fixes (n_t, 3) x2, their covariances (n_t, 6, 6) and validity (n_t,).
 #[pyfunction]
-#[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, *, model, settings))]
+#[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, *, model, accel_psd_m2_s3, step_s))]
 #[allow(clippy::too_many_arguments)]
 fn orbit_filter_loose(
     py: Python<'_>,
@@ -177,7 +169,8 @@ fn orbit_filter_loose(
     fix_covariance: PyReadonlyArray3<'_, f64>,
     fix_valid: PyReadonlyArray1<'_, bool>,
     model: ModelArgs,
-    settings: FilterArgs,
+    accel_psd_m2_s3: f64,
+    step_s: f64,
 ) -> PyResult<OrbitFilterRun> {
     let t = values(py, "times_s", &times_s)?;
     let n = t.len();
@@ -192,7 +185,7 @@ fn orbit_filter_loose(
         .map(|k| Matrix6::from_fn(|i, j| k[6 * i + j]))
         .collect();
     let valid = exact(py, "fix_valid", &fix_valid, &[n])?;
-    let cfg = config(settings, model);
+    let cfg = config(model, accel_psd_m2_s3, step_s);
     let fixes = Fixes {
         position_m: &pos,
         velocity_m_s: &vel,
@@ -208,7 +201,7 @@ fn orbit_filter_loose(
 /// Tightly coupled run: satellite states (n_t, n_sat, 3) x2, pseudoranges, Doppler and tracking (n_t,
 /// n_sat), wavelengths and systems (n_sat,), noise sigmas.
 #[pyfunction]
-#[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, *, code_sigma_m, doppler_sigma_hz, model, settings))]
+#[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, *, code_sigma_m, doppler_sigma_hz, model, accel_psd_m2_s3, step_s))]
 #[allow(clippy::too_many_arguments)]
 fn orbit_filter_tight(
     py: Python<'_>,
@@ -225,7 +218,8 @@ fn orbit_filter_tight(
     code_sigma_m: f64,
     doppler_sigma_hz: f64,
     model: ModelArgs,
-    settings: FilterArgs,
+    accel_psd_m2_s3: f64,
+    step_s: f64,
 ) -> PyResult<OrbitFilterRun> {
     let t = values(py, "times_s", &times_s)?;
     let n = t.len();
@@ -240,7 +234,7 @@ fn orbit_filter_tight(
     let pr = exact(py, "pseudorange_m", &pseudorange_m, &[n, m])?;
     let dop = exact(py, "doppler_hz", &doppler_hz, &[n, m])?;
     let vis = exact(py, "visible", &visible, &[n, m])?;
-    let cfg = config(settings, model);
+    let cfg = config(model, accel_psd_m2_s3, step_s);
     let ranges = Ranges {
         n_sat: m,
         sat_position_m: &pos,
