@@ -337,17 +337,15 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         if label == "MARKER NAME":
             hdr["marker"] = line[0:60].strip()
         elif label == "APPROX POSITION XYZ":
-            hdr["pos"] = np.array(
-                [number(path, lineno, line[k : k + 14], "APPROX POSITION") for k in (0, 14, 28)]
-            )
+            hdr["pos"] = _triple(path, lineno, line, "APPROX POSITION XYZ")
         elif label == "ANTENNA: DELTA H/E/N":
-            hdr["delta"] = np.array(
-                [number(path, lineno, line[k : k + 14], "ANTENNA DELTA") for k in (0, 14, 28)]
-            )
+            hdr["delta"] = _triple(path, lineno, line, "ANTENNA: DELTA H/E/N")
         elif label == "INTERVAL":
             hdr["interval"] = number(path, lineno, line[0:10], "INTERVAL")
         elif label == "TIME OF FIRST OBS":
-            ts = line[48:51].strip()
+            # A3 in columns 49-51; some writers (gLAB) put it one column early, so take the word after the
+            # seconds field
+            ts = next((w for w in line[43:60].split() if w.isalpha()), "")
             if ts:
                 hdr["time_system"] = ts
             elif sysletter in "RECJ":
@@ -380,16 +378,46 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
             body = line[4:60]
             glo = hdr["glo"]
             assert isinstance(glo, dict)
-            for k in range(0, len(body) - 6, 7):
-                sat, frq = body[k : k + 3].strip(), body[k + 4 : k + 6].strip()
-                if sat and frq:
-                    glo[sat] = integer(path, lineno, frq, "a GLONASS channel")
+            # 8(A1,I2.2,1X,I2,1X) by the format; writers also omit the blank after a channel ("R11 -5R19
+            # +3"), so the pairs are taken as tokens rather than by column
+            rest = body
+            for m in _GLO_PAIR.finditer(body):
+                sat = _sat_id(path, lineno, m.group(1), "R")
+                glo[sat] = integer(path, lineno, m.group(2).replace(" ", ""), "a GLONASS channel")
+                rest = rest.replace(m.group(0), " " * len(m.group(0)), 1)
+            if rest.strip():
+                raise RinexError(
+                    path,
+                    lineno,
+                    f"expected GLONASS slot / channel pairs such as 'R01  1', got {body.strip()!r}",
+                )
     raise RinexError(
         path,
         min(last_known + 1, len(lines)),
         "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
         "label (file truncated in the header?)",
     )
+
+
+#: One ``GLONASS SLOT / FRQ #`` pair: satellite (blank system letter allowed) and channel (sign may be apart).
+_GLO_PAIR = re.compile(r"([R ][ \d]\d) *([+-]? *\d{1,2})(?!\d)")
+
+
+def _triple(path: str, lineno: int, line: str, what: str) -> NDArray[np.float64]:
+    """The three numbers of a 3F14.4 header line (columns 1-42).
+
+    By the format each number fills 14 columns; writers that widen the fields (gLAB writes F15.4) shift
+    them, so when the columns do not hold numbers the three blank-separated words of columns 1-60 are taken.
+    """
+    try:
+        return np.array([number(path, lineno, line[k : k + 14], what) for k in (0, 14, 28)])
+    except RinexError:
+        words = line[0:60].split()
+        if len(words) != 3:
+            raise RinexError(
+                path, lineno, f"expected three numbers for {what}, got {line[0:60].strip()!r}"
+            ) from None
+        return np.array([number(path, lineno, w, what) for w in words])
 
 
 def _codes(path: str, lineno: int, text: str, before: list[str], length: int) -> list[str]:

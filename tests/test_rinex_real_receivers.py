@@ -1,0 +1,142 @@
+"""Observation files of real receivers (RINEX 3.01-3.04; Leica GR50 / GRX1200, an Ashtech file written by
+gLAB), from ``tests/data/real`` (sources, licences and cuts in ``tests/data/README.md``).
+
+Expected values come from the file text, not from the reader: the epoch lines are found by their ``>``,
+the observation types by their header label, and each observation is the F14.3 field at the column the
+RINEX 3 format gives it (``3 + 16 k`` after the satellite id), or a value quoted from the file by hand.
+The engine runs on the shipped GEONET pair where a navigation file of the same day exists (a zero
+baseline: the same file twice), and refuses the real RINEX 3 files whose navigation file is of another day
+with a :class:`~gnssatt.errors.RinexError` that names it.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gnssatt.rinex import read_obs
+from gnssatt.rinex.signals import choose_signals
+
+REAL = Path(__file__).parent / "data" / "real"
+DATA = Path(__file__).parent / "data"
+ACOR = "ACOR00ESP_R_20213550000_01D_30S_MO.rnx"
+
+#: Quoted from each file by hand: version, APPROX POSITION XYZ, the first epoch's first satellite and its
+#: first pseudorange code with the value written there, some GLONASS SLOT / FRQ # pairs, LEAP SECONDS.
+QUOTED = {
+    ACOR: (3.04, (4594489.8680, -678367.9920, 4357065.8700), "G01", "C1C", 24600158.420,
+           {"R01": 1, "R10": -7, "R24": 2}, 18),
+    "DUTH0630.22O": (3.02, (4362689.8809, 2026647.9686, 4174234.2239), "G01", "C1C", 20243517.560,
+                     {"R02": -4, "R15": 0, "R23": 3}, 18),
+    "NOA10630.22O": (3.02, (4599643.3185, 2034827.9762, 3909890.7491), "G01", "C1C", 20176608.780, {}, 18),
+    "flrs0010.12o": (3.02, (4221530.0272, -2549242.3485, 4031397.8561), "G01", "C1C", 23184989.980,
+                     {"R01": 1, "R16": -1, "R19": 3}, 18),
+    "pdel0010.21o": (3.02, (4551596.0624, -2186893.3724, 3883410.6118), "G01", "C1C", 23304001.080,
+                     {"R16": -1, "R18": -3, "R24": 2}, 18),
+    # gLAB writes the XYZ in 15 columns, the channels without their separating blank ("R11 -5R19 +3")
+    "demo3.10o": (3.01, (4789028.4701, 176610.0133, 4195017.0310), "G13", "C1C", 23095483.463,
+                  {"R11": -5, "R19": 3, "R23": -6}, 15),
+}  # fmt: skip
+
+
+def _lines(name: str) -> list[str]:
+    return (REAL / name).read_text().splitlines()
+
+
+def _header_types(lines: list[str]) -> dict[str, list[str]]:
+    """Observation types per system from the 'SYS / # / OBS TYPES' lines (continuations included)."""
+    types: dict[str, list[str]] = {}
+    system = ""
+    for line in lines:
+        if line[60:].strip() == "END OF HEADER":
+            break
+        if line[60:].strip() == "SYS / # / OBS TYPES":
+            if line[0] != " ":
+                system = line[0]
+                types[system] = []
+            types[system] += line[7:60].split()
+    return types
+
+
+def _epochs(lines: list[str]) -> list[tuple[int, list[str]]]:
+    """(line index, records) of each observation epoch (flag 0 or 1); the records are the lines after it."""
+    out = []
+    for i, line in enumerate(lines):
+        if line.startswith(">"):
+            words = line[1:].split()
+            flag, n = int(words[6]), int(words[7])
+            if flag in (0, 1):
+                out.append((i, lines[i + 1 : i + 1 + n]))
+    return out
+
+
+def _field(record: str, k: int) -> float:
+    """Observation ``k`` (0-based) of a RINEX 3 record: F14.3 in columns 4 + 16 k (1-based), NaN if blank."""
+    text = record[3 + 16 * k : 3 + 16 * k + 14]
+    return float(text) if text.strip() else float("nan")
+
+
+@pytest.mark.parametrize("name", sorted(QUOTED))
+def test_header_and_first_epoch_as_written(name: str) -> None:
+    version, xyz, first_sat, code, value, channels, leap = QUOTED[name]
+    lines = _lines(name)
+    obs = read_obs(REAL / name)
+    assert obs.version == pytest.approx(version)
+    np.testing.assert_allclose(obs.approx_position_m, xyz, rtol=0, atol=1e-9)
+    assert {s: list(t) for s, t in obs.obs_types.items()} == _header_types(lines)
+    epochs = _epochs(lines)
+    assert len(obs.time) == len(epochs)
+    first = [r[0:3].replace(" ", "0") for r in epochs[0][1]]
+    assert first[0] == first_sat
+    assert obs.leap_seconds == leap
+    assert obs.time_system == "GPS"
+    for sat, want in channels.items():
+        assert obs.glonass_channels[sat] == want
+    # the quoted pseudorange, then every value of the first epoch, field by field
+    assert obs.get(code)[0, obs.sats.index(first_sat)] == value
+    present = [s for s in obs.sats if np.isfinite(obs.data[0, obs.sats.index(s)]).any()]
+    assert sorted(present) == sorted(first)
+    for sat, record in zip(first, epochs[0][1], strict=True):
+        types = obs.obs_types[sat[0]]
+        got = obs.data[0, obs.sats.index(sat), [obs.codes.index(c) for c in types]]
+        want = [_field(record, k) for k in range(len(types))]
+        np.testing.assert_array_equal(got, want, err_msg=f"{name} {sat}")
+
+
+def test_signals_chosen_per_system() -> None:
+    """The slots of a 3.04 mixed file: GPS L2 by RTKLIB's priority (W before S), BeiDou B1I in band 2
+    (RINEX 3.03 on), Galileo E5b in band 7, GLONASS G3 in band 3."""
+    obs = read_obs(REAL / ACOR)
+    labels = {s: [c.label for c in choose_signals(obs, s)] for s in "GREC"}
+    assert labels == {
+        "G": ["C1C/L1C", "C2W/L2W", "C5Q/L5Q"],
+        "R": ["C1C/L1C", "C2P/L2P", "C3Q/L3Q"],
+        "E": ["C1C/L1C", "C7Q/L7Q", "C5Q/L5Q"],
+        "C": ["C2I/L2I", "C7I/L7I", "C6I/L6I"],
+    }
+
+
+def test_two_stations_of_one_day_keep_every_common_signal() -> None:
+    """PDEL and FLRS (Azores, 2021-01-01, both Leica): every satellite both first epochs list is in the
+    session, with each file's C1C/L1C/C2W/L2W (GPS) or C1C/L1C/C2P/L2P (GLONASS) value as written, and the
+    GLONASS channels of the headers."""
+    from gnssatt.gnss.session_input import session_input
+
+    names = ["pdel0010.21o", "flrs0010.12o"]
+    records = [{r[0:3]: r for r in _epochs(_lines(n))[0][1]} for n in names]
+    both = sorted(set(records[0]) & set(records[1]), key=lambda s: ("GR".index(s[0]), s))
+    si = session_input([read_obs(REAL / n) for n in names], systems="GR", frequencies=2)
+    assert si.sats == tuple(both) and si.epochs_dropped == (0, 0) and len(si.time_gpst_ns) == 2
+    # fields 0 C1C, 1 L1C, 4 C2W or C2P, 5 L2W or L2P of both systems' header types (the same layout)
+    for r, recs in enumerate(records):
+        for k, sat in enumerate(both):
+            np.testing.assert_array_equal(
+                si.code_m[r, 0, k, :2], [_field(recs[sat], 0), _field(recs[sat], 4)]
+            )
+            np.testing.assert_array_equal(
+                si.phase_cycles[r, 0, k, :2], [_field(recs[sat], 1), _field(recs[sat], 5)]
+            )
+    channels = dict(zip(si.sats, si.glonass_channel.tolist(), strict=True))
+    assert channels["R02"] == -4 and channels["R16"] == -1 and channels["G01"] == 99
