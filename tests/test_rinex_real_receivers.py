@@ -105,6 +105,28 @@ def test_header_and_first_epoch_as_written(name: str) -> None:
         np.testing.assert_array_equal(got, want, err_msg=f"{name} {sat}")
 
 
+def test_epoch_labels_and_clock_offsets_as_written() -> None:
+    """Every epoch label, and the receiver clock offset where the epoch line gives one: gLAB writes the
+    satellite count of its second epoch as I2 (one column early), so the offset starts in column 41 and a
+    reader cutting columns 42-56 loses its sign."""
+    for name in QUOTED:
+        lines = _lines(name)
+        obs = read_obs(REAL / name)
+        want = []
+        clocks = []
+        for i, _ in _epochs(lines):
+            w = lines[i][1:].split()
+            sec = float(w[5])
+            want.append(
+                np.datetime64(f"{w[0]}-{w[1]:0>2}-{w[2]:0>2}T{w[3]:0>2}:{w[4]:0>2}:00", "ns")
+                + np.timedelta64(round(sec * 1e9), "ns")
+            )
+            clocks.append(float(w[8]) if len(w) > 8 else np.nan)
+        np.testing.assert_array_equal(obs.time, np.array(want), err_msg=name)
+        np.testing.assert_array_equal(obs.clock_offset_s, clocks, err_msg=name)
+    assert read_obs(REAL / "demo3.10o").clock_offset_s.tolist() == [-0.123456789012, -0.123456789012]
+
+
 def test_signals_chosen_per_system() -> None:
     """The slots of a 3.04 mixed file: GPS L2 by RTKLIB's priority (W before S), BeiDou B1I in band 2
     (RINEX 3.03 on), Galileo E5b in band 7, GLONASS G3 in band 3."""

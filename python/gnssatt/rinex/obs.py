@@ -204,7 +204,9 @@ def _epoch_line(path: str, lineno: int, line: str, v3: bool) -> tuple[int, int, 
     n = integer(path, lineno, line[n0:n1], "the number of satellites (or special records)")
     if n < 0:
         raise RinexError(path, lineno, f"expected a number of satellites >= 0, got {n}")
-    clk_text = line[c0:c1]
+    # RINEX 3/4: the offset (F15.12, columns 42-56) ends the line; take all after the count so that a
+    # writer one column off (gLAB writes the count as I2) cannot cut the sign from the number
+    clk_text = line[n1:] if v3 else line[c0:c1]
     clk = number(path, lineno, clk_text, "the receiver clock offset") if clk_text.strip() else float("nan")
     date_area = line[dates[0][0] : dates[-1][1]]
     if 2 <= flag <= 5 and not date_area.strip():
