@@ -162,3 +162,29 @@ def test_two_stations_of_one_day_keep_every_common_signal() -> None:
             )
     channels = dict(zip(si.sats, si.glonass_channel.tolist(), strict=True))
     assert channels["R02"] == -4 and channels["R16"] == -1 and channels["G01"] == 99
+
+
+def _scaled(field: str) -> str:
+    """An F14.3 field times 10, by moving the decimal point in the text (no rounding)."""
+    whole, frac = field.strip().split(".")
+    return f"{whole}{frac[0]}.{frac[1:]}0".rjust(14)
+
+
+def test_scale_factor_divides_the_stored_values(tmp_path: Path) -> None:
+    """RINEX 3 ``SYS / SCALE FACTOR``: the file stores value x factor. DUTH rewritten with factor 10 on GPS
+    C1C and L1C (fields 0 and 1, stored x 10) reads back to the values DUTH writes."""
+    lines = _lines("DUTH0630.22O")
+    body = next(i for i, line in enumerate(lines) if line[60:].strip() == "END OF HEADER") + 1
+    out = []
+    for i, line in enumerate(lines):
+        if i >= body and line.startswith("G"):
+            line = line[:3] + _scaled(line[3:17]) + line[17:19] + _scaled(line[19:33]) + line[33:]
+        out.append(line)
+        if line[60:].strip() == "SYS / # / OBS TYPES" and line[0] == "R":
+            out.append(f"{'G   10   2 C1C L1C':<60}SYS / SCALE FACTOR")
+    path = tmp_path / "scaled.22O"
+    path.write_text("\n".join(out) + "\n")
+    scaled, plain = read_obs(path), read_obs(REAL / "DUTH0630.22O")
+    assert scaled.get("C1C")[0, scaled.sats.index("G01")] == pytest.approx(20243517.560, rel=1e-15)
+    np.testing.assert_allclose(scaled.data, plain.data, rtol=1e-15, atol=0)
+    np.testing.assert_array_equal(scaled.lli, plain.lli)

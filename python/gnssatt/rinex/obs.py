@@ -307,6 +307,9 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         "glo": {},
         "leap": None,
     }
+    scale: dict[str, dict[str, int]] = {}
+    scale_last: tuple[str, int, int] | None = None
+    hdr["scale"] = scale
     types2: list[str] = []
     n_types2 = 0
     sys3 = ""
@@ -374,6 +377,8 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
                 raise RinexError(
                     path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}"
                 )
+        elif label == "SYS / SCALE FACTOR" and version >= 3:
+            scale_last = _scale_factor(path, lineno, line, scale, scale_last, types3)
         elif label == "LEAP SECONDS":
             hdr["leap"] = integer(path, lineno, line[0:6], "LEAP SECONDS")
         elif label == "GLONASS SLOT / FRQ #":
@@ -399,6 +404,42 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
         "label (file truncated in the header?)",
     )
+
+
+def _scale_factor(
+    path: str,
+    lineno: int,
+    line: str,
+    scale: dict[str, dict[str, int]],
+    last: tuple[str, int, int] | None,
+    types3: dict[str, list[str]],
+) -> tuple[str, int, int]:
+    """One ``SYS / SCALE FACTOR`` line (A1,1X,I4,2X,I2,12(1X,A3); continuation lines 10X,12(1X,A3)) into
+    ``scale[system]``, code -> factor (``"*"``: every code of the system); returns (system, factor, count)
+    for a continuation line.
+
+    RINEX 3: the stored observations are the values times the factor (1, 10, 100 or 1000), so a reader
+    that ignores the record returns them that many times too large.
+    """
+    if line[0:1].strip():
+        system = line[0]
+        if system not in _SYSTEMS:
+            raise RinexError(path, lineno, f"expected a satellite system letter in column 1, got {system!r}")
+        factor = integer(path, lineno, line[2:6], "the scale factor")
+        if factor not in (1, 10, 100, 1000):
+            raise RinexError(path, lineno, f"expected a scale factor of 1, 10, 100 or 1000, got {factor}")
+        text = line[8:10]
+        count = integer(path, lineno, text, "the number of observation types") if text.strip() else 0
+    elif last is not None:
+        system, factor, count = last
+    else:
+        raise RinexError(path, lineno, "continuation of 'SYS / SCALE FACTOR' without a system")
+    per_system = scale.setdefault(system, {})
+    if count == 0:  # blank: every observation type of the system
+        per_system["*"] = factor
+    # a code the system's types line lacks has no values to scale (gLAB's example lists D1C, S2D, ...)
+    per_system.update({c: factor for c in line[10:60].split() if c in types3.get(system, [])})
+    return system, factor, count
 
 
 #: One ``GLONASS SLOT / FRQ #`` pair: satellite (blank system letter allowed) and channel (sign may be apart).
@@ -447,6 +488,8 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     epochs; 2-5 (antenna moving, new occupation, header information, external event) announce that many
     header records, which are checked to be header records and skipped; 6 announces that many cycle-slip
     records (observation records repeating an epoch), which are skipped; any other flag is an error.
+
+    Values stored with a RINEX 3 ``SYS / SCALE FACTOR`` (10, 100, 1000) are divided by it.
 
     Duplicated epochs are refused, with no option to merge them: a repeated label comes from concatenated
     files or a corrupted clock label, and any silent choice (first, last, union) can pair wrong data. Merge
@@ -498,6 +541,7 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
 
 def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
     hdr, i = _parse_header(p, lines)
+    scales: dict[str, dict[str, int]] = hdr["scale"]  # type: ignore[assignment]
     version = float(hdr["version"])  # type: ignore[arg-type]
     types: dict[str, tuple[str, ...]] = hdr["types"]  # type: ignore[assignment]
     default_sys = str(hdr["system"]) if hdr["system"] != "M" else "G"
@@ -666,6 +710,9 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
             np.arange(nt)[None, :] // 5 if key == "*" else np.zeros((1, nt), np.int64)
         )
         values, l_flags, s_flags = _convert(p, texts, nt, line_of)
+        factors = scales.get(key, {})
+        if factors:
+            values /= np.array([factors.get(c, factors.get("*", 1)) for c in sys_types], dtype=np.float64)
         cols = np.array([codes.index(c) for c in sys_types])[None, :]
         ee, ss = rec_e[sel][:, None], rec_s[sel][:, None]
         data[ee, ss, cols] = values
