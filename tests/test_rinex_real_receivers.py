@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gnssatt.errors import RinexError
 from gnssatt.rinex import read_obs
 from gnssatt.rinex.signals import choose_signals
 
@@ -188,3 +189,20 @@ def test_scale_factor_divides_the_stored_values(tmp_path: Path) -> None:
     assert scaled.get("C1C")[0, scaled.sats.index("G01")] == pytest.approx(20243517.560, rel=1e-15)
     np.testing.assert_allclose(scaled.data, plain.data, rtol=1e-15, atol=0)
     np.testing.assert_array_equal(scaled.lli, plain.lli)
+
+
+def test_observation_types_changed_inside_the_data_are_refused(tmp_path: Path) -> None:
+    """An event (flag 4) whose header records change the GPS observation types: the records after it are
+    laid out otherwise, so reading them with the header's types would put values under wrong codes."""
+    lines = _lines("DUTH0630.22O")
+    second = [i for i, line in enumerate(lines) if line.startswith(">")][1]
+    event = [">                              4  1", f"{'G    4 C1C L1C C2W L2W':<60}SYS / # / OBS TYPES"]
+    path = tmp_path / "types_changed.22O"
+    path.write_text("\n".join(lines[:second] + event + lines[second:]) + "\n")
+    with pytest.raises(RinexError, match=r"line 56: 'SYS / # / OBS TYPES' inside the data \(epoch flag 4"):
+        read_obs(path)
+    # a comment in an event changes nothing: the file reads as the original
+    path.write_text(
+        "\n".join([*lines[:second], event[0], f"{'antenna moved':<60}COMMENT", *lines[second:]]) + "\n"
+    )
+    np.testing.assert_array_equal(read_obs(path).data, read_obs(REAL / "DUTH0630.22O").data)

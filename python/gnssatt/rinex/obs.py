@@ -160,6 +160,9 @@ _SAT_LIST = re.compile(r" {32}(?:[A-Z ][ \d]\d)+ *")
 _FLAG_NAMES = "0 (OK), 1 (power failure), 2-5 (events followed by special records) or 6 (cycle slip records)"
 
 
+#: Header records that change the layout or scaling of the observation records after them.
+_LAYOUT_LABELS = frozenset({"SYS / # / OBS TYPES", "# / TYPES OF OBSERV", "SYS / SCALE FACTOR"})
+
 _SAT_IDS: dict[tuple[str, str | None], str] = {}  # valid tokens seen: a few hundred at most
 
 
@@ -486,8 +489,10 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
 
     Epoch flags are handled as RINEX defines them: 0 and 1 (power failure before the epoch) are observation
     epochs; 2-5 (antenna moving, new occupation, header information, external event) announce that many
-    header records, which are checked to be header records and skipped; 6 announces that many cycle-slip
-    records (observation records repeating an epoch), which are skipped; any other flag is an error.
+    header records, which are checked to be header records and skipped (one that changes the layout of
+    the records after it, ``SYS / # / OBS TYPES``, ``# / TYPES OF OBSERV`` or ``SYS / SCALE FACTOR``, is
+    refused: split the file there); 6 announces that many cycle-slip records (observation records
+    repeating an epoch), which are skipped; any other flag is an error.
 
     Values stored with a RINEX 3 ``SYS / SCALE FACTOR`` (10, 100, 1000) are divided by it.
 
@@ -587,12 +592,23 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
             )
         if 2 <= flag <= 5:
             for j in range(i + 1, i + 1 + n):
-                if lines[j][60:80].strip() not in HEADER_LABELS or lines[j][0:1] == ">":
+                label = lines[j][60:80].strip()
+                if label not in HEADER_LABELS or lines[j][0:1] == ">":
                     raise RinexError(
                         p,
                         lineno,
                         f"epoch flag {flag} announces {n} header records, but line {j + 1} is not one "
                         f"(no header label in columns 61-80)",
+                    )
+                if label in _LAYOUT_LABELS:
+                    # the records after it would be laid out otherwise: reading them with the old
+                    # types (or factors) would put values under wrong codes
+                    raise RinexError(
+                        p,
+                        j + 1,
+                        f"'{label}' inside the data (epoch flag {flag} at line {lineno}) changes how the "
+                        "records after it are laid out, which this reader does not follow: split the file "
+                        "at that epoch with a RINEX tool (gfzrnx -splice, teqc) and read the parts",
                     )
             i += 1 + n
             block = None
