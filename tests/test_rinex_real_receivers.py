@@ -11,12 +11,14 @@ with a :class:`~gnssatt.errors.RinexError` that names it.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from gnssatt.errors import RinexError
+from gnssatt.gnss.attitude import attitude_from_rinex
 from gnssatt.rinex import read_obs
 from gnssatt.rinex.signals import choose_signals
 
@@ -206,3 +208,23 @@ def test_observation_types_changed_inside_the_data_are_refused(tmp_path: Path) -
         "\n".join([*lines[:second], event[0], f"{'antenna moved':<60}COMMENT", *lines[second:]]) + "\n"
     )
     np.testing.assert_array_equal(read_obs(path).data, read_obs(REAL / "DUTH0630.22O").data)
+
+
+@pytest.mark.parametrize(
+    ("files", "nav"),
+    [
+        (["DUTH0630.22O", "NOA10630.22O"], "CBW100NLD_R_20210010000_01D_MN.rnx"),  # 2022 obs, 2021 nav
+        ([ACOR, ACOR], "BRDC00IGS_R_20201360000_01D_MN.rnx"),  # 2021 obs, 2020 nav
+        (["pdel0010.21o", "pdel0010.21o"], "CBW100NLD_R_20210010000_01D_MN.rnx"),  # same day, 16 h off
+    ],
+)
+def test_navigation_of_another_time_is_named(files: list[str], nav: str) -> None:
+    """No navigation file of these days is in the test data: the engine refuses, naming the navigation file,
+    the observation span and the records' span, instead of reporting 'no satellite with an ephemeris'."""
+    with warnings.catch_warnings():
+        warnings.simplefilter(
+            "ignore"
+        )  # a system or epochs one file lacks (named in test_rinex_session_input)
+        with pytest.raises(RinexError, match="no broadcast ephemeris") as err:
+            attitude_from_rinex([REAL / f for f in files], DATA / nav)
+    assert nav in str(err.value) and "expected the navigation file of the observation day" in str(err.value)

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import choice, flag, path_text, scalar, shaped
-from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError
+from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex.nav import RinexNav, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
 
@@ -393,7 +393,9 @@ def attitude_from_rinex(
     Raises
     ------
     RinexError
-        Unreadable files, no common epochs, a file without phase or a system another file lacks.
+        Unreadable files, no common epochs, a file without phase or a system another file lacks; a
+        navigation file with no record of the satellites observed within 6 h of their epochs (of another
+        day), named with both time spans.
     InvalidTypeError
         ``observations`` not a list of files or :class:`RinexObs`, ``nav`` not a :class:`RinexNav`, file
         or list of files, another argument of the wrong kind.
@@ -472,6 +474,7 @@ def attitude_from_rinex(
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
     nv = _as_nav(nav)
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
+    _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)
     s = _core.gnss_run(
         si.time_gpst_ns,
@@ -499,6 +502,47 @@ def attitude_from_rinex(
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)
     return _series(s, si.signal_codes)
+
+
+#: Longest validity of a broadcast record on either side of its reference time, s (BeiDou's 6 h in
+#: ``max_age_s`` of ``rust/core/src/gnss/ephemeris/mod.rs``): beyond it from every epoch, no record can serve.
+_LONGEST_EPHEMERIS_AGE_NS = 6 * 3600 * 1_000_000_000
+
+
+def _check_nav_covers(time_gpst_ns: NDArray[np.int64], sats: tuple[str, ...], nav: RinexNav) -> None:
+    """Refuse, naming the navigation file and both time spans, when no broadcast record of a satellite of
+    the session lies within the longest validity of any epoch (a navigation file of another day): the
+    engine would otherwise report only that no satellite had an ephemeris."""
+    k, g = nav.kepler, nav.glonass
+    wanted = np.array(sats, dtype=str)
+    times = np.concatenate([k.toe_ns[np.isin(k.sats, wanted)], g.tb_ns[np.isin(g.sats, wanted)]]).astype(
+        np.int64
+    )
+    epochs = np.sort(np.asarray(time_gpst_ns, dtype=np.int64))
+    if len(times) and len(epochs):
+        after = np.clip(np.searchsorted(epochs, times), 0, len(epochs) - 1)
+        before = np.clip(after - 1, 0, len(epochs) - 1)
+        nearest = np.minimum(np.abs(times - epochs[after]), np.abs(times - epochs[before]))
+        if nearest.min() <= _LONGEST_EPHEMERIS_AGE_NS:
+            return
+    first, last = (_GPS_EPOCH + np.array([epochs[0], epochs[-1]]).astype("timedelta64[ns]")).astype(
+        "datetime64[s]"
+    )
+    if len(times):
+        lo, hi = (_GPS_EPOCH + np.array([times.min(), times.max()]).astype("timedelta64[ns]")).astype(
+            "datetime64[s]"
+        )
+        span = f"its records of these satellites refer to {lo} to {hi} (GPST)"
+    else:
+        span = "it has no record of any of them"
+    raise RinexError(
+        nav.path,
+        None,
+        f"no broadcast ephemeris for the {len(sats)} satellites observed (systems "
+        f"{''.join(dict.fromkeys(x[0] for x in sats))}) within 6 h of the "
+        f"observation epochs {first} to {last} (GPST); {span}: expected the navigation file of the "
+        "observation day",
+    )
 
 
 def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
