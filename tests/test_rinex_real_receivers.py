@@ -17,8 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gnssatt.data import geonet_dir
 from gnssatt.errors import RinexError
-from gnssatt.gnss.attitude import attitude_from_rinex
+from gnssatt.gnss.attitude import MIN_DIRECTION_BASELINE_M, ZeroBaselineWarning, attitude_from_rinex
 from gnssatt.rinex import read_obs
 from gnssatt.rinex.signals import choose_signals
 
@@ -228,3 +229,18 @@ def test_navigation_of_another_time_is_named(files: list[str], nav: str) -> None
         with pytest.raises(RinexError, match="no broadcast ephemeris") as err:
             attitude_from_rinex([REAL / f for f in files], DATA / nav)
     assert nav in str(err.value) and "expected the navigation file of the observation day" in str(err.value)
+
+
+def test_zero_baseline_is_named_and_has_no_direction() -> None:
+    """The same real file given twice (GEONET 0759 with its own day's navigation file): the baseline is 0,
+    its azimuth and elevation are undefined; they come back NaN with a warning, not as atan2(0, 0) = 0."""
+    folder = geonet_dir()
+    with pytest.warns(ZeroBaselineWarning, match=r"shorter than 0\.01 m at 120 of 120 epochs"):
+        series = attitude_from_rinex(
+            [folder / "07590920.05o", folder / "07590920.05o"], folder / "07590920.05n", systems="G"
+        )
+    assert series.mode == "baseline" and len(series.time) == 120
+    lengths = np.linalg.norm(series.baselines_enu_m[:, 0], axis=1)
+    assert np.all(lengths < MIN_DIRECTION_BASELINE_M)
+    assert np.isnan(series.angles_deg).all() and np.isnan(series.angle_sigmas_deg).all()
+    assert any("shorter than" in w for w in series.warnings)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import csv
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Literal, get_args
 
@@ -36,7 +36,14 @@ from gnssatt.rinex.obs import RinexObs, read_obs
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
-__all__ = ["SYSTEMS", "AttitudeSeries", "EngineWarning", "attitude_from_rinex"]
+__all__ = [
+    "MIN_DIRECTION_BASELINE_M",
+    "SYSTEMS",
+    "AttitudeSeries",
+    "EngineWarning",
+    "ZeroBaselineWarning",
+    "attitude_from_rinex",
+]
 
 MethodName = Literal["auto", "ml", "lambda"]
 MotionName = Literal["static", "moving"]
@@ -55,11 +62,22 @@ SLOT_NAMES = {
 MAX_WINDOW_DEG = 3600.0
 MAX_STEP_DEG = 180.0
 _GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
+#: Baseline mode: a baseline shorter than this, m, has no direction (its azimuth and elevation are NaN, with
+#: a :class:`ZeroBaselineWarning`). Two antennas' phase centres stand at least their diameter (several cm)
+#: apart, and the known-length option takes no length below it either; a solution this short means one
+#: antenna seen twice (the same file, or two receivers on one antenna splitter: a zero-baseline test), where
+#: the fixed baseline is the receivers' noise, mm, and its direction is arbitrary (atan2 of zeros).
+MIN_DIRECTION_BASELINE_M = 0.01
 
 
 class EngineWarning(GnssattWarning):
     """Something the observation engine says a user should know (a base position far from the code
     solution, a system without ephemerides, ...); also kept in :attr:`AttitudeSeries.warnings`."""
+
+
+class ZeroBaselineWarning(EngineWarning):
+    """Baseline mode: the baseline solved is shorter than :data:`MIN_DIRECTION_BASELINE_M` at some epochs,
+    whose azimuth and elevation are therefore NaN (the baseline itself is kept)."""
 
 
 @dataclass(frozen=True)
@@ -390,6 +408,14 @@ def attitude_from_rinex(
     AttitudeSeries
         One row per epoch common to all files.
 
+    Warns
+    -----
+    EngineWarning
+        What the engine says a user should know (also in :attr:`AttitudeSeries.warnings`).
+    ZeroBaselineWarning
+        Baseline mode: the baseline is shorter than :data:`MIN_DIRECTION_BASELINE_M` (one antenna seen
+        twice); azimuth and elevation are NaN at those epochs, the baselines are kept.
+
     Raises
     ------
     RinexError
@@ -501,7 +527,8 @@ def attitude_from_rinex(
     )
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)
-    return _series(s, si.signal_codes)
+    series = _series(s, si.signal_codes)
+    return _undirected(series, [str(o.path) for o in obs])
 
 
 #: Longest validity of a broadcast record on either side of its reference time, s (BeiDou's 6 h in
@@ -543,6 +570,29 @@ def _check_nav_covers(time_gpst_ns: NDArray[np.int64], sats: tuple[str, ...], na
         f"observation epochs {first} to {last} (GPST); {span}: expected the navigation file of the "
         "observation day",
     )
+
+
+def _undirected(series: AttitudeSeries, paths: list[str]) -> AttitudeSeries:
+    """Baseline mode: azimuth and elevation NaN (with a :class:`ZeroBaselineWarning`) where the baseline is
+    shorter than :data:`MIN_DIRECTION_BASELINE_M`, instead of the angles of a vector of noise."""
+    if series.mode != "baseline":
+        return series
+    length = np.linalg.norm(series.baselines_enu_m[:, 0, :], axis=1)
+    short = length < MIN_DIRECTION_BASELINE_M
+    if not short.any():
+        return series
+    message = (
+        f"baseline shorter than {MIN_DIRECTION_BASELINE_M} m at {int(short.sum())} of {len(short)} epochs "
+        f"(longest {float(length[short].max()):.4f} m) between {paths[0]} and {paths[1]}: one antenna seen "
+        "twice (the same file, or a zero-baseline receiver test); azimuth and elevation are undefined there "
+        "and set to NaN, the baselines are kept"
+    )
+    warnings.warn(message, ZeroBaselineWarning, stacklevel=3)
+    angles = series.angles_deg.copy()
+    sigmas = series.angle_sigmas_deg.copy()
+    angles[short] = np.nan
+    sigmas[short] = np.nan
+    return replace(series, angles_deg=angles, angle_sigmas_deg=sigmas, warnings=(*series.warnings, message))
 
 
 def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
