@@ -32,6 +32,9 @@ ACOR = "ACOR00ESP_R_20213550000_01D_30S_MO.rnx"
 QUOTED = {
     ACOR: (3.04, (4594489.8680, -678367.9920, 4357065.8700), "G01", "C1C", 24600158.420,
            {"R01": 1, "R10": -7, "R24": 2}, 18),
+    # excerpt kept by gnss-tec: 4-5 satellites an epoch, an event (flag 4) without a time between them
+    "AJAC_gnss_tec_excerpt.rnx": (3.02, (4696989.7040, 723994.2090, 4239678.3140), "G06", "C1C",
+                                  20835332.939, {"R04": 6, "R06": -4, "R11": 0}, 18),
     "DUTH0630.22O": (3.02, (4362689.8809, 2026647.9686, 4174234.2239), "G01", "C1C", 20243517.560,
                      {"R02": -4, "R15": 0, "R23": 3}, 18),
     "NOA10630.22O": (3.02, (4599643.3185, 2034827.9762, 3909890.7491), "G01", "C1C", 20176608.780, {}, 18),
@@ -69,8 +72,7 @@ def _epochs(lines: list[str]) -> list[tuple[int, list[str]]]:
     out = []
     for i, line in enumerate(lines):
         if line.startswith(">"):
-            words = line[1:].split()
-            flag, n = int(words[6]), int(words[7])
+            flag, n = int(line[31]), int(line[32:35])  # an event may leave the date blank
             if flag in (0, 1):
                 out.append((i, lines[i + 1 : i + 1 + n]))
     return out
@@ -133,7 +135,7 @@ def test_epoch_labels_and_clock_offsets_as_written() -> None:
 
 def test_signals_chosen_per_system() -> None:
     """The slots of a 3.04 mixed file: GPS L2 by RTKLIB's priority (W before S), BeiDou B1I in band 2
-    (RINEX 3.03 on), Galileo E5b in band 7, GLONASS G3 in band 3."""
+    (RINEX 3.03 on), Galileo E5b in band 7, GLONASS G3 in band 3; and B1I of a 3.02 file."""
     obs = read_obs(REAL / ACOR)
     labels = {s: [c.label for c in choose_signals(obs, s)] for s in "GREC"}
     assert labels == {
@@ -142,6 +144,9 @@ def test_signals_chosen_per_system() -> None:
         "E": ["C1C/L1C", "C7Q/L7Q", "C5Q/L5Q"],
         "C": ["C2I/L2I", "C7I/L7I", "C6I/L6I"],
     }
+    # RINEX 3.02 writes B1I in band 1 (C1I), 3.03 on in band 2
+    ajac = read_obs(REAL / "AJAC_gnss_tec_excerpt.rnx")
+    assert [c.label for c in choose_signals(ajac, "C")] == ["C1I/L1I", "C7I/L7I", ""]
 
 
 def test_two_stations_of_one_day_keep_every_common_signal() -> None:
