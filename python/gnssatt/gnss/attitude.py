@@ -21,7 +21,7 @@ from __future__ import annotations
 import csv
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Literal, get_args
 
@@ -29,14 +29,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import choice, flag, path_text, scalar, shaped
-from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError
+from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex.nav import RinexNav, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
 
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
-__all__ = ["SYSTEMS", "AttitudeSeries", "EngineWarning", "attitude_from_rinex"]
+__all__ = [
+    "MIN_DIRECTION_BASELINE_M",
+    "SYSTEMS",
+    "AttitudeSeries",
+    "EngineWarning",
+    "ZeroBaselineWarning",
+    "attitude_from_rinex",
+]
 
 MethodName = Literal["auto", "ml", "lambda"]
 MotionName = Literal["static", "moving"]
@@ -55,11 +62,22 @@ SLOT_NAMES = {
 MAX_WINDOW_DEG = 3600.0
 MAX_STEP_DEG = 180.0
 _GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
+#: Baseline mode: a baseline shorter than this, m, has no direction (its azimuth and elevation are NaN, with
+#: a :class:`ZeroBaselineWarning`). Two antennas' phase centres stand at least their diameter (several cm)
+#: apart, and the known-length option takes no length below it either; a solution this short means one
+#: antenna seen twice (the same file, or two receivers on one antenna splitter: a zero-baseline test), where
+#: the fixed baseline is the receivers' noise, mm, and its direction is arbitrary (atan2 of zeros).
+MIN_DIRECTION_BASELINE_M = 0.01
 
 
 class EngineWarning(GnssattWarning):
     """Something the observation engine says a user should know (a base position far from the code
     solution, a system without ephemerides, ...); also kept in :attr:`AttitudeSeries.warnings`."""
+
+
+class ZeroBaselineWarning(EngineWarning):
+    """Baseline mode: the baseline solved is shorter than :data:`MIN_DIRECTION_BASELINE_M` at some epochs,
+    whose azimuth and elevation are therefore NaN (the baseline itself is kept)."""
 
 
 @dataclass(frozen=True)
@@ -390,10 +408,20 @@ def attitude_from_rinex(
     AttitudeSeries
         One row per epoch common to all files.
 
+    Warns
+    -----
+    EngineWarning
+        What the engine says a user should know (also in :attr:`AttitudeSeries.warnings`).
+    ZeroBaselineWarning
+        Baseline mode: the baseline is shorter than :data:`MIN_DIRECTION_BASELINE_M` (one antenna seen
+        twice); azimuth and elevation are NaN at those epochs, the baselines are kept.
+
     Raises
     ------
     RinexError
-        Unreadable files, no common epochs, a file without phase or a system another file lacks.
+        Unreadable files, no common epochs, a file without phase or a system another file lacks; a
+        navigation file with no record of the satellites observed within 6 h of their epochs (of another
+        day), named with both time spans.
     InvalidTypeError
         ``observations`` not a list of files or :class:`RinexObs`, ``nav`` not a :class:`RinexNav`, file
         or list of files, another argument of the wrong kind.
@@ -472,6 +500,7 @@ def attitude_from_rinex(
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
     nv = _as_nav(nav)
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
+    _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)
     s = _core.gnss_run(
         si.time_gpst_ns,
@@ -498,7 +527,72 @@ def attitude_from_rinex(
     )
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)
-    return _series(s, si.signal_codes)
+    series = _series(s, si.signal_codes)
+    return _undirected(series, [str(o.path) for o in obs])
+
+
+#: Longest validity of a broadcast record on either side of its reference time, s (BeiDou's 6 h in
+#: ``max_age_s`` of ``rust/core/src/gnss/ephemeris/mod.rs``): beyond it from every epoch, no record can serve.
+_LONGEST_EPHEMERIS_AGE_NS = 6 * 3600 * 1_000_000_000
+
+
+def _check_nav_covers(time_gpst_ns: NDArray[np.int64], sats: tuple[str, ...], nav: RinexNav) -> None:
+    """Refuse, naming the navigation file and both time spans, when no broadcast record of a satellite of
+    the session lies within the longest validity of any epoch (a navigation file of another day): the
+    engine would otherwise report only that no satellite had an ephemeris."""
+    k, g = nav.kepler, nav.glonass
+    wanted = np.array(sats, dtype=str)
+    times = np.concatenate([k.toe_ns[np.isin(k.sats, wanted)], g.tb_ns[np.isin(g.sats, wanted)]]).astype(
+        np.int64
+    )
+    epochs = np.sort(np.asarray(time_gpst_ns, dtype=np.int64))
+    if len(times) and len(epochs):
+        after = np.clip(np.searchsorted(epochs, times), 0, len(epochs) - 1)
+        before = np.clip(after - 1, 0, len(epochs) - 1)
+        nearest = np.minimum(np.abs(times - epochs[after]), np.abs(times - epochs[before]))
+        if nearest.min() <= _LONGEST_EPHEMERIS_AGE_NS:
+            return
+    first, last = (_GPS_EPOCH + np.array([epochs[0], epochs[-1]]).astype("timedelta64[ns]")).astype(
+        "datetime64[s]"
+    )
+    if len(times):
+        lo, hi = (_GPS_EPOCH + np.array([times.min(), times.max()]).astype("timedelta64[ns]")).astype(
+            "datetime64[s]"
+        )
+        span = f"its records of these satellites refer to {lo} to {hi} (GPST)"
+    else:
+        span = "it has no record of any of them"
+    raise RinexError(
+        nav.path,
+        None,
+        f"no broadcast ephemeris for the {len(sats)} satellites observed (systems "
+        f"{''.join(dict.fromkeys(x[0] for x in sats))}) within 6 h of the "
+        f"observation epochs {first} to {last} (GPST); {span}: expected the navigation file of the "
+        "observation day",
+    )
+
+
+def _undirected(series: AttitudeSeries, paths: list[str]) -> AttitudeSeries:
+    """Baseline mode: azimuth and elevation NaN (with a :class:`ZeroBaselineWarning`) where the baseline is
+    shorter than :data:`MIN_DIRECTION_BASELINE_M`, instead of the angles of a vector of noise."""
+    if series.mode != "baseline":
+        return series
+    length = np.linalg.norm(series.baselines_enu_m[:, 0, :], axis=1)
+    short = length < MIN_DIRECTION_BASELINE_M
+    if not short.any():
+        return series
+    message = (
+        f"baseline shorter than {MIN_DIRECTION_BASELINE_M} m at {int(short.sum())} of {len(short)} epochs "
+        f"(longest {float(length[short].max()):.4f} m) between {paths[0]} and {paths[1]}: one antenna seen "
+        "twice (the same file, or a zero-baseline receiver test); azimuth and elevation are undefined there "
+        "and set to NaN, the baselines are kept"
+    )
+    warnings.warn(message, ZeroBaselineWarning, stacklevel=3)
+    angles = series.angles_deg.copy()
+    sigmas = series.angle_sigmas_deg.copy()
+    angles[short] = np.nan
+    sigmas[short] = np.nan
+    return replace(series, angles_deg=angles, angle_sigmas_deg=sigmas, warnings=(*series.warnings, message))
 
 
 def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:

@@ -160,6 +160,9 @@ _SAT_LIST = re.compile(r" {32}(?:[A-Z ][ \d]\d)+ *")
 _FLAG_NAMES = "0 (OK), 1 (power failure), 2-5 (events followed by special records) or 6 (cycle slip records)"
 
 
+#: Header records that change the layout or scaling of the observation records after them.
+_LAYOUT_LABELS = frozenset({"SYS / # / OBS TYPES", "# / TYPES OF OBSERV", "SYS / SCALE FACTOR"})
+
 _SAT_IDS: dict[tuple[str, str | None], str] = {}  # valid tokens seen: a few hundred at most
 
 
@@ -204,7 +207,9 @@ def _epoch_line(path: str, lineno: int, line: str, v3: bool) -> tuple[int, int, 
     n = integer(path, lineno, line[n0:n1], "the number of satellites (or special records)")
     if n < 0:
         raise RinexError(path, lineno, f"expected a number of satellites >= 0, got {n}")
-    clk_text = line[c0:c1]
+    # RINEX 3/4: the offset (F15.12, columns 42-56) ends the line; take all after the count so that a
+    # writer one column off (gLAB writes the count as I2) cannot cut the sign from the number
+    clk_text = line[n1:] if v3 else line[c0:c1]
     clk = number(path, lineno, clk_text, "the receiver clock offset") if clk_text.strip() else float("nan")
     date_area = line[dates[0][0] : dates[-1][1]]
     if 2 <= flag <= 5 and not date_area.strip():
@@ -305,6 +310,9 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         "glo": {},
         "leap": None,
     }
+    scale: dict[str, dict[str, int]] = {}
+    scale_last: tuple[str, int, int] | None = None
+    hdr["scale"] = scale
     types2: list[str] = []
     n_types2 = 0
     sys3 = ""
@@ -337,17 +345,15 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         if label == "MARKER NAME":
             hdr["marker"] = line[0:60].strip()
         elif label == "APPROX POSITION XYZ":
-            hdr["pos"] = np.array(
-                [number(path, lineno, line[k : k + 14], "APPROX POSITION") for k in (0, 14, 28)]
-            )
+            hdr["pos"] = _triple(path, lineno, line, "APPROX POSITION XYZ")
         elif label == "ANTENNA: DELTA H/E/N":
-            hdr["delta"] = np.array(
-                [number(path, lineno, line[k : k + 14], "ANTENNA DELTA") for k in (0, 14, 28)]
-            )
+            hdr["delta"] = _triple(path, lineno, line, "ANTENNA: DELTA H/E/N")
         elif label == "INTERVAL":
             hdr["interval"] = number(path, lineno, line[0:10], "INTERVAL")
         elif label == "TIME OF FIRST OBS":
-            ts = line[48:51].strip()
+            # A3 in columns 49-51; some writers (gLAB) put it one column early, so take the word after the
+            # seconds field
+            ts = next((w for w in line[43:60].split() if w.isalpha()), "")
             if ts:
                 hdr["time_system"] = ts
             elif sysletter in "RECJ":
@@ -374,22 +380,90 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
                 raise RinexError(
                     path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}"
                 )
+        elif label == "SYS / SCALE FACTOR" and version >= 3:
+            scale_last = _scale_factor(path, lineno, line, scale, scale_last, types3)
         elif label == "LEAP SECONDS":
             hdr["leap"] = integer(path, lineno, line[0:6], "LEAP SECONDS")
         elif label == "GLONASS SLOT / FRQ #":
             body = line[4:60]
             glo = hdr["glo"]
             assert isinstance(glo, dict)
-            for k in range(0, len(body) - 6, 7):
-                sat, frq = body[k : k + 3].strip(), body[k + 4 : k + 6].strip()
-                if sat and frq:
-                    glo[sat] = integer(path, lineno, frq, "a GLONASS channel")
+            # 8(A1,I2.2,1X,I2,1X) by the format; writers also omit the blank after a channel ("R11 -5R19
+            # +3"), so the pairs are taken as tokens rather than by column
+            rest = body
+            for m in _GLO_PAIR.finditer(body):
+                sat = _sat_id(path, lineno, m.group(1), "R")
+                glo[sat] = integer(path, lineno, m.group(2).replace(" ", ""), "a GLONASS channel")
+                rest = rest.replace(m.group(0), " " * len(m.group(0)), 1)
+            if rest.strip():
+                raise RinexError(
+                    path,
+                    lineno,
+                    f"expected GLONASS slot / channel pairs such as 'R01  1', got {body.strip()!r}",
+                )
     raise RinexError(
         path,
         min(last_known + 1, len(lines)),
         "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
         "label (file truncated in the header?)",
     )
+
+
+def _scale_factor(
+    path: str,
+    lineno: int,
+    line: str,
+    scale: dict[str, dict[str, int]],
+    last: tuple[str, int, int] | None,
+    types3: dict[str, list[str]],
+) -> tuple[str, int, int]:
+    """One ``SYS / SCALE FACTOR`` line (A1,1X,I4,2X,I2,12(1X,A3); continuation lines 10X,12(1X,A3)) into
+    ``scale[system]``, code -> factor (``"*"``: every code of the system); returns (system, factor, count)
+    for a continuation line.
+
+    RINEX 3: the stored observations are the values times the factor (1, 10, 100 or 1000), so a reader
+    that ignores the record returns them that many times too large.
+    """
+    if line[0:1].strip():
+        system = line[0]
+        if system not in _SYSTEMS:
+            raise RinexError(path, lineno, f"expected a satellite system letter in column 1, got {system!r}")
+        factor = integer(path, lineno, line[2:6], "the scale factor")
+        if factor not in (1, 10, 100, 1000):
+            raise RinexError(path, lineno, f"expected a scale factor of 1, 10, 100 or 1000, got {factor}")
+        text = line[8:10]
+        count = integer(path, lineno, text, "the number of observation types") if text.strip() else 0
+    elif last is not None:
+        system, factor, count = last
+    else:
+        raise RinexError(path, lineno, "continuation of 'SYS / SCALE FACTOR' without a system")
+    per_system = scale.setdefault(system, {})
+    if count == 0:  # blank: every observation type of the system
+        per_system["*"] = factor
+    # a code the system's types line lacks has no values to scale (gLAB's example lists D1C, S2D, ...)
+    per_system.update({c: factor for c in line[10:60].split() if c in types3.get(system, [])})
+    return system, factor, count
+
+
+#: One ``GLONASS SLOT / FRQ #`` pair: satellite (blank system letter allowed) and channel (sign may be apart).
+_GLO_PAIR = re.compile(r"([R ][ \d]\d) *([+-]? *\d{1,2})(?!\d)")
+
+
+def _triple(path: str, lineno: int, line: str, what: str) -> NDArray[np.float64]:
+    """The three numbers of a 3F14.4 header line (columns 1-42).
+
+    By the format each number fills 14 columns; writers that widen the fields (gLAB writes F15.4) shift
+    them, so when the columns do not hold numbers the three blank-separated words of columns 1-60 are taken.
+    """
+    try:
+        return np.array([number(path, lineno, line[k : k + 14], what) for k in (0, 14, 28)])
+    except RinexError:
+        words = line[0:60].split()
+        if len(words) != 3:
+            raise RinexError(
+                path, lineno, f"expected three numbers for {what}, got {line[0:60].strip()!r}"
+            ) from None
+        return np.array([number(path, lineno, w, what) for w in words])
 
 
 def _codes(path: str, lineno: int, text: str, before: list[str], length: int) -> list[str]:
@@ -415,8 +489,12 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
 
     Epoch flags are handled as RINEX defines them: 0 and 1 (power failure before the epoch) are observation
     epochs; 2-5 (antenna moving, new occupation, header information, external event) announce that many
-    header records, which are checked to be header records and skipped; 6 announces that many cycle-slip
-    records (observation records repeating an epoch), which are skipped; any other flag is an error.
+    header records, which are checked to be header records and skipped (one that changes the layout of
+    the records after it, ``SYS / # / OBS TYPES``, ``# / TYPES OF OBSERV`` or ``SYS / SCALE FACTOR``, is
+    refused: split the file there); 6 announces that many cycle-slip records (observation records
+    repeating an epoch), which are skipped; any other flag is an error.
+
+    Values stored with a RINEX 3 ``SYS / SCALE FACTOR`` (10, 100, 1000) are divided by it.
 
     Duplicated epochs are refused, with no option to merge them: a repeated label comes from concatenated
     files or a corrupted clock label, and any silent choice (first, last, union) can pair wrong data. Merge
@@ -468,6 +546,7 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
 
 def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
     hdr, i = _parse_header(p, lines)
+    scales: dict[str, dict[str, int]] = hdr["scale"]  # type: ignore[assignment]
     version = float(hdr["version"])  # type: ignore[arg-type]
     types: dict[str, tuple[str, ...]] = hdr["types"]  # type: ignore[assignment]
     default_sys = str(hdr["system"]) if hdr["system"] != "M" else "G"
@@ -513,12 +592,23 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
             )
         if 2 <= flag <= 5:
             for j in range(i + 1, i + 1 + n):
-                if lines[j][60:80].strip() not in HEADER_LABELS or lines[j][0:1] == ">":
+                label = lines[j][60:80].strip()
+                if label not in HEADER_LABELS or lines[j][0:1] == ">":
                     raise RinexError(
                         p,
                         lineno,
                         f"epoch flag {flag} announces {n} header records, but line {j + 1} is not one "
                         f"(no header label in columns 61-80)",
+                    )
+                if label in _LAYOUT_LABELS:
+                    # the records after it would be laid out otherwise: reading them with the old
+                    # types (or factors) would put values under wrong codes
+                    raise RinexError(
+                        p,
+                        j + 1,
+                        f"'{label}' inside the data (epoch flag {flag} at line {lineno}) changes how the "
+                        "records after it are laid out, which this reader does not follow: split the file "
+                        "at that epoch with a RINEX tool (gfzrnx -splice, teqc) and read the parts",
                     )
             i += 1 + n
             block = None
@@ -636,6 +726,9 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
             np.arange(nt)[None, :] // 5 if key == "*" else np.zeros((1, nt), np.int64)
         )
         values, l_flags, s_flags = _convert(p, texts, nt, line_of)
+        factors = scales.get(key, {})
+        if factors:
+            values /= np.array([factors.get(c, factors.get("*", 1)) for c in sys_types], dtype=np.float64)
         cols = np.array([codes.index(c) for c in sys_types])[None, :]
         ee, ss = rec_e[sel][:, None], rec_s[sel][:, None]
         data[ee, ss, cols] = values
