@@ -61,6 +61,32 @@ impl Observations {
         (epoch * self.sats.len() + sat) * MAX_FREQUENCIES + slot
     }
 
+    /// The epochs `range` of the session (every receiver, every satellite), a copy.
+    ///
+    /// # Panics
+    /// When `range` reaches past the last epoch (a caller's defect).
+    pub fn epochs(&self, range: std::ops::Range<usize>) -> Observations {
+        let cells = self.sats.len() * MAX_FREQUENCIES;
+        let (a, b) = (range.start * cells, range.end * cells);
+        Observations {
+            time_gpst_ns: self.time_gpst_ns[range].to_vec(),
+            sats: self.sats.clone(),
+            glonass_channel: self.glonass_channel.clone(),
+            receivers: self
+                .receivers
+                .iter()
+                .map(|r| ReceiverObservations {
+                    code_m: r.code_m[a..b].to_vec(),
+                    phase_cycles: r.phase_cycles[a..b].to_vec(),
+                    doppler_hz: r.doppler_hz[a..b].to_vec(),
+                    snr_dbhz: r.snr_dbhz[a..b].to_vec(),
+                    lli: r.lli[a..b].to_vec(),
+                    approx_position_m: r.approx_position_m,
+                })
+                .collect(),
+        }
+    }
+
     /// Carrier frequency of satellite `sat` (index) in `slot`, Hz, if that signal exists.
     pub fn frequency_hz(&self, sat: usize, slot: usize) -> Option<f64> {
         let id = self.sats[sat];

@@ -2,7 +2,7 @@
 
 use super::navdata::NavData;
 use super::observations::Observations;
-use super::options::EngineOptions;
+use super::options::{EngineOptions, Method, Motion};
 use super::solution::SessionSolution;
 use super::stream::Engine;
 use crate::error::{Error, Result};
@@ -32,6 +32,9 @@ pub fn run(obs: &Observations, nav: &NavData, opts: &EngineOptions) -> Result<Se
         obs.glonass_channel.clone(),
         obs.receivers.len(),
     )?;
+    if opts.motion == Motion::Moving {
+        calibrate(&mut engine, obs, nav, opts)?;
+    }
     let epochs = engine.process(obs)?;
     if engine.usable_signals() == 0 {
         let systems: String = opts.systems.iter().map(|s| s.letter()).collect();
@@ -59,4 +62,45 @@ pub fn run(obs: &Observations, nav: &NavData, opts: &EngineOptions) -> Result<Se
         warnings,
         code_sigma_scale: engine.code_sigma_scale(),
     })
+}
+
+/// Calibrates `engine`'s code noise scale on the first epochs of the session before it processes any.
+///
+/// A streaming engine learns the receivers' code noise from the epochs it has solved
+/// ([`super::stream::CODE_SCALE_MIN_DOF`] residual degrees of freedom: about 17 epochs of GPS L1 with 7
+/// satellites), so its first epochs are gated with the uncalibrated model: too pessimistic for a quiet
+/// receiver (a known-length fix refused), too optimistic for a noisy one (a success rate overstated). A
+/// session has all its epochs at hand: a probe engine (baseline mode, LAMBDA float, no length or array
+/// constraint: the float residuals do not depend on them) solves epochs from the first until the
+/// estimate stands, and the engine starts from it. Each epoch is still solved from its own observations.
+fn calibrate(
+    engine: &mut Engine,
+    obs: &Observations,
+    nav: &NavData,
+    opts: &EngineOptions,
+) -> Result<()> {
+    let probe_opts = EngineOptions {
+        method: Method::Lambda,
+        continuity: false,
+        body_baselines_m: Vec::new(),
+        baseline_lengths_m: Vec::new(),
+        ..opts.clone()
+    };
+    let mut probe = Engine::new(
+        nav,
+        probe_opts,
+        obs.sats.clone(),
+        obs.glonass_channel.clone(),
+        obs.receivers.len(),
+    )?;
+    // Blocks that grow geometrically: few calls where one epoch has enough residuals (many signals),
+    // little work past the point where the estimate stands.
+    let (mut start, mut block) = (0, 1);
+    while start < obs.n_epochs() && !probe.code_scale_calibrated() {
+        let end = (start + block).min(obs.n_epochs());
+        probe.process(&obs.epochs(start..end))?;
+        (start, block) = (end, block * 2);
+    }
+    engine.calibrate_code_scale(&probe);
+    Ok(())
 }

@@ -361,6 +361,19 @@ impl Engine {
             .collect()
     }
 
+    /// Whether every rover's code noise scale has its [`CODE_SCALE_MIN_DOF`] degrees of freedom.
+    pub fn code_scale_calibrated(&self) -> bool {
+        self.code_scale.iter().all(|c| c.estimate().is_some())
+    }
+
+    /// Starts this engine's code noise scale from `other`'s residuals (an engine of the same receivers
+    /// that processed the first epochs of the session: see [`crate::gnss::session::run`]).
+    pub fn calibrate_code_scale(&mut self, other: &Engine) {
+        if other.code_scale.len() == self.code_scale.len() {
+            self.code_scale.clone_from(&other.code_scale);
+        }
+    }
+
     /// Signals (satellite and slot pairs at base and rover) selected so far over every epoch.
     pub fn usable_signals(&self) -> u64 {
         self.usable_signals
