@@ -871,8 +871,9 @@ def fit_rotation(
         Relative spread, >= 0, at which a run also stops: once every member's objective lies within
         ``settle`` times the best one's (``max - min <= settle * min``) the population has gathered in
         one basin, and the polish (``polish=True``) finishes the minimum faster than further
-        generations. ``0`` leaves the paper's rule alone. The default 0.003 cut the objective
-        evaluations of the 400-trial study by about a quarter
+        generations. ``0`` leaves the paper's rule alone. With the default 0.003 (and the looser
+        Nelder-Mead windows of a horizon restart) trials 60-251 of the 400-trial study took 33,400
+        objective evaluations instead of 42,500, with every attitude error within 0.1 deg of the former
         (``docs/results/visibility-rotation-timing.md``).
     maxiter
         Generation cap per run.
