@@ -199,3 +199,54 @@ def test_restart_arguments_are_checked() -> None:
         tumble.noise_cost_threshold(10, 5.0, 1.0)
     with pytest.raises(InvalidInputError, match="n_epochs"):
         tumble.noise_cost_threshold(0, 5.0)
+
+
+def _noisy_short_case() -> tuple[np.ndarray, np.ndarray]:
+    """Axes of TRUTH every 10 s over 300 s, tilted by 5 deg (per component) of seeded noise."""
+    t = np.arange(0.0, 301.0, 10.0)
+    axes = tumble.propagate_axes(TRUTH, t, MODEL)
+    axes = axes + np.random.default_rng(7).normal(0.0, np.radians(5.0), axes.shape)
+    return t, axes
+
+
+def test_settle_stops_a_run_once_the_population_lies_within_the_tolerance() -> None:
+    t, axes = _noisy_short_case()
+    kw = {"rng": 3, "popsize": 5, "polish": False}
+    # Any population lies within a relative spread of 1e9 of its best: the run ends after the first
+    # generation, which the paper's rule (20 generations of a still mean) cannot do.
+    early = tumble.fit_rotation(t, axes, MODEL, settle=1e9, **kw)
+    assert early.stopped_by == "settled" and early.nit == 1
+    # settle = 0 is the paper's rule alone; a tolerance no population reaches before it must not change
+    # the run at all.
+    paper = tumble.fit_rotation(t, axes, MODEL, settle=0.0, **kw)
+    tiny = tumble.fit_rotation(t, axes, MODEL, settle=1e-14, **kw)
+    assert paper.stopped_by == "paper" and paper.nit > 20
+    assert tiny.stopped_by == "paper" and tiny.nit == paper.nit
+    np.testing.assert_array_equal(tiny.params, paper.params)
+
+
+def test_settle_is_checked_by_name() -> None:
+    t, axes = _noisy_short_case()
+    with pytest.raises(InvalidInputError, match="settle"):
+        tumble.fit_rotation(t, axes, MODEL, settle=-0.1)
+
+
+def test_batched_gradient_is_scipys_forward_difference() -> None:
+    from scipy.optimize import approx_fprime
+
+    t, axes = _noisy_short_case()
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    obj = tumble._Objective(t, axes, MODEL, 1.0)
+    x = TRUTH + np.array([0.1, -0.05, 0.2, 1e-3, -1e-3, 5e-4])
+    w = 0.05
+    lower, upper = np.r_[[-np.inf] * 3, [-w] * 3], np.r_[[np.inf] * 3, [w] * 3]
+    f, g = obj.value_and_gradient(x, lower, upper)
+    assert f == obj(x) and obj.nfev == 8  # seven states in one call, then one
+    # scipy's forward difference with L-BFGS-B's absolute step, one state per call.
+    np.testing.assert_allclose(g, approx_fprime(x, obj, 1e-8), rtol=1e-12, atol=0.0)
+    # On the upper rate bound the step goes backwards, as scipy's bounded difference does.
+    x[4] = w
+    _, g = obj.value_and_gradient(x, lower, upper)
+    back = x.copy()
+    back[4] = w - 1e-8
+    assert g[4] == (obj(x) - obj(back)) / (x[4] - back[4])

@@ -559,7 +559,8 @@ class RotationFit:
         Differential-evolution generations, all runs together.
     stopped_by
         How the best run (its first window for a "horizon" restart) stopped: ``"paper"`` (population-mean
-        objective changed by less than ``tol_abs``), ``"maxiter"`` or ``"scipy"`` (scipy's own test).
+        objective changed by less than ``tol_abs``), ``"settled"`` (population within ``settle``),
+        ``"maxiter"`` or ``"scipy"`` (scipy's own test).
     residual_rms_deg
         RMS angle between fitted and measured axes, degrees.
     attempt_params, attempt_costs
@@ -630,7 +631,34 @@ class _Objective:
             self.means.append(float(np.mean(self.population)))
         return cost if x.ndim == 2 else cost[0]
 
+    def value_and_gradient(
+        self, x: NDArray[np.float64], lower: NDArray[np.float64], upper: NDArray[np.float64]
+    ) -> tuple[float, NDArray[np.float64]]:
+        """Objective at ``x`` (6,) and its forward-difference gradient, the seven states in one core call
+        (two packs of four lanes instead of seven one-state calls).
 
+        The steps are those of scipy's L-BFGS-B without a ``jac`` (``approx_derivative``, ``2-point``,
+        absolute step ``eps = 1e-8``; ``sqrt(eps_f64) * sign(x) * max(1, |x|)`` where ``x + 1e-8 == x``),
+        reversed where they would leave ``[lower, upper]``, the difference divided by the step as
+        represented: L-BFGS-B takes the same path as with its own finite differences.
+        """
+        rel = math.sqrt(np.finfo(np.float64).eps) * np.where(x >= 0, 1.0, -1.0) * np.maximum(1.0, np.abs(x))
+        h = np.where((x + LBFGSB_EPS) - x == 0, rel, LBFGSB_EPS)
+        ahead = x + h
+        flip = ((ahead < lower) | (ahead > upper)) & (np.abs(h) <= np.maximum(x - lower, upper - x))
+        h = np.where(flip, -h, h)
+        steps = np.diag(h)
+        points = np.vstack([x, x + steps])
+        batch = np.ascontiguousarray(points)
+        cost = _core.tumble_cost(batch, self.t, self.measured, self.kwargs, step_s=self.step_s)
+        cost = np.where(np.isfinite(cost), cost, np.inf)
+        self.nfev += len(batch)
+        dx = np.diagonal(points[1:]) - x
+        return float(cost[0]), (cost[1:] - cost[0]) / dx
+
+
+# scipy's default absolute finite-difference step of L-BFGS-B (its ``eps`` option).
+LBFGSB_EPS = 1e-8
 # Restart k of the "horizon" kind fits the first HORIZON_FRACTIONS[(k - 1) % 3] of the span by differential
 # evolution, then refines over windows doubling up to the whole span.
 HORIZON_FRACTIONS = (0.1, 0.2, 0.05)
@@ -655,6 +683,7 @@ class _DeOptions(TypedDict):
     strategy: str
     tol_abs: float
     patience: int
+    settle: float
     maxiter: int
     polish: bool
 
@@ -662,13 +691,19 @@ class _DeOptions(TypedDict):
 def _de_run(
     obj: _Objective, bounds: list[tuple[float, float]], seed: Any, opts: _DeOptions
 ) -> tuple[NDArray[np.float64], float, int, str]:
-    """One differential-evolution run with the paper's stopping rule, unpolished: (x, cost, generations,
-    stopped_by)."""
+    """One differential-evolution run with the paper's stopping rule, or stopped once the population has
+    settled (``opts["settle"]``), unpolished: (x, cost, generations, stopped_by)."""
     obj.population, obj.means = None, []
     stopped = {"by": "maxiter"}
-    tol_abs, patience = opts["tol_abs"], opts["patience"]
+    tol_abs, patience, settle = opts["tol_abs"], opts["patience"], opts["settle"]
 
     def callback(intermediate_result: Any) -> None:
+        pop = obj.population
+        # Every member within `settle` of the best: the population has gathered in one basin, where the
+        # polish finishes faster than further generations (which only shrink the spread).
+        if settle > 0 and pop is not None and np.max(pop) - np.min(pop) <= settle * np.min(pop):
+            stopped["by"] = "settled"
+            raise StopIteration
         recent = np.abs(np.diff(obj.means[-(patience + 1) :]))
         if len(recent) >= patience and np.all(recent < tol_abs):
             stopped["by"] = "paper"
@@ -716,7 +751,11 @@ def _horizon_run(
         end = t[0] + 2 * (t[n - 1] - t[0])
         n = max(int(np.searchsorted(t, end, side="right")), min(2 * n, t.size))
         part = _Objective(t[:n], m[:n], obj.model, obj.step_s)
-        res = minimize(part, x, method="Nelder-Mead", options={"maxfev": 4000, "xatol": 1e-8, "fatol": 1e-7})
+        # A window short of the whole span only has to hand the next one a start in its basin: its
+        # simplex stops at 1e-4 in the objective instead of the last window's 1e-7.
+        tight = n >= t.size
+        options = {"maxfev": 4000, "xatol": 1e-8 if tight else 1e-6, "fatol": 1e-7 if tight else 1e-4}
+        res = minimize(part, x, method="Nelder-Mead", options=options)
         obj.nfev += part.nfev
         x = np.asarray(res.x, dtype=np.float64)
     return x, nit, stopped
@@ -734,7 +773,13 @@ def _polished(
     if polish:
         rates = np.clip(x[3:], -max_rate, max_rate)
         bounds = [(None, None)] * 3 + [(-max_rate, max_rate)] * 3
-        res = minimize(obj, np.r_[x[:3], rates], method="L-BFGS-B", bounds=bounds)
+        lower = np.r_[[-np.inf] * 3, [-max_rate] * 3]
+        upper = -lower
+
+        def fun(p: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
+            return obj.value_and_gradient(np.asarray(p, dtype=np.float64), lower, upper)
+
+        res = minimize(fun, np.r_[x[:3], rates], method="L-BFGS-B", jac=True, bounds=bounds)
         if np.isfinite(res.fun) and res.fun <= float(obj(x)):
             x = np.asarray(res.x, dtype=np.float64)
     x = _canonical(x)
@@ -759,6 +804,7 @@ def fit_rotation(
     strategy: str = "best1bin",
     tol_abs: float = 1e-3,
     patience: int = 20,
+    settle: float = 0.003,
     maxiter: int = 1000,
     max_rate_rad_s: float = MAX_RATE_RAD_S,
     polish: bool = True,
@@ -799,7 +845,9 @@ def fit_rotation(
         ``"horizon"`` (default): each restart runs differential evolution (same settings, next seed) on
         the first 10, 20 or 5 % of the span only, where the global basin is wide, then refines by
         Nelder-Mead over windows doubling up to the whole span. ``"fresh"``: each restart repeats the
-        first run with the next seed (it tends to fall into the same wrong minimum).
+        first run with the next seed (it tends to fall into the same wrong minimum). The Nelder-Mead
+        simplex of a window short of the whole span stops at 1e-4 in the objective (the last window's at
+        1e-7): it only has to start the next window in its basin.
     false_restart
         Probability that a fit at the global minimum is restarted all the same (the threshold's tail).
     popsize, mutation, recombination
@@ -819,13 +867,22 @@ def fit_rotation(
     patience
         Consecutive generations over which the ``tol_abs`` rule must hold, 1 <= patience <=
         ``MAX_GENERATIONS``.
+    settle
+        Relative spread, >= 0, at which a run also stops: once every member's objective lies within
+        ``settle`` times the best one's (``max - min <= settle * min``) the population has gathered in
+        one basin, and the polish (``polish=True``) finishes the minimum faster than further
+        generations. ``0`` leaves the paper's rule alone. With the default 0.003 (and the looser
+        Nelder-Mead windows of a horizon restart) trials 60-251 of the 400-trial study took 33,400
+        objective evaluations instead of 42,500, with every attitude error within 0.1 deg of the former
+        (``docs/results/visibility-rotation-timing.md``).
     maxiter
         Generation cap per run.
     max_rate_rad_s
         Search box for each rate component, rad/s (3 deg/s: the paper's bound); angles span
         ``psi, phi in [0, 2 pi]``, ``alpha in [0, pi]``.
     polish
-        Finish each run with an L-BFGS-B refinement of its best state on the objective at ``step_s``.
+        Finish each run with an L-BFGS-B refinement of its best state on the objective at ``step_s``
+        (forward-difference gradient, its seven states in one core call).
     step_s
         RK4 step of the objective that is minimised and reported (``cost``, the threshold test), s.
     search_step_s
@@ -850,7 +907,7 @@ def fit_rotation(
         Fewer than 3 epochs, shapes that disagree, non-finite or zero axes, non-increasing times, a
         non-positive ``axis_sigma_deg``, a negative ``max_restarts``, ``min_restarts`` outside
         ``[0, max_restarts]``, optimiser settings out of range (``recombination`` in [0, 1], ``mutation``
-        in [0, 2), ``tol_abs`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and ``step_s`` or
+        in [0, 2), ``tol_abs`` >= 0, ``settle`` >= 0, ``max_rate_rad_s`` > 0), a rate bound and ``step_s`` or
         ``search_step_s`` that turn the body by more than ``MAX_ROTATION_PER_STEP_RAD`` per step.
     WorkLimitError
         ``popsize`` above ``MAX_POPSIZE`` (1000), ``maxiter`` or ``patience`` above ``MAX_GENERATIONS``
@@ -932,6 +989,7 @@ def fit_rotation(
         "strategy": strategy,
         "tol_abs": scalar("tol_abs", tol_abs, minimum=0.0),
         "patience": integer("patience", patience, minimum=1, maximum=MAX_GENERATIONS),
+        "settle": scalar("settle", settle, minimum=0.0),
         "maxiter": integer("maxiter", maxiter, minimum=1, maximum=MAX_GENERATIONS),
         "polish": polish,
     }

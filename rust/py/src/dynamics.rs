@@ -10,7 +10,36 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReado
 use pyo3::prelude::*;
 
 use crate::convert::{fixed, rows, values};
+use crate::errors::IntoPyResult;
 use crate::interruptible;
+
+/// Calls of at most this many RK4 steps (all rows together; about 60 ms of one core) run on the calling
+/// thread, the interpreter released: [`interruptible::run`] starts a thread per call and waits for it in
+/// slices, which costs more than the work for the one-state calls of a local search (a Nelder-Mead or
+/// L-BFGS-B step, some 0.1 ms of work) and, on a loaded machine, a scheduler wake-up per call. Ctrl-C is
+/// then handled when the call returns, within the same 60 ms.
+const DIRECT_RK4_STEPS: f64 = 1e6;
+
+/// Runs `work` directly when its `steps` (RK4 steps, all rows) are few, else interruptibly.
+fn run_core<T: Send>(
+    py: Python<'_>,
+    steps: f64,
+    work: impl FnOnce() -> gnssatt_core::Result<T> + Send,
+) -> PyResult<T> {
+    if steps <= DIRECT_RK4_STEPS {
+        py.detach(work).into_py_result(py)
+    } else {
+        interruptible::run(py, work)
+    }
+}
+
+/// RK4 steps of `rows` trajectories to the last of `t` in steps of `step_s` (an upper bound of the core's
+/// count, which the core checks; non-finite for invalid input, which then takes the interruptible path
+/// and fails there).
+fn rk4_steps(rows: usize, t: &[f64], step_s: f64) -> f64 {
+    let end = t.last().copied().unwrap_or(0.0);
+    rows as f64 * ((end / step_s).ceil() + 1.0)
+}
 
 /// The model parameters, passed as one dict (`gnssatt.attitude.dynamics.TumbleModel._kwargs()`), SI units.
 #[derive(FromPyObject)]
@@ -56,7 +85,9 @@ fn tumble_axes<'py>(
     let m = TumbleModel::from(model);
     let b = rows::<6>(py, "params", &params, None, false)?;
     let t = values(py, "t", &times_s)?;
-    let axes = interruptible::run(py, || propagate_axes_batch(&m, &b, &t, step_s))?;
+    let axes = run_core(py, rk4_steps(b.len(), &t, step_s), || {
+        propagate_axes_batch(&m, &b, &t, step_s)
+    })?;
     let out = Array3::from_shape_fn((b.len(), t.len(), 3), |(i, k, j)| axes[i][k][j]);
     Ok(out.into_pyarray(py))
 }
@@ -76,7 +107,9 @@ fn tumble_cost<'py>(
     let b = rows::<6>(py, "params", &params, None, false)?;
     let t = values(py, "t", &times_s)?;
     let meas = rows::<3>(py, "measured_axes", &measured, None, false)?;
-    let cost = interruptible::run(py, || axis_cost_batch(&m, &b, &t, &meas, step_s))?;
+    let cost = run_core(py, rk4_steps(b.len(), &t, step_s), || {
+        axis_cost_batch(&m, &b, &t, &meas, step_s)
+    })?;
     Ok(cost.into_pyarray(py))
 }
 
@@ -95,7 +128,9 @@ fn tumble_states<'py>(
     let b = fixed::<6>(py, "params", &param)?;
     let s0 = State::from_angles([b[0], b[1], b[2]], [b[3], b[4], b[5]]);
     let t = values(py, "t", &times_s)?;
-    let states = interruptible::run(py, || propagate(&m, s0, &t, step_s))?;
+    let states = run_core(py, rk4_steps(1, &t, step_s), || {
+        propagate(&m, s0, &t, step_s)
+    })?;
     let out = Array2::from_shape_fn((t.len(), 7), |(k, j)| {
         let s = &states[k];
         match j {
