@@ -33,7 +33,7 @@ def _arrays(n_rx: int = N_RX, n_ep: int = N_EP, n_sat: int = len(SATS)) -> dict[
 def _run(options: dict[str, Any] | None = None, **replace: Any) -> Any:
     a = _arrays()
     a.update(replace)
-    return _core.gnss_run(*a.values(), {}, {}, None, None, _core.GnssOptions(**(options or {})))
+    return _core.gnss_run(*a.values(), _core.Navigation(), _core.GnssOptions(**(options or {})))
 
 
 @pytest.mark.parametrize(
@@ -62,7 +62,7 @@ def test_malformed_observations_are_named(replace: dict[str, Any], says: str) ->
 def test_one_receiver_is_refused() -> None:
     a = _arrays(n_rx=1)
     with pytest.raises(InvalidInputError, match="two or more receivers, got 1"):
-        _core.gnss_run(*a.values(), {}, {}, None, None)
+        _core.gnss_run(*a.values(), _core.Navigation())
 
 
 @pytest.mark.parametrize(
@@ -93,10 +93,10 @@ def test_bad_options_name_the_option(options: dict[str, Any], says: str) -> None
 
 def test_engine_checks_its_arrays_against_the_constructor() -> None:
     with pytest.raises(InvalidInputError, match="n_receivers >= 2, got 1"):
-        _core.GnssEngine(SATS, np.array([99, -3, 99]), 1, {}, {}, None, None)
+        _core.GnssEngine(SATS, np.array([99, -3, 99]), 1, _core.Navigation())
     with pytest.raises(InvalidInputError, match="--frequencies"):
         _core.GnssEngine(
-            SATS, np.array([99, -3, 99]), 2, {}, {}, None, None, _core.GnssOptions(frequencies=5)
+            SATS, np.array([99, -3, 99]), 2, _core.Navigation(), _core.GnssOptions(frequencies=5)
         )
 
 
@@ -122,17 +122,17 @@ def test_streaming_is_the_session_call_in_pieces() -> None:
     opts: dict[str, Any] = {"systems": "G", "frequencies": 2, "motion": "moving", "continuity": True}
     opts["method"] = "lambda"
     per_epoch = (si.code_m, si.phase_cycles, si.doppler_hz, si.snr_dbhz, si.lli)
-    nav_args = (ni.kepler, ni.glonass, ni.klobuchar, ni.leap_seconds)
+    navigation = ni.navigation()
     whole = _core.gnss_run(
         si.time_gpst_ns,
         list(si.sats),
         si.glonass_channel,
         *per_epoch,
         si.approx_position_m,
-        *nav_args,
+        navigation,
         _core.GnssOptions(**opts),
     )
-    engine = _core.GnssEngine(list(si.sats), si.glonass_channel, 2, *nav_args, _core.GnssOptions(**opts))
+    engine = _core.GnssEngine(list(si.sats), si.glonass_channel, 2, navigation, _core.GnssOptions(**opts))
     parts = [
         engine.process(si.time_gpst_ns[a:b], *(x[:, a:b] for x in per_epoch), si.approx_position_m)
         for a, b in ((0, 50), (50, len(si.time_gpst_ns)))
@@ -161,7 +161,7 @@ def test_the_size_limit_is_checked_before_any_copy() -> None:
         lli=np.broadcast_to(np.uint8(0), (2, n_ep, 3, 3)),
     )
     with pytest.raises(WorkLimitError, match="observations"):
-        _core.gnss_run(*a.values(), {}, {}, None, None)
+        _core.gnss_run(*a.values(), _core.Navigation())
 
 
 def test_options_are_checked_when_made_and_shown() -> None:

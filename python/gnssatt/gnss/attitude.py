@@ -512,10 +512,7 @@ def attitude_from_rinex(
         si.snr_dbhz,
         si.lli,
         si.approx_position_m,
-        ni.kepler,
-        ni.glonass,
-        ni.klobuchar,
-        ni.leap_seconds,
+        ni.navigation(),
         _core.GnssOptions(
             systems=systems,
             frequencies=n_freq,

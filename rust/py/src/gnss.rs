@@ -1,13 +1,12 @@
 //! Bindings of the observation engine (`gnssatt_core::gnss`): `gnss_run` processes a whole session in one
 //! GIL-released call, `GnssEngine.process` the same engine a block of epochs at a time (state carried
-//! between calls). Inputs are the arrays of `gnssatt.gnss.session_input.SessionInput` and `NavInput`
-//! (navigation dictionaries converted by `gnss_nav_input::nav_from_py`); results are a frozen
+//! between calls). Inputs are the arrays of `gnssatt.gnss.session_input.SessionInput` and a
+//! [`Navigation`] (`gnss_nav_input.rs`: the navigation records converted once); results are a frozen
 //! [`GnssSession`] of per-epoch numpy arrays (`gnss_session.rs`). Options come as one checked
 //! [`GnssOptions`] (`gnss_options.rs`; `None`: the engine's defaults).
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use gnssatt_core::gnss::navdata::NavData;
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations, MAX_OBSERVATION_CELLS};
 use gnssatt_core::gnss::options::EngineOptions;
 use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
@@ -16,11 +15,10 @@ use gnssatt_core::gnss::{session, stream};
 use gnssatt_core::Error;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray4};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 use crate::convert::{exact, shape_error};
 use crate::errors::{internal_error, invalid_input, IntoPyResult};
-use crate::gnss_nav_input::nav_from_py;
+use crate::gnss_nav_input::Navigation;
 use crate::gnss_options::{engine_options, GnssOptions};
 use crate::gnss_session::{session_object, GnssSession};
 use crate::interruptible;
@@ -189,7 +187,7 @@ fn guarded_run<T: Send>(
 #[pyfunction]
 #[pyo3(signature = (
     time_gpst_ns, sats, glonass_channel, code_m, phase_cycles, doppler_hz, snr_dbhz, lli,
-    approx_position_m, kepler, glonass, klobuchar, leap_seconds, options = None
+    approx_position_m, navigation, options = None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn gnss_run<'py>(
@@ -203,10 +201,7 @@ fn gnss_run<'py>(
     snr_dbhz: PyReadonlyArray4<'py, f64>,
     lli: PyReadonlyArray4<'py, u8>,
     approx_position_m: PyReadonlyArray2<'py, f64>,
-    kepler: Bound<'py, PyDict>,
-    glonass: Bound<'py, PyDict>,
-    klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-    leap_seconds: Option<i32>,
+    navigation: Bound<'py, Navigation>,
     options: Option<PyRef<'py, GnssOptions>>,
 ) -> PyResult<GnssSession> {
     let ids = sat_ids(py, &sats)?;
@@ -223,9 +218,9 @@ fn gnss_run<'py>(
     let obs = observations(py, &arrays, ids, ch, None)?;
     let n_rover = obs.receivers.len() - 1;
     let opts = engine_options(options.as_deref());
-    let nav: NavData = nav_from_py(&kepler, &glonass, klobuchar, leap_seconds)?;
+    let nav = &navigation.get().nav;
     let attitude = !opts.body_baselines_m.is_empty();
-    let sol: SessionSolution = guarded_run(py, "gnss_run", || session::run(&obs, &nav, &opts))?;
+    let sol: SessionSolution = guarded_run(py, "gnss_run", || session::run(&obs, nav, &opts))?;
     Ok(session_object(
         py,
         &sol.epochs,
@@ -252,7 +247,7 @@ pub struct GnssEngine {
 impl GnssEngine {
     #[new]
     #[pyo3(signature = (
-        sats, glonass_channel, n_receivers, kepler, glonass, klobuchar, leap_seconds, options = None
+        sats, glonass_channel, n_receivers, navigation, options = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -260,10 +255,7 @@ impl GnssEngine {
         sats: Vec<String>,
         glonass_channel: PyReadonlyArray1<'py, i64>,
         n_receivers: usize,
-        kepler: Bound<'py, PyDict>,
-        glonass: Bound<'py, PyDict>,
-        klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-        leap_seconds: Option<i32>,
+        navigation: Bound<'py, Navigation>,
         options: Option<PyRef<'py, GnssOptions>>,
     ) -> PyResult<GnssEngine> {
         if n_receivers < 2 {
@@ -275,11 +267,11 @@ impl GnssEngine {
         let ids = sat_ids(py, &sats)?;
         let ch = channels(py, &ids, &glonass_channel)?;
         let opts = engine_options(options.as_deref());
-        let nav = nav_from_py(&kepler, &glonass, klobuchar, leap_seconds)?;
+        let nav = &navigation.get().nav;
         let attitude = !opts.body_baselines_m.is_empty();
         let (s, c) = (ids.clone(), ch.clone());
         let engine = guarded_run(py, "GnssEngine", move || {
-            stream::Engine::new(&nav, opts, s, c, n_receivers)
+            stream::Engine::new(nav, opts, s, c, n_receivers)
         })?;
         Ok(GnssEngine {
             engine,
@@ -340,6 +332,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<GnssOptions>()?;
     m.add_class::<GnssSession>()?;
     m.add_class::<GnssEngine>()?;
+    m.add_class::<Navigation>()?;
     // The engine's defaults, read by the Python API and the CLI instead of restating them.
     let d = EngineOptions::default();
     m.add("GNSS_DEFAULT_MIN_SUCCESS_RATE", d.min_success_rate)?;
