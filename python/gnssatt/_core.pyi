@@ -40,6 +40,7 @@ __all__ = [
     "MlEstimate",
     "MlSeries",
     "Navigation",
+    "ObservationArrays",
     "OrbitFilterRun",
     "OrbitStates",
     "PartialFix",
@@ -643,7 +644,7 @@ LAMBDA_MAX_DIMENSION: int
 LAMBDA_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
 
-# gnss.rs: the observation engine. Arrays of gnssatt.gnss.session_input.SessionInput (n_rx receivers,
+# gnss.rs: the observation engine. ObservationArrays (of SessionInput.observations(): n_rx receivers,
 # n_ep epochs, n_sat satellites, 3 frequency slots) and a Navigation; options None take the
 # engine's defaults.
 @final
@@ -694,16 +695,32 @@ class GnssOptions:
         baseline_lengths_m: Sequence[float] | None = None,
     ) -> GnssOptions: ...
 
+@final
+class ObservationArrays:
+    """Observations of every receiver on common epochs, checked and converted once (frozen)."""
+
+    def __new__(
+        cls,
+        *,
+        time_gpst_ns: NDArray[np.int64],
+        sats: list[str],
+        glonass_channel: NDArray[np.int64],
+        code_m: NDArray[np.float64],
+        phase_cycles: NDArray[np.float64],
+        doppler_hz: NDArray[np.float64],
+        snr_dbhz: NDArray[np.float64],
+        lli: NDArray[np.uint8],
+        approx_position_m: NDArray[np.float64],
+    ) -> ObservationArrays: ...
+    @property
+    def receivers(self) -> int: ...
+    @property
+    def epochs(self) -> int: ...
+    @property
+    def sats(self) -> list[str]: ...
+
 def gnss_run(
-    time_gpst_ns: NDArray[np.int64],
-    sats: list[str],
-    glonass_channel: NDArray[np.int64],
-    code_m: NDArray[np.float64],
-    phase_cycles: NDArray[np.float64],
-    doppler_hz: NDArray[np.float64],
-    snr_dbhz: NDArray[np.float64],
-    lli: NDArray[np.uint8],
-    approx_position_m: NDArray[np.float64],
+    observations: ObservationArrays,
     navigation: Navigation,
     options: GnssOptions | None = None,
 ) -> GnssSession: ...
@@ -720,16 +737,7 @@ class GnssEngine:
         navigation: Navigation,
         options: GnssOptions | None = None,
     ) -> GnssEngine: ...
-    def process(
-        self,
-        time_gpst_ns: NDArray[np.int64],
-        code_m: NDArray[np.float64],
-        phase_cycles: NDArray[np.float64],
-        doppler_hz: NDArray[np.float64],
-        snr_dbhz: NDArray[np.float64],
-        lli: NDArray[np.uint8],
-        approx_position_m: NDArray[np.float64],
-    ) -> GnssSession: ...
+    def process(self, observations: ObservationArrays) -> GnssSession: ...
 
 # The engine's defaults (rust/core/src/gnss/options.rs), read by gnssatt.gnss.attitude and the CLI.
 GNSS_DEFAULT_MIN_SUCCESS_RATE: float
