@@ -3,7 +3,9 @@
 lives with the navigation reader so that the simulator can use it too; importable from here as before).
 
 Both return plain numpy arrays in C order, laid out as the Rust core's ``Observations`` and ``NavData``
-(``rust/core/src/gnss/observations.rs``, ``navdata.rs``), so that the binding passes them on unchanged.
+(``rust/core/src/gnss/observations.rs``, ``navdata.rs``); :meth:`SessionInput.observations` and
+:meth:`~gnssatt.rinex.nav.NavInput.navigation` convert them once into the frozen objects the engine's
+bindings take (``_core.ObservationArrays``, ``_core.Navigation``).
 """
 
 from __future__ import annotations
