@@ -110,7 +110,7 @@ def _satellite_states() -> _core.SatelliteStates:
     """G07 at toe (valid) and 1 s past the end of its fit interval (not valid)."""
     late = TOE_NS + int(FIT_H / 2 * 3600 + 1) * 10**9
     t = np.array([TOE_NS, late])
-    return _core.gnss_satellite_states(_gps_record(), {}, None, None, ["G07", "G07"], t)
+    return _core.gnss_satellite_states(_core.Navigation(kepler=_gps_record()), ["G07", "G07"], t)
 
 
 def _transmit_states() -> _core.TransmitStates:
@@ -119,15 +119,15 @@ def _transmit_states() -> _core.TransmitStates:
     at_toe = _satellite_states().position_m[0]
     receiver = 6.371e6 * at_toe / np.linalg.norm(at_toe)
     return _core.gnss_transmit_states(
-        _gps_record(), {}, None, None, ["G07", "G08"], np.array([TOE_NS, TOE_NS]), np.tile(receiver, (2, 1)),
-        np.zeros(2),
+        _core.Navigation(kepler=_gps_record()), ["G07", "G08"], np.array([TOE_NS, TOE_NS]),
+        np.tile(receiver, (2, 1)), np.zeros(2),
     )  # fmt: skip
 
 
 def _single_points() -> _core.SinglePoints:
     """Two epochs without any code: no solution, so NaN rows and no satellite used."""
     return _core.gnss_single_point(
-        _gps_record(), {}, None, None, np.array([TOE_NS, TOE_NS + 10**9]), ["G07"], np.array([99]),
+        _core.Navigation(kepler=_gps_record()), np.array([TOE_NS, TOE_NS + 10**9]), ["G07"], np.array([99]),
         np.full((2, 1, 3), np.nan),
     )  # fmt: skip
 
@@ -376,3 +376,46 @@ def test_single_points_without_code_are_empty_rows() -> None:
     assert out.satellites.dtype == np.int64 and list(out.satellites) == [0, 0]
     assert np.isnan(out.position_m).all() and np.isnan(out.clock_s).all()
     assert np.isnan(out.residual_rms_m).all()
+
+
+def test_navigation_is_keyword_only_frozen_and_counts_its_records() -> None:
+    """The navigation records cross once, as a frozen keyword-only object that every GNSS binding takes."""
+    with pytest.raises(TypeError, match="positional"):
+        _core.Navigation(_gps_record())  # type: ignore[misc]
+    with pytest.raises(TypeError, match="keplr"):
+        _core.Navigation(keplr=_gps_record())  # type: ignore[call-arg]
+    coefficients = np.arange(8.0) * 1e-8
+    nav = _core.Navigation(kepler=_gps_record(), klobuchar=coefficients, leap_seconds=18)
+    assert type(nav).__module__ == "gnssatt._core"
+    assert (nav.kepler_records, nav.glonass_records, nav.leap_seconds) == (1, 0, 18)
+    np.testing.assert_array_equal(nav.klobuchar, coefficients)
+    for field in ("kepler_records", "glonass_records", "klobuchar", "leap_seconds"):
+        with pytest.raises(AttributeError):
+            setattr(nav, field, None)
+    with pytest.raises(AttributeError):
+        nav.extra = 1  # type: ignore[attr-defined]
+    assert repr(nav) == (
+        "Navigation(kepler_records=1, glonass_records=0, klobuchar=array(shape=(8,), dtype=float64), "
+        "leap_seconds=18)"
+    )
+    empty = _core.Navigation()
+    assert repr(empty) == "Navigation(kepler_records=0, glonass_records=0, klobuchar=None, leap_seconds=None)"
+    # an empty table and a missing one are the same: no record of that kind
+    assert _core.Navigation(kepler={}, glonass={}).kepler_records == 0
+
+
+def test_navigation_refuses_malformed_columns_by_name() -> None:
+    rec = _gps_record()
+    with pytest.raises(InvalidInputError, match=r"expected klobuchar of shape \(8,\)"):
+        _core.Navigation(kepler=rec, klobuchar=np.zeros(7))
+    rec["af"] = np.zeros((1, 2))
+    with pytest.raises(InvalidInputError, match=r'kepler\["af"\]'):
+        _core.Navigation(kepler=rec)
+    one = np.zeros(1)
+    glonass = {"sat": np.array(["G07"]), "tb_gpst_ns": np.array([TOE_NS]), "channel": np.array([1])}
+    glonass |= {k: one for k in ("clock_bias_s", "gamma_n", "health")}
+    glonass |= {k: np.zeros((1, 3)) for k in ("position_m", "velocity_m_s", "acceleration_m_s2")}
+    with pytest.raises(InvalidInputError, match=r'expected glonass\["sat"\] of GLONASS, row 0 is G07'):
+        _core.Navigation(glonass=glonass)
+    glonass["sat"] = np.array(["R07"])
+    assert _core.Navigation(glonass=glonass).glonass_records == 1

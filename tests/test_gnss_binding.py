@@ -33,7 +33,9 @@ def _arrays(n_rx: int = N_RX, n_ep: int = N_EP, n_sat: int = len(SATS)) -> dict[
 def _run(options: dict[str, Any] | None = None, **replace: Any) -> Any:
     a = _arrays()
     a.update(replace)
-    return _core.gnss_run(*a.values(), {}, {}, None, None, _core.GnssOptions(**(options or {})))
+    return _core.gnss_run(
+        _core.ObservationArrays(**a), _core.Navigation(), _core.GnssOptions(**(options or {}))
+    )
 
 
 @pytest.mark.parametrize(
@@ -62,7 +64,7 @@ def test_malformed_observations_are_named(replace: dict[str, Any], says: str) ->
 def test_one_receiver_is_refused() -> None:
     a = _arrays(n_rx=1)
     with pytest.raises(InvalidInputError, match="two or more receivers, got 1"):
-        _core.gnss_run(*a.values(), {}, {}, None, None)
+        _core.gnss_run(_core.ObservationArrays(**a), _core.Navigation())
 
 
 @pytest.mark.parametrize(
@@ -93,11 +95,31 @@ def test_bad_options_name_the_option(options: dict[str, Any], says: str) -> None
 
 def test_engine_checks_its_arrays_against_the_constructor() -> None:
     with pytest.raises(InvalidInputError, match="n_receivers >= 2, got 1"):
-        _core.GnssEngine(SATS, np.array([99, -3, 99]), 1, {}, {}, None, None)
+        _core.GnssEngine(SATS, np.array([99, -3, 99]), 1, _core.Navigation())
     with pytest.raises(InvalidInputError, match="--frequencies"):
         _core.GnssEngine(
-            SATS, np.array([99, -3, 99]), 2, {}, {}, None, None, _core.GnssOptions(frequencies=5)
+            SATS, np.array([99, -3, 99]), 2, _core.Navigation(), _core.GnssOptions(frequencies=5)
         )
+
+
+def test_engine_refuses_observations_unlike_its_constructor() -> None:
+    engine = _core.GnssEngine(SATS, np.array([99, -3, 99]), 2, _core.Navigation())
+    with pytest.raises(InvalidInputError, match="constructor's satellites and GLONASS channels"):
+        engine.process(_core.ObservationArrays(**_arrays(n_sat=2)))
+    with pytest.raises(InvalidInputError, match="constructor's satellites and GLONASS channels"):
+        engine.process(_core.ObservationArrays(**{**_arrays(), "glonass_channel": np.array([99, 99, 99])}))
+    with pytest.raises(InvalidInputError, match="n_receivers = 2 receivers, got 3"):
+        engine.process(_core.ObservationArrays(**_arrays(n_rx=3)))
+
+
+def test_observation_arrays_are_keyword_only_frozen_and_described() -> None:
+    with pytest.raises(TypeError, match="positional"):
+        _core.ObservationArrays(*_arrays().values())  # type: ignore[misc]
+    obs = _core.ObservationArrays(**_arrays())
+    assert (obs.receivers, obs.epochs, obs.sats) == (N_RX, N_EP, list(SATS))
+    with pytest.raises(AttributeError):
+        obs.receivers = 1  # type: ignore[misc]
+    assert repr(obs) == f"ObservationArrays(receivers={N_RX}, epochs={N_EP}, sats={list(SATS)!r})"
 
 
 def test_defaults_are_the_engines() -> None:
@@ -121,22 +143,10 @@ def test_streaming_is_the_session_call_in_pieces() -> None:
     ni = nav_input(nav)
     opts: dict[str, Any] = {"systems": "G", "frequencies": 2, "motion": "moving", "continuity": True}
     opts["method"] = "lambda"
-    per_epoch = (si.code_m, si.phase_cycles, si.doppler_hz, si.snr_dbhz, si.lli)
-    nav_args = (ni.kepler, ni.glonass, ni.klobuchar, ni.leap_seconds)
-    whole = _core.gnss_run(
-        si.time_gpst_ns,
-        list(si.sats),
-        si.glonass_channel,
-        *per_epoch,
-        si.approx_position_m,
-        *nav_args,
-        _core.GnssOptions(**opts),
-    )
-    engine = _core.GnssEngine(list(si.sats), si.glonass_channel, 2, *nav_args, _core.GnssOptions(**opts))
-    parts = [
-        engine.process(si.time_gpst_ns[a:b], *(x[:, a:b] for x in per_epoch), si.approx_position_m)
-        for a, b in ((0, 50), (50, len(si.time_gpst_ns)))
-    ]
+    navigation = ni.navigation()
+    whole = _core.gnss_run(si.observations(), navigation, _core.GnssOptions(**opts))
+    engine = _core.GnssEngine(list(si.sats), si.glonass_channel, 2, navigation, _core.GnssOptions(**opts))
+    parts = [engine.process(si.observations(slice(a, b))) for a, b in ((0, 50), (50, len(si.time_gpst_ns)))]
     assert parts[0].double_differences is None and whole.double_differences.shape == (5, 3)
     for name in ("time_gpst_ns", "fixed", "angles_deg", "baselines_enu_m", "satellites_per_system"):
         np.testing.assert_array_equal(np.concatenate([getattr(p, name) for p in parts]), getattr(whole, name))
@@ -161,7 +171,7 @@ def test_the_size_limit_is_checked_before_any_copy() -> None:
         lli=np.broadcast_to(np.uint8(0), (2, n_ep, 3, 3)),
     )
     with pytest.raises(WorkLimitError, match="observations"):
-        _core.gnss_run(*a.values(), {}, {}, None, None)
+        _core.ObservationArrays(**a)
 
 
 def test_options_are_checked_when_made_and_shown() -> None:

@@ -55,7 +55,7 @@ def rust_states(
     kepler, glonass = nav_dicts(nav)
     t = np.asarray(t_ns, dtype=np.int64)
     off = None if offset_s is None else np.ascontiguousarray(offset_s, dtype=np.float64)
-    s = _core.gnss_satellite_states(kepler, glonass, None, None, sats, t, offset_s=off)
+    s = _core.gnss_satellite_states(_core.Navigation(kepler=kepler, glonass=glonass), sats, t, offset_s=off)
     return s.position_m, s.clock_s, s.valid
 
 
@@ -115,7 +115,9 @@ def test_circular_orbit_closed_form() -> None:
     a = 5153.7**2
     n = np.sqrt(GPS_MU / a**3)
     tks = np.array([-7000.0, -1234.5, 0.0, 3600.0, 7200.0])
-    states = _core.gnss_satellite_states(rec, {}, None, None, ["G07"] * 5, toe + (tks * 1e9).astype(np.int64))
+    states = _core.gnss_satellite_states(
+        _core.Navigation(kepler=rec), ["G07"] * 5, toe + (tks * 1e9).astype(np.int64)
+    )
     pos, clk, ok = states.position_m, states.clock_s, states.valid
     assert ok.all()
     for j, tk in enumerate(tks):
@@ -128,7 +130,7 @@ def test_circular_orbit_closed_form() -> None:
         assert abs(clk[j] - (1e-4 + 2e-11 * tk + 1e-18 * tk**2)) < 1e-16
     # fit interval 4 h: valid to toe +- 2 h, not beyond
     ok = _core.gnss_satellite_states(
-        rec, {}, None, None, ["G07"] * 2, np.array([toe + 7201 * 10**9, toe - 7201 * 10**9])
+        _core.Navigation(kepler=rec), ["G07"] * 2, np.array([toe + 7201 * 10**9, toe - 7201 * 10**9])
     ).valid
     assert not ok.any()
 
@@ -140,7 +142,7 @@ def test_relativistic_clock_term_at_known_eccentric_anomaly() -> None:
     rec = _circular_record(e=e, m0=np.pi / 2 - e)
     rec["af"] = np.zeros((1, 3))
     toe = int(rec["toe_gpst_ns"][0])
-    states = _core.gnss_satellite_states(rec, {}, None, None, ["G07"], np.array([toe]))
+    states = _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], np.array([toe]))
     clk, ok = states.clock_s, states.valid
     assert ok[0]
     assert abs(clk[0] - (-4.442807633e-10 * e * 5153.7)) < 1e-15
@@ -163,7 +165,7 @@ def test_relativistic_clock_term_at_known_eccentric_anomaly() -> None:
 def test_health_per_system(sat: str, health: int, data_source: float, usable: bool) -> None:
     rec = _circular_record(health=float(health), data_source=float(data_source))
     rec["sat"] = np.array([sat])
-    ok = _core.gnss_satellite_states(rec, {}, None, None, [sat], rec["toe_gpst_ns"]).valid
+    ok = _core.gnss_satellite_states(_core.Navigation(kepler=rec), [sat], rec["toe_gpst_ns"]).valid
     assert bool(ok[0]) is usable
 
 
@@ -184,10 +186,10 @@ def test_glonass_unhealthy_and_out_of_interval() -> None:
     tb = int(glonass["tb_gpst_ns"][0])
     sat = str(glonass["sat"][0])
     t = np.array([tb, tb + 1801 * 10**9 + 1800 * 10**9], dtype=np.int64)
-    ok = _core.gnss_satellite_states({}, glonass, None, None, [sat, sat], t).valid
+    ok = _core.gnss_satellite_states(_core.Navigation(glonass=glonass), [sat, sat], t).valid
     assert list(ok) == [True, False]
     glonass["health"] = np.ones_like(glonass["health"])
-    ok = _core.gnss_satellite_states({}, glonass, None, None, [sat], t[:1]).valid
+    ok = _core.gnss_satellite_states(_core.Navigation(glonass=glonass), [sat], t[:1]).valid
     assert not ok[0]
 
 
@@ -198,21 +200,21 @@ def test_bad_records_are_refused_with_their_name() -> None:
     with pytest.raises(
         InvalidInputError, match=r"record 0 \(G07\): expected an eccentricity in \[0, 0.1\], got 0.5"
     ):
-        _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toe_gpst_ns"])
+        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], rec["toe_gpst_ns"])
     rec = _circular_record(sqrt_a=np.nan)
     with pytest.raises(InvalidInputError, match="expected a finite sqrt_a"):
-        _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toe_gpst_ns"])
+        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], rec["toe_gpst_ns"])
     rec = _circular_record()
     del rec["crs"]
     with pytest.raises(InvalidInputError, match=r'kepler\["crs"\], the key is missing'):
-        _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toe_gpst_ns"])
+        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], rec["toe_gpst_ns"])
     rec = _circular_record()
     rec["toe_gpst_ns"] = rec["toe_gpst_ns"].astype(np.float64)  # a time in float would lose nanoseconds
     with pytest.raises(InvalidInputError, match=r'expected kepler\["toe_gpst_ns"\] a signed integer array'):
-        _core.gnss_satellite_states(rec, {}, None, None, ["G07"], rec["toc_gpst_ns"])
+        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], rec["toc_gpst_ns"])
     rec = _circular_record()
     with pytest.raises(InvalidInputError, match="expected sats entries like 'G05'"):
-        _core.gnss_satellite_states(rec, {}, None, None, ["X07"], rec["toe_gpst_ns"])
+        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["X07"], rec["toe_gpst_ns"])
 
 
 @pytest.mark.parametrize("station", ["0759", "3040"])
@@ -234,7 +236,9 @@ def test_single_point_matches_geonet_header(station: str) -> None:
         np.full(len(obs.sats), 99, dtype=np.int64),
         code,
     )
-    sp = _core.gnss_single_point(kepler, glonass, _klobuchar(nav), None, *args)
+    sp = _core.gnss_single_point(
+        _core.Navigation(kepler=kepler, glonass=glonass, klobuchar=_klobuchar(nav)), *args
+    )
     pos, clk, n, rms = sp.position_m, sp.clock_s, sp.satellites, sp.residual_rms_m
     assert np.isfinite(pos).all() and (n >= 5).all()
     err = np.linalg.norm(pos - obs.approx_position_m, axis=1)
@@ -246,5 +250,5 @@ def test_single_point_matches_geonet_header(station: str) -> None:
         # 0759's clock drifts to about +4.7 ms (its last label is 00:59:30.005): the solution carries it
         assert clk[-1, 0] > 1e-3
     # without the broadcast ionosphere the error grows to 5.6-6.1 m (median): Klobuchar is applied
-    pos0 = _core.gnss_single_point(kepler, glonass, None, None, *args).position_m
+    pos0 = _core.gnss_single_point(_core.Navigation(kepler=kepler, glonass=glonass), *args).position_m
     assert np.median(np.linalg.norm(pos0 - obs.approx_position_m, axis=1)) > 3.0

@@ -85,13 +85,16 @@ def test_satellite_states_reproduce_the_prototype(kind: str) -> None:
         kepler, glonass = _one_record(r["file"], r["table"], r["record"])
         if kind == "ephemeris":
             out = _core.gnss_satellite_states(
-                kepler, glonass, None, None, [r["sat"]], np.array([r["t_gpst_ns"]], dtype=np.int64)
+                _core.Navigation(kepler=kepler, glonass=glonass),
+                [r["sat"]],
+                np.array([r["t_gpst_ns"]], dtype=np.int64),
             )
             p, c, ok = out.position_m, out.clock_s, out.valid
         else:
             tx = _core.gnss_transmit_states(
-                kepler, glonass, None, None, [r["sat"]], np.array([r["t_rx_gpst_ns"]], dtype=np.int64),
-                np.array([REFERENCE["receiver_m"]]), np.array([REFERENCE["receiver_clock_s"]]),
+                _core.Navigation(kepler=kepler, glonass=glonass), [r["sat"]],
+                np.array([r["t_rx_gpst_ns"]], dtype=np.int64), np.array([REFERENCE["receiver_m"]]),
+                np.array([REFERENCE["receiver_clock_s"]]),
             )  # fmt: skip
             p, c, ok = tx.position_m, tx.clock_s, tx.valid
             assert np.isfinite(tx.elevation_rad[0]) and 0.0 <= tx.azimuth_rad[0] < 2 * np.pi
@@ -134,7 +137,7 @@ def test_single_point_positions_reproduce_the_prototype(station: str) -> None:
     code[:, :, 0] = c1
     t = np.array(ref["time_gpst_ns"], dtype=np.int64)
     sp = _core.gnss_single_point(
-        nav.kepler, nav.glonass, nav.klobuchar, nav.leap_seconds, t, list(obs.sats),
+        nav.navigation(), t, list(obs.sats),
         np.full(len(obs.sats), 99, dtype=np.int64), code,
     )  # fmt: skip
     pos, n = sp.position_m, sp.satellites
@@ -181,7 +184,9 @@ def test_transmit_states_and_klobuchar_refuse_bad_input() -> None:
     rx = np.array([REFERENCE["receiver_m"]])
 
     def transmit(receiver: np.ndarray, clock: np.ndarray) -> None:
-        _core.gnss_transmit_states(kepler, glonass, None, None, [r["sat"]], t, receiver, clock)
+        _core.gnss_transmit_states(
+            _core.Navigation(kepler=kepler, glonass=glonass), [r["sat"]], t, receiver, clock
+        )
 
     with pytest.raises(InvalidInputError, match=r"expected receiver_m of shape \(1, 3\), got \[1, 2\]"):
         transmit(rx[:, :2], np.zeros(1))

@@ -156,7 +156,7 @@ def test_engine_glonass_ephemeris_matches_the_numpy_reference(offset_s: float) -
     tb = 1_000_000_000_000_000
     record = _glonass_record(np.concatenate([ICD_R0, ICD_V0]), acc, tb)
     states = _core.gnss_satellite_states(
-        {}, record, None, None, ["R01"], np.array([tb]), offset_s=np.array([offset_s])
+        _core.Navigation(glonass=record), ["R01"], np.array([tb]), offset_s=np.array([offset_s])
     )
     pos, valid = states.position_m, states.valid
     assert valid.all()

@@ -38,10 +38,7 @@ def satellite_states(
     ni = nav if isinstance(nav, NavInput) else nav_input(nav)
     n = len(sats)
     s = _core.gnss_satellite_states(
-        ni.kepler,
-        ni.glonass,
-        None,
-        None,
+        _core.Navigation(kepler=ni.kepler, glonass=ni.glonass),
         sats,
         np.full(n, t_ns, dtype=np.int64),
         offset_s=np.full(n, offset_s),
@@ -87,7 +84,7 @@ def test_glonass_positions_at_tb_and_between_records() -> None:
         glo = nav_input(nav).glonass
         pa, pb = (
             _core.gnss_satellite_states(
-                {}, {f: v[r : r + 1] for f, v in glo.items()}, None, None, [sat], np.array([mid])
+                _core.Navigation(glonass={f: v[r : r + 1] for f, v in glo.items()}), [sat], np.array([mid])
             ).position_m[0]
             for r in (a, b)
         )

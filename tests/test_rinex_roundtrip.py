@@ -46,7 +46,7 @@ def test_written_files_read_back(tmp_path: Path) -> None:
     n = len(gps.ids)
     t = np.full(n, int(gps_ns(np.array([T0]))[0]), dtype=np.int64)
     states = _core.gnss_satellite_states(
-        nav.kepler, nav.glonass, None, None, list(gps.ids), t, offset_s=np.full(n, 60.0)
+        _core.Navigation(kepler=nav.kepler, glonass=nav.glonass), list(gps.ids), t, offset_s=np.full(n, 60.0)
     )
     pos, clk, valid = states.position_m, states.clock_s, states.valid
     truth, _ = gps.state_ecef(60.0)

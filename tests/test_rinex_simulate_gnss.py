@@ -43,7 +43,9 @@ def satellite_states(
     n = len(sats)
     off = np.broadcast_to(np.asarray(offset_s, dtype=np.float64), (n,)).copy()
     t = np.full(n, t_ns, dtype=np.int64)
-    s = _core.gnss_satellite_states(nav.kepler, nav.glonass, None, None, sats, t, offset_s=off)
+    s = _core.gnss_satellite_states(
+        _core.Navigation(kepler=nav.kepler, glonass=nav.glonass), sats, t, offset_s=off
+    )
     return s.position_m, s.clock_s, s.valid
 
 
@@ -222,7 +224,7 @@ def test_neighbouring_glonass_records_agree(tmp_path: Path) -> None:
             mid = int(g["tb_gpst_ns"][rows[k]]) + 900 * 10**9
             a, b = (
                 _core.gnss_satellite_states(
-                    {}, {f: v[r : r + 1] for f, v in g.items()}, None, None, [sat], np.array([mid])
+                    _core.Navigation(glonass={f: v[r : r + 1] for f, v in g.items()}), [sat], np.array([mid])
                 ).position_m[0]
                 for r in rows[k : k + 2]
             )
@@ -283,7 +285,7 @@ def test_engine_code_solution_recovers_the_antennas(tmp_path: Path) -> None:
     ni = nav_input(nav)
     for r in range(2):
         sp = _core.gnss_single_point(
-            ni.kepler, ni.glonass, ni.klobuchar, ni.leap_seconds, si.time_gpst_ns, list(si.sats),
+            ni.navigation(), si.time_gpst_ns, list(si.sats),
             si.glonass_channel, np.ascontiguousarray(si.code_m[r]), approx_position_m=si.approx_position_m[r],
             systems="GRECJ", frequencies=1, elevation_mask_deg=5.0,
         )  # fmt: skip

@@ -46,7 +46,9 @@ def satellite_states(
     n = len(sats)
     t = np.full(n, t_ns, dtype=np.int64)
     off = np.full(n, offset_s)
-    s = _core.gnss_satellite_states(nav.kepler, nav.glonass, None, None, sats, t, offset_s=off)
+    s = _core.gnss_satellite_states(
+        _core.Navigation(kepler=nav.kepler, glonass=nav.glonass), sats, t, offset_s=off
+    )
     return s.position_m, s.clock_s, s.valid
 
 

@@ -5,11 +5,11 @@ and defaults.
 Angles in radians, lengths in metres. Result types are frozen: their attributes are read-only.
 """
 
-from collections.abc import Sequence
-from typing import Any, TypedDict, final
+from collections.abc import Mapping, Sequence
+from typing import TypedDict, final
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 # Every name the module adds (stubtest compares this list with the runtime one).
 __all__ = [
@@ -39,6 +39,8 @@ __all__ = [
     "MatrixAttitude",
     "MlEstimate",
     "MlSeries",
+    "Navigation",
+    "ObservationArrays",
     "OrbitFilterRun",
     "OrbitStates",
     "PartialFix",
@@ -422,7 +424,30 @@ def circular_orbit_ecef(
     elements: list[float], times_s: NDArray[np.float64], *, theta0_rad: float, omega_rad_s: float
 ) -> OrbitStates: ...
 
-# gnss_nav.rs (test-facing): nav dicts = gnssatt.rinex.nav.NavInput.kepler / .glonass arrays.
+# gnss_nav_input.rs: the navigation records converted once (from the column arrays of
+# gnssatt.rinex.nav.NavInput, see NavInput.navigation), the argument of every GNSS binding.
+@final
+class Navigation:
+    """Broadcast navigation data as the core's NavData (frozen; kepler/glonass missing: no such record)."""
+
+    def __new__(
+        cls,
+        *,
+        kepler: Mapping[str, ArrayLike] | None = None,
+        glonass: Mapping[str, ArrayLike] | None = None,
+        klobuchar: NDArray[np.float64] | None = None,
+        leap_seconds: int | None = None,
+    ) -> Navigation: ...
+    @property
+    def kepler_records(self) -> int: ...
+    @property
+    def glonass_records(self) -> int: ...
+    @property
+    def klobuchar(self) -> NDArray[np.float64] | None: ...  # (8,) alpha0..3, beta0..3
+    @property
+    def leap_seconds(self) -> int | None: ...  # GPS - UTC, s
+
+# gnss_nav.rs (test-facing): evaluations of the broadcast records of a Navigation.
 @final
 class SatelliteStates:
     @property
@@ -457,20 +482,14 @@ class SinglePoints:
     def residual_rms_m(self) -> NDArray[np.float64]: ...  # (n_ep,)
 
 def gnss_satellite_states(
-    kepler: dict[str, NDArray[Any]],
-    glonass: dict[str, NDArray[Any]],
-    klobuchar: NDArray[np.float64] | None,
-    leap_seconds: int | None,
+    navigation: Navigation,
     sats: list[str],
     t_gpst_ns: NDArray[np.int64],
     *,
     offset_s: NDArray[np.float64] | None = None,
 ) -> SatelliteStates: ...
 def gnss_transmit_states(
-    kepler: dict[str, NDArray[Any]],
-    glonass: dict[str, NDArray[Any]],
-    klobuchar: NDArray[np.float64] | None,
-    leap_seconds: int | None,
+    navigation: Navigation,
     sats: list[str],
     t_rx_gpst_ns: NDArray[np.int64],
     receiver_m: NDArray[np.float64],
@@ -486,10 +505,7 @@ def gnss_klobuchar_delay(
     frequency_hz: NDArray[np.float64],
 ) -> NDArray[np.float64]: ...
 def gnss_single_point(
-    kepler: dict[str, NDArray[Any]],
-    glonass: dict[str, NDArray[Any]],
-    klobuchar: NDArray[np.float64] | None,
-    leap_seconds: int | None,
+    navigation: Navigation,
     time_gpst_ns: NDArray[np.int64],
     sats: list[str],
     glonass_channel: NDArray[np.int64],
@@ -628,8 +644,8 @@ LAMBDA_MAX_DIMENSION: int
 LAMBDA_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
 
-# gnss.rs: the observation engine. Arrays of gnssatt.gnss.session_input.SessionInput (n_rx receivers,
-# n_ep epochs, n_sat satellites, 3 frequency slots) and gnssatt.rinex.nav.NavInput; options None take the
+# gnss.rs: the observation engine. ObservationArrays (of SessionInput.observations(): n_rx receivers,
+# n_ep epochs, n_sat satellites, 3 frequency slots) and a Navigation; options None take the
 # engine's defaults.
 @final
 class GnssSession:
@@ -679,20 +695,33 @@ class GnssOptions:
         baseline_lengths_m: Sequence[float] | None = None,
     ) -> GnssOptions: ...
 
+@final
+class ObservationArrays:
+    """Observations of every receiver on common epochs, checked and converted once (frozen)."""
+
+    def __new__(
+        cls,
+        *,
+        time_gpst_ns: NDArray[np.int64],
+        sats: list[str],
+        glonass_channel: NDArray[np.int64],
+        code_m: NDArray[np.float64],
+        phase_cycles: NDArray[np.float64],
+        doppler_hz: NDArray[np.float64],
+        snr_dbhz: NDArray[np.float64],
+        lli: NDArray[np.uint8],
+        approx_position_m: NDArray[np.float64],
+    ) -> ObservationArrays: ...
+    @property
+    def receivers(self) -> int: ...
+    @property
+    def epochs(self) -> int: ...
+    @property
+    def sats(self) -> list[str]: ...
+
 def gnss_run(
-    time_gpst_ns: NDArray[np.int64],
-    sats: list[str],
-    glonass_channel: NDArray[np.int64],
-    code_m: NDArray[np.float64],
-    phase_cycles: NDArray[np.float64],
-    doppler_hz: NDArray[np.float64],
-    snr_dbhz: NDArray[np.float64],
-    lli: NDArray[np.uint8],
-    approx_position_m: NDArray[np.float64],
-    kepler: dict[str, NDArray[Any]],
-    glonass: dict[str, NDArray[Any]],
-    klobuchar: NDArray[np.float64] | None,
-    leap_seconds: int | None,
+    observations: ObservationArrays,
+    navigation: Navigation,
     options: GnssOptions | None = None,
 ) -> GnssSession: ...
 
@@ -705,22 +734,10 @@ class GnssEngine:
         sats: list[str],
         glonass_channel: NDArray[np.int64],
         n_receivers: int,
-        kepler: dict[str, NDArray[Any]],
-        glonass: dict[str, NDArray[Any]],
-        klobuchar: NDArray[np.float64] | None,
-        leap_seconds: int | None,
+        navigation: Navigation,
         options: GnssOptions | None = None,
     ) -> GnssEngine: ...
-    def process(
-        self,
-        time_gpst_ns: NDArray[np.int64],
-        code_m: NDArray[np.float64],
-        phase_cycles: NDArray[np.float64],
-        doppler_hz: NDArray[np.float64],
-        snr_dbhz: NDArray[np.float64],
-        lli: NDArray[np.uint8],
-        approx_position_m: NDArray[np.float64],
-    ) -> GnssSession: ...
+    def process(self, observations: ObservationArrays) -> GnssSession: ...
 
 # The engine's defaults (rust/core/src/gnss/options.rs), read by gnssatt.gnss.attitude and the CLI.
 GNSS_DEFAULT_MIN_SUCCESS_RATE: float

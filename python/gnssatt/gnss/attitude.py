@@ -503,19 +503,8 @@ def attitude_from_rinex(
     _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)
     s = _core.gnss_run(
-        si.time_gpst_ns,
-        list(si.sats),
-        si.glonass_channel,
-        si.code_m,
-        si.phase_cycles,
-        si.doppler_hz,
-        si.snr_dbhz,
-        si.lli,
-        si.approx_position_m,
-        ni.kepler,
-        ni.glonass,
-        ni.klobuchar,
-        ni.leap_seconds,
+        si.observations(),
+        ni.navigation(),
         _core.GnssOptions(
             systems=systems,
             frequencies=n_freq,

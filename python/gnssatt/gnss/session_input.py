@@ -3,7 +3,9 @@
 lives with the navigation reader so that the simulator can use it too; importable from here as before).
 
 Both return plain numpy arrays in C order, laid out as the Rust core's ``Observations`` and ``NavData``
-(``rust/core/src/gnss/observations.rs``, ``navdata.rs``), so that the binding passes them on unchanged.
+(``rust/core/src/gnss/observations.rs``, ``navdata.rs``); :meth:`SessionInput.observations` and
+:meth:`~gnssatt.rinex.nav.NavInput.navigation` convert them once into the frozen objects the engine's
+bindings take (``_core.ObservationArrays``, ``_core.Navigation``).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from gnssatt import _core
 from gnssatt._arrays import instance, integer
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex.nav import GPS_EPOCH, NavInput, RinexNav, leap_seconds, nav_input
@@ -109,6 +112,40 @@ class SessionInput:
     approx_position_m: NDArray[np.float64]
     signal_codes: dict[str, dict[str, tuple[str, ...]]]
     epochs_dropped: tuple[int, ...]
+
+    def observations(self, epochs: slice = slice(None)) -> _core.ObservationArrays:
+        """The observation arrays of ``epochs`` (all by default) converted into the core's observations, the
+        argument of ``_core.gnss_run`` and ``GnssEngine.process``: made and checked once.
+
+        Parameters
+        ----------
+        epochs
+            The epochs to take, as a slice of ``time_gpst_ns`` (a block for ``GnssEngine.process``).
+
+        Returns
+        -------
+        gnssatt._core.ObservationArrays
+            Frozen; ``receivers``, ``epochs`` and ``sats`` describe it.
+
+        Raises
+        ------
+        InvalidInputError
+            The arrays are not of the shapes above, a satellite id or GLONASS channel is malformed, times
+            are not strictly increasing, or there are fewer than two receivers.
+        WorkLimitError
+            More than the core's limit of epoch x satellite x receiver cells.
+        """
+        return _core.ObservationArrays(
+            time_gpst_ns=self.time_gpst_ns[epochs],
+            sats=list(self.sats),
+            glonass_channel=self.glonass_channel,
+            code_m=self.code_m[:, epochs],
+            phase_cycles=self.phase_cycles[:, epochs],
+            doppler_hz=self.doppler_hz[:, epochs],
+            snr_dbhz=self.snr_dbhz[:, epochs],
+            lli=self.lli[:, epochs],
+            approx_position_m=self.approx_position_m,
+        )
 
 
 def _warn_mixed_tracking(

@@ -34,7 +34,7 @@ _SOLVE = (
 _ENGINE = (
     "gnssatt.gnss.attitude.attitude_from_rinex, which evaluates them in the engine (the evaluations "
     "themselves: gnssatt._core.gnss_satellite_states and gnss_transmit_states on "
-    "gnssatt.rinex.nav.nav_input)"
+    "gnssatt.rinex.nav.nav_input(...).navigation())"
 )
 #: Names of the Python prototype of the observation engine, deleted after the engine reproduced its results
 #: (issue 16; tests/test_gnss_prototype_reference.py): what replaces each.

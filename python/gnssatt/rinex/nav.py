@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gnssatt import _core
 from gnssatt._arrays import instance
 from gnssatt.errors import RinexError
 from gnssatt.rinex._fields import (
@@ -540,12 +541,34 @@ class NavInput:
         (8,) GPS alpha0..3, beta0..3, or None where the header gives none.
     leap_seconds
         GPS - UTC from the header, or None.
+
+    The engine's bindings take these records converted once, as :meth:`navigation`.
     """
 
     kepler: dict[str, NDArray[Any]]
     glonass: dict[str, NDArray[Any]]
     klobuchar: NDArray[np.float64] | None
     leap_seconds: int | None
+
+    def navigation(self) -> _core.Navigation:
+        """These records converted into the core's navigation data, the argument of every GNSS binding
+        (``_core.gnss_run``, ``GnssEngine``, ``gnss_satellite_states``, ``gnss_transmit_states``,
+        ``gnss_single_point``): made once per file, not on every call.
+
+        Returns
+        -------
+        gnssatt._core.Navigation
+            Frozen; its ``kepler_records`` and ``glonass_records`` count the records.
+
+        Raises
+        ------
+        InvalidInputError
+            A column is missing or of another shape or type than the attributes above say, a satellite id
+            is malformed or of the other table's systems, or a GLONASS channel is outside -7..13.
+        """
+        return _core.Navigation(
+            kepler=self.kepler, glonass=self.glonass, klobuchar=self.klobuchar, leap_seconds=self.leap_seconds
+        )
 
 
 _KEPLER_SAME = (

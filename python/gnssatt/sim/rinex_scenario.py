@@ -21,7 +21,7 @@ from gnssatt import _core, sim
 from gnssatt._arrays import flag, folder_path, generator, instance, integer, sat_list, scalar, shaped
 from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.rinex.nav import NavInput, nav_input
+from gnssatt.rinex.nav import nav_input
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
 from gnssatt.rotation import rotation_from_euler
 
@@ -301,7 +301,7 @@ _CHUNK = 200_000
 
 
 def _transmit(
-    nav: NavInput, sats: list[str], t_rx_ns: NDArray[np.int64], receiver_m: NDArray[np.float64],
+    nav: _core.Navigation, sats: list[str], t_rx_ns: NDArray[np.int64], receiver_m: NDArray[np.float64],
     receiver_clock_s: NDArray[np.float64],
 ) -> tuple[NDArray[np.bool_], _Geometry]:  # fmt: skip
     """Every satellite of ``sats`` at every reception (labels ``t_rx_ns`` of shape ``S``, receivers
@@ -316,11 +316,7 @@ def _transmit(
     parts = []
     for a in range(0, len(t), _CHUNK):
         z = slice(a, a + _CHUNK)
-        parts.append(
-            _core.gnss_transmit_states(
-                nav.kepler, nav.glonass, nav.klobuchar, nav.leap_seconds, ids[z], t[z], rx[z], clk[z]
-            )
-        )
+        parts.append(_core.gnss_transmit_states(nav, ids[z], t[z], rx[z], clk[z]))
     p, c, el, az, ok = (
         np.concatenate([getattr(q, k) for q in parts])
         for k in ("position_m", "clock_s", "elevation_rad", "azimuth_rad", "valid")
@@ -554,7 +550,7 @@ def simulate_gnss_rinex(
         nav_path, allsats, T0, start_s=start_s, span_s=float(t_s[-1] - t_s[0]) + 1.0, clock_bias_s=sat_clk,
         klobuchar=KLOBUCHAR if atmosphere else None,
     )  # fmt: skip
-    nav = nav_input(read_nav(nav_path))
+    nav = nav_input(read_nav(nav_path)).navigation()  # converted once for every chunk and call
     times = T0 + (t_s * 1e9).astype("timedelta64[ns]")
     t_ns = gps_ns(times)
     rot = rotation_from_euler(eul).as_matrix()  # (n_ep, 3, 3) body -> ENU

@@ -1,13 +1,13 @@
 //! Bindings of the observation engine (`gnssatt_core::gnss`): `gnss_run` processes a whole session in one
 //! GIL-released call, `GnssEngine.process` the same engine a block of epochs at a time (state carried
-//! between calls). Inputs are the arrays of `gnssatt.gnss.session_input.SessionInput` and `NavInput`
-//! (navigation dictionaries converted by `gnss_nav_input::nav_from_py`); results are a frozen
+//! between calls). Inputs are an [`ObservationArrays`] (the arrays of
+//! `gnssatt.gnss.session_input.SessionInput`, converted and checked once) and a [`Navigation`]
+//! (`gnss_nav_input.rs`: the navigation records converted once); results are a frozen
 //! [`GnssSession`] of per-epoch numpy arrays (`gnss_session.rs`). Options come as one checked
 //! [`GnssOptions`] (`gnss_options.rs`; `None`: the engine's defaults).
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use gnssatt_core::gnss::navdata::NavData;
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations, MAX_OBSERVATION_CELLS};
 use gnssatt_core::gnss::options::EngineOptions;
 use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
@@ -16,11 +16,10 @@ use gnssatt_core::gnss::{session, stream};
 use gnssatt_core::Error;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray4};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 use crate::convert::{exact, shape_error};
 use crate::errors::{internal_error, invalid_input, IntoPyResult};
-use crate::gnss_nav_input::nav_from_py;
+use crate::gnss_nav_input::Navigation;
 use crate::gnss_options::{engine_options, GnssOptions};
 use crate::gnss_session::{session_object, GnssSession};
 use crate::interruptible;
@@ -107,10 +106,9 @@ fn observations(
     a: &EpochArrays<'_>,
     sats: Vec<SatId>,
     glonass_channel: Vec<Option<i8>>,
-    n_receivers: Option<usize>,
 ) -> PyResult<Observations> {
     let (ne, ns) = (a.time_gpst_ns.as_array().len(), sats.len());
-    let nr = n_receivers.unwrap_or(a.code_m.as_array().shape()[0]);
+    let nr = a.code_m.as_array().shape()[0];
     // The documented limit before any copy: the arrays are already in memory once, in numpy.
     let cells = ne.saturating_mul(ns).saturating_mul(nr);
     if cells > MAX_OBSERVATION_CELLS {
@@ -184,48 +182,97 @@ fn guarded_run<T: Send>(
     }
 }
 
+/// Observations of every receiver on common epochs (`gnssatt._core.ObservationArrays`), converted into the
+/// core's `Observations` and checked once, when made: the arrays of
+/// `gnssatt.gnss.session_input.SessionInput` (`time_gpst_ns` (n_ep,) GPST ns; `sats` (n_sat,) ids;
+/// `glonass_channel` (n_sat,), 99 where unknown; `code_m`, `phase_cycles`, `doppler_hz`, `snr_dbhz`, `lli`
+/// (n_rx, n_ep, n_sat, 3); `approx_position_m` (n_rx, 3) ECEF m, NaN rows where unknown).
+#[pyclass(frozen, module = "gnssatt._core")]
+pub struct ObservationArrays {
+    obs: Observations,
+}
+
+#[pymethods]
+impl ObservationArrays {
+    #[new]
+    #[pyo3(signature = (
+        *, time_gpst_ns, sats, glonass_channel, code_m, phase_cycles, doppler_hz, snr_dbhz, lli,
+        approx_position_m
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn new<'py>(
+        py: Python<'py>,
+        time_gpst_ns: PyReadonlyArray1<'py, i64>,
+        sats: Vec<String>,
+        glonass_channel: PyReadonlyArray1<'py, i64>,
+        code_m: PyReadonlyArray4<'py, f64>,
+        phase_cycles: PyReadonlyArray4<'py, f64>,
+        doppler_hz: PyReadonlyArray4<'py, f64>,
+        snr_dbhz: PyReadonlyArray4<'py, f64>,
+        lli: PyReadonlyArray4<'py, u8>,
+        approx_position_m: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<ObservationArrays> {
+        let ids = sat_ids(py, &sats)?;
+        let ch = channels(py, &ids, &glonass_channel)?;
+        let arrays = EpochArrays {
+            time_gpst_ns,
+            code_m,
+            phase_cycles,
+            doppler_hz,
+            snr_dbhz,
+            lli,
+            approx_position_m,
+        };
+        let obs = observations(py, &arrays, ids, ch)?;
+        Ok(ObservationArrays { obs })
+    }
+
+    /// Number of receivers (the first is the base).
+    #[getter]
+    fn receivers(&self) -> usize {
+        self.obs.receivers.len()
+    }
+
+    /// Number of epochs.
+    #[getter]
+    fn epochs(&self) -> usize {
+        self.obs.time_gpst_ns.len()
+    }
+
+    /// The satellite ids, in the order of the arrays.
+    #[getter]
+    fn sats(&self) -> Vec<String> {
+        self.obs.sats.iter().map(|s| s.to_string()).collect()
+    }
+
+    fn __repr__(&self) -> String {
+        // the ids as Python shows a list of str
+        let sats: Vec<String> = self.obs.sats.iter().map(|s| format!("'{s}'")).collect();
+        format!(
+            "ObservationArrays(receivers={}, epochs={}, sats=[{}])",
+            self.obs.receivers.len(),
+            self.obs.time_gpst_ns.len(),
+            sats.join(", ")
+        )
+    }
+}
+
 /// Processes a whole session in one call (see `gnssatt.rinex.attitude_from_rinex` for the meaning of
 /// every option); returns a [`GnssSession`].
 #[pyfunction]
-#[pyo3(signature = (
-    time_gpst_ns, sats, glonass_channel, code_m, phase_cycles, doppler_hz, snr_dbhz, lli,
-    approx_position_m, kepler, glonass, klobuchar, leap_seconds, options = None
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (observations, navigation, options = None))]
 fn gnss_run<'py>(
     py: Python<'py>,
-    time_gpst_ns: PyReadonlyArray1<'py, i64>,
-    sats: Vec<String>,
-    glonass_channel: PyReadonlyArray1<'py, i64>,
-    code_m: PyReadonlyArray4<'py, f64>,
-    phase_cycles: PyReadonlyArray4<'py, f64>,
-    doppler_hz: PyReadonlyArray4<'py, f64>,
-    snr_dbhz: PyReadonlyArray4<'py, f64>,
-    lli: PyReadonlyArray4<'py, u8>,
-    approx_position_m: PyReadonlyArray2<'py, f64>,
-    kepler: Bound<'py, PyDict>,
-    glonass: Bound<'py, PyDict>,
-    klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-    leap_seconds: Option<i32>,
+    observations: Bound<'py, ObservationArrays>,
+    navigation: Bound<'py, Navigation>,
     options: Option<PyRef<'py, GnssOptions>>,
 ) -> PyResult<GnssSession> {
-    let ids = sat_ids(py, &sats)?;
-    let ch = channels(py, &ids, &glonass_channel)?;
-    let arrays = EpochArrays {
-        time_gpst_ns,
-        code_m,
-        phase_cycles,
-        doppler_hz,
-        snr_dbhz,
-        lli,
-        approx_position_m,
-    };
-    let obs = observations(py, &arrays, ids, ch, None)?;
+    let obs = &observations.get().obs;
     let n_rover = obs.receivers.len() - 1;
     let opts = engine_options(options.as_deref());
-    let nav: NavData = nav_from_py(&kepler, &glonass, klobuchar, leap_seconds)?;
+    let nav = &navigation.get().nav;
     let attitude = !opts.body_baselines_m.is_empty();
-    let sol: SessionSolution = guarded_run(py, "gnss_run", || session::run(&obs, &nav, &opts))?;
+    let sol: SessionSolution = guarded_run(py, "gnss_run", || session::run(obs, nav, &opts))?;
     Ok(session_object(
         py,
         &sol.epochs,
@@ -252,7 +299,7 @@ pub struct GnssEngine {
 impl GnssEngine {
     #[new]
     #[pyo3(signature = (
-        sats, glonass_channel, n_receivers, kepler, glonass, klobuchar, leap_seconds, options = None
+        sats, glonass_channel, n_receivers, navigation, options = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -260,10 +307,7 @@ impl GnssEngine {
         sats: Vec<String>,
         glonass_channel: PyReadonlyArray1<'py, i64>,
         n_receivers: usize,
-        kepler: Bound<'py, PyDict>,
-        glonass: Bound<'py, PyDict>,
-        klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-        leap_seconds: Option<i32>,
+        navigation: Bound<'py, Navigation>,
         options: Option<PyRef<'py, GnssOptions>>,
     ) -> PyResult<GnssEngine> {
         if n_receivers < 2 {
@@ -275,11 +319,11 @@ impl GnssEngine {
         let ids = sat_ids(py, &sats)?;
         let ch = channels(py, &ids, &glonass_channel)?;
         let opts = engine_options(options.as_deref());
-        let nav = nav_from_py(&kepler, &glonass, klobuchar, leap_seconds)?;
+        let nav = &navigation.get().nav;
         let attitude = !opts.body_baselines_m.is_empty();
         let (s, c) = (ids.clone(), ch.clone());
         let engine = guarded_run(py, "GnssEngine", move || {
-            stream::Engine::new(&nav, opts, s, c, n_receivers)
+            stream::Engine::new(nav, opts, s, c, n_receivers)
         })?;
         Ok(GnssEngine {
             engine,
@@ -290,39 +334,38 @@ impl GnssEngine {
         })
     }
 
-    /// Processes the next epochs (arrays as `gnss_run`'s, the satellites and receivers of the
+    /// Processes the next epochs (an [`ObservationArrays`] of the satellites, channels and receivers of the
     /// constructor, epochs after those already processed); returns their [`GnssSession`]
     /// (`double_differences` None, `warnings` those of the whole stream so far).
-    #[allow(clippy::too_many_arguments)]
     fn process<'py>(
         &mut self,
         py: Python<'py>,
-        time_gpst_ns: PyReadonlyArray1<'py, i64>,
-        code_m: PyReadonlyArray4<'py, f64>,
-        phase_cycles: PyReadonlyArray4<'py, f64>,
-        doppler_hz: PyReadonlyArray4<'py, f64>,
-        snr_dbhz: PyReadonlyArray4<'py, f64>,
-        lli: PyReadonlyArray4<'py, u8>,
-        approx_position_m: PyReadonlyArray2<'py, f64>,
+        observations: Bound<'py, ObservationArrays>,
     ) -> PyResult<GnssSession> {
-        let arrays = EpochArrays {
-            time_gpst_ns,
-            code_m,
-            phase_cycles,
-            doppler_hz,
-            snr_dbhz,
-            lli,
-            approx_position_m,
-        };
-        let obs = observations(
-            py,
-            &arrays,
-            self.sats.clone(),
-            self.glonass_channel.clone(),
-            Some(self.n_receivers),
-        )?;
+        let obs = &observations.get().obs;
+        if obs.sats != self.sats || obs.glonass_channel != self.glonass_channel {
+            return Err(invalid_input(
+                py,
+                format!(
+                    "expected observations of the constructor's satellites and GLONASS channels ({} \
+                     satellites), got {} satellites or other channels",
+                    self.sats.len(),
+                    obs.sats.len()
+                ),
+            ));
+        }
+        if obs.receivers.len() != self.n_receivers {
+            return Err(invalid_input(
+                py,
+                format!(
+                    "expected observations of n_receivers = {} receivers, got {}",
+                    self.n_receivers,
+                    obs.receivers.len()
+                ),
+            ));
+        }
         let engine = &mut self.engine;
-        let epochs = guarded_run(py, "GnssEngine.process", move || engine.process(&obs))?;
+        let epochs = guarded_run(py, "GnssEngine.process", move || engine.process(obs))?;
         Ok(session_object(
             py,
             &epochs,
@@ -340,6 +383,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<GnssOptions>()?;
     m.add_class::<GnssSession>()?;
     m.add_class::<GnssEngine>()?;
+    m.add_class::<Navigation>()?;
+    m.add_class::<ObservationArrays>()?;
     // The engine's defaults, read by the Python API and the CLI instead of restating them.
     let d = EngineOptions::default();
     m.add("GNSS_DEFAULT_MIN_SUCCESS_RATE", d.min_success_rate)?;

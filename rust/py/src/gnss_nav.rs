@@ -15,13 +15,12 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
 };
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 use gnssatt_core::Error;
 
 use crate::convert::{exact, fixed, rows, values};
 use crate::errors::{invalid_input, IntoPyResult};
-use crate::gnss_nav_input::{nav_from_py, sat_from_str};
+use crate::gnss_nav_input::{sat_from_str, Navigation};
 use crate::interruptible;
 use crate::results::result_type;
 
@@ -79,19 +78,15 @@ result_type! {
 /// included, no group delay) and validity (n,) of `sats[i]` at GPST `t_gpst_ns[i] + offset_s[i]`, as
 /// [`SatelliteStates`]; NaN where not valid (no healthy record within its validity interval).
 #[pyfunction]
-#[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, sats, t_gpst_ns, *, offset_s=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (navigation, sats, t_gpst_ns, *, offset_s=None))]
 fn gnss_satellite_states<'py>(
     py: Python<'py>,
-    kepler: &Bound<'py, PyDict>,
-    glonass: &Bound<'py, PyDict>,
-    klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-    leap_seconds: Option<i32>,
+    navigation: &Bound<'py, Navigation>,
     sats: Vec<String>,
     t_gpst_ns: PyReadonlyArray1<'py, i64>,
     offset_s: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<SatelliteStates> {
-    let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
+    let nav = &navigation.get().nav;
     let n = sats.len();
     let ids = sats
         .iter()
@@ -103,7 +98,7 @@ fn gnss_satellite_states<'py>(
         None => vec![0.0; n],
     };
     let states = interruptible::run(py, || {
-        let eph = Ephemerides::new(&nav)?;
+        let eph = Ephemerides::new(nav)?;
         Ok((0..n)
             .map(|i| eph.state(ids[i], t[i], off[i]))
             .collect::<Vec<_>>())
@@ -137,16 +132,12 @@ result_type! {
 /// (n_ep, 3) ECEF m, clocks (n_ep, 5) s per system (NaN where not estimated), satellites used (n_ep,) and
 /// residual RMS (n_ep,) m; rows of epochs without a solution are NaN (and 0 satellites).
 #[pyfunction]
-#[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, time_gpst_ns, sats, glonass_channel,
-                    code_m, *, approx_position_m=None, systems="GRECJ", frequencies=1,
-                    elevation_mask_deg=10.0))]
+#[pyo3(signature = (navigation, time_gpst_ns, sats, glonass_channel, code_m, *,
+                    approx_position_m=None, systems="GRECJ", frequencies=1, elevation_mask_deg=10.0))]
 #[allow(clippy::too_many_arguments)]
 fn gnss_single_point<'py>(
     py: Python<'py>,
-    kepler: &Bound<'py, PyDict>,
-    glonass: &Bound<'py, PyDict>,
-    klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-    leap_seconds: Option<i32>,
+    navigation: &Bound<'py, Navigation>,
     time_gpst_ns: PyReadonlyArray1<'py, i64>,
     sats: Vec<String>,
     glonass_channel: PyReadonlyArray1<'py, i64>,
@@ -156,7 +147,7 @@ fn gnss_single_point<'py>(
     frequencies: usize,
     elevation_mask_deg: f64,
 ) -> PyResult<SinglePoints> {
-    let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
+    let nav = &navigation.get().nav;
     let ids = sats
         .iter()
         .map(|s| sat_from_str(py, "sats", s))
@@ -196,12 +187,12 @@ fn gnss_single_point<'py>(
     let solutions = interruptible::run(py, || {
         opts.validate()?;
         obs.validate()?;
-        let eph = Ephemerides::new(&nav)?;
+        let eph = Ephemerides::new(nav)?;
         let mut prior: Option<Vector3<f64>> = None;
         let mut out = Vec::with_capacity(ne);
         for e in 0..ne {
             gnssatt_core::interrupt::check_every(e, "single point")?;
-            let s = single_point(&obs, 0, e, &eph, &nav, &opts, prior.as_ref()).ok();
+            let s = single_point(&obs, 0, e, &eph, nav, &opts, prior.as_ref()).ok();
             if let Some(s) = &s {
                 prior = Some(s.position_m);
             }
@@ -251,15 +242,10 @@ result_type! {
 /// (clockwise from North) at the receiver's geodetic position (n,) rad, and validity (n,); NaN where not
 /// valid (no usable record).
 #[pyfunction]
-#[pyo3(signature = (kepler, glonass, klobuchar, leap_seconds, sats, t_rx_gpst_ns, receiver_m,
-                    receiver_clock_s))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (navigation, sats, t_rx_gpst_ns, receiver_m, receiver_clock_s))]
 fn gnss_transmit_states<'py>(
     py: Python<'py>,
-    kepler: &Bound<'py, PyDict>,
-    glonass: &Bound<'py, PyDict>,
-    klobuchar: Option<PyReadonlyArray1<'py, f64>>,
-    leap_seconds: Option<i32>,
+    navigation: &Bound<'py, Navigation>,
     sats: Vec<String>,
     t_rx_gpst_ns: PyReadonlyArray1<'py, i64>,
     receiver_m: PyReadonlyArray2<'py, f64>,
@@ -267,7 +253,7 @@ fn gnss_transmit_states<'py>(
 ) -> PyResult<TransmitStates> {
     let n = sats.len();
     evaluations(py, n)?;
-    let nav = nav_from_py(kepler, glonass, klobuchar, leap_seconds)?;
+    let nav = &navigation.get().nav;
     let ids = sats
         .iter()
         .map(|s| sat_from_str(py, "sats", s))
@@ -304,7 +290,7 @@ fn gnss_transmit_states<'py>(
         "s",
     )?;
     let geometry = interruptible::run(py, || {
-        let eph = Ephemerides::new(&nav)?;
+        let eph = Ephemerides::new(nav)?;
         let mut out = Vec::with_capacity(n);
         for i in 0..n {
             gnssatt_core::interrupt::check_every(i, "transmit states")?;

@@ -1,10 +1,11 @@
 //! Broadcast navigation data from Python (`NavInput` of `gnssatt.rinex.nav`: one numpy array
-//! per record field) into the core's `NavData`, and satellite ids from their text (`"G05"`); used by the
-//! ephemeris evaluations (`gnss_nav`) and the observation engine (`gnss`).
+//! per record field) into the core's `NavData`, held by the frozen [`Navigation`] that every GNSS binding
+//! takes (converted and checked once, not on every call); and satellite ids from their text (`"G05"`).
+//! Used by the ephemeris evaluations (`gnss_nav`) and the observation engine (`gnss`).
 
 use gnssatt_core::gnss::navdata::{GlonassRecord, KeplerRecord, NavData};
 use gnssatt_core::gnss::signal::{SatId, System};
-use numpy::PyReadonlyArray1;
+use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -270,20 +271,93 @@ fn glonass_records(py: Python<'_>, dict: &Bound<'_, PyDict>) -> PyResult<Vec<Glo
 
 /// `NavData` from the arrays of a `NavInput` (one array per record field, see the module documentation
 /// of `gnssatt.rinex.nav`); the records' values are checked by `Ephemerides::new`.
-pub fn nav_from_py(
-    kepler: &Bound<PyDict>,
-    glonass: &Bound<PyDict>,
+fn nav_from_py(
+    py: Python<'_>,
+    kepler: Option<&Bound<PyDict>>,
+    glonass: Option<&Bound<PyDict>>,
     klobuchar: Option<PyReadonlyArray1<f64>>,
     leap_seconds: Option<i32>,
 ) -> PyResult<NavData> {
-    let py = kepler.py();
     let klobuchar = klobuchar
         .map(|k| fixed::<8>(py, "klobuchar", &k))
         .transpose()?;
+    let empty = PyDict::new(py);
     Ok(NavData {
-        kepler: kepler_records(py, kepler)?,
-        glonass: glonass_records(py, glonass)?,
+        kepler: kepler_records(py, kepler.unwrap_or(&empty))?,
+        glonass: glonass_records(py, glonass.unwrap_or(&empty))?,
         klobuchar,
         leap_seconds,
     })
+}
+
+/// Broadcast navigation data converted once into the core's `NavData` (`gnssatt._core.Navigation`), the
+/// argument of every GNSS binding: `kepler` and `glonass` are the column arrays of
+/// `gnssatt.rinex.nav.NavInput` (missing or empty: no record of that kind), `klobuchar` the (8,) GPS
+/// alpha0..3, beta0..3, `leap_seconds` GPS - UTC. Frozen; the records' values are checked where they are
+/// used (`Ephemerides::new`).
+#[pyclass(frozen, module = "gnssatt._core")]
+pub struct Navigation {
+    pub nav: NavData,
+}
+
+#[pymethods]
+impl Navigation {
+    #[new]
+    #[pyo3(signature = (*, kepler = None, glonass = None, klobuchar = None, leap_seconds = None))]
+    fn new<'py>(
+        py: Python<'py>,
+        kepler: Option<Bound<'py, PyDict>>,
+        glonass: Option<Bound<'py, PyDict>>,
+        klobuchar: Option<PyReadonlyArray1<'py, f64>>,
+        leap_seconds: Option<i32>,
+    ) -> PyResult<Navigation> {
+        let nav = nav_from_py(
+            py,
+            kepler.as_ref(),
+            glonass.as_ref(),
+            klobuchar,
+            leap_seconds,
+        )?;
+        Ok(Navigation { nav })
+    }
+
+    /// Number of Keplerian records (GPS, Galileo, BeiDou, QZSS).
+    #[getter]
+    fn kepler_records(&self) -> usize {
+        self.nav.kepler.len()
+    }
+
+    /// Number of GLONASS records.
+    #[getter]
+    fn glonass_records(&self) -> usize {
+        self.nav.glonass.len()
+    }
+
+    /// The (8,) Klobuchar coefficients (a copy), or None.
+    #[getter]
+    fn klobuchar<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.nav.klobuchar.map(|k| PyArray1::from_slice(py, &k))
+    }
+
+    /// GPS - UTC, s, or None.
+    #[getter]
+    fn leap_seconds(&self) -> Option<i32> {
+        self.nav.leap_seconds
+    }
+
+    fn __repr__(&self) -> String {
+        let klobuchar = match self.nav.klobuchar {
+            Some(_) => "array(shape=(8,), dtype=float64)",
+            None => "None",
+        };
+        let leap = self
+            .nav
+            .leap_seconds
+            .map_or("None".to_string(), |s| s.to_string());
+        format!(
+            "Navigation(kepler_records={}, glonass_records={}, klobuchar={klobuchar}, leap_seconds={leap})",
+            self.nav.kepler.len(),
+            self.nav.glonass.len()
+        )
+    }
 }
