@@ -1,0 +1,73 @@
+"""The shared intake on the forms of input the first hostile sweep did not try (issue 15 follow-up):
+``numpy.ma`` masked arrays, Python integers beyond float range, read-only arrays, zero-stride views of
+absurd size and 0-d integer seeds. Each case failed before the fix named in its docstring."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from gnssatt import _arrays, sim
+from gnssatt.errors import InvalidInputError, WorkLimitError
+from gnssatt.geometry import attitude_dop
+
+BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+LOS = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, 0.6, 0.8], [-0.6, 0.0, 0.8]])
+
+
+def test_masked_value_is_refused_not_used() -> None:
+    """np.asarray dropped the mask, so the value under it (here 1e6 m) was silently used."""
+    side = np.ma.masked_array([1.0, 1e6], mask=[False, True])
+    with pytest.raises(InvalidInputError, match=r"x without masked values.*index \(1,\)"):
+        _arrays.float_array("x", side, ndim=1, shape="(n,)")
+    with pytest.raises(InvalidInputError, match="side_m without masked values"):
+        sim.equilateral_triangle(np.ma.masked)
+
+
+def test_masked_array_without_masked_values_is_its_data() -> None:
+    data = np.array([[1.0, 2.0], [3.0, 4.0]])
+    out = _arrays.float_array("x", np.ma.masked_array(data), ndim=2, shape="(n, 2)")
+    assert type(out) is np.ndarray
+    np.testing.assert_array_equal(out, data)
+
+
+def test_masked_values_are_nan_where_nan_is_documented() -> None:
+    out = _arrays.real_array("x", np.ma.masked_array([1.0, 2.0, 3.0], mask=[False, True, False]))
+    assert type(out) is np.ndarray
+    np.testing.assert_array_equal(out, [1.0, np.nan, 3.0])
+
+
+@pytest.mark.parametrize("big", [10**400, -(10**400)])
+def test_integer_beyond_float_range_is_refused_by_name(big: int) -> None:
+    """float(10**400) raised OverflowError, which is not an input error."""
+    with pytest.raises(InvalidInputError, match="finite side_m, got an integer of 401 digits"):
+        sim.equilateral_triangle(big)
+
+
+def test_read_only_array_is_accepted() -> None:
+    """scipy's Rotation.apply refuses read-only buffers: attitude_dop raised a bare ValueError."""
+    b = BASELINES.copy()
+    b.flags.writeable = False
+    expected = attitude_dop(BASELINES, LOS, Rotation.identity())
+    assert attitude_dop(b, LOS, Rotation.identity()) == expected
+    assert not b.flags.writeable  # the caller's array is left as it was
+
+
+def test_zero_stride_view_of_absurd_size_is_refused_before_copying() -> None:
+    """The intake copied first: numpy raised MemoryError for the 24 TiB copy."""
+    huge = np.broadcast_to(np.array([0.0, 0.0, 1.0]), (2**40, 3))
+    start = time.perf_counter()
+    with pytest.raises(WorkLimitError, match=rf"los has {2**40 * 3} elements.*limit of {2**28}"):
+        attitude_dop(BASELINES, huge, Rotation.identity())
+    with pytest.raises(WorkLimitError, match="x has"):
+        _arrays.real_array("x", huge)
+    assert time.perf_counter() - start < 1.0
+
+
+def test_zero_d_integer_array_is_a_seed() -> None:
+    a = sim.random_los(np.array(5), 4)
+    b = sim.random_los(5, 4)
+    np.testing.assert_array_equal(a, b)
