@@ -5,14 +5,16 @@ absurd size and 0-d integer seeds. Each case failed before the fix named in its 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _arrays, sim
-from gnssatt.errors import InvalidInputError, WorkLimitError
+from gnssatt.errors import ConvergenceError, InvalidInputError, WorkLimitError
 from gnssatt.geometry import attitude_dop
+from gnssatt.orbit import teme_to_ecef
 
 BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
 LOS = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, 0.6, 0.8], [-0.6, 0.0, 0.8]])
@@ -71,3 +73,26 @@ def test_zero_d_integer_array_is_a_seed() -> None:
     a = sim.random_los(np.array(5), 4)
     b = sim.random_los(5, 4)
     np.testing.assert_array_equal(a, b)
+
+
+BIG = float(np.finfo(np.float64).max)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        pytest.param(lambda: sim.eci_to_ecef([BIG, BIG, 0.0], [0.0, 0.0, 0.0], 10.0), id="eci_to_ecef"),
+        pytest.param(lambda: sim.ecef_to_eci([BIG, BIG, 0.0], [0.0, 0.0, 0.0], 10.0), id="ecef_to_eci"),
+        pytest.param(lambda: teme_to_ecef([BIG, BIG, 0.0], [0.0, 0.0, 0.0], 2460000.5), id="teme_to_ecef"),
+        pytest.param(
+            lambda: sim.los_body([[BIG, BIG, 0.0]], Rotation.from_euler("z", 45.0, degrees=True)),
+            id="los_body",
+        ),
+        pytest.param(lambda: sim.equilateral_triangle(BIG), id="equilateral_triangle"),
+    ],
+)
+def test_finite_input_whose_rotation_overflows_raises_not_inf(call: Callable[[], object]) -> None:
+    """A rotation of (1.8e308, 1.8e308, 0) by an angle between the axes has a component beyond the float
+    limit (sqrt(2) 1.8e308 at 45 deg); the functions returned inf."""
+    with pytest.raises(ConvergenceError, match="not finite"):
+        call()
