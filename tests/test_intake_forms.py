@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gnssatt import _arrays, sim
-from gnssatt.errors import ConvergenceError, InvalidInputError, WorkLimitError
+from gnssatt import _arrays, constants, montecarlo, sim
+from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.geometry import attitude_dop
 from gnssatt.orbit import teme_to_ecef
 
@@ -96,3 +96,55 @@ def test_finite_input_whose_rotation_overflows_raises_not_inf(call: Callable[[],
     limit (sqrt(2) 1.8e308 at 45 deg); the functions returned inf."""
     with pytest.raises(ConvergenceError, match="not finite"):
         call()
+
+
+class _NoFutureExecutor:
+    def submit(self, fn: object, *args: object) -> None:
+        return None
+
+
+class _Down(RuntimeError):
+    pass
+
+
+class _RaisingExecutor:
+    def submit(self, fn: object, *args: object) -> None:
+        raise _Down("cluster went away")
+
+
+def _trial(rng: np.random.Generator) -> float:
+    return float(rng.normal())
+
+
+def test_executor_whose_submit_returns_no_future_is_refused_by_name() -> None:
+    """as_completed failed with AttributeError: 'NoneType' object has no attribute '_condition'."""
+    with pytest.raises(InvalidTypeError, match=r"executor\.submit to return a concurrent\.futures\.Future"):
+        montecarlo.run(_trial, 3, seed=1, executor=_NoFutureExecutor(), progress=False)
+
+
+def test_executor_error_comes_out_unchanged() -> None:
+    with pytest.raises(_Down, match="cluster went away"):
+        montecarlo.run(_trial, 3, seed=1, executor=_RaisingExecutor(), progress=False)
+
+
+def test_glonass_channels_share_the_intake_limits() -> None:
+    """constants cannot import gnssatt._arrays (same layer): its copy of the limit must agree."""
+    assert constants._MAX_ELEMENTS == _arrays.MAX_ELEMENTS
+    with pytest.raises(WorkLimitError, match="k has"):
+        constants.glonass_frequency_hz(np.broadcast_to(np.array([1]), (2**40,)))
+    with pytest.raises(InvalidInputError, match="k without masked values"):
+        constants.glonass_wavelength_m(np.ma.masked_array([1, 99], mask=[False, True]))
+
+
+def test_nan_gaps_intake_checks_size_and_masks() -> None:
+    """ml_attitude_series ran np.isnan over a 2^40-row view (MemoryError) before the intake's size check;
+    a masked phase is a gap like NaN."""
+    from gnssatt.attitude.likelihood import _gaps
+
+    with pytest.raises(WorkLimitError, match="sd_phase has"):
+        _gaps("sd_phase", np.broadcast_to(np.zeros((1, 2, 3)), (2**40, 2, 3)), ndim=3, shape="(n, 2, 3)")
+    values, gaps = _gaps(
+        "sd_phase", np.ma.masked_array([[0.5, 7.0]], mask=[[False, True]]), ndim=2, shape="(n, 2)"
+    )
+    np.testing.assert_array_equal(values, [[0.5, 0.0]])
+    np.testing.assert_array_equal(gaps, [[False, True]])

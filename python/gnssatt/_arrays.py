@@ -35,6 +35,7 @@ __all__ = [
     "integer",
     "integer_array",
     "path_text",
+    "plain_array",
     "readonly",
     "real_array",
     "rows",
@@ -82,6 +83,29 @@ def _size_limit(name: str, arr: np.ndarray) -> None:
         raise WorkLimitError(
             f"{name} has {arr.size} elements (shape {arr.shape}), more than the limit of {MAX_ELEMENTS}"
         )
+
+
+def plain_array(name: str, value: Any, *, nan_for_masked: bool = False) -> np.ndarray:
+    """``numpy.asarray(value)`` for intakes that look at the dtype themselves (integer channels, NaN gaps),
+    with the checks every intake shares: masked values refused (NaN with ``nan_for_masked``), at most
+    :data:`MAX_ELEMENTS` elements, ragged sequences refused.
+
+    Raises
+    ------
+    InvalidTypeError
+        A ragged nested sequence.
+    InvalidInputError
+        A masked value (without ``nan_for_masked``); :class:`~gnssatt.errors.WorkLimitError` for more than
+        :data:`MAX_ELEMENTS` elements.
+    """
+    try:
+        arr = np.asarray(_unmasked(name, value, nan_for_masked=nan_for_masked))
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, InvalidInputError):
+            raise
+        raise InvalidTypeError(f"expected {name} as a numeric array, got {_describe(value)} ({exc})") from exc
+    _size_limit(name, arr)
+    return arr
 
 
 def _describe(value: Any) -> str:

@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, float_array, scalar, shaped
+from gnssatt._arrays import choice, float_array, plain_array, scalar, shaped
 from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
@@ -724,11 +724,9 @@ def _gaps(
     raw = value
     gaps: NDArray[np.bool_] | bool = False
     if isinstance(value, np.ndarray | list | tuple | float):
-        try:
-            raw = np.asarray(value)
-        except ValueError:  # ragged: float_array says so
-            raw = value
-        if isinstance(raw, np.ndarray) and raw.dtype.kind == "f":
+        # masked values are gaps too; the size is checked before np.isnan scans (or copies) the array
+        raw = plain_array(name, value, nan_for_masked=True)
+        if raw.dtype.kind == "f":
             gaps = np.isnan(raw)
             raw = np.where(gaps, 0.0, raw)
     arr = float_array(name, raw, ndim=ndim, shape=shape)
