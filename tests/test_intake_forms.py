@@ -148,3 +148,15 @@ def test_nan_gaps_intake_checks_size_and_masks() -> None:
     )
     np.testing.assert_array_equal(values, [[0.5, 0.0]])
     np.testing.assert_array_equal(gaps, [[False, True]])
+
+
+@pytest.mark.parametrize(
+    ("bad", "what"),
+    [("a\x00b.24o", "without NUL characters"), ("x" * 5000, "at most 4095 bytes"), ("d/" + "y" * 300, "255")],
+)
+def test_path_that_the_os_cannot_open_is_refused_by_name(bad: str, what: str) -> None:
+    """open() raised ValueError (embedded null byte) or OSError (File name too long)."""
+    with pytest.raises(InvalidInputError, match=f"path .*{what}"):
+        _arrays.path_text(bad)
+    with pytest.raises(InvalidInputError, match=f"folder .*{what}"):
+        _arrays.folder_path("folder", bad)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import operator
+import os
 import re
 from os import PathLike
 from pathlib import Path
@@ -464,6 +465,11 @@ def rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = Fals
 _SAT_ID = re.compile(r"[GRECJSI](?:0[1-9]|[1-9]\d)")
 
 
+#: POSIX limits of a path and of one of its names, bytes (Linux and macOS file systems).
+_PATH_MAX = 4095
+_NAME_MAX = 255
+
+
 def path_text(path: object, name: str = "path") -> str:
     """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor),
     and so is an empty name."""
@@ -472,6 +478,16 @@ def path_text(path: object, name: str = "path") -> str:
     text = str(path)
     if not text:
         raise InvalidInputError(f"expected {name} as a file name, got an empty one")
+    # what open() and os.stat() refuse with a bare ValueError or OSError (ENAMETOOLONG): refused here, by name
+    if "\x00" in text:
+        raise InvalidInputError(f"expected {name} as a file name without NUL characters, got {text[:80]!r}")
+    encoded = os.fsencode(text)
+    longest = max(len(part) for part in encoded.split(b"/"))
+    if len(encoded) > _PATH_MAX or longest > _NAME_MAX:
+        raise InvalidInputError(
+            f"expected {name} of at most {_PATH_MAX} bytes with names of at most {_NAME_MAX} bytes (the "
+            f"POSIX limits), got {len(encoded)} bytes with a name of {longest}: {text[:80]!r}..."
+        )
     return text
 
 
