@@ -160,3 +160,10 @@ def test_path_that_the_os_cannot_open_is_refused_by_name(bad: str, what: str) ->
         _arrays.path_text(bad)
     with pytest.raises(InvalidInputError, match=f"folder .*{what}"):
         _arrays.folder_path("folder", bad)
+
+
+def test_masked_count_is_refused() -> None:
+    """operator.index took the value under the mask: random_attitude drew 3 rotations."""
+    with pytest.raises(InvalidInputError, match="n without masked values"):
+        sim.random_attitude(1, np.ma.masked_array(3, mask=True))
+    assert len(sim.random_attitude(1, np.ma.masked_array(3))) == 3

@@ -204,6 +204,7 @@ def integer(name: str, value: Any, *, minimum: int | None = None, maximum: int |
     InvalidInputError
         ``value`` lies outside the bounds (:class:`~gnssatt.errors.WorkLimitError` above ``maximum``).
     """
+    value = _unmasked(name, value)  # operator.index reads the data under a mask
     if isinstance(value, bool | np.bool_):
         raise InvalidTypeError(f"expected {name} as an integer, got {_describe(value)}")
     try:
