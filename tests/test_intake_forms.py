@@ -167,3 +167,13 @@ def test_masked_count_is_refused() -> None:
     with pytest.raises(InvalidInputError, match="n without masked values"):
         sim.random_attitude(1, np.ma.masked_array(3, mask=True))
     assert len(sim.random_attitude(1, np.ma.masked_array(3))) == 3
+
+
+def test_step_coarser_than_the_lobe_names_what_sets_the_lobe() -> None:
+    """The core's message named step_deg only, although baseline_length_m or wavelength set the bound."""
+    from gnssatt import ml_baseline
+
+    los = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, 0.6, 0.8], [-0.6, 0.0, 0.8]])
+    with pytest.raises(InvalidInputError, match="main lobe") as info:
+        ml_baseline(np.zeros(4), los, baseline_length_m=1e4, wavelength=0.19, step_deg=2.0)
+    assert "baseline_length_m" in str(info.value) and "wavelength" in str(info.value)
