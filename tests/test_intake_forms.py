@@ -177,3 +177,22 @@ def test_step_coarser_than_the_lobe_names_what_sets_the_lobe() -> None:
     with pytest.raises(InvalidInputError, match="main lobe") as info:
         ml_baseline(np.zeros(4), los, baseline_length_m=1e4, wavelength=0.19, step_deg=2.0)
     assert "baseline_length_m" in str(info.value) and "wavelength" in str(info.value)
+
+
+def test_masked_seed_is_refused() -> None:
+    """The 0-d seed's .item() read the value under the mask."""
+    with pytest.raises(InvalidInputError, match="rng without masked values"):
+        sim.random_attitude(np.ma.masked_array(np.int64(3), mask=True), 2)
+
+
+def test_degenerate_pairs_name_the_arguments() -> None:
+    """Range differences that no rotation of the baselines makes can leave the attitude profile matrix of
+    rank one; the core's message spoke of "vector pairs" without naming an argument."""
+    from gnssatt import DegenerateGeometryError, matrix_attitude
+
+    b = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    # every row of range_diffs the same multiple of one vector: B = sum_ij r_ij b_i s_j^T has rank one
+    r = np.outer([1.0, 0.0], [1.0, 1.0, 1.0, 1.0])
+    with pytest.raises(DegenerateGeometryError) as info:
+        matrix_attitude(b, LOS, r, method="svd")
+    assert "range_diffs" in str(info.value)

@@ -420,6 +420,7 @@ def generator(name: str, value: Any) -> np.random.Generator:
     InvalidInputError
         A negative integer seed (``default_rng`` refuses it).
     """
+    value = _unmasked(name, value)  # .item() reads the data under a mask
     if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iu":
         value = value.item()  # a 0-d integer array is an integer seed, as default_rng takes it
     if isinstance(value, bool) or not (
