@@ -71,7 +71,7 @@ def _unmasked(name: str, value: Any, *, nan_for_masked: bool = False) -> Any:
     if not mask.any():
         return np.ma.getdata(value)
     if nan_for_masked and value.dtype.kind in "iuf":
-        return value.astype(np.float64).filled(np.nan)
+        return np.where(mask, np.nan, np.ma.getdata(value).astype(np.float64))
     bad = tuple(int(i) for i in np.argwhere(mask)[0]) if mask.ndim else ()
     raise InvalidInputError(
         f"expected {name} without masked values, got a numpy.ma masked array with a masked value at index "
