@@ -744,6 +744,9 @@ SPECIFIC = [
     ("phase_observations", "slips", np.array([[0.0, 1.0, 0.5]]), InvalidInputError),
     ("phase_observations", "slips", np.array([[0.0, 1.0j, 1.0]]), InvalidTypeError),
     ("phase_observations", "new_arcs_after", np.array([math.nan]), InvalidInputError),
+    # 1e308-cycle noise overflowed the simulated phases: refused as "phase contains a non-finite value"
+    ("phase_observations", "phase_sigma_cycles", 1e308, InvalidInputError),
+    ("walker", "phasing", 10**400, InvalidInputError),  # 360.0 * 10**400 raised OverflowError
     ("attitude_fixes", "phase_sigma_cycles", 0.0, InvalidInputError),
     ("PhaseObservations", "epoch", PHASES.epoch + 100, InvalidInputError),
     ("PhaseObservations", "epoch", PHASES.epoch + 0.5, InvalidTypeError),

@@ -103,7 +103,10 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--examples", type=int, default=20, help="hypothesis draws per function (default 20)")
     p.add_argument(
-        "--seed", type=int, default=15, help="seed of RINEX mutations and LAMBDA cases (default 15)"
+        "--seed",
+        type=int,
+        default=15,
+        help="seed of the hypothesis draws, RINEX mutations and LAMBDA cases (default 15)",
     )
     p.add_argument("--rinex-mutations", type=int, default=10, help="random mutations of each kind per file")
     p.add_argument("--lambda-cases", type=int, default=40, help="random LAMBDA problems (default 40)")
@@ -127,7 +130,7 @@ def main() -> int:
         if "hypothesis" not in skip and args.examples > 0:
             for name in names:
                 if inv.ENTRIES[name].build():  # a function without arguments has nothing to draw
-                    records += run_drawn(pool, name, args.examples)
+                    records += run_drawn(pool, name, args.examples, args.seed)
             print(f"+ hypothesis: {len(records)} calls, {time.perf_counter() - start:.0f} s", file=sys.stderr)
         if "rinex" not in skip:
             records += rinex_records(pool, args.rinex_mutations, args.seed)

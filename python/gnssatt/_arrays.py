@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import operator
+import os
 import re
 from os import PathLike
 from pathlib import Path
@@ -35,6 +36,7 @@ __all__ = [
     "integer",
     "integer_array",
     "path_text",
+    "plain_array",
     "readonly",
     "real_array",
     "rows",
@@ -51,6 +53,60 @@ __all__ = [
 # given to ``choice``.
 _T = TypeVar("_T")
 _Choice = TypeVar("_Choice", bound=str)
+
+
+#: Elements of one array argument (2^28: 2 GiB as float64), checked before the array is copied or scanned,
+#: so that a zero-stride view such as ``numpy.broadcast_to(x, (2**40, 3))`` is refused at once instead of
+#: allocating terabytes. The functions' own work limits (docs/limits.md) are far below it.
+MAX_ELEMENTS = 2**28
+
+
+def _unmasked(name: str, value: Any, *, nan_for_masked: bool = False) -> Any:
+    """The data of a ``numpy.ma`` masked array with nothing masked (plain numpy would silently use the
+    values under the mask); masked entries become NaN where NaN is documented input (``nan_for_masked``)
+    and are refused otherwise. Any other value is returned unchanged."""
+    if not isinstance(value, np.ma.MaskedArray):
+        return value
+    mask = np.ma.getmaskarray(value)
+    if not mask.any():
+        return np.ma.getdata(value)
+    if nan_for_masked and value.dtype.kind in "iuf":
+        return np.where(mask, np.nan, np.ma.getdata(value).astype(np.float64))
+    bad = tuple(int(i) for i in np.argwhere(mask)[0]) if mask.ndim else ()
+    raise InvalidInputError(
+        f"expected {name} without masked values, got a numpy.ma masked array with a masked value at index "
+        f"{bad}: fill it (numpy.ma.filled) or leave it out"
+    )
+
+
+def _size_limit(name: str, arr: np.ndarray) -> None:
+    if arr.size > MAX_ELEMENTS:
+        raise WorkLimitError(
+            f"{name} has {arr.size} elements (shape {arr.shape}), more than the limit of {MAX_ELEMENTS}"
+        )
+
+
+def plain_array(name: str, value: Any, *, nan_for_masked: bool = False) -> np.ndarray:
+    """``numpy.asarray(value)`` for intakes that look at the dtype themselves (integer channels, NaN gaps),
+    with the checks every intake shares: masked values refused (NaN with ``nan_for_masked``), at most
+    :data:`MAX_ELEMENTS` elements, ragged sequences refused.
+
+    Raises
+    ------
+    InvalidTypeError
+        A ragged nested sequence.
+    InvalidInputError
+        A masked value (without ``nan_for_masked``); :class:`~gnssatt.errors.WorkLimitError` for more than
+        :data:`MAX_ELEMENTS` elements.
+    """
+    try:
+        arr = np.asarray(_unmasked(name, value, nan_for_masked=nan_for_masked))
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, InvalidInputError):
+            raise
+        raise InvalidTypeError(f"expected {name} as a numeric array, got {_describe(value)} ({exc})") from exc
+    _size_limit(name, arr)
+    return arr
 
 
 def _describe(value: Any) -> str:
@@ -74,7 +130,7 @@ def float_array(name: str, value: Any, *, ndim: int | tuple[int, ...], shape: st
         message.
     """
     try:
-        raw = np.asarray(value)
+        raw = np.asarray(_unmasked(name, value))
     except (TypeError, ValueError) as exc:  # ragged nested sequences
         raise InvalidTypeError(
             f"expected {name} as a numeric array of shape {shape}, got {_describe(value)} ({exc})"
@@ -83,7 +139,11 @@ def float_array(name: str, value: Any, *, ndim: int | tuple[int, ...], shape: st
         raise InvalidTypeError(
             f"expected {name} as a real numeric array of shape {shape}, got {_describe(raw)}"
         )
+    _size_limit(name, raw)
     arr = np.ascontiguousarray(raw, dtype=np.float64)
+    if not arr.flags.writeable:
+        # a read-only input comes back as itself; scipy's Rotation.apply (and any in-place step) refuses it
+        arr = arr.copy()
     allowed = (ndim,) if isinstance(ndim, int) else ndim
     if arr.ndim not in allowed:
         raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
@@ -111,11 +171,17 @@ def scalar(
     InvalidInputError
         ``value`` is not finite or lies outside the bounds.
     """
+    value = _unmasked(name, value)
     if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
         value = value.item()
     if isinstance(value, bool | np.bool_) or not isinstance(value, int | float | np.integer | np.floating):
         raise InvalidTypeError(f"expected {name} as a real number, got {_describe(value)}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # a Python int beyond float range (10**400) is as good as infinite
+        raise InvalidInputError(
+            f"expected a finite {name}, got an integer of {len(str(abs(int(value))))} digits"
+        ) from None
     u = f" {unit}" if unit else ""
     if not math.isfinite(x):
         raise InvalidInputError(f"expected a finite {name}, got {x}")
@@ -138,6 +204,7 @@ def integer(name: str, value: Any, *, minimum: int | None = None, maximum: int |
     InvalidInputError
         ``value`` lies outside the bounds (:class:`~gnssatt.errors.WorkLimitError` above ``maximum``).
     """
+    value = _unmasked(name, value)  # operator.index reads the data under a mask
     if isinstance(value, bool | np.bool_):
         raise InvalidTypeError(f"expected {name} as an integer, got {_describe(value)}")
     try:
@@ -311,11 +378,12 @@ def real_array(name: str, value: Any) -> NDArray[np.float64]:
     """``value`` as a float64 array of real numbers that may hold NaN (where a value is unknown or not
     measured); complex, boolean, object, text and ragged input is refused as in ``float_array``."""
     try:
-        arr = np.array(value)
+        arr = np.asarray(_unmasked(name, value, nan_for_masked=True))
     except ValueError as exc:  # ragged nested sequences
         raise InvalidTypeError(f"expected {name} as a real numeric array, got {exc}") from exc
     if arr.dtype.kind not in "iuf":
         raise InvalidTypeError(f"expected {name} as a real numeric array, got dtype {arr.dtype}")
+    _size_limit(name, arr)
     return arr.astype(np.float64)
 
 
@@ -352,6 +420,9 @@ def generator(name: str, value: Any) -> np.random.Generator:
     InvalidInputError
         A negative integer seed (``default_rng`` refuses it).
     """
+    value = _unmasked(name, value)  # .item() reads the data under a mask
+    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iu":
+        value = value.item()  # a 0-d integer array is an integer seed, as default_rng takes it
     if isinstance(value, bool) or not (
         value is None
         or isinstance(value, np.random.Generator | np.random.SeedSequence)
@@ -396,6 +467,11 @@ def rows(name: str, value: Any, shape: tuple[int, ...], *, integers: bool = Fals
 _SAT_ID = re.compile(r"[GRECJSI](?:0[1-9]|[1-9]\d)")
 
 
+#: POSIX limits of a path and of one of its names, bytes (Linux and macOS file systems).
+_PATH_MAX = 4095
+_NAME_MAX = 255
+
+
 def path_text(path: object, name: str = "path") -> str:
     """The file name as text; a value that is not a path is refused (``Path(3)`` would read a descriptor),
     and so is an empty name."""
@@ -404,6 +480,16 @@ def path_text(path: object, name: str = "path") -> str:
     text = str(path)
     if not text:
         raise InvalidInputError(f"expected {name} as a file name, got an empty one")
+    # what open() and os.stat() refuse with a bare ValueError or OSError (ENAMETOOLONG): refused here, by name
+    if "\x00" in text:
+        raise InvalidInputError(f"expected {name} as a file name without NUL characters, got {text[:80]!r}")
+    encoded = os.fsencode(text)
+    longest = max(len(part) for part in encoded.split(b"/"))
+    if len(encoded) > _PATH_MAX or longest > _NAME_MAX:
+        raise InvalidInputError(
+            f"expected {name} of at most {_PATH_MAX} bytes with names of at most {_NAME_MAX} bytes (the "
+            f"POSIX limits), got {len(encoded)} bytes with a name of {longest}: {text[:80]!r}..."
+        )
     return text
 
 

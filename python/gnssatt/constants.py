@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
     "GLONASS_CHANNELS",
@@ -68,11 +68,20 @@ GLONASS_L2_BASE_HZ = 1246.0e6
 GLONASS_L2_STEP_HZ = 0.4375e6
 
 
+_MAX_ELEMENTS = 2**28  # gnssatt._arrays.MAX_ELEMENTS
+
+
 def _channels(k: ArrayLike) -> NDArray[np.int64]:
+    # the shared intake's checks (gnssatt._arrays, same layer, not importable from here): masked values
+    # refused, the size checked before anything is copied (a zero-stride view of 2^40 channels)
+    if isinstance(k, np.ma.MaskedArray) and np.ma.getmaskarray(k).any():
+        raise InvalidInputError("expected k without masked values, got a numpy.ma array with masked values")
     try:
-        arr = np.asarray(k)
+        arr = np.asarray(np.ma.getdata(k))
     except ValueError as exc:  # ragged nested sequences
         raise InvalidTypeError(f"expected k as integer GLONASS channel numbers, got {exc}") from exc
+    if arr.size > _MAX_ELEMENTS:
+        raise WorkLimitError(f"k has {arr.size} elements, more than the limit of {_MAX_ELEMENTS}")
     if arr.dtype.kind not in "iu" and not (arr.dtype.kind == "f" and np.all(arr == np.round(arr))):
         raise InvalidTypeError(
             f"expected k as integer GLONASS channel numbers, got dtype {arr.dtype} {arr.tolist()}"[:200]

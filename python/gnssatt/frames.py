@@ -162,6 +162,14 @@ def _batch_dcm(dcm: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.f
     return matvec(dcm, v)
 
 
+def _finite_state(
+    what: str, r: NDArray[np.float64], v: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    # a rotation of finite vectors near the float limit (1e308 m) overflows to inf: refuse, not return it
+    cause = "position or velocity too large to rotate in float64"
+    return finite_result(f"{what} position", r, cause), finite_result(f"{what} velocity", v, cause)
+
+
 def _same_shape(
     name: str, v: NDArray[np.float64], ref_name: str, ref: NDArray[np.float64]
 ) -> NDArray[np.float64]:
@@ -195,6 +203,8 @@ def eci_to_ecef(
     InvalidInputError
         Shapes other than (..., 3), ``v_eci`` of another shape than ``r_eci``, a leading axis that does
         not match ``t``, non-finite values.
+    ConvergenceError
+        Vectors so large (near 1e308) that the rotated ones overflow float64.
 
     Examples
     --------
@@ -210,7 +220,9 @@ def eci_to_ecef(
     r = vector_array("r_eci", r_eci, ndim=(1, 2, 3), shape="(..., 3)")
     v = _same_shape("v_eci", vector_array("v_eci", v_eci, ndim=(1, 2, 3), shape="(..., 3)"), "r_eci", r)
     m = dcm_ecef_from_eci(t, theta0_rad)
-    return _batch_dcm(m, r), _batch_dcm(m, v - _omega_cross(r))
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported, as an error
+        r_e, v_e = _batch_dcm(m, r), _batch_dcm(m, v - _omega_cross(r))
+    return _finite_state("eci_to_ecef", r_e, v_e)
 
 
 def ecef_to_eci(
@@ -255,8 +267,10 @@ def ecef_to_eci(
     if m.ndim == 3 and r.ndim == 1:
         r = np.broadcast_to(r, (m.shape[0], 3))
         v = np.broadcast_to(v, (m.shape[0], 3))
-    r_i = _batch_dcm(m, r)
-    return r_i, _batch_dcm(m, v) + _omega_cross(r_i)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported, as an error
+        r_i = _batch_dcm(m, r)
+        v_i = _batch_dcm(m, v) + _omega_cross(r_i)
+    return _finite_state("ecef_to_eci", r_i, v_i)
 
 
 @renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")

@@ -109,7 +109,8 @@ def run(
     InvalidInputError
         ``n_trials`` or ``chunksize`` below 1 or not integers, ``seed`` negative or not an integer, ``trial``
         not callable, ``progress`` not a bool (:class:`~gnssatt.errors.InvalidTypeError`), ``executor``
-        without ``submit``, or a ``ProcessPoolExecutor`` whose workers start with
+        without ``submit`` or whose ``submit`` returns something other than a
+        :class:`concurrent.futures.Future`, or a ``ProcessPoolExecutor`` whose workers start with
         ``fork``. That last one is an error and not a warning: once the Rust core's thread pool has run in
         this process (any earlier gnssatt call may have started it, and nothing tells whether one did), a
         forked worker hangs on its first parallel call, with no message and no way to interrupt it; the
@@ -117,6 +118,9 @@ def run(
         (or ``"forkserver"``).
     WorkLimitError
         ``n_trials`` above :data:`MAX_TRIALS`.
+    Exception
+        Whatever ``trial`` or ``executor.submit`` raises comes out unchanged (user code's own error; the
+        pool this function created is shut down first).
     """
     n_trials = integer("n_trials", n_trials, minimum=1, maximum=MAX_TRIALS)
     seed = integer("seed", seed, minimum=0)
@@ -145,7 +149,17 @@ def run(
     if executor is None:
         executor = ProcessPoolExecutor(os.cpu_count(), mp_context=multiprocessing.get_context("spawn"))
     try:
-        futures = {executor.submit(_run_chunk, trial, seed, chunk): k for k, chunk in enumerate(chunks)}
+        futures = {}
+        for k, chunk in enumerate(chunks):
+            future = executor.submit(_run_chunk, trial, seed, chunk)
+            # as_completed needs concurrent.futures.Future; a duck-typed executor that returns something
+            # else failed inside it with an AttributeError on a private field
+            if not isinstance(future, Future):
+                raise InvalidTypeError(
+                    "expected executor.submit to return a concurrent.futures.Future, got "
+                    f"{type(future).__name__}"
+                )
+            futures[future] = k
         results: list[list[T] | None] = [None] * len(chunks)
         with tqdm(total=n_trials, disable=not progress, unit="trial") as bar:
             for future in as_completed(futures):

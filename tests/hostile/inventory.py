@@ -28,6 +28,7 @@ from gnssatt import montecarlo, sim
 from gnssatt.attitude import dynamics as tumble
 
 from . import scenario as s
+from .trials import monte_trial
 
 # Searched first, so that a function re-exported in several places is known by its most public name.
 PREFERRED = (
@@ -161,10 +162,6 @@ def _obs() -> list[Any]:
 
 
 _WINDOW = np.array([[-60.0, 60.0], [-20.0, 20.0], [-20.0, 20.0]])  # (3, 2) psi, theta, phi bounds, degrees
-
-
-def _monte_trial(rng: np.random.Generator) -> float:
-    return float(rng.normal())
 
 
 ENTRIES: dict[str, Entry] = {
@@ -648,7 +645,7 @@ ENTRIES: dict[str, Entry] = {
     # --- gnssatt.montecarlo ---
     "gnssatt.montecarlo.run": _e(
         lambda: {
-            "trial": _monte_trial,
+            "trial": monte_trial,
             "n_trials": 4,
             "seed": 1,
             "executor": montecarlo.SerialExecutor(),

@@ -33,7 +33,26 @@ CATEGORIES = (
     "zero",
     "count",
     "work",
+    # widened sweep (issue 15 follow-up): what real callers and fuzzers pass that the above misses
+    "layout",
+    "dtype",
+    "list",
+    "masked",
+    "overflow",
+    "signed-zero",
+    "nan-position",
+    "huge-size",
+    "0-d",
+    "text-junk",
+    "rng",
+    "rotation",
+    "executor",
 )
+
+#: Rows of a zero-stride view for the "huge-size" category: 2^40 rows cost no memory as a view, and 8 TiB
+#: or more as a copy, so an intake that copies before checking the size fails at once (MemoryError)
+#: instead of slowly exhausting the machine.
+HUGE_ROWS = 2**40
 
 COUNTS = {"2**31": 2**31, "10**11": 10**11, "2**58": 2**58, "2**63": 2**63}
 MISSING_PATH = "/nonexistent-gnssatt-hostile/dir/file.24o"
@@ -41,10 +60,16 @@ MISSING_PATH = "/nonexistent-gnssatt-hostile/dir/file.24o"
 
 @dataclass(frozen=True)
 class Mutant:
+    """One hostile value. ``must_accept``: the value is the valid one in another form (another memory
+    layout, a list, a 0-d array): refusing it is a failure too. ``propagates``: the value is user code
+    that raises this exception class, which must come out of the call unchanged."""
+
     category: str
     label: str
     value: Any
     must_refuse: bool
+    must_accept: bool = False
+    propagates: str = ""
 
 
 def kind(value: Any) -> str:
@@ -135,6 +160,165 @@ def _numeric(value: Any, counts: bool, nonfinite_ok: bool) -> list[Mutant]:
     return out
 
 
+class _NoFutureExecutor:
+    """An executor whose ``submit`` returns None instead of a Future (a broken duck type)."""
+
+    def submit(self, fn: Any, *args: Any, **kwargs: Any) -> None:
+        return None
+
+
+class ExecutorDown(RuntimeError):
+    """Raised by :class:`_RaisingExecutor`: user code's own error, to come out of the call unchanged."""
+
+
+class _RaisingExecutor:
+    """An executor whose ``submit`` raises (a cluster that went away)."""
+
+    def submit(self, fn: Any, *args: Any, **kwargs: Any) -> None:
+        raise ExecutorDown("executor is down")
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    out = a.copy()
+    out.flags.writeable = False
+    return out
+
+
+def _widened_numeric(value: Any, nonfinite_ok: bool) -> list[Mutant]:
+    """Memory layouts, dtypes, lists, masked arrays, overflow, signed zero, NaN at the ends, zero-stride
+    views of absurd size and 0-d forms of a numeric argument."""
+    orig = np.asarray(value)
+    a = np.asarray(value, dtype=np.float64)
+    out: list[Mutant] = []
+
+    def add(cat: str, label: str, v: Any, refuse: bool = False, accept: bool = False) -> None:
+        out.append(Mutant(cat, label, v, refuse, accept))
+
+    if np.ndim(value) == 0:
+        x = float(a)
+        add("0-d", "0-d array", np.array(value), accept=True)
+        add("0-d", "numpy scalar", orig[()], accept=True)
+        add("0-d", "[x]", [value])
+        add("dtype", "float32 scalar", np.float32(x))
+        with np.errstate(over="ignore"):  # 7e6 m is inf in float16: a hostile value like any other
+            add("dtype", "float16 scalar", np.float16(x))
+        add("dtype", "Fraction", __import__("fractions").Fraction(1, 3))
+        add("dtype", "Decimal", __import__("decimal").Decimal("1.5"))
+        add("overflow", "10**400", 10**400)
+        add("overflow", "-10**400", -(10**400))
+        add("overflow", "max float", float(np.finfo(np.float64).max))
+        add("overflow", "-max float", -float(np.finfo(np.float64).max))
+        add("signed-zero", "-0.0", -0.0)
+        add("masked", "np.ma.masked", np.ma.masked, True)
+        add("masked", "masked 0-d", np.ma.masked_array(x, mask=True), not nonfinite_ok)
+        return out
+
+    # the valid array in other forms: these must be accepted like the original (a valid list of tuples,
+    # such as (t0, t1, count) outages, is not the same as an array of floats, which may be refused)
+    same = isinstance(value, np.ndarray)
+    if a.ndim >= 2:
+        add("layout", "Fortran order", np.asfortranarray(orig), accept=same)
+    add("layout", "non-contiguous", np.repeat(orig, 2, axis=-1)[..., ::2], accept=same)
+    add("layout", "read-only", _readonly(orig), accept=same)
+    add("layout", "big-endian", orig.astype(orig.dtype.newbyteorder(">")), accept=same)
+    add("list", "nested list", orig.tolist(), accept=same)
+    add("masked", "nothing masked", np.ma.masked_array(orig), accept=same)
+    if a.size:
+        mask = np.zeros(a.shape, dtype=bool)
+        mask.flat[a.size // 2] = True
+        # a masked element holds garbage: using it silently is wrong, NaN in its place only where NaN is
+        # documented input
+        garbage = a.copy()
+        garbage.flat[a.size // 2] = 12345.0
+        add("masked", "middle masked", np.ma.masked_array(garbage, mask=mask), not nonfinite_ok)
+        mixed = a.tolist()
+        flat: Any = mixed
+        while isinstance(flat[0], list):
+            flat = flat[0]
+        flat_str = [*flat]
+        flat_str[0] = "1.0"
+        add("list", "text in list", _replace_first_row(mixed, flat_str), True)
+        flat_none = [*flat]
+        flat_none[0] = None
+        add("list", "None in list", _replace_first_row(mixed, flat_none), True)
+        ragged = [*mixed, mixed[0]] if a.ndim == 1 else [*mixed[:-1], mixed[-1][:-1]]
+        add("list", "ragged", ragged if a.ndim > 1 else [mixed, mixed[:-1]], True)
+        add("list", "10**400 in list", _replace_first_row(mixed, [10**400, *flat[1:]]), True)
+        for cat, label, pos in (("nan-position", "first", 0), ("nan-position", "last", a.size - 1)):
+            b = a.copy()
+            b.flat[pos] = np.nan
+            add(cat, f"NaN at {label}", b, not nonfinite_ok)
+        add("overflow", "max float", np.full(a.shape, np.finfo(np.float64).max))
+        add(
+            "overflow", "alternating +-1e308", np.where(np.arange(a.size) % 2, 1e308, -1e308).reshape(a.shape)
+        )
+        add("signed-zero", "-0.0", np.full(a.shape, -0.0))
+        add("0-d", "0-d array", np.array(a.flat[0]))
+        add("0-d", "Python float", float(a.flat[0]))
+        rows = orig[:1] if a.ndim >= 1 else orig
+        add(
+            "huge-size",
+            f"{HUGE_ROWS} rows (zero-stride view)",
+            np.broadcast_to(rows, (HUGE_ROWS, *a.shape[1:])),
+            True,
+        )
+    for dt in ("float32", "float16", "int8", "uint64", "longdouble"):
+        with np.errstate(all="ignore"):
+            add("dtype", dt, a.astype(dt))
+    add("complex", "complex64", a.astype(np.complex64) + np.complex64(0.5j), True)
+    add("dtype", "datetime64", np.zeros(a.shape, dtype="datetime64[s]"), True)
+    add("dtype", "timedelta64", np.zeros(a.shape, dtype="timedelta64[s]"), True)
+    add("dtype", "bytes", a.astype("S8"), True)
+    return out
+
+
+def _replace_first_row(nested: list[Any], row: list[Any]) -> list[Any]:
+    """``nested`` (a list of numbers, or of lists) with its first innermost row replaced by ``row``."""
+    if not nested or not isinstance(nested[0], list):
+        return row
+    return [_replace_first_row(nested[0], row), *nested[1:]]
+
+
+def _widened_other(value: Any, k: str, param: str, free_text: bool) -> list[Mutant]:
+    out: list[Mutant] = []
+    if k == "bool":
+        out.append(Mutant("0-d", "numpy bool", np.True_, False, True))
+    if k == "text":
+        out.append(Mutant("text-junk", "bytes", value.encode(), True))
+        out.append(Mutant("text-junk", "NUL inside", value + "\x00x", not free_text))
+        out.append(Mutant("text-junk", "100000 characters", "x" * 100_000, not free_text))
+    if k == "path":
+        out.append(Mutant("text-junk", "bytes path", os.fsencode(str(value)), True))
+        out.append(Mutant("text-junk", "NUL in path", str(value) + "\x00x", True))
+        out.append(Mutant("text-junk", "name of 5000 characters", "x" * 5000, True))
+        out.append(Mutant("text-junk", "/dev/null", "/dev/null", False))  # a reader refuses, a writer may
+    if isinstance(value, Rotation):
+        n = 1 if value.single else len(value)
+        quat = np.tile([np.nan, 0.0, 0.0, 1.0], (n, 1))
+        try:
+            bad = Rotation.from_quat(quat[0] if value.single else quat)
+        except ValueError:
+            bad = None
+        if bad is not None:
+            out.append(Mutant("rotation", "NaN quaternion", bad, True))
+    if param in ("rng", "seed"):
+        for label, v, refuse in (
+            ("2**128", 2**128, False),
+            ("-1", -1, True),
+            ("1.5", 1.5, True),
+            ("uint64 max", np.uint64(2**64 - 1), False),
+            ("RandomState", np.random.RandomState(0), param == "rng"),
+            ("SeedSequence", np.random.SeedSequence(3), False),
+        ):
+            out.append(Mutant("rng", label, v, refuse))
+    if param == "executor":
+        out.append(Mutant("executor", "submit returns None", _NoFutureExecutor(), True))
+        out.append(
+            Mutant("executor", "submit raises", _RaisingExecutor(), True, propagates=ExecutorDown.__name__)
+        )
+    return out
+
+
 def _other(value: Any, k: str, free_text: bool = False) -> list[Mutant]:
     """Values of the wrong kind for a non-numeric argument; each must be refused."""
     out = [
@@ -176,6 +360,7 @@ def _other(value: Any, k: str, free_text: bool = False) -> list[Mutant]:
 def mutants(
     value: Any,
     *,
+    param: str = "",
     counts: bool,
     work: tuple[Any, ...],
     nonfinite_ok: bool,
@@ -185,11 +370,14 @@ def mutants(
     """Every fixed mutation of one valid argument ``value``, in a fixed order."""
     k = kind(value)
     if k == "numeric":
-        out = _numeric(value, counts, nonfinite_ok)
+        out = _numeric(value, counts, nonfinite_ok) + _widened_numeric(value, nonfinite_ok)
+        if param in ("rng", "seed"):
+            out += _widened_other(value, k, param, free_text)
     elif k == "bool":
         out = [Mutant("object", "object()", object(), True), Mutant("str", "'abc'", "abc", True)]
+        out += _widened_other(value, k, param, free_text)
     else:
-        out = _other(value, k, free_text)
+        out = _other(value, k, free_text) + _widened_other(value, k, param, free_text)
     if not none_ok:
         out.append(Mutant("none", "None", None, True))
     out.extend(Mutant("work", repr(w), w, True) for w in work)
@@ -215,6 +403,8 @@ def must_refuse_drawn(value: Any, valid_kind: str, *, nonfinite_ok: bool, none_o
     if valid_kind == "numeric":
         if isinstance(value, str) or wrong_kind:
             return True
+        if isinstance(value, np.ma.MaskedArray) and np.ma.getmaskarray(value).any():
+            return not nonfinite_ok  # a masked value used as if it were data
         arr = np.asarray(value)
         return arr.dtype.kind in "fc" and not nonfinite_ok and not np.all(np.isfinite(arr))
     return wrong_kind or isinstance(value, int | float | np.ndarray)
@@ -240,7 +430,22 @@ def hostile_value(draw: st.DrawFn, valid: Any) -> Any:
     shape = np.shape(valid)
     near = st.lists(st.integers(0, 5), min_size=max(len(shape) - 1, 0), max_size=len(shape) + 1).map(tuple)
     new_shape = draw(st.one_of(st.just(shape), near))
-    dtype = draw(st.sampled_from(["float64", "float64", "float64", "int64", "complex128", "bool", "float32"]))
+    dtype = draw(
+        st.sampled_from(
+            [
+                "float64",
+                "float64",
+                "float64",
+                "int64",
+                "complex128",
+                "bool",
+                "float32",
+                "float16",
+                "int8",
+                "uint64",
+            ]
+        )
+    )
     if dtype == "int64":
         elements: Any = st.integers(-(2**63), 2**63 - 1)
     elif dtype == "bool":
@@ -248,7 +453,12 @@ def hostile_value(draw: st.DrawFn, valid: Any) -> Any:
     elif dtype == "complex128":
         elements = st.complex_numbers(allow_nan=True, allow_infinity=True)
     else:
-        elements = st.floats(allow_nan=True, allow_infinity=True, width=32 if dtype == "float32" else 64)
+        width = {"float32": 32, "float16": 16}.get(dtype, 64)
+        elements = st.floats(allow_nan=True, allow_infinity=True, width=width)
+    if dtype == "int8":
+        elements = st.integers(-128, 127)
+    elif dtype == "uint64":
+        elements = st.integers(0, 2**64 - 1)
     if draw(st.integers(0, 4)) == 0:
         return draw(_JUNK)
     if draw(st.booleans()) and new_shape == shape and dtype == "float64":
@@ -259,4 +469,21 @@ def hostile_value(draw: st.DrawFn, valid: Any) -> Any:
             for _ in range(draw(st.integers(1, 3))):
                 arr.flat[draw(st.integers(0, n - 1))] = draw(_FLOATS)
         return arr if np.ndim(valid) else float(arr)
-    return draw(hnp.arrays(dtype, new_shape, elements=elements))
+    return _relayout(draw, draw(hnp.arrays(dtype, new_shape, elements=elements)))
+
+
+def _relayout(draw: st.DrawFn, arr: np.ndarray) -> Any:
+    """The drawn array as such, or in a form that survives the pickle to the worker: Fortran order,
+    big-endian, a masked array with one element masked, a nested list."""
+    form = draw(st.sampled_from(["as-is", "as-is", "fortran", "big-endian", "masked", "list"]))
+    if form == "fortran":
+        return np.asfortranarray(arr)
+    if form == "big-endian":
+        return arr.astype(arr.dtype.newbyteorder(">"))
+    if form == "masked" and arr.size:
+        mask = np.zeros(arr.shape, dtype=bool)
+        mask.flat[draw(st.integers(0, arr.size - 1))] = True
+        return np.ma.masked_array(arr, mask=mask)
+    if form == "list":
+        return arr.tolist()
+    return arr

@@ -20,6 +20,7 @@ HANG = "hang"
 SILENT_NAN = "silent-nan"
 ACCEPTED_INVALID = "accepted-invalid"  # input the contract says must be refused (complex, NaN, ...) was used
 LAMBDA_WRONG = "lambda-wrong"
+REFUSED_VALID = "refused-valid"  # the valid value in another form (layout, list, 0-d) was refused
 HARNESS = (
     "harness-error"  # the harness itself failed (e.g. a value that cannot be sent): counted, to be fixed
 )
@@ -35,6 +36,7 @@ ORDER = (
     SILENT_NAN,
     ACCEPTED_INVALID,
     LAMBDA_WRONG,
+    REFUSED_VALID,
     HARNESS,
 )
 FAILURES = frozenset(ORDER) - {ACCEPTED, REFUSED}

@@ -1,6 +1,9 @@
 """Every argument of every public function, replaced by each fixed hostile value of issue 15 (wrong shape,
 complex, bool, object, text, None, NaN, +-inf, 1e300, 1e-300, subnormal, negative, zero, overflow-size
-counts, absurd work): the answer is a finite result or a refusal of the right class naming the argument."""
+counts, absurd work), and by the widened categories (memory layouts, dtypes, lists, masked arrays, overflow,
+signed zero, NaN at either end, zero-stride views of 2^40 rows, 0-d forms, junk text and paths, seeds,
+rotations of NaN, broken executors): the answer is a finite result or a refusal of the right class naming
+the argument; the valid value in another form (layout, list, 0-d) must be accepted."""
 
 from __future__ import annotations
 

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import seed as hypothesis_seed
 from hypothesis import strategies as st
 
 from . import harness
@@ -40,13 +41,14 @@ def drawn_job(name: str, data: st.DataObject) -> tuple[Job, str, Any]:
     return job, param, value
 
 
-def run_drawn(pool: Pool, name: str, examples: int) -> list[harness.Record]:
-    """``examples`` hypothesis draws for one function (no shrinking: every outcome is recorded instead)."""
+def run_drawn(pool: Pool, name: str, examples: int, seed: int | None = None) -> list[harness.Record]:
+    """``examples`` hypothesis draws for one function (no shrinking: every outcome is recorded instead);
+    derandomized, or drawn from ``seed`` (the same seed, the same draws)."""
     records: list[harness.Record] = []
 
     @settings(
         max_examples=examples,
-        derandomize=True,
+        derandomize=seed is None,
         database=None,
         deadline=None,
         phases=[Phase.generate],
@@ -61,6 +63,8 @@ def run_drawn(pool: Pool, name: str, examples: int) -> list[harness.Record]:
             harness.Record(harness.module_of(name), name, param, "hypothesis", label, a.outcome, a.detail)
         )
 
+    if seed is not None:
+        draw = hypothesis_seed(seed)(draw)
     draw()
     return records
 

@@ -71,6 +71,7 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
     default = inspect.signature(fn).parameters[param].default
     out = mu.mutants(
         valid,
+        param=param,
         counts=param in entry.counts,
         work=tuple(entry.work.get(param, ())),
         nonfinite_ok=param in entry.nonfinite_ok,
@@ -88,6 +89,7 @@ def _execute(job: Job) -> Answer:
     fn = inv.resolve(job.function)
     names = job.names
     must_refuse = job.must_refuse
+    must_accept, propagates = False, ""
     if job.kwargs is not None:
         kwargs = dict(job.kwargs)
     else:
@@ -98,6 +100,7 @@ def _execute(job: Job) -> Answer:
                 cat, index = job.mutant
                 m = [m for m in fixed_mutants(job.entry, job.param) if m.category == cat][index]
                 value, must_refuse = m.value, m.must_refuse
+                must_accept, propagates = m.must_accept, m.propagates
             else:
                 value = job.value
             # a file argument may be named by its path (a RinexError names the file, not the parameter)
@@ -113,7 +116,13 @@ def _execute(job: Job) -> Answer:
         seconds = time.perf_counter() - start
         if isinstance(exc, SystemExit | KeyboardInterrupt) and not oc.is_panic(exc):
             return Answer(oc.WRONG, oc.describe(exc), seconds=seconds)
-        return Answer(oc.classify_exception(exc, names), oc.describe(exc), seconds=seconds)
+        if propagates:  # user code's own error must come out unchanged
+            ok = type(exc).__name__ == propagates
+            return Answer(oc.REFUSED if ok else oc.WRONG, oc.describe(exc), seconds=seconds)
+        outcome = oc.classify_exception(exc, names)
+        if must_accept and outcome in (oc.REFUSED, oc.UNNAMED):
+            outcome = oc.REFUSED_VALID
+        return Answer(outcome, oc.describe(exc), seconds=seconds)
     seconds = time.perf_counter() - start
     nan_ok, nan_fields = job.nan_output_ok, frozenset[str]()
     if job.entry is not None:  # an inventory entry says which outputs may be non-finite

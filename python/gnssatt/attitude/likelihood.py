@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, float_array, scalar, shaped
+from gnssatt._arrays import choice, float_array, plain_array, scalar, shaped
 from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
@@ -274,18 +274,20 @@ def _window(window_deg: ArrayLike | AttitudePrior | None) -> list[list[float]] |
 
 
 @contextmanager
-def _lobe(b: NDArray[np.float64]) -> Iterator[None]:
-    """Name ``baselines`` next to ``step_deg`` when the core finds the step coarser than the main lobe: the
-    lobe's width is set by the longest baseline, so either argument can be the one to change."""
+def _lobe(b: NDArray[np.float64], length_name: str = "baselines") -> Iterator[None]:
+    """Name ``baselines`` (``length_name``) and ``wavelength`` next to ``step_deg`` when the core finds the
+    step coarser than the main lobe: the lobe's width lambda / (2 L) is set by the longest baseline and the
+    wavelength, so any of the three can be the one to change."""
     try:
         yield
     except InvalidInputError as exc:
         if "main lobe" not in str(exc):
             raise
         longest = float(np.max(np.linalg.norm(b, axis=1)))
+        what = "the longest of the baselines" if length_name == "baselines" else length_name
         raise InvalidInputError(
-            f"{exc} (L = {longest:.6g} m, the longest of the baselines): choose a finer step_deg or shorter "
-            "baselines"
+            f"{exc} (L = {longest:.6g} m, {what}; lambda from wavelength): choose a finer step_deg, a "
+            f"shorter {length_name} or a longer wavelength"
         ) from exc
 
 
@@ -577,18 +579,19 @@ def ml_baseline(
         w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
         _rows("window_deg", w2, ("psi", "elevation"))
         win = [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
-    est = _core.ml_search(
-        p,
-        s,
-        w,
-        b,
-        statistic=statistic,
-        step_rad=_step(step_deg),
-        window_rad=win,
-        search="exhaustive",
-        refine=_refine(refine),
-        two_dimensional=True,
-    )
+    with _lobe(b, "baseline_length_m"):
+        est = _core.ml_search(
+            p,
+            s,
+            w,
+            b,
+            statistic=statistic,
+            step_rad=_step(step_deg),
+            window_rad=win,
+            search="exhaustive",
+            refine=_refine(refine),
+            two_dimensional=True,
+        )
     angles, z, cells, step = est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad
     psi, theta = angles[0], angles[1]
     direction = np.array([-np.sin(psi) * np.cos(theta), np.cos(psi) * np.cos(theta), np.sin(theta)])
@@ -724,11 +727,9 @@ def _gaps(
     raw = value
     gaps: NDArray[np.bool_] | bool = False
     if isinstance(value, np.ndarray | list | tuple | float):
-        try:
-            raw = np.asarray(value)
-        except ValueError:  # ragged: float_array says so
-            raw = value
-        if isinstance(raw, np.ndarray) and raw.dtype.kind == "f":
+        # masked values are gaps too; the size is checked before np.isnan scans (or copies) the array
+        raw = plain_array(name, value, nan_for_masked=True)
+        if raw.dtype.kind == "f":
             gaps = np.isnan(raw)
             raw = np.where(gaps, 0.0, raw)
     arr = float_array(name, raw, ndim=ndim, shape=shape)
@@ -986,7 +987,7 @@ def ml_baseline_series(
     used = ~np.isnan(p[:, 0, :])
     step = _step(step_deg)
     window = _series_window(window_deg, step_deg, w, used, length)
-    with _lobe(np.array([[length, 0.0, 0.0]])):
+    with _lobe(np.array([[length, 0.0, 0.0]]), "baseline_length_m"):
         series = _core.ml_baseline_series(p, s, w, length, step_rad=step, window_rad=window)
     direction, z, solved = series.direction_rad, series.z_max, series.solved
     heading, elevation = direction[:, 0], direction[:, 1]

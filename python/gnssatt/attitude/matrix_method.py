@@ -141,7 +141,11 @@ def matrix_attitude(
     except DegenerateGeometryError as exc:
         longest = float(np.max(np.linalg.norm(b, axis=1)))
         if float(np.max(np.abs(r))) > 1e-12 * longest:
-            raise
+            # the core speaks of vector pairs; which arguments they come from is known only here
+            raise DegenerateGeometryError(
+                f"{exc} (the pairs come from baselines, los and range_diffs: range_diffs far from those of "
+                "a rotation of the baselines can be degenerate too)"
+            ) from exc
         raise DegenerateGeometryError(
             f"range_diffs do not fix the attitude: they are all zero to 1e-12 of the longest baseline "
             f"({longest:.6g} m), max |range_diffs| = {float(np.max(np.abs(r))):.3g} m"

@@ -344,6 +344,8 @@ def teme_to_ecef(
         Wrong shapes, ``r_teme_m`` and ``v_teme_m_s`` of different shapes, a ``jd_ut1`` that is not one date
         per position, non-finite values or Julian dates outside ``JULIAN_DATE_RANGE``
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+    ConvergenceError
+        Vectors so large (near 1e308) that the rotated ones overflow float64.
 
     Examples
     --------
@@ -376,9 +378,15 @@ def teme_to_ecef(
     ecef_from_teme = np.stack(
         [np.stack([c, s, z], -1), np.stack([-s, c, z], -1), np.stack([z, z, o], -1)], -2
     )
-    re = np.einsum("...ij,...j->...i", ecef_from_teme, r)
-    ve = np.einsum("...ij,...j->...i", ecef_from_teme, v)
-    return re, ve - np.cross([0.0, 0.0, OMEGA_E_RAD_S], re)
+    # finite vectors near the float limit (1e308 m) overflow when rotated: refuse rather than return inf
+    with np.errstate(over="ignore", invalid="ignore"):
+        re = np.einsum("...ij,...j->...i", ecef_from_teme, r)
+        ve = np.einsum("...ij,...j->...i", ecef_from_teme, v)
+        ve = ve - np.cross([0.0, 0.0, OMEGA_E_RAD_S], re)
+    cause = "r_teme_m or v_teme_m_s too large to rotate in float64"
+    return finite_result("teme_to_ecef position", re, cause), finite_result(
+        "teme_to_ecef velocity", ve, cause
+    )
 
 
 def _julian_dates(times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -407,6 +407,8 @@ def walker(
     n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_SATELLITES)
     n_planes = integer("n_planes", n_planes, minimum=1)
     phasing = integer("phasing", phasing)
+    if abs(phasing) > 2**53:  # 360.0 * phasing must be exact, and finite (10**400 overflows float)
+        raise InvalidInputError(f"expected phasing within +-2^53, got {phasing}")
     text("prefix", prefix)
     if len(prefix) != 1:
         raise InvalidInputError(f"expected prefix as one letter (the RINEX system), got {prefix!r}")

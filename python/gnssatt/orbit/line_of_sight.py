@@ -19,7 +19,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import checked_array, instance, readonly, real_array, text, vector_array
+from gnssatt._arrays import (
+    checked_array,
+    finite_result,
+    instance,
+    readonly,
+    real_array,
+    text,
+    vector_array,
+)
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.orbit.constellation import Constellation
 from gnssatt.orbit.receivers import GroundReceiver, OrbitalReceiver
@@ -228,6 +236,8 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     InvalidInputError
         Wrong shapes or non-finite lines of sight, a number of rotations other than one or n_t
         (:class:`~gnssatt.errors.InvalidTypeError` for an ``attitude`` that is not a scipy ``Rotation``).
+    ConvergenceError
+        Entries of ``los`` so large (near 1e308) that the rotated vectors overflow float64.
 
     Examples
     --------
@@ -242,10 +252,13 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     """
     g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
     m = attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
-    if m.ndim == 3:
-        body: NDArray[np.float64] = np.einsum("tji,tkj->tki", m, g)  # numpy types einsum's result as Any
-        return body
-    return g @ m
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, as an error
+        if m.ndim == 3:
+            body: NDArray[np.float64] = np.einsum("tji,tkj->tki", m, g)  # einsum's result is typed Any
+        else:
+            body = g @ m
+    # los is not required to be unit: entries near 1e308 overflow when rotated
+    return finite_result("los_body", body, "los too large to rotate in float64")
 
 
 def elevation_azimuth(los_enu: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

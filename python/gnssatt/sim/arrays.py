@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import generator, integer, scalar, text
+from gnssatt._arrays import finite_result, generator, integer, scalar, text
 from gnssatt.errors import InvalidInputError
 
 __all__ = ["equilateral_triangle", "random_attitude", "random_los"]
@@ -47,6 +47,8 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
         ``side_m`` not positive and finite, ``plane`` not ``"xy"``, ``"xz"`` or ``"yz"``
         (:class:`~gnssatt.errors.InvalidTypeError` for a ``side_m`` that is not a real number or a ``plane``
         that is not text).
+    ConvergenceError
+        ``side_m`` so large (above about 1e308 / 1.8 m) that a coordinate overflows float64.
 
     Examples
     --------
@@ -71,8 +73,10 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
     out = np.zeros((3, 3))
     out[1, a] = s
     out[2, a] = s / 2.0
-    out[2, b] = s * np.sqrt(3.0) / 2.0
-    return out
+    with np.errstate(over="ignore"):  # an overflow is reported below, as an error
+        out[2, b] = s * np.sqrt(3.0) / 2.0
+    # s * sqrt(3) overflows for sides within a factor 1.7 of the float limit
+    return finite_result("equilateral_triangle", out, f"side_m = {s:g} m is too large for float64")
 
 
 def random_attitude(rng: int | np.random.Generator | None = None, n: int | None = None) -> Rotation:

@@ -248,7 +248,8 @@ def phase_observations(
     ------
     InvalidInputError
         Bad types, shapes or values: ``half_angle_deg`` outside (0, 180], negative ``atmosphere_m`` or
-        ``phase_sigma_cycles``, ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
+        ``phase_sigma_cycles``, ``phase_sigma_cycles`` above 1e3 (``SIGMA_RANGE_CYCLES``),
+        ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
         integer cycles)`` rows.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
@@ -265,6 +266,8 @@ def phase_observations(
     if db.shape != b.shape:
         raise InvalidInputError(f"expected baseline_errors_m of shape {b.shape}, got {db.shape}")
     sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0)
+    # zero is valid here (noise-free phases); the upper bound keeps the noise finite, as in attitude_fixes
+    sigma = scalar("phase_sigma_cycles", sigma, maximum=SIGMA_RANGE_CYCLES[1])
     half = scalar("half_angle_deg", half_angle_deg, minimum=0.0, strict=True, unit="deg")
     scalar("half_angle_deg", half, maximum=180.0, unit="deg")
     arcs_after = float_array("new_arcs_after", new_arcs_after, ndim=1, shape="(k,)")
