@@ -24,7 +24,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::bound::modulus_bound;
+use super::bound::{modulus_bound, Member};
 use super::model::Model;
 
 /// A closed box of direction parameters (radians): azimuth `a0..=a1`, elevation `e0..=e1`, and an upper
@@ -191,6 +191,15 @@ fn arcs_meet(x: &[f64], r: &[f64]) -> bool {
     !partial
 }
 
+/// A box of the direction search with `sin`, `cos` of its centre's azimuth and elevation and how many
+/// times its top box was halved along each axis.
+#[derive(Clone, Copy)]
+struct Node {
+    b: DirBox,
+    trig: [f64; 4],
+    level: (u8, u8),
+}
+
 struct Tester<'a> {
     model: &'a Model,
     i: usize,
@@ -202,20 +211,18 @@ struct Tester<'a> {
     xs: Vec<f64>,
     radii: Vec<f64>,
     ds: Vec<f64>,
-    scratch: Vec<f64>,
-    members: Vec<[f64; 6]>,
+    scratch: Vec<(f64, u32)>,
+    members: Vec<Member>,
 }
 
 impl Tester<'_> {
-    /// Centre phases and their deviations over the box; returns the azimuth and elevation shares of the
+    /// Centre phases and their deviations over the box (`sin`, `cos` of the centre's azimuth and
+    /// elevation given); returns the azimuth and elevation shares of the
     /// deviation (which axis to split).
-    fn phases(&mut self, b: &DirBox) -> (f64, f64) {
+    fn phases(&mut self, b: &DirBox, [sa, ca, se, ce]: [f64; 4]) -> (f64, f64) {
         let m = self.model;
         let len = m.baselines[self.i].norm();
-        let (a, e) = (0.5 * (b.a0 + b.a1), 0.5 * (b.e0 + b.e1));
         let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
-        let (sa, ca) = a.sin_cos();
-        let (se, ce) = e.sin_cos();
         let u = Vector3::new(ce * ca, se, -ce * sa);
         let du_a = Vector3::new(-ce * sa, 0.0, -ce * ca);
         let du_e = Vector3::new(-se * ca, ce, se * sa);
@@ -264,16 +271,34 @@ pub(crate) fn direction_set(
         (1.0 - s.min(2.0)).acos()
     };
     let (na, ne) = (reach.na, reach.ne);
-    let tops: Vec<DirBox> = (0..na * ne)
+    let (half_a, half_e) = (PI / na as f64, FRAC_PI_2 / ne as f64);
+    // `sin_cos` of a child's offset from its parent's centre, per level of halving: children's centre
+    // sines follow from their parent's by the angle-addition formulas (a sin_cos pair per box was a
+    // sixth of the search). The rounding this accumulates over the levels (a few ulps per level) is
+    // far inside the test's 1e-9 rad tolerance.
+    let offsets = |h: f64| -> Vec<(f64, f64)> {
+        (0..=u8::MAX)
+            .map(|k| (h * 0.5f64.powi(i32::from(k))).sin_cos())
+            .collect()
+    };
+    let (off_a, off_e) = (offsets(half_a), offsets(half_e));
+    let tops: Vec<Node> = (0..na * ne)
         .filter(|&j| reach.bins[j])
         .map(|j| {
             let (ja, je) = ((j % na) as f64, (j / na) as f64);
-            DirBox {
+            let b = DirBox {
                 a0: TAU * ja / na as f64,
                 a1: TAU * (ja + 1.0) / na as f64,
                 e0: -FRAC_PI_2 + PI * je / ne as f64,
                 e1: -FRAC_PI_2 + PI * (je + 1.0) / ne as f64,
                 bound: n,
+            };
+            let (sa, ca) = (0.5 * (b.a0 + b.a1)).sin_cos();
+            let (se, ce) = (0.5 * (b.e0 + b.e1)).sin_cos();
+            Node {
+                b,
+                trig: [sa, ca, se, ce],
+                level: (0, 0),
             }
         })
         .collect();
@@ -299,13 +324,13 @@ pub(crate) fn direction_set(
                 }
                 let mut stack = vec![*top];
                 let mut tested = 0u64;
-                while let Some(b) = stack.pop() {
+                while let Some(Node { b, trig, level }) = stack.pop() {
                     // Counted in batches: one shared atomic per box would serialise the threads.
                     tested += 1;
                     if tested.is_multiple_of(64) && !budget.spend(64) {
                         return out;
                     }
-                    let (share_a, share_e) = t.phases(&b);
+                    let (share_a, share_e) = t.phases(&b, trig);
                     if s < 2.0 && !t.may_reach() {
                         continue;
                     }
@@ -322,16 +347,37 @@ pub(crate) fn direction_set(
                         }
                     }
                     let split_a = he <= h_min || (ha > h_min && share_a >= share_e);
+                    let [sa, ca, se, ce] = trig;
                     let (mut l, mut h) = (b, b);
-                    if split_a {
+                    let (trig_l, trig_h, level) = if split_a {
                         let mid = 0.5 * (b.a0 + b.a1);
                         (l.a1, h.a0) = (mid, mid);
+                        let (so, co) = off_a[usize::from(level.0.saturating_add(1))];
+                        (
+                            [sa * co - ca * so, ca * co + sa * so, se, ce],
+                            [sa * co + ca * so, ca * co - sa * so, se, ce],
+                            (level.0.saturating_add(1), level.1),
+                        )
                     } else {
                         let mid = 0.5 * (b.e0 + b.e1);
                         (l.e1, h.e0) = (mid, mid);
-                    }
-                    stack.push(l);
-                    stack.push(h);
+                        let (so, co) = off_e[usize::from(level.1.saturating_add(1))];
+                        (
+                            [sa, ca, se * co - ce * so, ce * co + se * so],
+                            [sa, ca, se * co + ce * so, ce * co - se * so],
+                            (level.0, level.1.saturating_add(1)),
+                        )
+                    };
+                    stack.push(Node {
+                        b: l,
+                        trig: trig_l,
+                        level,
+                    });
+                    stack.push(Node {
+                        b: h,
+                        trig: trig_h,
+                        level,
+                    });
                 }
                 budget.spend(tested % 64);
                 out
