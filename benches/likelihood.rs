@@ -1,9 +1,10 @@
 //! Criterion benchmarks of the seed-001 likelihood grid: exhaustive maximum over grid size, satellites and
 //! threads; branch-and-bound against the exhaustive pass (`likelihood/bnb_vs_grid`, which also prints the
-//! ratio of medians per scenario and thread count).
+//! ratio of medians per scenario and thread count; on the 5 m triangle at eq. (15)'s step the exhaustive
+//! pass runs once, in two halves, for about 15-30 s per thread count).
 //!
 //! `cargo bench -p gnssatt-core --bench likelihood -- bnb_vs_grid`
-use std::f64::consts::TAU;
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use gnssatt_core::likelihood::{
@@ -153,6 +154,61 @@ fn bnb_vs_grid(c: &mut Criterion) {
                 stats.fallback
             ));
         }
+    }
+    // The 5 m triangle at eq. (15)'s step (2.3e9 cells: over the 2^31 the exhaustive pass takes in one
+    // call): the exhaustive pass runs as two windows of half the pitch range each (heading and roll
+    // whole turns; together every cell once), timed once per thread count (15-30 s).
+    let model = scenario_sized(5.0, 8, 0.1);
+    let step = model.default_step();
+    let grid = Grid::full(step).unwrap();
+    let mid = -FRAC_PI_2 + (grid.psi.len / 4) as f64 * grid.step() + 0.5 * grid.step();
+    let halves = [(-FRAC_PI_2, mid), (mid, FRAC_PI_2)]
+        .map(|theta| Grid::window(step, [(-1.0, 7.0), theta, (-4.0, 4.0)]).unwrap());
+    assert_eq!(halves.iter().map(Grid::len).sum::<usize>(), grid.len());
+    for threads in [1usize, 2, 16] {
+        if threads > cores {
+            continue;
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let t = std::time::Instant::now();
+        let ex = halves
+            .iter()
+            .map(|h| {
+                let gm = pool.install(|| exhaustive_max(&model, h).unwrap());
+                (gm.z, h.angles(gm.index.map(|i| i as i64)))
+            })
+            // Equal values: the lower pitch comes first in the whole grid's order, as here.
+            .reduce(|a, b| if b.0 > a.0 { b } else { a })
+            .unwrap();
+        let te = t.elapsed().as_secs_f64() * 1e3;
+        let (bb, stats) = pool.install(|| branch_and_bound(&model, &grid).unwrap());
+        assert_eq!(
+            ex,
+            (bb.z, grid.angles(bb.index.map(|i| i as i64))),
+            "5 m at eq. (15)'s step: not the grid maximum"
+        );
+        let id = format!("threads{threads}");
+        group.bench_with_input(BenchmarkId::new("5m_eq15/bnb", &id), &(), |b, _| {
+            b.iter(|| pool.install(|| branch_and_bound(&model, &grid).unwrap()))
+        });
+        let tb = median_ms(
+            || drop(pool.install(|| branch_and_bound(&model, &grid))),
+            11,
+        );
+        ratios.push(format!(
+            "5m_eq15 ({:.3} deg) threads {threads}: exhaustive in two halves {te:.0} ms (once), \
+             branch-and-bound {tb:.2} ms, ratio {:.1}x ({} units of work, {} kernel cells of {}, \
+             {} rounds)",
+            step.to_degrees(),
+            te / tb,
+            stats.boxes_bounded,
+            stats.leaf_cells,
+            grid.len(),
+            stats.rounds
+        ));
     }
     group.finish();
     for r in ratios {

@@ -2,14 +2,19 @@
 Python API (exhaustive pass), a plain numpy evaluation, optionally a reference native kernel (``--reference
 PATH``: a script run as ``bash PATH STEP M`` that prints ``cells N ... threads T ... seconds S``), thread
 scaling (RAYON_NUM_THREADS = 1, 2, and 16 when available), and branch-and-bound against the exhaustive
-pass on the paper's scenario and on a 5 m triangle (0.5 deg grid) at 1 and 2 threads, as ratios of medians.
+pass at 1 and 2 threads, as ratios of medians: on the paper's scenario, on a 5 m triangle at 0.5 deg (a
+coarse grid: 0.46 of the coarsest step accepted) and on the 5 m triangle at eq. (15)'s default step (2.3e9
+cells: the exhaustive pass runs as two windows of half the pitch range each, which together hold every
+cell). Then the spread over random skies and attitudes (``--skies``) on the 5 m triangle, at the
+machine's thread count.
 
-Run from anywhere: ``python benches/python/likelihood_speed.py [--reps 5] [--reference PATH]``.
+Run from anywhere: ``python benches/python/likelihood_speed.py [--reps 5] [--skies 8] [--reference PATH]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import re
 import statistics
@@ -28,15 +33,20 @@ L1 = 0.19029367279836487
 STEP = 1.5
 UNIT_TRIANGLE = np.array([[1.0, 0.0, 0.0], [0.5, 0.0, np.sqrt(3) / 2]])
 TRIANGLE = 0.71 * UNIT_TRIANGLE
-# (name, side of the triangle in metres, grid step in degrees) for branch-and-bound vs exhaustive.
-BNB_CASES = [("paper 0.71 m, 1.5 deg", 0.71, 1.5), ("5 m, 0.5 deg", 5.0, 0.5)]
+# (name, side of the triangle in metres, grid step in degrees or None for eq. (15)'s default) for
+# branch-and-bound vs exhaustive.
+BNB_CASES = [
+    ("paper 0.71 m, 1.5 deg", 0.71, 1.5),
+    ("5 m, 0.5 deg", 5.0, 0.5),
+    ("5 m, eq. (15) step", 5.0, None),
+]
 
 
-def scenario(m: int = 8, seed: int = 1, side: float = 0.71):
+def scenario(m: int = 8, seed: int = 1, side: float = 0.71, euler_deg=(40.0, 3.0, -5.0)):
     rng = np.random.default_rng(seed)
     az, el = rng.uniform(0, 2 * np.pi, m), rng.uniform(0.2, 1.4, m)
     los = np.stack([np.sin(az) * np.cos(el), np.cos(az) * np.cos(el), np.sin(el)], axis=1)
-    r = rotation_from_euler([40.0, 3.0, -5.0])
+    r = rotation_from_euler(list(euler_deg))
     tri = side * UNIT_TRIANGLE
     p = np.mod(-2 * np.pi / L1 * (r.apply(tri) @ los.T) + rng.uniform(-3, 3, (2, 1)), 2 * np.pi)
     return p + 0.1 * rng.standard_normal(p.shape), los
@@ -95,9 +105,34 @@ def reference_kernel(path, reps, env=None):
     return statistics.median(times), cells, threads
 
 
+def exhaustive_in_halves(p, los, tri, step):
+    """The exhaustive pass over every cell of the whole-domain grid as two windows (pitch below and above
+    a half-step boundary, heading and roll whole turns): ``(z_max, grid angles, cells)`` of the grid
+    maximum, ties to the lower pitch as in the whole-grid order."""
+    step_used = step if step is not None else np.degrees(L1 / (10 * np.max(np.linalg.norm(tri, axis=1))))
+    n = 2 * int(np.ceil(180 / step_used))
+    mid = -90 + (n // 4 + 0.5) * 360 / n
+    best, cells = None, 0
+    for theta in [(-90.0, mid), (mid, 90.0)]:
+        window = [[-1.0, 361.0], list(theta), [-181.0, 181.0]]
+        r = gnssatt.ml_attitude(
+            p, los, tri, L1, step_deg=step, window_deg=window, search="exhaustive", refine=False
+        )
+        cells += r.cells_evaluated
+        if best is None or r.z_max > best.z_max:
+            best = r
+    return best.z_max, tuple(float(a) for a in best.grid_euler_gost_deg), cells
+
+
 def child(reps, search, side, step):
     p, los = scenario(side=side)
     tri = side * UNIT_TRIANGLE
+    if search == "halves":
+        t = time.perf_counter()
+        z, angles, _ = exhaustive_in_halves(p, los, tri, step)
+        t = time.perf_counter() - t
+        print(f"{t:.6f} {z!r} {' '.join(repr(a) for a in angles)}")
+        return
 
     def run():
         return gnssatt.ml_attitude(p, los, tri, L1, step_deg=step, search=search, refine=False)
@@ -111,12 +146,84 @@ def child(reps, search, side, step):
 def in_child(n, reps, search, side=0.71, step=STEP):
     """Median seconds, z_max and grid angles of one search in a fresh process with ``n`` threads."""
     env = {**os.environ, "RAYON_NUM_THREADS": str(n), "OMP_NUM_THREADS": str(n)}
-    args = ["--child", "--reps", str(reps), "--search", search, "--side", str(side), "--step", str(step)]
+    args = ["--child", "--reps", str(reps), "--search", search, "--side", str(side)]
+    args += ["--step", "eq15" if step is None else str(step)]
     out = subprocess.run(
         [sys.executable, __file__, *args], env=env, capture_output=True, text=True, check=True
     )
     t, z, *angles = out.stdout.split()
     return float(t), float(z), tuple(float(a) for a in angles)
+
+
+def sky_spread(n_skies, reps, eq15_checks):
+    """Branch-and-bound against the exhaustive pass on random skies (8 satellites) and attitudes, 5 m
+    triangle, 0.1 rad noise, at 0.5 deg and at eq. (15)'s step, in this process (all threads)."""
+    tri = 5.0 * UNIT_TRIANGLE
+    b = np.ascontiguousarray
+    print(
+        f"spread over {n_skies} random skies and attitudes, 5 m triangle, 0.1 rad noise, "
+        f"{os.cpu_count()} threads (medians of {reps}; rounds from _core.bnb_stats):"
+    )
+    rows = []
+    t_halves: list[float] = []
+    eq15_checks = max(1, eq15_checks)
+    for k in range(n_skies):
+        rng = np.random.default_rng(1000 + k)
+        euler = (rng.uniform(0, 360), rng.uniform(-30, 30), rng.uniform(-30, 30))
+        p, los = scenario(seed=1000 + k, side=5.0, euler_deg=euler)
+        line = f"  sky {k:2d}:"
+        row = []
+        for step in (0.5, None):
+            kw = {"step_deg": step, "refine": False}
+            bb = gnssatt.ml_attitude(p, los, tri, L1, search="branch_and_bound", **kw)
+            run = functools.partial(gnssatt.ml_attitude, p, los, tri, L1, search="branch_and_bound", **kw)
+            t_bb = timed(run, reps)
+            step_rad = np.radians(step) if step is not None else L1 / (10 * 5.0)
+            stats = _core.bnb_stats(
+                b(p[None]),
+                b(los[None]),
+                b(np.full((1, 8), L1)),
+                b(tri),
+                statistic="ambiguity_function",
+                step_rad=step_rad,
+                window_rad=None,
+            )
+            if step is not None:
+                t = time.perf_counter()
+                ex = gnssatt.ml_attitude(p, los, tri, L1, search="exhaustive", **kw)
+                t_ex = time.perf_counter() - t
+                z_ex, a_ex = ex.z_max, tuple(float(a) for a in ex.grid_euler_gost_deg)
+            elif k < eq15_checks:
+                t = time.perf_counter()
+                z_ex, a_ex, _ = exhaustive_in_halves(p, los, tri, None)
+                t_ex = time.perf_counter() - t
+                t_halves.append(t_ex)
+            else:
+                z_ex = None
+                t_ex = statistics.median(t_halves)
+            same = (
+                "not checked"
+                if z_ex is None
+                else str(z_ex == bb.z_max and a_ex == tuple(float(a) for a in bb.grid_euler_gost_deg))
+            )
+            name = "0.5 deg" if step is not None else "eq. (15)"
+            line += (
+                f"  {name} {t_bb * 1e3:7.1f} ms, {t_ex / t_bb:6.1f}x, {stats.rounds} round(s), "
+                f"same cell {same}"
+            )
+            row.append(t_ex / t_bb)
+        rows.append(row)
+        print(line, flush=True)
+    r = np.array(rows)
+    for j, name in enumerate(["0.5 deg", "eq. (15) step"]):
+        print(
+            f"  {name}: ratio median {np.median(r[:, j]):.1f}x, min {r[:, j].min():.1f}x, "
+            f"max {r[:, j].max():.1f}x"
+        )
+    print(
+        f"  (eq. (15) ratios against the median of {len(t_halves)} exhaustive passes in halves, "
+        f"{statistics.median(t_halves):.1f} s; its cost does not depend on the sky)"
+    )
 
 
 def main():
@@ -128,13 +235,20 @@ def main():
         default=None,
         help="optional native reference kernel script, run as `bash PATH STEP M`",
     )
+    ap.add_argument("--skies", type=int, default=8, help="random skies of the spread (0: none)")
+    ap.add_argument(
+        "--eq15-checks",
+        type=int,
+        default=2,
+        help="skies whose eq. (15) grid is also searched exhaustively (about 15 s each on 2 cores)",
+    )
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--search", default="exhaustive", help=argparse.SUPPRESS)
     ap.add_argument("--side", type=float, default=0.71, help=argparse.SUPPRESS)
-    ap.add_argument("--step", type=float, default=STEP, help=argparse.SUPPRESS)
+    ap.add_argument("--step", default=str(STEP), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
-        child(args.reps, args.search, args.side, args.step)
+        child(args.reps, args.search, args.side, None if args.step == "eq15" else float(args.step))
         return
     p, los = scenario()
     kw = {"step_deg": STEP, "search": "exhaustive"}
@@ -173,21 +287,25 @@ def main():
     print("branch-and-bound vs exhaustive (grid maximum only, refine=False; medians, fresh process each):")
     for name, side, step in BNB_CASES:
         ps, ls = scenario(side=side)
+        tri = side * UNIT_TRIANGLE
+        step_rad = np.radians(step) if step is not None else L1 / (10 * side)
         stats = _core.bnb_stats(
             b(ps[None]),
             b(ls[None]),
             b(np.full((1, 8), L1)),
-            b(side * UNIT_TRIANGLE),
+            b(tri),
             statistic="ambiguity_function",
-            step_rad=np.radians(step),
+            step_rad=step_rad,
             window_rad=None,
         )
         boxes, leaves, grid_cells = stats.boxes_bounded, stats.leaf_cells, stats.grid_cells
         reps = args.reps if grid_cells < 5e7 else max(1, min(args.reps, 3))
+        # Over 2^31 cells the exhaustive pass runs in two halves, once (about 15 s on 2 cores).
+        ex_search, ex_reps = ("halves", 1) if grid_cells > 2**31 else ("exhaustive", reps)
         for n in [1, 2, 16]:
             if n > threads:
                 continue
-            t_ex, z_ex, a_ex = in_child(n, reps, "exhaustive", side, step)
+            t_ex, z_ex, a_ex = in_child(n, ex_reps, ex_search, side, step)
             t_bb, z_bb, a_bb = in_child(n, reps, "branch_and_bound", side, step)
             same = z_ex == z_bb and a_ex == a_bb
             print(
@@ -195,9 +313,11 @@ def main():
                 f"{t_bb * 1e3:7.1f} ms   ratio {t_ex / t_bb:6.1f}x   same cell: {same}"
             )
         print(
-            f"  {name}: {boxes} boxes + {leaves} kernel cells of {grid_cells} "
-            f"({grid_cells / (boxes + leaves):.0f}x fewer)"
+            f"  {name}: {grid_cells:.3e} cells, {stats.rounds} round(s); {boxes} units of work "
+            f"(direction boxes, plus rows scanned over 2^31 cells) + {leaves} kernel cells"
         )
+    if args.skies > 0:
+        sky_spread(args.skies, max(1, min(args.reps, 3)), args.eq15_checks)
 
 
 if __name__ == "__main__":

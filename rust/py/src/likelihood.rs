@@ -147,11 +147,13 @@ fn ml_search(
 }
 
 result_type! {
-    /// Branch-and-bound work counters: boxes bounded, leaf cells evaluated, and the full grid's cells.
+    /// Branch-and-bound work counters: boxes bounded, leaf cells evaluated, the full grid's cells, and
+    /// the rounds (targets tried).
     BnbStats {
         boxes_bounded: u64,
         leaf_cells: u64,
         grid_cells: u64,
+        rounds: u32,
     }
 }
 
@@ -176,6 +178,7 @@ fn bnb_stats(
         boxes_bounded: s.boxes_bounded,
         leaf_cells: s.leaf_cells,
         grid_cells: grid.len() as u64,
+        rounds: s.rounds,
     })
 }
 
