@@ -86,7 +86,7 @@ def test_orbit_filter_writes_json_and_plots(tmp_path: Path) -> None:
     assert (tmp_path / "orbit-filter-nees.png").stat().st_size > 10_000
 
 
-@pytest.mark.slow  # ~30 s on 2 cores even with one run: 4 satellite counts x 4 methods x 20 epochs
+@pytest.mark.slow  # ~30 s on 2 cores even with one run: 4 satellite counts x 3 methods x 20 epochs
 def test_recorded_methods_writes_json_without_paper_column(tmp_path: Path) -> None:
     argv = ["reproduce", "recorded-methods", "--runs", "1", "--out", str(tmp_path), "--no-progress"]
     assert main(argv) == 0
@@ -94,7 +94,7 @@ def test_recorded_methods_writes_json_without_paper_column(tmp_path: Path) -> No
     assert doc["paper"] == {} and doc["runs"] == 1
     m = doc["measured"]
     for n in (5, 6, 7, 8):
-        for name in ("ml", "ml_window", "lambda", "lambda_hold"):
+        for name in ("ml", "ml_window", "lambda"):
             assert 0.0 <= m[f"{name}_n{n}_wrong_fraction"] <= 1.0
         assert 0.0 <= m[f"lambda_n{n}_fix_rate"] <= 1.0
 

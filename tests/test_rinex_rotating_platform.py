@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 from functools import cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -43,15 +44,9 @@ def rotating(tmp_path_factory: pytest.TempPathFactory) -> SimulatedRinex:
 
 
 @cache
-def _solve(paths: tuple[Path, ...], nav: Path, continuity: bool) -> AttitudeSeries:
+def _solve(paths: tuple[Path, ...], nav: Path) -> AttitudeSeries:
     return attitude_from_rinex(
-        list(paths),
-        nav,
-        BODY,
-        method="lambda",
-        motion="moving",
-        continuity=continuity,
-        elevation_mask_deg=5.0,
+        list(paths), nav, BODY, method="lambda", motion="moving", elevation_mask_deg=5.0
     )
 
 
@@ -70,7 +65,7 @@ def _fixed_errors(series: AttitudeSeries, s: SimulatedRinex) -> np.ndarray:
 
 def test_single_epoch_constrained_fix_matches_truth(rotating: SimulatedRinex) -> None:
     s = rotating
-    sol = _solve(s.obs_paths, s.nav_path, False)
+    sol = _solve(s.obs_paths, s.nav_path)
     assert sol.fixed.sum() >= 10
     err = _fixed_errors(sol, s)
     assert err.max() < WRONG_M, err.max()
@@ -81,15 +76,21 @@ def test_single_epoch_constrained_fix_matches_truth(rotating: SimulatedRinex) ->
     assert np.max(np.linalg.norm(fitted - s.baselines_enu_m[sol.fixed == 1], axis=2)) < WRONG_M
 
 
-def test_continuity_holds_right_integers(rotating: SimulatedRinex) -> None:
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [({"motion": "moving", "continuity": True}, "continuity"), ({"motion": "static"}, "motion")],
+)
+def test_attitude_mode_refuses_the_modes_that_hold_integers(
+    rotating: SimulatedRinex, kwargs: dict[str, Any], name: str
+) -> None:
+    """Attitude mode fixes every epoch on its own with the array's geometry: holding integers along arcs
+    and one static set are baseline mode's, refused here by name rather than ignored."""
     s = rotating
-    single = _solve(s.obs_paths, s.nav_path, False)
-    held = _solve(s.obs_paths, s.nav_path, True)
-    assert held.fixed.sum() >= single.fixed.sum()
-    assert _fixed_errors(held, s).max() < WRONG_M
+    with pytest.raises(InvalidInputError, match=f"--{name}.*attitude mode fixes every epoch"):
+        attitude_from_rinex(list(s.obs_paths), s.nav_path, BODY, method="lambda", **kwargs)
 
 
-def test_undetected_slip_drops_held_integers(rotating: SimulatedRinex) -> None:
+def test_undetected_slip_leaves_single_epoch_fixes_right(rotating: SimulatedRinex) -> None:
     s = rotating
     obs = [read_obs(p) for p in s.obs_paths]
     rover = obs[1]
@@ -99,8 +100,7 @@ def test_undetected_slip_drops_held_integers(rotating: SimulatedRinex) -> None:
     data[10:, k, col] += 1.0  # one cycle, no loss-of-lock flag, far below any code-jump threshold
     obs[1] = dataclasses.replace(rover, data=data)
     sol = attitude_from_rinex(
-        obs, read_nav(s.nav_path), BODY, method="lambda", motion="moving", continuity=True,
-        elevation_mask_deg=5.0,
+        obs, read_nav(s.nav_path), BODY, method="lambda", motion="moving", elevation_mask_deg=5.0,
     )  # fmt: skip
     assert (sol.fixed[10:] == 1).any()
     assert _fixed_errors(sol, s).max() < WRONG_M

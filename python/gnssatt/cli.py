@@ -210,12 +210,13 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         choices=("static", "moving"),
         default=None,
         help="static fixes the session's ambiguities once, moving fixes each epoch (default: static for two "
-        "antennas, moving with --baselines)",
+        "antennas, moving with --baselines or --continuity)",
     )
     att.add_argument(
         "--continuity",
         action="store_true",
-        help="moving: hold fixed ambiguities along arcs without cycle slips",
+        help="moving baseline mode: hold fixed ambiguities along arcs without cycle slips (implies "
+        "--motion moving; refused with --motion static and with --baselines)",
     )
     att.add_argument(
         "--systems",

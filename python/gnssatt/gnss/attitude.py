@@ -372,10 +372,12 @@ def attitude_from_rinex(
         ``"auto"``, ``"ml"`` or ``"lambda"`` (module docstring).
     motion
         ``"static"``: the ambiguities of the whole session fixed once (a static pair); ``"moving"``: every
-        epoch fixed on its own (or held along arcs with ``continuity``). Default: static for two antennas,
-        moving in attitude mode.
+        epoch fixed on its own (or held along arcs with ``continuity``). Default: static for two antennas
+        (moving with ``continuity``), moving in attitude mode, where ``"static"`` is refused.
     continuity
-        Moving: hold fixed integers along slip-free arcs instead of fixing every epoch afresh.
+        Moving baseline mode: hold fixed integers along slip-free arcs instead of fixing every epoch
+        afresh. Refused with ``motion="static"`` (one set for the session already) and with
+        ``baselines`` (attitude mode fixes every epoch on its own, with the array's geometry).
     systems
         Satellite systems, letters among ``"GRECJ"`` (default all).
     frequencies
@@ -496,7 +498,7 @@ def attitude_from_rinex(
     elif n_rover != 1:
         raise InvalidInputError(f"expected baselines ({n_rover}, 3) for {n_rover + 1} antennas, got none")
     if motion is None:
-        motion = "moving" if baselines is not None else "static"
+        motion = "moving" if baselines is not None or continuity else "static"
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
     nv = _as_nav(nav)
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)

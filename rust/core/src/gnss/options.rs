@@ -9,7 +9,8 @@ use crate::error::{Error, Result};
 pub enum Motion {
     /// Ambiguities fixed once for the whole session (a static pair).
     Static,
-    /// Every epoch fixed on its own (single-epoch), or held along slip-free arcs with `continuity`.
+    /// Every epoch fixed on its own (single-epoch), or held along slip-free arcs with `continuity`
+    /// (baseline mode only).
     Moving,
 }
 
@@ -56,7 +57,8 @@ pub struct EngineOptions {
     pub base_position_m: Option<[f64; 3]>,
     pub motion: Motion,
     pub method: Method,
-    /// Hold fixed integers along slip-free arcs in moving mode.
+    /// Hold fixed integers along slip-free arcs in moving baseline mode (refused when static and with
+    /// body baselines).
     pub continuity: bool,
     /// Smallest bootstrapped success rate (from the float covariance) of the ambiguity set fixed; the
     /// largest subset that reaches it is fixed (partial fixing) when the full set does not.
@@ -174,6 +176,30 @@ impl EngineOptions {
                     format!("expected finite body coordinates within 1e4 m, row {i} is {b:?}"),
                 ));
             }
+        }
+        // Attitude mode fixes every epoch on its own with the array's geometry: the modes that hold or
+        // pool integers across epochs are baseline mode's, and refused here rather than ignored.
+        if !self.body_baselines_m.is_empty() && self.continuity {
+            return Err(Error::out_of_range(
+                "--continuity",
+                "expected baseline mode (no body baselines): attitude mode fixes every epoch on its \
+                 own, with the array's geometry, and holds no integers, got body baselines and \
+                 continuity",
+            ));
+        }
+        if self.continuity && self.motion == Motion::Static {
+            return Err(Error::out_of_range(
+                "--continuity",
+                "expected moving motion: a static session fixes one set of integers for all epochs \
+                 already, got static and continuity",
+            ));
+        }
+        if !self.body_baselines_m.is_empty() && self.motion == Motion::Static {
+            return Err(Error::out_of_range(
+                "--motion",
+                "expected moving with body baselines (attitude mode fixes every epoch on its own), \
+                 got static; leave the body baselines out for a static baseline",
+            ));
         }
         if !self.baseline_lengths_m.is_empty() && !self.body_baselines_m.is_empty() {
             return Err(Error::out_of_range(
