@@ -219,10 +219,15 @@ impl Tester<'_> {
     /// Centre phases and their deviations over the box (`sin`, `cos` of the centre's azimuth and
     /// elevation given); returns the azimuth and elevation shares of the
     /// deviation (which axis to split).
-    fn phases(&mut self, b: &DirBox, [sa, ca, se, ce]: [f64; 4]) -> (f64, f64) {
+    fn phases(&mut self, b: &DirBox, [sa, ca, se, ce]: [f64; 4], halvings: u32) -> (f64, f64) {
         let m = self.model;
         let len = m.baselines[self.i].norm();
         let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
+        // The centre's sines come from `halvings` angle additions, each off by at most a few ulps
+        // (values <= 1): each component of `u` by at most 8 ulps per addition, so a phase by at most
+        // `|r| |g| 16 (halvings + 1) eps` (per metre of baseline and rad/m of `g`). Counted in the
+        // deviation, so the test stays a bound whatever the baseline's length.
+        let rounding = len * 16.0 * f64::from(halvings + 1) * f64::EPSILON;
         let u = Vector3::new(ce * ca, se, -ce * sa);
         let du_a = Vector3::new(-ce * sa, 0.0, -ce * ca);
         let du_e = Vector3::new(-se * ca, ce, se * sa);
@@ -237,7 +242,7 @@ impl Tester<'_> {
             share_a += da;
             share_e += de;
             self.xs.push(wrap_turn(x));
-            self.ds.push(da + de + len * gn * quad);
+            self.ds.push(da + de + len * gn * quad + rounding * gn);
         }
         (share_a, share_e)
     }
@@ -274,8 +279,8 @@ pub(crate) fn direction_set(
     let (half_a, half_e) = (PI / na as f64, FRAC_PI_2 / ne as f64);
     // `sin_cos` of a child's offset from its parent's centre, per level of halving: children's centre
     // sines follow from their parent's by the angle-addition formulas (a sin_cos pair per box was a
-    // sixth of the search). The rounding this accumulates over the levels (a few ulps per level) is
-    // far inside the test's 1e-9 rad tolerance.
+    // sixth of the search). The rounding this accumulates over the levels is added to each phase's
+    // deviation (`Tester::phases`).
     let offsets = |h: f64| -> Vec<(f64, f64)> {
         (0..=u8::MAX)
             .map(|k| (h * 0.5f64.powi(i32::from(k))).sin_cos())
@@ -330,7 +335,8 @@ pub(crate) fn direction_set(
                     if tested.is_multiple_of(64) && !budget.spend(64) {
                         return out;
                     }
-                    let (share_a, share_e) = t.phases(&b, trig);
+                    let halvings = u32::from(level.0) + u32::from(level.1);
+                    let (share_a, share_e) = t.phases(&b, trig, halvings);
                     if s < 2.0 && !t.may_reach() {
                         continue;
                     }
