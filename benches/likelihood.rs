@@ -55,6 +55,22 @@ fn scenario_sized(l: f64, m: usize, noise: f64) -> Model {
     Model::new(&b, &[e], Statistic::AmbiguityFunction).unwrap()
 }
 
+/// Rayon pools of 1, 2 and 16 threads, those the machine has.
+fn pools() -> Vec<(usize, rayon::ThreadPool)> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    [1usize, 2, 16]
+        .into_iter()
+        .filter(|&t| t <= cores)
+        .map(|t| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .unwrap();
+            (t, pool)
+        })
+        .collect()
+}
+
 fn exhaustive(c: &mut Criterion) {
     let mut group = c.benchmark_group("likelihood/exhaustive");
     group.sample_size(10);
@@ -70,14 +86,7 @@ fn exhaustive(c: &mut Criterion) {
     }
     let grid = Grid::full(1.5f64.to_radians()).unwrap();
     let model = scenario(8);
-    for threads in [1usize, 2, 16] {
-        if threads > std::thread::available_parallelism().map_or(1, |n| n.get()) {
-            continue;
-        }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+    for (threads, pool) in pools() {
         let id = BenchmarkId::new("step1.5deg_M8", format!("threads{threads}"));
         group.bench_with_input(id, &threads, |b, _| {
             b.iter(|| pool.install(|| exhaustive_max(&model, &grid).unwrap()))
@@ -101,23 +110,14 @@ fn median_ms(mut f: impl FnMut(), reps: usize) -> f64 {
 fn bnb_vs_grid(c: &mut Criterion) {
     let mut group = c.benchmark_group("likelihood/bnb_vs_grid");
     group.sample_size(10);
-    // The paper's 0.71 m triangle at 1.5 deg (7.0e6 cells), and a 5 m triangle at 0.5 deg (1.9e8 cells;
-    // eq. (15)'s lambda / (10 L) = 0.22 deg would exceed the 2^31 cells of the exhaustive pass), with
-    // 0.1 rad phase noise.
+    // The paper's 0.71 m triangle at 1.5 deg (7.0e6 cells), and a 5 m triangle at 0.5 deg (1.9e8 cells,
+    // a coarse grid for it) and, below, at eq. (15)'s step; 0.1 rad phase noise.
     let cases = [("paper_0.71m_1.5deg", 0.71, 1.5), ("5m_0.5deg", 5.0, 0.5)];
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut ratios = vec![];
     for (name, l, step) in cases {
         let model = scenario_sized(l, 8, 0.1);
         let grid = Grid::full(f64::to_radians(step)).unwrap();
-        for threads in [1usize, 2, 16] {
-            if threads > cores {
-                continue;
-            }
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
+        for (threads, pool) in pools() {
             let ex = pool.install(|| exhaustive_max(&model, &grid).unwrap());
             let (bb, stats) = pool.install(|| branch_and_bound(&model, &grid).unwrap());
             assert_eq!(
@@ -165,14 +165,7 @@ fn bnb_vs_grid(c: &mut Criterion) {
     let halves = [(-FRAC_PI_2, mid), (mid, FRAC_PI_2)]
         .map(|theta| Grid::window(step, [(-1.0, 7.0), theta, (-4.0, 4.0)]).unwrap());
     assert_eq!(halves.iter().map(Grid::len).sum::<usize>(), grid.len());
-    for threads in [1usize, 2, 16] {
-        if threads > cores {
-            continue;
-        }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+    for (threads, pool) in pools() {
         let t = std::time::Instant::now();
         let ex = halves
             .iter()

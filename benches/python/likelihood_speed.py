@@ -105,31 +105,45 @@ def reference_kernel(path, reps, env=None):
     return statistics.median(times), cells, threads
 
 
-def exhaustive_in_halves(p, los, tri, step):
-    """The exhaustive pass over every cell of the whole-domain grid as two windows (pitch below and above
-    a half-step boundary, heading and roll whole turns): ``(z_max, grid angles, cells)`` of the grid
-    maximum, ties to the lower pitch as in the whole-grid order."""
-    step_used = step if step is not None else np.degrees(L1 / (10 * np.max(np.linalg.norm(tri, axis=1))))
-    n = 2 * int(np.ceil(180 / step_used))
-    mid = -90 + (n // 4 + 0.5) * 360 / n
-    best, cells = None, 0
+def search_work(p, los, tri, step):
+    """``_core.bnb_stats`` of the branch-and-bound search (``step`` in degrees; None: eq. (15)'s default)."""
+    b = np.ascontiguousarray
+    return _core.bnb_stats(
+        b(p[None]),
+        b(los[None]),
+        b(np.full((1, len(los)), L1)),
+        b(tri),
+        statistic="ambiguity_function",
+        step_rad=None if step is None else np.radians(step),
+        window_rad=None,
+    )
+
+
+def exhaustive_in_halves(p, los, tri, step, step_used_deg):
+    """The exhaustive pass over every cell of the whole-domain grid of ``step`` (degrees or None, as given
+    to ``ml_attitude``; ``step_used_deg`` the step it used) as two windows (pitch below and above a
+    half-step boundary, heading and roll whole turns): ``(z_max, grid angles)`` of the grid maximum, ties
+    to the lower pitch as in the whole-grid order."""
+    n = round(360 / step_used_deg)
+    mid = -90 + (n // 4 + 0.5) * step_used_deg
+    best = None
     for theta in [(-90.0, mid), (mid, 90.0)]:
         window = [[-1.0, 361.0], list(theta), [-181.0, 181.0]]
         r = gnssatt.ml_attitude(
             p, los, tri, L1, step_deg=step, window_deg=window, search="exhaustive", refine=False
         )
-        cells += r.cells_evaluated
         if best is None or r.z_max > best.z_max:
             best = r
-    return best.z_max, tuple(float(a) for a in best.grid_euler_gost_deg), cells
+    return best.z_max, tuple(float(a) for a in best.grid_euler_gost_deg)
 
 
 def child(reps, search, side, step):
     p, los = scenario(side=side)
     tri = side * UNIT_TRIANGLE
     if search == "halves":
+        used = gnssatt.ml_attitude(p, los, tri, L1, step_deg=step, refine=False).step_deg
         t = time.perf_counter()
-        z, angles, _ = exhaustive_in_halves(p, los, tri, step)
+        z, angles = exhaustive_in_halves(p, los, tri, step, used)
         t = time.perf_counter() - t
         print(f"{t:.6f} {z!r} {' '.join(repr(a) for a in angles)}")
         return
@@ -159,7 +173,6 @@ def sky_spread(n_skies, reps, eq15_checks):
     """Branch-and-bound against the exhaustive pass on random skies (8 satellites) and attitudes, 5 m
     triangle, 0.1 rad noise, at 0.5 deg and at eq. (15)'s step, in this process (all threads)."""
     tri = 5.0 * UNIT_TRIANGLE
-    b = np.ascontiguousarray
     print(
         f"spread over {n_skies} random skies and attitudes, 5 m triangle, 0.1 rad noise, "
         f"{os.cpu_count()} threads (medians of {reps}; rounds from _core.bnb_stats):"
@@ -178,16 +191,7 @@ def sky_spread(n_skies, reps, eq15_checks):
             bb = gnssatt.ml_attitude(p, los, tri, L1, search="branch_and_bound", **kw)
             run = functools.partial(gnssatt.ml_attitude, p, los, tri, L1, search="branch_and_bound", **kw)
             t_bb = timed(run, reps)
-            step_rad = np.radians(step) if step is not None else L1 / (10 * 5.0)
-            stats = _core.bnb_stats(
-                b(p[None]),
-                b(los[None]),
-                b(np.full((1, 8), L1)),
-                b(tri),
-                statistic="ambiguity_function",
-                step_rad=step_rad,
-                window_rad=None,
-            )
+            stats = search_work(p, los, tri, step)
             if step is not None:
                 t = time.perf_counter()
                 ex = gnssatt.ml_attitude(p, los, tri, L1, search="exhaustive", **kw)
@@ -195,7 +199,7 @@ def sky_spread(n_skies, reps, eq15_checks):
                 z_ex, a_ex = ex.z_max, tuple(float(a) for a in ex.grid_euler_gost_deg)
             elif k < eq15_checks:
                 t = time.perf_counter()
-                z_ex, a_ex, _ = exhaustive_in_halves(p, los, tri, None)
+                z_ex, a_ex = exhaustive_in_halves(p, los, tri, None, bb.step_deg)
                 t_ex = time.perf_counter() - t
                 t_halves.append(t_ex)
             else:
@@ -283,21 +287,10 @@ def main():
             t_r, _, _ = reference_kernel(args.reference, 1, env)
             line += f"   reference kernel {t_r * 1e3:7.1f} ms   ratio {t / t_r:.2f}"
         print(line)
-    b = np.ascontiguousarray
     print("branch-and-bound vs exhaustive (grid maximum only, refine=False; medians, fresh process each):")
     for name, side, step in BNB_CASES:
         ps, ls = scenario(side=side)
-        tri = side * UNIT_TRIANGLE
-        step_rad = np.radians(step) if step is not None else L1 / (10 * side)
-        stats = _core.bnb_stats(
-            b(ps[None]),
-            b(ls[None]),
-            b(np.full((1, 8), L1)),
-            b(tri),
-            statistic="ambiguity_function",
-            step_rad=step_rad,
-            window_rad=None,
-        )
+        stats = search_work(ps, ls, side * UNIT_TRIANGLE, step)
         boxes, leaves, grid_cells = stats.boxes_bounded, stats.leaf_cells, stats.grid_cells
         reps = args.reps if grid_cells < 5e7 else max(1, min(args.reps, 3))
         # Over 2^31 cells the exhaustive pass runs in two halves, once (about 15 s on 2 cores).
