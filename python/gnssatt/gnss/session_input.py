@@ -275,9 +275,9 @@ def session_input(
         Fewer than two or more than :data:`MAX_RECEIVERS` files; ``systems`` not distinct letters of
         ``"GRECJ"``; ``frequencies`` outside 1..3.
     RinexError
-        A file without carrier-phase observations of the chosen systems and slots, no system left that
-        every file has, no epoch common to all files, no satellite seen by every file (each message names
-        the files).
+        A file of no epochs (a header only), a file without carrier-phase observations of the chosen
+        systems and slots, no system left that every file has, no epoch common to all files, no satellite
+        seen by every file (each message names the files).
     """
     if isinstance(observations, RinexObs) or not isinstance(observations, Sequence):
         raise InvalidTypeError(
@@ -291,6 +291,11 @@ def session_input(
         raise InvalidInputError(
             f"expected observations of 2 to {MAX_RECEIVERS} receivers (the engine's limit), got {len(files)}"
         )
+    for o in files:
+        if len(o.time) == 0:
+            raise RinexError(
+                o.path, None, "the observation file holds no epochs (a header only): nothing to solve from it"
+            )
     asked = _systems(systems)
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:
