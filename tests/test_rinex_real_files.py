@@ -5,7 +5,9 @@ per kind. Files and their provenance: ``tests/data/README.md``."""
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 import pytest
@@ -15,6 +17,7 @@ from gnssatt.gnss.session_input import MixedTrackingWarning, session_input
 from gnssatt.rinex import read_nav, read_obs
 
 REAL = Path(__file__).resolve().parent / "data" / "real"
+T = TypeVar("T")
 
 
 def _copy(tmp_path: Path, name: str, edit: tuple[str, str] | None = None, *, strip_end: bool = False) -> Path:
@@ -29,7 +32,8 @@ def _copy(tmp_path: Path, name: str, edit: tuple[str, str] | None = None, *, str
     return p
 
 
-def _quiet_read(reader, path):  # type: ignore[no-untyped-def]
+def _quiet_read(reader: Callable[[Path], T], path: Path) -> tuple[T, list[str]]:
+    """What ``reader`` returns, and the messages of the RecordsSkippedWarnings it issued."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         out = reader(path)
@@ -215,3 +219,12 @@ def test_mixed_tracking_without_phase_shift_records_warns(tmp_path: Path) -> Non
     sept, _ = _quiet_read(read_obs, p)
     with pytest.warns(MixedTrackingWarning, match="system E slot 1"):
         session_input([trimble, sept], systems="GEJ")
+
+
+def test_rinex3_navic_counted_in_skipped(tmp_path: Path) -> None:
+    # no NavIC record in the stored corpus: the excerpt's GPS record relabelled I01 (the layouts agree)
+    p = _copy(tmp_path, "ESBC00DNK_excerpt_MN.rnx", ("\nG01 2020 06 25", "\nI01 2020 06 25"))
+    nav, said = _quiet_read(read_nav, p)
+    assert nav.kepler.sats.tolist() == ["C05"]
+    assert nav.skipped == {"EPH S SBAS": 1, "EPH I LNAV": 1}
+    assert len(said) == 1 and "2 records skipped" in said[0]

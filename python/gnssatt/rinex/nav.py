@@ -192,8 +192,9 @@ class RinexNav:
     leap_seconds
         GPS - UTC leap seconds of the header's ``LEAP SECONDS`` line, or None.
     skipped
-        RINEX 4 records not read, counted per ``"<type> <system> <message>"`` (``"EPH G CNAV"``,
-        ``"STO G LNAV"``, ``"EOP G CNAV"``, ``"ION E IFNV"`` ...); empty for older files.
+        Records not read, counted per ``"<type> <system> <message>"``: RINEX 4 ``"EPH G CNAV"``,
+        ``"STO G LNAV"``, ``"EOP G CNAV"``, ``"ION E IFNV"`` ...; SBAS and NavIC records of every version as
+        ``"EPH S SBAS"`` and ``"EPH I LNAV"``.
     """
 
     path: str
@@ -274,9 +275,17 @@ def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) ->
 
 
 def read_nav(path: str | PathLike[str]) -> RinexNav:
-    """Read a RINEX 2.xx (GPS ``N`` or GLONASS ``G``), 3.xx or 4.xx (any system) navigation file.
+    """Read a RINEX 2.xx (GPS ``N``, GLONASS ``G``, Galileo ``E``, SBAS ``H``), 3.xx or 4.xx (any system)
+    navigation file.
 
-    SBAS and IRNSS records are not read. RINEX 4 files: the ephemeris messages the engine uses are read
+    The reader follows the rule of ``docs/robustness.md`` ("Real files"): malformed records are refused,
+    a valid file is read whole, records it cannot use are skipped with one
+    :class:`~gnssatt.errors.RecordsSkippedWarning` per kind. SBAS and NavIC (IRNSS) records are counted in
+    :attr:`RinexNav.skipped` (``"EPH S SBAS"``, ``"EPH I LNAV"``, as RINEX 4 names them). A Keplerian record
+    whose perigee a (1 - e) is below the Earth's equatorial radius is not an orbit and is skipped; any
+    eccentricity in [0, 1) is otherwise kept (Galileo E14 and E18, e 0.16-0.17, are real orbits). A file
+    cut inside its last record gives the records before it; a file without a final line end after a
+    complete record is read whole. RINEX 4 files: the ephemeris messages the engine uses are read
     (``EPH`` records of GPS/QZSS ``LNAV``, Galileo ``INAV``/``FNAV``, BeiDou ``D1``/``D2``, GLONASS
     ``FDMA``) and the Klobuchar coefficients of the first GPS ``ION ... LNAV`` record (RINEX 4 moved them out
     of the header); every other record (``CNAV``, ``CNV1-3``, ``STO``, ``EOP``, other ``ION``) is skipped and
@@ -296,11 +305,19 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         Keplerian ephemerides (G, E, C, J), GLONASS state vectors, the GPS Klobuchar coefficients, the
         leap seconds of the header and the RINEX 4 records skipped.
 
+    Warns
+    -----
+    RecordsSkippedWarning
+        One per kind: records of messages not used (counted in ``skipped``), records that are not an orbit,
+        the last record of a file cut inside it.
+
     Raises
     ------
     RinexError
         Unknown version or file type, a missing ``END OF HEADER``, a record with fewer lines than its system
-        has, a line cut inside a field or a file cut inside its last line, a malformed or non-finite number,
+        has (except the last, cut by the end of the file), a line cut inside a field (except the last line
+        of a file without a final line end), a Keplerian record with sqrt(A) <= 0 or an eccentricity outside
+        [0, 1), a malformed or non-finite number,
         a date or time that does not exist, a week, time of week or GLONASS channel that is not a whole
         number in its range; the message names the file and line. Every other failure while reading becomes
         a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or

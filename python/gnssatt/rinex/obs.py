@@ -578,11 +578,17 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     """Read a RINEX 2.xx, 3.xx or 4.xx observation file (plain, or compressed with the optional
     ``hatanaka`` package).
 
-    The reader refuses what a careful reader refuses, naming the file and the line of the fault: a date or
-    time that does not exist (month 13, hour 24, minute 60, second 60 except a leap second at 23:59), epochs
-    that do not increase strictly, a number that is not a finite F14.3 value (``nan``, ``inf``, ``1e999``),
-    a line cut inside a field or a file cut inside its last line, a satellite count that differs from the
-    satellites listed or the records that follow, a satellite twice in one epoch, and an unknown epoch flag.
+    The reader follows the rule of ``docs/robustness.md`` ("Real files"). It refuses what a careful reader
+    refuses, naming the file and the line of the fault: a date or time that does not exist (month 13, hour
+    24, minute 60, second 60 except a leap second at 23:59), in an epoch or in ``TIME OF FIRST OBS`` /
+    ``TIME OF LAST OBS``, an ``INTERVAL`` <= 0, epochs that do not increase strictly, a number that is not
+    a finite F14.3 value (``nan``, ``inf``, ``1e999``), a line cut inside a field, a satellite count that
+    differs from the satellites listed or the records that follow, a satellite twice in one epoch, a code
+    twice in a system's types, and an unknown epoch flag. It reads every valid file whole: observation
+    codes it does not use (:attr:`RinexObs.unused_codes`) are read past, a file with a header and no epochs
+    reads as zero epochs, and a file cut inside its last epoch (the file ends before the records the epoch
+    announces, with no epoch after it, or ends without a line end inside a field) gives the epochs before
+    it; both with a :class:`~gnssatt.errors.RecordsSkippedWarning`.
 
     Epoch flags are handled as RINEX defines them: 0 and 1 (power failure before the epoch) are observation
     epochs; 2-5 (antenna moving, new occupation, header information, external event) announce that many
@@ -605,6 +611,11 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     Returns
     -------
     RinexObs
+
+    Warns
+    -----
+    RecordsSkippedWarning
+        One per kind: the observation codes read past, the last epoch of a file cut inside it.
 
     Raises
     ------
