@@ -134,7 +134,7 @@ def bad_values(arg: Arg, value: Any) -> Iterator[tuple[str, Any, type[Exception]
 
 def _phases() -> dict[str, Any]:
     """Phase differences (m, M) of the seed-001 model for BASELINES[:2] at TRUTH-like angles, radians."""
-    r = likelihood.rotation_from_euler([20.0, 5.0, -3.0])
+    r = rotation.rotation_from_euler([20.0, 5.0, -3.0])
     p = -2 * np.pi / L1 * (r.apply(BASELINES[:2]) @ LOS.T)
     return {"phase_diffs": np.mod(p, 2 * np.pi), "los": LOS, "baselines": BASELINES[:2], "wavelength": L1}
 
@@ -292,14 +292,14 @@ FUNCTIONS: tuple[Function, ...] = (
         ),
     ),
     Function(
-        "likelihood.rotation_from_euler",
-        likelihood.rotation_from_euler,
+        "rotation.rotation_from_euler",
+        rotation.rotation_from_euler,
         lambda: {"euler_gost_deg": [10.0, 5.0, -3.0]},
         (Arg("euler_gost_deg", "array", shapes=(np.zeros(2), np.zeros((3, 2)), np.zeros((1, 1, 3)))),),
     ),
     Function(
-        "likelihood.euler_from_rotation",
-        likelihood.euler_from_rotation,
+        "rotation.euler_from_rotation",
+        rotation.euler_from_rotation,
         lambda: {"rotation": TRUTH},
         (Arg("rotation", "object"),),
     ),

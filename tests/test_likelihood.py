@@ -10,7 +10,7 @@ from scipy.spatial.transform import Rotation
 
 import gnssatt
 from gnssatt import InvalidInputError
-from gnssatt.attitude.likelihood import ENU_FROM_NORMAL, euler_from_rotation, rotation_from_euler
+from gnssatt.rotation import ENU_FROM_NORMAL, euler_from_rotation, rotation_from_euler
 
 L1 = 0.19029367279836487
 TRIANGLE = 0.71 * np.array([[1.0, 0.0, 0.0], [0.5, 0.0, np.sqrt(3) / 2]])

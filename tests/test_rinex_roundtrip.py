@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from gnssatt import _core, sim
-from gnssatt.attitude.likelihood import rotation_from_euler
 from gnssatt.cli import main
 from gnssatt.gnss.attitude import attitude_from_rinex
-from gnssatt.gnss.session_input import nav_input
 from gnssatt.rinex import gps_ns, read_nav, read_obs
+from gnssatt.rinex.nav import nav_input
+from gnssatt.rotation import rotation_from_euler
 from gnssatt.sim.rinex_scenario import write_array_rinex
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")

@@ -16,9 +16,9 @@ import pytest
 
 from gnssatt import _core
 from gnssatt.errors import InvalidInputError
-from gnssatt.gnss.session_input import NavInput, nav_input, session_input
+from gnssatt.gnss.session_input import session_input
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import NavInput, gps_ns, nav_input
 from gnssatt.rinex.signals import slot_frequency_hz
 from gnssatt.rinex.writer import write_nav_from_constellation
 from gnssatt.sim.rinex_scenario import (

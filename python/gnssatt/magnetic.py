@@ -33,11 +33,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import constants as _constants
 from gnssatt._arrays import checked_array, integer, scalar, vector_array
-from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError
 
-# One geodetic -> ECEF conversion, in the base layer; this module's former copy (keywords latitude_deg,
-# longitude_deg, still taken with a DeprecationWarning) is the same function.
+# One geodetic -> ECEF conversion, in the base layer.
 from gnssatt.frames import geodetic_to_ecef as geodetic_to_ecef
 
 __all__ = [
@@ -223,15 +221,13 @@ def _geodetic(
         ) from exc
 
 
-@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def dcm_ned_from_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike) -> NDArray[np.float64]:
     """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point.
 
     Parameters
     ----------
     lat_deg, lon_deg
-        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together (formerly
-        ``latitude_deg``, ``longitude_deg``, still taken with a :class:`DeprecationWarning`).
+        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together.
 
     Returns
     -------
@@ -380,7 +376,6 @@ def dipole_field_eci(
     return np.stack([c * b[..., 0] - s * b[..., 1], s * b[..., 0] + c * b[..., 1], b[..., 2]], axis=-1)
 
 
-@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def dipole_field_ned(
     lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike, decimal_year: float
 ) -> NDArray[np.float64]:
@@ -389,8 +384,7 @@ def dipole_field_ned(
     Parameters
     ----------
     lat_deg, lon_deg
-        WGS-84 geodetic latitude and longitude, degrees (broadcast together; formerly ``latitude_deg``,
-        ``longitude_deg``, still taken with a :class:`DeprecationWarning`).
+        WGS-84 geodetic latitude and longitude, degrees (broadcast together).
     height_m
         Height above the WGS-84 ellipsoid, metres.
     decimal_year

@@ -20,7 +20,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import checked_array, choice, flag, instance, shaped
-from gnssatt._renamed import renamed
 
 __all__ = [
     "ENU_FROM_NORMAL",
@@ -163,7 +162,6 @@ def wrap_rad(x: Any) -> NDArray[np.float64]:
 ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
 
-@renamed(euler_deg="euler_gost_deg")
 def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
     """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3): the GOST
     ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``). Also importable

@@ -40,7 +40,6 @@ from scipy.stats import chi2
 from gnssatt import _core
 from gnssatt import constants as _constants
 from gnssatt._arrays import finite_result, float_array, instance, integer, scalar, text, vector_array
-from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
@@ -542,7 +541,6 @@ def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: fl
     return math.radians(sigma) ** 2 * float(chi2.isf(p, 2 * int(n_epochs)))
 
 
-@renamed(angles_deg="euler_yzy_deg")
 @dataclass(frozen=True)
 class RotationFit:
     """Result of :func:`fit_rotation`.
@@ -786,7 +784,6 @@ def _polished(
     return x, float(obj(x))
 
 
-@renamed(seed="rng")
 def fit_rotation(
     t: ArrayLike,
     measured_axes: ArrayLike,
@@ -826,7 +823,7 @@ def fit_rotation(
         ``numpy.random.Generator`` (used and advanced), a ``numpy.random.SeedSequence`` or None (fresh
         entropy). The first run uses an integer as scipy's ``seed`` (a Generator or a SeedSequence's
         Generator as given); restart ``k`` draws from the ``k``-th child of ``SeedSequence(rng)`` (of a
-        Generator: its ``k``-th spawned child). ``seed=`` is the deprecated name of this argument.
+        Generator: its ``k``-th spawned child).
     axis_sigma_deg
         Per-component standard deviation of the measured axes' tangent-plane error, degrees (5 for the
         paper's "3 sigma = 15 deg"). When given, a run whose objective lies above

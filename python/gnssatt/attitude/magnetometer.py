@@ -15,7 +15,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import finite_outputs, flag, float_array
-from gnssatt._renamed import renamed
 from gnssatt.attitude.wahba import checked_vectors, warn_small
 from gnssatt.errors import InvalidInputError
 
@@ -27,7 +26,6 @@ COS_PITCH_WARN = 1e-2
 HORIZONTAL_WARN = 1e-2
 
 
-@renamed(yaw="yaw_rad")
 @dataclass(frozen=True)
 class YawResult:
     """Yaw from :func:`yaw_from_magnetometer`.

@@ -11,7 +11,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, finite_outputs, shaped
-from gnssatt._renamed import renamed
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 
@@ -21,7 +20,6 @@ Method = Literal["svd", "ml", "closed_form", "paper"]
 METHODS: tuple[Method, ...] = ("svd", "ml", "closed_form", "paper")
 
 
-@renamed(euler_deg="heading_pitch_roll_deg")
 @dataclass(frozen=True)
 class MatrixAttitudeResult:
     """Attitude from :func:`matrix_attitude`.

@@ -25,9 +25,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt import montecarlo, sim
-from gnssatt.attitude.likelihood import StatisticName, likelihood_grid, ml_attitude, rotation_from_euler
+from gnssatt.attitude.likelihood import StatisticName, likelihood_grid, ml_attitude
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
+from gnssatt.rotation import rotation_from_euler
 
 NAME = "ml-grid"
 SIDE_M = 0.71

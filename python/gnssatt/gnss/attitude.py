@@ -456,7 +456,8 @@ def attitude_from_rinex(
            [330.,  10.,  -5.]])
     """
     from gnssatt import _core
-    from gnssatt.gnss.session_input import nav_input, session_input
+    from gnssatt.gnss.session_input import session_input
+    from gnssatt.rinex.nav import nav_input
 
     method = choice("method", method, ("auto", "ml", "lambda"))
     if motion is not None:
