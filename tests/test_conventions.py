@@ -246,18 +246,11 @@ def test_gyro_propagate_result_has_rotation() -> None:
     assert _angle_deg(out.rotation, Rotation.from_rotvec(np.outer([0.0, 1.0, 2.0], [0.0, 0.0, w]))) < 1e-10
 
 
-def test_gyro_propagate_result_read_as_an_array_warns_and_gives_the_quaternions() -> None:
+def test_gyro_propagate_quaternions_are_its_rotation() -> None:
     out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0], np.tile([0.0, 0.0, 0.3], (2, 1)))
-    with _warns_new_name_of("quaternions"):
-        array = np.asarray(out)
-    np.testing.assert_array_equal(array, out.quaternions)
-    with _warns_new_name_of("quaternions"):
-        np.testing.assert_array_equal(out[1], out.quaternions[1])
     np.testing.assert_allclose(Rotation.from_quat(out.quaternions).as_matrix(), out.rotation.as_matrix())
-
-
-def _warns_new_name_of(new: str) -> Any:
-    return pytest.warns(DeprecationWarning, match=f"use its '{new}'")
+    with pytest.raises(TypeError):
+        out[1]  # type: ignore[index]  # a result, not the array it used to be (CHANGELOG.md)
 
 
 # --- rng= on every stochastic entry -------------------------------------------------------------------
