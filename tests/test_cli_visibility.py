@@ -1,4 +1,4 @@
-"""`gnssatt reproduce visibility-rotation` (seed 004) end to end on a short arc."""
+"""`gnssatt reproduce visibility-rotation` (Belokonov et al.) end to end on a short arc."""
 
 from __future__ import annotations
 

@@ -27,9 +27,10 @@ from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
 from gnssatt.sim import rinex_scenario
 
-# (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, seed 001)
+# (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, Bunyaeva
+# et al.)
 ENU_FROM_NUE = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-# Library orbital (x, y, z) = the paper's (Y0, Z0, X0) (docs/conventions.md, seed 004)
+# Library orbital (x, y, z) = the paper's (Y0, Z0, X0) (docs/conventions.md, Belokonov et al.)
 ORBITAL_FROM_ORB0 = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 LAMBDA_L1 = 299_792_458.0 / 1575.42e6
 
@@ -62,7 +63,7 @@ def test_matrix_attitude_rotation_and_heading_pitch_roll_are_scipy_zyx() -> None
 
 
 def _gost_phases(euler_gost_deg: np.ndarray, baselines: np.ndarray, los: np.ndarray) -> np.ndarray:
-    """Wrapped phase differences (RINEX sign) of the seed-001 truth, built from scipy's YZX in NUE."""
+    """Wrapped phase differences (RINEX sign) of the Bunyaeva et al. truth, built from scipy's YZX in NUE."""
     r_enu = ENU_FROM_NUE @ Rotation.from_euler("YZX", euler_gost_deg, degrees=True).as_matrix()
     d_enu = baselines @ r_enu.T
     return np.angle(np.exp(-2j * np.pi * (d_enu @ los.T) / LAMBDA_L1))

@@ -1,5 +1,5 @@
-"""Seed 004: rotational dynamics (Rust RK4 via gnssatt.attitude.dynamics) and the differential-evolution
-fit."""
+"""Belokonov et al.: rotational dynamics (Rust RK4 via gnssatt.attitude.dynamics) and the
+differential-evolution fit."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Gyro + multi-antenna GNSS filter (seed 003): kinematics, consistency, ambiguities, sensitivity, bad input.
+"""Gyro + multi-antenna GNSS filter (Dzhepe Ali): kinematics, consistency, ambiguities, sensitivity, bad
+input.
 
 Statistical checks use fixed seeds; their bounds are chi-square quantiles at a two-sided level of 1e-3 per
 check (so a correct filter fails a check about once in a thousand seeds), or binomial arguments stated at

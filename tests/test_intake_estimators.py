@@ -133,7 +133,8 @@ def bad_values(arg: Arg, value: Any) -> Iterator[tuple[str, Any, type[Exception]
 
 
 def _phases() -> dict[str, Any]:
-    """Phase differences (m, M) of the seed-001 model for BASELINES[:2] at TRUTH-like angles, radians."""
+    """Phase differences (m, M) of the Bunyaeva et al. model for BASELINES[:2] at TRUTH-like angles,
+    radians."""
     r = rotation.rotation_from_euler([20.0, 5.0, -3.0])
     p = -2 * np.pi / L1 * (r.apply(BASELINES[:2]) @ LOS.T)
     return {"phase_diffs": np.mod(p, 2 * np.pi), "los": LOS, "baselines": BASELINES[:2], "wavelength": L1}

@@ -1,4 +1,5 @@
-"""Seed-001 maximum-likelihood grid: Rust against a numpy reference, recovery, statistics, search, errors."""
+"""Bunyaeva et al. maximum-likelihood grid: Rust against a numpy reference, recovery, statistics, search,
+errors."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Seed 000 matrix method against independent references: the paper's formulas written in numpy,
+"""Ryzhkov and Oliinyk matrix method against independent references: the paper's formulas written in numpy,
 scipy's Wahba solver (Rotation.align_vectors), scipy's least-squares solver and the Cramer-Rao bound."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Orbit-determination filter of seed 003: Rust vs the numpy reference, chi-square consistency over Monte
+"""Orbit-determination filter of Dzhepe Ali: Rust vs the numpy reference, chi-square consistency over Monte
 Carlo runs (NIS and NEES), long stretches with two tracked satellites, the receiver fix, bad input."""
 
 from __future__ import annotations

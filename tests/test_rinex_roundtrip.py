@@ -18,7 +18,7 @@ from gnssatt.rotation import rotation_from_euler
 from gnssatt.sim.rinex_scenario import write_array_rinex
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
-EULER = [-40.0, 5.0, 3.0]  # psi (compass heading 40), theta, phi of seed 001
+EULER = [-40.0, 5.0, 3.0]  # psi (compass heading 40), theta, phi of Bunyaeva et al.
 
 
 def _scenario(tmp_path: Path, antennas: np.ndarray, n_ep: int = 12) -> tuple[list[Path], Path]:

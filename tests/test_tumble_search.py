@@ -1,4 +1,4 @@
-"""Seed 004: the fit's global search on long RK4 steps with interpolated outputs (``search_step_s``).
+"""Belokonov et al.: the fit's global search on long RK4 steps with interpolated outputs (``search_step_s``).
 
 The differential evolution of :func:`gnssatt.attitude.dynamics.fit_rotation` propagates on steps of about
 5 s with the axes at 1 s interpolated (cubic Hermite), then polishes on the 1 s objective; checked here

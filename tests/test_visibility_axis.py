@@ -1,4 +1,4 @@
-"""Seed 004: antenna axis from GNSS visibility (eq. (5)) and the constrained estimators."""
+"""Belokonov et al.: antenna axis from GNSS visibility (eq. (5)) and the constrained estimators."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Seed 004 end to end: simulated GPS + GLONASS visibility -> visibility_axis -> DE fit."""
+"""Belokonov et al. end to end: simulated GPS + GLONASS visibility -> visibility_axis -> DE fit."""
 
 from __future__ import annotations
 

@@ -281,7 +281,7 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="DEG",
-        help="ml: grid step (default: eq. (15) of seed 001)",
+        help="ml: grid step (default: eq. (15) of Bunyaeva et al.)",
     )
 
 

@@ -1,6 +1,7 @@
 """Geomagnetic field models for attitude determination (numpy).
 
-* :func:`dipole_orbital`: the axial dipole in the orbital frame of a circular orbit, eq. (2) of seed 002.
+* :func:`dipole_orbital`: the axial dipole in the orbital frame of a circular orbit, eq. (2) of Ryzhkov and
+Holembiovskyi.
 * :func:`dipole_field_ecef`, :func:`dipole_field_eci`, :func:`dipole_field_ned`: the centred *tilted*
   dipole of the IGRF-14 degree-1 Gauss coefficients (with their secular variation).
 * :func:`igrf_field_ecef`: the full IGRF-14 (degree 13) through the optional package ``ppigrf``
@@ -81,7 +82,7 @@ EARTH_DIPOLE_T_M3 = float(IGRF_REFERENCE_RADIUS_M**3 * np.linalg.norm(_GAUSS_NT[
 def dipole_orbital(
     u: ArrayLike, inclination: float, radius: ArrayLike, *, strength: float = EARTH_DIPOLE_T_M3
 ) -> NDArray[np.float64]:
-    """Axial dipole field in the orbital frame of a circular orbit, eq. (2) of seed 002.
+    """Axial dipole field in the orbital frame of a circular orbit, eq. (2) of Ryzhkov and Holembiovskyi.
 
     ``a_orb = (M_E / r^3) [cos u sin i, cos i, -2 sin u sin i]`` for the dipole ``-M_E z_eci`` (north
     geomagnetic pole at the geographic north pole), axes x along-track, y orbit normal (``r x v``),

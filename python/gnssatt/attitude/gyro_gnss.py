@@ -1,4 +1,4 @@
-"""Gyro + multi-antenna GNSS attitude filter (seed 003, chapters 2-3), run by the Rust core.
+"""Gyro + multi-antenna GNSS attitude filter (Dzhepe Ali, chapters 2-3), run by the Rust core.
 
 An error-state Kalman filter propagates the attitude with the gyro rates (exact quaternion step for a rate
 constant over each gyro interval) and corrects it with either

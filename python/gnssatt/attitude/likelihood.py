@@ -1,4 +1,4 @@
-"""Maximum-likelihood attitude from raw carrier phases over a grid of Euler angles (seed 001).
+"""Maximum-likelihood attitude from raw carrier phases over a grid of Euler angles (Bunyaeva et al.).
 
 Bunyaeva, Piskorzh, Cheranovsky (KhAI): sufficient statistics (8)-(14), (17)-(18), grid step (15),
 refinement (16). The grid runs in the Rust core (float32, polynomial sine/cosine with absolute error below
@@ -319,7 +319,7 @@ def ml_attitude(
     search: SearchName = "auto",
     refine: RefineName = True,
 ) -> LikelihoodAttitude:
-    """Maximum-likelihood attitude over a grid of Euler angles (seed 001).
+    """Maximum-likelihood attitude over a grid of Euler angles (Bunyaeva et al.).
 
     Parameters
     ----------

@@ -1,8 +1,8 @@
-"""Yaw from a magnetometer when an Earth sensor gives pitch and roll: eq. (3) of Ryzhkov & Golembiovsky
-(seed 002), with the quadrant resolved by atan2 (the paper gives only ``sin psi``).
+"""Yaw from a magnetometer when an Earth sensor gives pitch and roll: eq. (3) of Ryzhkov and Holembiovskyi,
+with the quadrant resolved by atan2 (the paper gives only ``sin psi``).
 
-Angles are those of docs/conventions.md, seed-002 row: ``Rotation.from_euler("ZYX", [psi, theta, phi])``
-maps body to orbital coordinates (eq. (1) writes its transpose with passive matrices).
+Angles are those of docs/conventions.md, Ryzhkov-Holembiovskyi row: ``Rotation.from_euler("ZYX", [psi, theta,
+phi])`` maps body to orbital coordinates (eq. (1) writes its transpose with passive matrices).
 """
 
 from __future__ import annotations

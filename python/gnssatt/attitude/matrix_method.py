@@ -1,4 +1,4 @@
-"""Matrix least-squares attitude from antenna range differences (Ryzhkov & Oliinyk, seed 000)."""
+"""Matrix least-squares attitude from antenna range differences (Ryzhkov and Oliinyk)."""
 
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ class MatrixAttitudeResult:
 def matrix_attitude(
     baselines: ArrayLike, los: ArrayLike, range_diffs: ArrayLike, *, method: Method = "svd"
 ) -> MatrixAttitudeResult:
-    """Attitude from range differences between antennas, by the matrix method of seed 000.
+    """Attitude from range differences between antennas, by the matrix method of Ryzhkov and Oliinyk.
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Seed 003 experiment: gyros plus a multi-antenna GNSS receiver, loosely vs tightly coupled, and the
+"""The experiment of Dzhepe Ali: gyros plus a multi-antenna GNSS receiver, loosely vs tightly coupled, and the
 sensitivity of a reduced filter to baseline errors and gyro misalignment.
 
 The thesis (only its table of contents and chapter summaries are available) gives no scenario and no
@@ -460,7 +460,7 @@ def _plot_sensitivity(sens: dict[str, Any], path: Path) -> None:
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 003: gyro + multi-antenna GNSS, loosely vs tightly coupled, LAMBDA, outage, sensitivity",
+    summary="Dzhepe Ali: gyro + multi-antenna GNSS, loosely vs tightly coupled, LAMBDA, outage, sensitivity",
     run=run,
     default_runs=20,
     quick_runs=2,

@@ -1,4 +1,5 @@
-"""Seed 002 experiment: yaw from an Earth sensor plus a magnetometer, TRIAD against eq. (3).
+"""The experiment of Ryzhkov and Holembiovskyi: yaw from an Earth sensor plus a magnetometer, TRIAD against
+eq. (3).
 
 The paper: psi = 5, theta = 3, phi = 4 deg; a magnetometer scale-factor error of 1.05 on the x channel
 (fig. 2), then on the y channel (fig. 3); yaw error of TRIAD (local vertical + magnetic field) and of
@@ -92,7 +93,7 @@ def run(
             u_deg,
             curves[channel],
             out / f"{NAME}-{channel}-scale.png",
-            title=f"Seed 002 fig. {fig}: scale factor {SCALE} on magnetometer {channel}, "
+            title=f"Ryzhkov and Holembiovskyi, fig. {fig}: scale factor {SCALE} on magnetometer {channel}, "
             f"psi, theta, phi = {TRUTH_DEG} deg",
         )
     try:
@@ -106,7 +107,10 @@ def run(
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 002: yaw from Earth sensor + magnetometer, TRIAD vs eq. (3) with a 5% scale-factor error",
+    summary=(
+        "Ryzhkov and Holembiovskyi: yaw from Earth sensor + magnetometer, TRIAD vs eq. (3) with a 5% "
+        "scale-factor error"
+    ),
     run=run,
     default_runs=1,
     quick_runs=1,

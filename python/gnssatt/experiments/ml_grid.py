@@ -1,4 +1,5 @@
-"""Seed 001 experiment: maximum-likelihood attitude from raw carrier phases over the whole attitude grid.
+"""The experiment of Bunyaeva et al.: maximum-likelihood attitude from raw carrier phases over the whole
+attitude grid.
 
 The paper: three antennas on a 0.71 m equilateral triangle, 8 GPS satellites, static; RMS errors of heading,
 pitch and roll 0.1-0.2 deg from a recorded static test (its phase noise is not stated); the optimal
@@ -155,7 +156,7 @@ def run(
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 001: ML attitude over the full Euler grid (0.71 m triangle, 8 GPS satellites)",
+    summary="Bunyaeva et al.: ML attitude over the full Euler grid (0.71 m triangle, 8 GPS satellites)",
     run=run,
     default_runs=300,
     quick_runs=40,

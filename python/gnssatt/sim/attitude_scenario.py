@@ -1,4 +1,4 @@
-"""Scenario of the gyro + multi-antenna GNSS filter (seed 003): true angular motion, gyro output,
+"""Scenario of the gyro + multi-antenna GNSS filter (Dzhepe Ali): true angular motion, gyro output,
 carrier-phase first differences between the master and slave antennas, and the receiver's own attitude
 solutions.
 

@@ -101,8 +101,8 @@ def simulate_rinex_array(
     folder
         Existing folder for the files ``ant<i>.24o`` and ``sim.24n``.
     antennas_body_m
-        (n_ant, 3) antenna positions in the body frame of seed 001 (X nose, Y up, Z right wing), the first
-        the reference antenna, m.
+        (n_ant, 3) antenna positions in the body frame of Bunyaeva et al. (X nose, Y up, Z right wing), the
+        first the reference antenna, m.
     euler_gost_deg
         (n_ep, 3) eq. (5) angles per epoch, degrees (a rotating platform), or (3,) for a static one.
         Formerly ``euler_deg``.
