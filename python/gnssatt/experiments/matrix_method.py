@@ -94,7 +94,8 @@ def run(
         np.sqrt(np.mean(crb_deg[ml_total < OUTLIER_BOUNDS * crb_deg] ** 2))
     )
     paper = {f"{k}_mean_abs_error_deg": v for k, v in (("heading", 0.282), ("roll", 1.234), ("pitch", 0.851))}
-    doc = write_report(out, NAME, paper, measured, runs, seed)
+    # The paper gives no satellite geometry, only the order of its mean errors can be compared (results page)
+    doc = write_report(out, NAME, paper, measured, runs, seed, tolerance=dict.fromkeys(paper, 10.0))
     plots.error_vs_geometry(
         crb_deg,
         {m: np.array([r[f"{m}_total"] for r in rows]) for m in METHODS},

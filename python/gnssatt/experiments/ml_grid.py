@@ -140,7 +140,10 @@ def run(
         "rms_error_max_deg": 0.2,
         "variance_ratio_dd_over_optimal": 2.0,
     }
-    doc = write_report(out, NAME, paper, measured, runs, seed)
+    # The paper states neither its phase noise nor its run count: its RMS range within a factor 2; the
+    # dispersion ratio is 2M/(M+1) = 1.78 in theory for M = 8 satellites, within a factor 1.25 of "twice".
+    tolerance = {"rms_error_min_deg": 2.0, "rms_error_max_deg": 2.0, "variance_ratio_dd_over_optimal": 1.25}
+    doc = write_report(out, NAME, paper, measured, runs, seed, tolerance=tolerance)
     # Figures 1-2: one noisy scenario, Z through the true heading and through the true roll.
     rng = np.random.default_rng(seed)
     geom, lam, truth = scenario(rng)

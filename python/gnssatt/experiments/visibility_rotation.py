@@ -215,7 +215,10 @@ def run(
         "rate_error_sigma_deg_s": 0.12,
         "attitude_error_over_15deg_fraction": None,
     }
-    doc = write_report(out, NAME, paper, measured, runs, seed)
+    # The paper's body and torques are not given (an assumed TumbleModel here): its error sigmas within a
+    # factor 2.
+    tolerance = {"angle_error_sigma_deg": 2.0, "rate_error_sigma_deg_s": 2.0}
+    doc = write_report(out, NAME, paper, measured, runs, seed, tolerance=tolerance)
     with open(out / f"{NAME}-trials.csv", "w", newline="") as f:  # one row per trial, in trial order
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
