@@ -83,7 +83,8 @@ def write_report(
         Monte Carlo runs and the root random seed that produced ``measured``.
     tolerance
         For a quantity compared with the paper: the factor within which measured agrees with paper
-        (``paper / f <= measured <= paper * f``); the experiment's docstring says why that factor.
+        (``paper / f <= measured <= paper * f``); the experiment says why that factor where it passes
+        it, and ``docs/results/index.md`` lists them.
     unavailable
         For a quantity left ``None`` because an optional extra is missing: what to install.
 
