@@ -24,6 +24,7 @@ def test_list(capsys: pytest.CaptureFixture[str]) -> None:
         assert name in out
 
 
+@pytest.mark.slow
 def test_matrix_method_writes_json_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert (
         main(
@@ -78,6 +79,7 @@ def test_usage_errors(argv: list[str], capsys: pytest.CaptureFixture[str]) -> No
     assert capsys.readouterr().err.startswith("gnssatt: error: reproduce: ")
 
 
+@pytest.mark.slow
 def test_ml_grid_writes_json_and_sections(tmp_path: Path) -> None:
     assert main(["reproduce", "ml-grid", "--runs", "3", "--out", str(tmp_path), "--no-progress"]) == 0
     doc = json.loads((tmp_path / "ml-grid.json").read_text())
@@ -86,6 +88,7 @@ def test_ml_grid_writes_json_and_sections(tmp_path: Path) -> None:
     assert (tmp_path / "ml-grid-sections.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_magnetometer_yaw_methods_agree(tmp_path: Path) -> None:
     assert main(["reproduce", "magnetometer-yaw", "--out", str(tmp_path), "--no-progress"]) == 0
     m = json.loads((tmp_path / "magnetometer-yaw.json").read_text())["measured"]
@@ -98,6 +101,7 @@ def test_magnetometer_yaw_methods_agree(tmp_path: Path) -> None:
     assert (tmp_path / "magnetometer-yaw-x-scale.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_orbit_filter_writes_json_and_plots(tmp_path: Path) -> None:
     assert main(["reproduce", "orbit-filter", "--runs", "2", "--out", str(tmp_path), "--no-progress"]) == 0
     doc = json.loads((tmp_path / "orbit-filter.json").read_text())
@@ -253,6 +257,7 @@ def test_library_failures_are_one_line(
     assert says in _one_error_line(capsys)
 
 
+@pytest.mark.slow
 def test_attitude_reports_the_files_it_wrote(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     files = simulate_rinex_array(tmp_path, [[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]], [-40.0, 5.0, 0.0], rng=0)
     out = tmp_path / "run" / "series.csv"
@@ -265,6 +270,7 @@ def test_attitude_reports_the_files_it_wrote(tmp_path: Path, capsys: pytest.Capt
     assert out.is_file() and png.stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_console_run_prints_no_traceback(tmp_path: Path) -> None:
     bad = tmp_path / "bad.o"
     bad.write_text("     3.04           OBSERVATION DATA    G                   RINEX VERSION / TYPE\n")

@@ -15,6 +15,7 @@ from gnssatt.experiments import EXPERIMENTS
 from gnssatt.experiments import visibility_rotation as vr
 
 
+@pytest.mark.slow
 def test_visibility_rotation_writes_json_and_histograms(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -130,6 +130,7 @@ def test_defaults_are_the_engines() -> None:
     assert _core.GNSS_MAX_FREQUENCIES == 3
 
 
+@pytest.mark.slow
 def test_streaming_is_the_session_call_in_pieces() -> None:
     """gnss_run is GnssEngine fed every epoch at once (DESIGN16: one mechanism): feeding the GEONET pair
     in two blocks gives the same epochs, held integers carried across the cut."""

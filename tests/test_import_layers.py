@@ -195,6 +195,7 @@ def test_every_module_lies_in_a_layer() -> None:
     assert len(layers) == sum(len(units) for _, units in LAYERS)  # no unit in two layers
 
 
+@pytest.mark.slow
 def test_imports_go_downwards_and_take_no_private_names() -> None:
     found = violations()
     new = sorted(why for key, why in found.items() if key not in KNOWN_DEBT)
@@ -203,6 +204,7 @@ def test_imports_go_downwards_and_take_no_private_names() -> None:
     assert fixed == [], "debt paid: delete these entries from KNOWN_DEBT"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("importer", "target", "expected"),
     [
@@ -252,6 +254,7 @@ def test_the_walk_sees_function_level_imports_and_attribute_chains(tmp_path: Pat
     }
 
 
+@pytest.mark.slow
 def test_the_architecture_page_shows_the_current_graph() -> None:
     import sys
 

@@ -754,6 +754,7 @@ def _scaled_cases() -> Iterator[Any]:
                     yield pytest.param(f, arg.name, s, id=f"{f.name}-{arg.name}-{s:g}")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("f", "name", "scale"), list(_scaled_cases()))
 def test_finite_input_of_any_magnitude_gives_finite_output_or_an_error(
     f: Function, name: str, scale: float
@@ -884,6 +885,7 @@ HOSTILE_ARRAYS = st.one_of(
 ARGUMENTS = [(f, arg) for f in FUNCTIONS for arg in f.args if arg.kind in ("array", "scalar")]
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(case=st.sampled_from(ARGUMENTS), value=HOSTILE_ARRAYS)
 def test_hostile_values_give_finite_output_or_a_gnssatt_error(case: tuple[Function, Arg], value: Any) -> None:

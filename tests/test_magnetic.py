@@ -87,6 +87,7 @@ def test_eci_form_and_bad_input() -> None:
     np.testing.assert_allclose(magnetic.dipole_coefficients(2027.5), [-29318.5, -1385.3, 4491.75])
 
 
+@pytest.mark.slow
 def test_matches_ppigrf_at_degree_one() -> None:
     ppigrf = pytest.importorskip("ppigrf")
     rng = np.random.default_rng(4)

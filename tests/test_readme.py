@@ -108,6 +108,7 @@ def test_results_pages_keep_the_recorded_data_command() -> None:
     assert any("gnssatt attitude" in code for page, _, code in RUNS if page == "recorded_data")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("page", "lang", "code"), RUNS, ids=[f"{page}-{i}-{lang}" for i, (page, lang, _) in enumerate(RUNS)]
 )

@@ -54,6 +54,7 @@ def test_written_files_read_back(tmp_path: Path) -> None:
     assert np.max(np.linalg.norm(pos - truth, axis=1)) < 1e-3  # broadcast model reproduces two-body orbits
 
 
+@pytest.mark.slow
 def test_two_antennas_baseline_direction(tmp_path: Path) -> None:
     paths, nav = _scenario(tmp_path, np.array([[0.0, 0, 0], [1.2, 0, 0]]))
     res = attitude_from_rinex(paths, nav, method="ml", elevation_mask_deg=5.0)
@@ -66,6 +67,7 @@ def test_two_antennas_baseline_direction(tmp_path: Path) -> None:
     np.testing.assert_allclose(lam.angles_deg, res.angles_deg, atol=1.0)
 
 
+@pytest.mark.slow
 def test_three_antennas_attitude_and_cli(tmp_path: Path) -> None:
     ant = sim.equilateral_triangle(1.0, plane="xz")
     paths, nav = _scenario(tmp_path, ant, n_ep=4)
