@@ -1,7 +1,7 @@
 """Geomagnetic field models for attitude determination (numpy).
 
 * :func:`dipole_orbital`: the axial dipole in the orbital frame of a circular orbit, eq. (2) of Ryzhkov and
-Holembiovskyi.
+  Holembiovskyi.
 * :func:`dipole_field_ecef`, :func:`dipole_field_eci`, :func:`dipole_field_ned`: the centred *tilted*
   dipole of the IGRF-14 degree-1 Gauss coefficients (with their secular variation).
 * :func:`igrf_field_ecef`: the full IGRF-14 (degree 13) through the optional package ``ppigrf``
