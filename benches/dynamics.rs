@@ -1,4 +1,5 @@
-//! Criterion benchmarks of the seed-004 rotational dynamics: one 1500 s propagation and the batch objective.
+//! Criterion benchmarks of the Belokonov et al. rotational dynamics: one 1500 s propagation and the batch
+//! objective.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use gnssatt_core::dynamics::{axis_cost_batch, propagate_axes, Aerodynamics, State, TumbleModel};
 

@@ -1,5 +1,5 @@
-//! Criterion benchmarks of the seed-001 likelihood grid: exhaustive maximum over grid size, satellites and
-//! threads; branch-and-bound against the exhaustive pass (`likelihood/bnb_vs_grid`, which also prints the
+//! Criterion benchmarks of the Bunyaeva et al. likelihood grid: exhaustive maximum over grid size, satellites
+//! and threads; branch-and-bound against the exhaustive pass (`likelihood/bnb_vs_grid`, which also prints the
 //! ratio of medians per scenario and thread count; on the 5 m triangle at eq. (15)'s step the exhaustive
 //! pass runs once, in two halves, for about 15-30 s per thread count).
 //!

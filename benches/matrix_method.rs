@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the seed-000 matrix method.
+//! Criterion benchmarks of the Ryzhkov-Oliinyk matrix method.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use gnssatt_core::matrix_method::{solve, Method};
 use gnssatt_core::rotation::euler::ZYX;

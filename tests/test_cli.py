@@ -14,6 +14,8 @@ from gnssatt.errors import ConvergenceError, InternalError, InvalidInputError, R
 from gnssatt.experiments import EXPERIMENTS
 from gnssatt.sim.rinex_scenario import simulate_rinex_array
 
+ROOT = Path(__file__).resolve().parents[1]
+
 
 def test_list(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["reproduce", "--list"]) == 0
@@ -22,6 +24,7 @@ def test_list(capsys: pytest.CaptureFixture[str]) -> None:
         assert name in out
 
 
+@pytest.mark.slow
 def test_matrix_method_writes_json_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert (
         main(
@@ -40,7 +43,27 @@ def test_matrix_method_writes_json_and_plot(tmp_path: Path, capsys: pytest.Captu
         == 0
     )
     doc = json.loads((tmp_path / "matrix-method.json").read_text())
-    assert set(doc) == {"experiment", "paper", "measured", "runs", "seed"}
+    assert set(doc) == {
+        "experiment",
+        "paper",
+        "measured",
+        "tolerance",
+        "verdict",
+        "unavailable",
+        "runs",
+        "seed",
+        "version",
+        "commit",
+        "results_page",
+    }
+    from gnssatt import __version__
+
+    assert doc["version"] == __version__ and doc["results_page"] == "docs/results/matrix_method.md"
+    assert (ROOT / doc["results_page"]).is_file()
+    # the paper's mean errors against the measured ones, judged by the declared factor
+    for name, paper in doc["paper"].items():
+        agrees = paper / 10.0 <= doc["measured"][name] <= paper * 10.0
+        assert doc["tolerance"][name] == 10.0 and doc["verdict"][name] == ("agrees" if agrees else "differs")
     assert doc["experiment"] == "matrix-method" and doc["runs"] == 60 and doc["seed"] == 7
     assert doc["paper"]["heading_mean_abs_error_deg"] == 0.282
     assert all(k.endswith(("_deg", "_fraction")) for k in doc["measured"])
@@ -56,6 +79,7 @@ def test_usage_errors(argv: list[str], capsys: pytest.CaptureFixture[str]) -> No
     assert capsys.readouterr().err.startswith("gnssatt: error: reproduce: ")
 
 
+@pytest.mark.slow
 def test_ml_grid_writes_json_and_sections(tmp_path: Path) -> None:
     assert main(["reproduce", "ml-grid", "--runs", "3", "--out", str(tmp_path), "--no-progress"]) == 0
     doc = json.loads((tmp_path / "ml-grid.json").read_text())
@@ -64,6 +88,7 @@ def test_ml_grid_writes_json_and_sections(tmp_path: Path) -> None:
     assert (tmp_path / "ml-grid-sections.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_magnetometer_yaw_methods_agree(tmp_path: Path) -> None:
     assert main(["reproduce", "magnetometer-yaw", "--out", str(tmp_path), "--no-progress"]) == 0
     m = json.loads((tmp_path / "magnetometer-yaw.json").read_text())["measured"]
@@ -76,6 +101,7 @@ def test_magnetometer_yaw_methods_agree(tmp_path: Path) -> None:
     assert (tmp_path / "magnetometer-yaw-x-scale.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_orbit_filter_writes_json_and_plots(tmp_path: Path) -> None:
     assert main(["reproduce", "orbit-filter", "--runs", "2", "--out", str(tmp_path), "--no-progress"]) == 0
     doc = json.loads((tmp_path / "orbit-filter.json").read_text())
@@ -231,6 +257,7 @@ def test_library_failures_are_one_line(
     assert says in _one_error_line(capsys)
 
 
+@pytest.mark.slow
 def test_attitude_reports_the_files_it_wrote(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     files = simulate_rinex_array(tmp_path, [[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]], [-40.0, 5.0, 0.0], rng=0)
     out = tmp_path / "run" / "series.csv"
@@ -243,6 +270,7 @@ def test_attitude_reports_the_files_it_wrote(tmp_path: Path, capsys: pytest.Capt
     assert out.is_file() and png.stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_console_run_prints_no_traceback(tmp_path: Path) -> None:
     bad = tmp_path / "bad.o"
     bad.write_text("     3.04           OBSERVATION DATA    G                   RINEX VERSION / TYPE\n")
@@ -263,3 +291,17 @@ def test_console_run_prints_no_traceback(tmp_path: Path) -> None:
     assert proc.returncode == 2
     assert proc.stderr.startswith("gnssatt: error: ") and proc.stderr.count("\n") == 1, proc.stderr
     assert "Traceback" not in proc.stderr and "bad.o" in proc.stderr
+
+
+def test_version_and_plain_help(capsys: pytest.CaptureFixture[str]) -> None:
+    from gnssatt import __version__
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"gnssatt {__version__}"
+    for argv in (["--help"], ["reproduce", "--help"], ["attitude", "--help"]):
+        assert main(argv) == 0
+        text = capsys.readouterr().out
+        # a description, an example, no reStructuredText markup
+        assert "examples:\n  gnssatt " in text and "``" not in text and ":func:" not in text, argv
+    assert main(["attitude", "--help"]) == 0
+    assert "default results.csv" in capsys.readouterr().out

@@ -71,6 +71,7 @@ def test_library_messages_name_the_options(
     assert says in _one_error_line(capsys)
 
 
+@pytest.mark.slow
 def test_geonet_l1_l2_static(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     d = geonet_dir()
     out = tmp_path / "geonet.csv"
@@ -95,6 +96,7 @@ def test_geonet_l1_l2_static(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert float(rows[0]["length_m"]) == pytest.approx(3335.4, abs=0.5)
 
 
+@pytest.mark.slow
 def test_warnings_are_one_line_each(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """GEONET has GPS only: asking for Galileo too drops it with a warning naming the files, on one line."""
     d = geonet_dir()

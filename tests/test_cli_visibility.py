@@ -1,4 +1,4 @@
-"""`gnssatt reproduce visibility-rotation` (seed 004) end to end on a short arc."""
+"""`gnssatt reproduce visibility-rotation` (Belokonov et al.) end to end on a short arc."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from gnssatt.experiments import EXPERIMENTS
 from gnssatt.experiments import visibility_rotation as vr
 
 
+@pytest.mark.slow
 def test_visibility_rotation_writes_json_and_histograms(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import importlib
 import inspect
 import pkgutil
-import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -21,18 +20,17 @@ from scipy.spatial.transform import Rotation
 import gnssatt
 from gnssatt import orbit_nav, sim
 from gnssatt._arrays import generator
-from gnssatt._renamed import renamed
 from gnssatt.attitude import dynamics as tumble
-from gnssatt.attitude import gyro_gnss, likelihood
-from gnssatt.attitude.phase_attitude import phase_attitude_fixes
+from gnssatt.attitude import gyro_gnss
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
 from gnssatt.sim import attitude_scenario as scen
 from gnssatt.sim import rinex_scenario
 
-# (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, seed 001)
+# (N, U, E) -> (E, N, U): the rows of the GOST normal frame reordered into ENU (docs/conventions.md, Bunyaeva
+# et al.)
 ENU_FROM_NUE = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-# Library orbital (x, y, z) = the paper's (Y0, Z0, X0) (docs/conventions.md, seed 004)
+# Library orbital (x, y, z) = the paper's (Y0, Z0, X0) (docs/conventions.md, Belokonov et al.)
 ORBITAL_FROM_ORB0 = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 LAMBDA_L1 = 299_792_458.0 / 1575.42e6
 
@@ -65,7 +63,7 @@ def test_matrix_attitude_rotation_and_heading_pitch_roll_are_scipy_zyx() -> None
 
 
 def _gost_phases(euler_gost_deg: np.ndarray, baselines: np.ndarray, los: np.ndarray) -> np.ndarray:
-    """Wrapped phase differences (RINEX sign) of the seed-001 truth, built from scipy's YZX in NUE."""
+    """Wrapped phase differences (RINEX sign) of the Bunyaeva et al. truth, built from scipy's YZX in NUE."""
     r_enu = ENU_FROM_NUE @ Rotation.from_euler("YZX", euler_gost_deg, degrees=True).as_matrix()
     d_enu = baselines @ r_enu.T
     return np.angle(np.exp(-2j * np.pi * (d_enu @ los.T) / LAMBDA_L1))
@@ -249,18 +247,11 @@ def test_gyro_propagate_result_has_rotation() -> None:
     assert _angle_deg(out.rotation, Rotation.from_rotvec(np.outer([0.0, 1.0, 2.0], [0.0, 0.0, w]))) < 1e-10
 
 
-def test_gyro_propagate_result_read_as_an_array_warns_and_gives_the_quaternions() -> None:
+def test_gyro_propagate_quaternions_are_its_rotation() -> None:
     out = gnssatt.gyro_propagate([0.0, 0.0, 0.0, 1.0], [0.0, 1.0], np.tile([0.0, 0.0, 0.3], (2, 1)))
-    with _warns_new_name_of("quaternions"):
-        array = np.asarray(out)
-    np.testing.assert_array_equal(array, out.quaternions)
-    with _warns_new_name_of("quaternions"):
-        np.testing.assert_array_equal(out[1], out.quaternions[1])
     np.testing.assert_allclose(Rotation.from_quat(out.quaternions).as_matrix(), out.rotation.as_matrix())
-
-
-def _warns_new_name_of(new: str) -> Any:
-    return pytest.warns(DeprecationWarning, match=f"use its '{new}'")
+    with pytest.raises(TypeError):
+        out[1]  # type: ignore[index]  # a result, not the array it used to be (CHANGELOG.md)
 
 
 # --- rng= on every stochastic entry -------------------------------------------------------------------
@@ -404,75 +395,7 @@ def test_generator_intake() -> None:
         generator("rng", -1)
 
 
-# --- renamed names keep working for one release, with a DeprecationWarning naming the new one ----------
-
-
-def _warns_new_name(new: str) -> Any:
-    return pytest.warns(DeprecationWarning, match=f"use '{new}'")
-
-
-def test_renamed_attributes_warn_and_return_the_new_value() -> None:
-    los = _los(6, 1)
-    b = np.eye(3)
-    truth = Rotation.from_euler("ZYX", [30.0, 10.0, -5.0], degrees=True)
-    mm = gnssatt.matrix_attitude(b, los, truth.apply(b) @ los.T)
-    ml = gnssatt.ml_attitude(
-        _gost_phases(np.array([10.0, 2.0, 3.0]), BASELINES_3, los), los, BASELINES_3, LAMBDA_L1, step_deg=3.0
-    )
-    series = gnssatt.ml_attitude_series(
-        _gost_phases(np.array([10.0, 2.0, 3.0]), BASELINES_3, los)[None],
-        los,
-        BASELINES_3,
-        LAMBDA_L1,
-        step_deg=3.0,
-    )
-    b_orb = np.array([1e-5, 2e-5, -3e-5])
-    yaw = gnssatt.yaw_from_magnetometer(b_orb, b_orb, 0.0, 0.0)
-    prior = gnssatt.prior_from_velocity([1.0, 1.0, 0.0])
-    p = np.array([0.4, 1.1, 2.0, 0.0, 0.0, 0.0])
-    fit = tumble.RotationFit(p, 0.0, 0, 0, "paper", 0.0, p[None], np.zeros(1), np.inf)
-    cases = [
-        (mm, "euler_deg", "heading_pitch_roll_deg"),
-        (ml, "euler_deg", "euler_gost_deg"),
-        (ml, "grid_euler_deg", "grid_euler_gost_deg"),
-        (series, "euler_deg", "euler_gost_deg"),
-        (yaw, "yaw", "yaw_rad"),
-        (prior, "euler_deg", "euler_gost_deg"),
-        (fit, "angles_deg", "euler_yzy_deg"),
-    ]
-    for obj, old, new in cases:
-        with _warns_new_name(new):
-            value = getattr(obj, old)
-        np.testing.assert_array_equal(value, getattr(obj, new))
-
-
-def test_renamed_keywords_warn_and_pass_on() -> None:
-    with _warns_new_name("euler_gost_deg"):
-        old = likelihood.AttitudePrior(euler_deg=[10.0, 0.0, 0.0], half_width_deg=[5.0, 5.0, 5.0])
-    np.testing.assert_array_equal(old.euler_gost_deg, [10.0, 0.0, 0.0])
-    with _warns_new_name("euler_gost_deg"):
-        r = likelihood.rotation_from_euler(euler_deg=[10.0, 0.0, 0.0])
-    assert _angle_deg(r, likelihood.rotation_from_euler([10.0, 0.0, 0.0])) == 0.0
-    t, axes = np.arange(0.0, 60.0, 10.0), _fit_axes()
-    with _warns_new_name("rng"):
-        a = tumble.fit_rotation(t, axes, seed=5, maxiter=2, popsize=2, polish=False)
-    b = tumble.fit_rotation(t, axes, rng=5, maxiter=2, popsize=2, polish=False)
-    np.testing.assert_array_equal(a.params, b.params)  # the same integer, the same fit as before the rename
-    with _warns_new_name("phase_sigma_cycles"):
-        old_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, sigma_cycles=0.01)
-    new_fixes = scen.attitude_fixes(PHASES, ATT3, B2, rng=3, phase_sigma_cycles=0.01)
-    np.testing.assert_array_equal(old_fixes.rotation.as_quat(), new_fixes.rotation.as_quat())
-    with _warns_new_name("phase_sigma_cycles"):
-        old_phase = phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, sigma_cycles=0.01)
-    new_phase = phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, phase_sigma_cycles=0.01)
-    np.testing.assert_array_equal(old_phase.covariance, new_phase.covariance)
-    with pytest.raises(InvalidInputError, match="both 'sigma_cycles' and its new name 'phase_sigma_cycles'"):
-        phase_attitude_fixes(PHASES, B2, PHASES.ambiguity, sigma_cycles=0.01, phase_sigma_cycles=0.01)
-    with pytest.raises(InvalidInputError, match="both 'seed' and its new name 'rng'"):
-        tumble.fit_rotation(t, axes, seed=5, rng=5)
-
-
-def test_simulate_rinex_array_reads_rng_as_default_rng_and_keeps_the_old_names(tmp_path: Any) -> None:
+def test_simulate_rinex_array_reads_rng_as_default_rng(tmp_path: Any) -> None:
     def run(sub: str, **kw: Any) -> tuple[bytes, ...]:
         folder = tmp_path / sub
         folder.mkdir()
@@ -484,28 +407,3 @@ def test_simulate_rinex_array_reads_rng_as_default_rng_and_keeps_the_old_names(t
     new = run("new", euler_gost_deg=euler, rng=3)
     assert run("generator", euler_gost_deg=euler, rng=np.random.default_rng(3)) == new
     assert run("other", euler_gost_deg=euler, rng=4) != new  # the draws do depend on the seed
-    with _warns_new_name("rng"), _warns_new_name("euler_gost_deg"):
-        old = run("old", euler_deg=euler, seed=3)
-    assert old == new  # the same integer, the same files as before the rename
-    folder = tmp_path / "truth"
-    folder.mkdir()
-    truth = rinex_scenario.simulate_rinex_array(folder, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], euler, rng=1)
-    with _warns_new_name("euler_gost_deg"):
-        np.testing.assert_array_equal(truth.euler_deg, euler)
-
-
-def test_new_names_do_not_warn() -> None:
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", DeprecationWarning)
-        likelihood.AttitudePrior(euler_gost_deg=[10.0, 0.0, 0.0], half_width_deg=[5.0, 5.0, 5.0])
-        sim.random_attitude(rng=1)
-
-
-def test_renamed_helper_on_a_plain_function() -> None:
-    @renamed(old="new")
-    def f(*, new: int) -> int:
-        return new
-
-    with pytest.warns(DeprecationWarning, match=r"f: 'old' is deprecated, use 'new'"):
-        assert f(old=3) == 3
-    assert f(new=4) == 4

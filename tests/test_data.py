@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from gnssatt.data import geonet_dir
 from gnssatt.experiments.recorded_methods import geonet
@@ -32,6 +33,7 @@ def test_module_main_prints_the_folder() -> None:
     assert Path(out.strip()) == geonet_dir()
 
 
+@pytest.mark.slow
 def test_recorded_methods_geonet_part_runs_on_the_shipped_pair() -> None:
     m = geonet()
     assert m["geonet_static_fixed"] == 1.0

@@ -55,6 +55,7 @@ def test_every_example_has_a_page() -> None:
         assert f".. plot:: examples/{script}" in (EXAMPLES / PAGES[script]).read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("script", sorted(PAGES))
 def test_page_shows_the_scripts_output(script: str) -> None:
     _, printed, _ = _run(script)
@@ -67,6 +68,7 @@ UNIT = re.compile(r", (deg|deg/h|deg/s|s|min|m|mm|m/s|nT|rad|cycles\^2|count|dim
 NUMBER = re.compile(r"[\u2212\-+]?[\d.]+(e[\u2212\-+]?\d+)?")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("script", PLOTTED)
 def test_figure_has_a_title_and_units_on_every_axis(script: str) -> None:
     import matplotlib
@@ -216,6 +218,7 @@ def _brute_force_margin(visible: np.ndarray, invisible: np.ndarray, n: int = 200
     return margin[best], a[best]
 
 
+@pytest.mark.slow
 def test_tumbling_fit_axes_are_the_brute_force_margin_optimum() -> None:
     import gnssatt
     from gnssatt.attitude import dynamics as tumble

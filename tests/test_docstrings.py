@@ -151,6 +151,7 @@ def package_modules() -> list[str]:
 DOCTEST_FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("module_name", package_modules())
 def test_examples_run(module_name: str) -> None:
     module = importlib.import_module(module_name)

@@ -1,5 +1,5 @@
-"""Seed 004: rotational dynamics (Rust RK4 via gnssatt.attitude.dynamics) and the differential-evolution
-fit."""
+"""Belokonov et al.: rotational dynamics (Rust RK4 via gnssatt.attitude.dynamics) and the
+differential-evolution fit."""
 
 from __future__ import annotations
 
@@ -67,6 +67,7 @@ def test_gravity_gradient_equilibrium(inertia: tuple[float, float, float], stabl
     assert (libration.max() < 0.05) if stable else (libration.max() > 1.0)
 
 
+@pytest.mark.slow
 def test_fit_recovers_the_initial_state_from_noise_free_axes() -> None:
     t = np.arange(0.0, 1501.0, 1.0)
     fit = tumble.fit_rotation(t, tumble.propagate_axes(TRUTH, t, MODEL), MODEL, rng=1)
@@ -150,6 +151,7 @@ def test_noise_cost_threshold_is_the_tail_of_the_cost_at_the_truth(sigma_deg: fl
     assert frac > 0.2 * p
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["horizon", "fresh"])
 def test_restarts_follow_the_noise_threshold(kind: str) -> None:
     t = np.arange(0.0, 61.0, 2.0)
@@ -209,6 +211,7 @@ def _noisy_short_case() -> tuple[np.ndarray, np.ndarray]:
     return t, axes
 
 
+@pytest.mark.slow
 def test_settle_stops_a_run_once_the_population_lies_within_the_tolerance() -> None:
     t, axes = _noisy_short_case()
     kw = {"rng": 3, "popsize": 5, "polish": False}

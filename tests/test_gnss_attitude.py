@@ -150,6 +150,7 @@ def _angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return (a - b + 180.0) % 360.0 - 180.0
 
 
+@pytest.mark.slow
 def test_every_system_and_slot_is_used_and_the_truth_is_within_the_sigmas(tmp_path: Path) -> None:
     from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
 
@@ -169,6 +170,7 @@ def test_every_system_and_slot_is_used_and_the_truth_is_within_the_sigmas(tmp_pa
         assert line in summary
 
 
+@pytest.mark.slow
 def test_attitude_mode_every_system_truth_within_sigmas(tmp_path: Path) -> None:
     from gnssatt import sim
     from gnssatt.sim.rinex_scenario import simulate_gnss_rinex

@@ -130,12 +130,14 @@ def test_defaults_are_the_engines() -> None:
     assert _core.GNSS_MAX_FREQUENCIES == 3
 
 
+@pytest.mark.slow
 def test_streaming_is_the_session_call_in_pieces() -> None:
     """gnss_run is GnssEngine fed every epoch at once (DESIGN16: one mechanism): feeding the GEONET pair
     in two blocks gives the same epochs, held integers carried across the cut."""
     from gnssatt.data import geonet_dir
-    from gnssatt.gnss.session_input import nav_input, session_input
+    from gnssatt.gnss.session_input import session_input
     from gnssatt.rinex import read_nav, read_obs
+    from gnssatt.rinex.nav import nav_input
 
     d = geonet_dir()
     nav = read_nav(d / "07590920.05n")

@@ -17,9 +17,8 @@ import pytest
 
 from gnssatt import _core
 from gnssatt.data import geonet_dir
-from gnssatt.gnss.session_input import nav_input
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.nav import RinexNav, gps_ns
+from gnssatt.rinex.nav import RinexNav, gps_ns, nav_input
 
 DATA = Path(__file__).resolve().parent / "data"
 NAV_FILES = [

@@ -39,6 +39,7 @@ def _geonet_l1(length_m: float | None) -> AttitudeSeries:
         )
 
 
+@pytest.mark.slow
 def test_geonet_l1_single_epoch_with_the_length_fixes_only_right() -> None:
     """GPS L1 single epochs (7 satellites) with the length of RTKLIB's static L1+L2 solution: without it the
     gate fixes none (bootstrapped success rate about 0.05); with it 28 of 120 were measured (RTKLIB's
@@ -56,6 +57,7 @@ def test_geonet_l1_single_epoch_with_the_length_fixes_only_right() -> None:
     assert np.all(np.abs(lengths - length) < 0.01), lengths - length
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("length_m", [1.0, 3.0])
 def test_simulated_known_length_fixes_are_right_and_on_the_sphere(tmp_path: Path, length_m: float) -> None:
     """Simulated single epochs of GPS + Galileo L1 (simulate_gnss_rinex: troposphere, broadcast ionosphere,

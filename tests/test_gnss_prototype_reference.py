@@ -23,8 +23,8 @@ import pytest
 from gnssatt import _core
 from gnssatt.data import geonet_dir
 from gnssatt.gnss.attitude import attitude_from_rinex
-from gnssatt.gnss.session_input import NavInput, nav_input
 from gnssatt.rinex import read_nav, read_obs
+from gnssatt.rinex.nav import NavInput, nav_input
 
 DATA = Path(__file__).resolve().parent / "data"
 REFERENCE = json.loads((DATA / "prototype_reference.json").read_text())

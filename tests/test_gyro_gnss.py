@@ -1,4 +1,5 @@
-"""Gyro + multi-antenna GNSS filter (seed 003): kinematics, consistency, ambiguities, sensitivity, bad input.
+"""Gyro + multi-antenna GNSS filter (Dzhepe Ali): kinematics, consistency, ambiguities, sensitivity, bad
+input.
 
 Statistical checks use fixed seeds; their bounds are chi-square quantiles at a two-sided level of 1e-3 per
 check (so a correct filter fails a check about once in a thousand seeds), or binomial arguments stated at
@@ -140,6 +141,7 @@ def test_noise_free_gyro_reproduces_the_truth() -> None:
 # --- Rust against the numpy reference ----------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mode", ["tight", "loose"])
 def test_rust_filter_matches_numpy_reference(mode: str) -> None:
     rng = np.random.default_rng(5)
@@ -175,6 +177,7 @@ def test_rust_filter_matches_numpy_reference(mode: str) -> None:
 # --- consistency -------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mode", ["tight", "loose", "matrix"])
 def test_filter_is_consistent_over_monte_carlo_runs(mode: str) -> None:
     runs = 30
@@ -186,6 +189,7 @@ def test_filter_is_consistent_over_monte_carlo_runs(mode: str) -> None:
         assert lo <= nees[:, k].sum() <= hi, (k, nees[:, k].mean())
 
 
+@pytest.mark.slow
 def test_tightly_coupled_converges_with_two_satellites_where_loosely_coupled_cannot() -> None:
     runs = 20
     tight = [trial(seed, max_satellites=2) for seed in range(runs)]
@@ -214,6 +218,7 @@ def wrong_fixes(results: list) -> tuple[int, int]:
     return accepted, wrong
 
 
+@pytest.mark.slow
 def test_validation_stops_the_wrong_fixes_that_an_unvalidated_filter_makes() -> None:
     # noisy phases (0.3 cycle) and two satellites: the first float solutions round wrongly about a third of
     # the time
@@ -229,6 +234,7 @@ def test_validation_stops_the_wrong_fixes_that_an_unvalidated_filter_makes() -> 
     assert wrong_bad >= 5
 
 
+@pytest.mark.slow
 def test_fixed_failure_rate_test_admits_fixes_the_success_rate_gate_alone_refuses() -> None:
     # The observation engine's gate (lambda::gate): with min_success_rate = 1 only a converged float set
     # (bootstrapped rate 1 in f64) fixes; with max_failure_rate > 0 the fixed-failure-rate test admits
@@ -273,6 +279,7 @@ def test_cycle_slip_is_detected_and_the_ambiguity_refixed() -> None:
 # --- sensitivity -------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_true_error_covariance_matches_monte_carlo_errors() -> None:
     runs, duration = 40, 300.0
     mis, base = np.radians(0.5), 0.005
@@ -390,6 +397,7 @@ def test_true_error_covariance_equals_the_filters_without_unmodelled_errors() ->
     np.testing.assert_allclose(r.true_covariance, r.covariance, rtol=1e-9, atol=1e-20)
 
 
+@pytest.mark.slow
 def test_misalignment_states_make_the_filter_consistent_where_the_reduced_one_is_not() -> None:
     runs, sigma_mu = 20, np.radians(1.0)
     t, att, _ = motion(300.0)
@@ -453,6 +461,7 @@ def repeated_epoch(
     )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n_sat", [3, None])
 def test_matrix_fix_covariance_matches_monte_carlo_errors(n_sat: int | None) -> None:
     # one epoch of the scenario: three satellites (the fewest a coplanar array needs) or all (GPS + GLONASS,
@@ -547,6 +556,7 @@ def test_matrix_fixes_reject_bad_input() -> None:
         phase_attitude_fixes(ph.phase, BASELINES, ph.ambiguity, phase_sigma_cycles=0.01)  # type: ignore[arg-type]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["matrix", "simulated"])
 def test_experiment_feeds_the_loose_filter_with_consistent_fixes(kind: str, tmp_path: Path) -> None:
     r = exp.orbit_trial(np.random.default_rng(4), duration_s=120.0, loose_fixes=kind)  # type: ignore[arg-type]

@@ -15,7 +15,6 @@ from pathlib import Path
 import pytest
 
 from gnssatt import _core
-from gnssatt._moved import MOVED
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "python" / "gnssatt"
@@ -25,8 +24,8 @@ DOC = ROOT / "docs" / "architecture.md"
 #: (``__init__`` is the package's own lazy re-export table). A module may import its own unit or a lower
 #: layer.
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("kernel", ("_core", "errors", "_moved")),
-    ("intake", ("_panic_guard", "_arrays", "_renamed", "constants")),
+    ("kernel", ("_core", "errors")),
+    ("intake", ("_panic_guard", "_arrays", "constants")),
     ("base", ("frames", "rotation", "geometry", "observations", "data")),
     ("models", ("orbit", "magnetic")),
     ("io", ("rinex",)),
@@ -42,11 +41,11 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
 ESTIMATORS = dict(LAYERS)["estimators"]
 
 #: Private modules of the base layer that every module may import: the designated shared internals.
-SHARED_INTERNALS = ("_core", "_arrays", "_panic_guard", "_moved", "_renamed")
+SHARED_INTERNALS = ("_core", "_arrays", "_panic_guard")
 
 #: Violations that need a function moved between modules: (importer, imported module or private name) -> what
-#: to do. An entry that no longer occurs fails the test. Issue 19's entries are paid (the functions moved,
-#: their old paths kept: tests/test_import_layers.py::test_moved_functions_keep_their_old_paths).
+#: to do. An entry that no longer occurs fails the test. Issue 19's entries are paid (the functions moved;
+#: the old paths are gone, CHANGELOG.md).
 KNOWN_DEBT: dict[tuple[str, str], str] = {}
 
 
@@ -115,7 +114,7 @@ def imports(module: str, path: Path, known: set[str]) -> Iterator[tuple[str, int
                     yield full, node.lineno
                     bound[alias.asname or alias.name] = full
                 else:
-                    yield (full if _is_private(alias.name) or full in MOVED else base), node.lineno
+                    yield (full if _is_private(alias.name) else base), node.lineno
     for node in ast.walk(tree):
         # private attributes reached through a bound module: gnssatt.sim._util.x, wahba._vectors
         if isinstance(node, ast.Attribute) and not isinstance(getattr(node, "ctx", None), ast.Store):
@@ -158,7 +157,7 @@ def violation(importer: str, target: str, known: set[str]) -> str | None:
         owner, _, name = target.rpartition(".")
         if owner in known and _is_private(name):
             return f"imports the private name {name} of {owner}"
-        return f"imports {target}, no module of the package (an old path? see gnssatt._moved)"
+        return f"imports {target}, no module of the package (an old path? see CHANGELOG.md)"
     parts = target.split(".")
     for i, part in enumerate(parts):
         owner = ".".join(parts[:i])
@@ -196,6 +195,7 @@ def test_every_module_lies_in_a_layer() -> None:
     assert len(layers) == sum(len(units) for _, units in LAYERS)  # no unit in two layers
 
 
+@pytest.mark.slow
 def test_imports_go_downwards_and_take_no_private_names() -> None:
     found = violations()
     new = sorted(why for key, why in found.items() if key not in KNOWN_DEBT)
@@ -204,6 +204,7 @@ def test_imports_go_downwards_and_take_no_private_names() -> None:
     assert fixed == [], "debt paid: delete these entries from KNOWN_DEBT"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("importer", "target", "expected"),
     [
@@ -253,6 +254,7 @@ def test_the_walk_sees_function_level_imports_and_attribute_chains(tmp_path: Pat
     }
 
 
+@pytest.mark.slow
 def test_the_architecture_page_shows_the_current_graph() -> None:
     import sys
 
@@ -264,21 +266,3 @@ def test_the_architecture_page_shows_the_current_graph() -> None:
     text = DOC.read_text()
     shown = text[text.index(BEGIN) + len(BEGIN) : text.index(END)]
     assert shown.strip() == mermaid().strip(), "run python benches/python/import_graph.py --write"
-
-
-def test_moved_functions_keep_their_old_paths() -> None:
-    # issue 19's debt: each function moved down to where the simulator may reach it; its old path is the same
-    # object, so that existing imports neither break nor warn
-    import gnssatt._arrays as arrays
-    import gnssatt.rinex.nav as nav
-    import gnssatt.rotation as rotation
-    from gnssatt.attitude import likelihood
-    from gnssatt.gnss import session_input
-    from gnssatt.rinex import _fields
-
-    assert likelihood.rotation_from_euler is rotation.rotation_from_euler
-    assert likelihood.euler_from_rotation is rotation.euler_from_rotation
-    assert likelihood.ENU_FROM_NORMAL is rotation.ENU_FROM_NORMAL
-    assert session_input.nav_input is nav.nav_input and session_input.NavInput is nav.NavInput
-    for name in ("folder_path", "path_text", "sat_list"):
-        assert getattr(_fields, name) is getattr(arrays, name)

@@ -133,8 +133,9 @@ def bad_values(arg: Arg, value: Any) -> Iterator[tuple[str, Any, type[Exception]
 
 
 def _phases() -> dict[str, Any]:
-    """Phase differences (m, M) of the seed-001 model for BASELINES[:2] at TRUTH-like angles, radians."""
-    r = likelihood.rotation_from_euler([20.0, 5.0, -3.0])
+    """Phase differences (m, M) of the Bunyaeva et al. model for BASELINES[:2] at TRUTH-like angles,
+    radians."""
+    r = rotation.rotation_from_euler([20.0, 5.0, -3.0])
     p = -2 * np.pi / L1 * (r.apply(BASELINES[:2]) @ LOS.T)
     return {"phase_diffs": np.mod(p, 2 * np.pi), "los": LOS, "baselines": BASELINES[:2], "wavelength": L1}
 
@@ -292,14 +293,14 @@ FUNCTIONS: tuple[Function, ...] = (
         ),
     ),
     Function(
-        "likelihood.rotation_from_euler",
-        likelihood.rotation_from_euler,
+        "rotation.rotation_from_euler",
+        rotation.rotation_from_euler,
         lambda: {"euler_gost_deg": [10.0, 5.0, -3.0]},
         (Arg("euler_gost_deg", "array", shapes=(np.zeros(2), np.zeros((3, 2)), np.zeros((1, 1, 3)))),),
     ),
     Function(
-        "likelihood.euler_from_rotation",
-        likelihood.euler_from_rotation,
+        "rotation.euler_from_rotation",
+        rotation.euler_from_rotation,
         lambda: {"rotation": TRUTH},
         (Arg("rotation", "object"),),
     ),
@@ -753,6 +754,7 @@ def _scaled_cases() -> Iterator[Any]:
                     yield pytest.param(f, arg.name, s, id=f"{f.name}-{arg.name}-{s:g}")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("f", "name", "scale"), list(_scaled_cases()))
 def test_finite_input_of_any_magnitude_gives_finite_output_or_an_error(
     f: Function, name: str, scale: float
@@ -883,6 +885,7 @@ HOSTILE_ARRAYS = st.one_of(
 ARGUMENTS = [(f, arg) for f in FUNCTIONS for arg in f.args if arg.kind in ("array", "scalar")]
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(case=st.sampled_from(ARGUMENTS), value=HOSTILE_ARRAYS)
 def test_hostile_values_give_finite_output_or_a_gnssatt_error(case: tuple[Function, Arg], value: Any) -> None:

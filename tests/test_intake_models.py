@@ -583,6 +583,7 @@ def _call(fname: str, **overrides: Any) -> Any:
     return fn(**{**kwargs, **overrides})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fname", list(FUNCTIONS))
 def test_valid_arguments_are_accepted(fname: str) -> None:
     # the baseline of every case below; a failing baseline would make the bad-input cases meaningless

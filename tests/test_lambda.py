@@ -160,6 +160,7 @@ floats = hnp.arrays(np.float64, 4, elements=st.floats(-50, 50, allow_nan=False))
 shifts = hnp.arrays(np.int64, 4, elements=st.integers(-(10**6), 10**6))
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), a=floats, shift=shifts)
 @example(seed=0, a=np.array([-0.5, 0.0, 0.0, 0.0]), shift=np.array([1, 1, 1, 1]))
@@ -183,6 +184,7 @@ def unimodular(rng: np.random.Generator, n: int) -> np.ndarray:
     return t[:, rng.permutation(n)]
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), a=floats)
 def test_unimodular_transform_transforms_the_solution(seed: int, a: np.ndarray) -> None:
@@ -228,6 +230,7 @@ def test_success_rate_one_ambiguity_is_rounding() -> None:
     assert gnssatt.bootstrap_success_rate([[sigma**2]]) == pytest.approx(2 * norm.cdf(0.5 / sigma) - 1, 1e-14)
 
 
+@pytest.mark.slow
 def test_success_rate_matches_monte_carlo_bootstrapping() -> None:
     q = geometry_covariance(8, 1, epochs=2)  # a weak model: P = 0.81
     n = q.shape[0]
@@ -267,6 +270,7 @@ def test_ratio_test_fixed_threshold() -> None:
     assert gnssatt.ratio_test([3.0, -2.0, 7.0], q).ratio == np.inf
 
 
+@pytest.mark.slow
 def test_fixed_failure_rate_threshold() -> None:
     weak = geometry_covariance(8, 1, epochs=2)  # bootstrapped failure rate 0.19
     c = gnssatt.ratio_threshold_fixed_failure_rate(weak, 0.01, samples=20_000, seed=3)

@@ -95,6 +95,7 @@ def test_samples_beyond_the_limit(call) -> None:
         call(0)
 
 
+@pytest.mark.slow
 def test_dimension_beyond_the_limit() -> None:
     n = ambiguity.MAX_DIMENSION + 1
     with pytest.raises(WorkLimitError, match=r"covariance .* 257 ambiguities.*limit of 256"):

@@ -150,6 +150,7 @@ def same_answer(got: tuple[np.ndarray, np.ndarray], want: tuple[np.ndarray, np.n
         assert any(np.array_equal(fixed[k], ref_fixed[j]) for j in np.flatnonzero(tied)), (k, fixed[k])
 
 
+@pytest.mark.slow
 def test_reference_solver_matches_brute_force() -> None:
     """The reference itself, checked by enumeration where enumeration is possible."""
     rng = np.random.default_rng(5)
@@ -160,6 +161,7 @@ def test_reference_solver_matches_brute_force() -> None:
             same_answer(reference_ils(a, q, 3), brute_force(a, q, 3))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_small_ill_conditioned_problems_match_brute_force(n: int) -> None:
     rng = np.random.default_rng(100 + n)
@@ -185,6 +187,7 @@ def _cases() -> list[tuple[str, int, float, int, str]]:
     return cases
 
 
+@pytest.mark.slow
 def test_ill_conditioned_problems_up_to_64_match_the_reference() -> None:
     """88 problems (2 structures x 4 conditions x 11 size / candidate / float-vector settings): LAMBDA equals
     the independent solver or refuses; refusals are counted and must stay rare."""

@@ -1,4 +1,5 @@
-"""Seed-001 maximum-likelihood grid: Rust against a numpy reference, recovery, statistics, search, errors."""
+"""Bunyaeva et al. maximum-likelihood grid: Rust against a numpy reference, recovery, statistics, search,
+errors."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from scipy.spatial.transform import Rotation
 
 import gnssatt
 from gnssatt import InvalidInputError
-from gnssatt.attitude.likelihood import ENU_FROM_NORMAL, euler_from_rotation, rotation_from_euler
+from gnssatt.rotation import ENU_FROM_NORMAL, euler_from_rotation, rotation_from_euler
 
 L1 = 0.19029367279836487
 TRIANGLE = 0.71 * np.array([[1.0, 0.0, 0.0], [0.5, 0.0, np.sqrt(3) / 2]])
@@ -74,6 +75,7 @@ def test_rotation_convention_matches_eq5_and_scipy():
     np.testing.assert_allclose(euler_from_rotation(r), [psi, theta, phi], atol=1e-10)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("statistic", ["ambiguity_function", "mean", "double_difference"])
 def test_rust_matches_numpy_reference(statistic):
     rng = np.random.default_rng(10)
@@ -140,6 +142,7 @@ def test_glonass_wavelengths_and_epochs():
     assert np.degrees((res.rotation * r.inv()).magnitude()) < 1e-5
 
 
+@pytest.mark.slow
 def test_mean_statistic_fails_on_wrapped_and_works_on_consistent_phases():
     rng = np.random.default_rng(4)
     errs = {"wrapped": [], "consistent": [], "af": []}
@@ -159,6 +162,7 @@ def test_mean_statistic_fails_on_wrapped_and_works_on_consistent_phases():
     assert np.median(errs["wrapped"]) > 3.0, errs
 
 
+@pytest.mark.slow
 def test_branch_and_bound_equals_exhaustive_on_200_scenarios():
     rng = np.random.default_rng(5)
     stats = ["ambiguity_function", "double_difference", "mean"]
@@ -176,6 +180,7 @@ def test_branch_and_bound_equals_exhaustive_on_200_scenarios():
         assert (ex.z_max, tuple(ex.euler_gost_deg)) == (bb.z_max, tuple(bb.euler_gost_deg)), trial
 
 
+@pytest.mark.slow
 def test_branch_and_bound_saves_cells_on_paper_scenario():
     rng = np.random.default_rng(6)
     los = sky(rng, 8)
@@ -200,6 +205,7 @@ def test_unknown_search_is_refused():
         gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=6.0, search="fastest")
 
 
+@pytest.mark.slow
 def test_window_and_prior_from_velocity():
     prior = gnssatt.prior_from_velocity([0.0, 50.0, 0.0])
     np.testing.assert_allclose(prior.euler_gost_deg, [0.0, 0.0, 0.0], atol=1e-12)

@@ -138,6 +138,7 @@ ABSURD = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(ABSURD))
 def test_absurd_work_is_refused_before_it_starts(name: str) -> None:
     call, parameter = ABSURD[name]
@@ -226,6 +227,7 @@ CHILD = textwrap.dedent(
 )
 
 
+@pytest.mark.slow
 def test_sigint_stops_a_long_rust_call() -> None:
     child = subprocess.Popen(
         [sys.executable, "-c", CHILD], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True

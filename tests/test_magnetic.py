@@ -87,6 +87,7 @@ def test_eci_form_and_bad_input() -> None:
     np.testing.assert_allclose(magnetic.dipole_coefficients(2027.5), [-29318.5, -1385.3, 4491.75])
 
 
+@pytest.mark.slow
 def test_matches_ppigrf_at_degree_one() -> None:
     ppigrf = pytest.importorskip("ppigrf")
     rng = np.random.default_rng(4)
@@ -107,16 +108,7 @@ def test_matches_ppigrf_at_degree_one() -> None:
         )
 
 
-def test_former_latitude_longitude_keywords_still_work_with_a_warning() -> None:
-    # lat_deg / lon_deg as everywhere else in the package; the former names warn and give the same numbers
-    new_dcm = magnetic.dcm_ned_from_ecef(lat_deg=30.0, lon_deg=-60.0)
-    new_ned = magnetic.dipole_field_ned(lat_deg=30.0, lon_deg=-60.0, height_m=0.0, decimal_year=2025.0)
-    with pytest.warns(DeprecationWarning, match="is deprecated, use 'l(at|on)_deg'") as record:
-        old_dcm = magnetic.dcm_ned_from_ecef(latitude_deg=30.0, longitude_deg=-60.0)
-        old_ned = magnetic.dipole_field_ned(
-            latitude_deg=30.0, longitude_deg=-60.0, height_m=0.0, decimal_year=2025.0
-        )
-    named = sorted(str(w.message).split("'")[1] for w in record)
-    assert named == ["latitude_deg", "latitude_deg", "longitude_deg", "longitude_deg"]
-    np.testing.assert_array_equal(old_dcm, new_dcm)
-    np.testing.assert_array_equal(old_ned, new_ned)
+def test_the_former_latitude_longitude_keywords_are_gone() -> None:
+    # lat_deg / lon_deg as everywhere else in the package (CHANGELOG.md: the old names were removed)
+    with pytest.raises(TypeError, match="latitude_deg"):
+        magnetic.dcm_ned_from_ecef(latitude_deg=30.0, longitude_deg=-60.0)  # type: ignore[call-arg]

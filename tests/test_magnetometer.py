@@ -1,4 +1,5 @@
-"""Seed 002: eq. (1) pinned to scipy's ZYX, eq. (3) and its companion cosine, yaw against the truth."""
+"""Ryzhkov and Holembiovskyi: eq. (1) pinned to scipy's ZYX, eq. (3) and its companion cosine, yaw against the
+truth."""
 
 from __future__ import annotations
 

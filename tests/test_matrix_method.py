@@ -1,4 +1,4 @@
-"""Seed 000 matrix method against independent references: the paper's formulas written in numpy,
+"""Ryzhkov and Oliinyk matrix method against independent references: the paper's formulas written in numpy,
 scipy's Wahba solver (Rotation.align_vectors), scipy's least-squares solver and the Cramer-Rao bound."""
 
 from __future__ import annotations
@@ -98,6 +98,7 @@ def loss(baselines: np.ndarray, los: np.ndarray, r: np.ndarray, rot: Rotation) -
     return float(np.sum((measure(baselines, los, rot) - r) ** 2))
 
 
+@pytest.mark.slow
 def test_ml_is_the_least_squares_minimum(rng: np.random.Generator) -> None:
     """scipy's Levenberg-Marquardt started at the ML answer finds nothing lower; SVD is never lower."""
     for _ in range(30):
@@ -117,6 +118,7 @@ def test_ml_is_the_least_squares_minimum(rng: np.random.Generator) -> None:
         assert loss(TRIANGLE, los, r, ml) <= loss(TRIANGLE, los, r, svd) * (1 + 1e-12)
 
 
+@pytest.mark.slow
 def test_ml_reaches_the_cramer_rao_bound(rng: np.random.Generator) -> None:
     """At small noise the ML error delta is Gaussian with covariance sigma^2 J^-1, so
     sum over trials of delta^T J delta / sigma^2 is chi-square with 3 x trials degrees of freedom."""

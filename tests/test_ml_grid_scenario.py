@@ -1,5 +1,5 @@
-"""The seed-001 experiment's scenario: what it returns is what its docstring and annotation say (mypy found
-the annotation naming three arrays where the first item is the geometry)."""
+"""The Bunyaeva et al. experiment's scenario: what it returns is what its docstring and annotation say (mypy
+found the annotation naming three arrays where the first item is the geometry)."""
 
 from __future__ import annotations
 

@@ -74,6 +74,7 @@ def epoch_by_epoch(p, s, lam, window_deg, single, **kw):
     return out
 
 
+@pytest.mark.slow
 def test_attitude_series_equals_ml_attitude_epoch_by_epoch():
     rng = np.random.default_rng(1700)
     for _ in range(4):
@@ -125,6 +126,7 @@ def test_baseline_series_equals_ml_baseline_epoch_by_epoch():
                 np.testing.assert_allclose(got.direction_enu[k], r.direction_enu, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_series_recovers_the_truth_and_mask_equals_nan():
     # Noise-free phases, default step: the refined attitude is the truth (Newton polish on the noise-free
     # statistic, whose maximum is the truth itself).

@@ -19,6 +19,7 @@ def draw(rng: np.random.Generator, *, size: int = 3) -> list[float]:
     return rng.standard_normal(size).tolist()
 
 
+@pytest.mark.slow
 def test_serial_threads_and_processes_agree() -> None:
     serial = montecarlo.run(draw, 37, seed=5, executor=montecarlo.SerialExecutor(), progress=False)
     with ThreadPoolExecutor(3) as pool:
@@ -36,6 +37,7 @@ def test_trial_generators_reproduce_one_trial() -> None:
     assert other != results
 
 
+@pytest.mark.slow
 def test_dask_cluster_gives_identical_numbers() -> None:
     distributed = pytest.importorskip("distributed")
     trial = functools.partial(matrix_method.trial, sigma_m=0.004)
@@ -92,6 +94,7 @@ class _ForeignContext:
         return getattr(self._inner, name)
 
 
+@pytest.mark.slow
 def test_forkserver_pool_and_unknown_context_are_accepted() -> None:
     serial = montecarlo.run(draw, 4, seed=9, executor=montecarlo.SerialExecutor(), progress=False)
     with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("forkserver")) as pool:

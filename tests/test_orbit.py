@@ -1,4 +1,4 @@
-"""Orbit models of seed 003: GLONASS ICD propagator against the ICD's worked example and closed forms,
+"""Orbit models of Dzhepe Ali: GLONASS ICD propagator against the ICD's worked example and closed forms,
 its use by the engine's GLONASS ephemeris, the circular orbit, and TLE input (TEME -> Earth-fixed)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Orbit-determination filter of seed 003: Rust vs the numpy reference, chi-square consistency over Monte
+"""Orbit-determination filter of Dzhepe Ali: Rust vs the numpy reference, chi-square consistency over Monte
 Carlo runs (NIS and NEES), long stretches with two tracked satellites, the receiver fix, bad input."""
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ def _scenario(
     return truth, meas, x0
 
 
+@pytest.mark.slow
 def test_rust_filter_matches_numpy_reference() -> None:
     _, meas, x0 = _scenario(3, 25, 1e-8, outages=[(100.0, 150.0, 3)])
     res = orbit_filter(meas, x0, P0, coupling="tight", accel_psd_m2_s3=1e-8, step_s=5.0)
@@ -42,6 +43,7 @@ def test_rust_filter_matches_numpy_reference() -> None:
     assert np.array_equal(np.isnan(res.nis), res.nis_dof == 0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("coupling", "systems"), [("tight", "G"), ("tight", "GR"), ("loose", "GR")])
 def test_filter_is_consistent_over_monte_carlo_runs(coupling: str, systems: str) -> None:
     q, runs, n_t = 1e-8, 12, 40
@@ -62,6 +64,7 @@ def test_filter_is_consistent_over_monte_carlo_runs(coupling: str, systems: str)
     assert lo < sum(nees_final) < hi, nees_final
 
 
+@pytest.mark.slow
 def test_two_satellites_keep_the_tightly_coupled_filter_bounded() -> None:
     q = 1e-6  # large process noise, so that prediction alone would drift visibly
     window = (200.0, 1400.0)

@@ -2,7 +2,8 @@
 
 Python and shell blocks run verbatim, each in a fresh subprocess in an empty folder; the README's
 install-and-run blocks (those starting with ``pip install``) are what ``.ci/run`` runs, so they must appear
-there word for word, except the main job: the quick ``reproduce --all`` took 16 minutes on the shared 2-core
+there word for word (the README's "Developing" blocks are checked against the project's settings
+instead), except the main job: the quick ``reproduce --all`` took 16 minutes on the shared 2-core
 machine, too long for CI, and is run by hand before a release. The results pages (``docs/results/*.md``)
 hold the reproduction results that were in the README; their shell and Python blocks (the recorded-data
 command) run the same way.
@@ -38,9 +39,22 @@ def fenced_blocks(text: str) -> list[tuple[str, str]]:
     return blocks
 
 
-BLOCKS = fenced_blocks((ROOT / "README.md").read_text())
+def section(text: str, heading: str) -> str:
+    """The text of the README's ``## heading`` section, up to the next ``## `` heading."""
+    start = text.index(f"\n## {heading}\n")
+    end = text.find("\n## ", start + 1)
+    return text[start : end if end != -1 else len(text)]
+
+
+README = (ROOT / "README.md").read_text()
+BLOCKS = fenced_blocks(README)
+#: The developer loop (a virtual environment in the clone, an incremental build): checked against the
+#: project's settings below, not run here, where it would build the extension a second time.
+DEVELOP = fenced_blocks(section(README, "Developing"))
 INSTALLS = [code for lang, code in BLOCKS if lang == "bash" and code.startswith("pip install")]
-RUNS = [("README", lang, code) for lang, code in BLOCKS if code not in INSTALLS] + [
+RUNS = [
+    ("README", lang, code) for lang, code in BLOCKS if code not in INSTALLS and (lang, code) not in DEVELOP
+] + [
     (page.stem, lang, code)
     for page in RESULTS
     for lang, code in fenced_blocks(page.read_text())
@@ -52,6 +66,17 @@ MAIN_JOB = "pip install . && gnssatt reproduce --all --out out\n"
 def test_blocks_are_python_or_bash() -> None:
     assert len(BLOCKS) >= 5
     assert {lang for lang, _ in BLOCKS} <= {"python", "bash"}
+
+
+def test_the_developer_loop_names_what_the_project_defines() -> None:
+    tomllib = pytest.importorskip("tomllib")  # Python 3.11+
+    code = "".join(c for _, c in DEVELOP)
+    cargo = tomllib.loads((ROOT / "Cargo.toml").read_text())
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert "maturin develop --profile quick --extras dev" in code
+    assert "quick" in cargo["profile"] and "dev" in project["project"]["optional-dependencies"]
+    assert 'python -m pytest -m "not slow"' in code
+    assert any(m.startswith("slow:") for m in project["tool"]["pytest"]["ini_options"]["markers"])
 
 
 def test_install_blocks_are_what_ci_runs() -> None:
@@ -83,6 +108,7 @@ def test_results_pages_keep_the_recorded_data_command() -> None:
     assert any("gnssatt attitude" in code for page, _, code in RUNS if page == "recorded_data")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("page", "lang", "code"), RUNS, ids=[f"{page}-{i}-{lang}" for i, (page, lang, _) in enumerate(RUNS)]
 )

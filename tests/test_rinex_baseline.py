@@ -26,6 +26,7 @@ def geonet():  # type: ignore[no-untyped-def]
     return read_obs(DATA / "07590920.05o"), read_obs(DATA / "30400920.05o"), read_nav(DATA / "07590920.05n")
 
 
+@pytest.mark.slow
 @needs_data
 def test_geonet_baseline_fixed_and_matches_header(geonet) -> None:  # type: ignore[no-untyped-def]
     a, b, nav = geonet
@@ -53,6 +54,7 @@ def test_no_common_epochs_or_signals(geonet) -> None:  # type: ignore[no-untyped
         attitude_from_rinex([a], nav)
 
 
+@pytest.mark.slow
 @needs_data
 def test_geonet_cli_baseline_direction(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from gnssatt.cli import main

@@ -18,6 +18,7 @@ DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="GEONET test data not present")
 
 
+@pytest.mark.slow
 @needs_data
 def test_hatanaka_and_gzip_read_as_plain(tmp_path: Path) -> None:
     hatanaka = pytest.importorskip("hatanaka")

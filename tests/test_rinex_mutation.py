@@ -397,6 +397,7 @@ def test_non_finite_broadcast_fields(name: str, word: str, tmp_path: Path) -> No
 # --- truncation ------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", [*OBS_TEXTS, *NAV_NAMES])
 def test_cut_inside_the_last_record(name: str, tmp_path: Path) -> None:
     is_obs = name in OBS_TEXTS
@@ -520,6 +521,7 @@ def test_event_records_are_skipped(name: str, tmp_path: Path) -> None:
 # --- random byte flips -----------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", [*OBS_TEXTS, *NAV_NAMES])
 def test_random_byte_flips(name: str, tmp_path: Path) -> None:
     is_obs = name in OBS_TEXTS

@@ -14,9 +14,8 @@ import numpy as np
 import pytest
 
 from gnssatt import _core
-from gnssatt.gnss.session_input import NavInput, nav_input
 from gnssatt.rinex import RinexNav, read_nav
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import NavInput, gps_ns, nav_input
 
 DATA = Path(__file__).resolve().parent / "data"
 BRDM = DATA / "BRDM00DLR_R_20130010000_01D_MN.rnx"  # GPS, GLONASS, QZSS; 2013-01-01

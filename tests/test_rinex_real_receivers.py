@@ -236,6 +236,7 @@ def test_navigation_of_another_time_is_named(files: list[str], nav: str) -> None
     assert nav in str(err.value) and "expected the navigation file of the observation day" in str(err.value)
 
 
+@pytest.mark.slow
 def test_zero_baseline_is_named_and_has_no_direction() -> None:
     """The same real file given twice (GEONET 0759 with its own day's navigation file): the baseline is 0,
     its azimuth and elevation are undefined; they come back NaN with a warning, not as atan2(0, 0) = 0."""

@@ -63,6 +63,7 @@ def _fixed_errors(series: AttitudeSeries, s: SimulatedRinex) -> np.ndarray:
     return np.linalg.norm(series.baselines_enu_m[fixed] - s.baselines_enu_m[fixed], axis=2)
 
 
+@pytest.mark.slow
 def test_single_epoch_constrained_fix_matches_truth(rotating: SimulatedRinex) -> None:
     s = rotating
     sol = _solve(s.obs_paths, s.nav_path)
@@ -90,6 +91,7 @@ def test_attitude_mode_refuses_the_modes_that_hold_integers(
         attitude_from_rinex(list(s.obs_paths), s.nav_path, BODY, method="lambda", **kwargs)
 
 
+@pytest.mark.slow
 def test_undetected_slip_leaves_single_epoch_fixes_right(rotating: SimulatedRinex) -> None:
     s = rotating
     obs = [read_obs(p) for p in s.obs_paths]
@@ -106,6 +108,7 @@ def test_undetected_slip_leaves_single_epoch_fixes_right(rotating: SimulatedRine
     assert _fixed_errors(sol, s).max() < WRONG_M
 
 
+@pytest.mark.slow
 def test_attitude_lambda_and_windowed_ml_agree_with_truth(rotating: SimulatedRinex) -> None:
     s = rotating
     truth = np.stack(

@@ -10,15 +10,15 @@ import numpy as np
 import pytest
 
 from gnssatt import _core, sim
-from gnssatt.attitude.likelihood import rotation_from_euler
 from gnssatt.cli import main
 from gnssatt.gnss.attitude import attitude_from_rinex
-from gnssatt.gnss.session_input import nav_input
 from gnssatt.rinex import gps_ns, read_nav, read_obs
+from gnssatt.rinex.nav import nav_input
+from gnssatt.rotation import rotation_from_euler
 from gnssatt.sim.rinex_scenario import write_array_rinex
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
-EULER = [-40.0, 5.0, 3.0]  # psi (compass heading 40), theta, phi of seed 001
+EULER = [-40.0, 5.0, 3.0]  # psi (compass heading 40), theta, phi of Bunyaeva et al.
 
 
 def _scenario(tmp_path: Path, antennas: np.ndarray, n_ep: int = 12) -> tuple[list[Path], Path]:
@@ -54,6 +54,7 @@ def test_written_files_read_back(tmp_path: Path) -> None:
     assert np.max(np.linalg.norm(pos - truth, axis=1)) < 1e-3  # broadcast model reproduces two-body orbits
 
 
+@pytest.mark.slow
 def test_two_antennas_baseline_direction(tmp_path: Path) -> None:
     paths, nav = _scenario(tmp_path, np.array([[0.0, 0, 0], [1.2, 0, 0]]))
     res = attitude_from_rinex(paths, nav, method="ml", elevation_mask_deg=5.0)
@@ -66,6 +67,7 @@ def test_two_antennas_baseline_direction(tmp_path: Path) -> None:
     np.testing.assert_allclose(lam.angles_deg, res.angles_deg, atol=1.0)
 
 
+@pytest.mark.slow
 def test_three_antennas_attitude_and_cli(tmp_path: Path) -> None:
     ant = sim.equilateral_triangle(1.0, plane="xz")
     paths, nav = _scenario(tmp_path, ant, n_ep=4)

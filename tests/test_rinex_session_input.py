@@ -15,11 +15,10 @@ from gnssatt.gnss.session_input import (
     NO_CHANNEL,
     EpochsDroppedWarning,
     SystemDroppedWarning,
-    nav_input,
     session_input,
 )
 from gnssatt.rinex import read_nav, read_obs, write_obs
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import gps_ns, nav_input
 from gnssatt.rinex.obs import RinexObs
 
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")

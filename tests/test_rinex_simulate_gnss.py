@@ -16,9 +16,9 @@ import pytest
 
 from gnssatt import _core
 from gnssatt.errors import InvalidInputError
-from gnssatt.gnss.session_input import NavInput, nav_input, session_input
+from gnssatt.gnss.session_input import session_input
 from gnssatt.rinex import read_nav, read_obs
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import NavInput, gps_ns, nav_input
 from gnssatt.rinex.signals import slot_frequency_hz
 from gnssatt.rinex.writer import write_nav_from_constellation
 from gnssatt.sim.rinex_scenario import (
@@ -75,6 +75,7 @@ def noiseless(tmp_path_factory: pytest.TempPathFactory) -> SimulatedGnss:
     )  # fmt: skip
 
 
+@pytest.mark.slow
 def test_every_signal_of_every_system_found(noiseless: SimulatedGnss) -> None:
     s = noiseless
     assert {x[0] for x in s.sats} == set("GRECJ")
@@ -125,6 +126,7 @@ def test_baselines_and_positions_agree(noiseless: SimulatedGnss) -> None:
     np.testing.assert_allclose(np.linalg.norm(s.baselines_enu_m[0, 0]), 1.5, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_ranges_match_the_navigation_records(noiseless: SimulatedGnss) -> None:
     s = noiseless
     nav = nav_input(read_nav(s.nav_path))
@@ -231,6 +233,7 @@ def test_neighbouring_glonass_records_agree(tmp_path: Path) -> None:
             assert np.linalg.norm(a - b) < 2e-3
 
 
+@pytest.mark.slow
 def test_atmosphere_delays_code_and_advances_phase(tmp_path: Path) -> None:
     kw = {
         "n_epochs": 1, "rng": 9, "code_sigma_m": 0.0, "phase_sigma_m": 0.0, "receiver_clock_s": [1e-5, 0.0],

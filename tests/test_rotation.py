@@ -49,7 +49,7 @@ def test_nearest_rotation_fixes_reflections(rng: np.random.Generator) -> None:
     assert np.linalg.det(out) == pytest.approx(1.0)
 
 
-def test_seed_001_gost_sequence_reading() -> None:
+def test_gost_sequence_reading() -> None:
     # At zero angles body X (nose) -> North, Y -> Up, Z (right wing) -> East in the (N, U, E) normal frame;
     # positive heading about Up turns the nose West (towards -East).
     turn = rotation.euler_to_dcm("YZX", [10, 0, 0], degrees=True)

@@ -45,12 +45,6 @@ def test_one_geodetic_to_ecef_for_frames_sim_and_magnetic() -> None:
     np.testing.assert_allclose(magnetic.geodetic_to_ecef(lat, lon, h), want, rtol=0, atol=1e-6)
     # frames' former lower bound of heights (100 km from the centre under the equator) for both
     np.testing.assert_allclose(magnetic.geodetic_to_ecef(0.0, 0.0, -A + 2e5), [2e5, 0, 0], atol=1e-6)
-    with (
-        pytest.warns(DeprecationWarning, match="'lat_deg'"),
-        pytest.warns(DeprecationWarning, match="'lon_deg'"),
-    ):
-        old = magnetic.geodetic_to_ecef(latitude_deg=90.0, longitude_deg=0.0, height_m=0.0)
-    np.testing.assert_allclose(old, [0, 0, B], atol=1e-6)
 
 
 def test_geodetic_round_trip_independent_inverse() -> None:

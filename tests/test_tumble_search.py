@@ -1,4 +1,4 @@
-"""Seed 004: the fit's global search on long RK4 steps with interpolated outputs (``search_step_s``).
+"""Belokonov et al.: the fit's global search on long RK4 steps with interpolated outputs (``search_step_s``).
 
 The differential evolution of :func:`gnssatt.attitude.dynamics.fit_rotation` propagates on steps of about
 5 s with the axes at 1 s interpolated (cubic Hermite), then polishes on the 1 s objective; checked here
@@ -39,6 +39,7 @@ def test_interpolated_axes_stay_within_the_documented_error() -> None:
     assert 8.0 < coarse / worst_deg(2.5) < 32.0
 
 
+@pytest.mark.slow
 def test_coarse_search_reaches_the_minimum_of_a_one_second_search() -> None:
     t = np.arange(0.0, 601.0)
     rng = np.random.default_rng(11)

@@ -23,6 +23,7 @@ def angle(a: Rotation, b: Rotation) -> np.ndarray:
     return (a * b.inv()).magnitude()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", METHODS)
 def test_wahba_matches_scipy_align_vectors_on_noisy_cases(rng: np.random.Generator, method: str) -> None:
     for _ in range(100):

@@ -1,4 +1,4 @@
-"""Seed 004: antenna axis from GNSS visibility (eq. (5)) and the constrained estimators."""
+"""Belokonov et al.: antenna axis from GNSS visibility (eq. (5)) and the constrained estimators."""
 
 from __future__ import annotations
 
@@ -35,6 +35,7 @@ def test_symmetric_geometry_gives_the_exact_axis() -> None:
         np.testing.assert_allclose(visibility_axis(vis, inv, method=method), [0, 0, 1], atol=1e-6)
 
 
+@pytest.mark.slow
 def test_noise_free_visibility_locates_the_axis(scene: tuple) -> None:
     axes, sets = scene
     paper, margin, centroid = (_errors_deg(axes, sets, m) for m in ("paper", "margin", "centroid"))
@@ -49,6 +50,7 @@ def test_noise_free_visibility_locates_the_axis(scene: tuple) -> None:
     assert np.percentile(centroid, 95) < np.percentile(paper, 95)
 
 
+@pytest.mark.slow
 def test_polygon_estimators_satisfy_every_visibility_constraint(scene: tuple) -> None:
     _, sets = scene
     for vis, inv in sets[:40]:

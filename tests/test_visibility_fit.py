@@ -1,8 +1,9 @@
-"""Seed 004 end to end: simulated GPS + GLONASS visibility -> visibility_axis -> DE fit."""
+"""Belokonov et al. end to end: simulated GPS + GLONASS visibility -> visibility_axis -> DE fit."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from gnssatt import sim
 from gnssatt.attitude import dynamics as tumble
@@ -23,6 +24,7 @@ def _axis_jacobian(params: np.ndarray, t: np.ndarray) -> np.ndarray:
     return np.array(cols).T
 
 
+@pytest.mark.slow
 def test_fit_from_simulated_visibility_recovers_the_initial_state() -> None:
     # A hemispherical antenna along Yc on a 500 km, 51.6 deg orbit; exact visibility of the 48 nominal
     # GPS + GLONASS slots every 2 s for 600 s; axes by the polygon centroid; fit with the default model.

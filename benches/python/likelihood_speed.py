@@ -27,7 +27,7 @@ import numpy as np
 
 import gnssatt
 from gnssatt import _core
-from gnssatt.attitude.likelihood import rotation_from_euler
+from gnssatt.rotation import rotation_from_euler
 
 L1 = 0.19029367279836487
 STEP = 1.5

@@ -27,7 +27,7 @@ import numpy as np
 
 import gnssatt
 from gnssatt import sim
-from gnssatt.attitude.likelihood import rotation_from_euler
+from gnssatt.rotation import rotation_from_euler
 
 WINDOW_DEG = 10.0
 

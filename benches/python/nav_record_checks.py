@@ -25,9 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from gnssatt import _core
-from gnssatt.gnss.session_input import NavInput, nav_input
 from gnssatt.rinex import read_nav
-from gnssatt.rinex.nav import gps_ns
+from gnssatt.rinex.nav import NavInput, gps_ns, nav_input
 
 DATA = Path(__file__).resolve().parents[2] / "tests" / "data"
 BRDM = DATA / "BRDM00DLR_R_20130010000_01D_MN.rnx"

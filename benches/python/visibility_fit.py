@@ -1,7 +1,7 @@
-"""Seed 004 timings: one differential-evolution fit (time, objective evaluations), the Rust batch objective
-against a vectorised numpy RK4 of the same equations (ratio) and at the fit's search step (axes
-interpolated), and the 400-case study extrapolated from ``--trials`` trials run through the Monte Carlo
-driver on this machine's cores.
+"""Rotation from visibility (Belokonov et al.), timings: one differential-evolution fit (time, objective
+evaluations), the Rust batch objective against a vectorised numpy RK4 of the same equations (ratio) and at the
+fit's search step (axes interpolated), and the 400-case study extrapolated from ``--trials`` trials run
+through the Monte Carlo driver on this machine's cores.
 
 Run: ``python benches/python/visibility_fit.py [--trials 8]`` (``RAYON_NUM_THREADS`` sets rayon's threads).
 """

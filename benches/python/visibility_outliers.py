@@ -1,4 +1,5 @@
-"""Seed 004: all restarts of chosen ``visibility-rotation`` trials (local minimum or weak observability?).
+"""Belokonov et al.: all restarts of chosen ``visibility-rotation`` trials (local minimum or weak
+observability?).
 
 Rebuilds trials ``--trials`` of ``gnssatt reproduce visibility-rotation --runs RUNS --seed SEED`` (same
 random streams), forces the first DE run and three "horizon" restarts (``axis_sigma_deg`` tiny, so the

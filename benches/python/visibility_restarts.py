@@ -1,4 +1,4 @@
-"""Seed 004: how often the differential-evolution fit ends in a local minimum, and what restarts buy.
+"""Belokonov et al.: how often the differential-evolution fit ends in a local minimum, and what restarts buy.
 
 Runs the ``visibility-rotation`` trials (paper setup: 1500 s, 5 deg per axis component, rates up to
 3 deg/s) on the same seeds with each restart kind of ``gnssatt.attitude.dynamics.fit_rotation`` and

@@ -1,5 +1,5 @@
 """Gyro + GNSS attitude filter: gyros carry the attitude between GNSS attitude fixes and learn their drift
-(seed 003, loosely coupled).
+(Dzhepe Ali, loosely coupled).
 
 A spacecraft turns at a constant 0.5 deg/s. Its gyros, sampled at 10 Hz, have an angle random walk of
 0.3 deg/sqrt(h) and an unknown constant drift of a few deg/h; a multi-antenna GNSS receiver gives an attitude

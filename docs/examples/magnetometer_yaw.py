@@ -1,4 +1,5 @@
-"""Yaw from a magnetometer once an Earth sensor has given pitch and roll, along a near-polar orbit (seed 002).
+"""Yaw from a magnetometer once an Earth sensor has given pitch and roll, along a near-polar orbit (Ryzhkov
+and Holembiovskyi).
 
 A spacecraft on a circular 700 km orbit inclined 87 deg holds yaw, pitch, roll = 5, 3, 4 deg in the orbital
 frame (x along-track, y orbit normal, z radial). Its Earth sensor gives pitch and roll exactly; its

@@ -1,4 +1,5 @@
-"""Attitude of a three-antenna array from carrier-phase range differences, by the matrix method (seed 000).
+"""Attitude of a three-antenna array from carrier-phase range differences, by the matrix method (Ryzhkov and
+Oliinyk).
 
 Three antennas on a 1 m equilateral triangle (body frame) see six satellites. Each range difference is how
 much closer antenna i is to satellite j than the reference antenna, ``b_i . (A s_j)`` with ``A`` the

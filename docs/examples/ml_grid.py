@@ -1,4 +1,5 @@
-"""Attitude by maximum likelihood from raw, wrapped carrier phases over the whole attitude grid (seed 001).
+"""Attitude by maximum likelihood from raw, wrapped carrier phases over the whole attitude grid (Bunyaeva et
+al.).
 
 Three antennas on a 0.71 m equilateral triangle in the horizontal plane of the body (the paper's array) see
 the 8 highest nominal GPS satellites from Kharkiv. Each antenna's carrier phase is wrapped, carries an
@@ -24,9 +25,10 @@ MASK_DEG = 10.0
 STEP_DEG = 1.5
 PHASE_SIGMA_RAD = 0.05  # per antenna; a phase difference has sqrt(2) times this
 TRIALS = 200
-# Heading, pitch, roll of eq. (5) of seed 001 (GOST: the compass heading is -psi), degrees.
+# Heading, pitch, roll of eq. (5) of Bunyaeva et al. (GOST: the compass heading is -psi), degrees.
 TRUTH_PSI_THETA_PHI_DEG = (-60.0, 5.0, -3.0)
-# Rows of the normal frame (North, Up, East) reordered to East-North-Up (docs/conventions.md, seed-001 row).
+# Rows of the normal frame (North, Up, East) reordered to East-North-Up (docs/conventions.md, Bunyaeva et al.
+# row).
 ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
 

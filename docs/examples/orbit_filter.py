@@ -1,4 +1,5 @@
-"""Orbit determination of a small satellite from GPS + GLONASS pseudoranges and Doppler (seed 003, chapter 1).
+"""Orbit determination of a small satellite from GPS + GLONASS pseudoranges and Doppler (Dzhepe Ali, chapter
+1).
 
 A satellite on a 500 km sun-synchronous circular orbit carries a zenith-pointing GNSS receiver (85 deg cone,
 Earth and 50 km of atmosphere block the view). Pseudoranges have 1 m of noise, Doppler 0.2 Hz; the receiver

@@ -1,4 +1,4 @@
-"""Rotation of a tumbling nanosatellite from which GNSS satellites its single antenna sees (seed 004).
+"""Rotation of a tumbling nanosatellite from which GNSS satellites its single antenna sees (Belokonov et al.).
 
 A 3U-class nanosatellite on a 500 km orbit inclined 51.6 deg tumbles at about 2 deg/s under gravity-gradient
 and drag torques (:class:`gnssatt.TumbleModel`). Its one hemispherical antenna, along the body's long axis,

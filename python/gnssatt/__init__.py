@@ -12,28 +12,9 @@ simulator, :mod:`scipy.stats` and matplotlib load only when something needs them
 from __future__ import annotations
 
 import importlib
-import sys
 from typing import TYPE_CHECKING, Any
 
 from gnssatt._core import __version__
-
-
-class _OldPaths:
-    """Meta-path finder for the old module paths (``gnssatt.tumble``, ``gnssatt.sim.frames`` ...): asked only
-    after the real files were not found, it hands over to :mod:`gnssatt._moved` (table, warning, loader),
-    imported then, so that ``import gnssatt`` does not pay for it."""
-
-    @staticmethod
-    def find_spec(fullname: str, path: Any = None, target: Any = None) -> Any:
-        if not fullname.startswith(f"{__name__}."):
-            return None
-        from gnssatt._moved import find_spec
-
-        return find_spec(fullname)
-
-
-if not any(getattr(f, "__module__", None) == __name__ for f in sys.meta_path):
-    sys.meta_path.append(_OldPaths)
 
 if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type checkers and IDEs
     from gnssatt import ambiguity, attitude, errors, gnss, magnetic, orbit, rinex, sim
@@ -187,10 +168,8 @@ def __getattr__(name: str) -> Any:
         value: Any = importlib.import_module(f"{__name__}.{name}")
     elif name in _EXPORTS:
         value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-    else:  # an old name (gnssatt.tumble, gnssatt.matrix_method ...) with a warning, or AttributeError
-        from gnssatt._moved import moved_attribute
-
-        return moved_attribute(__name__, name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     globals()[name] = value
     return value
 

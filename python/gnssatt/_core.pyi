@@ -302,8 +302,8 @@ def lambda_partial_fix(
 # dynamics.rs: params (n, 6) = (psi, alpha, phi) rad (intrinsic YZY, paper orbital axes) and absolute body
 # rates rad/s; axes in the library orbital frame (x along-track, y normal, z radial).
 class _TumbleModelArgs(TypedDict):
-    """Seed-004 model parameters, SI units (``gnssatt.attitude.dynamics.TumbleModel._kwargs()``); a dict at
-    runtime."""
+    """Belokonov et al. model parameters, SI units (``gnssatt.attitude.dynamics.TumbleModel._kwargs()``); a
+    dict at runtime."""
 
     inertia_kg_m2: tuple[float, float, float]
     orbital_rate_rad_s: float

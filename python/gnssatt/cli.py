@@ -1,5 +1,6 @@
 """The ``gnssatt`` command: ``gnssatt reproduce ...`` runs the source papers' experiments;
-``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform.
+``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform (the help texts are
+plain text: ``gnssatt --help``).
 
 Every failure is one line on stderr, ``gnssatt: error: ...``, naming what was wrong with the command-line
 option names, and exit status 2 (130 after Ctrl-C); no traceback is printed.
@@ -281,7 +282,7 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="DEG",
-        help="ml: grid step (default: eq. (15) of seed 001)",
+        help="ml: grid step (default: eq. (15) of Bunyaeva et al.)",
     )
 
 
@@ -300,10 +301,52 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
 
 
+_DESCRIPTION = """Attitude determination from GNSS signals and complementary sensors.
+
+Every failure is one line on stderr, "gnssatt: error: ...", and exit status 2 (130 after Ctrl-C)."""
+
+_EPILOG = """examples:
+  gnssatt reproduce --all --out out
+  gnssatt attitude --obs rover0.obs --obs rover1.obs --nav brdc.nav --out attitude.csv
+
+"gnssatt COMMAND --help" describes each command."""
+
+_REPRODUCE = """Run the source papers' experiments as Monte Carlo studies. Each prints a table
+of the paper's numbers against the measured ones, with the tolerance and the
+verdict of each comparison, and writes OUT/NAME.json (with the package version
+and git commit) and its plots. The results pages (docs/results/) explain every
+number."""
+
+_REPRODUCE_EPILOG = """examples:
+  gnssatt reproduce --list
+  gnssatt reproduce matrix-method --runs 5000 --seed 1 --out out
+  gnssatt reproduce --all --out out        (every experiment, quick run counts)"""
+
+_ATTITUDE = """Attitude (three or more antennas on one platform) or baseline direction (two
+antennas) per epoch from recorded RINEX observation files, one per antenna, and
+broadcast navigation files. Writes a CSV of the series and a plot of it, and
+prints a summary."""
+
+_ATTITUDE_EPILOG = """examples:
+  gnssatt attitude --obs base.obs --obs rover.obs --nav brdc.nav --out baseline.csv
+  gnssatt attitude --obs a0.obs --obs a1.obs --obs a2.obs --nav brdc.nav \\
+      --baselines baselines.txt --out attitude.csv"""
+
+
 def _main(argv: Sequence[str] | None) -> int:
-    parser = _Parser(prog="gnssatt", description=__doc__)
+    from gnssatt._core import __version__
+
+    raw = argparse.RawDescriptionHelpFormatter
+    parser = _Parser(prog="gnssatt", description=_DESCRIPTION, epilog=_EPILOG, formatter_class=raw)
+    parser.add_argument("--version", action="version", version=f"gnssatt {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    rep = sub.add_parser("reproduce", help="run the source papers' experiments")
+    rep = sub.add_parser(
+        "reproduce",
+        help="run the source papers' experiments",
+        description=_REPRODUCE,
+        epilog=_REPRODUCE_EPILOG,
+        formatter_class=raw,
+    )
     rep.add_argument("names", nargs="*", help="experiment names (see --list)")
     rep.add_argument("--list", action="store_true", help="list the experiments")
     rep.add_argument("--all", action="store_true", help="run every experiment with quick defaults")
@@ -313,7 +356,13 @@ def _main(argv: Sequence[str] | None) -> int:
     rep.add_argument("--seed", type=_integer(0), default=2026, help="root random seed (default 2026)")
     rep.add_argument("--out", type=Path, default=Path("out"), help="output folder (default ./out)")
     rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
-    att = sub.add_parser("attitude", help="attitude or baseline direction from RINEX files")
+    att = sub.add_parser(
+        "attitude",
+        help="attitude or baseline direction from RINEX files",
+        description=_ATTITUDE,
+        epilog=_ATTITUDE_EPILOG,
+        formatter_class=raw,
+    )
     att.add_argument(
         "--obs",
         action="append",
@@ -338,7 +387,10 @@ def _main(argv: Sequence[str] | None) -> int:
         "mode): the integers are fixed with this length constraint",
     )
     att.add_argument(
-        "--out", type=Path, default=Path("results.csv"), help="CSV output (plot: same name .png)"
+        "--out",
+        type=Path,
+        default=Path("results.csv"),
+        help="CSV output; the plot goes to the same name .png (default results.csv in the current folder)",
     )
     att.add_argument(
         "--no-plot", action="store_true", help="write only the CSV (the plot costs about a second)"

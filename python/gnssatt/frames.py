@@ -22,7 +22,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import checked_array, finite_result, scalar, time_array, vector_array
-from gnssatt._renamed import renamed
 from gnssatt.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 from gnssatt.errors import ConvergenceError, InvalidInputError
 
@@ -273,7 +272,6 @@ def ecef_to_eci(
     return _finite_state("ecef_to_eci", r_i, v_i)
 
 
-@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike) -> NDArray[np.float64]:
     """ECEF position (m) of geodetic WGS-84 coordinates; inputs of any shapes that broadcast together,
     output shape (..., 3).
@@ -282,8 +280,7 @@ def geodetic_to_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike
     ``z = (N (1 - e^2) + h) sin lat``.
 
     The one implementation: ``gnssatt.magnetic.geodetic_to_ecef`` and ``gnssatt.sim.geodetic_to_ecef`` are
-    this function; the magnetic one's keywords ``latitude_deg`` and ``longitude_deg`` are deprecated names
-    of ``lat_deg`` and ``lon_deg``.
+    this function.
 
     Parameters
     ----------

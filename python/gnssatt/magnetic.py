@@ -1,6 +1,7 @@
 """Geomagnetic field models for attitude determination (numpy).
 
-* :func:`dipole_orbital`: the axial dipole in the orbital frame of a circular orbit, eq. (2) of seed 002.
+* :func:`dipole_orbital`: the axial dipole in the orbital frame of a circular orbit, eq. (2) of Ryzhkov and
+  Holembiovskyi.
 * :func:`dipole_field_ecef`, :func:`dipole_field_eci`, :func:`dipole_field_ned`: the centred *tilted*
   dipole of the IGRF-14 degree-1 Gauss coefficients (with their secular variation).
 * :func:`igrf_field_ecef`: the full IGRF-14 (degree 13) through the optional package ``ppigrf``
@@ -33,11 +34,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import constants as _constants
 from gnssatt._arrays import checked_array, integer, scalar, vector_array
-from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError
 
-# One geodetic -> ECEF conversion, in the base layer; this module's former copy (keywords latitude_deg,
-# longitude_deg, still taken with a DeprecationWarning) is the same function.
+# One geodetic -> ECEF conversion, in the base layer.
 from gnssatt.frames import geodetic_to_ecef as geodetic_to_ecef
 
 __all__ = [
@@ -83,7 +82,7 @@ EARTH_DIPOLE_T_M3 = float(IGRF_REFERENCE_RADIUS_M**3 * np.linalg.norm(_GAUSS_NT[
 def dipole_orbital(
     u: ArrayLike, inclination: float, radius: ArrayLike, *, strength: float = EARTH_DIPOLE_T_M3
 ) -> NDArray[np.float64]:
-    """Axial dipole field in the orbital frame of a circular orbit, eq. (2) of seed 002.
+    """Axial dipole field in the orbital frame of a circular orbit, eq. (2) of Ryzhkov and Holembiovskyi.
 
     ``a_orb = (M_E / r^3) [cos u sin i, cos i, -2 sin u sin i]`` for the dipole ``-M_E z_eci`` (north
     geomagnetic pole at the geographic north pole), axes x along-track, y orbit normal (``r x v``),
@@ -223,15 +222,13 @@ def _geodetic(
         ) from exc
 
 
-@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def dcm_ned_from_ecef(lat_deg: ArrayLike, lon_deg: ArrayLike) -> NDArray[np.float64]:
     """(..., 3, 3) matrix taking ECEF coordinates to geodetic north-east-down at the given point.
 
     Parameters
     ----------
     lat_deg, lon_deg
-        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together (formerly
-        ``latitude_deg``, ``longitude_deg``, still taken with a :class:`DeprecationWarning`).
+        WGS-84 geodetic latitude and longitude, degrees, any shapes that broadcast together.
 
     Returns
     -------
@@ -380,7 +377,6 @@ def dipole_field_eci(
     return np.stack([c * b[..., 0] - s * b[..., 1], s * b[..., 0] + c * b[..., 1], b[..., 2]], axis=-1)
 
 
-@renamed(latitude_deg="lat_deg", longitude_deg="lon_deg")
 def dipole_field_ned(
     lat_deg: ArrayLike, lon_deg: ArrayLike, height_m: ArrayLike, decimal_year: float
 ) -> NDArray[np.float64]:
@@ -389,8 +385,7 @@ def dipole_field_ned(
     Parameters
     ----------
     lat_deg, lon_deg
-        WGS-84 geodetic latitude and longitude, degrees (broadcast together; formerly ``latitude_deg``,
-        ``longitude_deg``, still taken with a :class:`DeprecationWarning`).
+        WGS-84 geodetic latitude and longitude, degrees (broadcast together).
     height_m
         Height above the WGS-84 ellipsoid, metres.
     decimal_year

@@ -1,4 +1,4 @@
-"""Orbit determination of a small satellite from its GNSS receiver (seed 003, chapter 1): the receiver's
+"""Orbit determination of a small satellite from its GNSS receiver (Dzhepe Ali, chapter 1): the receiver's
 own least-squares position/velocity fix, and the Kalman filter (inner loop in Rust) whose prediction is the
 GLONASS ICD orbit model and whose corrections are either those fixes (loosely coupled) or between-satellite
 first differences of pseudoranges and Doppler (tightly coupled).

@@ -68,7 +68,7 @@ def error_vs_geometry(
 
 
 def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) -> Path:
-    """Seed 001 figures 1-2: Z over (pitch, roll) at the grid heading nearest the truth, and over
+    """Bunyaeva et al., figures 1-2: Z over (pitch, roll) at the grid heading nearest the truth, and over
     (heading, pitch) at the grid roll nearest the truth; the truth marked; saved as PNG."""
     _agg()
     import matplotlib.pyplot as plt
@@ -129,7 +129,7 @@ def attitude_series(series: AttitudeSeries, path: Path) -> Path:
 
 def error_histograms(errors: Mapping[str, ArrayLike], path: Path, *, title: str, unit: str) -> Path:
     """One histogram (probability density) per error series, titled with its mean ``M`` and standard
-    deviation ``sigma``, like seed 004's figures 3 and 4; saved as PNG at ``path``."""
+    deviation ``sigma``, like Belokonov et al.'s figures 3 and 4; saved as PNG at ``path``."""
     _agg()
     import matplotlib.pyplot as plt
 

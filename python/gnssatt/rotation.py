@@ -5,8 +5,8 @@ Euler sequences are intrinsic (scipy's upper-case axes); quaternions are scalar-
 scipy's :class:`~scipy.spatial.transform.Rotation` remains the public currency of results; these functions
 exist so the papers' sequences can be checked against an implementation that is not scipy's.
 
-The GOST 20058-80 angles of seed 001 (:func:`rotation_from_euler`, :func:`euler_from_rotation`) live here,
-below both the estimator that searches them (:mod:`gnssatt.attitude.likelihood`) and the simulator that
+The GOST 20058-80 angles of Bunyaeva et al. (:func:`rotation_from_euler`, :func:`euler_from_rotation`) live
+here, below both the estimator that searches them (:mod:`gnssatt.attitude.likelihood`) and the simulator that
 writes their truth.
 """
 
@@ -20,7 +20,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import checked_array, choice, flag, instance, shaped
-from gnssatt._renamed import renamed
 
 __all__ = [
     "ENU_FROM_NORMAL",
@@ -58,7 +57,8 @@ def _dcm(dcm: ArrayLike) -> NDArray[np.float64]:
 
 def euler_to_dcm(seq: str, angles: ArrayLike, *, degrees: bool = False) -> NDArray[np.float64]:
     """Body -> reference matrix ``R_a1(angle1) R_a2(angle2) R_a3(angle3)`` of an intrinsic sequence such
-    as ``"ZYX"`` (seeds 000, 002), ``"YZX"`` (seed 001, GOST normal frame) or ``"YZY"`` (seed 004).
+    as ``"ZYX"`` (Ryzhkov and Oliinyk; Ryzhkov and Holembiovskyi), ``"YZX"`` (Bunyaeva et al., GOST normal
+    frame) or ``"YZY"`` (Belokonov et al.).
 
     Raises
     ------
@@ -159,11 +159,10 @@ def wrap_rad(x: Any) -> NDArray[np.float64]:
     return (arr + np.pi) % (2.0 * np.pi) - np.pi
 
 
-#: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U): the GOST normal frame of seed 001 into ENU.
+#: Rows of ``R_normal`` reordered (N, U, E) -> (E, N, U): the GOST normal frame of Bunyaeva et al. into ENU.
 ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
 
-@renamed(euler_deg="euler_gost_deg")
 def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
     """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3): the GOST
     ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``). Also importable

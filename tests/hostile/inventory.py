@@ -612,7 +612,7 @@ ENTRIES: dict[str, Entry] = {
         },
         counts={"n_epochs", "n_sats"},
     ),
-    "gnssatt.gnss.session_input.nav_input": _e(
+    "gnssatt.rinex.nav.nav_input": _e(
         lambda: {"nav": s.rinex_read()["nav"]},
         nan_output="group delays, fit interval and data source are NaN where a system has none",
     ),

@@ -27,6 +27,7 @@ def all_cases() -> list[cli_cases.CliCase]:
     return cli_cases.cases(s.obs_paths, s.nav_path, bad, scenario.folder())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("label", SUBSET)
 def test_cli_refuses_without_traceback(label: str) -> None:
     (case,) = [c for c in all_cases() if c.label == label]

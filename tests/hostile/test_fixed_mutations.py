@@ -15,6 +15,7 @@ from .conftest import report
 from .worker import Pool
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(inv.ENTRIES))
 def test_fixed_mutations_keep_the_contract(pool: Pool, name: str) -> None:
     records = harness.run_fixed(pool, [name])

@@ -51,6 +51,7 @@ def judge(pool: Pool, case: ref.Case) -> tuple[str, str]:
     return oc.ACCEPTED, ""
 
 
+@pytest.mark.slow
 def test_reference_matches_brute_force() -> None:
     """The reference itself, on 150 small problems (n = 1..3, condition up to 1e4) scaled so that every
     candidate within +-6 of the rounded float vector can be listed."""
@@ -67,6 +68,7 @@ def test_reference_matches_brute_force() -> None:
         assert ref.squared_norm(c.a, c.q, best) <= norms.min() * (1 + 1e-9) + 1e-12, seed
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("seed", "n", "condition"), CASES)
 def test_lambda_ils_finds_the_best_integer_or_refuses(
     pool: Pool, seed: int, n: int, condition: float

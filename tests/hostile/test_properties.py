@@ -73,6 +73,7 @@ def run_drawn(pool: Pool, name: str, examples: int, seed: int | None = None) -> 
 WITH_ARGUMENTS = sorted(n for n, e in inv.ENTRIES.items() if e.build())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", WITH_ARGUMENTS)
 def test_hypothesis_inputs_keep_the_contract(pool: Pool, name: str) -> None:
     records = run_drawn(pool, name, EXAMPLES)

@@ -33,6 +33,7 @@ def mutants() -> list[rm.FileMutant]:
     return rm.file_mutants(rm.default_sources(s.obs_paths[0], s.nav_path), RANDOM_PER_FILE, SEED)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("category", ["field-edit", "truncate", "byte-flip"])
 def test_mutated_rinex_files(pool: Pool, category: str) -> None:
     bad = []

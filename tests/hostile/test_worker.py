@@ -3,10 +3,13 @@
 
 from __future__ import annotations
 
+import pytest
+
 from . import outcomes as oc
 from .worker import Job, Pool
 
 
+@pytest.mark.slow
 def test_pool_reports_abort_hang_and_recovers() -> None:
     pool = Pool(hang_s=5.0, prewarm=False)
     try:

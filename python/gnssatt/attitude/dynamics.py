@@ -1,4 +1,4 @@
-"""Rotation of a tumbling spacecraft from its antenna-axis directions (seed 004, Belokonov et al. 2019).
+"""Rotation of a tumbling spacecraft from its antenna-axis directions (Belokonov et al., 2019).
 
 Euler's equations with gravity-gradient and aerodynamic torques and quaternion kinematics relative to the
 orbital frame (eqs. (3)-(4)) run in the Rust core (``gnssatt._core.tumble_*``, RK4, rayon over initial
@@ -9,7 +9,7 @@ and is polished on the objective at the requested step. Given the axis noise, a 
 exceeds what the noise explains (:func:`noise_cost_threshold`) is a local minimum and is restarted
 (:func:`fit_rotation`).
 
-Frames and angles (``docs/conventions.md``, seed 004):
+Frames and angles (``docs/conventions.md``, Belokonov et al.):
 
 - orbital frame of the library: x along-track, y orbit normal, z radial (zenith). The paper's orbital frame
   ``X0`` (radial), ``Y0`` (along-track), ``Z0`` (normal) is the same triad relabelled:
@@ -40,7 +40,6 @@ from scipy.stats import chi2
 from gnssatt import _core
 from gnssatt import constants as _constants
 from gnssatt._arrays import finite_result, float_array, instance, integer, scalar, text, vector_array
-from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
@@ -542,7 +541,6 @@ def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: fl
     return math.radians(sigma) ** 2 * float(chi2.isf(p, 2 * int(n_epochs)))
 
 
-@renamed(angles_deg="euler_yzy_deg")
 @dataclass(frozen=True)
 class RotationFit:
     """Result of :func:`fit_rotation`.
@@ -571,7 +569,8 @@ class RotationFit:
         ``axis_sigma_deg`` was given.
     euler_yzy_deg
         (3,) ``params[:3]`` in degrees: precession psi, attack alpha, spin phi of the intrinsic ``YZY``
-        sequence from the paper's orbital frame ``X0 Y0 Z0`` (``docs/conventions.md``, seed 004), not of
+        sequence from the paper's orbital frame ``X0 Y0 Z0`` (``docs/conventions.md``, Belokonov et al.), not
+        of
         ``rotation``'s frame. Formerly ``angles_deg``.
     omega_deg_s
         (3,) ``params[3:]``, body rates in deg/s.
@@ -786,7 +785,6 @@ def _polished(
     return x, float(obj(x))
 
 
-@renamed(seed="rng")
 def fit_rotation(
     t: ArrayLike,
     measured_axes: ArrayLike,
@@ -811,7 +809,7 @@ def fit_rotation(
     step_s: float = 1.0,
     search_step_s: float | None = None,
 ) -> RotationFit:
-    """Fit the initial state to measured antenna axes by differential evolution (seed 004, eq. (1)).
+    """Fit the initial state to measured antenna axes by differential evolution (Belokonov et al., eq. (1)).
 
     Parameters
     ----------
@@ -826,7 +824,7 @@ def fit_rotation(
         ``numpy.random.Generator`` (used and advanced), a ``numpy.random.SeedSequence`` or None (fresh
         entropy). The first run uses an integer as scipy's ``seed`` (a Generator or a SeedSequence's
         Generator as given); restart ``k`` draws from the ``k``-th child of ``SeedSequence(rng)`` (of a
-        Generator: its ``k``-th spawned child). ``seed=`` is the deprecated name of this argument.
+        Generator: its ``k``-th spawned child).
     axis_sigma_deg
         Per-component standard deviation of the measured axes' tangent-plane error, degrees (5 for the
         paper's "3 sigma = 15 deg"). When given, a run whose objective lies above

@@ -1,4 +1,4 @@
-"""Gyro + multi-antenna GNSS attitude filter (seed 003, chapters 2-3), run by the Rust core.
+"""Gyro + multi-antenna GNSS attitude filter (Dzhepe Ali, chapters 2-3), run by the Rust core.
 
 An error-state Kalman filter propagates the attitude with the gyro rates (exact quaternion step for a rate
 constant over each gyro interval) and corrects it with either
@@ -22,7 +22,6 @@ are in error by those amounts, which the filter ignores (phase updates with know
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -100,22 +99,6 @@ class GyroPropagation:
     rotation: Rotation
     quaternions: NDArray[np.float64]
 
-    # The (n, 4) array gyro_propagate returned before it had a result type, kept for one release.
-    def _deprecated_array(self) -> NDArray[np.float64]:
-        warnings.warn(
-            "gyro_propagate returns a GyroPropagation: use its 'quaternions' or 'rotation' instead of "
-            "the result as an array (removed in the next release)",
-            DeprecationWarning,
-            stacklevel=3,
-        )
-        return self.quaternions
-
-    def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray[Any]:
-        return np.asarray(self._deprecated_array(), dtype=dtype)
-
-    def __getitem__(self, key: Any) -> Any:
-        return self._deprecated_array()[key]
-
 
 def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> GyroPropagation:
     """Attitude quaternions (n, 4) scalar-last, body -> reference, at ``t`` (s) from ``q0`` with the body
@@ -134,8 +117,7 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> GyroPropaga
     -------
     GyroPropagation
         ``rotation`` (n attitudes, body -> reference) and ``quaternions`` (n, 4), scalar-last, at ``t``; row
-        0 is ``q0`` normalised. Read as an array (the former return), it is ``quaternions`` with a
-        :class:`DeprecationWarning`, for one release.
+        0 is ``q0`` normalised.
 
     Raises
     ------

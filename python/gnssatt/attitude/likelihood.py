@@ -1,4 +1,4 @@
-"""Maximum-likelihood attitude from raw carrier phases over a grid of Euler angles (seed 001).
+"""Maximum-likelihood attitude from raw carrier phases over a grid of Euler angles (Bunyaeva et al.).
 
 Bunyaeva, Piskorzh, Cheranovsky (KhAI): sufficient statistics (8)-(14), (17)-(18), grid step (15),
 refinement (16). The grid runs in the Rust core (float32, polynomial sine/cosine with absolute error below
@@ -45,15 +45,12 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, float_array, plain_array, scalar, shaped
-from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
 
 # The GOST Euler sequence lives in gnssatt.rotation (the base layer, which the simulator may import); these
 # names stay here too, the paths users and older code know.
-from gnssatt.rotation import ENU_FROM_NORMAL as ENU_FROM_NORMAL
-from gnssatt.rotation import euler_from_rotation as euler_from_rotation
-from gnssatt.rotation import rotation_from_euler as rotation_from_euler
+from gnssatt.rotation import rotation_from_euler
 
 __all__ = [
     "AttitudePrior",
@@ -87,7 +84,6 @@ WINDOW_LIMIT_DEG = 3600.0
 MAX_STEP_DEG = 180.0
 
 
-@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class AttitudePrior:
     """A coarse attitude and the search window around it.
@@ -126,7 +122,6 @@ class AttitudePrior:
         return np.stack([e - h, e + h], axis=1)
 
 
-@renamed(euler_deg="euler_gost_deg", grid_euler_deg="grid_euler_gost_deg")
 @dataclass(frozen=True)
 class LikelihoodAttitude:
     """Attitude from :func:`ml_attitude`.
@@ -324,7 +319,7 @@ def ml_attitude(
     search: SearchName = "auto",
     refine: RefineName = True,
 ) -> LikelihoodAttitude:
-    """Maximum-likelihood attitude over a grid of Euler angles (seed 001).
+    """Maximum-likelihood attitude over a grid of Euler angles (Bunyaeva et al.).
 
     Parameters
     ----------
@@ -389,7 +384,7 @@ def ml_attitude(
     were made with:
 
     >>> import numpy as np
-    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.rotation import rotation_from_euler
     >>> from gnssatt.sim import equilateral_triangle, random_los
     >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
     >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
@@ -467,7 +462,7 @@ def likelihood_grid(
     On a 5 deg grid the largest statistic lies at the node of the true attitude:
 
     >>> import numpy as np
-    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.rotation import rotation_from_euler
     >>> from gnssatt.sim import equilateral_triangle, random_los
     >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
     >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
@@ -556,7 +551,7 @@ def ml_baseline(
     ``-psi = 330`` deg and elevation ``theta = 10`` deg:
 
     >>> import numpy as np
-    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.rotation import rotation_from_euler
     >>> from gnssatt.sim import equilateral_triangle, random_los
     >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
     >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
@@ -672,7 +667,6 @@ def prior_from_velocity(
     return AttitudePrior(euler_gost_deg=np.degrees([-compass, pitch, roll]), half_width_deg=hw)
 
 
-@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class AttitudeSeries:
     """Per-epoch attitudes from :func:`ml_attitude_series`.
@@ -887,7 +881,7 @@ def ml_attitude_series(
     Two epochs of the :func:`ml_attitude` example, the second turned by 2 deg in psi:
 
     >>> import numpy as np
-    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.rotation import rotation_from_euler
     >>> from gnssatt.sim import equilateral_triangle, random_los
     >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
     >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body
@@ -962,7 +956,7 @@ def ml_baseline_series(
     The first baseline of the :func:`ml_attitude_series` example: heading ``-psi``, elevation ``theta``:
 
     >>> import numpy as np
-    >>> from gnssatt.attitude.likelihood import rotation_from_euler
+    >>> from gnssatt.rotation import rotation_from_euler
     >>> from gnssatt.sim import equilateral_triangle, random_los
     >>> los = random_los(1, 6, min_elevation_deg=15.0)  # (6, 3) unit vectors, ENU
     >>> baselines = equilateral_triangle(1.0, plane="xz")[1:]  # (2, 3) m, body

@@ -1,8 +1,8 @@
-"""Yaw from a magnetometer when an Earth sensor gives pitch and roll: eq. (3) of Ryzhkov & Golembiovsky
-(seed 002), with the quadrant resolved by atan2 (the paper gives only ``sin psi``).
+"""Yaw from a magnetometer when an Earth sensor gives pitch and roll: eq. (3) of Ryzhkov and Holembiovskyi,
+with the quadrant resolved by atan2 (the paper gives only ``sin psi``).
 
-Angles are those of docs/conventions.md, seed-002 row: ``Rotation.from_euler("ZYX", [psi, theta, phi])``
-maps body to orbital coordinates (eq. (1) writes its transpose with passive matrices).
+Angles are those of docs/conventions.md, Ryzhkov-Holembiovskyi row: ``Rotation.from_euler("ZYX", [psi, theta,
+phi])`` maps body to orbital coordinates (eq. (1) writes its transpose with passive matrices).
 """
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import finite_outputs, flag, float_array
-from gnssatt._renamed import renamed
 from gnssatt.attitude.wahba import checked_vectors, warn_small
 from gnssatt.errors import InvalidInputError
 
@@ -27,7 +26,6 @@ COS_PITCH_WARN = 1e-2
 HORIZONTAL_WARN = 1e-2
 
 
-@renamed(yaw="yaw_rad")
 @dataclass(frozen=True)
 class YawResult:
     """Yaw from :func:`yaw_from_magnetometer`.

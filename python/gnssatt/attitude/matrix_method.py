@@ -1,4 +1,4 @@
-"""Matrix least-squares attitude from antenna range differences (Ryzhkov & Oliinyk, seed 000)."""
+"""Matrix least-squares attitude from antenna range differences (Ryzhkov and Oliinyk)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, finite_outputs, shaped
-from gnssatt._renamed import renamed
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
 
@@ -21,7 +20,6 @@ Method = Literal["svd", "ml", "closed_form", "paper"]
 METHODS: tuple[Method, ...] = ("svd", "ml", "closed_form", "paper")
 
 
-@renamed(euler_deg="heading_pitch_roll_deg")
 @dataclass(frozen=True)
 class MatrixAttitudeResult:
     """Attitude from :func:`matrix_attitude`.
@@ -57,7 +55,7 @@ class MatrixAttitudeResult:
 def matrix_attitude(
     baselines: ArrayLike, los: ArrayLike, range_diffs: ArrayLike, *, method: Method = "svd"
 ) -> MatrixAttitudeResult:
-    """Attitude from range differences between antennas, by the matrix method of seed 000.
+    """Attitude from range differences between antennas, by the matrix method of Ryzhkov and Oliinyk.
 
     Parameters
     ----------

@@ -13,7 +13,6 @@ from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import instance, integer_array, scalar, shaped, unit_rows
-from gnssatt._renamed import renamed
 from gnssatt.attitude.matrix_method import matrix_attitude
 from gnssatt.errors import ConvergenceError, DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
@@ -26,7 +25,6 @@ __all__ = ["MAX_SIGMA_CYCLES", "phase_attitude_fixes"]
 MAX_SIGMA_CYCLES = 1e3
 
 
-@renamed(sigma_cycles="phase_sigma_cycles")
 def phase_attitude_fixes(
     phases: PhaseObservations,
     baselines_m: ArrayLike,
@@ -50,8 +48,7 @@ def phase_attitude_fixes(
         :meth:`~gnssatt.sim.attitude_scenario.PhaseObservations.without_ambiguities`.
     phase_sigma_cycles
         Standard deviation of one first difference, cycles, in (0, :data:`MAX_SIGMA_CYCLES`]; first
-        differences are taken as independent, as the simulator and the filter take them. Formerly
-        ``sigma_cycles`` (deprecated).
+        differences are taken as independent, as the simulator and the filter take them.
 
     Returns
     -------

@@ -1,4 +1,4 @@
-"""Antenna-axis direction from which GNSS satellites a hemispherical antenna sees (seed 004, eq. (5)).
+"""Antenna-axis direction from which GNSS satellites a hemispherical antenna sees (Belokonov et al., eq. (5)).
 
 A hemispherical antenna along the spacecraft's longitudinal axis ``a`` receives satellite ``i`` when
 ``a . g_i > 0`` (``g_i`` the unit line of sight). After removing satellites hidden by the Earth, the visible
@@ -148,8 +148,8 @@ def visibility_axis(
         (n_h, 3) unit lines of sight to the satellites above the Earth's limb that it does not receive
         (satellites hidden by the Earth must be removed first, see :func:`visibility_sets`).
     method
-        ``"paper"``: eq. (5) of seed 004; ``"margin"``: centre of the largest cap inside the visibility
-        polygon; ``"centroid"``: area centroid of that polygon (module docstring).
+        ``"paper"``: eq. (5) of Belokonov et al.; ``"margin"``: centre of the largest cap inside the
+        visibility polygon; ``"centroid"``: area centroid of that polygon (module docstring).
 
     Returns
     -------

@@ -1,4 +1,5 @@
-"""Seed 000 experiment: matrix-method attitude of a small satellite from GPS range differences.
+"""The experiment of Ryzhkov and Oliinyk: matrix-method attitude of a small satellite from GPS range
+differences.
 
 The paper: 3 antennas on a 1 m equilateral triangle, 3 GPS satellites, heading 180 deg, roll 0, pitch 0;
 differential receiver with 0.3 m code and 4 mm carrier-phase noise; mean errors 0.282 / 1.234 / 0.851 deg
@@ -93,12 +94,13 @@ def run(
         np.sqrt(np.mean(crb_deg[ml_total < OUTLIER_BOUNDS * crb_deg] ** 2))
     )
     paper = {f"{k}_mean_abs_error_deg": v for k, v in (("heading", 0.282), ("roll", 1.234), ("pitch", 0.851))}
-    doc = write_report(out, NAME, paper, measured, runs, seed)
+    # The paper gives no satellite geometry, only the order of its mean errors can be compared (results page)
+    doc = write_report(out, NAME, paper, measured, runs, seed, tolerance=dict.fromkeys(paper, 10.0))
     plots.error_vs_geometry(
         crb_deg,
         {m: np.array([r[f"{m}_total"] for r in rows]) for m in METHODS},
         out / f"{NAME}-geometry.png",
-        title="Seed 000: matrix method, 1 m triangle, 3 satellites, 4 mm phase noise",
+        title="Ryzhkov and Oliinyk: matrix method, 1 m triangle, 3 satellites, 4 mm phase noise",
     )
     print(format_table(doc))
     return doc
@@ -106,7 +108,10 @@ def run(
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 000: matrix least-squares attitude from range differences (1 m triangle, 3 GPS satellites)",
+    summary=(
+        "Ryzhkov and Oliinyk: matrix least-squares attitude from range differences (1 m triangle, "
+        "3 GPS satellites)"
+    ),
     run=run,
     default_runs=5000,
     quick_runs=1000,

@@ -1,4 +1,5 @@
-"""Seed 001 experiment: maximum-likelihood attitude from raw carrier phases over the whole attitude grid.
+"""The experiment of Bunyaeva et al.: maximum-likelihood attitude from raw carrier phases over the whole
+attitude grid.
 
 The paper: three antennas on a 0.71 m equilateral triangle, 8 GPS satellites, static; RMS errors of heading,
 pitch and roll 0.1-0.2 deg from a recorded static test (its phase noise is not stated); the optimal
@@ -25,9 +26,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt import montecarlo, sim
-from gnssatt.attitude.likelihood import StatisticName, likelihood_grid, ml_attitude, rotation_from_euler
+from gnssatt.attitude.likelihood import StatisticName, likelihood_grid, ml_attitude
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
+from gnssatt.rotation import rotation_from_euler
 
 NAME = "ml-grid"
 SIDE_M = 0.71
@@ -138,7 +140,10 @@ def run(
         "rms_error_max_deg": 0.2,
         "variance_ratio_dd_over_optimal": 2.0,
     }
-    doc = write_report(out, NAME, paper, measured, runs, seed)
+    # The paper states neither its phase noise nor its run count: its RMS range within a factor 2; the
+    # dispersion ratio is 2M/(M+1) = 1.78 in theory for M = 8 satellites, within a factor 1.25 of "twice".
+    tolerance = {"rms_error_min_deg": 2.0, "rms_error_max_deg": 2.0, "variance_ratio_dd_over_optimal": 1.25}
+    doc = write_report(out, NAME, paper, measured, runs, seed, tolerance=tolerance)
     # Figures 1-2: one noisy scenario, Z through the true heading and through the true roll.
     rng = np.random.default_rng(seed)
     geom, lam, truth = scenario(rng)
@@ -154,7 +159,7 @@ def run(
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 001: ML attitude over the full Euler grid (0.71 m triangle, 8 GPS satellites)",
+    summary="Bunyaeva et al.: ML attitude over the full Euler grid (0.71 m triangle, 8 GPS satellites)",
     run=run,
     default_runs=300,
     quick_runs=40,

@@ -1,5 +1,5 @@
-"""Seed 003 (chapter 1) experiment: GNSS orbit determination of a small satellite, loosely vs tightly coupled,
-GPS vs GPS + GLONASS, with outages.
+"""The experiment of Dzhepe Ali's thesis, chapter 1: GNSS orbit determination of a small satellite, loosely vs
+tightly coupled, GPS vs GPS + GLONASS, with outages.
 
 The thesis summary gives no numbers; the scenario here: a 500 km sun-synchronous circular orbit (i = 97.4
 deg), one revolution (5670 s) at 10 s epochs; truth = the ICD model (J2) plus white acceleration noise of
@@ -92,7 +92,7 @@ def _plots(rows: list[dict[str, Any]], out: Path, runs: int) -> None:
     axes[0, 0].legend(fontsize=7, loc="lower right")
     for ax in axes[-1]:
         ax.set_xlabel("time, s")
-    fig.suptitle("Seed 003: orbit-determination errors of run 0 (ECEF axes); grey = outages")
+    fig.suptitle("Dzhepe Ali: orbit-determination errors of run 0 (ECEF axes); grey = outages")
     fig.tight_layout()
     fig.savefig(out / f"{NAME}-errors.png", dpi=110)
     plt.close(fig)
@@ -141,7 +141,7 @@ def run(
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 003: GNSS orbit determination, loosely vs tightly coupled, GPS vs GPS+GLONASS, outages",
+    summary="Dzhepe Ali: GNSS orbit determination, loosely vs tightly coupled, GPS vs GPS+GLONASS, outages",
     run=run,
     default_runs=50,
     quick_runs=4,

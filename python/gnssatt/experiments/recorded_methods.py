@@ -6,7 +6,8 @@ heading turning 3 deg per epoch, pitch and roll oscillating by a few degrees, 20
 :func:`gnssatt.sim.rinex_scenario.simulate_rinex_array` and read back; each trial draws the start time (so the
 satellite geometry) and keeps the 5, 6, 7 or 8 highest satellites. Methods, on the same aligned data:
 ``ml`` (whole-domain grid each epoch; all through
-:func:`gnssatt.rinex.attitude_from_rinex`, GPS L1), ``ml_window`` (+/- 10 deg around the previous epoch),
+:func:`gnssatt.gnss.attitude.attitude_from_rinex`, GPS L1), ``ml_window`` (+/- 10 deg around the previous
+epoch),
 ``lambda`` (geometry-constrained single-epoch fix; attitude mode holds no integers across epochs, so
 there is no held variant here: the GEONET part below holds them).
 Per method and satellite count: fraction of epochs with a wrong solution (an Euler angle off by more than
@@ -14,7 +15,7 @@ Per method and satellite count: fraction of epochs with a wrong solution (an Eul
 epoch (file reading excluded; the engine's single-point positioning included).
 
 GEONET part (2 stations 3.3 km apart, baseline mode, the pair shipped in :mod:`gnssatt.data`, GPS L1,
-through :func:`gnssatt.rinex.attitude_from_rinex`): static-session LAMBDA (fixed, and the fraction of
+through :func:`gnssatt.gnss.attitude.attitude_from_rinex`): static-session LAMBDA (fixed, and the fraction of
 epochs fixed), single-epoch LAMBDA and held LAMBDA; errors against the static solution and the header
 positions. The ML grid does not run there: its step ``lambda / (10 L)`` is 3.3e-4 deg for 3.3 km,
 so the whole domain needs more than the grid's 2^20 nodes per turn (``docs/limits.md``); a window around a

@@ -1,4 +1,5 @@
-"""Seed 004 experiment: a tumbling spacecraft's initial attitude and rates from its antenna-axis history.
+"""The experiment of Belokonov et al.: a tumbling spacecraft's initial attitude and rates from its
+antenna-axis history.
 
 The paper: 400 random initial conditions (precession and spin uniform in [0, 360) deg, attack in [0, 180]
 deg, |omega| up to 3 deg/s), axis directions "with 3 sigma = 15 deg" over T = 1500 s, differential evolution
@@ -214,7 +215,10 @@ def run(
         "rate_error_sigma_deg_s": 0.12,
         "attitude_error_over_15deg_fraction": None,
     }
-    doc = write_report(out, NAME, paper, measured, runs, seed)
+    # The paper's body and torques are not given (an assumed TumbleModel here): its error sigmas within a
+    # factor 2.
+    tolerance = {"angle_error_sigma_deg": 2.0, "rate_error_sigma_deg_s": 2.0}
+    doc = write_report(out, NAME, paper, measured, runs, seed, tolerance=tolerance)
     with open(out / f"{NAME}-trials.csv", "w", newline="") as f:  # one row per trial, in trial order
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
@@ -222,13 +226,13 @@ def run(
     plots.error_histograms(
         {k: col[f"{k}_error_deg_s"] for k in RATES},
         out / f"{NAME}-rates.png",
-        title=f"Seed 004: angular-rate errors, {runs} runs (paper fig. 3)",
+        title=f"Belokonov et al.: angular-rate errors, {runs} runs (paper fig. 3)",
         unit="deg/s",
     )
     plots.error_histograms(
         {k: col[f"{k}_error_deg"] for k in ANGLES},
         out / f"{NAME}-angles.png",
-        title=f"Seed 004: angle errors, {runs} runs (paper fig. 4)",
+        title=f"Belokonov et al.: angle errors, {runs} runs (paper fig. 4)",
         unit="deg",
     )
     print(format_table(doc))
@@ -237,7 +241,9 @@ def run(
 
 EXPERIMENT = Experiment(
     name=NAME,
-    summary="Seed 004: tumbling-spacecraft rotation from GNSS-visibility axis directions (DE fit, 1500 s)",
+    summary=(
+        "Belokonov et al.: tumbling-spacecraft rotation from GNSS-visibility axis directions (DE fit, 1500 s)"
+    ),
     run=run,
     default_runs=400,
     quick_runs=4,

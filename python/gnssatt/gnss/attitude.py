@@ -3,7 +3,7 @@ Rust observation engine (``gnssatt._core.gnss_run``; ``docs/observation_engine.m
 
 Two antennas and no baselines: baseline-direction mode, the azimuth (clockwise from North) and elevation
 of the vector from the first antenna to the second. Three or more antennas with body-frame baselines:
-attitude mode, heading / pitch / roll (eq. (5) of seed 001, compass heading ``= -psi``).
+attitude mode, heading / pitch / roll (eq. (5) of Bunyaeva et al., compass heading ``= -psi``).
 
 Python only reads the files (:func:`~gnssatt.gnss.session_input.session_input`,
 :func:`~gnssatt.rinex.nav.nav_input`), checks the arguments and shapes the results; the engine
@@ -366,7 +366,7 @@ def attitude_from_rinex(
     nav
         Navigation file(s) or a read :class:`RinexNav`.
     baselines
-        (n_ant - 1, 3) antenna positions relative to the first, body frame of seed 001 (X nose, Y up,
+        (n_ant - 1, 3) antenna positions relative to the first, body frame of Bunyaeva et al. (X nose, Y up,
         Z right wing), m; required with three or more antennas.
     method
         ``"auto"``, ``"ml"`` or ``"lambda"`` (module docstring).
@@ -398,8 +398,8 @@ def attitude_from_rinex(
     base_position_m
         (3,) surveyed ECEF position of the reference antenna, m; default its code solution at each epoch.
     step_deg, window_deg
-        ML grid step (default eq. (15) of seed 001) and search window around the previous epoch's solution
-        (default the whole domain), degrees.
+        ML grid step (default eq. (15) of Bunyaeva et al.) and search window around the previous epoch's
+        solution (default the whole domain), degrees.
     baseline_length_m
         Baseline mode: the known distance of each rover antenna from the reference antenna (a number for
         two antennas, else (n_ant - 1,)), m, in [0.01, 1e4]: the integers are fixed with the length
@@ -456,7 +456,8 @@ def attitude_from_rinex(
            [330.,  10.,  -5.]])
     """
     from gnssatt import _core
-    from gnssatt.gnss.session_input import nav_input, session_input
+    from gnssatt.gnss.session_input import session_input
+    from gnssatt.rinex.nav import nav_input
 
     method = choice("method", method, ("auto", "ml", "lambda"))
     if motion is not None:

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from gnssatt import _core
 from gnssatt._arrays import instance, integer
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
-from gnssatt.rinex.nav import GPS_EPOCH, NavInput, RinexNav, leap_seconds, nav_input
+from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, leap_seconds
 from gnssatt.rinex.obs import RinexObs
 from gnssatt.rinex.signals import SignalChoice, choose_signals, phase_codes, slot_frequency_hz
 
@@ -31,10 +31,8 @@ __all__ = [
     "SYSTEMS",
     "EpochsDroppedWarning",
     "MixedTrackingWarning",
-    "NavInput",
     "SessionInput",
     "SystemDroppedWarning",
-    "nav_input",
     "session_input",
 ]
 

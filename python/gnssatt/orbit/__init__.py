@@ -1,4 +1,4 @@
-"""Orbit models of seed 003: the GLONASS ICD Earth-fixed equations of motion (RK4, with the state-transition
+"""Orbit models of Dzhepe Ali: the GLONASS ICD Earth-fixed equations of motion (RK4, with the state-transition
 matrix), the circular Keplerian reference orbit, and TLE input through the ``sgp4`` package.
 
 Frames and units (``docs/conventions.md``, "Orbit determination"): states are ``(x, y, z, vx, vy, vz)`` in

@@ -107,7 +107,8 @@ class Geometry:
         frame: str = "enu",
         ids: tuple[str, ...] | None = None,
     ) -> Geometry:
-        """Geometry from given lines of sight, without orbits (e.g. the static scenarios of seeds 000/001).
+        """Geometry from given lines of sight, without orbits (e.g. the static scenarios of Ryzhkov and
+        Oliinyk and of Bunyaeva et al.).
 
         Parameters
         ----------

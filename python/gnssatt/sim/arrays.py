@@ -30,11 +30,11 @@ def equilateral_triangle(side_m: float, *, plane: Literal["xy", "xz", "yz"] = "x
     Parameters
     ----------
     side_m
-        Side length, m (seed 000: 1 m; seed 001: 0.71 m).
+        Side length, m (Ryzhkov and Oliinyk: 1 m; Bunyaeva et al.: 0.71 m).
     plane
         Body plane ``"<a><b>"`` holding the triangle: antenna 1 at ``side * e_a`` (with the default
         ``"xy"``, on the body X axis, forward), antenna 2 at ``side * (e_a / 2 + sqrt(3) / 2 e_b)``.
-        For the seed-001 axes (X forward, Y up, Z right wing) a horizontal array is ``plane="xz"``,
+        For the Bunyaeva et al. axes (X forward, Y up, Z right wing) a horizontal array is ``plane="xz"``,
         with antenna 2 to the right of the nose line.
 
     Returns

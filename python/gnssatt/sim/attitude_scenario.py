@@ -1,4 +1,4 @@
-"""Scenario of the gyro + multi-antenna GNSS filter (seed 003): true angular motion, gyro output,
+"""Scenario of the gyro + multi-antenna GNSS filter (Dzhepe Ali): true angular motion, gyro output,
 carrier-phase first differences between the master and slave antennas, and the receiver's own attitude
 solutions.
 
@@ -28,7 +28,6 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import finite_result, float_array, generator, instance, integer, scalar, vector_array
 from gnssatt._arrays import rows as _rows
-from gnssatt._renamed import renamed
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.observations import AttitudeFixes, PhaseObservations
 from gnssatt.orbit.constellation import Constellation
@@ -220,7 +219,6 @@ def _visible(
     return los, up & earth_occlusion_mask(r_r, r_s, atmosphere_m=atmosphere_m)
 
 
-@renamed(sigma_cycles="phase_sigma_cycles")
 def phase_observations(
     receiver: OrbitalReceiver,
     gnss: Constellation,
@@ -320,7 +318,6 @@ def _slips(slips: ArrayLike, n_sat: int) -> NDArray[np.float64]:
     return rows
 
 
-@renamed(sigma_cycles="phase_sigma_cycles")
 def attitude_fixes(
     phases: PhaseObservations,
     attitude: Rotation,

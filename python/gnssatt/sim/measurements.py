@@ -141,7 +141,7 @@ class ArrayMeasurements:
 def phase_diffs(phases: ArrayLike) -> NDArray[np.float64]:
     """Phase differences between antennas i = 1..n_ant-1 and antenna 0, wrapped to [-pi, pi).
 
-    This is the input the seed-001 maximum-likelihood estimator takes (``ddtheta``, eq. (8)-(9)).
+    This is the input the Bunyaeva et al. maximum-likelihood estimator takes (``ddtheta``, eq. (8)-(9)).
 
     Parameters
     ----------
@@ -286,7 +286,7 @@ def simulate_array(
         Bound of the random ambiguities, 0 to ``MAX_AMBIGUITY`` (2^31).
     oscillator_phases_rad
         (n_ant,) receiver oscillator phases; default uniform in [-pi, pi) for every antenna (pass
-        ``[0, ...]`` to pin antenna 0 as in seed 001).
+        ``[0, ...]`` to pin antenna 0 as in Bunyaeva et al.).
     satellite_phases_rad
         (n_sat,) satellite signal phases; default uniform in [-pi, pi).
     cn0_dbhz

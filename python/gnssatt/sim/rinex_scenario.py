@@ -19,7 +19,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core, sim
 from gnssatt._arrays import flag, folder_path, generator, instance, integer, sat_list, scalar, shaped
-from gnssatt._renamed import renamed
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.rinex.nav import nav_input
 from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
@@ -39,7 +38,6 @@ __all__ = [
 T0 = np.datetime64("2024-03-01T10:00:00", "ns")
 
 
-@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class SimulatedRinex:
     """Files and truth of :func:`simulate_rinex_array`.
@@ -79,7 +77,6 @@ MAX_INTERVAL_S = 86400.0
 MAX_EPOCHS = 100_000
 
 
-@renamed(seed="rng", euler_deg="euler_gost_deg")
 def simulate_rinex_array(
     folder: str | PathLike[str],
     antennas_body_m: ArrayLike,
@@ -104,8 +101,8 @@ def simulate_rinex_array(
     folder
         Existing folder for the files ``ant<i>.24o`` and ``sim.24n``.
     antennas_body_m
-        (n_ant, 3) antenna positions in the body frame of seed 001 (X nose, Y up, Z right wing), the first
-        the reference antenna, m.
+        (n_ant, 3) antenna positions in the body frame of Bunyaeva et al. (X nose, Y up, Z right wing), the
+        first the reference antenna, m.
     euler_gost_deg
         (n_ep, 3) eq. (5) angles per epoch, degrees (a rotating platform), or (3,) for a static one.
         Formerly ``euler_deg``.
@@ -233,7 +230,6 @@ _C = 299_792_458.0
 _DOPPLER_H_S = 0.05
 
 
-@renamed(euler_deg="euler_gost_deg")
 @dataclass(frozen=True)
 class SimulatedGnss:
     """Files and truth of :func:`simulate_gnss_rinex`.
@@ -388,7 +384,6 @@ def gnss_constellation(systems: str = "GRECJ", *, lon_deg: float = 36.2) -> sim.
     return out
 
 
-@renamed(euler_deg="euler_gost_deg")
 def simulate_gnss_rinex(
     folder: str | PathLike[str],
     antennas_body_m: ArrayLike,

@@ -1,4 +1,4 @@
-"""Pseudoranges and Doppler of a GNSS receiver on a small satellite (seed 003, orbit determination).
+"""Pseudoranges and Doppler of a GNSS receiver on a small satellite (Dzhepe Ali, orbit determination).
 
 Conventions of :mod:`gnssatt.sim`; everything here is Earth-fixed (ECEF = ECI turned by
 ``theta0 + OMEGA_E t``), velocities relative to the rotating Earth. Measurement model of satellite j at

@@ -1,6 +1,6 @@
-//! Binding of the seed-004 rotational dynamics. The Python layer (`gnssatt.attitude.visibility`) packs the model
-//! parameters; `params` rows are `(psi, alpha, phi, wx, wy, wz)` (rad, rad/s), axes come back in the
-//! library's orbital frame (x along-track, y orbit normal, z radial).
+//! Binding of the Belokonov et al. rotational dynamics. The Python layer (`gnssatt.attitude.visibility`)
+//! packs the model parameters; `params` rows are `(psi, alpha, phi, wx, wy, wz)` (rad, rad/s), axes come back
+//! in the library's orbital frame (x along-track, y orbit normal, z radial).
 
 use gnssatt_core::dynamics::{
     axis_cost_batch, propagate, propagate_axes_batch, Aerodynamics, State, TumbleModel,

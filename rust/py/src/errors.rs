@@ -3,7 +3,15 @@
 
 use gnssatt_core::Error;
 use pyo3::prelude::*;
-use pyo3::types::PyType;
+
+// The Python classes, imported once on first use and cached by pyo3. `gnssatt.errors` is part of the
+// package that ships this module and imports nothing but the standard library, so the import cannot fail
+// where `gnssatt._core` itself imported.
+pyo3::import_exception!(gnssatt.errors, ConvergenceError);
+pyo3::import_exception!(gnssatt.errors, DegenerateGeometryError);
+pyo3::import_exception!(gnssatt.errors, InternalError);
+pyo3::import_exception!(gnssatt.errors, InvalidInputError);
+pyo3::import_exception!(gnssatt.errors, WorkLimitError);
 
 /// Conversion of core results into Python results; the trait keeps pyo3 out of the core crate.
 pub trait IntoPyResult<T> {
@@ -16,42 +24,26 @@ impl<T> IntoPyResult<T> for Result<T, Error> {
     }
 }
 
-pub fn to_py_err(py: Python<'_>, e: &Error) -> PyErr {
-    let class = match e {
-        Error::DegenerateGeometry { .. } | Error::Degenerate { .. } => "DegenerateGeometryError",
-        Error::Convergence { .. } | Error::Numerical { .. } => "ConvergenceError",
+pub fn to_py_err(_py: Python<'_>, e: &Error) -> PyErr {
+    let message = e.to_string();
+    match e {
+        Error::DegenerateGeometry { .. } | Error::Degenerate { .. } => {
+            DegenerateGeometryError::new_err(message)
+        }
+        Error::Convergence { .. } | Error::Numerical { .. } => ConvergenceError::new_err(message),
         Error::Shape { .. } | Error::NonFinite { .. } | Error::OutOfRange { .. } => {
-            "InvalidInputError"
+            InvalidInputError::new_err(message)
         }
-        Error::TooLarge { .. } => "WorkLimitError",
-        Error::Interrupted { .. } => {
-            return pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
-        }
-    };
-    match exception_class(py, class) {
-        Ok(cls) => PyErr::from_type(cls, e.to_string()),
-        Err(err) => err,
+        Error::TooLarge { .. } => WorkLimitError::new_err(message),
+        Error::Interrupted { .. } => pyo3::exceptions::PyKeyboardInterrupt::new_err(message),
     }
 }
 
-pub fn invalid_input(py: Python<'_>, message: String) -> PyErr {
-    match exception_class(py, "InvalidInputError") {
-        Ok(cls) => PyErr::from_type(cls, message),
-        Err(err) => err,
-    }
+pub fn invalid_input(_py: Python<'_>, message: String) -> PyErr {
+    InvalidInputError::new_err(message)
 }
 
-fn exception_class<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyType>> {
-    Ok(py
-        .import("gnssatt.errors")?
-        .getattr(name)?
-        .cast_into::<PyType>()?)
-}
-
-/// `gnssatt.errors.InternalError` (a defect of the core, e.g. a panic caught outside the module's guard).
-pub fn internal_error(py: Python<'_>, message: String) -> PyErr {
-    match exception_class(py, "InternalError") {
-        Ok(cls) => PyErr::from_type(cls, message),
-        Err(err) => err,
-    }
+/// `gnssatt.errors.InternalError`: a defect of the core (a panic that `gnss.rs` catches around the engine).
+pub fn internal_error(_py: Python<'_>, message: String) -> PyErr {
+    InternalError::new_err(message)
 }

@@ -257,7 +257,7 @@ impl ObservationArrays {
     }
 }
 
-/// Processes a whole session in one call (see `gnssatt.rinex.attitude_from_rinex` for the meaning of
+/// Processes a whole session in one call (see `gnssatt.gnss.attitude.attitude_from_rinex` for the meaning of
 /// every option); returns a [`GnssSession`].
 #[pyfunction]
 #[pyo3(signature = (observations, navigation, options = None))]

@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use crate::convert::{fixed, rows};
 use crate::errors::{invalid_input, IntoPyResult};
 
-/// Options of the observation engine (see `gnssatt.rinex.attitude_from_rinex` for the meaning of each).
+/// Options of the observation engine (see `gnssatt.gnss.attitude.attitude_from_rinex` for the meaning of each).
 #[pyclass(frozen, module = "gnssatt._core")]
 pub struct GnssOptions {
     inner: EngineOptions,

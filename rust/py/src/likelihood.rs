@@ -1,5 +1,6 @@
-//! Binding of the seed-001 maximum-likelihood grid search. The Python layer (`gnssatt.attitude.likelihood`)
-//! broadcasts inputs to (epochs, m, M) phases, (epochs, M, 3) lines of sight and (epochs, M) wavelengths.
+//! Binding of the Bunyaeva et al. maximum-likelihood grid search. The Python layer
+//! (`gnssatt.attitude.likelihood`) broadcasts inputs to (epochs, m, M) phases, (epochs, M, 3) lines of sight
+//! and (epochs, M) wavelengths.
 
 use gnssatt_core::likelihood::{
     branch_and_bound, estimate, evaluate_grid, ml_attitude_series as core_attitude_series,

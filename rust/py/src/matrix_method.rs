@@ -1,4 +1,4 @@
-//! Binding of the seed-000 matrix method.
+//! Binding of the Ryzhkov-Oliinyk matrix method.
 
 use gnssatt_core::matrix_method::{solve, Method};
 use numpy::{PyArray2, PyReadonlyArray2};

@@ -1,4 +1,4 @@
-//! Bindings of the seed-003 orbit models and orbit-determination filter (`gnssatt_core::orbit`). States
+//! Bindings of the Dzhepe Ali orbit models and orbit-determination filter (`gnssatt_core::orbit`). States
 //! are `(x, y, z, vx, vy, vz)` in Earth-fixed axes, m and m/s; `gnssatt.orbit` / `gnssatt.orbit_nav` hold the
 //! documented Python API.
 

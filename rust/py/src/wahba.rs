@@ -1,5 +1,6 @@
-//! Bindings of the vector-pair attitude solvers (TRIAD, Wahba) and of the magnetometer yaw of seed 002.
-//! All take a leading epoch axis flattened by the Python layer and release the GIL around the batch.
+//! Bindings of the vector-pair attitude solvers (TRIAD, Wahba) and of the magnetometer yaw of Ryzhkov and
+//! Holembiovskyi. All take a leading epoch axis flattened by the Python layer and release the GIL around the
+//! batch.
 
 use gnssatt_core::magnetometer::yaw_batch;
 use gnssatt_core::rotation::quaternion;
@@ -37,8 +38,8 @@ result_type! {
 }
 
 result_type! {
-    /// Eq. (3) of seed 002 per epoch: `yaw_rad`, `cos_pitch` (|cos pitch|) and the `horizontal_fraction`
-    /// of the field, each (epochs,).
+    /// Eq. (3) of Ryzhkov and Holembiovskyi per epoch: `yaw_rad`, `cos_pitch` (|cos pitch|) and the
+    /// `horizontal_fraction` of the field, each (epochs,).
     YawBatch {
         yaw_rad: Arr1,
         cos_pitch: Arr1,
@@ -103,7 +104,8 @@ fn triad_batch_py(
     })
 }
 
-/// Eq. (3) of seed 002 per epoch: b_body, b_orbital (epochs, 3); pitch_rad, roll_rad (epochs,).
+/// Eq. (3) of Ryzhkov and Holembiovskyi per epoch: b_body, b_orbital (epochs, 3); pitch_rad, roll_rad
+/// (epochs,).
 #[pyfunction]
 #[pyo3(name = "yaw_batch")]
 fn yaw_batch_py(

@@ -1,4 +1,4 @@
-//! Rotational dynamics of a tumbling spacecraft on a circular orbit (seed 004, Belokonov, Kramlikh and
+//! Rotational dynamics of a tumbling spacecraft on a circular orbit (Belokonov, Kramlikh and
 //! Lomaka 2019, eqs. (3)-(4); Beletsky 1965).
 //!
 //! Frames (see `docs/conventions.md`):

@@ -72,14 +72,14 @@ pub struct EngineOptions {
     pub max_failure_rate: f64,
     pub phase_sigma: ElevationSigma,
     pub code_sigma: ElevationSigma,
-    /// Body-frame antenna positions relative to the reference antenna (attitude mode: seed 001's body
+    /// Body-frame antenna positions relative to the reference antenna (attitude mode: Bunyaeva et al.'s body
     /// frame, X nose, Y up, Z right wing), m; empty in baseline mode.
     pub body_baselines_m: Vec<[f64; 3]>,
     /// Baseline mode: each rover's known distance from the reference antenna (a surveyed antenna
     /// separation), m, one per rover; empty when unknown. The integers are then fixed with the length
     /// constraint (`rtk::known_length`), and the grid uses the length.
     pub baseline_lengths_m: Vec<f64>,
-    /// ML grid step, rad (`None`: eq. (15) of seed 001); window around the previous epoch's solution,
+    /// ML grid step, rad (`None`: eq. (15) of Bunyaeva et al.); window around the previous epoch's solution,
     /// rad (`None`: whole domain).
     pub ml_step_rad: Option<f64>,
     pub ml_window_rad: Option<f64>,

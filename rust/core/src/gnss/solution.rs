@@ -31,7 +31,7 @@ pub struct EpochSolution {
     /// Their covariances, m^2 (row-major 3 x 3 each).
     pub baseline_covariance_enu_m2: Vec<[f64; 9]>,
     /// Baseline mode: azimuth (clockwise from North) and elevation of the first baseline; attitude mode:
-    /// heading, pitch, roll (compass heading = -psi of seed 001's Y-Z-X sequence). Degrees; NaN where
+    /// heading, pitch, roll (compass heading = -psi of Bunyaeva et al.'s Y-Z-X sequence). Degrees; NaN where
     /// unsolved.
     pub angles_deg: Vec<f64>,
     /// One-sigma of each angle, degrees (first-order propagation of the baseline covariance).

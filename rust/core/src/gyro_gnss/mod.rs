@@ -1,4 +1,4 @@
-//! Gyro + multi-antenna GNSS attitude filter (seed 003, chapters 2-3): an error-state Kalman filter whose
+//! Gyro + multi-antenna GNSS attitude filter (Dzhepe Ali, chapters 2-3): an error-state Kalman filter whose
 //! attitude is propagated by the gyro rates and corrected either by the receiver's own attitude solutions
 //! (loosely coupled) or by carrier-phase first differences between the master and slave antennas (tightly
 //! coupled, float ambiguities in the state, fixed by LAMBDA with validation).

@@ -1,6 +1,6 @@
 //! Maximum-likelihood attitude from raw carrier phases over a grid of Euler angles.
 //!
-//! Bunyaeva, Piskorzh, Cheranovsky (KhAI), seed 001: sufficient statistics (8)-(9), (10)-(14) and
+//! Bunyaeva, Piskorzh, Cheranovsky (KhAI): sufficient statistics (8)-(9), (10)-(14) and
 //! (17)-(18), grid step (15), parabolic refinement (16), per-node vectors (19).
 //!
 //! # Conventions

@@ -1,5 +1,5 @@
 //! Yaw from a magnetometer once pitch and roll are known (an Earth sensor), eq. (3) of Ryzhkov &
-//! Golembiovsky (seed 002) with the quadrant resolved.
+//! Golembiovsky with the quadrant resolved.
 //!
 //! Eq. (1) is `a_body = R_x'(phi) R_y'(theta) R_z'(psi) a_orb` with passive (frame) matrices, so
 //! `dcm_orb_from_body = ZYX(psi, theta, phi)` (docs/conventions.md). Its rows give

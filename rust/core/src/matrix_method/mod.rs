@@ -1,5 +1,5 @@
 //! Matrix least-squares attitude from antenna range differences.
-//! Ryzhkov & Oliinyk, "Determining a satellite's attitude from GPS information" (seed 000):
+//! Ryzhkov & Oliinyk, "Determining a satellite's attitude from GPS information" (Ryzhkov and Oliinyk):
 //! `R = B^T A S` (2), with `B` the body-frame baselines (3 x m), `S` the reference-frame lines of sight
 //! (3 x n) and `A` the reference-to-body rotation.
 

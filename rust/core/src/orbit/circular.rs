@@ -1,4 +1,4 @@
-//! Circular Keplerian orbit mapped orbital -> inertial -> Earth-fixed (the seed-003 reference orbit).
+//! Circular Keplerian orbit mapped orbital -> inertial -> Earth-fixed (the Dzhepe Ali reference orbit).
 //!
 //! Frames as in `docs/conventions.md`: ECI without precession or nutation; ECEF = ECI rotated about z by
 //! `theta(t) = theta0 + omega_E t`; velocities in ECEF are relative to the rotating Earth,

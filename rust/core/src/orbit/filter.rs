@@ -1,4 +1,4 @@
-//! Orbit-determination Kalman filter of a receiver on a small satellite (seed 003, chapter 1): the state
+//! Orbit-determination Kalman filter of a receiver on a small satellite (Dzhepe Ali, chapter 1): the state
 //! `x = (r, v)` in Earth-fixed axes (m, m/s) is predicted by the GLONASS ICD model with its state-transition
 //! matrix and corrected either by the receiver's own position/velocity fixes (loosely coupled) or by first
 //! differences, between satellites of the same system, of pseudoranges and Doppler-derived range rates

@@ -1,4 +1,4 @@
-//! Orbit models and orbit determination (seed 003, chapter 1): the circular Keplerian reference orbit,
+//! Orbit models and orbit determination (Dzhepe Ali, chapter 1): the circular Keplerian reference orbit,
 //! the GLONASS ICD Earth-fixed equations of motion integrated by RK4 with their state-transition matrix,
 //! and the loosely / tightly coupled GNSS orbit-determination Kalman filter.
 //!

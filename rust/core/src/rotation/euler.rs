@@ -39,16 +39,16 @@ pub struct EulerSeq {
     axes: [Axis; 3],
 }
 
-/// Heading (yaw) about Z, pitch about Y', roll about X'': seeds 000 and 002.
+/// Heading (yaw) about Z, pitch about Y', roll about X'': Ryzhkov and Oliinyk, Ryzhkov and Holembiovskyi.
 pub const ZYX: EulerSeq = EulerSeq {
     axes: [Axis::Z, Axis::Y, Axis::X],
 };
 /// GOST 20058-80 heading about Y (up), pitch about Z', roll about X'' in the normal frame (North, Up,
-/// East): seed 001, eq. (5).
+/// East): Bunyaeva et al., eq. (5).
 pub const YZX: EulerSeq = EulerSeq {
     axes: [Axis::Y, Axis::Z, Axis::X],
 };
-/// Precession about Y0, attack about Z0', spin about Y0'': seed 004.
+/// Precession about Y0, attack about Z0', spin about Y0'': Belokonov et al..
 pub const YZY: EulerSeq = EulerSeq {
     axes: [Axis::Y, Axis::Z, Axis::Y],
 };

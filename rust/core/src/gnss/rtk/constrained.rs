@@ -54,7 +54,7 @@ struct Rover {
 }
 
 /// Attitude mode, one epoch: each rover's [`DdEpoch`] (same base), the body baselines (one per rover,
-/// body frame of seed 001: X nose, Y up, Z right wing, m), fixed with the array geometry, then Wahba.
+/// body frame of Bunyaeva et al.: X nose, Y up, Z right wing, m), fixed with the array geometry, then Wahba.
 ///
 /// # Errors
 /// [`Error::Shape`] for fewer than two rovers or mismatched lengths, [`Error::TooLarge`] beyond

@@ -171,7 +171,7 @@ pub struct BaselineSolution {
 /// Attitude of a rigid antenna array at one epoch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AttitudeSolution {
-    /// Rotation ENU <- body at the base antenna (body frame of seed 001: X nose, Y up, Z right wing).
+    /// Rotation ENU <- body at the base antenna (body frame of Bunyaeva et al.: X nose, Y up, Z right wing).
     pub rotation_enu_from_body: Matrix3<f64>,
     /// Each rover's baseline (rover minus base, ECEF m) and covariance; fixed with the constraint when
     /// `fixed`.

@@ -21,8 +21,8 @@ pub(crate) fn azimuth_elevation(enu: &Vector3<f64>, cov: &Matrix3<f64>) -> ([f64
     ([az, el], [sigma(j_az), sigma(j_el)])
 }
 
-/// Heading (compass, = -psi, [0, 360)), pitch and roll, degrees, of the rotation ENU <- body (seed 001's
-/// Y-Z-X sequence in the North-Up-East frame).
+/// Heading (compass, = -psi, [0, 360)), pitch and roll, degrees, of the rotation ENU <- body (Bunyaeva et
+/// al.'s Y-Z-X sequence in the North-Up-East frame).
 pub(crate) fn heading_pitch_roll(enu_from_body: &Matrix3<f64>) -> [f64; 3] {
     let m = enu_from_body;
     // Rows (E, N, U) -> (N, U, E): the frame of eq. (5).
