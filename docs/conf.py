@@ -24,6 +24,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",  # [source] links beside every documented object
     "numpydoc",
     "myst_parser",
     "matplotlib.sphinxext.plot_directive",
@@ -69,5 +70,7 @@ plot_html_show_formats = False
 plot_html_show_source_link = False  # each page shows the script with literalinclude
 plot_include_source = False
 
-html_theme = "alabaster"
+# furo: a theme of the scientific Python ecosystem whose content column widens with the window, so that code
+# lines are not cut at a fixed page width; light and dark modes follow the reader's setting.
+html_theme = "furo"
 html_title = f"gnssatt {release}"

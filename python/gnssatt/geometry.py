@@ -62,12 +62,28 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     rotation
         A single body -> reference :class:`~scipy.spatial.transform.Rotation`.
 
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) symmetric information matrix, reference frame, rad^-2 per m^-2 of range-difference variance.
+
     Raises
     ------
     InvalidInputError
         Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines outside the
         length limits; :class:`~gnssatt.errors.InvalidTypeError` for a ``rotation`` that is not a single
         Rotation.
+
+    Examples
+    --------
+    Unit baselines and lines of sight along the three axes: each cross product ``e_i x e_j`` (``i != j``)
+    is a unit axis, every axis twice, so ``J = 2 I``:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.geometry import range_difference_fisher
+    >>> bool(np.allclose(range_difference_fisher(np.eye(3), np.eye(3), Rotation.identity()), 2 * np.eye(3)))
+    True
     """
     b = checked_baselines("baselines", baselines)
     s = unit_rows("los", los, "(n, 3)", (None, 3))
@@ -83,7 +99,22 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
     """Attitude dilution of precision: ``sqrt(trace(J^-1))`` with ``J`` from :func:`range_difference_fisher`.
 
     Multiplied by the range-difference noise sigma (m) it gives the Cramer-Rao bound on the RMS total
-    rotation error (rad) of any unbiased estimator. Arguments as :func:`range_difference_fisher`.
+    rotation error (rad) of any unbiased estimator.
+
+    Parameters
+    ----------
+    baselines
+        (m, 3) antenna positions relative to the reference antenna, body frame, metres (m >= 1), as
+        :func:`range_difference_fisher` takes them.
+    los
+        (n, 3) unit lines of sight, reference frame (n >= 1).
+    rotation
+        A single body -> reference :class:`~scipy.spatial.transform.Rotation`.
+
+    Returns
+    -------
+    float
+        The attitude DOP, rad per metre of range-difference sigma.
 
     Raises
     ------
@@ -91,6 +122,16 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
         As :func:`range_difference_fisher`; also no baselines or no lines of sight (shape (0, 3)).
     DegenerateGeometryError
         The geometry does not fix the attitude (all baselines or all lines of sight parallel).
+
+    Examples
+    --------
+    The geometry of :func:`range_difference_fisher`'s example, ``J = 2 I``: ``sqrt(3 / 2)``:
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> from gnssatt.geometry import attitude_dop
+    >>> abs(attitude_dop(np.eye(3), np.eye(3), Rotation.identity()) - 1.5**0.5) < 1e-12
+    True
     """
     b = checked_baselines("baselines", baselines)
     s = unit_rows("los", los, "(n, 3)", (None, 3))
