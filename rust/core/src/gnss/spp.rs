@@ -107,6 +107,37 @@ pub fn single_point(
     opts: &EngineOptions,
     prior: Option<&Vector3<f64>>,
 ) -> Result<SppSolution> {
+    let mut out = code_solution(obs, receiver, epoch, eph, nav, opts, prior)?;
+    let t = obs.time_gpst_ns[epoch];
+    let fallback = out
+        .clock_s
+        .iter()
+        .copied()
+        .find(|c| c.is_finite())
+        .unwrap_or(0.0);
+    out.geometry = obs
+        .sats
+        .iter()
+        .map(|&id| {
+            let c = out.clock_s[id.system.index()];
+            let clock = if c.is_finite() { c } else { fallback };
+            satellite_geometry(eph, id, t, clock, &out.position_m)
+        })
+        .collect();
+    Ok(out)
+}
+
+/// [`single_point`] without the geometry of every session satellite (`geometry` left empty): what
+/// positioning alone needs.
+fn code_solution(
+    obs: &Observations,
+    receiver: usize,
+    epoch: usize,
+    eph: &Ephemerides,
+    nav: &NavData,
+    opts: &EngineOptions,
+    prior: Option<&Vector3<f64>>,
+) -> Result<SppSolution> {
     if receiver >= obs.receivers.len() || epoch >= obs.n_epochs() {
         return Err(Error::out_of_range(
             "single_point",
@@ -192,23 +223,7 @@ pub fn single_point(
             }
         }
     }
-    let mut out = solution;
-    let fallback = out
-        .clock_s
-        .iter()
-        .copied()
-        .find(|c| c.is_finite())
-        .unwrap_or(0.0);
-    out.geometry = obs
-        .sats
-        .iter()
-        .map(|&id| {
-            let c = out.clock_s[id.system.index()];
-            let clock = if c.is_finite() { c } else { fallback };
-            satellite_geometry(eph, id, t, clock, &out.position_m)
-        })
-        .collect();
-    Ok(out)
+    Ok(solution)
 }
 
 /// Iterated solution without candidate `excluded`: the solution (geometry left empty) and the
@@ -336,9 +351,9 @@ fn pdop(lin: &Linearised, candidates: &[Candidate]) -> f64 {
     })
 }
 
-/// [`single_point`] of `receiver` at every epoch of `obs`, each started from the receiver's header
-/// position (else the Earth's centre) on its own: epochs are independent, solved in parallel on
-/// rayon's pool; `None` at an epoch without a solution.
+/// [`single_point`] of `receiver` at every epoch of `obs` (without `geometry`), each started from the
+/// receiver's header position (else the Earth's centre) on its own: epochs are independent, solved in
+/// parallel on rayon's pool; `None` at an epoch without a solution.
 ///
 /// # Errors
 /// [`Error::OutOfRange`] for a receiver outside `obs` or invalid options; [`Error::Interrupted`].
@@ -364,7 +379,7 @@ pub fn single_points(
         .into_par_iter()
         .map(|e| {
             crate::interrupt::check_every(e, "single point")?;
-            match single_point(obs, receiver, e, eph, nav, opts, None) {
+            match code_solution(obs, receiver, e, eph, nav, opts, None) {
                 Ok(s) => Ok(Some(s)),
                 Err(err @ (Error::Shape { .. } | Error::Interrupted { .. })) => Err(err),
                 Err(_) => Ok(None),
