@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gnssatt.data import geonet_dir
-from gnssatt.errors import RinexError
+from gnssatt.errors import RecordsSkippedWarning, RinexError
 from gnssatt.rinex import read_nav, read_obs
 
 DATA = geonet_dir()  # the GEONET pair shipped in the package (gnssatt/data)
@@ -54,11 +54,13 @@ def _write(tmp_path: Path, name: str, text: str) -> Path:
 def test_truncated_obs_names_file_and_line(tmp_path: Path) -> None:
     lines = (DATA / "07590920.05o").read_text().splitlines()
     bad = _write(tmp_path, "trunc.05o", "\n".join(lines[:22]) + "\n")
-    # the fault is the epoch line (line 18) whose 8 satellites the file does not hold
-    with pytest.raises(
-        RinexError, match=r"trunc\.05o, line 18: the epoch announces 8 satellites, but the file ends"
+    # the epoch of line 18 announces 8 satellites the file does not hold: left out with a warning, and
+    # the header alone is a file of zero epochs
+    with pytest.warns(
+        RecordsSkippedWarning, match=r"trunc\.05o: 1 epoch left out.*the epoch at line 18 announces 8 sat"
     ):
-        read_obs(bad)
+        obs = read_obs(bad)
+    assert len(obs.time) == 0 and obs.data.shape == (0, 0, len(obs.codes))
 
 
 @needs_data
@@ -90,8 +92,9 @@ def test_unknown_version_and_missing_header_lines(tmp_path: Path) -> None:
 def test_truncated_nav(tmp_path: Path) -> None:
     lines = (DATA / "07590920.05n").read_text().splitlines()
     bad = _write(tmp_path, "trunc.05n", "\n".join(lines[:16]) + "\n")
-    with pytest.raises(RinexError, match=r"trunc\.05n, line 16: file truncated inside the record"):
-        read_nav(bad)
+    with pytest.warns(RecordsSkippedWarning, match=r"trunc\.05n: 1 record left out.*G01 at line 13"):
+        nav = read_nav(bad)
+    assert len(nav.kepler) == 0
 
 
 def test_rinex_error_pickles() -> None:

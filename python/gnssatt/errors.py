@@ -15,6 +15,7 @@ __all__ = [
     "InvalidInputError",
     "InvalidTypeError",
     "NearDegenerateWarning",
+    "RecordsSkippedWarning",
     "RinexError",
     "UnknownNameError",
     "WorkLimitError",
@@ -94,3 +95,9 @@ class GnssattWarning(UserWarning):
 class NearDegenerateWarning(GnssattWarning):
     """The geometry nearly fails to fix the answer (nearly parallel vectors, a nearly vanishing divisor):
     the result is computed, but its errors are amplified by about the reciprocal of the quantity named."""
+
+
+class RecordsSkippedWarning(GnssattWarning):
+    """Records of a valid file that cannot be used (a system or signal gnssatt does not use, an orbit it
+    cannot propagate, an epoch cut by the end of the file) were left out; one warning per kind, naming the
+    file, the records and their count (``docs/robustness.md``, "Real files")."""

@@ -2,9 +2,10 @@
 simulated observation file, from a fixed seed.
 
 Field edits put in what a careful reader refuses (an invalid date, an epoch flag RINEX does not define,
-a satellite count that does not match, a duplicated or out-of-order epoch, ``nan``/``1e999`` values) and a
-cut inside a number truncates the file there: these must be refused with a :class:`~gnssatt.errors.RinexError`
-naming the file. Byte flips and cuts at line ends may be read; then nothing may crash.
+a satellite count that does not match, a duplicated or out-of-order epoch, ``nan``/``1e999`` values): these
+must be refused with a :class:`~gnssatt.errors.RinexError` naming the file. A cut inside a number truncates
+the file there: it is read without its last record, with a warning. Byte flips and cuts at line ends may be
+read; then nothing may crash.
 """
 
 from __future__ import annotations
@@ -118,7 +119,8 @@ def file_mutants(sources: dict[str, tuple[str, bytes]], n_random: int, seed: int
             out.append(FileMutant(name, reader, "byte-flip", label, flipped, False))
             cut = _cut_in_number(rng, text)
             if cut is not None:
-                out.append(FileMutant(name, reader, "truncate", cut[0], cut[1], True))
+                # a file cut inside its last record is read without that record, with a warning
+                out.append(FileMutant(name, reader, "truncate", cut[0], cut[1], False))
             label, cut_line = _cut_at_line(rng, text)
             out.append(FileMutant(name, reader, "truncate", label, cut_line, False))
     return out

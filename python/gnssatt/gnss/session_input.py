@@ -68,7 +68,8 @@ class EpochsDroppedWarning(GnssattWarning):
 
 
 class MixedTrackingWarning(GnssattWarning):
-    """The files carry a slot's carrier phase in different tracking modes (RINEX 3 attributes)."""
+    """The files carry a slot's carrier phase in different tracking modes (RINEX 3 attributes) and not every
+    file declares them aligned to the band's reference signal (``SYS / PHASE SHIFT``)."""
 
 
 @dataclass(frozen=True)
@@ -151,12 +152,15 @@ class SessionInput:
 def _warn_mixed_tracking(
     files: Sequence[RinexObs], choices: Sequence[Mapping[str, Sequence[SignalChoice]]]
 ) -> None:
-    """A warning per system and slot whose RINEX 3 phases differ in attribute between files."""
+    """A warning per system and slot whose RINEX 3 phases differ in attribute between files, unless every
+    file declares its phase aligned to the band's reference signal (``SYS / PHASE SHIFT``, RINEX 3.01 on:
+    the writer has applied the shift, so phases of different attributes of one band agree)."""
     for s in choices[0]:
         for slot in range(len(choices[0][s])):
             phases = {(o.path, ch[s][slot].phase) for o, ch in zip(files, choices, strict=True)}
             if all(p is not None for _, p in phases) and len({p for _, p in phases}) > 1:
-                if all(o.version >= 3 for o in files):
+                aligned = all(_aligned(o, s, ch[s][slot].phase) for o, ch in zip(files, choices, strict=True))
+                if all(o.version >= 3 for o in files) and not aligned:
                     listed = ", ".join(f"{p} in {path}" for path, p in sorted(phases))
                     warnings.warn(
                         f"system {s} slot {slot + 1}: the files have no phase of one tracking mode in common "
@@ -165,6 +169,13 @@ def _warn_mixed_tracking(
                         MixedTrackingWarning,
                         stacklevel=3,
                     )
+
+
+def _aligned(obs: RinexObs, system: str, phase: str | None) -> bool:
+    """Whether the header's ``SYS / PHASE SHIFT`` lists ``phase`` of ``system`` for all satellites: its
+    phases are then aligned to the reference signal of the band (the correction already applied)."""
+    record = obs.phase_shift_cycles.get(system, {}).get(phase or "")
+    return record is not None and not record[1]
 
 
 def _systems(value: object) -> str:
@@ -275,9 +286,9 @@ def session_input(
         Fewer than two or more than :data:`MAX_RECEIVERS` files; ``systems`` not distinct letters of
         ``"GRECJ"``; ``frequencies`` outside 1..3.
     RinexError
-        A file without carrier-phase observations of the chosen systems and slots, no system left that
-        every file has, no epoch common to all files, no satellite seen by every file (each message names
-        the files).
+        A file of no epochs (a header only), a file without carrier-phase observations of the chosen
+        systems and slots, no system left that every file has, no epoch common to all files, no satellite
+        seen by every file (each message names the files).
     """
     if isinstance(observations, RinexObs) or not isinstance(observations, Sequence):
         raise InvalidTypeError(
@@ -291,6 +302,11 @@ def session_input(
         raise InvalidInputError(
             f"expected observations of 2 to {MAX_RECEIVERS} receivers (the engine's limit), got {len(files)}"
         )
+    for o in files:
+        if len(o.time) == 0:
+            raise RinexError(
+                o.path, None, "the observation file holds no epochs (a header only): nothing to solve from it"
+            )
     asked = _systems(systems)
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:

@@ -2,8 +2,12 @@
 epoch labels, and the guard that turns any unexpected failure into a :class:`~gnssatt.errors.RinexError`.
 
 A careful reader refuses rather than guesses: a number must look like a Fortran number (no ``nan``, ``inf``,
-underscores or overflow to infinity), an epoch label must be a real calendar date and time, and a file must
-end with a line end (a file cut inside its last line can otherwise lose the fields after the cut unseen).
+underscores or overflow to infinity) and an epoch label must be a real calendar date and time. A file that
+ends without a line end is read to its end; the readers check that its last record is complete and leave
+it out with a warning where it is cut (:class:`RecordsSkippedWarning`).
+
+Records that are valid but cannot be used are collected in a :class:`Skips` and reported with one
+:class:`RecordsSkippedWarning` per kind (``docs/robustness.md``, "Real files").
 """
 
 from __future__ import annotations
@@ -11,9 +15,10 @@ from __future__ import annotations
 import datetime
 import math
 import re
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -21,11 +26,12 @@ import numpy as np
 # Argument checks that other units share live in the intake; the readers and the writer take them from here
 # as before.
 from gnssatt._arrays import folder_path, path_text, sat_list
-from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
+from gnssatt.errors import InvalidInputError, InvalidTypeError, RecordsSkippedWarning, RinexError
 
 __all__ = [
     "HEADER_LABELS",
     "Cursor",
+    "Skips",
     "epoch_ns",
     "folder_path",
     "integer",
@@ -44,6 +50,36 @@ _COMPRESSED_MAGIC = (b"\x1f\x8b", b"\x1f\x9d", b"PK\x03\x04", b"BZh")
 #: Years a label may carry: datetime64[ns] holds 1678-2262; GNSS data start in 1980.
 YEARS = (1980, 2200)
 _EPOCH_1970 = datetime.date(1970, 1, 1).toordinal()
+
+
+#: Records named in a skip warning; the count covers all of them.
+_NAMED = 8
+
+
+@dataclass
+class Skips:
+    """Records left out of one file, per kind: each kind is reported once, with its count and the first
+    :data:`_NAMED` records (``"E14 at line 120"``)."""
+
+    path: str
+    kinds: dict[str, list[str]] = field(default_factory=dict)
+    totals: dict[str, int] = field(default_factory=dict)
+
+    def add(self, kind: str, record: str, count: int = 1) -> None:
+        """Count ``record`` under ``kind`` (a plural noun phrase saying what was skipped and why, such as
+        ``"observation codes read past (...)"``); ``count`` records where ``record`` names a group."""
+        self.kinds.setdefault(kind, []).append(record)
+        self.totals[kind] = self.totals.get(kind, 0) + count
+
+    def warn(self, stacklevel: int = 3) -> None:
+        """One :class:`RecordsSkippedWarning` per kind."""
+        for kind, records in self.kinds.items():
+            named = ", ".join(records[:_NAMED]) + (", ..." if len(records) > _NAMED else "")
+            warnings.warn(
+                f"{self.path}: {self.totals[kind]} {kind}: {named}",
+                RecordsSkippedWarning,
+                stacklevel=stacklevel,
+            )
 
 
 @dataclass
@@ -114,13 +150,14 @@ def time_labels(name: str, value: object) -> np.ndarray:
     return value.astype("datetime64[ns]")
 
 
-def read_lines(p: str) -> list[str]:
-    """The lines of file ``p`` without their line ends.
+def read_lines(p: str) -> tuple[list[str], bool]:
+    """The lines of file ``p`` without their line ends, and whether the last line has a line end.
 
     Hatanaka (``.crx``, ``.??d``) and gzip / Unix-compress / zip / bzip2 files are decompressed with the
     optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``). Lines are split at ``\\n`` only (a
     ``\\r`` before it is dropped): a stray form feed or other control byte stays inside its line, where the
-    field check sees it, instead of shifting every later line number.
+    field check sees it, instead of shifting every later line number. A last line without a line end may be
+    complete (writers that omit the final line end) or cut: the readers check its fields.
     """
     try:
         raw = Path(p).read_bytes()
@@ -141,11 +178,10 @@ def read_lines(p: str) -> list[str]:
         except Exception as exc:  # the package raises ValueError and its own errors on corrupt input
             raise RinexError(p, None, f"cannot decompress: {exc}") from exc
     lines = raw.decode("ascii", errors="replace").split("\n")
-    if lines[-1] == "":
+    ended = lines[-1] == ""
+    if ended:
         lines.pop()
-    else:  # even blanks: a RINEX 2 record line may be blank, so a cut one could pass for complete
-        raise RinexError(p, len(lines), "the last line has no line end: the file was cut inside this line")
-    return [ln[:-1] if ln.endswith("\r") else ln for ln in lines]
+    return [ln[:-1] if ln.endswith("\r") else ln for ln in lines], ended
 
 
 def number(path: str, lineno: int, text: str, what: str) -> float:

@@ -23,6 +23,7 @@ from gnssatt.errors import RinexError
 from gnssatt.rinex._fields import (
     HEADER_LABELS,
     Cursor,
+    Skips,
     epoch_ns,
     integer,
     number,
@@ -191,8 +192,9 @@ class RinexNav:
     leap_seconds
         GPS - UTC leap seconds of the header's ``LEAP SECONDS`` line, or None.
     skipped
-        RINEX 4 records not read, counted per ``"<type> <system> <message>"`` (``"EPH G CNAV"``,
-        ``"STO G LNAV"``, ``"EOP G CNAV"``, ``"ION E IFNV"`` ...); empty for older files.
+        Records not read, counted per ``"<type> <system> <message>"``: RINEX 4 ``"EPH G CNAV"``,
+        ``"STO G LNAV"``, ``"EOP G CNAV"``, ``"ION E IFNV"`` ...; SBAS and NavIC records of every version as
+        ``"EPH S SBAS"`` and ``"EPH I LNAV"``.
     """
 
     path: str
@@ -255,6 +257,17 @@ def _values(path: str, lineno: int, line: str, start: int, count: int) -> list[f
     return out
 
 
+def _orbit_shape(path: str, lineno: int, orbit: list[float]) -> None:
+    """Refuse a Keplerian record whose shape is not an ellipse: sqrt(A) <= 0 or an eccentricity outside
+    [0, 1) (broadcast orbit 2: Cuc, e, Cus, sqrt(A)). Any ellipse is accepted here; one that is not an orbit
+    around the Earth is skipped by the caller."""
+    sqrt_a, e = orbit[7], orbit[5]
+    if not sqrt_a > 0.0:
+        raise RinexError(path, lineno + 2, f"expected sqrt(A) > 0 m^0.5 (broadcast field 4), got {sqrt_a}")
+    if not 0.0 <= e < 1.0:
+        raise RinexError(path, lineno + 2, f"expected an eccentricity in [0, 1) (broadcast field 2), got {e}")
+
+
 def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) -> None:
     """Refuse a broadcast value that must be an integer in [lo, hi] (it becomes one in int64 arithmetic)."""
     if value != round(value) or not lo <= value <= hi:
@@ -262,9 +275,17 @@ def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) ->
 
 
 def read_nav(path: str | PathLike[str]) -> RinexNav:
-    """Read a RINEX 2.xx (GPS ``N`` or GLONASS ``G``), 3.xx or 4.xx (any system) navigation file.
+    """Read a RINEX 2.xx (GPS ``N``, GLONASS ``G``, Galileo ``E``, SBAS ``H``), 3.xx or 4.xx (any system)
+    navigation file.
 
-    SBAS and IRNSS records are not read. RINEX 4 files: the ephemeris messages the engine uses are read
+    The reader follows the rule of ``docs/robustness.md`` ("Real files"): malformed records are refused,
+    a valid file is read whole, records it cannot use are skipped with one
+    :class:`~gnssatt.errors.RecordsSkippedWarning` per kind. SBAS and NavIC (IRNSS) records are counted in
+    :attr:`RinexNav.skipped` (``"EPH S SBAS"``, ``"EPH I LNAV"``, as RINEX 4 names them). A Keplerian record
+    whose perigee a (1 - e) is below the Earth's equatorial radius is not an orbit and is skipped; any
+    eccentricity in [0, 1) is otherwise kept (Galileo E14 and E18, e 0.16-0.17, are real orbits). A file
+    cut inside its last record gives the records before it; a file without a final line end after a
+    complete record is read whole. RINEX 4 files: the ephemeris messages the engine uses are read
     (``EPH`` records of GPS/QZSS ``LNAV``, Galileo ``INAV``/``FNAV``, BeiDou ``D1``/``D2``, GLONASS
     ``FDMA``) and the Klobuchar coefficients of the first GPS ``ION ... LNAV`` record (RINEX 4 moved them out
     of the header); every other record (``CNAV``, ``CNV1-3``, ``STO``, ``EOP``, other ``ION``) is skipped and
@@ -284,11 +305,19 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         Keplerian ephemerides (G, E, C, J), GLONASS state vectors, the GPS Klobuchar coefficients, the
         leap seconds of the header and the RINEX 4 records skipped.
 
+    Warns
+    -----
+    RecordsSkippedWarning
+        One per kind: records of messages not used (counted in ``skipped``), records that are not an orbit,
+        the last record of a file cut inside it.
+
     Raises
     ------
     RinexError
         Unknown version or file type, a missing ``END OF HEADER``, a record with fewer lines than its system
-        has, a line cut inside a field or a file cut inside its last line, a malformed or non-finite number,
+        has (except the last, cut by the end of the file), a line cut inside a field (except the last line
+        of a file without a final line end), a Keplerian record with sqrt(A) <= 0 or an eccentricity outside
+        [0, 1), a malformed or non-finite number,
         a date or time that does not exist, a week, time of week or GLONASS channel that is not a whole
         number in its range; the message names the file and line. Every other failure while reading becomes
         a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
@@ -321,21 +350,46 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
     """
     p = path_text(path)
     with reading(p) as cursor:
-        return _read_nav(p, read_lines(p), cursor)
+        skips = Skips(p)
+        nav = _read_nav(p, *read_lines(p), cursor, skips)
+    for key, count in sorted(nav.skipped.items(), key=lambda kv: -kv[1]):
+        skips.add(_UNUSED_MESSAGES, f"{key} x{count}", count)
+    skips.warn()
+    return nav
 
 
-def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
+#: Kinds of what :func:`read_nav` skips, for its warnings.
+_UNUSED_MESSAGES = "records skipped, of messages gnssatt does not use (counted in RinexNav.skipped)"
+_NOT_AN_ORBIT = (
+    "Keplerian records skipped: not an orbit (perigee a (1 - e) below the Earth's equatorial radius)"
+)
+_CUT_RECORD = "record left out: the file ends inside it (the records before it are read)"
+#: WGS-84 equatorial radius, m: a perigee below it is inside the Earth.
+_EARTH_RADIUS_M = 6_378_137.0
+#: RINEX 2 navigation file types: the system of their records (H: SBAS GEO, E: Galileo, RINEX 2.12).
+_V2_TYPES = {"N": "G", "G": "R", "E": "E", "H": "S"}
+#: Systems whose records the engine does not use: the key of :attr:`RinexNav.skipped` (as RINEX 4 names
+#: their messages).
+_UNUSED_SYSTEMS = {"S": "EPH S SBAS", "I": "EPH I LNAV"}
+
+
+def _read_nav(p: str, lines: list[str], ended: bool, cursor: Cursor, skips: Skips) -> RinexNav:
     if not lines or lines[0][60:80].strip() != "RINEX VERSION / TYPE":
         raise RinexError(p, 1, "expected 'RINEX VERSION / TYPE' in columns 61-80")
     version = number(p, 1, lines[0][0:9], "the RINEX version")
     if not (2.0 <= version < 5.0):
         raise RinexError(p, 1, f"unknown navigation file version {version}: expected 2.xx, 3.xx or 4.xx")
     ftype = lines[0][20:21]
-    if version < 3 and ftype not in ("N", "G"):
-        raise RinexError(p, 1, f"expected a GPS ('N') or GLONASS ('G') navigation file, got type {ftype!r}")
+    if version < 3 and ftype not in _V2_TYPES:
+        raise RinexError(
+            p,
+            1,
+            f"expected a GPS ('N'), GLONASS ('G'), Galileo ('E') or SBAS ('H') navigation file, got type "
+            f"{ftype!r}",
+        )
     if version >= 3 and ftype != "N":
         raise RinexError(p, 1, f"expected a navigation file (type 'N'), got {ftype!r}")
-    v2_system = "R" if ftype == "G" else "G"
+    v2_system = _V2_TYPES.get(ftype, "G")
     alpha = np.full(4, np.nan)
     beta = np.full(4, np.nan)
     leaps: int | None = None
@@ -349,11 +403,11 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
         if label == "END OF HEADER":
             body = i + 1
             break
-        if label == "ION ALPHA":
+        if label == "ION ALPHA" and v2_system == "G":  # a Galileo file's holds NeQuick's three
             alpha = np.array(
                 [number(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION ALPHA") for k in range(4)]
             )
-        elif label == "ION BETA":
+        elif label == "ION BETA" and v2_system == "G":
             beta = np.array([number(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION BETA") for k in range(4)])
         elif label == "IONOSPHERIC CORR" and line[0:4] in ("GPSA", "GPSB"):
             vals = np.array(
@@ -413,43 +467,65 @@ def _read_nav(p: str, lines: list[str], cursor: Cursor) -> RinexNav:
                     skipped[key] = skipped.get(key, 0) + 1
                 i = end
                 continue
-        if v3:
-            sysc = line[0]
-            prn = integer(p, lineno, line[1:3], "the satellite number")
-        else:
-            sysc = v2_system
-            prn = integer(p, lineno, line[0:2], "the satellite number")
-        if sysc not in _RECORD_LINES:
-            raise RinexError(p, lineno, f"unknown satellite system {sysc!r} in a navigation record")
-        if not 1 <= prn <= 99:
-            raise RinexError(p, lineno, f"expected a satellite number 1-99, got {prn}")
-        n_lines = 5 if sysc == "R" and version >= 3.05 else _RECORD_LINES[sysc]
-        if i + n_lines > n:
-            raise RinexError(p, n, f"file truncated inside the record that starts at line {lineno}")
-        for q in range(1, n_lines):
-            if lines[i + q][:start].strip():
+        try:
+            if v3:
+                sysc = line[0]
+                prn = integer(p, lineno, line[1:3], "the satellite number")
+            else:
+                sysc = v2_system
+                prn = integer(p, lineno, line[0:2], "the satellite number")
+            if sysc not in _RECORD_LINES:
+                raise RinexError(p, lineno, f"unknown satellite system {sysc!r} in a navigation record")
+            if not 1 <= prn <= 99:
+                raise RinexError(p, lineno, f"expected a satellite number 1-99, got {prn}")
+            n_lines = 5 if sysc == "R" and version >= 3.05 else _RECORD_LINES[sysc]
+            if i + n_lines > n:
+                # the last record, cut by the end of the file: the records before it are complete
+                skips.add(_CUT_RECORD, f"{sysc}{prn:02d} at line {lineno} ({n - i} of its {n_lines} lines)")
+                break
+            for q in range(1, n_lines):
+                if lines[i + q][:start].strip():
+                    raise RinexError(
+                        p,
+                        lineno,
+                        f"the record has {q} line(s), but a {sysc} record has {n_lines}: line {lineno + q} "
+                        f"does not continue it (columns 1-{start} not blank)",
+                    )
+            if any(line[c] != " " for c in seps) or len(line) < first_field:
                 raise RinexError(
-                    p,
-                    lineno,
-                    f"the record has {q} line(s), but a {sysc} record has {n_lines}: line {lineno + q} "
-                    f"does not continue it (columns 1-{start} not blank)",
+                    p, lineno, f"expected a record start 'sat yy mm dd hh mm ss', got {line[:23]!r}"
                 )
-        if any(line[c] != " " for c in seps) or len(line) < first_field:
-            raise RinexError(p, lineno, f"expected a record start 'sat yy mm dd hh mm ss', got {line[:23]!r}")
-        y, mo, d, hh, mi = (integer(p, lineno, line[a:b], "the epoch") for a, b in dates[:5])
-        sec = number(p, lineno, line[dates[5][0] : dates[5][1]], "the epoch seconds")
-        if not v3:
-            if not 0 <= y <= 99:
-                raise RinexError(p, lineno, f"expected a two-digit year, got {y}")
-            y += 1900 if y >= 80 else 2000
-        t_ns = epoch_ns(p, lineno, y, mo, d, hh, mi, sec)
-        head = _values(p, lineno, line, first_field, 3)
-        orbit: list[float] = []
-        for q in range(1, n_lines):
-            cursor.line = lineno + q
-            orbit += _values(p, lineno + q, lines[i + q], start, 4)
-        sat = f"{sysc}{prn:02d}"
-        if sysc in "GECJ":
+            y, mo, d, hh, mi = (integer(p, lineno, line[a:b], "the epoch") for a, b in dates[:5])
+            sec = number(p, lineno, line[dates[5][0] : dates[5][1]], "the epoch seconds")
+            if not v3:
+                if not 0 <= y <= 99:
+                    raise RinexError(p, lineno, f"expected a two-digit year, got {y}")
+                y += 1900 if y >= 80 else 2000
+            t_ns = epoch_ns(p, lineno, y, mo, d, hh, mi, sec)
+            sat = f"{sysc}{prn:02d}"
+            head = _values(p, lineno, line, first_field, 3)
+            orbit: list[float] = []
+            for q in range(1, n_lines):
+                cursor.line = lineno + q
+                orbit += _values(p, lineno + q, lines[i + q], start, 4)
+        except RinexError as exc:
+            if ended or exc.line != n:
+                raise
+            # the file has no line end and the fault is in its last line: the file was cut inside it
+            skips.add(_CUT_RECORD, f"{line[:3].strip()} at line {lineno} (line {n} is cut: {exc.message})")
+            break
+        if sysc in _UNUSED_SYSTEMS:
+            key = _UNUSED_SYSTEMS[sysc]
+            skipped[key] = skipped.get(key, 0) + 1
+        elif sysc in "GECJ":
+            _orbit_shape(p, lineno, orbit)
+            if orbit[7] ** 2 * (1.0 - orbit[5]) < _EARTH_RADIUS_M:
+                skips.add(
+                    _NOT_AN_ORBIT,
+                    f"{sat} at line {lineno} (sqrt(A) {orbit[7]:.6g} m^0.5, e {orbit[5]:.6g})",
+                )
+                i += n_lines
+                continue
             _whole(p, lineno + 5, orbit[18], 0, 9999, "the week")
             if not 0.0 <= orbit[8] <= 604_800.0:
                 raise RinexError(

@@ -30,6 +30,7 @@ from gnssatt.errors import RinexError
 from gnssatt.rinex._fields import (
     HEADER_LABELS,
     Cursor,
+    Skips,
     epoch_ns,
     integer,
     number,
@@ -88,6 +89,15 @@ class RinexObs:
         GLONASS FDMA channel per satellite from ``GLONASS SLOT / FRQ #`` (RINEX 3.02+), else empty.
     leap_seconds
         GPS - UTC leap seconds of the header's ``LEAP SECONDS`` line, or None.
+    phase_shift_cycles
+        RINEX 3.01+ ``SYS / PHASE SHIFT``: system -> phase code -> (correction, satellites), the correction
+        in cycles that the writer has already applied to align the code's phases with the reference signal
+        of its band (0 for the reference itself), for the satellites listed (all where none); empty where
+        the header has none. The phases in :attr:`data` are as written: the reader applies nothing.
+    unused_codes
+        ``"G X1"``: observation codes of the header that the reader reads past (their values are not
+        parsed, :attr:`codes` omits them): a receiver's channel number, a two-character code in a RINEX 3
+        file, an unknown attribute or type.
     """
 
     path: str
@@ -108,6 +118,8 @@ class RinexObs:
     ssi: NDArray[np.uint8]
     glonass_channels: dict[str, int] = field(default_factory=dict)
     leap_seconds: int | None = None
+    phase_shift_cycles: dict[str, dict[str, tuple[float, tuple[str, ...]]]] = field(default_factory=dict)
+    unused_codes: tuple[str, ...] = ()
 
     def get(self, code: str) -> NDArray[np.float64]:
         """(n_epochs, n_sats) values of one observation code (NaN where absent)."""
@@ -159,6 +171,13 @@ _OBS_NUMBER = re.compile(r" *[+-]?(?:\d+\.?\d*|\.\d+)")
 _SAT_LIST = re.compile(r" {32}(?:[A-Z ][ \d]\d)+ *")
 _FLAG_NAMES = "0 (OK), 1 (power failure), 2-5 (events followed by special records) or 6 (cycle slip records)"
 
+
+#: The start of an epoch line (RINEX 3: ``>``; RINEX 2: a two-digit-year label, flag and count), to tell a
+#: file cut inside its last epoch from an epoch that announces more records than follow it.
+_NEXT_EPOCH = {
+    True: re.compile(">"),
+    False: re.compile(r" [ \d]\d [ \d]\d [ \d]\d [ \d]\d [ \d]\d [ \d]\d\.\d{7}  [0-6][ \d]{2}\d"),
+}
 
 #: Header records that change the layout or scaling of the observation records after them.
 _LAYOUT_LABELS = frozenset({"SYS / # / OBS TYPES", "# / TYPES OF OBSERV", "SYS / SCALE FACTOR"})
@@ -245,13 +264,17 @@ def _check_fields(path: str, lineno: int, text: str, n_fields: int, what: str) -
 
 
 def _convert(
-    path: str, texts: list[str], n_types: int, line_of: NDArray[np.int64]
+    path: str, texts: list[str], n_fields: int, keep: NDArray[np.int64], line_of: NDArray[np.int64]
 ) -> tuple[NDArray[np.float64], NDArray[np.uint8], NDArray[np.uint8]]:
-    """Values, LLI and signal-strength digits of records (one text of ``16 n_types`` columns each), checked
-    as a whole; ``line_of[r, k]`` is the line of field ``k`` of record ``r``, to name the first bad one."""
+    """Values, LLI and signal-strength digits of the fields ``keep`` of records (one text of ``16 n_fields``
+    columns each), checked as a whole; ``line_of[r, k]`` is the line of kept field ``k`` of record ``r``,
+    to name the first bad one. The other fields (codes read past) are not looked at."""
     n_rec = len(texts)
     raw = np.frombuffer("".join(texts).encode("ascii", errors="replace"), dtype=np.uint8)
-    raw = raw.reshape(n_rec, n_types, 16)
+    raw = raw.reshape(n_rec, n_fields, 16)
+    if len(keep) < n_fields:
+        raw = raw[:, keep, :]
+    n_types = len(keep)
     num = np.ascontiguousarray(raw[:, :, :14])
     space = num == 32
     blank = space.all(axis=2)
@@ -275,7 +298,7 @@ def _convert(
         raise RinexError(
             path,
             int(line_of[r, k]),
-            f"expected a number (F14.3) with blank or digit indicators in observation field {k + 1}, "
+            f"expected a number (F14.3) with blank or digit indicators in observation field {keep[k] + 1}, "
             f"got {text!r}",
         )
     flags = np.where(is_digit, digits - 48, 0).astype(np.uint8)
@@ -313,6 +336,8 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
     scale: dict[str, dict[str, int]] = {}
     scale_last: tuple[str, int, int] | None = None
     hdr["scale"] = scale
+    hdr["phase_shift"] = {}
+    phase_last: tuple[str, str, int] | None = None
     types2: list[str] = []
     n_types2 = 0
     sys3 = ""
@@ -330,11 +355,16 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
                 if not types2:
                     raise RinexError(path, lineno, "missing header line '# / TYPES OF OBSERV'")
                 systems = "GRESJCI" if sysletter == "M" else sysletter
-                hdr["types"] = {s: tuple(types2) for s in systems}
+                hdr["layout"] = {s: tuple(types2) for s in systems}
             else:
                 if not types3:
                     raise RinexError(path, lineno, "missing header line 'SYS / # / OBS TYPES'")
-                hdr["types"] = {s: tuple(v) for s, v in types3.items()}
+                hdr["layout"] = {s: tuple(v) for s, v in types3.items()}
+            layout: dict[str, tuple[str, ...]] = hdr["layout"]  # type: ignore[assignment]
+            hdr["types"] = {s: tuple(c for c in v if _used(c, version >= 3)) for s, v in layout.items()}
+            unused = sorted({f"{s} {c}" for s, v in layout.items() for c in v if not _used(c, version >= 3)})
+            if unused:
+                hdr["unused"] = unused
             for s, (count, at) in announced.items():
                 got = types2 if version < 3 else types3[s]
                 if len(got) != count:
@@ -349,8 +379,22 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         elif label == "ANTENNA: DELTA H/E/N":
             hdr["delta"] = _triple(path, lineno, line, "ANTENNA: DELTA H/E/N")
         elif label == "INTERVAL":
-            hdr["interval"] = number(path, lineno, line[0:10], "INTERVAL")
-        elif label == "TIME OF FIRST OBS":
+            interval = number(path, lineno, line[0:10], "INTERVAL")
+            if interval <= 0.0:
+                raise RinexError(
+                    path,
+                    lineno,
+                    f"expected INTERVAL as a positive number of seconds, got {line[0:10].strip()}",
+                )
+            hdr["interval"] = interval
+        elif label in ("TIME OF FIRST OBS", "TIME OF LAST OBS"):
+            # 5I6,F13.7: a date and time that must exist; taken as words, as writers widen the seconds
+            words = (line[0:60].split() + [""] * 6)[:6]
+            y, mo, d, hh, mi = (integer(path, lineno, w, f"the date of {label}") for w in words[:5])
+            epoch_ns(
+                path, lineno, y, mo, d, hh, mi, number(path, lineno, words[5], f"the seconds of {label}")
+            )
+        if label == "TIME OF FIRST OBS":
             # A3 in columns 49-51; some writers (gLAB) put it one column early, so take the word after the
             # seconds field
             ts = next((w for w in line[43:60].split() if w.isalpha()), "")
@@ -361,7 +405,7 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         elif label == "# / TYPES OF OBSERV":
             if line[0:6].strip():
                 n_types2 = integer(path, lineno, line[0:6], "the number of observation types")
-            types2 += _codes(path, lineno, line[6:60], types2, 2)
+            types2 += _codes(path, lineno, line[6:60], types2, False)
             announced[sysletter] = (n_types2, lineno)
             if len(types2) > n_types2:
                 raise RinexError(path, lineno, f"announced {n_types2} observation types, got {len(types2)}")
@@ -374,12 +418,14 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
                 types3[sys3] = []
             elif not sys3:
                 raise RinexError(path, lineno, "continuation of 'SYS / # / OBS TYPES' without a system")
-            types3[sys3] += _codes(path, lineno, line[7:58], types3[sys3], 3)
+            types3[sys3] += _codes(path, lineno, line[7:58], types3[sys3], True)
             announced[sys3] = (n3, lineno)
             if len(types3[sys3]) > n3:
                 raise RinexError(
                     path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}"
                 )
+        elif label == "SYS / PHASE SHIFT" and version >= 3:
+            phase_last = _phase_shift(path, lineno, line, hdr["phase_shift"], phase_last)  # type: ignore[arg-type]
         elif label == "SYS / SCALE FACTOR" and version >= 3:
             scale_last = _scale_factor(path, lineno, line, scale, scale_last, types3)
         elif label == "LEAP SECONDS":
@@ -407,6 +453,38 @@ def _parse_header(path: str, lines: list[str]) -> tuple[dict[str, object], int]:
         "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
         "label (file truncated in the header?)",
     )
+
+
+def _phase_shift(
+    path: str,
+    lineno: int,
+    line: str,
+    shifts: dict[str, dict[str, tuple[float, tuple[str, ...]]]],
+    last: tuple[str, str, int] | None,
+) -> tuple[str, str, int] | None:
+    """One ``SYS / PHASE SHIFT`` line (A1,1X,A3,1X,F8.5,2X,I2.2,10(1X,A3); continuation lines
+    18X,10(1X,A3)) into ``shifts[system][code] = (cycles, satellites)``; a blank correction (the reference
+    signal of the band) is 0, no satellites means all. Returns (system, code, satellites still to come)."""
+    if not line[0:14].strip():  # a continuation of the satellite list
+        if last is None or last[2] <= 0:
+            raise RinexError(
+                path, lineno, "a 'SYS / PHASE SHIFT' continuation line without a list to continue"
+            )
+        system, code, left = last
+        cycles, sats = shifts[system][code]
+        more = tuple(_sat_id(path, lineno, t, system) for t in line[18:60].split())
+        shifts[system][code] = (cycles, sats + more)
+        return system, code, left - len(more)
+    system, code = line[0], line[2:5].strip()
+    if system not in _SYSTEMS or not code.startswith("L"):
+        raise RinexError(
+            path, lineno, f"expected a system letter and a phase code such as 'G L2X', got {line[0:5]!r}"
+        )
+    cycles = number(path, lineno, line[6:14], "the phase shift (cycles)") if line[6:14].strip() else 0.0
+    count = integer(path, lineno, line[16:18], "the number of satellites") if line[16:18].strip() else 0
+    sats = tuple(_sat_id(path, lineno, t, system) for t in line[18:60].split())
+    shifts.setdefault(system, {})[code] = (cycles, sats)
+    return system, code, count - len(sats)
 
 
 def _scale_factor(
@@ -466,14 +544,33 @@ def _triple(path: str, lineno: int, line: str, what: str) -> NDArray[np.float64]
         return np.array([number(path, lineno, w, what) for w in words])
 
 
-def _codes(path: str, lineno: int, text: str, before: list[str], length: int) -> list[str]:
-    """Observation codes of a types line, each new in its system (a repeated code would overwrite data)."""
+#: Observation codes read (type, band, RINEX 3 attribute): RINEX 2.11 Table A1 and RINEX 3.05 / 4.00
+#: section 5.1 (types C L D S; RINEX 2 also P; bands 1-9; the attributes of the signal tables). A code
+#: outside these (Septentrio's channel number ``X1``, a two-character code in a RINEX 3 file, an unknown
+#: attribute, a receiver's own type) holds its 16 columns of every record, which are read past unparsed.
+_V2_CODE = re.compile(r"[CPLDS][1-9]")
+_V3_CODE = re.compile(r"[CLDS][1-9][PCDYMNABIQSLXWZE]")
+
+
+def _used(code: str, v3: bool) -> bool:
+    """Whether ``code`` is an observation code the reader keeps (:data:`_V3_CODE`, :data:`_V2_CODE`)."""
+    return bool((_V3_CODE if v3 else _V2_CODE).fullmatch(code))
+
+
+def _codes(path: str, lineno: int, text: str, before: list[str], v3: bool) -> list[str]:
+    """Observation codes of a types line (every one holds a field of the records). A code kept must be new
+    in its system: a repeated one would overwrite data; codes read past may repeat."""
     codes = text.split()
+    longest = 3 if v3 else 2
     for k, c in enumerate(codes):
-        if len(c) != length or not c[0].isalpha() or c in before or c in codes[:k]:
+        if not 2 <= len(c) <= longest or not c.isalnum():
             raise RinexError(
-                path, lineno, f"expected distinct {length}-character observation codes, got {c!r}"
+                path,
+                lineno,
+                f"expected observation codes of 2{'-3' if v3 else ''} letters and digits, got {c!r}",
             )
+        if _used(c, v3) and (c in before or c in codes[:k]):
+            raise RinexError(path, lineno, f"expected distinct observation codes, got {c!r} twice")
     return codes
 
 
@@ -481,11 +578,17 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     """Read a RINEX 2.xx, 3.xx or 4.xx observation file (plain, or compressed with the optional
     ``hatanaka`` package).
 
-    The reader refuses what a careful reader refuses, naming the file and the line of the fault: a date or
-    time that does not exist (month 13, hour 24, minute 60, second 60 except a leap second at 23:59), epochs
-    that do not increase strictly, a number that is not a finite F14.3 value (``nan``, ``inf``, ``1e999``),
-    a line cut inside a field or a file cut inside its last line, a satellite count that differs from the
-    satellites listed or the records that follow, a satellite twice in one epoch, and an unknown epoch flag.
+    The reader follows the rule of ``docs/robustness.md`` ("Real files"). It refuses what a careful reader
+    refuses, naming the file and the line of the fault: a date or time that does not exist (month 13, hour
+    24, minute 60, second 60 except a leap second at 23:59), in an epoch or in ``TIME OF FIRST OBS`` /
+    ``TIME OF LAST OBS``, an ``INTERVAL`` <= 0, epochs that do not increase strictly, a number that is not
+    a finite F14.3 value (``nan``, ``inf``, ``1e999``), a line cut inside a field, a satellite count that
+    differs from the satellites listed or the records that follow, a satellite twice in one epoch, a code
+    twice in a system's types, and an unknown epoch flag. It reads every valid file whole: observation
+    codes it does not use (:attr:`RinexObs.unused_codes`) are read past, a file with a header and no epochs
+    reads as zero epochs, and a file cut inside its last epoch (the file ends before the records the epoch
+    announces, with no epoch after it, or ends without a line end inside a field) gives the epochs before
+    it; both with a :class:`~gnssatt.errors.RecordsSkippedWarning`.
 
     Epoch flags are handled as RINEX defines them: 0 and 1 (power failure before the epoch) are observation
     epochs; 2-5 (antenna moving, new occupation, header information, external event) announce that many
@@ -508,6 +611,11 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     Returns
     -------
     RinexObs
+
+    Warns
+    -----
+    RecordsSkippedWarning
+        One per kind: the observation codes read past, the last epoch of a file cut inside it.
 
     Raises
     ------
@@ -541,14 +649,25 @@ def read_obs(path: str | PathLike[str]) -> RinexObs:
     """
     p = path_text(path)
     with reading(p) as cursor:
-        return _read_obs(p, read_lines(p), cursor)
+        skips = Skips(p)
+        obs = _read_obs(p, *read_lines(p), cursor, skips)
+    skips.warn()
+    return obs
 
 
-def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
+#: Kinds of what :func:`read_obs` reads past, for its warnings.
+_UNUSED_CODES = "observation codes read past (not used by gnssatt; their values are not parsed)"
+_CUT_EPOCH = "epoch left out: the file ends inside it (the epochs before it are read)"
+
+
+def _read_obs(p: str, lines: list[str], ended: bool, cursor: Cursor, skips: Skips) -> RinexObs:
     hdr, i = _parse_header(p, lines)
     scales: dict[str, dict[str, int]] = hdr["scale"]  # type: ignore[assignment]
     version = float(hdr["version"])  # type: ignore[arg-type]
     types: dict[str, tuple[str, ...]] = hdr["types"]  # type: ignore[assignment]
+    layout: dict[str, tuple[str, ...]] = hdr["layout"]  # type: ignore[assignment]
+    for code in hdr.get("unused", ()):  # type: ignore[attr-defined]
+        skips.add(_UNUSED_CODES, code)
     default_sys = str(hdr["system"]) if hdr["system"] != "M" else "G"
     v3 = version >= 3
     n_lines = len(lines)
@@ -559,7 +678,7 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
     rec_sat: list[str] = []
     rec_line: list[int] = []
     chunks: dict[str, list[str]] = {}
-    n_types2 = len(next(iter(types.values())))
+    n_types2 = len(next(iter(layout.values())))
     sat_lines2 = (n_types2 + 4) // 5
     previous: tuple[int, int] | None = None  # (label, line) of the last observation epoch
     block: tuple[int, int] | None = None  # (line, count) of the last epoch block read
@@ -578,124 +697,154 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
                     f"the epoch announces {block[1]} satellites, but line {lineno} holds one more record",
                 )
             raise RinexError(p, lineno, f"expected an epoch line starting with '>', got {line[:40]!r}")
-        flag, n, t_ns, clk = _epoch_line(p, lineno, line, v3)
-        # RINEX 2 lists the satellites on the epoch line and its continuation lines (12 per line)
-        n_head = 1 + ((n - 1) // 12 if n > 0 and not v3 and not 2 <= flag <= 5 else 0)
-        per_sat = 1 if v3 else sat_lines2
-        n_body = n if (v3 or 2 <= flag <= 5) else n * sat_lines2
-        if i + n_head + n_body > n_lines:
-            raise RinexError(
-                p,
-                lineno,
-                f"the epoch announces {n} {'special records' if 2 <= flag <= 5 else 'satellites'}, but "
-                f"the file ends {n_lines - i - 1} line(s) later (file truncated?)",
-            )
-        if 2 <= flag <= 5:
-            for j in range(i + 1, i + 1 + n):
-                label = lines[j][60:80].strip()
-                if label not in HEADER_LABELS or lines[j][0:1] == ">":
-                    raise RinexError(
-                        p,
-                        lineno,
-                        f"epoch flag {flag} announces {n} header records, but line {j + 1} is not one "
-                        f"(no header label in columns 61-80)",
-                    )
-                if label in _LAYOUT_LABELS:
-                    # the records after it would be laid out otherwise: reading them with the old
-                    # types (or factors) would put values under wrong codes
-                    raise RinexError(
-                        p,
-                        j + 1,
-                        f"'{label}' inside the data (epoch flag {flag} at line {lineno}) changes how the "
-                        "records after it are laid out, which this reader does not follow: split the file "
-                        "at that epoch with a RINEX tool (gfzrnx -splice, teqc) and read the parts",
-                    )
-            i += 1 + n
-            block = None
-            continue
-        if v3:
-            ids = []
-            for j in range(i + 1, i + 1 + n):
-                if lines[j][0:1] == ">":
-                    raise RinexError(
-                        p,
-                        lineno,
-                        f"the epoch announces {n} satellites, but line {j + 1} starts the next epoch "
-                        f"after {j - i - 1}",
-                    )
-                ids.append(_sat_id(p, j + 1, lines[j][0:3], None))
-        else:
-            listed = "".join(lines[i + c][32:68].ljust(36) for c in range(n_head))
-            for c in range(1, n_head):
-                if lines[i + c][:32].strip():
-                    raise RinexError(
-                        p,
-                        lineno,
-                        f"the epoch lists {n} satellites, but line {i + c + 1} does not continue "
-                        f"the list (columns 1-32 not blank)",
-                    )
-            if listed[3 * n :].strip() or len(listed[: 3 * n].rstrip()) < 3 * n - 2:
+        saved = (len(ep_time), len(rec_sat), {k: len(v) for k, v in chunks.items()})
+        reach = 0  # the lines of this epoch block, once known
+        try:
+            flag, n, t_ns, clk = _epoch_line(p, lineno, line, v3)
+            # RINEX 2 lists the satellites on the epoch line and its continuation lines (12 per line)
+            n_head = 1 + ((n - 1) // 12 if n > 0 and not v3 and not 2 <= flag <= 5 else 0)
+            per_sat = 1 if v3 else sat_lines2
+            n_body = n if (v3 or 2 <= flag <= 5) else n * sat_lines2
+            reach = i + n_head + n_body
+            if i + n_head + n_body > n_lines and not any(
+                _NEXT_EPOCH[v3].match(ln) for ln in lines[i + 1 : i + n_head + n_body]
+            ):
+                # the last epoch, cut by the end of the file (no epoch follows it): the epochs before it
+                skips.add(
+                    _CUT_EPOCH,
+                    f"the epoch at line {lineno} announces {n} "
+                    f"{'special records' if 2 <= flag <= 5 else 'satellites'} in {n_head + n_body} lines, "
+                    f"the file ends {n_lines - i - 1} line(s) later",
+                )
+                break
+            if i + n_head + n_body > n_lines:
                 raise RinexError(
                     p,
                     lineno,
-                    f"the epoch announces {n} satellites, but lists {listed.strip()!r}",
+                    f"the epoch announces {n} {'special records' if 2 <= flag <= 5 else 'satellites'}, but "
+                    f"the file ends {n_lines - i - 1} line(s) later, with other epochs among them",
                 )
-            ids = [_sat_id(p, lineno + j // 12, listed[3 * j : 3 * j + 3], default_sys) for j in range(n)]
-        if not v3 and n % 12 == 0 and i + n_head < n_lines and _SAT_LIST.fullmatch(lines[i + n_head]):
-            raise RinexError(
-                p, lineno, f"the epoch announces {n} satellites, but line {i + n_head + 1} continues the list"
-            )
-        if flag == 6:  # cycle-slip records repeat observations of an epoch already given
-            i += n_head + n_body
-            block = None
-            continue
-        if t_ns is None:
-            raise RinexError(p, lineno, "an observation epoch needs its date and time")
-        if previous is not None and t_ns <= previous[0]:
-            what = "repeats" if t_ns == previous[0] else "comes before"
-            raise RinexError(
-                p,
-                lineno,
-                f"epoch {np.datetime64(t_ns, 'ns')} {what} the epoch at line {previous[1]}: epochs must "
-                "increase strictly (merge duplicated files with a RINEX tool first)",
-            )
-        previous = (t_ns, lineno)
-        e = len(ep_time)
-        ep_time.append(t_ns)
-        ep_flag.append(flag)
-        ep_clock.append(clk)
-        seen: dict[str, int] = {}
-        start = i + n_head
-        for j, sat in enumerate(ids):
-            base = start + j * per_sat
-            if sat in seen:
-                raise RinexError(p, base + 1, f"satellite {sat} appears twice in the epoch of line {lineno}")
-            seen[sat] = base
+            if 2 <= flag <= 5:
+                for j in range(i + 1, i + 1 + n):
+                    label = lines[j][60:80].strip()
+                    if label not in HEADER_LABELS or lines[j][0:1] == ">":
+                        raise RinexError(
+                            p,
+                            lineno,
+                            f"epoch flag {flag} announces {n} header records, but line {j + 1} is not one "
+                            f"(no header label in columns 61-80)",
+                        )
+                    if label in _LAYOUT_LABELS:
+                        # the records after it would be laid out otherwise: reading them with the old
+                        # types (or factors) would put values under wrong codes
+                        raise RinexError(
+                            p,
+                            j + 1,
+                            f"'{label}' inside the data (epoch flag {flag} at line {lineno}) changes how "
+                            "the records after it are laid out, which this reader does not follow: split the "
+                            "file at that epoch with a RINEX tool (gfzrnx -splice, teqc) and read the parts",
+                        )
+                i += 1 + n
+                block = None
+                continue
             if v3:
-                sys_types = types.get(sat[0])
-                if sys_types is None:
-                    raise RinexError(
-                        p, base + 1, f"satellite system {sat[0]!r} has no 'SYS / # / OBS TYPES' header line"
-                    )
-                cursor.line = base + 1
-                _check_fields(p, base + 1, lines[base][3:], len(sys_types), f"satellite {sat}")
-                width = 16 * len(sys_types)
-                chunks.setdefault(sat[0], []).append(lines[base][3 : 3 + width].ljust(width))
+                ids = []
+                for j in range(i + 1, i + 1 + n):
+                    if lines[j][0:1] == ">":
+                        raise RinexError(
+                            p,
+                            lineno,
+                            f"the epoch announces {n} satellites, but line {j + 1} starts the next epoch "
+                            f"after {j - i - 1}",
+                        )
+                    ids.append(_sat_id(p, j + 1, lines[j][0:3], None))
             else:
-                for q in range(sat_lines2):
-                    cursor.line = base + q + 1
-                    fields = min(5, n_types2 - 5 * q)
-                    _check_fields(p, base + q + 1, lines[base + q], fields, f"satellite {sat}")
-                rec = "".join(lines[base + q].ljust(80) for q in range(sat_lines2))
-                chunks.setdefault("*", []).append(rec[: 16 * n_types2])
-            rec_epoch.append(e)
-            rec_sat.append(sat)
-            rec_line.append(base + 1)
-        i = start + n * per_sat
-        block = (lineno, n)
+                listed = "".join(lines[i + c][32:68].ljust(36) for c in range(n_head))
+                for c in range(1, n_head):
+                    if lines[i + c][:32].strip():
+                        raise RinexError(
+                            p,
+                            lineno,
+                            f"the epoch lists {n} satellites, but line {i + c + 1} does not continue "
+                            f"the list (columns 1-32 not blank)",
+                        )
+                if listed[3 * n :].strip() or len(listed[: 3 * n].rstrip()) < 3 * n - 2:
+                    raise RinexError(
+                        p,
+                        lineno,
+                        f"the epoch announces {n} satellites, but lists {listed.strip()!r}",
+                    )
+                ids = [_sat_id(p, lineno + j // 12, listed[3 * j : 3 * j + 3], default_sys) for j in range(n)]
+            if not v3 and n % 12 == 0 and i + n_head < n_lines and _SAT_LIST.fullmatch(lines[i + n_head]):
+                raise RinexError(
+                    p,
+                    lineno,
+                    f"the epoch announces {n} satellites, but line {i + n_head + 1} continues the list",
+                )
+            if flag == 6:  # cycle-slip records repeat observations of an epoch already given
+                i += n_head + n_body
+                block = None
+                continue
+            if t_ns is None:
+                raise RinexError(p, lineno, "an observation epoch needs its date and time")
+            if previous is not None and t_ns <= previous[0]:
+                what = "repeats" if t_ns == previous[0] else "comes before"
+                raise RinexError(
+                    p,
+                    lineno,
+                    f"epoch {np.datetime64(t_ns, 'ns')} {what} the epoch at line {previous[1]}: epochs must "
+                    "increase strictly (merge duplicated files with a RINEX tool first)",
+                )
+            previous = (t_ns, lineno)
+            e = len(ep_time)
+            ep_time.append(t_ns)
+            ep_flag.append(flag)
+            ep_clock.append(clk)
+            seen: dict[str, int] = {}
+            start = i + n_head
+            for j, sat in enumerate(ids):
+                base = start + j * per_sat
+                if sat in seen:
+                    raise RinexError(
+                        p, base + 1, f"satellite {sat} appears twice in the epoch of line {lineno}"
+                    )
+                seen[sat] = base
+                if v3:
+                    sys_types = layout.get(sat[0])
+                    if sys_types is None:
+                        raise RinexError(
+                            p,
+                            base + 1,
+                            f"satellite system {sat[0]!r} has no 'SYS / # / OBS TYPES' header line",
+                        )
+                    cursor.line = base + 1
+                    _check_fields(p, base + 1, lines[base][3:], len(sys_types), f"satellite {sat}")
+                    width = 16 * len(sys_types)
+                    chunks.setdefault(sat[0], []).append(lines[base][3 : 3 + width].ljust(width))
+                else:
+                    for q in range(sat_lines2):
+                        cursor.line = base + q + 1
+                        fields = min(5, n_types2 - 5 * q)
+                        _check_fields(p, base + q + 1, lines[base + q], fields, f"satellite {sat}")
+                    rec = "".join(lines[base + q].ljust(80) for q in range(sat_lines2))
+                    chunks.setdefault("*", []).append(rec[: 16 * n_types2])
+                rec_epoch.append(e)
+                rec_sat.append(sat)
+                rec_line.append(base + 1)
+            i = start + n * per_sat
+            block = (lineno, n)
+        except RinexError as exc:
+            if ended or exc.line is None or exc.line < lineno or (exc.line < n_lines and reach < n_lines):
+                raise
+            # the file has no line end and this epoch reaches it: the file was cut inside the epoch
+            n_ep, n_rec, n_chunk = saved
+            del ep_time[n_ep:], ep_flag[n_ep:], ep_clock[n_ep:]
+            del rec_epoch[n_rec:], rec_sat[n_rec:], rec_line[n_rec:]
+            for key in list(chunks):
+                del chunks[key][n_chunk.get(key, 0) :]
+            skips.add(_CUT_EPOCH, f"the epoch at line {lineno}, cut at line {n_lines} ({exc.message})")
+            break
     cursor.line = n_lines
-    if not ep_time:
-        raise RinexError(p, n_lines, "no observation epochs after the header")
     sats = tuple(sorted(set(rec_sat)))
     codes_list: list[str] = []
     for t in types.values():
@@ -719,13 +868,14 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
     rec_sys = np.array([s[0] for s in rec_sat])
     for key, texts in chunks.items():
         sel = np.arange(len(rec_sat)) if key == "*" else np.flatnonzero(rec_sys == key)
-        sys_types = types[key] if key != "*" else next(iter(types.values()))
-        nt = len(sys_types)
+        columns = layout[key] if key != "*" else next(iter(layout.values()))
+        keep = np.array([k for k, c in enumerate(columns) if _used(c, v3)], dtype=np.int64)
+        sys_types = tuple(columns[k] for k in keep)
         # RINEX 2 puts five fields on a line; RINEX 3 a whole record on one
         line_of = rec_l[sel][:, None] + (
-            np.arange(nt)[None, :] // 5 if key == "*" else np.zeros((1, nt), np.int64)
+            keep[None, :] // 5 if key == "*" else np.zeros((1, len(keep)), np.int64)
         )
-        values, l_flags, s_flags = _convert(p, texts, nt, line_of)
+        values, l_flags, s_flags = _convert(p, texts, len(columns), keep, line_of)
         factors = scales.get(key, {})
         if factors:
             values /= np.array([factors.get(c, factors.get("*", 1)) for c in sys_types], dtype=np.float64)
@@ -753,4 +903,6 @@ def _read_obs(p: str, lines: list[str], cursor: Cursor) -> RinexObs:
         ssi=ssi,
         glonass_channels=dict(hdr["glo"]),  # type: ignore[call-overload]
         leap_seconds=hdr["leap"],  # type: ignore[arg-type]
+        phase_shift_cycles=hdr["phase_shift"],  # type: ignore[arg-type]
+        unused_codes=tuple(hdr.get("unused", ())),  # type: ignore[arg-type]
     )
