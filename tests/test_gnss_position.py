@@ -61,6 +61,12 @@ def test_simulated_session_recovers_the_truth(tmp_path: Path) -> None:
     assert g.columns().keys() >= {"sats_G"} and "sats_E" not in g.columns()
 
 
+def test_a_header_only_file_gives_zero_epochs() -> None:
+    blank = Path(__file__).resolve().parent / "data" / "real" / "blank.10o"
+    p = position_from_rinex(blank, geonet_dir() / "07590920.05n")
+    assert len(p.time) == 0 and p.summary().endswith("0 of 0 epochs solved")
+
+
 def test_bad_arguments_are_refused() -> None:
     o, n = geonet_dir() / "07590920.05o", geonet_dir() / "07590920.05n"
     with pytest.raises(InvalidInputError, match="systems"):

@@ -7,11 +7,13 @@ navigation files of one station: ESBC00DNK 2020-177 (RINEX 3 mixed navigation), 
 navigation), NYA100NOR 2024-124 (RINEX 3 GN + EN + CN). For GPS alone and for every system:
 
 - gnssatt: ``gnssatt position --obs F --nav N ... --no-plot`` of this interpreter's package, run as a user
-  runs it (subprocess: interpreter start, import, reading the Hatanaka file, solving, CSV written);
+  runs it (subprocess: interpreter start, import, reading, solving, CSV written);
 - RTKLIB: ``rnx2rtkp`` single mode (``pos1-posmode=single``, broadcast ionosphere, Saastamoinen troposphere,
   elevation mask 10 deg, ``pos1-navsys`` 1 or 61, ECEF output), built from ``--rtklib DIR`` (``DIR/build.sh``)
-  into the output folder, on the same files decompressed there (RTKLIB 2.4.3 reads neither Hatanaka nor
-  gzip without external tools).
+  into the output folder.
+
+Both read the same files, decompressed into the output folder first (RTKLIB 2.4.3 reads neither Hatanaka nor
+gzip without external tools; gnssatt reads both, but decompressing in Python would dominate its time).
 
 Per run: epochs solved of the file's epochs, distance of the per-axis median position from the header's
 ``APPROX POSITION XYZ``, the distance between the two tools' medians, and wall time. Prints a markdown table.
@@ -171,9 +173,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         head = header_position(obs)
         n_ep = epochs_in(obs)
         for label, (systems, navsys) in SYSTEM_SETS.items():
-            g_med, g_n, g_t, g_note = gnssatt_run(
-                obs_src, navs_src, systems, args.out / f"{obs.stem}_{systems}.csv"
-            )
+            g_med, g_n, g_t, g_note = gnssatt_run(obs, navs, systems, args.out / f"{obs.stem}_{systems}.csv")
             if g_note:
                 notes.append(f"gnssatt {station} {label}: {g_note}")
             if binary is not None:

@@ -756,8 +756,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     print("RTKLIB skipped (no --rtklib-src): gnssatt only\n" if rtk is None else "", end="")
     for name, d in report["datasets"].items():  # type: ignore[attr-defined]
         print(f"{name}: {d['description']}; reference: {d['reference']}")
-    print()
-    print(text)
+    if all_rows:
+        print()
+        print(text)
     for block in extra:
         print("\n" + block)
     (out / "results.json").write_text(json.dumps(report, indent=1, default=str))
