@@ -192,17 +192,22 @@ def test_glonass_unhealthy_and_out_of_interval() -> None:
     assert not ok[0]
 
 
-def test_bad_records_are_refused_with_their_name() -> None:
-    from gnssatt.errors import InvalidInputError
+def test_unusable_records_are_skipped_with_their_name() -> None:
+    from gnssatt.errors import GnssattWarning, InvalidInputError
 
-    rec = _circular_record(e=0.5)
-    with pytest.raises(
-        InvalidInputError, match=r"record 0 \(G07\): expected an eccentricity in \[0, 0.1\], got 0.5"
-    ):
-        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], rec["toe_gpst_ns"])
-    rec = _circular_record(sqrt_a=np.nan)
-    with pytest.raises(InvalidInputError, match="expected a finite sqrt_a"):
-        _core.gnss_satellite_states(_core.Navigation(kepler=rec), ["G07"], rec["toe_gpst_ns"])
+    def state(rec: dict[str, np.ndarray]) -> bool:
+        nav = _core.Navigation(kepler=rec)
+        return bool(_core.gnss_satellite_states(nav, ["G07"], rec["toe_gpst_ns"]).valid[0])
+
+    # an eccentric ellipse that clears the Earth is an orbit: used (perigee 1.3e7 m)
+    assert state(_circular_record(e=0.5))
+    with pytest.warns(GnssattWarning, match=r"Keplerian record 0 \(G07\): sqrt_a 5153.7 m\^0.5, e 1"):
+        assert not state(_circular_record(e=1.0))
+    with pytest.warns(GnssattWarning, match=r"not finite: Keplerian record 0 \(G07\): sqrt_a NaN"):
+        assert not state(_circular_record(sqrt_a=np.nan))
+    # BeiDou C16's four records of the corpus (sqrt(A) 1992, e 0.49): perigee inside the Earth
+    with pytest.warns(GnssattWarning, match=r"perigee 2.0\d+e6 m"):
+        assert not state(_circular_record(sqrt_a=1992.0, e=0.49))
     rec = _circular_record()
     del rec["crs"]
     with pytest.raises(InvalidInputError, match=r'kepler\["crs"\], the key is missing'):

@@ -1,11 +1,15 @@
 """Side by side with RTKLIB 2.4.3: ``gnssatt attitude`` and ``rnx2rtkp`` on the same files, modes and signals.
 
     python benches/python/rtklib_compare.py --rtklib-src ../shared/peers/rtklib-2.4.3 [--rnx2rtkp PATH]
-        [--datasets geonet,sim] [--out DIR] [--repeats N]
+        [--datasets geonet,sim] [--out DIR] [--repeats N] [--cssrlib DIR]
 
 Datasets: ``geonet`` (the GEONET pair shipped in ``gnssatt.data``: 3.3 km, GPS L1/L2, 120 epochs, base 0759 at
 its header position) and ``sim`` (a simulated 1 m static baseline, 300 epochs at 1 s, every system and
-frequency ``gnssatt.sim.rinex_scenario`` writes).
+frequency ``gnssatt.sim.rinex_scenario`` writes); ``cssrlib`` (``--cssrlib DIR``: the real kinematic pair of
+``../shared/data/cssrlib_3034_sept_2021265``, a Septentrio rover 5.3 km from GEONET 3034, unmodified files,
+base at 3034's header position), which has no truth: gnssatt's single-epoch fixes are compared with RTKLIB's
+``kinematic-instantaneous`` ones (``pos1-navsys=45``, ``-f 3``) epoch by epoch where both fix (a table of its
+own: fixed counts, median and largest difference).
 Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
 ``movingbase-instantaneous.conf``; gnssatt ``--motion moving``) and static (``static-continuous.conf``;
 ``--motion static``), with ``--method lambda``; each number of frequencies (``-f N`` / ``--frequencies N``)
@@ -374,6 +378,65 @@ def simulated(folder: Path, n_epochs: int, seed: int) -> Dataset:
     )
 
 
+def cssrlib(folder: Path) -> Dataset:
+    """The real kinematic pair of ``folder`` (``cssrlib_3034_sept_2021265``), unmodified: base 3034 (Trimble),
+    rover SEPT (Septentrio mosaic-X5), one navigation file; no truth."""
+    return dataset(
+        "cssrlib",
+        folder / "3034265G.21O",
+        folder / "SEPT265G.21O",
+        (folder / "SEPT2650.21P",),
+        None,
+        "cssrlib 3034 -> SEPT (5.3 km, moving rover, RINEX 3.04, 1 s), base at 3034's header position",
+    )
+
+
+def agreement(rtk: Rtklib, gnssatt_options: frozenset[str], ds: Dataset, folder: Path, opts: Settings) -> str:
+    """gnssatt single-epoch (``--motion moving --method lambda --systems GE --frequencies all``) against
+    RTKLIB ``kinematic-instantaneous`` (``pos1-navsys=45``: the G, R, E, C bits; the files hold G, E, J,
+    ``-f 3``), both with the base at its header position: fixed counts and the 3-D difference of the
+    baselines at the epochs both fix. A markdown table."""
+    folder.mkdir(parents=True, exist_ok=True)
+    conf = rtk.conf_dir / "kinematic-instantaneous-navsys45.conf"
+    write_conf(
+        rtk.conf_src / MODES["single-epoch"][0],
+        conf,
+        {"pos1-navsys": "45", "out-solformat": "enu", "out-timeform": "tow"},
+    )
+    pos = folder / "rtklib-kinematic-instantaneous-45-f3.pos"
+    cmd = [str(rtk.binary), "-k", str(conf), "-f", "3"]
+    if ds.base_position_m is not None:
+        cmd += ["-r", *(f"{x:.4f}" for x in ds.base_position_m)]
+    cmd += ["-o", str(pos), str(ds.rover_obs), str(ds.base_obs), *map(str, ds.nav)]
+    r_wall, r_fail = timed_run(cmd, pos, opts.repeats, opts.timeout_s)
+    out = folder / "gnssatt-moving-GE-all.csv"
+    ours, why = gnssatt_command(ds, "moving", "GE", 3, out, gnssatt_options)
+    if ours is None or r_fail:
+        return f"cssrlib agreement not measured: {why or r_fail}"
+    g_wall, g_fail = timed_run(ours, out, opts.repeats, opts.timeout_s)
+    if g_fail:
+        return f"cssrlib agreement not measured: gnssatt {g_fail}"
+    theirs = parse_pos(pos)
+    mine = parse_gnssatt_csv(out, 1.0)
+    i = match_epochs(mine.time_s, theirs.time_s)
+    both = (i >= 0) & mine.fixed & np.where(i >= 0, theirs.fixed[np.maximum(i, 0)], False)
+    diff = np.linalg.norm(mine.enu_m[both] - theirs.enu_m[i[both]], axis=1)
+    stat = (lambda f: f"{f(diff) * 1e3:.1f}") if diff.size else (lambda f: "-")
+    return "\n".join(
+        [
+            "| epochs | RTKLIB fixed | gnssatt fixed | both fixed | difference median mm | difference max mm "
+            "| both fixed > 5 cm apart | wall s RTKLIB \\| gnssatt |",
+            "|" + "---|" * 8,
+            f"| {ds.n_epochs} | {int(theirs.fixed.sum())} | {int(mine.fixed.sum())} | {int(both.sum())} "
+            f"| {stat(np.median)} | {stat(np.max)} | {int(np.sum(diff > 0.05))} "
+            f"| {statistics.median(r_wall):.2f} \\| {statistics.median(g_wall):.2f} |",
+            "",
+            "RTKLIB: " + " ".join(cmd),
+            "gnssatt: " + " ".join(ours),
+        ]
+    )
+
+
 class Rtklib:
     """``rnx2rtkp`` with the peer's confs: modified copies go to ``conf_dir``."""
 
@@ -604,7 +667,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rnx2rtkp", type=Path, default=None, help="RTKLIB rnx2rtkp binary (default: build it)")
     ap.add_argument("--rtklib-src", type=Path, default=None, help="RTKLIB 2.4.3 folder (build.sh, conf/)")
-    ap.add_argument("--datasets", default="geonet,sim", help="comma-separated: geonet, sim (default both)")
+    ap.add_argument(
+        "--datasets", default="geonet,sim", help="comma-separated: geonet, sim, cssrlib (default geonet,sim)"
+    )
+    ap.add_argument(
+        "--cssrlib", type=Path, default=None, help="folder of the cssrlib 3034/SEPT pair (dataset cssrlib)"
+    )
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output folder (default {DEFAULT_OUT})")
     ap.add_argument("--repeats", type=int, default=1, help="runs per command; the median wall time is shown")
     ap.add_argument(
@@ -628,8 +696,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     args = ap.parse_args(argv)
     names = [n.strip() for n in args.datasets.split(",") if n.strip()]
-    if not names or any(n not in ("geonet", "sim") for n in names):
-        ap.error(f"--datasets: expected geonet and/or sim, got {args.datasets!r}")
+    if not names or any(n not in ("geonet", "sim", "cssrlib") for n in names):
+        ap.error(f"--datasets: expected geonet, sim and/or cssrlib, got {args.datasets!r}")
+    if "cssrlib" in names and (args.cssrlib is None or args.rtklib_src is None):
+        ap.error("--datasets cssrlib needs --cssrlib DIR and --rtklib-src DIR (RTKLIB is its reference)")
     if args.repeats < 1 or args.sim_epochs < 2 or not args.wrong_fix_m > 0 or not args.timeout_s > 0:
         ap.error("expected --repeats >= 1, --sim-epochs >= 2, --wrong-fix-m > 0 and --timeout-s > 0")
     if args.rnx2rtkp is not None and args.rtklib_src is None:
@@ -664,7 +734,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         "datasets": {},
     }
     all_rows = []
+    extra = []
     for name in names:
+        if name == "cssrlib":
+            assert rtk is not None
+            ds = cssrlib(args.cssrlib)
+            extra.append(f"{ds.description}:\n\n" + agreement(rtk, options, ds, out / name, settings))
+            continue
         ds = geonet() if name == "geonet" else simulated(out / "sim-data", args.sim_epochs, args.seed)
         ref, rows = compare(ds, rtk, out / name, settings)
         report["datasets"][name] = {  # type: ignore[index]
@@ -680,8 +756,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     print("RTKLIB skipped (no --rtklib-src): gnssatt only\n" if rtk is None else "", end="")
     for name, d in report["datasets"].items():  # type: ignore[attr-defined]
         print(f"{name}: {d['description']}; reference: {d['reference']}")
-    print()
-    print(text)
+    if all_rows:
+        print()
+        print(text)
+    for block in extra:
+        print("\n" + block)
     (out / "results.json").write_text(json.dumps(report, indent=1, default=str))
     (out / "table.md").write_text(text + "\n")
     print(f"\nwrote {out / 'results.json'} and {out / 'table.md'}")

@@ -57,6 +57,7 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
         InvalidInputError,
         NearDegenerateWarning,
     )
+    from gnssatt.gnss.position import PositionSeries, position_from_rinex
 
 _SUBMODULES = frozenset({"ambiguity", "attitude", "errors", "gnss", "magnetic", "orbit", "rinex", "sim"})
 
@@ -103,6 +104,7 @@ _EXPORTS: dict[str, str] = {
         "attitude.dynamics": ("RotationFit", "TumbleModel", "fit_rotation"),
         "attitude.wahba": ("TriadResult", "WahbaResult", "triad", "wahba"),
         "attitude.visibility": ("visibility_axis",),
+        "gnss.position": ("PositionSeries", "position_from_rinex"),
     }.items()
     for name in names
 }
@@ -123,6 +125,7 @@ __all__ = [
     "MatrixAttitudeResult",
     "NearDegenerateWarning",
     "PartialFixResult",
+    "PositionSeries",
     "RatioTestResult",
     "RotationFit",
     "TriadResult",
@@ -150,6 +153,7 @@ __all__ = [
     "orbit",
     "partial_fix",
     "phase_attitude_fixes",
+    "position_from_rinex",
     "prior_from_velocity",
     "ratio_test",
     "ratio_threshold_fixed_failure_rate",

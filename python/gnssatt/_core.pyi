@@ -482,6 +482,10 @@ class SinglePoints:
     def satellites(self) -> NDArray[np.int64]: ...  # (n_ep,) used
     @property
     def residual_rms_m(self) -> NDArray[np.float64]: ...  # (n_ep,)
+    @property
+    def pdop(self) -> NDArray[np.float64]: ...  # (n_ep,), NaN where none
+    @property
+    def satellites_per_system(self) -> NDArray[np.int64]: ...  # (n_ep, 5) used per system G R E C J
 
 def gnss_satellite_states(
     navigation: Navigation,

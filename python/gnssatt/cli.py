@@ -1,6 +1,7 @@
 """The ``gnssatt`` command: ``gnssatt reproduce ...`` runs the source papers' experiments;
-``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform (the help texts are
-plain text: ``gnssatt --help``).
+``gnssatt attitude ...`` processes recorded RINEX data of antennas on one platform;
+``gnssatt position ...`` gives the code position of one receiver at every epoch of a file (the help texts
+are plain text: ``gnssatt --help``).
 
 Every failure is one line on stderr, ``gnssatt: error: ...``, naming what was wrong with the command-line
 option names, and exit status 2 (130 after Ctrl-C); no traceback is printed.
@@ -16,6 +17,7 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 __all__ = ["main"]
 
@@ -286,6 +288,64 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
     )
 
 
+def _position(args: argparse.Namespace) -> int:
+    from gnssatt.gnss.position import position_from_rinex
+
+    png = args.out.with_suffix(".png")
+    if png == args.out:
+        raise _UsageError(f"--out {args.out}: expected a CSV file name (the plot goes to the same name .png)")
+    _writable("--out", args.out, folder=False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        series = position_from_rinex(
+            args.obs,
+            args.nav,
+            systems=args.systems,
+            frequencies=args.frequencies if args.frequencies == "all" else int(args.frequencies),
+            elevation_mask_deg=args.elevation_mask,
+        )
+    series.to_csv(args.out)
+    if not args.no_plot:
+        from gnssatt.plots import position_series
+
+        position_series(series, png)
+    for w in caught:
+        print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
+    print(series.summary())
+    print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
+    return 0
+
+
+def _position_parser(sub: Any) -> None:
+    pos = sub.add_parser("position", help="code position of one receiver at every epoch of a RINEX file")
+    pos.add_argument("--obs", required=True, type=Path, help="observation file")
+    pos.add_argument("--nav", action="append", required=True, type=Path, help="navigation file(s)")
+    pos.add_argument(
+        "--out", type=Path, default=Path("position.csv"), help="CSV output (plot: same name .png)"
+    )
+    pos.add_argument(
+        "--systems",
+        type=_systems,
+        default="GRECJ",
+        help="satellite systems, letters among GRECJ (default GRECJ: all the file has)",
+    )
+    pos.add_argument(
+        "--frequencies",
+        choices=("1", "2", "3", "all"),
+        default="1",
+        help="frequency slots a satellite's code may come from, its lowest used: 1 L1/G1/E1/B1I, 2 adds "
+        "L2/G2/E5b/B2I, 3 adds L5/G3/E5a/B3I (default 1)",
+    )
+    pos.add_argument(
+        "--elevation-mask",
+        type=_real(-90.0, 90.0),
+        default=10.0,
+        metavar="DEG",
+        help="degrees (default 10)",
+    )
+    pos.add_argument("--no-plot", action="store_true", help="write only the CSV")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``); the exit status: 0, 2 on any failure
     (one line on stderr), 130 when interrupted."""
@@ -396,9 +456,12 @@ def _main(argv: Sequence[str] | None) -> int:
         "--no-plot", action="store_true", help="write only the CSV (the plot costs about a second)"
     )
     _attitude_options(att)
+    _position_parser(sub)
     args = parser.parse_args(argv)
     if args.command == "attitude":
         return _attitude(args)
+    if args.command == "position":
+        return _position(args)
     return _reproduce(args)
 
 

@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike
 if TYPE_CHECKING:
     from gnssatt.attitude.likelihood import LikelihoodGrid
     from gnssatt.gnss.attitude import AttitudeSeries
+    from gnssatt.gnss.position import PositionSeries
 
 __all__ = [
     "attitude_series",
@@ -20,6 +21,7 @@ __all__ = [
     "error_histograms",
     "error_vs_geometry",
     "likelihood_sections",
+    "position_series",
     "yaw_error_along_orbit",
 ]
 
@@ -121,6 +123,41 @@ def attitude_series(series: AttitudeSeries, path: Path) -> Path:
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel(f"minutes from {np.datetime_as_string(series.time[0], unit='s')} GPST")
     fig.suptitle(f"{series.mode} mode, method {', '.join(sorted(set(series.method)))}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def position_series(series: PositionSeries, path: Path) -> Path:
+    """The positions of :func:`gnssatt.gnss.position.position_from_rinex`: East against North about the
+    median position (equal axes, metres) and the height about the median over time."""
+    _agg()
+    import matplotlib.pyplot as plt
+
+    enu = series.enu_about_median_m()
+    ok = series.solved
+    minutes = (series.time - series.time[0]).astype("timedelta64[ms]").astype(np.float64) / 60_000.0
+    fig, (ax_h, ax_u) = plt.subplots(1, 2, figsize=(11, 4.5), gridspec_kw={"width_ratios": [1, 1.4]})
+    ax_h.plot(enu[ok, 0], enu[ok, 1], ".", ms=3, alpha=0.6)
+    ax_h.plot([0.0], [0.0], "k+", ms=12, label="median position")
+    if np.isfinite(series.header_position_m).all() and ok.any():
+        from gnssatt.frames import dcm_ecef_from_enu, ecef_to_geodetic
+
+        lat, lon, _ = ecef_to_geodetic(series.median_position_m)
+        d = (series.header_position_m - series.median_position_m) @ dcm_ecef_from_enu(float(lat), float(lon))
+        ax_h.plot([d[0]], [d[1]], "rx", ms=10, label=f"header position ({d[2]:+.2f} m up)")
+    ax_h.set(xlabel="east about the median (m)", ylabel="north about the median (m)", aspect="equal")
+    ax_h.legend(loc="best")
+    ax_u.plot(minutes[ok], enu[ok, 2], ".", ms=3)
+    start = np.datetime_as_string(series.time[0], unit="s") if len(series.time) else "-"
+    ax_u.set(xlabel=f"minutes from {start} GPST", ylabel="height about the median (m)")
+    for ax in (ax_h, ax_u):
+        ax.grid(alpha=0.3)
+        ax.ticklabel_format(useOffset=False, style="plain")
+    file = Path(series.path).name
+    name = f"{series.marker_name} ({file})" if series.marker_name else file
+    fig.suptitle(f"{name}: code positions, systems {series.systems}, {int(ok.sum())} of {len(ok)} epochs")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -547,6 +547,16 @@ ENTRIES: dict[str, Entry] = {
         },
         nan_output="epochs without a solution are NaN, flagged in the series",
     ),
+    "gnssatt.position_from_rinex": _e(
+        lambda: {
+            "obs": s.rinex_array().obs_paths[0],
+            "nav": s.rinex_array().nav_path,
+            "systems": "G",
+            "frequencies": 1,
+            "elevation_mask_deg": 10.0,
+        },
+        nan_output="epochs without a solution are NaN, flagged in the series",
+    ),
     "gnssatt.rinex.gps_ns": _e(lambda: {"time": np.array(["2024-03-01T10:00:00"], dtype="datetime64[ns]")}),
     "gnssatt.rinex.write_nav_from_constellation": _e(
         lambda: {

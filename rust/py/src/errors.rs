@@ -47,3 +47,17 @@ pub fn invalid_input(_py: Python<'_>, message: String) -> PyErr {
 pub fn internal_error(_py: Python<'_>, message: String) -> PyErr {
     InternalError::new_err(message)
 }
+
+/// Issues each of `messages` as a `gnssatt.errors.GnssattWarning` (an error only where a warnings
+/// filter turns warnings into errors).
+pub fn warn_all(py: Python<'_>, messages: &[String]) -> PyResult<()> {
+    if messages.is_empty() {
+        return Ok(());
+    }
+    let category = exception_class(py, "GnssattWarning")?;
+    for m in messages {
+        let text = std::ffi::CString::new(m.replace('\0', " ")).unwrap_or_default();
+        PyErr::warn(py, &category, &text, 1)?;
+    }
+    Ok(())
+}

@@ -8,7 +8,7 @@ use gnssatt_core::gnss::geometry::satellite_geometry;
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations};
 use gnssatt_core::gnss::options::EngineOptions;
 use gnssatt_core::gnss::signal::{System, MAX_FREQUENCIES};
-use gnssatt_core::gnss::spp::single_point;
+use gnssatt_core::gnss::spp::single_points;
 use nalgebra::Vector3;
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use gnssatt_core::Error;
 
 use crate::convert::{exact, fixed, rows, values};
-use crate::errors::{invalid_input, IntoPyResult};
+use crate::errors::{invalid_input, warn_all, IntoPyResult};
 use crate::gnss_nav_input::{sat_from_str, Navigation};
 use crate::interruptible;
 use crate::results::result_type;
@@ -97,12 +97,14 @@ fn gnss_satellite_states<'py>(
         Some(o) => exact(py, "offset_s", &o, &[n])?,
         None => vec![0.0; n],
     };
-    let states = interruptible::run(py, || {
+    let (states, skipped) = interruptible::run(py, || {
         let eph = Ephemerides::new(nav)?;
-        Ok((0..n)
+        let states = (0..n)
             .map(|i| eph.state(ids[i], t[i], off[i]))
-            .collect::<Vec<_>>())
+            .collect::<Vec<_>>();
+        Ok((states, eph.skip_warnings()))
     })?;
+    warn_all(py, &skipped)?;
     let pos = Array2::from_shape_fn((n, 3), |(i, j)| {
         states[i].map_or(f64::NAN, |s| s.position_m[j])
     });
@@ -118,19 +120,23 @@ fn gnss_satellite_states<'py>(
 result_type! {
     /// Single-point solutions of `gnss_single_point`, one row per epoch: `position_m` (n_ep, 3) ECEF m,
     /// `clock_s` (n_ep, 5) receiver clock per system G R E C J, s (NaN where not estimated), `satellites`
-    /// (n_ep,) used and `residual_rms_m` (n_ep,) m; NaN rows (and 0 satellites) where no solution.
+    /// (n_ep,) used, `residual_rms_m` (n_ep,) m, `pdop` (n_ep,) and `satellites_per_system` (n_ep, 5);
+    /// NaN rows (and 0 satellites) where no solution.
     SinglePoints {
         position_m: Py<PyArray2<f64>>,
         clock_s: Py<PyArray2<f64>>,
         satellites: Py<PyArray1<i64>>,
         residual_rms_m: Py<PyArray1<f64>>,
+        pdop: Py<PyArray1<f64>>,
+        satellites_per_system: Py<PyArray2<i64>>,
     }
 }
 
-/// Single-point solutions of one receiver at every epoch (test-facing): code `code_m` (n_ep, n_sat, 3)
-/// m, NaN where absent; `glonass_channel` (n_sat,), 99 where none. Returns [`SinglePoints`]: position
-/// (n_ep, 3) ECEF m, clocks (n_ep, 5) s per system (NaN where not estimated), satellites used (n_ep,) and
-/// residual RMS (n_ep,) m; rows of epochs without a solution are NaN (and 0 satellites).
+/// Single-point solutions of one receiver at every epoch (`gnssatt.position_from_rinex`; the core's
+/// `single_points`: epochs independent, each started from `approx_position_m` or the Earth's centre,
+/// in parallel): code `code_m` (n_ep, n_sat, 3) m, NaN where absent; `glonass_channel` (n_sat,), 99
+/// where none. Returns [`SinglePoints`]; rows of epochs without a solution are NaN (and 0 satellites).
+/// Navigation records the engine cannot use are skipped with a `GnssattWarning` naming them.
 #[pyfunction]
 #[pyo3(signature = (navigation, time_gpst_ns, sats, glonass_channel, code_m, *,
                     approx_position_m=None, systems="GRECJ", frequencies=1, elevation_mask_deg=10.0))]
@@ -184,22 +190,15 @@ fn gnss_single_point<'py>(
         glonass_channel: channel,
         receivers: vec![receiver.clone(), receiver],
     };
-    let solutions = interruptible::run(py, || {
-        opts.validate()?;
+    let (solutions, skipped) = interruptible::run(py, || {
         obs.validate()?;
         let eph = Ephemerides::new(nav)?;
-        let mut prior: Option<Vector3<f64>> = None;
-        let mut out = Vec::with_capacity(ne);
-        for e in 0..ne {
-            gnssatt_core::interrupt::check_every(e, "single point")?;
-            let s = single_point(&obs, 0, e, &eph, nav, &opts, prior.as_ref()).ok();
-            if let Some(s) = &s {
-                prior = Some(s.position_m);
-            }
-            out.push(s);
-        }
-        Ok(out)
+        Ok((
+            single_points(&obs, 0, &eph, nav, &opts)?,
+            eph.skip_warnings(),
+        ))
     })?;
+    warn_all(py, &skipped)?;
     let pos = Array2::from_shape_fn((ne, 3), |(i, j)| {
         solutions[i].as_ref().map_or(f64::NAN, |s| s.position_m[j])
     });
@@ -212,11 +211,19 @@ fn gnss_single_point<'py>(
     let rms = Array1::from_shape_fn(ne, |i| {
         solutions[i].as_ref().map_or(f64::NAN, |s| s.residual_rms_m)
     });
+    let pdop = Array1::from_shape_fn(ne, |i| solutions[i].as_ref().map_or(f64::NAN, |s| s.pdop));
+    let per_system = Array2::from_shape_fn((ne, 5), |(i, j)| {
+        solutions[i]
+            .as_ref()
+            .map_or(0, |s| s.satellites_per_system[j] as i64)
+    });
     Ok(SinglePoints {
         position_m: pos.into_pyarray(py).unbind(),
         clock_s: clk.into_pyarray(py).unbind(),
         satellites: n.into_pyarray(py).unbind(),
         residual_rms_m: rms.into_pyarray(py).unbind(),
+        pdop: pdop.into_pyarray(py).unbind(),
+        satellites_per_system: per_system.into_pyarray(py).unbind(),
     })
 }
 
@@ -289,7 +296,7 @@ fn gnss_transmit_states<'py>(
         MAX_RECEIVER_CLOCK_S,
         "s",
     )?;
-    let geometry = interruptible::run(py, || {
+    let (geometry, skipped) = interruptible::run(py, || {
         let eph = Ephemerides::new(nav)?;
         let mut out = Vec::with_capacity(n);
         for i in 0..n {
@@ -302,8 +309,9 @@ fn gnss_transmit_states<'py>(
                 &Vector3::from(rx[i]),
             ));
         }
-        Ok(out)
+        Ok((out, eph.skip_warnings()))
     })?;
+    warn_all(py, &skipped)?;
     let pos = Array2::from_shape_fn((n, 3), |(i, j)| {
         geometry[i].map_or(f64::NAN, |g| g.position_m[j])
     });

@@ -50,6 +50,11 @@ pub struct SppSolution {
     pub clock_s: [f64; 5],
     /// Satellites used.
     pub satellites: usize,
+    /// Satellites used per system ([`crate::gnss::signal::System::index`]).
+    pub satellites_per_system: [usize; N_SYSTEMS],
+    /// Position dilution of precision of the satellites used: `sqrt(trace)` of the position block of
+    /// `(G^T G)^-1`, G the unweighted design matrix (lines of sight and one clock per system).
+    pub pdop: f64,
     /// RMS of the residuals of the satellites used, m.
     pub residual_rms_m: f64,
     /// Geometry of every session satellite (`obs.sats` order) at the solution, with the clock of its
@@ -94,6 +99,37 @@ struct Linearised {
 /// [`Error::DegenerateGeometry`] for a normal matrix beyond [`MAX_CONDITION`];
 /// [`Error::Convergence`] after [`MAX_ITERATIONS`] without convergence.
 pub fn single_point(
+    obs: &Observations,
+    receiver: usize,
+    epoch: usize,
+    eph: &Ephemerides,
+    nav: &NavData,
+    opts: &EngineOptions,
+    prior: Option<&Vector3<f64>>,
+) -> Result<SppSolution> {
+    let mut out = code_solution(obs, receiver, epoch, eph, nav, opts, prior)?;
+    let t = obs.time_gpst_ns[epoch];
+    let fallback = out
+        .clock_s
+        .iter()
+        .copied()
+        .find(|c| c.is_finite())
+        .unwrap_or(0.0);
+    out.geometry = obs
+        .sats
+        .iter()
+        .map(|&id| {
+            let c = out.clock_s[id.system.index()];
+            let clock = if c.is_finite() { c } else { fallback };
+            satellite_geometry(eph, id, t, clock, &out.position_m)
+        })
+        .collect();
+    Ok(out)
+}
+
+/// [`single_point`] without the geometry of every session satellite (`geometry` left empty): what
+/// positioning alone needs.
+fn code_solution(
     obs: &Observations,
     receiver: usize,
     epoch: usize,
@@ -187,23 +223,7 @@ pub fn single_point(
             }
         }
     }
-    let mut out = solution;
-    let fallback = out
-        .clock_s
-        .iter()
-        .copied()
-        .find(|c| c.is_finite())
-        .unwrap_or(0.0);
-    out.geometry = obs
-        .sats
-        .iter()
-        .map(|&id| {
-            let c = out.clock_s[id.system.index()];
-            let clock = if c.is_finite() { c } else { fallback };
-            satellite_geometry(eph, id, t, clock, &out.position_m)
-        })
-        .collect();
-    Ok(out)
+    Ok(solution)
 }
 
 /// Iterated solution without candidate `excluded`: the solution (geometry left empty) and the
@@ -286,11 +306,17 @@ fn solve(
             for &s in &systems {
                 clock_s[s] = clock_m[s] / SPEED_OF_LIGHT_M_S;
             }
+            let mut satellites_per_system = [0; N_SYSTEMS];
+            for &r in &fin.rows {
+                satellites_per_system[candidates[r].system] += 1;
+            }
             return Ok((
                 SppSolution {
                     position_m: x,
                     clock_s,
                     satellites: fin.rows.len(),
+                    satellites_per_system,
+                    pdop: pdop(&fin, candidates),
                     residual_rms_m: rms,
                     geometry: Vec::new(),
                 },
@@ -302,6 +328,64 @@ fn solve(
         what: "single point",
         iterations: MAX_ITERATIONS,
     })
+}
+
+/// PDOP of the rows of `lin` (field [`SppSolution::pdop`]); NaN where the design is singular.
+fn pdop(lin: &Linearised, candidates: &[Candidate]) -> f64 {
+    let systems: Vec<usize> = (0..N_SYSTEMS)
+        .filter(|s| lin.rows.iter().any(|&r| candidates[r].system == *s))
+        .collect();
+    let n = 3 + systems.len();
+    let mut g = DMatrix::<f64>::zeros(lin.rows.len(), n);
+    for (i, &r) in lin.rows.iter().enumerate() {
+        for j in 0..3 {
+            g[(i, j)] = -lin.los[i][j];
+        }
+        if let Some(col) = systems.iter().position(|&s| s == candidates[r].system) {
+            g[(i, 3 + col)] = 1.0;
+        }
+    }
+    (g.transpose() * &g).cholesky().map_or(f64::NAN, |c| {
+        let q = c.inverse();
+        (q[(0, 0)] + q[(1, 1)] + q[(2, 2)]).sqrt()
+    })
+}
+
+/// [`single_point`] of `receiver` at every epoch of `obs` (without `geometry`), each started from the
+/// receiver's header position (else the Earth's centre) on its own: epochs are independent, solved in
+/// parallel on rayon's pool; `None` at an epoch without a solution.
+///
+/// # Errors
+/// [`Error::OutOfRange`] for a receiver outside `obs` or invalid options; [`Error::Interrupted`].
+pub fn single_points(
+    obs: &Observations,
+    receiver: usize,
+    eph: &Ephemerides,
+    nav: &NavData,
+    opts: &EngineOptions,
+) -> Result<Vec<Option<SppSolution>>> {
+    use rayon::prelude::*;
+    opts.validate()?;
+    if receiver >= obs.receivers.len() {
+        return Err(Error::out_of_range(
+            "single_points",
+            format!(
+                "expected receiver < {}, got {receiver}",
+                obs.receivers.len()
+            ),
+        ));
+    }
+    (0..obs.n_epochs())
+        .into_par_iter()
+        .map(|e| {
+            crate::interrupt::check_every(e, "single point")?;
+            match code_solution(obs, receiver, e, eph, nav, opts, None) {
+                Ok(s) => Ok(Some(s)),
+                Err(err @ (Error::Shape { .. } | Error::Interrupted { .. })) => Err(err),
+                Err(_) => Ok(None),
+            }
+        })
+        .collect()
 }
 
 /// Residuals (observed - computed), lines of sight and sigmas of the usable candidates at `x`.
@@ -471,6 +555,54 @@ mod tests {
         assert!(s.clock_s[1..].iter().all(|c| c.is_nan()));
         assert!(s.residual_rms_m < 1e-3);
         assert_eq!(s.geometry.len(), 24);
+    }
+
+    #[test]
+    fn parallel_epochs_and_pdop() {
+        let nav = constellation();
+        let eph = Ephemerides::new(&nav).unwrap();
+        let (lat, lon) = (36f64.to_radians(), 140f64.to_radians());
+        let truth = enu_from_ecef(lat, lon).transpose() * Vector3::new(0.0, 0.0, 6_371_000.0);
+        let one = observations(&nav, &truth, 2.5e-4);
+        // The same epoch three times, the second without code: two solutions, one None.
+        let mut obs = one.clone();
+        obs.time_gpst_ns = vec![T0, T0 + 1, T0 + 2];
+        let rx = &mut obs.receivers[0];
+        let n = rx.code_m.len();
+        let mut code = rx.code_m.clone();
+        code.extend(vec![f64::NAN; n]);
+        code.extend(rx.code_m.clone());
+        rx.code_m = code;
+        for v in [&mut rx.phase_cycles, &mut rx.doppler_hz, &mut rx.snr_dbhz] {
+            *v = vec![f64::NAN; 3 * n];
+        }
+        rx.lli = vec![0; 3 * n];
+        let opts = EngineOptions::default();
+        let all = single_points(&obs, 0, &eph, &nav, &opts).unwrap();
+        let s = single_point(&one, 0, 0, &eph, &nav, &opts, None).unwrap();
+        assert!(all[1].is_none());
+        let a = all[0].as_ref().unwrap();
+        assert!((a.position_m - s.position_m).norm() < 1e-6);
+        assert_eq!(a.satellites_per_system, [s.satellites, 0, 0, 0, 0]);
+        // PDOP from the lines of sight of the satellites above the mask, written out here: the
+        // inverse of the 4x4 normal matrix by nalgebra's LU.
+        let rows: Vec<Vector3<f64>> = s
+            .geometry
+            .iter()
+            .flatten()
+            .filter(|g| g.elevation_rad >= opts.elevation_mask_rad)
+            .map(|g| g.los_ecef)
+            .collect();
+        assert_eq!(rows.len(), s.satellites);
+        let mut normal = nalgebra::Matrix4::<f64>::zeros();
+        for u in &rows {
+            let g = nalgebra::Vector4::new(-u.x, -u.y, -u.z, 1.0);
+            normal += g * g.transpose();
+        }
+        let q = normal.lu().try_inverse().unwrap();
+        let want = (q[(0, 0)] + q[(1, 1)] + q[(2, 2)]).sqrt();
+        assert!((s.pdop - want).abs() < 1e-9 * want, "{} vs {want}", s.pdop);
+        assert!(single_points(&obs, 1, &eph, &nav, &opts).is_err());
     }
 
     #[test]

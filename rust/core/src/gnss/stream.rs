@@ -306,7 +306,7 @@ impl Engine {
             });
         }
         let eph = Ephemerides::new(nav)?;
-        let mut warnings = Vec::new();
+        let mut warnings = eph.skip_warnings();
         for &system in &opts.systems {
             let seen: Vec<&SatId> = sats.iter().filter(|s| s.system == system).collect();
             if !seen.is_empty() && !seen.iter().any(|&&s| eph.has(s)) {

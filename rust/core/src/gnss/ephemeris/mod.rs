@@ -34,12 +34,59 @@ pub struct SatState {
     pub clock_drift_s_s: f64,
 }
 
-/// The records of a session indexed per satellite (each list sorted by reference time).
+/// The records of a session indexed per satellite (each list sorted by reference time), and those left
+/// out because the models cannot use them.
 #[derive(Debug, Clone, Default)]
 pub struct Ephemerides {
     kepler: HashMap<SatId, Vec<KeplerRecord>>,
     glonass: HashMap<SatId, Vec<GlonassRecord>>,
+    skipped: Vec<SkippedRecord>,
 }
+
+/// Why a record is left out by [`Ephemerides::new`]: one warning per reason.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum SkipReason {
+    /// A value that is NaN or infinite: no orbit or clock can be computed from it.
+    NotFinite,
+    /// sqrt(A) <= 0 or an eccentricity outside [0, 1): not an ellipse, Kepler's equation has no
+    /// solution the model can use.
+    NotAnEllipse,
+    /// An orbit that meets the Earth or reaches beyond 1e8 m, or rates and clock terms beyond those of
+    /// any navigation satellite: positions would be computed, but not of a satellite.
+    NotASatellite,
+    /// A health word that is not an integer in 0..2^32 (the health bits cannot be read).
+    HealthWord,
+}
+
+impl SkipReason {
+    fn describe(self) -> &'static str {
+        match self {
+            SkipReason::NotFinite => "a value that is not finite",
+            SkipReason::NotAnEllipse => {
+                "not an elliptical orbit (sqrt(A) <= 0 or eccentricity outside [0, 1))"
+            }
+            SkipReason::NotASatellite => {
+                "not the orbit or clock of a navigation satellite (perigee below the Earth's radius, \
+                 apogee beyond 1e8 m, or rates and clock terms beyond any broadcast)"
+            }
+            SkipReason::HealthWord => "a health word that is not an integer in 0..2^32",
+        }
+    }
+}
+
+/// A navigation record left out by [`Ephemerides::new`]: its table (`"Keplerian"` or `"GLONASS"`),
+/// index in that table of [`NavData`], satellite, reason and the value that gave it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SkippedRecord {
+    pub kind: &'static str,
+    pub index: usize,
+    pub sat: SatId,
+    pub reason: SkipReason,
+    pub detail: String,
+}
+
+/// Records named in full per warning of [`Ephemerides::skip_warnings`]; the rest are counted.
+const NAMED_SKIPPED: usize = 8;
 
 /// Half-width of the validity interval around a record's reference time, s: GPS half its fit interval
 /// (IS-GPS-200 20.3.4.4; 4 h when the record gives none), QZSS 1 h (IS-QZSS-PNT: 2 h fit interval;
@@ -106,13 +153,16 @@ fn nearest<R>(
 }
 
 impl Ephemerides {
-    /// Indexes the records of `nav` per satellite after checking them.
+    /// Indexes the records of `nav` per satellite; a record the models cannot use (a value that is not
+    /// finite, not an ellipse, not a navigation satellite's orbit or clock, an unreadable health word:
+    /// [`SkipReason`]) is left out and listed in [`Ephemerides::skipped`], never fatal to the others.
+    /// Any eccentricity in [0, 1) is used (Galileo E14 and E18 fly at 0.16-0.17): Kepler propagation
+    /// is exact for every ellipse ([`kepler::eccentric_anomaly`]).
     ///
     /// # Errors
     /// [`Error::TooLarge`] beyond [`MAX_RECORDS`]; [`Error::OutOfRange`] naming the record (satellite and
-    /// index) for a record of the wrong system, a non-finite orbit or clock value, an orbit outside
-    /// 10^6..10^8 m, an eccentricity outside [0, 0.1], a health word that is not an integer in
-    /// 0..2^32, or a GLONASS state far from any orbit.
+    /// index) for a record in the table of the wrong system (a GLONASS satellite among the Keplerian
+    /// records or the reverse: a defect of the caller, not of a file).
     pub fn new(nav: &NavData) -> Result<Ephemerides> {
         let n = nav.kepler.len().saturating_add(nav.glonass.len());
         if n > MAX_RECORDS {
@@ -125,12 +175,16 @@ impl Ephemerides {
         }
         let mut eph = Ephemerides::default();
         for (i, r) in nav.kepler.iter().enumerate() {
-            check_kepler(i, r)?;
-            eph.kepler.entry(r.sat).or_default().push(*r);
+            match check_kepler(i, r)? {
+                None => eph.kepler.entry(r.sat).or_default().push(*r),
+                Some((reason, detail)) => eph.skip("Keplerian", i, r.sat, reason, detail),
+            }
         }
         for (i, r) in nav.glonass.iter().enumerate() {
-            check_glonass(i, r)?;
-            eph.glonass.entry(r.sat).or_default().push(*r);
+            match check_glonass(i, r)? {
+                None => eph.glonass.entry(r.sat).or_default().push(*r),
+                Some((reason, detail)) => eph.skip("GLONASS", i, r.sat, reason, detail),
+            }
         }
         for v in eph.kepler.values_mut() {
             v.sort_by_key(|r| r.toe_gpst_ns);
@@ -139,6 +193,60 @@ impl Ephemerides {
             v.sort_by_key(|r| r.tb_gpst_ns);
         }
         Ok(eph)
+    }
+
+    fn skip(
+        &mut self,
+        kind: &'static str,
+        index: usize,
+        sat: SatId,
+        reason: SkipReason,
+        detail: String,
+    ) {
+        self.skipped.push(SkippedRecord {
+            kind,
+            index,
+            sat,
+            reason,
+            detail,
+        });
+    }
+
+    /// The records left out by [`Ephemerides::new`], in the order of the navigation data.
+    pub fn skipped(&self) -> &[SkippedRecord] {
+        &self.skipped
+    }
+
+    /// One sentence per [`SkipReason`] met: the count, the first [`NAMED_SKIPPED`] records named with
+    /// their values, and that the others of the file are used.
+    pub fn skip_warnings(&self) -> Vec<String> {
+        let mut reasons: Vec<SkipReason> = self.skipped.iter().map(|s| s.reason).collect();
+        reasons.sort_unstable();
+        reasons.dedup();
+        reasons
+            .into_iter()
+            .map(|reason| {
+                let of: Vec<&SkippedRecord> =
+                    self.skipped.iter().filter(|s| s.reason == reason).collect();
+                let named: Vec<String> = of
+                    .iter()
+                    .take(NAMED_SKIPPED)
+                    .map(|s| format!("{} record {} ({}): {}", s.kind, s.index, s.sat, s.detail))
+                    .collect();
+                let more = of.len().saturating_sub(NAMED_SKIPPED);
+                let tail = if more > 0 {
+                    format!("; and {more} more")
+                } else {
+                    String::new()
+                };
+                format!(
+                    "{} navigation record(s) skipped, {}: {}{tail}; the other records are used",
+                    of.len(),
+                    reason.describe(),
+                    named.join("; ")
+                )
+            })
+            .collect()
     }
 
     /// Whether any record of `sat` exists (healthy or not).
@@ -243,25 +351,25 @@ fn record_error(kind: &str, i: usize, sat: SatId, detail: String) -> Error {
     Error::out_of_range("nav", format!("{kind} record {i} ({sat}): {detail}"))
 }
 
-fn check_health_word(kind: &str, i: usize, sat: SatId, health: f64) -> Result<()> {
-    if health.is_finite() && health.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&health)
-    {
-        Ok(())
-    } else {
-        Err(record_error(
-            kind,
-            i,
-            sat,
-            format!("expected a health word, an integer in 0..2^32, got {health}"),
-        ))
-    }
+/// Why a record is skipped and the value that says so; `None` for a usable record.
+type Verdict = Option<(SkipReason, String)>;
+
+fn check_health_word(health: f64) -> Verdict {
+    let integer = health.is_finite()
+        && health.fract() == 0.0
+        && (0.0..=f64::from(u32::MAX)).contains(&health);
+    (!integer).then(|| (SkipReason::HealthWord, format!("health {health}")))
 }
 
-fn check_kepler(i: usize, r: &KeplerRecord) -> Result<()> {
-    let kind = "Keplerian";
+/// WGS-84 equatorial radius, m: a perigee below it is inside the Earth.
+const EARTH_RADIUS_M: f64 = 6_378_137.0;
+/// Largest apogee of a navigation satellite's orbit, m (GEO and IGSO: 4.2e7 m).
+const MAX_APOGEE_M: f64 = 1e8;
+
+fn check_kepler(i: usize, r: &KeplerRecord) -> Result<Verdict> {
     if r.sat.system == System::Glonass {
         return Err(record_error(
-            kind,
+            "Keplerian",
             i,
             r.sat,
             "expected a GPS, Galileo, BeiDou or QZSS satellite, got GLONASS".into(),
@@ -288,31 +396,26 @@ fn check_kepler(i: usize, r: &KeplerRecord) -> Result<()> {
         ("idot", r.idot),
     ];
     if let Some((name, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
-            format!("expected a finite {name}, got {v}"),
-        ));
+        return Ok(Some((SkipReason::NotFinite, format!("{name} {v}"))));
     }
-    if !(1e3..=1e4).contains(&r.sqrt_a) {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
+    // The numerics: Kepler's equation E - e sin E = M has one root for every M where 0 <= e < 1, and
+    // the mean motion needs A > 0.
+    if !(r.sqrt_a > 0.0 && (0.0..1.0).contains(&r.e)) {
+        return Ok(Some((
+            SkipReason::NotAnEllipse,
+            format!("sqrt_a {} m^0.5, e {}", r.sqrt_a, r.e),
+        )));
+    }
+    let a = r.sqrt_a * r.sqrt_a;
+    let (perigee, apogee) = (a * (1.0 - r.e), a * (1.0 + r.e));
+    if perigee < EARTH_RADIUS_M || apogee > MAX_APOGEE_M {
+        return Ok(Some((
+            SkipReason::NotASatellite,
             format!(
-                "expected sqrt_a in 1e3..1e4 m^0.5 (an orbit 1e6..1e8 m), got {}",
-                r.sqrt_a
+                "sqrt_a {} m^0.5 and e {}: perigee {perigee:.4e} m, apogee {apogee:.4e} m",
+                r.sqrt_a, r.e
             ),
-        ));
-    }
-    if !(0.0..=0.1).contains(&r.e) {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
-            format!("expected an eccentricity in [0, 0.1], got {}", r.e),
-        ));
+        )));
     }
     // Rates and clock terms beyond these are not orbits or clocks of navigation satellites (a broadcast
     // af0 is below 1 ms in magnitude by its field width; 1 s bounds any misread).
@@ -325,21 +428,18 @@ fn check_kepler(i: usize, r: &KeplerRecord) -> Result<()> {
         ("af2", r.af[2], 1e-3),
     ];
     if let Some((name, v, limit)) = rates.iter().find(|(_, v, l)| v.abs() > *l) {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
-            format!("expected |{name}| <= {limit:e}, got {v}"),
-        ));
+        return Ok(Some((
+            SkipReason::NotASatellite,
+            format!("|{name}| {} > {limit:e}", v.abs()),
+        )));
     }
-    check_health_word(kind, i, r.sat, r.health)
+    Ok(check_health_word(r.health))
 }
 
-fn check_glonass(i: usize, r: &GlonassRecord) -> Result<()> {
-    let kind = "GLONASS";
+fn check_glonass(i: usize, r: &GlonassRecord) -> Result<Verdict> {
     if r.sat.system != System::Glonass {
         return Err(record_error(
-            kind,
+            "GLONASS",
             i,
             r.sat,
             "expected a GLONASS satellite".into(),
@@ -352,39 +452,33 @@ fn check_glonass(i: usize, r: &GlonassRecord) -> Result<()> {
         .chain(&r.acceleration_m_s2)
         .chain([&r.clock_bias_s, &r.gamma_n]);
     if all.clone().any(|v| !v.is_finite()) {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
-            "expected finite state, acceleration and clock values".into(),
-        ));
+        return Ok(Some((
+            SkipReason::NotFinite,
+            "state, acceleration or clock".into(),
+        )));
     }
     let radius = Vector3::from(r.position_m).norm();
     let speed = Vector3::from(r.velocity_m_s).norm();
     let acc = Vector3::from(r.acceleration_m_s2).norm();
     if !(1e7..=1e8).contains(&radius) || speed > 1e4 || acc > 1e-3 {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
+        return Ok(Some((
+            SkipReason::NotASatellite,
             format!(
-                "expected |r| in 1e7..1e8 m, |v| <= 1e4 m/s and luni-solar |a| <= 1e-3 m/s^2, got \
-                 {radius:.6e} m, {speed:.6e} m/s, {acc:.3e} m/s^2"
+                "|r| {radius:.6e} m, |v| {speed:.6e} m/s, luni-solar |a| {acc:.3e} m/s^2 (expected \
+                 1e7..1e8 m, <= 1e4 m/s, <= 1e-3 m/s^2)"
             ),
-        ));
+        )));
     }
     if r.clock_bias_s.abs() > 1.0 || r.gamma_n.abs() > 1e-3 {
-        return Err(record_error(
-            kind,
-            i,
-            r.sat,
+        return Ok(Some((
+            SkipReason::NotASatellite,
             format!(
-                "expected |tau_n| <= 1 s and |gamma_n| <= 1e-3, got {} s and {}",
+                "tau_n {} s, gamma_n {} (expected |tau_n| <= 1 s, |gamma_n| <= 1e-3)",
                 r.clock_bias_s, r.gamma_n
             ),
-        ));
+        )));
     }
-    check_health_word(kind, i, r.sat, r.health)
+    Ok(check_health_word(r.health))
 }
 
 #[cfg(test)]

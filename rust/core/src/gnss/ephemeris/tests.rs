@@ -106,19 +106,130 @@ fn group_delays_per_slot() {
 }
 
 #[test]
-fn records_are_checked() {
-    let mut r = record(System::Gps, 1, 0);
-    r.e = f64::NAN;
-    let err = Ephemerides::new(&nav(vec![r])).unwrap_err();
-    assert!(err
-        .to_string()
-        .contains("Keplerian record 0 (G01): expected a finite e"));
-    let mut r = record(System::Gps, 1, 0);
-    r.health = 0.5;
-    assert!(Ephemerides::new(&nav(vec![r])).is_err());
+fn unusable_records_are_skipped_and_named() {
+    let good = record(System::Gps, 2, 0);
+    let mut nan = record(System::Gps, 1, 0);
+    nan.e = f64::NAN;
+    let mut hyperbola = record(System::Gps, 3, 0);
+    hyperbola.e = 1.0;
+    let mut inside = record(System::BeiDou, 16, 0);
+    // A BeiDou C16 record of a real file: sqrt(A) 1992, e 0.49, perigee 2e6 m (inside the Earth).
+    inside.sqrt_a = 1992.0;
+    inside.e = 0.49;
+    let mut health = record(System::Gps, 4, 0);
+    health.health = 0.5;
+    let eph = Ephemerides::new(&nav(vec![nan, good, hyperbola, inside, health])).unwrap();
+    let reasons: Vec<(usize, SkipReason)> =
+        eph.skipped().iter().map(|s| (s.index, s.reason)).collect();
+    assert_eq!(
+        reasons,
+        vec![
+            (0, SkipReason::NotFinite),
+            (2, SkipReason::NotAnEllipse),
+            (3, SkipReason::NotASatellite),
+            (4, SkipReason::HealthWord)
+        ]
+    );
+    assert!(eph.state(good.sat, T0, 0.0).is_some());
+    assert!(eph.state(nan.sat, T0, 0.0).is_none() && !eph.has(nan.sat));
+    let w = eph.skip_warnings();
+    assert_eq!(w.len(), 4);
+    assert!(w[0].starts_with("1 navigation record(s) skipped, a value that is not finite"));
+    assert!(w[0].contains("Keplerian record 0 (G01): e NaN"), "{}", w[0]);
+    assert!(w[2].contains("record 3 (C16)"), "{}", w[2]);
+    // A record in the wrong table is the caller's defect: refused.
     let mut r = record(System::Gps, 1, 0);
     r.sat.system = System::Glonass;
     assert!(Ephemerides::new(&nav(vec![r])).is_err());
+}
+
+/// Root of E - e sin E = m on [-pi, pi] by bisection (E - e sin E is increasing there).
+fn bisection_root(m: f64, e: f64) -> f64 {
+    let (mut lo, mut hi) = (-std::f64::consts::PI, std::f64::consts::PI);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid - e * mid.sin() - m < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn kepler_solver_matches_bisection_up_to_high_eccentricity() {
+    use std::f64::consts::{PI, TAU};
+    for &e in &[
+        0.0, 0.01, 0.1, 0.1639, 0.17, 0.3, 0.5, 0.7, 0.9, 0.97, 0.999,
+    ] {
+        for k in 0..=2000 {
+            let m = -PI + TAU * f64::from(k) / 2000.0;
+            for turns in [0.0, 3.0, -2.0] {
+                let ea = kepler::eccentric_anomaly(m + turns * TAU, e)
+                    .unwrap_or_else(|| panic!("no convergence at e {e}, m {m}"));
+                // m = pi maps onto -pi: compare on the circle.
+                let want = bisection_root(if m >= PI { m - TAU } else { m }, e);
+                let d = (ea - want + PI).rem_euclid(TAU) - PI;
+                assert!(d.abs() < 1e-12, "e {e} m {m}: {ea} vs {want}");
+            }
+        }
+    }
+    assert_eq!(kepler::eccentric_anomaly(0.3, 1.0), None);
+    assert_eq!(kepler::eccentric_anomaly(f64::NAN, 0.1), None);
+}
+
+#[test]
+fn kepler_solver_iterations_up_to_high_eccentricity() {
+    // Count Newton steps from the same starter: the bound MAX_KEPLER_ITERATIONS documents.
+    use std::f64::consts::{PI, TAU};
+    let steps = |m: f64, e: f64| {
+        let mut ea = m + 0.85 * e * m.sin().signum();
+        for n in 1..=100 {
+            let step = (ea - e * ea.sin() - m) / (1.0 - e * ea.cos());
+            ea -= step;
+            if step.abs() < 1e-15 {
+                return n;
+            }
+        }
+        100
+    };
+    for (e, most) in [(0.2, 6), (0.9, 10)] {
+        let worst = (0..2000)
+            .map(|k| steps(-PI + TAU * f64::from(k) / 2000.0, e))
+            .max()
+            .unwrap();
+        assert!(worst <= most, "e {e}: {worst} steps");
+    }
+}
+
+#[test]
+fn eccentric_orbit_radius_and_clock_closed_form() {
+    // Galileo E18-like orbit (e 0.1639, no harmonics): r = a (1 - e cos E) at the solved E, and the
+    // relativistic clock term -2 sqrt(mu) e sqrt(A) sin E / c^2 of the OS SIS ICD 5.1.4.
+    let mut r = record(System::Galileo, 18, 0);
+    r.e = 0.1639;
+    r.sqrt_a = 5289.9;
+    r.m0 = 2.0;
+    r.af = [0.0; 3];
+    let eph = Ephemerides::new(&nav(vec![r])).unwrap();
+    assert!(eph.skipped().is_empty());
+    let mu = 3.986_004_418e14;
+    let a = r.sqrt_a * r.sqrt_a;
+    let n = (mu / (a * a * a)).sqrt();
+    for t in [0i64, 1800, 7200] {
+        let s = eph.state(r.sat, T0 + t * NS_PER_S, 0.0).unwrap();
+        let m = r.m0 + n * t as f64;
+        let ea = bisection_root(
+            m - std::f64::consts::TAU
+                * ((m + std::f64::consts::PI) / std::f64::consts::TAU).floor(),
+            r.e,
+        );
+        let radius = a * (1.0 - r.e * ea.cos());
+        assert!((s.position_m.norm() - radius).abs() < 1e-6, "{t}");
+        let rel = -2.0 * mu.sqrt() * r.e * r.sqrt_a * ea.sin() / (299_792_458.0f64).powi(2);
+        assert!((s.clock_s - rel).abs() < 1e-18, "{t}");
+    }
 }
 
 #[test]
