@@ -148,3 +148,32 @@ def test_bad_arguments_name_the_parameter(kwargs: dict[str, object], error: type
     args: dict[str, object] = {"trial": draw, "n_trials": 3, "seed": 0, "progress": False} | kwargs
     with pytest.raises(error, match=name):
         montecarlo.run(**args)  # type: ignore[arg-type]
+
+
+class _CountingPool(ProcessPoolExecutor):
+    """A process pool that counts the tasks submitted to it."""
+
+    submitted = 0
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[no-untyped-def, override]
+        type(self).submitted += 1
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_an_unpicklable_trial_is_refused_before_any_task_is_submitted() -> None:
+    # issue 31: a bare PicklingError once the pool had started
+    with pytest.raises(InvalidInputError, match=r"expected trial picklable.*lambda"):
+        montecarlo.run(lambda rng: rng.random(), 3, seed=0, progress=False)
+    with _CountingPool(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        with pytest.raises(InvalidInputError, match="trial"):
+            montecarlo.run(lambda rng: rng.random(), 3, seed=0, executor=pool, progress=False)
+    assert _CountingPool.submitted == 0
+    # executors that do not pickle take it
+    assert (
+        len(
+            montecarlo.run(
+                lambda rng: rng.random(), 3, seed=0, executor=montecarlo.SerialExecutor(), progress=False
+            )
+        )
+        == 3
+    )

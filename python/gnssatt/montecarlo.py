@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import pickle
 from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from typing import Any, TypeVar
@@ -21,7 +22,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from gnssatt._arrays import flag, integer
-from gnssatt.errors import InvalidTypeError
+from gnssatt.errors import InvalidInputError, InvalidTypeError
 
 __all__ = ["MAX_TRIALS", "SerialExecutor", "run", "trial_generators"]
 
@@ -92,7 +93,8 @@ def run(
         ``n_trials`` or ``chunksize`` below 1 or not integers, ``seed`` negative or not an integer, ``trial``
         not callable, ``progress`` not a bool (:class:`~gnssatt.errors.InvalidTypeError`), ``executor``
         without ``submit`` or whose ``submit`` returns something other than a
-        :class:`concurrent.futures.Future`.
+        :class:`concurrent.futures.Future`; a ``trial`` that cannot be pickled when it runs in a process
+        pool (the default, or a ``ProcessPoolExecutor``), refused before the pool starts.
     WorkLimitError
         ``n_trials`` above :data:`MAX_TRIALS`.
     Exception
@@ -106,6 +108,16 @@ def run(
         raise InvalidTypeError(
             f"expected trial as a callable taking a numpy Generator, got {type(trial).__name__}"
         )
+    if executor is None or isinstance(executor, ProcessPoolExecutor):
+        # a process pool pickles the trial with each task: an unpicklable one (a lambda, a local
+        # function) failed only after the pool had started, as a bare PicklingError
+        try:
+            pickle.dumps(trial)
+        except Exception as exc:
+            raise InvalidInputError(
+                f"expected trial picklable for a process pool (a module-level function or a "
+                f"functools.partial of one), got {trial!r}: {exc}; or pass executor=SerialExecutor()"
+            ) from exc
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise InvalidTypeError(
             f"expected executor as a concurrent.futures.Executor (with submit), got {type(executor).__name__}"
