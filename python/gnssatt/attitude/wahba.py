@@ -282,10 +282,10 @@ def wahba(
         with np.errstate(divide="ignore"):
             span = np.max(w, axis=1) / np.min(np.where(w > 0.0, w, np.inf), axis=1)
         if np.any(span > QUEST_MAX_WEIGHT_SPAN):
-            k = int(np.argmax(span))
+            e = int(np.argmax(span))
             raise InvalidInputError(
                 f"expected weights spanning at most {QUEST_MAX_WEIGHT_SPAN:g} (largest / smallest positive) "
-                f"for method 'quest', got {span[k]:.3g} at epoch {k}: QUEST's characteristic quartic loses "
+                f"for method 'quest', got {span[e]:.3g} at epoch {e}: QUEST's characteristic quartic loses "
                 "the optimum there; use method 'svd' or 'davenport'"
             )
     # the core sees weights relative to the largest of each epoch; covariance and loss scale back
