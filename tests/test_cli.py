@@ -181,7 +181,7 @@ def test_unwritable_out_is_refused_before_any_work(
     ]
     assert main(argv) == 2
     line = _one_error_line(capsys)
-    assert f"--out {out}: cannot create folder" in line
+    assert f"--out {out}: {blocker} is not a folder" in line
     assert main(["reproduce", "matrix-method", "--runs", "2", "--out", str(blocker), "--no-progress"]) == 2
     assert f"--out {blocker}: cannot create folder" in _one_error_line(capsys)
     assert main([*argv[:-1], str(tmp_path)]) == 2
@@ -261,6 +261,7 @@ def test_library_failures_are_one_line(
 def test_attitude_reports_the_files_it_wrote(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     files = simulate_rinex_array(tmp_path, [[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]], [-40.0, 5.0, 0.0], rng=0)
     out = tmp_path / "run" / "series.csv"
+    out.parent.mkdir()  # the CSV's folder must exist (a missing one is refused, not created)
     argv = ["attitude", "--nav", str(files.nav_path), "--out", str(out), "--elevation-mask", "5"]
     for p in files.obs_paths:
         argv += ["--obs", str(p)]

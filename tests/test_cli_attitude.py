@@ -117,3 +117,48 @@ def test_no_plot_writes_only_the_csv(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert f"wrote {out}\n" in capsys.readouterr().out
     with out.open() as fh:
         assert len(list(csv.reader(fh))) == 121
+
+
+GEONET_PAIR = ["07590920.05o", "30400920.05o"]
+
+
+def _geonet(out: Path, *extra: str) -> list[str]:
+    d = geonet_dir()
+    argv = ["attitude", "--obs", str(d / GEONET_PAIR[0]), "--obs", str(d / GEONET_PAIR[1])]
+    return [*argv, "--nav", str(d / "07590920.05n"), "--out", str(out), "--no-plot", *extra]
+
+
+def test_a_known_length_the_data_contradict_is_refused_with_the_measured_length(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # issue 31: the same CSV as without it, no warning; the pair is 3335.4 m apart
+    out = tmp_path / "r.csv"
+    assert main(_geonet(out, "--baseline-length", "10")) == 2
+    line = _one_error_line(capsys)
+    assert "--baseline-length: rover 1 is given as 10 m" in line and "measure 3335.3" in line, line
+    assert not out.exists()
+    assert main(_geonet(out, "--baseline-length", "3335.39")) == 0
+
+
+def test_method_ml_whose_grid_fails_exits_non_zero_and_writes_no_lambda_rows(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # eq. (15) over 3.3 km asks for a step finer than the whole-domain grid takes
+    out = tmp_path / "r.csv"
+    assert main(_geonet(out, "--method", "ml")) == 2
+    line = _one_error_line(capsys)
+    assert "method 'ml': the likelihood grid solved 0 of 120 epochs" in line and "--step" in line, line
+    assert not out.exists()
+
+
+def test_missing_files_and_folders_are_named_and_no_folder_is_created(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(_geonet(tmp_path / "r.csv", "--baselines", str(tmp_path / "absent.txt"))) == 2
+    assert _one_error_line(capsys).endswith(f"--baselines {tmp_path / 'absent.txt'}: does not exist")
+    assert main(_geonet(tmp_path / "r.csv", "--baselines", str(tmp_path))) == 2
+    assert _one_error_line(capsys).endswith(f"--baselines {tmp_path}: is not a file")
+    out = tmp_path / "absent" / "deeper" / "x.csv"
+    assert main(_geonet(out)) == 2
+    assert _one_error_line(capsys).endswith(f"--out {out}: {out.parent} does not exist")
+    assert not (tmp_path / "absent").exists()

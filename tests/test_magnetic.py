@@ -3,8 +3,11 @@ closed forms and (if installed) ppigrf at degree 1."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from gnssatt import InvalidInputError, magnetic
 
@@ -112,3 +115,55 @@ def test_the_former_latitude_longitude_keywords_are_gone() -> None:
     # lat_deg / lon_deg as everywhere else in the package (CHANGELOG.md: the old names were removed)
     with pytest.raises(TypeError, match="latitude_deg"):
         magnetic.dcm_ned_from_ecef(latitude_deg=30.0, longitude_deg=-60.0)  # type: ignore[call-arg]
+
+
+def _ppigrf_ecef(
+    ppigrf: Any, r_m: float, colat_deg: float, lon_deg: float, year: float, degree: int
+) -> NDArray[np.float64]:
+    """ppigrf's geocentric components turned to ECEF here, with the spherical unit vectors written out."""
+    br, bth, bph = (
+        float(np.asarray(c).ravel()[0])
+        for c in ppigrf.igrf_gc(r_m / 1e3, colat_deg, lon_deg, magnetic._datetime(year), max_degree=degree)
+    )
+    th, ph = np.radians(colat_deg), np.radians(lon_deg)
+    e_r = np.array([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)])
+    e_th = np.array([np.cos(th) * np.cos(ph), np.cos(th) * np.sin(ph), -np.sin(th)])
+    e_ph = np.array([-np.sin(ph), np.cos(ph), 0.0])
+    return 1e-9 * (br * e_r + bth * e_th + bph * e_ph)
+
+
+@pytest.mark.parametrize("z_m", [7e6, -7e6, 6.5e6, -2.0e7])
+def test_igrf_is_finite_on_the_pole_axis_and_continuous_to_ppigrf_off_it(z_m: float) -> None:
+    ppigrf = pytest.importorskip("ppigrf")
+    # issue 31: NaN within about 1e-3 m of the axis before
+    for offset in (0.0, 1e-300, 1e-9, 1e-3):
+        on = magnetic.igrf_field_ecef([offset, 0.0, z_m], 2021.0)
+        assert np.all(np.isfinite(on)), (offset, on)
+    on = magnetic.igrf_field_ecef([0.0, 0.0, z_m], 2021.0)
+    # ppigrf 1e-5 deg off the axis (1.2-3.5 m), at four longitudes: the field there differs from its value
+    # on the axis by at most (n_max + 2) theta |B|, theta the angle off the axis (each degree-n term
+    # varies over an angle of about 1 / n)
+    theta_deg = 1e-5
+    for lon in (0.0, 45.0, 90.0, 200.0):
+        colat = theta_deg if z_m > 0 else 180.0 - theta_deg
+        ref = _ppigrf_ecef(ppigrf, abs(z_m), colat, lon, 2021.0, 13)
+        bound = 15 * np.radians(theta_deg) * np.linalg.norm(ref)
+        assert np.linalg.norm(on - ref) < bound, (lon, on, ref)
+        # and at that point the library gives ppigrf's value itself
+        th, ph = np.radians(colat), np.radians(lon)
+        point = abs(z_m) * np.array([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)])
+        np.testing.assert_allclose(magnetic.igrf_field_ecef(point, 2021.0), ref, rtol=1e-9, atol=1e-18)
+
+
+@pytest.mark.parametrize("z_m", [7e6, -7e6])
+def test_igrf_of_degree_one_on_the_axis_is_the_dipole_closed_form(z_m: float) -> None:
+    pytest.importorskip("ppigrf")
+    for year in (2016.0, 2021.0, 2025.0):
+        # the closed form B = a^3 (3 (g . r^) r^ - g) / r^3 on the axis; the two interpolate the
+        # coefficients in time differently, ~1e-5 relative (test_matches_ppigrf_at_degree_one)
+        np.testing.assert_allclose(
+            magnetic.igrf_field_ecef([0.0, 0.0, z_m], year, max_degree=1),
+            magnetic.dipole_field_ecef([0.0, 0.0, z_m], year),
+            rtol=1e-4,
+            atol=1e-11,
+        )

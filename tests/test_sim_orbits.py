@@ -203,3 +203,23 @@ def test_walker_pattern() -> None:
         sim.walker(10, 3, 1, inclination_deg=56.0, semi_major_axis_m=29_600e3)
     with pytest.raises(TypeError, match="integer"):
         sim.walker(24.0, 3, 1, inclination_deg=56.0, semi_major_axis_m=29_600e3)  # type: ignore[arg-type]
+
+
+def test_orbits_whose_mean_motion_overflows_are_refused_by_name() -> None:
+    # issue 31: a = 1e-300 m makes a^3 zero and the mean motion infinite; the next call blamed
+    # mean_anomaly_rad
+    with pytest.raises(InvalidInputError, match=r"semi_major_axis_m.*mean motion inf"):
+        sim.walker(6, 3, 1, inclination_deg=55.0, semi_major_axis_m=1e-300)
+    with pytest.raises(InvalidInputError, match="semi_major_axis_m"):
+        sim.KeplerOrbits.circular([7e6, 1e-120], 0.0, 0.0, 0.0)
+    # a gravitational parameter so small that the mean motion underflows to zero (an infinite period)
+    with pytest.raises(InvalidInputError, match=r"semi_major_axis_m.*gm_m3_s2"):
+        sim.KeplerOrbits(
+            np.array([1e15]), np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1), gm_m3_s2=5e-324
+        )
+    with pytest.raises(InvalidInputError, match="altitude_m"):
+        sim.OrbitalReceiver(-constants.WGS84_A_M + 1e-9, inclination_deg=0.0, gm_m3_s2=1e300)
+    # legitimate orbits are untouched
+    assert np.isfinite(
+        sim.walker(6, 3, 1, inclination_deg=55.0, semi_major_axis_m=7e6).orbits.mean_motion_rad_s
+    ).all()

@@ -183,3 +183,57 @@ def test_near_degenerate_warns() -> None:
         warnings.simplefilter("error")
         gnssatt.triad(z, x, z, x)
         gnssatt.wahba([z, x], [z, x])
+
+
+def test_a_single_pair_against_an_empty_batch_is_refused_not_broadcast_to_nothing() -> None:
+    # issue 31: numpy broadcasts (3,) against (0, 3) to (0, 3), and the result was empty
+    z, x, y = np.eye(3)[2], np.eye(3)[0], np.eye(3)[1]
+    with pytest.raises(InvalidInputError, match=r"b1, b2, r1, r2 with at least one epoch.*\(0, 3\)"):
+        gnssatt.triad(z, np.zeros((0, 3)), x, y)
+    with pytest.raises(InvalidInputError, match="at least one epoch"):
+        gnssatt.yaw_from_magnetometer(z, np.zeros((0, 3)), 0.0, 0.0)
+    with pytest.raises(InvalidInputError, match="at least one epoch"):
+        gnssatt.yaw_from_magnetometer(z, x, np.zeros(0), 0.0)
+    # a single pair against a batch of one still broadcasts
+    assert len(gnssatt.triad(z, x[None], x, y).rotation) == 1
+
+
+def _align(body: np.ndarray, ref: np.ndarray, w: np.ndarray) -> Rotation:
+    unit = body / np.linalg.norm(body, axis=1)[:, None]  # wahba normalises; align_vectors weights by length
+    rotation, _ = Rotation.align_vectors(ref, unit, weights=w)
+    return rotation
+
+
+def test_quest_agrees_with_scipy_up_to_its_weight_span_and_refuses_beyond() -> None:
+    # Noise-free pairs, one weight QUEST_MAX_WEIGHT_SPAN times the others: QUEST gives scipy's rotation.
+    # At 1e6 it returned rotations up to pi away (4 of 1000 such problems), silently.
+    from gnssatt.attitude.wahba import QUEST_MAX_WEIGHT_SPAN
+
+    rng = np.random.default_rng(3)
+    worst = 0.0
+    for _ in range(300):
+        n = int(rng.integers(2, 8))
+        truth = Rotation.random(random_state=rng)
+        ref = rng.normal(size=(n, 3))
+        ref /= np.linalg.norm(ref, axis=1)[:, None]
+        body = truth.inv().apply(ref)
+        w = np.ones(n)
+        w[int(rng.integers(n))] = QUEST_MAX_WEIGHT_SPAN
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NearDegenerateWarning)
+            quest = gnssatt.wahba(body, ref, w, method="quest").rotation
+        worst = max(worst, angle(quest, _align(body, ref, w)))
+    assert worst < 1e-7, worst
+    z, x = np.eye(3)[2], np.eye(3)[0]
+    with pytest.raises(
+        InvalidInputError, match=r"weights spanning at most 100000 .*1e\+09 at epoch 0.*'svd'"
+    ):
+        gnssatt.wahba([z, x], [z, x], [1.0, 1e9], method="quest")
+    # zero weights do not count in the span; svd takes any span
+    assert (
+        angle(
+            gnssatt.wahba([z, x, z], [z, x, z], [1.0, 1e4, 0.0], method="quest").rotation, Rotation.identity()
+        )
+        < 1e-12
+    )
+    assert angle(gnssatt.wahba([z, x], [z, x], [1.0, 1e9]).rotation, Rotation.identity()) < 1e-9

@@ -1,9 +1,11 @@
 """Count the outcomes of hostile input over the whole public API (issue 15).
 
 Runs every inventory entry (``tests/hostile/inventory.py``) x fixed mutation category, ``--examples``
-hypothesis draws per function, ``--rinex-mutations`` byte flips / truncations per RINEX file (plus every
-field edit), LAMBDA against the independent search on ill-conditioned covariances, and the bad command
-lines; prints outcome counts per category and per module, then one line per contract failure.
+hypothesis draws per function, every numeric array argument broadcast to a leading axis of 10^6 and 10^7
+rows (the batch-size dimension, ``--batch-rows``), ``--rinex-mutations`` byte flips / truncations per
+RINEX file (plus every field edit), LAMBDA against the independent search on ill-conditioned
+covariances, and the bad command lines; prints outcome counts per category and per module, then one line
+per contract failure.
 
     python benches/python/hostile_inputs.py [--examples N] [--seed S] [--rinex-mutations N]
 
@@ -110,9 +112,14 @@ def main() -> int:
     )
     p.add_argument("--rinex-mutations", type=int, default=10, help="random mutations of each kind per file")
     p.add_argument("--lambda-cases", type=int, default=40, help="random LAMBDA problems (default 40)")
+    p.add_argument(
+        "--batch-rows",
+        default="1e6,1e7",
+        help="leading axes of the batch-size dimension, comma-separated (default 1e6,1e7)",
+    )
     p.add_argument("--only", default="", help="run only entries whose name contains this text")
     p.add_argument(
-        "--skip", default="", help="comma-separated parts to skip: fixed,hypothesis,rinex,lambda,cli"
+        "--skip", default="", help="comma-separated parts to skip: fixed,hypothesis,batch,rinex,lambda,cli"
     )
     args = p.parse_args()
     skip = set(filter(None, args.skip.split(",")))
@@ -132,6 +139,12 @@ def main() -> int:
                 if inv.ENTRIES[name].build():  # a function without arguments has nothing to draw
                     records += run_drawn(pool, name, args.examples, args.seed)
             print(f"+ hypothesis: {len(records)} calls, {time.perf_counter() - start:.0f} s", file=sys.stderr)
+        if "batch" not in skip:
+            rows = [int(float(x)) for x in args.batch_rows.split(",") if x]
+            records += harness.run_batch(pool, names, rows)
+            print(
+                f"+ batch sizes: {len(records)} calls, {time.perf_counter() - start:.0f} s", file=sys.stderr
+            )
         if "rinex" not in skip:
             records += rinex_records(pool, args.rinex_mutations, args.seed)
         if "lambda" not in skip:

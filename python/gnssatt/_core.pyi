@@ -25,6 +25,7 @@ __all__ = [
     "LAMBDA_MAX_DIMENSION",
     "LAMBDA_MAX_NODES",
     "LAMBDA_MAX_SAMPLES",
+    "LIKELIHOOD_MAX_SERIES_WORK",
     "ORBIT_MAX_RK4_STEPS",
     "BnbStats",
     "Decorrelation",
@@ -77,6 +78,7 @@ __all__ = [
     "ml_attitude_series",
     "ml_baseline_series",
     "ml_search",
+    "ml_series_work",
     "nearest_rotation",
     "orbit_filter_loose",
     "orbit_filter_tight",
@@ -219,6 +221,20 @@ def ml_baseline_series(
     step_rad: float | None,
     window_rad: float | None,
 ) -> MlSeries: ...
+
+LIKELIHOOD_MAX_SERIES_WORK: float
+
+def ml_series_work(
+    n_epochs: int,
+    n_rover: int,
+    n_sig: int,
+    *,
+    step_rad: float | None,
+    wavelength_m: float,
+    longest_baseline_m: float,
+    window_rad: float | None,
+    two_dimensional: bool,
+) -> float: ...
 
 # lambda.rs: integer least squares (LAMBDA / MLAMBDA), validation, partial fixing.
 @final

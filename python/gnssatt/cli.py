@@ -106,6 +106,10 @@ def _one_line(exc: BaseException) -> str:
 def _writable(option: str, path: Path, *, folder: bool) -> None:
     """Refuse an output path that cannot be written before the work starts (not after it)."""
     target = path if folder else path.parent
+    if not folder and not target.is_dir():
+        # a file goes into a folder that exists: a mistyped folder is refused, not created
+        what = "is not a folder" if target.exists() else "does not exist"
+        raise _UsageError(f"{option} {path}: {target} {what}")
     try:
         target.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -157,6 +161,9 @@ def _attitude(args: argparse.Namespace) -> int:
     _writable("--out", args.out, folder=False)
     baselines = None
     if args.baselines is not None:
+        if not args.baselines.is_file():
+            what = "is not a file" if args.baselines.exists() else "does not exist"
+            raise _UsageError(f"--baselines {args.baselines}: {what}")
         try:
             baselines = np.atleast_2d(np.loadtxt(args.baselines, ndmin=2))
         except (OSError, ValueError) as exc:

@@ -33,15 +33,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import constants as _constants
-from gnssatt._arrays import checked_array, integer, scalar, vector_array
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import checked_array, integer, plain_array, scalar, vector_array
+from gnssatt.errors import InvalidInputError, WorkLimitError
 
 # One geodetic -> ECEF conversion, in the base layer.
 from gnssatt.frames import geodetic_to_ecef as geodetic_to_ecef
 
 __all__ = [
     "EARTH_DIPOLE_T_M3",
+    "IGRF_COEFFICIENTS",
     "IGRF_REFERENCE_RADIUS_M",
+    "MAX_IGRF_TERMS",
     "dcm_ned_from_ecef",
     "dipole_coefficients",
     "dipole_field_ecef",
@@ -72,6 +74,15 @@ MIN_RADIUS_M = 1.0e6
 _ANY_NDIM = tuple(range(33))
 #: Largest radius accepted, m (far beyond the magnetopause, some 6e7 m; ``r^3`` stays well inside float64).
 MAX_RADIUS_M = 1.0e12
+
+#: Spherical-harmonic terms ppigrf evaluates at each point of :func:`igrf_field_ecef` (g and h of degrees 1
+#: to 13, whatever ``max_degree``): 13 x 15.
+IGRF_COEFFICIENTS = 195
+#: Most points x :data:`IGRF_COEFFICIENTS` one :func:`igrf_field_ecef` call evaluates: 2.5e7 (128,000
+#: points), measured at 70 us a point on the loaded 2-core build machine: about 9 s.
+MAX_IGRF_TERMS = 25_000_000
+#: Points per ppigrf call (about 80 MB of its matrices).
+_IGRF_CHUNK = 8192
 
 #: Earth's dipole strength ``M_E = mu0 m / (4 pi) = a^3 sqrt(g10^2 + g11^2 + h11^2)`` at 2025.0 from the
 #: IGRF-14 coefficients above, in T m^3 (about 7.70e15; the dipole moment m is 7.70e22 A m^2). This is the
@@ -460,6 +471,8 @@ def igrf_field_ecef(
         ppigrf is not installed.
     InvalidInputError
         As :func:`dipole_field_ecef`; ``max_degree`` outside 1..13.
+    WorkLimitError
+        More than :data:`MAX_IGRF_TERMS` points x :data:`IGRF_COEFFICIENTS`, refused before any is computed.
 
     Examples
     --------
@@ -471,6 +484,15 @@ def igrf_field_ecef(
     >>> np.round(igrf_field_ecef(position, 2025.0, max_degree=1) / dipole_field_ecef(position, 2025.0), 6)
     array([1., 1., 1.])
     """
+    shape = np.shape(plain_array("position_ecef_m", position_ecef_m))
+    n_points = int(np.prod(shape[:-1])) if shape else 1
+    if n_points * IGRF_COEFFICIENTS > MAX_IGRF_TERMS:
+        raise WorkLimitError(
+            f"position_ecef_m asks for {n_points} points x {IGRF_COEFFICIENTS} coefficients = "
+            f"{n_points * IGRF_COEFFICIENTS} terms (ppigrf evaluates every degree to 13 whatever "
+            "max_degree), "
+            f"more than the limit of {MAX_IGRF_TERMS} (MAX_IGRF_TERMS): split the positions into batches"
+        )
     r = _positions("position_ecef_m", position_ecef_m)
     year = scalar("decimal_year", decimal_year, minimum=1900.0, maximum=_LAST_YEAR)
     max_degree = integer("max_degree", max_degree, minimum=1)
@@ -483,15 +505,62 @@ def igrf_field_ecef(
             "igrf_field_ecef needs the optional package ppigrf: pip install gnssatt[igrf]"
         ) from exc
     rn = np.linalg.norm(r, axis=-1)
-    colat = np.degrees(np.arccos(r[..., 2] / rn))
+    rho = np.hypot(r[..., 0], r[..., 1])
+    # arctan2 keeps the colatitude's precision near the axis, where arccos(z / r) rounds to 0 or 180 deg
+    colat = np.degrees(np.arctan2(rho, r[..., 2]))
     lon = np.degrees(np.arctan2(r[..., 1], r[..., 0]))
-    br, bth, bph = (
-        np.asarray(c)[0] for c in ppigrf.igrf_gc(rn / 1e3, colat, lon, _datetime(year), max_degree=max_degree)
-    )
+    date = _datetime(year)
+    br, bth, bph = np.empty_like(rn), np.empty_like(rn), np.empty_like(rn)
+    flat = [a.reshape(-1) for a in (rn, colat, lon, br, bth, bph)]
+    # In chunks: ppigrf holds about 10 kB of matrices per point, and Python's signal handlers (Ctrl-C)
+    # run between chunks.
+    for k in range(0, flat[0].size, _IGRF_CHUNK):
+        part = slice(k, k + _IGRF_CHUNK)
+        with np.errstate(invalid="ignore", divide="ignore"):  # on the axis: replaced below
+            out = ppigrf.igrf_gc(
+                flat[0][part] / 1e3, flat[1][part], flat[2][part], date, max_degree=max_degree
+            )
+        for target, c in zip(flat[3:], out, strict=True):
+            target[part] = np.asarray(c)[0]
     th, ph = np.radians(colat), np.radians(lon)
     e_r = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)
     e_th = np.stack([np.cos(th) * np.cos(ph), np.cos(th) * np.sin(ph), -np.sin(th)], axis=-1)
     e_ph = np.stack([-np.sin(ph), np.cos(ph), np.zeros_like(ph)], axis=-1)
     # typed here: ppigrf is untyped, so its components are Any
     field: NDArray[np.float64] = 1e-9 * (br[..., None] * e_r + bth[..., None] * e_th + bph[..., None] * e_ph)
+    axis = rho <= _AXIS_SIN_COLAT * rn
+    if np.any(axis):
+        field[axis] = _axis_field(rn[axis], r[..., 2][axis] > 0.0, date, max_degree)
     return field
+
+
+#: Points closer to the z axis than this fraction of their radius take the field on the axis itself
+#: (:func:`_axis_field`): there ppigrf divides by ``sin(colatitude)`` (NaN at 0), and the field differs
+#: from its value on the axis by about ``n_max`` times this fraction (1e-11 relative), far below the
+#: model's own error.
+_AXIS_SIN_COLAT = 1e-12
+
+
+def _axis_field(
+    rn: NDArray[np.float64], north: NDArray[np.bool_], date: object, max_degree: int
+) -> NDArray[np.float64]:
+    """The IGRF on the z axis, ECEF, tesla, from ppigrf's radial and southward components at the pole.
+
+    On the axis only the zonal terms (m = 0) give a field along it and the m = 1 terms the field across it;
+    ppigrf's radial and colatitude components are finite there (only its eastward one divides by
+    ``sin(colatitude)``). At colatitude 0 the southward unit vector is ``(cos lon, sin lon, 0)``, so the
+    southward component at longitudes 0 and 90 deg is the field's x and y component; at colatitude 180 deg
+    it is ``-(cos lon, sin lon, 0)`` and the radial unit vector ``-z``.
+    """
+    import ppigrf
+
+    colat = np.where(north, 0.0, 180.0)
+    sign = np.where(north, 1.0, -1.0)
+    out = np.empty((rn.size, 3))
+    for k, lon in enumerate((0.0, 90.0)):
+        with np.errstate(invalid="ignore", divide="ignore"):  # the eastward component, unused
+            components = ppigrf.igrf_gc(rn / 1e3, colat, lon, date, max_degree=max_degree)
+        br, bth = (np.asarray(c)[0] for c in components[:2])
+        out[:, k] = sign * bth
+    out[:, 2] = sign * br
+    return 1e-9 * out

@@ -4,16 +4,16 @@ Each trial gets its own :class:`numpy.random.Generator` from ``SeedSequence(seed
 trial's random stream depends only on ``seed`` and its index: results are identical serially, in a process
 pool, or on a Dask cluster (``client.get_executor()``), whatever the number of workers.
 
-Process pools must not start their workers with ``fork``: gnssatt's Rust core runs its parallel loops on a
-rayon thread pool, and a forked child inherits that pool's state but none of its threads, so its first
-parallel call waits forever. :func:`run` therefore starts its own pool with ``spawn`` and refuses a
-``ProcessPoolExecutor`` that forks (the default on Linux before Python 3.14).
+Any process pool works, forking ones included (a plain ``ProcessPoolExecutor()`` forks on Linux before
+Python 3.14): the Rust core's thread pool belongs to the process that built it, and a forked worker builds
+its own on its first parallel call.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
+import pickle
 from collections.abc import Callable
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from typing import Any, TypeVar
@@ -82,22 +82,6 @@ def trial_generators(seed: int, n_trials: int) -> list[np.random.Generator]:
     return [np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(n_trials)]
 
 
-def _start_method(executor: Executor) -> str | None:
-    """The start method of a ``ProcessPoolExecutor``'s workers, None for other executors or if unknown.
-
-    ``_mp_context`` is private to CPython's executor, so it is read defensively: an executor without it,
-    or a context that cannot say, is not refused.
-    """
-    if not isinstance(executor, ProcessPoolExecutor):
-        return None
-    context = getattr(executor, "_mp_context", None)
-    try:
-        method = context.get_start_method() if context is not None else None
-    except Exception:  # a foreign context object: nothing to conclude
-        return None
-    return method if isinstance(method, str) else None
-
-
 def _run_chunk(trial: Callable[[np.random.Generator], T], seed: int, trials: range) -> list[T]:
     # SeedSequence(seed, spawn_key=(i,)) is the i-th child of SeedSequence(seed).spawn(...), made here so
     # that no list of n_trials seeds is built or pickled
@@ -125,11 +109,10 @@ def run(
     seed
         Root seed; trial ``i`` uses the ``i``-th child of ``numpy.random.SeedSequence(seed)``.
     executor
-        Any :class:`concurrent.futures.Executor`: a ``ProcessPoolExecutor`` started with ``spawn`` or
-        ``forkserver``, a Dask ``distributed.Client(...).get_executor()``, or :class:`SerialExecutor`.
-        Default: a process pool with one worker per CPU (``os.cpu_count()``), created and shut down here;
-        it uses the ``spawn`` start method so that worker processes never inherit the parent's native
-        thread pools.
+        Any :class:`concurrent.futures.Executor`: a ``ProcessPoolExecutor`` (any start method), a Dask
+        ``distributed.Client(...).get_executor()``, or :class:`SerialExecutor`. Default: a process pool
+        with one worker per CPU (``os.cpu_count()``), created and shut down here, started with ``spawn``
+        (workers that import only what the trial needs, on every platform alike).
     progress
         Show a tqdm progress bar of completed trials.
     chunksize
@@ -146,12 +129,8 @@ def run(
         ``n_trials`` or ``chunksize`` below 1 or not integers, ``seed`` negative or not an integer, ``trial``
         not callable, ``progress`` not a bool (:class:`~gnssatt.errors.InvalidTypeError`), ``executor``
         without ``submit`` or whose ``submit`` returns something other than a
-        :class:`concurrent.futures.Future`, or a ``ProcessPoolExecutor`` whose workers start with
-        ``fork``. That last one is an error and not a warning: once the Rust core's thread pool has run in
-        this process (any earlier gnssatt call may have started it, and nothing tells whether one did), a
-        forked worker hangs on its first parallel call, with no message and no way to interrupt it; the
-        remedy is one argument, ``ProcessPoolExecutor(mp_context=multiprocessing.get_context("spawn"))``
-        (or ``"forkserver"``).
+        :class:`concurrent.futures.Future`; a ``trial`` that cannot be pickled when it runs in a process
+        pool (the default, or a ``ProcessPoolExecutor``), refused before the pool starts.
     WorkLimitError
         ``n_trials`` above :data:`MAX_TRIALS`.
     Exception
@@ -178,16 +157,19 @@ def run(
         raise InvalidTypeError(
             f"expected trial as a callable taking a numpy Generator, got {type(trial).__name__}"
         )
+    if executor is None or isinstance(executor, ProcessPoolExecutor):
+        # a process pool pickles the trial with each task: an unpicklable one (a lambda, a local
+        # function) failed only after the pool had started, as a bare PicklingError
+        try:
+            pickle.dumps(trial)
+        except Exception as exc:
+            raise InvalidInputError(
+                f"expected trial picklable for a process pool (a module-level function or a "
+                f"functools.partial of one), got {trial!r}: {exc}; or pass executor=SerialExecutor()"
+            ) from exc
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise InvalidTypeError(
             f"expected executor as a concurrent.futures.Executor (with submit), got {type(executor).__name__}"
-        )
-    if executor is not None and _start_method(executor) == "fork":
-        raise InvalidInputError(
-            "executor is a ProcessPoolExecutor whose workers start with fork, which hangs once gnssatt's "
-            "Rust thread pool has run in this process: pass "
-            'ProcessPoolExecutor(mp_context=multiprocessing.get_context("spawn")) (or "forkserver"), '
-            "or leave executor=None"
         )
     if chunksize is None:
         chunksize = max(1, -(-n_trials // 64))

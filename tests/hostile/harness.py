@@ -6,6 +6,8 @@ from collections import Counter
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
+import numpy as np
+
 from . import inventory as inv
 from . import outcomes as oc
 from .worker import Job, Pool, fixed_mutants
@@ -53,6 +55,35 @@ def run_fixed(pool: Pool, entry_names: Iterable[str]) -> list[Record]:
         for job, param, category, label in fixed_jobs(name):
             a = pool.run(job)
             records.append(Record(module_of(name), name, param, category, label, a.outcome, a.detail))
+    return records
+
+
+#: Leading axes of the batch-size dimension: a zero-stride view costs nothing to pass, so a call must answer
+#: within the hang limit (a result, or a refusal such as WorkLimitError) at any of them.
+BATCH_ROWS = (10**6, 10**7)
+
+
+def batch_params(entry_name: str) -> list[str]:
+    """The arguments of an entry that are numeric arrays with a leading axis (the candidates for a batch)."""
+    out = []
+    for param, value in inv.ENTRIES[entry_name].build().items():
+        if isinstance(value, np.ndarray) and value.ndim >= 1 and value.size and value.dtype.kind in "fiu":
+            out.append(param)
+    return out
+
+
+def run_batch(
+    pool: Pool, entry_names: Iterable[str], rows: Iterable[int] = BATCH_ROWS, only: str | None = None
+) -> list[Record]:
+    """Each batch candidate (or the one named ``only``) of each entry broadcast to each axis of ``rows``."""
+    records = []
+    for name in entry_names:
+        for param in batch_params(name) if only is None else [only]:
+            for n in rows:
+                a = pool.run(Job(name, name, param, batch_rows=n))
+                records.append(
+                    Record(module_of(name), name, param, "batch-size", f"{n} rows", a.outcome, a.detail)
+                )
     return records
 
 

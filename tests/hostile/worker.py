@@ -24,6 +24,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, BinaryIO
 
+import numpy as np
+
 from . import outcomes as oc
 
 TESTS_DIR = Path(__file__).resolve().parents[1]
@@ -38,7 +40,9 @@ class Job:
     ``mutant`` (category, index) names a fixed mutation, recomputed in the worker; otherwise ``value`` is
     the replacement. ``kwargs`` replaces the valid arguments altogether (RINEX files, LAMBDA cases), with
     ``names`` the words an input error must contain and ``nan_output_ok`` whether the result may hold NaN
-    (for an entry, the entry says); ``want_result`` returns the result (pickled)."""
+    (for an entry, the entry says); ``want_result`` returns the result (pickled). ``batch_rows`` replaces
+    ``param`` by its valid value's first row (or its one 3-vector) broadcast to that many rows, zero-stride
+    (the batch-size dimension)."""
 
     function: str
     entry: str | None = None
@@ -50,6 +54,7 @@ class Job:
     must_refuse: bool = False
     nan_output_ok: bool = False
     want_result: bool = False
+    batch_rows: int = 0
 
 
 @dataclass
@@ -96,7 +101,15 @@ def _execute(job: Job) -> Answer:
         assert job.entry is not None
         kwargs = inv.ENTRIES[job.entry].build()
         if job.param is not None:
-            if job.mutant is not None:
+            if job.batch_rows:
+                # the batch-size dimension: the valid argument's first row, broadcast (zero-stride) to
+                # batch_rows rows; made here, so nothing of the batch's size crosses the pipe
+                valid = np.asarray(kwargs[job.param])
+                if valid.shape == (3,):  # one vector: a batch of them is (rows, 3)
+                    value = np.broadcast_to(valid, (job.batch_rows, 3))
+                else:  # a batch already: its first row, repeated
+                    value = np.broadcast_to(valid[:1], (job.batch_rows, *valid.shape[1:]))
+            elif job.mutant is not None:
                 cat, index = job.mutant
                 m = [m for m in fixed_mutants(job.entry, job.param) if m.category == cat][index]
                 value, must_refuse = m.value, m.must_refuse

@@ -31,14 +31,24 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt._arrays import finite_outputs, flag, instance, integer, integer_array, scalar, shaped
-from gnssatt.errors import InvalidInputError
+from gnssatt._arrays import (
+    finite_outputs,
+    flag,
+    instance,
+    integer,
+    integer_array,
+    plain_array,
+    scalar,
+    shaped,
+)
+from gnssatt.errors import InvalidInputError, WorkLimitError
 from gnssatt.geometry import checked_baselines
 from gnssatt.observations import AttitudeFixes, PhaseObservations
 
 __all__ = [
     "MAX_GYRO_NOISE",
     "MAX_PHASE_SIGMA_CYCLES",
+    "MAX_PROPAGATE_SAMPLES",
     "MAX_STEP_ANGLE_RAD",
     "MIN_GYRO_INTERVAL_S",
     "FixAttempt",
@@ -52,6 +62,9 @@ __all__ = [
 #: constant rate at any angle, but the angle's rounding error grows with it (1e-10 rad here); far beyond,
 #: the product overflows and the attitude would be NaN.
 MAX_STEP_ANGLE_RAD = 1e6
+#: Most samples :func:`gyro_propagate` takes: the core's ``gyro_gnss::kinematics::MAX_SAMPLES``
+#: (``docs/limits.md``), checked here too so that a larger batch is refused before it is copied.
+MAX_PROPAGATE_SAMPLES = 20_000_000
 
 #: Largest ``arw`` (rad/s/sqrt(Hz)) and ``rrw`` (rad/s^2/sqrt(Hz)) of :func:`gyro_gnss_filter`: a white rate
 #: noise of 1 rad/s/sqrt(Hz) already loses the attitude within a second; beyond, the process noise
@@ -141,6 +154,12 @@ def gyro_propagate(q0: ArrayLike, t: ArrayLike, rates: ArrayLike) -> GyroPropaga
     # the core normalises q0 by its norm, whose square overflows (or underflows) far from 1: scale first
     largest = float(np.max(np.abs(q)))
     q = q / largest if largest > 0.0 else q
+    n_samples = np.size(plain_array("t", t))
+    if n_samples > MAX_PROPAGATE_SAMPLES:
+        # before the samples are copied (a zero-stride view of 2e7 samples is 640 MB once copied)
+        raise WorkLimitError(
+            f"t asks for {n_samples} gyro samples, more than the limit of {MAX_PROPAGATE_SAMPLES}"
+        )
     tt, w = _times_and_rates("t", t, "rates", rates)
     out = _core.gyro_propagate(q, tt, w)
     finite_outputs("gyro_propagate", quaternions=out)

@@ -45,7 +45,7 @@ from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
 from gnssatt._arrays import choice, float_array, plain_array, scalar, shaped
-from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
 
 # The GOST Euler sequence lives in gnssatt.rotation (the base layer, which the simulator may import); these
@@ -730,6 +730,56 @@ def _gaps(
     return arr, np.broadcast_to(gaps, arr.shape)
 
 
+#: Most work one :func:`ml_attitude_series` or :func:`ml_baseline_series` call accepts, in kernel terms
+#: (epochs x grid cells searched x signals x rovers; ``docs/limits.md``), read from the core.
+MAX_SERIES_WORK: float = _core.LIKELIHOOD_MAX_SERIES_WORK
+
+
+def _check_series_work(
+    sd_phase: ArrayLike,
+    wavelength: ArrayLike,
+    step: float | None,
+    window_deg: float | None,
+    longest: float,
+    *,
+    two_dimensional: bool,
+) -> None:
+    """Refuses a series call whose shapes alone ask for more than :data:`MAX_SERIES_WORK`, before the
+    measurements are copied or scanned: every epoch counted solved with all its signals at the longest
+    valid wavelength given (the coarsest default step, so no more than the core's own per-epoch count)."""
+    shape = np.shape(plain_array("sd_phase", sd_phase, nan_for_masked=True))
+    if len(shape) != (2 if two_dimensional else 3):
+        return  # the intake names the shape
+    n_ep, n_rover, n_sig = (shape[0], 1, shape[1]) if two_dimensional else shape
+    w = plain_array("wavelength", wavelength, nan_for_masked=True)
+    if w.dtype.kind not in "fiu" or w.size == 0:
+        return
+    # a reduction, not a mask: nothing of the wavelengths' size is allocated; a longer wavelength than
+    # any epoch's smallest only lowers the count
+    longest_wavelength = min(float(np.fmax.reduce(w, axis=None)), MAX_WAVELENGTH_M)
+    if not longest_wavelength >= MIN_WAVELENGTH_M:
+        return  # the intake names the wavelengths
+    window = None
+    if window_deg is not None:
+        window = float(np.radians(scalar("window_deg", window_deg, minimum=0.0, maximum=360.0, strict=True)))
+    work = _core.ml_series_work(
+        n_ep,
+        n_rover,
+        n_sig,
+        step_rad=step,
+        wavelength_m=longest_wavelength,
+        longest_baseline_m=longest,
+        window_rad=window,
+        two_dimensional=two_dimensional,
+    )
+    if work > MAX_SERIES_WORK:
+        raise WorkLimitError(
+            f"sd_phase asks for {work:.4g} kernel terms ({n_ep} epochs x grid cells searched x {n_sig} "
+            f"signals x {n_rover} rovers), more than the limit of {MAX_SERIES_WORK:.4g} (MAX_SERIES_WORK): "
+            "split the epochs into batches, search in a window (window_deg) or with a coarser step_deg"
+        )
+
+
 def _series_intake(
     sd_phase: ArrayLike, los: ArrayLike, wavelength: ArrayLike, mask: ArrayLike | None, n_rover: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -873,6 +923,9 @@ def ml_attitude_series(
     InvalidInputError
         As :func:`ml_attitude`; a ``mask`` of the wrong kind or shape, NaN lines of sight or wavelengths of
         a signal used, no epoch, a window finer than the step.
+    WorkLimitError
+        More than :data:`MAX_SERIES_WORK` kernel terms (epochs x grid cells searched x signals x rovers,
+        ``docs/limits.md``), counted before the measurements are copied.
     DegenerateGeometryError
         Collinear baselines.
 
@@ -898,10 +951,12 @@ def ml_attitude_series(
     b = checked_baselines("baselines", baselines)
     if b.shape[0] < 2:
         raise InvalidInputError(f"expected at least 2 baselines (n_rover, 3), got {b.shape}")
+    step = _step(step_deg)
+    longest = float(np.max(np.linalg.norm(b, axis=1)))
+    _check_series_work(sd_phase, wavelength, step, window_deg, longest, two_dimensional=False)
     p, s, w = _series_intake(sd_phase, los, wavelength, mask, b.shape[0])
     used = ~np.any(np.isnan(p), axis=1)
-    step = _step(step_deg)
-    window = _series_window(window_deg, step_deg, w, used, float(np.max(np.linalg.norm(b, axis=1))))
+    window = _series_window(window_deg, step_deg, w, used, longest)
     with _lobe(b):
         series = _core.ml_attitude_series(p, s, w, b, step_rad=step, window_rad=window)
     euler, z, solved = series.euler_gost_rad, series.z_max, series.solved
@@ -950,6 +1005,8 @@ def ml_baseline_series(
     ------
     InvalidInputError
         As :func:`ml_attitude_series`.
+    WorkLimitError
+        As :func:`ml_attitude_series`.
 
     Examples
     --------
@@ -972,6 +1029,8 @@ def ml_baseline_series(
     length = scalar(
         "baseline_length_m", baseline_length_m, minimum=MIN_BASELINE_M, maximum=MAX_BASELINE_M, unit="m"
     )
+    step = _step(step_deg)
+    _check_series_work(sd_phase, wavelength, step, window_deg, length, two_dimensional=True)
     p, gaps = _gaps("sd_phase", sd_phase, ndim=2, shape="(n_ep, n_sig)")
     p = np.where(gaps, np.nan, p)[:, None, :]
     if mask is not None:
@@ -979,7 +1038,6 @@ def ml_baseline_series(
         mask = mk[:, None, :] if mk.ndim == 2 else mk  # a wrong shape is named by the intake
     p, s, w = _series_intake(p, los, wavelength, mask, 1)
     used = ~np.isnan(p[:, 0, :])
-    step = _step(step_deg)
     window = _series_window(window_deg, step_deg, w, used, length)
     with _lobe(np.array([[length, 0.0, 0.0]]), "baseline_length_m"):
         series = _core.ml_baseline_series(p, s, w, length, step_rad=step, window_rad=window)

@@ -131,6 +131,12 @@ def yaw_from_magnetometer(
             f"{bb.shape}, {bo.shape}, {p.shape}, {r.shape}"
         ) from None
     n = epochs[0] if epochs else 1
+    if n == 0:
+        # numpy broadcasts a single epoch against an empty batch to nothing; that is a mismatch here
+        raise InvalidInputError(
+            f"expected b_body, b_orbital, pitch and roll with at least one epoch, got shapes {bb.shape}, "
+            f"{bo.shape}, {p.shape}, {r.shape}"
+        )
     vec = [np.broadcast_to(v, (n, 3)) for v in (bb, bo)]
     raw = vec
     # One scale per epoch for both fields (eq. (3) adds a_x to a_z0 sin theta): the norms the core forms

@@ -21,7 +21,7 @@ from gnssatt import _core
 from gnssatt._arrays import choice, finite_outputs, float_array, shaped
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError, NearDegenerateWarning
 
-__all__ = ["TriadResult", "WahbaResult", "triad", "wahba"]
+__all__ = ["QUEST_MAX_WEIGHT_SPAN", "TriadResult", "WahbaResult", "triad", "wahba"]
 
 Method = Literal["svd", "davenport", "quest"]
 METHODS: tuple[Method, ...] = ("svd", "davenport", "quest")
@@ -31,6 +31,10 @@ TRIAD_WARN_SIN = 1e-2
 #: Wahba warns when the information matrix's smallest/largest eigenvalue ratio is below this (for two
 #: vectors about the square of half the angle between them: 1e-4 is about 1.1 deg).
 WAHBA_WARN_RATIO = 1e-4
+#: Widest span of an epoch's positive weights (largest / smallest) that ``wahba(method="quest")`` takes:
+#: beyond about 1e6 QUEST's characteristic quartic returns wrong rotations (``tests/test_vector_attitude.py``
+#: measures it against scipy's ``Rotation.align_vectors``).
+QUEST_MAX_WEIGHT_SPAN = 1e5
 
 
 def warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
@@ -131,6 +135,12 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
         raise InvalidInputError(
             f"expected b1, b2, r1, r2 of one shape (epochs, 3), got {[a.shape for a in arrs]}"
         ) from None
+    if arrs[0].shape[0] == 0:
+        # numpy broadcasts a single pair against an empty batch to nothing; that is a mismatch here
+        raise InvalidInputError(
+            f"expected b1, b2, r1, r2 with at least one epoch, got shapes "
+            f"{[np.shape(v) for v in (b1, b2, r1, r2)]}"
+        )
     out = _core.triad_batch(*arrs)
     quat, sb, sr = out.quat_ref_from_body, out.sin_angle_body, out.sin_angle_ref
     finite_outputs("triad", quaternion=quat, sine=np.concatenate([sb, sr]))
@@ -188,9 +198,11 @@ def wahba(
     method
         ``"svd"`` (Markley 1988, determinant fixed so the result is never a reflection),
         ``"davenport"`` (q-method, 4x4 symmetric eigenproblem) or ``"quest"`` (Shuster & Oh 1981, with
-        sequential rotations near 180 deg). All three give the same optimum to rounding, except that QUEST's
-        characteristic quartic fails when the weights span more than about 1e6 (use ``"svd"`` or
-        ``"davenport"`` there).
+        sequential rotations near 180 deg). All three give the same optimum to rounding; QUEST's
+        characteristic quartic loses it when the weights span more than about 1e6 (measured against
+        ``scipy.spatial.transform.Rotation.align_vectors``: 4 wrong rotations in 1000 at 1e6, none off by
+        1e-8 rad at 1e5), so ``"quest"`` refuses weights spanning more than
+        :data:`QUEST_MAX_WEIGHT_SPAN` (use ``"svd"`` or ``"davenport"`` there).
 
     Returns
     -------
@@ -199,7 +211,8 @@ def wahba(
     Raises
     ------
     InvalidInputError
-        Wrong shapes, non-finite values, negative weights, weights all zero, an unknown ``method``
+        Weights spanning more than :data:`QUEST_MAX_WEIGHT_SPAN` with ``method="quest"``; wrong shapes,
+        non-finite values, negative weights, weights all zero, an unknown ``method``
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers or text).
     DegenerateGeometryError
         A zero vector, or reference vectors all parallel (among the pairs with non-negligible weights);
@@ -264,6 +277,16 @@ def wahba(
         if np.any(zero):
             raise InvalidInputError(
                 f"expected weights not all zero, got all zero at epoch {int(np.argmax(zero))}"
+            )
+    if method == "quest":
+        with np.errstate(divide="ignore"):
+            span = np.max(w, axis=1) / np.min(np.where(w > 0.0, w, np.inf), axis=1)
+        if np.any(span > QUEST_MAX_WEIGHT_SPAN):
+            e = int(np.argmax(span))
+            raise InvalidInputError(
+                f"expected weights spanning at most {QUEST_MAX_WEIGHT_SPAN:g} (largest / smallest positive) "
+                f"for method 'quest', got {span[e]:.3g} at epoch {e}: QUEST's characteristic quartic loses "
+                "the optimum there; use method 'svd' or 'davenport'"
             )
     # the core sees weights relative to the largest of each epoch; covariance and loss scale back
     scale = np.max(w, axis=1)

@@ -37,6 +37,8 @@ if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
 __all__ = [
+    "KNOWN_LENGTH_TOLERANCE_M",
+    "KNOWN_LENGTH_TOLERANCE_RELATIVE",
     "MIN_DIRECTION_BASELINE_M",
     "SYSTEMS",
     "AttitudeSeries",
@@ -429,7 +431,10 @@ def attitude_from_rinex(
         or list of files, another argument of the wrong kind.
     InvalidInputError
         Fewer than two observations, baselines of the wrong shape or not finite, an unknown method, motion
-        or system letter, an option out of its range.
+        or system letter, an option out of its range; ``method="ml"`` where the likelihood grid failed
+        or solved no epoch; a ``baseline_length_m`` that the fixed epochs contradict (beyond
+        :data:`KNOWN_LENGTH_TOLERANCE_M` plus :data:`KNOWN_LENGTH_TOLERANCE_RELATIVE` of it), the
+        message giving the measured length.
 
     Examples
     --------
@@ -517,10 +522,50 @@ def attitude_from_rinex(
             **opts,
         ),
     )
+    series = _series(s, si.signal_codes)
+    _check_method(method, series)
+    if baseline_length_m is not None:
+        _check_known_lengths(opts["baseline_lengths_m"], series)
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)
-    series = _series(s, si.signal_codes)
     return _undirected(series, [str(o.path) for o in obs])
+
+
+#: A known baseline length is refused when the fixed solutions measure a length further from it than
+#: ``KNOWN_LENGTH_TOLERANCE_M + KNOWN_LENGTH_TOLERANCE_RELATIVE x length``: fixed double differences give
+#: the length to millimetres, and the engine's grid needs it to 1 % (``docs/observation_engine.md``).
+KNOWN_LENGTH_TOLERANCE_M = 0.01
+KNOWN_LENGTH_TOLERANCE_RELATIVE = 1e-3
+
+
+def _check_known_lengths(lengths_m: list[float], series: AttitudeSeries) -> None:
+    """Refuses ``baseline_length_m`` where the epochs fixed by LAMBDA measure another length (the engine
+    uses the known length only where it helps, so a wrong one left the result unchanged)."""
+    rows = series.solved & (series.fixed == 1) & (series.method == "lambda")
+    if not np.any(rows):
+        return  # nothing measured the length independently
+    measured = np.median(np.linalg.norm(series.baselines_enu_m[rows], axis=2), axis=0)
+    for r, (given, got) in enumerate(zip(lengths_m, measured, strict=True)):
+        if abs(got - given) > KNOWN_LENGTH_TOLERANCE_M + KNOWN_LENGTH_TOLERANCE_RELATIVE * given:
+            raise InvalidInputError(
+                f"baseline_length_m: rover {r + 1} is given as {given:.4g} m, but the {int(np.sum(rows))} "
+                f"fixed epochs measure {got:.4f} m (median): give the measured length or none"
+            )
+
+
+def _check_method(method: str, series: AttitudeSeries) -> None:
+    """Refuses ``method="ml"`` where the likelihood grid solved no epoch or failed (the engine then keeps
+    the double-difference solution, which ``method="ml"`` did not ask for)."""
+    if method != "ml":
+        return
+    failed = [w for w in series.warnings if "likelihood grid failed" in w]
+    if failed or not np.any(series.method == "ml"):
+        reason = "; ".join(failed) or "; ".join(w for w in series.warnings if "grid" in w) or "no epoch"
+        raise InvalidInputError(
+            f"method 'ml': the likelihood grid solved {int(np.sum(series.method == 'ml'))} of "
+            f"{len(series.method)} epochs ({reason}): use method 'auto' or 'lambda', or a coarser step_deg "
+            "or a window_deg"
+        )
 
 
 #: Longest validity of a broadcast record on either side of its reference time, s (BeiDou's 6 h in

@@ -28,6 +28,23 @@ MAX_KEPLER_ITERATIONS = 10_000
 MAX_SEMI_MAJOR_AXIS_M = 1e15
 
 
+def _check_motion(name: str, a: NDArray[np.float64], gm: float) -> None:
+    """Refuses radii ``a`` whose mean motion ``sqrt(gm / a^3)`` or orbital speed ``sqrt(gm / a)`` is not a
+    positive finite number (``a = 1e-300`` makes ``a^3`` zero and the mean motion infinite; a tiny ``gm``
+    makes it zero), naming ``name``: the error would otherwise surface later under another name."""
+    with np.errstate(over="ignore", divide="ignore", under="ignore"):
+        n = np.sqrt(gm / a**3)
+        v = np.sqrt(gm / a)
+    bad = ~(np.isfinite(n) & (n > 0.0) & np.isfinite(v))
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise InvalidInputError(
+            f"expected {name} whose mean motion sqrt(gm_m3_s2 / a^3) and speed sqrt(gm_m3_s2 / a) are "
+            f"positive and finite, got {name} = {a.flat[k]:.6g} m with gm_m3_s2 = {gm:.6g} m^3/s^2 (mean "
+            f"motion {n.flat[k]:.6g} rad/s) at index {k}"
+        )
+
+
 def solve_kepler(
     mean_anomaly_rad: ArrayLike, eccentricity: ArrayLike, *, tol: float = 1e-14, max_iter: int = 50
 ) -> NDArray[np.float64]:
@@ -140,7 +157,9 @@ class KeplerOrbits:
             )
         if np.any((arrays[1] < 0) | (arrays[1] >= 1)):
             raise InvalidInputError(f"expected eccentricity in [0, 1), got maximum {arrays[1].max()}")
-        object.__setattr__(self, "gm_m3_s2", scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True))
+        gm = scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True)
+        object.__setattr__(self, "gm_m3_s2", gm)
+        _check_motion("semi_major_axis_m", arrays[0], gm)
         for name, arr in zip((*names, "mean_anomaly_rad"), arrays, strict=True):
             readonly(arr)
             object.__setattr__(self, name, arr)

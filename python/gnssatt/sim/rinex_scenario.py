@@ -490,7 +490,8 @@ def simulate_gnss_rinex(
         n_epochs = eul.shape[0]
     n_epochs = integer("n_epochs", n_epochs, minimum=1)
     if n_epochs > MAX_EPOCHS:
-        raise WorkLimitError(f"expected n_epochs <= {MAX_EPOCHS} (MAX_EPOCHS), got {n_epochs}")
+        source = "n_epochs" if eul.ndim == 1 else "n_epochs (the rows of euler_gost_deg)"
+        raise WorkLimitError(f"expected {source} <= {MAX_EPOCHS} (MAX_EPOCHS), got {n_epochs}")
     if eul.ndim == 1:
         eul = np.tile(eul, (n_epochs, 1))
     if np.any(np.abs(eul) > MAX_ANGLE_DEG):

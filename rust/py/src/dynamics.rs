@@ -27,7 +27,7 @@ fn run_core<T: Send>(
     work: impl FnOnce() -> gnssatt_core::Result<T> + Send,
 ) -> PyResult<T> {
     if steps <= DIRECT_RK4_STEPS {
-        py.detach(work).into_py_result(py)
+        py.detach(|| crate::pool::install(work)).into_py_result(py)
     } else {
         interruptible::run(py, work)
     }

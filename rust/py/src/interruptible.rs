@@ -2,7 +2,8 @@
 //! detached from the interpreter, waits for it in short slices and between them re-attaches to run
 //! Python's signal handlers. When a handler raises (KeyboardInterrupt from SIGINT), the core's interrupt
 //! flag is set, the worker stops at its next poll (`gnssatt_core::interrupt::check`) and the handler's
-//! exception is raised once the worker has returned.
+//! exception is raised once the worker has returned. The work runs on the process's own pool
+//! ([`crate::pool`]), which a forked child rebuilds.
 
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
@@ -26,7 +27,7 @@ pub fn run<T: Send>(py: Python<'_>, work: impl FnOnce() -> Result<T, Error> + Se
             let (tx, rx) = mpsc::channel();
             let worker = scope.spawn(move || {
                 // The receiver outlives the worker (it is joined below), so the send cannot fail.
-                let _ = tx.send(work());
+                let _ = tx.send(crate::pool::install(work));
             });
             let mut signal: Option<PyErr> = None;
             let result = loop {

@@ -125,8 +125,10 @@ fn lambda_ffrt_threshold(
     seed: u64,
 ) -> PyResult<f64> {
     let q = dmatrix(py, "covariance", &covariance)?;
-    py.detach(|| fixed_failure_rate_threshold(&q, failure_rate, samples, seed))
-        .into_py_result(py)
+    py.detach(|| {
+        crate::pool::install(|| fixed_failure_rate_threshold(&q, failure_rate, samples, seed))
+    })
+    .into_py_result(py)
 }
 
 result_type! {

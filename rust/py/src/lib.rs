@@ -18,6 +18,7 @@ mod lambda;
 mod likelihood;
 mod matrix_method;
 mod orbit;
+mod pool;
 mod results;
 mod rotation;
 mod wahba;

@@ -4,8 +4,8 @@
 
 use gnssatt_core::likelihood::{
     branch_and_bound, estimate, evaluate_grid, ml_attitude_series as core_attitude_series,
-    ml_baseline_series as core_baseline_series, Epoch, Grid, MlEpoch, MlSolution, Model, Refine,
-    Search, Statistic,
+    ml_baseline_series as core_baseline_series, series_work, Epoch, Grid, MlEpoch, MlSolution,
+    Model, Refine, Search, Statistic, MAX_SERIES_WORK,
 };
 use nalgebra::Vector3;
 use numpy::ndarray::{Array2, Array3};
@@ -342,7 +342,36 @@ fn ml_baseline_series(
     Ok(series_arrays(py, &sol))
 }
 
+/// The work a series call of these shapes is charged (every epoch solved with all its signals), in the
+/// kernel terms of `LIKELIHOOD_MAX_SERIES_WORK`: checked by the Python layer before it copies the measurements.
+#[pyfunction]
+#[pyo3(signature = (n_epochs, n_rover, n_sig, *, step_rad, wavelength_m, longest_baseline_m, window_rad, two_dimensional))]
+#[allow(clippy::too_many_arguments)]
+fn ml_series_work(
+    n_epochs: usize,
+    n_rover: usize,
+    n_sig: usize,
+    step_rad: Option<f64>,
+    wavelength_m: f64,
+    longest_baseline_m: f64,
+    window_rad: Option<f64>,
+    two_dimensional: bool,
+) -> f64 {
+    series_work(
+        n_epochs,
+        n_rover,
+        n_sig,
+        step_rad,
+        wavelength_m,
+        longest_baseline_m,
+        window_rad,
+        two_dimensional,
+    )
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("LIKELIHOOD_MAX_SERIES_WORK", MAX_SERIES_WORK)?;
+    m.add_function(wrap_pyfunction!(ml_series_work, m)?)?;
     m.add_function(wrap_pyfunction!(ml_attitude_series, m)?)?;
     m.add_function(wrap_pyfunction!(ml_baseline_series, m)?)?;
     m.add_function(wrap_pyfunction!(ml_search, m)?)?;

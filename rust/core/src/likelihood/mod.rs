@@ -57,4 +57,7 @@ pub use refine::{
     estimate, parabolic, polish, Estimate, Refine, Search, AUTO_MAX_STEP, AUTO_MIN_CELLS,
 };
 pub use search::{evaluate_cells, evaluate_grid, exhaustive_max, GridMax, MAX_CELLS};
-pub use series::{ml_attitude_series, ml_baseline_series, MlEpoch, MlSolution};
+pub use series::{
+    ml_attitude_series, ml_baseline_series, series_work, MlEpoch, MlSolution, EPOCH_OVERHEAD_CELLS,
+    MAX_SERIES_WORK,
+};

@@ -12,9 +12,11 @@
 //! sequential chain; the whole domain is searched where the previous epoch is unsolved (the first one,
 //! or one with fewer than 3 complete signals).
 //!
-//! The work is one grid search per epoch, each within its search's work limit ([`super::MAX_CELLS`]
-//! cells for the exhaustive pass, [`super::MAX_WORK`] for the branch-and-bound beyond); the loop polls
-//! [`crate::interrupt`] between epochs.
+//! The work of the whole call is counted before any epoch is searched ([`series_work`], refused above
+//! [`MAX_SERIES_WORK`]): each epoch is charged the cells its search evaluates (its grid for the exhaustive
+//! pass, [`AUTO_MIN_CELLS`] for a branch-and-bound search, [`super::MAX_WORK`] beyond [`MAX_CELLS`]) plus
+//! [`EPOCH_OVERHEAD_CELLS`] for its refinement, times its signals and rovers. Each search also stays
+//! within its own limit; the loop polls [`crate::interrupt`] between epochs.
 
 use std::f64::consts::{PI, TAU};
 
@@ -22,11 +24,130 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::guard::check_work;
 use crate::interrupt;
 
+use super::bnb::MAX_WORK;
 use super::grid::Grid;
 use super::model::{dcm_enu_from_body, Epoch, Model, Statistic};
-use super::refine::{estimate, Refine, Search};
+use super::refine::{estimate, Refine, Search, AUTO_MAX_STEP, AUTO_MIN_CELLS};
+use super::search::MAX_CELLS;
+
+/// Most work one series call accepts, in cell evaluations times signals times rovers (the kernel terms
+/// of [`series_work`]): 2^33. Measured on the shared 2-core build machine under a load of about 10
+/// (`benches/python/ml_series_speed.py`-style timing, step 3 deg exhaustive and the default step by
+/// branch-and-bound): 2.9 ns a term, so the limit is about 25 s there and a few seconds on a free machine.
+/// A day of 1 Hz epochs tracked in a window (2 rovers, 6 signals) is 8.8e9: split it in two calls.
+pub const MAX_SERIES_WORK: f64 = 8_589_934_592.0;
+
+/// Cells charged to each solved epoch for what its search does besides the cells (the refinement's
+/// evaluations, the model): measured as the cost of a windowed epoch, about 10^4 cells.
+pub const EPOCH_OVERHEAD_CELLS: f64 = 8192.0;
+
+/// What an epoch's search is charged, in cells (module docs): `cells` of its grid, searched by
+/// [`Search::Auto`] at `step_rad` with a coarsest accepted step `max_step_rad`.
+fn charged_cells(cells: usize, step_rad: f64, max_step_rad: f64) -> f64 {
+    let bnb =
+        cells > MAX_CELLS || (cells >= AUTO_MIN_CELLS && step_rad <= AUTO_MAX_STEP * max_step_rad);
+    let searched = if cells > MAX_CELLS {
+        MAX_WORK as f64
+    } else if bnb {
+        AUTO_MIN_CELLS as f64
+    } else {
+        cells as f64
+    };
+    searched + EPOCH_OVERHEAD_CELLS
+}
+
+/// The work [`ml_attitude_series`] (`two_dimensional` false) or [`ml_baseline_series`] charges a call of
+/// `n_epochs` epochs with `n_rover` rovers and `n_sig` signals each at wavelength `wavelength_m`, the
+/// longest baseline `longest_baseline_m`: the kernel terms of module docs, every epoch solved, the first
+/// on the whole domain and the others on the window when there is one. With per-epoch signals the call
+/// counts each epoch's own (fewer signals, a finer step); this is the count from the shapes alone that a
+/// binding can check before it copies the measurements.
+///
+/// # Errors
+/// None; steps and windows the search refuses are charged nothing here (the search names them).
+#[allow(clippy::too_many_arguments)]
+pub fn series_work(
+    n_epochs: usize,
+    n_rover: usize,
+    n_sig: usize,
+    step_rad: Option<f64>,
+    wavelength_m: f64,
+    longest_baseline_m: f64,
+    window_rad: Option<f64>,
+    two_dimensional: bool,
+) -> f64 {
+    let mode = if two_dimensional {
+        Mode::Baseline
+    } else {
+        Mode::Attitude
+    };
+    if n_epochs == 0 || n_sig < 3 {
+        return 0.0;
+    }
+    let terms = (n_rover * n_sig) as f64;
+    let max_step = wavelength_m / (2.0 * longest_baseline_m);
+    let step = step_rad.unwrap_or(wavelength_m / (10.0 * longest_baseline_m));
+    let first = epoch_charge(step, max_step, mode, None);
+    let rest = window_rad.map_or(first, |w| epoch_charge(step, max_step, mode, Some(w)));
+    terms * (first + rest * (n_epochs - 1) as f64)
+}
+
+/// [`charged_cells`] of one epoch's grid, the window centred where it holds the most cells (zero pitch);
+/// nothing for a grid the search refuses.
+fn epoch_charge(step: f64, max_step: f64, mode: Mode, window: Option<f64>) -> f64 {
+    match epoch_grid(step, mode, window.map(|w| ([0.0; 3], w))) {
+        Ok(g) => charged_cells(g.len(), g.step(), max_step),
+        Err(_) => 0.0,
+    }
+}
+
+/// [`series_work`] from the epochs themselves: each epoch's complete signals, smallest wavelength and
+/// window (the whole domain after an unsolved epoch), refused above [`MAX_SERIES_WORK`] before any search.
+fn check_series_work(
+    epochs: &[MlEpoch],
+    baselines: &[Vector3<f64>],
+    mode: Mode,
+    step_rad: Option<f64>,
+    window_rad: Option<f64>,
+) -> Result<()> {
+    let n_rover = baselines.len();
+    let longest = baselines.iter().map(|b| b.norm()).fold(0.0, f64::max);
+    let mut total = 0.0;
+    let mut previous_solved = false;
+    for e in epochs {
+        let n_sig = e.los_enu.len();
+        let mut used = 0usize;
+        let mut lambda_min = f64::INFINITY;
+        for k in 0..n_sig {
+            let complete = (0..n_rover).all(|i| {
+                e.sd_phase_rad
+                    .get(i * n_sig + k)
+                    .is_some_and(|p| !p.is_nan())
+            });
+            if complete {
+                used += 1;
+                lambda_min = lambda_min.min(e.wavelength_m.get(k).copied().unwrap_or(f64::NAN));
+            }
+        }
+        let solved = used >= 3;
+        if solved {
+            let max_step = lambda_min / (2.0 * longest);
+            let step = step_rad.unwrap_or(lambda_min / (10.0 * longest));
+            let window = window_rad.filter(|_| previous_solved);
+            total += (n_rover * used) as f64 * epoch_charge(step, max_step, mode, window);
+        }
+        previous_solved = solved;
+    }
+    check_work(
+        "sd_phase",
+        total,
+        MAX_SERIES_WORK,
+        "kernel terms (epochs x grid cells searched x signals x rovers; see docs/limits.md)",
+    )
+}
 
 /// One epoch of single-difference carrier phases.
 #[derive(Debug, Clone, PartialEq)]
@@ -164,6 +285,7 @@ fn series(
         wavelengths: vec![1.0; 3],
     };
     Model::new(baselines, &[probe], Statistic::AmbiguityFunction)?;
+    check_series_work(epochs, baselines, mode, step_rad, window_rad)?;
     match window_rad {
         None => epochs
             .par_iter()

@@ -327,3 +327,39 @@ fn bad_input_is_rejected() {
         ));
     }
 }
+
+#[test]
+fn a_batch_over_the_work_limit_is_refused_before_any_search() {
+    use crate::likelihood::{series_work, MAX_SERIES_WORK};
+    // 1 m triangle, 6 signals, step 3 deg: an exhaustive pass over 120 x 61 x 120 cells an epoch.
+    let per_epoch = series_work(1, 2, 6, Some(3f64.to_radians()), 0.19, 1.0, None, false);
+    assert_eq!(per_epoch, ((120 * 61 * 120 + 8192) * 12) as f64);
+    let n = (MAX_SERIES_WORK / per_epoch) as usize + 1;
+    let epoch = MlEpoch {
+        sd_phase_rad: vec![0.0; 12],
+        los_enu: vec![
+            [0.0, 0.6, 0.8],
+            [0.6, 0.0, 0.8],
+            [0.0, 0.0, 1.0],
+            [0.8, 0.0, 0.6],
+            [0.0, 0.8, 0.6],
+            [-0.6, 0.0, 0.8],
+        ],
+        wavelength_m: vec![0.19; 6],
+    };
+    let epochs = vec![epoch; n];
+    let b = [[1.0, 0.0, 0.0], [0.5, 0.0, 0.866_025_403_784_438_6]];
+    match ml_attitude_series(&epochs, &b, Some(3f64.to_radians()), None) {
+        Err(Error::TooLarge {
+            name,
+            requested,
+            limit,
+            ..
+        }) => {
+            assert_eq!(name, "sd_phase");
+            assert_eq!(limit, MAX_SERIES_WORK);
+            assert_eq!(requested, n as f64 * per_epoch);
+        }
+        other => panic!("expected TooLarge, got {other:?}"),
+    }
+}
