@@ -12,6 +12,7 @@ pyo3::import_exception!(gnssatt.errors, DegenerateGeometryError);
 pyo3::import_exception!(gnssatt.errors, InternalError);
 pyo3::import_exception!(gnssatt.errors, InvalidInputError);
 pyo3::import_exception!(gnssatt.errors, WorkLimitError);
+pyo3::import_exception!(gnssatt.errors, GnssattWarning);
 
 /// Conversion of core results into Python results; the trait keeps pyo3 out of the core crate.
 pub trait IntoPyResult<T> {
@@ -54,10 +55,10 @@ pub fn warn_all(py: Python<'_>, messages: &[String]) -> PyResult<()> {
     if messages.is_empty() {
         return Ok(());
     }
-    let category = exception_class(py, "GnssattWarning")?;
+    let category = py.get_type::<GnssattWarning>();
     for m in messages {
         let text = std::ffi::CString::new(m.replace('\0', " ")).unwrap_or_default();
-        PyErr::warn(py, &category, &text, 1)?;
+        PyErr::warn(py, category.as_any(), &text, 1)?;
     }
     Ok(())
 }
