@@ -38,11 +38,13 @@ if not any(getattr(f, "__module__", None) == __name__ for f in sys.meta_path):
 if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type checkers and IDEs
     from gnssatt import ambiguity, attitude, errors, gnss, magnetic, orbit, rinex, sim
     from gnssatt.ambiguity import (
+        IlsBatchResult,
         PartialFixResult,
         RatioTestResult,
         bootstrap_success_rate,
         lambda_decorrelate,
         lambda_ils,
+        lambda_ils_batch,
         partial_fix,
         ratio_test,
         ratio_threshold_fixed_failure_rate,
@@ -84,11 +86,13 @@ _EXPORTS: dict[str, str] = {
     name: module
     for module, names in {
         "ambiguity": (
+            "IlsBatchResult",
             "PartialFixResult",
             "RatioTestResult",
             "bootstrap_success_rate",
             "lambda_decorrelate",
             "lambda_ils",
+            "lambda_ils_batch",
             "partial_fix",
             "ratio_test",
             "ratio_threshold_fixed_failure_rate",
@@ -136,6 +140,7 @@ __all__ = [
     "GnssattError",
     "GnssattWarning",
     "GyroGnssResult",
+    "IlsBatchResult",
     "InvalidInputError",
     "LikelihoodAttitude",
     "LikelihoodGrid",
@@ -159,6 +164,7 @@ __all__ = [
     "gyro_propagate",
     "lambda_decorrelate",
     "lambda_ils",
+    "lambda_ils_batch",
     "likelihood_grid",
     "magnetic",
     "matrix_attitude",
