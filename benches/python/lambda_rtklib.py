@@ -18,9 +18,9 @@ best candidates (what RTKLIB's ratio test uses) of every draw.
 
 Times are the CPU time of the timing process (``CLOCK_PROCESS_CPUTIME_ID``, ``time.process_time``), not wall
 time: on a shared machine the other jobs then count far less (they still share caches and cores). Each repeat
-loops over the draws for at least 20 ms of CPU time. The integers of both tools are compared draw by draw (they must agree: both are exact ILS; a disagreement is
-printed). Prints one markdown table (medians in microseconds, ratios gnssatt / RTKLIB: below 1 is faster)
-and writes ``lambda_rtklib.json`` into ``--out``.
+loops over the draws for at least 20 ms of CPU time. The integers of both tools are compared draw by draw
+(they must agree: both are exact ILS; a disagreement is printed). Prints one markdown table (medians in
+microseconds, ratios gnssatt / RTKLIB: below 1 is faster) and writes ``lambda_rtklib.json`` into ``--out``.
 """
 
 from __future__ import annotations

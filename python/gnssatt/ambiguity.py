@@ -83,7 +83,26 @@ MAX_ABS_AMBIGUITY: float = float(_core.LAMBDA_MAX_ABS_AMBIGUITY)
 _MAX_SEED = 2**64 - 1
 
 
+def _ready(value: Any, ndim: int) -> NDArray[np.float64] | None:
+    """``value`` itself when it is already a C-contiguous float64 array of ``ndim`` dimensions, else None.
+
+    The common case of a study calling :func:`lambda_ils` in a loop: the copy and the finiteness scan of
+    :func:`~gnssatt._arrays.float_array` are skipped, because the Rust binding scans every value again
+    (refusing a non-finite one with the same ``InvalidInputError`` and parameter name) and copies it.
+    """
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.ndim == ndim:
+        if value.flags.c_contiguous:
+            return value
+    return None
+
+
 def _problem(float_ambiguities: Any, covariance: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    a = _ready(float_ambiguities, 1)
+    q = _ready(covariance, 2)
+    if a is not None and q is not None and a.shape[0] == q.shape[0] == q.shape[1] and 0 < q.shape[0]:
+        # NaN compares false: a non-finite or too large value takes the full intake below, which names it
+        if q.shape[0] <= MAX_DIMENSION and float(np.abs(a).max()) < MAX_ABS_AMBIGUITY:
+            return a, q
     a = float_array("float_ambiguities", float_ambiguities, ndim=1, shape="(n,)")
     big = np.abs(a) >= MAX_ABS_AMBIGUITY
     if np.any(big):

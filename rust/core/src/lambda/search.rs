@@ -159,7 +159,7 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
                 iterations: max_nodes as usize,
             });
         }
-        if nodes % POLL_NODES == 0 {
+        if nodes.is_multiple_of(POLL_NODES) {
             interrupt::check("integer least-squares search")?;
         }
         let newdist = dist[k] + y * y / d[k];
