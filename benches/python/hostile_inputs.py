@@ -26,12 +26,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
 
 from hostile import cli_cases, harness, scenario
 from hostile import inventory as inv
-from hostile import lambda_reference as ref
 from hostile import outcomes as oc
 from hostile import rinex_mutations as rm
 from hostile.test_lambda_reference import judge
 from hostile.test_properties import run_drawn
 from hostile.worker import Job, Pool
+from references import lambda_reference as ref
 
 
 def rinex_records(pool: Pool, n_random: int, seed: int) -> list[harness.Record]:

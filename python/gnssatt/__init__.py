@@ -19,11 +19,13 @@ from gnssatt._core import __version__
 if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type checkers and IDEs
     from gnssatt import ambiguity, attitude, errors, gnss, magnetic, orbit, rinex, sim
     from gnssatt.ambiguity import (
+        IlsBatchResult,
         PartialFixResult,
         RatioTestResult,
         bootstrap_success_rate,
         lambda_decorrelate,
         lambda_ils,
+        lambda_ils_batch,
         partial_fix,
         ratio_test,
         ratio_threshold_fixed_failure_rate,
@@ -66,11 +68,13 @@ _EXPORTS: dict[str, str] = {
     name: module
     for module, names in {
         "ambiguity": (
+            "IlsBatchResult",
             "PartialFixResult",
             "RatioTestResult",
             "bootstrap_success_rate",
             "lambda_decorrelate",
             "lambda_ils",
+            "lambda_ils_batch",
             "partial_fix",
             "ratio_test",
             "ratio_threshold_fixed_failure_rate",
@@ -119,6 +123,7 @@ __all__ = [
     "GnssattError",
     "GnssattWarning",
     "GyroGnssResult",
+    "IlsBatchResult",
     "InvalidInputError",
     "LikelihoodAttitude",
     "LikelihoodGrid",
@@ -143,6 +148,7 @@ __all__ = [
     "gyro_propagate",
     "lambda_decorrelate",
     "lambda_ils",
+    "lambda_ils_batch",
     "likelihood_grid",
     "magnetic",
     "matrix_attitude",

@@ -20,11 +20,14 @@ __all__ = [
     "GNSS_DEFAULT_MIN_SUCCESS_RATE",
     "GNSS_DEFAULT_RATIO_THRESHOLD",
     "GNSS_MAX_FREQUENCIES",
+    "LAMBDA_BATCH_MAX_NODES",
+    "LAMBDA_BATCH_MAX_WORK",
     "LAMBDA_MAX_ABS_AMBIGUITY",
     "LAMBDA_MAX_CANDIDATES",
     "LAMBDA_MAX_DIMENSION",
     "LAMBDA_MAX_NODES",
     "LAMBDA_MAX_SAMPLES",
+    "LAMBDA_NODES_PER_AMBIGUITY",
     "LIKELIHOOD_MAX_SERIES_WORK",
     "ORBIT_MAX_RK4_STEPS",
     "BnbStats",
@@ -35,6 +38,7 @@ __all__ = [
     "GyroGnssFix",
     "GyroGnssOptions",
     "GyroGnssRun",
+    "IlsBatch",
     "IlsSolution",
     "LikelihoodGrid",
     "MatrixAttitude",
@@ -71,6 +75,7 @@ __all__ = [
     "lambda_decorrelate",
     "lambda_ffrt_threshold",
     "lambda_ils",
+    "lambda_ils_batch",
     "lambda_partial_fix",
     "lambda_ratio_test",
     "likelihood_grid",
@@ -247,6 +252,15 @@ class IlsSolution:
     def nodes_visited(self) -> int: ...
 
 @final
+class IlsBatch:
+    @property
+    def fixed(self) -> NDArray[np.int64]: ...  # (k, m, n)
+    @property
+    def squared_norms(self) -> NDArray[np.float64]: ...  # (k, m)
+    @property
+    def nodes_visited(self) -> NDArray[np.uint64]: ...  # (k,)
+
+@final
 class Decorrelation:
     @property
     def z(self) -> NDArray[np.int64]: ...  # (n, n)
@@ -290,6 +304,9 @@ class PartialFix:
 def lambda_ils(
     float_ambiguities: NDArray[np.float64], covariance: NDArray[np.float64], candidates: int = 2
 ) -> IlsSolution: ...
+def lambda_ils_batch(
+    float_ambiguities: NDArray[np.float64], covariance: NDArray[np.float64], candidates: int = 2
+) -> IlsBatch: ...
 def lambda_decorrelate(covariance: NDArray[np.float64]) -> Decorrelation: ...
 def lambda_bootstrap_success_rate(covariance: NDArray[np.float64]) -> float: ...
 def lambda_ffrt_threshold(
@@ -664,6 +681,9 @@ LAMBDA_MAX_CANDIDATES: int
 LAMBDA_MAX_SAMPLES: int
 LAMBDA_MAX_DIMENSION: int
 LAMBDA_MAX_NODES: int
+LAMBDA_NODES_PER_AMBIGUITY: int
+LAMBDA_BATCH_MAX_WORK: int
+LAMBDA_BATCH_MAX_NODES: int
 LAMBDA_MAX_ABS_AMBIGUITY: float
 
 # gnss.rs: the observation engine. ObservationArrays (of SessionInput.observations(): n_rx receivers,

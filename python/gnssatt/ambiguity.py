@@ -17,9 +17,11 @@ squared norm is recomputed from the original ``a`` and ``Q`` (Cholesky) and must
 integers are bounded by :data:`MAX_ABS_AMBIGUITY` so that they are exact in int64 and float64.
 
 Limits (each refused before any work with :class:`~gnssatt.errors.WorkLimitError`): n <= :data:`MAX_DIMENSION`
-ambiguities, ``candidates <= MAX_CANDIDATES``, ``samples <= MAX_SAMPLES``. One search visits at most
-:data:`MAX_NODES` nodes (about 6 s at n = 40) before raising ``ConvergenceError``; the simulations of
-the fixed-failure-rate threshold share 1e9 nodes between their samples.
+ambiguities, ``candidates <= MAX_CANDIDATES``, ``samples <= MAX_SAMPLES``. One search over n ambiguities
+visits at most ``min(NODES_PER_AMBIGUITY * n, MAX_NODES)`` nodes (3.2e7, about 3 s, at n = 64) before
+raising ``ConvergenceError``; the simulations of the fixed-failure-rate threshold share 1e9 nodes between
+their samples; a :func:`lambda_ils_batch` call is bounded by :data:`BATCH_MAX_WORK` and
+:data:`BATCH_MAX_NODES`.
 """
 
 from __future__ import annotations
@@ -35,16 +37,21 @@ from gnssatt._arrays import float_array, integer, scalar
 from gnssatt.errors import ConvergenceError, InvalidInputError, WorkLimitError
 
 __all__ = [
+    "BATCH_MAX_NODES",
+    "BATCH_MAX_WORK",
     "MAX_ABS_AMBIGUITY",
     "MAX_CANDIDATES",
     "MAX_DIMENSION",
     "MAX_NODES",
     "MAX_SAMPLES",
+    "NODES_PER_AMBIGUITY",
+    "IlsBatchResult",
     "PartialFixResult",
     "RatioTestResult",
     "bootstrap_success_rate",
     "lambda_decorrelate",
     "lambda_ils",
+    "lambda_ils_batch",
     "partial_fix",
     "ratio_test",
     "ratio_threshold_fixed_failure_rate",
@@ -60,16 +67,42 @@ MAX_SAMPLES: int = int(_core.LAMBDA_MAX_SAMPLES)
 MAX_DIMENSION: int = int(_core.LAMBDA_MAX_DIMENSION)
 """Most ambiguities n of one problem (256; answers are tested against an independent solver up to 64)."""
 MAX_NODES: int = int(_core.LAMBDA_MAX_NODES)
-"""Nodes one integer search may visit before it raises ``ConvergenceError`` (1e8, about 6 s). The best
-candidate of a float vector drawn from its covariance takes about 2n nodes; the second best (ratio
-test) grows roughly binomially with n when the decorrelated variances are flat, and may reach the cap for
+"""Most nodes one integer search may visit before it raises ``ConvergenceError`` (1e8); a problem of n
+ambiguities gets ``min(NODES_PER_AMBIGUITY * n, MAX_NODES)`` (3.2e7, about 3 s, at n = 64). The best
+candidate of a float vector drawn from its covariance takes about 2n nodes; the second best (ratio test)
+grows roughly binomially with n when the decorrelated variances are flat, and may reach the budget for
 n >= 40."""
+NODES_PER_AMBIGUITY: int = int(_core.LAMBDA_NODES_PER_AMBIGUITY)
+"""Search nodes per ambiguity of a problem's budget (500,000: it reaches :data:`MAX_NODES` at n = 200)."""
+BATCH_MAX_WORK: int = int(_core.LAMBDA_BATCH_MAX_WORK)
+"""Most work units ``k * (n**3 + 1000)`` of one :func:`lambda_ils_batch` call (2^32, about 10 s of a core)."""
+BATCH_MAX_NODES: int = int(_core.LAMBDA_BATCH_MAX_NODES)
+"""Most search nodes of all the problems of one :func:`lambda_ils_batch` call together (1e9)."""
 MAX_ABS_AMBIGUITY: float = float(_core.LAMBDA_MAX_ABS_AMBIGUITY)
 """Largest magnitude of a float ambiguity and of any integer returned, cycles (4.5e15 < 2^53)."""
 _MAX_SEED = 2**64 - 1
 
 
+def _ready(value: Any, ndim: int) -> NDArray[np.float64] | None:
+    """``value`` itself when it is already a C-contiguous float64 array of ``ndim`` dimensions, else None.
+
+    The common case of a study calling :func:`lambda_ils` in a loop: the copy and the finiteness scan of
+    :func:`~gnssatt._arrays.float_array` are skipped, because the Rust binding scans every value again
+    (refusing a non-finite one with the same ``InvalidInputError`` and parameter name) and copies it.
+    """
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.ndim == ndim:
+        if value.flags.c_contiguous:
+            return value
+    return None
+
+
 def _problem(float_ambiguities: Any, covariance: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    a = _ready(float_ambiguities, 1)
+    q = _ready(covariance, 2)
+    if a is not None and q is not None and a.shape[0] == q.shape[0] == q.shape[1] and 0 < q.shape[0]:
+        # NaN compares false: a non-finite or too large value takes the full intake below, which names it
+        if q.shape[0] <= MAX_DIMENSION and float(np.abs(a).max()) < MAX_ABS_AMBIGUITY:
+            return a, q
     a = float_array("float_ambiguities", float_ambiguities, ndim=1, shape="(n,)")
     big = np.abs(a) >= MAX_ABS_AMBIGUITY
     if np.any(big):
@@ -184,6 +217,107 @@ def lambda_ils(
     out = _core.lambda_ils(a, q, m)
     fixed, norms = out.fixed, out.squared_norms
     return fixed, norms
+
+
+@dataclass(frozen=True)
+class IlsBatchResult:
+    """Outcome of :func:`lambda_ils_batch` for k problems of n ambiguities and m candidates.
+
+    Attributes
+    ----------
+    fixed
+        (k, m, n) int64: ``fixed[p, c]`` is the c-th best integer vector of problem p.
+    squared_norms
+        (k, m) ``(a - z) @ inv(Q) @ (a - z)`` of each candidate, recomputed from the original float vector and
+        covariance, ascending per problem.
+    nodes_visited
+        (k,) uint64 search nodes of each problem.
+    """
+
+    fixed: NDArray[np.int64]
+    squared_norms: NDArray[np.float64]
+    nodes_visited: NDArray[np.uint64]
+
+
+def lambda_ils_batch(
+    float_ambiguities: ArrayLike, covariance: ArrayLike, *, candidates: int = 2
+) -> IlsBatchResult:
+    """:func:`lambda_ils` of many problems in one call, in parallel.
+
+    Every problem is solved exactly as :func:`lambda_ils` solves it alone (same checks, search and node
+    budget), so the answers do not depend on the batch's size, order or thread count; the intake is paid
+    once per call instead of once per problem. Threads: rayon's pool (``RAYON_NUM_THREADS``); Ctrl-C stops
+    the call within about 50 ms.
+
+    Parameters
+    ----------
+    float_ambiguities
+        (k, n) float ambiguities, one problem per row, cycles; k >= 0, 1 <= n <= :data:`MAX_DIMENSION`.
+    covariance
+        (n, n) covariance shared by every problem, or (k, n, n) one per problem, cycles².
+    candidates
+        Number m of solutions wanted per problem, 1 <= m <= :data:`MAX_CANDIDATES`.
+
+    Returns
+    -------
+    IlsBatchResult
+        ``fixed`` (k, m, n), ``squared_norms`` (k, m) and ``nodes_visited`` (k,).
+
+    Raises
+    ------
+    InvalidInputError, InvalidTypeError
+        As :func:`lambda_ils`; the message of a problem's own failure (not positive definite...) starts with
+        ``problem p``, the lowest-numbered failing problem.
+    WorkLimitError
+        As :func:`lambda_ils`, and ``k * (n**3 + 1000) > BATCH_MAX_WORK`` (checked before any work).
+    ConvergenceError
+        As :func:`lambda_ils` for the lowest-numbered problem that fails, or the searches of the batch
+        together passed :data:`BATCH_MAX_NODES` nodes.
+
+    Examples
+    --------
+    The :func:`lambda_ils` example and its integer shift by (3, -1), sharing one covariance:
+
+    >>> import numpy as np
+    >>> from gnssatt import lambda_ils_batch
+    >>> out = lambda_ils_batch([[1.1, -2.05], [4.1, -3.05]], np.diag([0.01, 0.01]), candidates=1)
+    >>> out.fixed[:, 0]
+    array([[ 1, -2],
+           [ 4, -3]])
+    >>> np.round(out.squared_norms, 6)
+    array([[1.25],
+           [1.25]])
+    """
+    a = float_array("float_ambiguities", float_ambiguities, ndim=2, shape="(k, n)")
+    q = float_array("covariance", covariance, ndim=(2, 3), shape="(n, n) or (k, n, n)")
+    k, n = a.shape
+    if q.ndim == 2:
+        q = q[np.newaxis]
+    if q.shape[1:] != (n, n) or q.shape[0] not in (1, k) or n == 0:
+        raise InvalidInputError(
+            f"expected covariance of shape (n, n) or (k, n, n) with n >= 1 matching float_ambiguities of "
+            f"shape (k, n) = {a.shape}, got {q.shape[1:] if q.shape[0] == 1 else q.shape}"
+        )
+    if n > MAX_DIMENSION:
+        raise WorkLimitError(
+            f"covariance of shape {q.shape[1:]} has {n} ambiguities, more than the limit of {MAX_DIMENSION}"
+        )
+    work = k * (n**3 + 1000)
+    if work > BATCH_MAX_WORK:
+        raise WorkLimitError(
+            f"float_ambiguities of shape {a.shape} asks for {work} work units (k * (n**3 + 1000)), more than "
+            f"the limit of {BATCH_MAX_WORK} (BATCH_MAX_WORK): split the batch"
+        )
+    big = np.abs(a) >= MAX_ABS_AMBIGUITY
+    if np.any(big):
+        p, i = (int(v) for v in np.argwhere(big)[0])
+        raise InvalidInputError(
+            f"float_ambiguities is out of range: |float_ambiguities[{p}, {i}]| = {abs(a[p, i]):.6g} cycles "
+            f"exceeds (or equals) MAX_ABS_AMBIGUITY = {MAX_ABS_AMBIGUITY:.6g} cycles"
+        )
+    m = integer("candidates", candidates, minimum=1, maximum=MAX_CANDIDATES)
+    out = _core.lambda_ils_batch(a, q, m)
+    return IlsBatchResult(out.fixed, out.squared_norms, out.nodes_visited)
 
 
 def lambda_decorrelate(

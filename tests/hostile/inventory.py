@@ -169,6 +169,14 @@ ENTRIES: dict[str, Entry] = {
     "gnssatt.bootstrap_success_rate": _e(lambda: {"covariance": _amb()["covariance"]}),
     "gnssatt.lambda_decorrelate": _e(lambda: {"covariance": _amb()["covariance"]}),
     "gnssatt.lambda_ils": _e(lambda: {**_amb(), "candidates": 2}, counts={"candidates"}),
+    "gnssatt.lambda_ils_batch": _e(
+        lambda: {
+            "float_ambiguities": np.stack([_amb()["float_ambiguities"] + k for k in range(3)]),
+            "covariance": _amb()["covariance"],
+            "candidates": 2,
+        },
+        counts={"candidates"},
+    ),
     "gnssatt.ratio_test": _e(
         lambda: {**_amb(), "failure_rate": 1e-3, "samples": 2000, "seed": 0},
         counts={"samples"},

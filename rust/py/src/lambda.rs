@@ -1,17 +1,21 @@
 //! Bindings of LAMBDA integer ambiguity resolution (`gnssatt_core::lambda`). The GIL is released around
 //! every decorrelation and search; the fixed-failure-rate simulation runs on rayon's global pool.
 
+use gnssatt_core::lambda::batch::{BATCH_MAX_NODES, BATCH_MAX_WORK};
 use gnssatt_core::lambda::validation::{
     fixed_failure_rate_threshold, partial_fix, ratio_test, RatioThreshold,
 };
-use gnssatt_core::lambda::{bootstrap_success_rate, ils, reduce};
+use gnssatt_core::lambda::{bootstrap_success_rate, ils, ils_batch, reduce};
 use nalgebra::DMatrix;
-use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
 use pyo3::prelude::*;
 
 use crate::convert::{dmatrix, dvector};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::interruptible;
 use crate::results::result_type;
 
 /// Default fixed ratio threshold when neither `threshold` nor `failure_rate` is given.
@@ -77,6 +81,69 @@ fn lambda_ils(
         fixed: to_numpy2(py, &sol.fixed.transpose()),
         squared_norms: to_numpy1(py, sol.squared_norms),
         nodes_visited: sol.nodes_visited,
+    })
+}
+
+result_type! {
+    /// The `candidates` best integer vectors of each of k problems: `fixed` (k, m, n) int64 (row
+    /// `[p, c]` the c-th best of problem p), `squared_norms` (k, m), and `nodes_visited` (k,) uint64.
+    IlsBatch {
+        fixed: Py<PyArray3<i64>>,
+        squared_norms: Py<PyArray2<f64>>,
+        nodes_visited: Py<PyArray1<u64>>,
+    }
+}
+
+/// The `candidates` best integer vectors of each row of `float_ambiguities` (k, n), with `covariance`
+/// (1, n, n) shared by every row or (k, n, n) one per row; in parallel, interruptible (Ctrl-C).
+#[pyfunction]
+#[pyo3(signature = (float_ambiguities, covariance, candidates = 2))]
+fn lambda_ils_batch(
+    py: Python<'_>,
+    float_ambiguities: PyReadonlyArray2<'_, f64>,
+    covariance: PyReadonlyArray3<'_, f64>,
+    candidates: usize,
+) -> PyResult<IlsBatch> {
+    let a = float_ambiguities.as_array();
+    let q = covariance.as_array();
+    let (k, n) = a.dim();
+    let qs = q.dim();
+    if qs.1 != n || qs.2 != n || (qs.0 != 1 && qs.0 != k) {
+        return Err(invalid_input(
+            py,
+            format!(
+                "expected covariance of shape ({n}, {n}) or ({k}, {n}, {n}) to match float_ambiguities \
+                 of shape ({k}, {n}), got {qs:?}"
+            ),
+        ));
+    }
+    // The wrapper passes C-contiguous arrays; anything else is copied once.
+    let a_vec;
+    let a_flat = match a.as_slice() {
+        Some(s) => s,
+        None => {
+            a_vec = a.iter().copied().collect::<Vec<f64>>();
+            &a_vec
+        }
+    };
+    let q_vec;
+    let q_flat = match q.as_slice() {
+        Some(s) => s,
+        None => {
+            q_vec = q.iter().copied().collect::<Vec<f64>>();
+            &q_vec
+        }
+    };
+    let m = candidates;
+    let sol = interruptible::run(py, || ils_batch(a_flat, q_flat, n, m))?;
+    let fixed = Array3::from_shape_vec((k, m, n), sol.fixed)
+        .map_err(|e| invalid_input(py, format!("batch result of unexpected size: {e}")))?;
+    let norms = Array2::from_shape_vec((k, m), sol.squared_norms)
+        .map_err(|e| invalid_input(py, format!("batch result of unexpected size: {e}")))?;
+    Ok(IlsBatch {
+        fixed: fixed.into_pyarray(py).unbind(),
+        squared_norms: norms.into_pyarray(py).unbind(),
+        nodes_visited: to_numpy1(py, sol.nodes_visited),
     })
 }
 
@@ -220,12 +287,14 @@ fn lambda_partial_fix(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lambda_ils, m)?)?;
+    m.add_function(wrap_pyfunction!(lambda_ils_batch, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_decorrelate, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_bootstrap_success_rate, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_ffrt_threshold, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_ratio_test, m)?)?;
     m.add_function(wrap_pyfunction!(lambda_partial_fix, m)?)?;
     m.add_class::<IlsSolution>()?;
+    m.add_class::<IlsBatch>()?;
     m.add_class::<Decorrelation>()?;
     m.add_class::<RatioTest>()?;
     m.add_class::<PartialFix>()?;
@@ -243,6 +312,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
         gnssatt_core::lambda::ldl::MAX_DIMENSION,
     )?;
     m.add("LAMBDA_MAX_NODES", gnssatt_core::lambda::DEFAULT_MAX_NODES)?;
+    m.add(
+        "LAMBDA_NODES_PER_AMBIGUITY",
+        gnssatt_core::lambda::NODES_PER_AMBIGUITY,
+    )?;
+    m.add("LAMBDA_BATCH_MAX_WORK", BATCH_MAX_WORK)?;
+    m.add("LAMBDA_BATCH_MAX_NODES", BATCH_MAX_NODES)?;
     m.add(
         "LAMBDA_MAX_ABS_AMBIGUITY",
         gnssatt_core::lambda::MAX_ABS_AMBIGUITY,

@@ -13,9 +13,10 @@
 //! `Z^T Q Z = L^T D L` is verified ([`reduction::IDENTITY_TOLERANCE`]), every returned squared norm is
 //! recomputed from the original `a` and `Q` and must agree with the search's, and every returned integer
 //! is exact (`|z| <= MAX_ABS_AMBIGUITY`); a failure of any of these is [`Error::Numerical`].
-//! Limits: n <= [`ldl::MAX_DIMENSION`], at most [`MAX_CANDIDATES`] candidates, [`DEFAULT_MAX_NODES`]
-//! search nodes.
+//! Limits: n <= [`ldl::MAX_DIMENSION`], at most [`MAX_CANDIDATES`] candidates, [`node_budget`]`(n)`
+//! search nodes (at most [`DEFAULT_MAX_NODES`]); a batch ([`batch`]) bounds its whole work too.
 
+pub mod batch;
 pub mod bootstrap;
 pub mod gate;
 pub mod ldl;
@@ -32,9 +33,12 @@ mod tests;
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::{ensure_finite, Error, Result};
+pub use batch::{ils_batch, BatchSolution};
 pub use bootstrap::bootstrap_success_rate;
 pub use reduction::{reduce, Reduction, Transformed};
-pub use search::{search, Candidates, DEFAULT_MAX_NODES, MAX_CANDIDATES};
+pub use search::{
+    node_budget, search, Candidates, DEFAULT_MAX_NODES, MAX_CANDIDATES, NODES_PER_AMBIGUITY,
+};
 use verify::{agreeing_order, Metric};
 
 /// Largest `|a_i|` of a float ambiguity, and of any integer returned, in cycles: below 2^53, so that the
@@ -227,8 +231,8 @@ pub(crate) fn bounded_integer(i: usize, v: i128) -> Result<i64> {
 /// * `m` - number of candidates, 1 ..= [`MAX_CANDIDATES`].
 ///
 /// # Errors
-/// Those of [`Problem::new`] and [`Problem::solve`] (with [`DEFAULT_MAX_NODES`]).
+/// Those of [`Problem::new`] and [`Problem::solve`] (with [`node_budget`]`(n)` nodes).
 pub fn ils(a: &DVector<f64>, q: &DMatrix<f64>, m: usize) -> Result<IlsSolution> {
     search::check_candidates(m)?;
-    Problem::new(a, q)?.solve(m, DEFAULT_MAX_NODES)
+    Problem::new(a, q)?.solve(m, node_budget(a.len()))
 }

@@ -11,13 +11,34 @@ use nalgebra::{DMatrix, DVector};
 
 use super::ldl::Ltdl;
 use crate::error::{Error, Result};
+use crate::interrupt;
 
-/// Default cap on the nodes one search may visit (see [`search`]): measured at about 16 million nodes a
-/// second on one core at n = 40, so 1e8 nodes bound one search to about 6 s. The best candidate of a
-/// float vector drawn from its covariance needs about 2n nodes; the second best (the ratio test) grows
+/// Cap on the nodes one search may visit (see [`search`]): measured at about 16 million nodes a second
+/// on one core at n = 40, so 1e8 nodes bound one search to about 6 s. The best candidate of a float
+/// vector drawn from its covariance needs about 2n nodes; the second best (the ratio test) grows
 /// roughly binomially with n where the decorrelated variances are flat (1e5 to beyond 1e8 nodes at
-/// n = 40 to 64). Past the cap the search stops with [`Error::Convergence`].
+/// n = 40 to 64). Past the cap the search stops with [`Error::Convergence`]. The public entry points
+/// give a problem of n ambiguities [`node_budget`]`(n)`, which reaches this cap at n = 200.
 pub const DEFAULT_MAX_NODES: u64 = 100_000_000;
+
+/// Nodes per ambiguity of [`node_budget`]: 500,000, so that n = 64 gets 3.2e7 nodes, about 3 s (issue
+/// 31's second-best searches at n = 64 visited 1e8 nodes in 8.8 s on a shared machine), inside the
+/// robustness promise of an answer or a refusal in about 10 s; the budget reaches [`DEFAULT_MAX_NODES`]
+/// at n = 200.
+pub const NODES_PER_AMBIGUITY: u64 = 500_000;
+
+/// The node budget of one search over `n` ambiguities: `NODES_PER_AMBIGUITY n`, at most
+/// [`DEFAULT_MAX_NODES`]. A search tree has at least 2n nodes and its work per node grows with n, so a
+/// budget proportional to n refuses a hopeless small problem in milliseconds instead of seconds, while
+/// the larger problems, whose legitimate searches are the longer ones, get the most.
+pub fn node_budget(n: usize) -> u64 {
+    NODES_PER_AMBIGUITY
+        .saturating_mul(n as u64)
+        .min(DEFAULT_MAX_NODES)
+}
+
+/// Nodes between two polls of [`crate::interrupt`] (2^20: about 60 ms of search).
+const POLL_NODES: u64 = 1 << 20;
 
 /// Largest number of candidates one search may be asked for: they are held in memory (n x m values)
 /// and each costs at least one node.
@@ -45,8 +66,9 @@ pub fn check_candidates(m: usize) -> Result<()> {
     Ok(())
 }
 
-/// A candidate kept by the search, ordered by its squared norm (a max-heap keeps the worst on top).
-struct Kept(f64, Vec<f64>);
+/// A candidate kept by the search: its squared norm and its slot in the candidate store, ordered by the
+/// norm (a max-heap keeps the worst on top).
+struct Kept(f64, usize);
 
 impl PartialEq for Kept {
     fn eq(&self, other: &Self) -> bool {
@@ -88,7 +110,8 @@ pub struct Candidates {
 /// [`Error::Shape`] when `zhat` does not match `factor`, those of [`check_candidates`],
 /// [`Error::Convergence`] when the node cap is reached (a badly conditioned, undecorrelated problem),
 /// [`Error::Numerical`] when fewer than `m` candidates have a finite norm (norms beyond the `f64` range:
-/// a covariance tiny compared with the distances to the integers).
+/// a covariance tiny compared with the distances to the integers); [`Error::Interrupted`] on
+/// [`crate::interrupt::request`] (polled every 2^20 nodes).
 pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> Result<Candidates> {
     let Ltdl { l, d } = factor;
     let n = d.len();
@@ -106,6 +129,9 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
     let mut zb = vec![0.0; n];
     let mut z = vec![0.0; n];
     let mut step = vec![0.0; n];
+    // The m candidates live in one n x m store (a leaf overwrites the slot of the worst it replaces):
+    // no allocation inside the search.
+    let mut store = vec![0.0; n * m];
     let mut best = BinaryHeap::<Kept>::with_capacity(m);
     let mut radius = f64::INFINITY;
     let mut nodes = 0u64;
@@ -133,6 +159,9 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
                 iterations: max_nodes as usize,
             });
         }
+        if nodes.is_multiple_of(POLL_NODES) {
+            interrupt::check("integer least-squares search")?;
+        }
         let newdist = dist[k] + y * y / d[k];
         if newdist < radius {
             if k > 0 {
@@ -145,10 +174,13 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
                 let value = zhat[k] + acc[(k, k)];
                 y = start(k, &mut zb, &mut z, &mut step, value);
             } else {
-                if best.len() == m {
-                    best.pop();
-                }
-                best.push(Kept(newdist, z.clone()));
+                let slot = if best.len() == m {
+                    best.pop().map_or(0, |w| w.1)
+                } else {
+                    best.len()
+                };
+                store[slot * n..(slot + 1) * n].copy_from_slice(&z);
+                best.push(Kept(newdist, slot));
                 if best.len() == m {
                     radius = best.peek().map_or(f64::INFINITY, |w| w.0);
                 }
@@ -176,8 +208,9 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
     }
     let best = best.into_sorted_vec();
     let mut out = DMatrix::zeros(n, m);
-    for (c, Kept(_, v)) in best.iter().enumerate() {
-        out.set_column(c, &DVector::from_column_slice(v));
+    for (c, &Kept(_, slot)) in best.iter().enumerate() {
+        out.column_mut(c)
+            .copy_from_slice(&store[slot * n..(slot + 1) * n]);
     }
     Ok(Candidates {
         z: out,

@@ -26,7 +26,7 @@ use rayon::prelude::*;
 
 use super::bootstrap::success_rate;
 use super::ldl::Ltdl;
-use super::search::{search, DEFAULT_MAX_NODES};
+use super::search::{node_budget, search, DEFAULT_MAX_NODES};
 use super::verify::agreeing_order;
 use super::{bounded_integer, Problem};
 use crate::error::{Error, Result};
@@ -143,7 +143,7 @@ pub fn ratio_test(
 ) -> Result<RatioTest> {
     threshold.check()?;
     let p = Problem::new(a, q)?;
-    let found = p.solve(2, DEFAULT_MAX_NODES)?;
+    let found = p.solve(2, node_budget(p.len()))?;
     let c = threshold.value(&p.reduction.factor)?;
     let norms = [found.squared_norms[0], found.squared_norms[1]];
     let ratio = ratio_of(norms);
@@ -352,7 +352,7 @@ impl Problem {
                 None => nested.insert(Nested::new(&self.transformed.zqz)?),
             };
             let zhat = self.zhat.rows(n - k, k).into_owned();
-            let found = search(&sub, &zhat, 2, DEFAULT_MAX_NODES)?;
+            let found = search(&sub, &zhat, 2, node_budget(k))?;
             let recomputed: Vec<f64> = found
                 .z
                 .column_iter()
