@@ -28,7 +28,7 @@ MAX_KEPLER_ITERATIONS = 10_000
 MAX_SEMI_MAJOR_AXIS_M = 1e15
 
 
-def _check_motion(name: str, a: NDArray[np.float64], gm: float) -> None:
+def check_orbital_motion(name: str, a: NDArray[np.float64], gm: float) -> None:
     """Refuses radii ``a`` whose mean motion ``sqrt(gm / a^3)`` or orbital speed ``sqrt(gm / a)`` is not a
     positive finite number (``a = 1e-300`` makes ``a^3`` zero and the mean motion infinite; a tiny ``gm``
     makes it zero), naming ``name``: the error would otherwise surface later under another name."""
@@ -159,7 +159,7 @@ class KeplerOrbits:
             raise InvalidInputError(f"expected eccentricity in [0, 1), got maximum {arrays[1].max()}")
         gm = scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True)
         object.__setattr__(self, "gm_m3_s2", gm)
-        _check_motion("semi_major_axis_m", arrays[0], gm)
+        check_orbital_motion("semi_major_axis_m", arrays[0], gm)
         for name, arr in zip((*names, "mean_anomaly_rad"), arrays, strict=True):
             readonly(arr)
             object.__setattr__(self, name, arr)

@@ -37,7 +37,7 @@ from gnssatt.frames import (
     rot_x,
     rot_z,
 )
-from gnssatt.orbit.kepler import _check_motion
+from gnssatt.orbit.kepler import check_orbital_motion
 
 __all__ = ["GroundReceiver", "OrbitalReceiver", "Receiver"]
 
@@ -140,7 +140,7 @@ class OrbitalReceiver:
         names = ("altitude_m", "inclination_deg", "raan_deg", "arg_latitude_deg", "theta0_rad", "gm_m3_s2")
         for name in names:
             object.__setattr__(self, name, scalar(name, getattr(self, name)))
-        _check_motion("altitude_m", np.array([self.radius_m]), self.gm_m3_s2)
+        check_orbital_motion("altitude_m", np.array([self.radius_m]), self.gm_m3_s2)
 
     @property
     def radius_m(self) -> float:
