@@ -114,6 +114,7 @@ def _rinex_series(matrices: np.ndarray, angles_deg: np.ndarray) -> RinexAttitude
         angles_deg=angles_deg,
         method=np.array(["lambda"] * n),
         fixed=np.ones(n, dtype=np.int64),
+        fix_state=np.array(["fixed"] * n),
         satellites=np.full(n, 8),
         angle_sigmas_deg=np.zeros((n, 3)),
         baselines_enu_m=np.zeros((n, 2, 3)),

@@ -101,7 +101,7 @@ def test_series_is_consistent_with_itself(tmp_path: Path) -> None:
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
     expected = (
-        "time_gpst azimuth_deg elevation_deg method fixed satellites east_m north_m up_m length_m "
+        "time_gpst azimuth_deg elevation_deg method fixed state satellites east_m north_m up_m length_m "
         "azimuth_sigma_deg elevation_sigma_deg ratio success_rate sats_G sats_R sats_E sats_C sats_J "
         "frequencies"
     ).split()

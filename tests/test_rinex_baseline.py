@@ -64,7 +64,7 @@ def test_geonet_cli_baseline_direction(tmp_path: Path, capsys: pytest.CaptureFix
     assert main([*argv, "--nav", str(DATA / "07590920.05n"), "--out", str(out)]) == 0
     lines = out.read_text().splitlines()
     # the columns of issue 16 follow these (docs/conventions.md; tests/test_gnss_attitude.py checks them all)
-    assert lines[0].startswith("time_gpst,azimuth_deg,elevation_deg,method,fixed,satellites,east_m,")
+    assert lines[0].startswith("time_gpst,azimuth_deg,elevation_deg,method,fixed,state,satellites,east_m,")
     assert len(lines) == 121 and lines[1].startswith("2005-04-02T00:00:00.000,")
     assert ",lambda,1," in lines[1]
     az = np.array([float(r.split(",")[1]) for r in lines[1:]])

@@ -93,9 +93,9 @@ def test_three_antennas_attitude_and_cli(tmp_path: Path) -> None:
     assert main(argv) == 0
     lines = out.read_text().splitlines()
     head = lines[0].split(",")
-    assert head[:7] == "time_gpst,heading_deg,pitch_deg,roll_deg,method,fixed,satellites".split(",")
+    assert head[:8] == "time_gpst,heading_deg,pitch_deg,roll_deg,method,fixed,state,satellites".split(",")
     # one set of baseline columns per rover, then the sigma of each angle (docs/conventions.md)
-    assert head[7:17] == [
+    assert head[8:18] == [
         *("east_m", "north_m", "up_m", "length_m", "east_m_2", "north_m_2", "up_m_2", "length_m_2"),
         *("heading_sigma_deg", "pitch_sigma_deg"),
     ]

@@ -187,6 +187,7 @@ def test_rinex_headers_position_and_bands(rc, tmp_path):  # type: ignore[no-unty
 
 def test_table_puts_both_tools_side_by_side_with_notes(rc):  # type: ignore[no-untyped-def]
     m = {"epochs": 100, "solved": 100, "fixed": 99, "fix_rate": 0.99, "wrong_fixes": 0, "unreferenced": 0}
+    m |= {"first_fix_s": 3.0}
     m |= {"error_fixed_median_m": 0.0021, "error_fixed_p95_m": 0.0089, "error_all_median_m": 0.0023}
     rtk = {"metrics": m, "note": "", "median_wall_s": 0.2}
     ours = {"metrics": None, "note": "no --frequencies (band 1 only)", "median_wall_s": None}
@@ -200,7 +201,7 @@ def test_table_puts_both_tools_side_by_side_with_notes(rc):  # type: ignore[no-u
     }
     lines = rc.table([row]).splitlines()
     assert lines[2] == (
-        "| sim | static | G | 2 | 99.0 \\| n/a [1] | 0 \\| n/a | 2.1/8.9 \\| n/a | 2.3 \\| n/a "
+        "| sim | static | G | 2 | 99.0 \\| n/a [1] | 0 \\| n/a | 3 \\| n/a | 2.1/8.9 \\| n/a | 2.3 \\| n/a "
         "| 0.20 \\| n/a | 2.00 \\| n/a |"
     )
     assert lines[-1] == "[1] sim static G f2 gnssatt: no --frequencies (band 1 only)"

@@ -11,7 +11,8 @@ base at 3034's header position), which has no truth: gnssatt's single-epoch fixe
 ``kinematic-instantaneous`` ones (``pos1-navsys=45``, ``-f 3``) epoch by epoch where both fix (a table of its
 own: fixed counts, median and largest difference).
 Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
-``movingbase-instantaneous.conf``; gnssatt ``--motion moving``) and static (``static-continuous.conf``;
+``movingbase-instantaneous.conf``; gnssatt ``--motion moving``), filtered (RTKLIB's Kalman filter,
+``kinematic-continuous.conf``; gnssatt ``--filter kinematic``) and static (``static-continuous.conf``;
 ``--motion static``), with ``--method lambda``; each number of frequencies (``-f N`` / ``--frequencies N``)
 and system set (``pos1-navsys`` in a conf copy / ``--systems``) the files hold; base position ``-r`` /
 ``--base-position`` from the base file's header.
@@ -27,7 +28,8 @@ are detected from ``gnssatt attitude --help``; runs that need a missing one are 
 ``--known-length``: gnssatt's single-epoch runs also get ``--baseline-length``, the reference's length.
 
 Metrics per tool and run: fix rate (RTKLIB Q=1, gnssatt ``fixed``) over the session's epochs; wrong fixes
-(fixed epochs whose baseline is more than ``--wrong-fix-m`` from the reference); median and 95th percentile
+(fixed epochs whose baseline is more than ``--wrong-fix-m`` from the reference); time to first fix (first
+fixed epoch less the first solved epoch of the run, s); median and 95th percentile
 of the 3-D baseline error over fixed epochs and median over all solved epochs; wall time (median of
 ``--repeats``) and time per epoch. References: the truth for simulated data; for GEONET, RTKLIB's own static
 L1+L2 fixed solution over the session (its last fixed epoch), or the header positions (metre level, no
@@ -62,11 +64,12 @@ SECONDS_PER_WEEK = 604800.0
 EPOCH_TOLERANCE_S = 0.025
 #: ``pos1-navsys`` bit of each RINEX system letter (RTKLIB's SYS_* values).
 NAVSYS_BITS = {"G": 1, "R": 4, "E": 8, "J": 16, "C": 32}
-#: RTKLIB mode name -> (conf file, gnssatt --motion).
+#: RTKLIB mode name -> (conf file, gnssatt --motion, gnssatt --filter or None).
 MODES = {
-    "single-epoch": ("kinematic-instantaneous.conf", "moving"),
-    "moving-base": ("movingbase-instantaneous.conf", "moving"),
-    "static": ("static-continuous.conf", "static"),
+    "single-epoch": ("kinematic-instantaneous.conf", "moving", None),
+    "moving-base": ("movingbase-instantaneous.conf", "moving", None),
+    "filtered": ("kinematic-continuous.conf", "moving", "kinematic"),
+    "static": ("static-continuous.conf", "static", None),
 }
 
 
@@ -251,12 +254,14 @@ def metrics(
     known = np.all(np.isfinite(ref.at(sol.time_s)), axis=1)
     err = np.linalg.norm(sol.enu_m[known] - ref.at(sol.time_s[known]), axis=1)
     fixed_err = err[sol.fixed[known]]
+    first_fix = sol.time_s[sol.fixed][0] - sol.time_s[0] if sol.fixed.any() else None
     return {
         "epochs": n_epochs,
         "solved": len(sol.time_s),
         "fixed": int(sol.fixed.sum()),
         "fix_rate": float(sol.fixed.sum()) / n_epochs if n_epochs else None,
         "wrong_fixes": int(np.sum(fixed_err > wrong_fix_m)) if ref.judges_fixes else None,
+        "first_fix_s": None if first_fix is None else float(first_fix),
         "unreferenced": int(np.sum(~known)),
         "error_fixed_median_m": _pct(fixed_err, 50),
         "error_fixed_p95_m": _pct(fixed_err, 95),
@@ -466,9 +471,11 @@ def gnssatt_command(
     out: Path,
     options: frozenset[str],
     known_length_m: float | None = None,
+    filter_model: str | None = None,
 ) -> tuple[list[str] | None, str]:
     """The ``gnssatt attitude`` command of one run, or None and why (an option this version lacks);
-    ``known_length_m``: single epochs get ``--baseline-length`` (the reference's length)."""
+    ``known_length_m``: single epochs get ``--baseline-length`` (the reference's length);
+    ``filter_model``: ``--filter`` with this process model."""
     exe = Path(sys.executable).with_name("gnssatt")
     cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "gnssatt"]
     cmd += ["attitude", "--obs", str(ds.base_obs), "--obs", str(ds.rover_obs)]
@@ -483,7 +490,11 @@ def gnssatt_command(
         cmd += ["--systems", systems]
     elif "--systems" in options:
         cmd += ["--systems", "G"]
-    if known_length_m is not None and motion == "moving":
+    if filter_model is not None:
+        if "--filter" not in options:
+            return None, "no --filter"
+        cmd += ["--filter", filter_model]
+    elif known_length_m is not None and motion == "moving":
         if "--baseline-length" not in options:
             return None, "no --baseline-length"
         cmd += ["--baseline-length", f"{known_length_m:.4f}"]
@@ -581,23 +592,26 @@ def compare(ds: Dataset, rtk: Rtklib | None, folder: Path, opts: Settings) -> tu
     length = float(np.median(np.linalg.norm(np.atleast_2d(ref.enu_m), axis=1)))
     rows: list[dict] = []
     for systems, freqs in run_plan(ds):
-        ours: dict[str, Timed] = {}  # gnssatt per --motion: the moving run serves both single-epoch modes
-        for mode, (_, motion) in MODES.items():
+        # gnssatt per (--motion, --filter): the moving run serves both single-epoch modes
+        ours: dict[tuple[str, str | None], Timed] = {}
+        for mode, (_, motion, filter_model) in MODES.items():
             theirs = Timed([], note="RTKLIB skipped (no --rtklib-src)")
             if rtk is not None:
                 pos = folder / f"rtklib-{mode}-{systems}-f{freqs}.pos"
                 theirs = measure(
                     Timed(rtk.command(ds, mode, systems, freqs, pos)), pos, parse_pos, ref, ds, opts
                 )
-            same = motion in ours
+            key = (motion, filter_model)
+            same = key in ours
             if not same:
-                out = folder / f"gnssatt-{motion}-{systems}-f{freqs}.csv"
+                tag = motion if filter_model is None else f"filter-{filter_model}"
+                out = folder / f"gnssatt-{tag}-{systems}-f{freqs}.csv"
                 known = length if opts.known_length else None
-                cmd, why = gnssatt_command(ds, motion, systems, freqs, out, opts.options, known)
-                ours[motion] = Timed(cmd or [], note=why)
+                cmd, why = gnssatt_command(ds, motion, systems, freqs, out, opts.options, known, filter_model)
+                ours[key] = Timed(cmd or [], note=why)
                 if cmd is not None:
                     read = partial(parse_gnssatt_csv, reference_length_m=length)
-                    measure(ours[motion], out, read, ref, ds, opts)
+                    measure(ours[key], out, read, ref, ds, opts)
             rows.append(
                 {
                     "dataset": ds.name,
@@ -605,8 +619,8 @@ def compare(ds: Dataset, rtk: Rtklib | None, folder: Path, opts: Settings) -> tu
                     "systems": systems,
                     "frequencies": freqs,
                     "rtklib": asdict(theirs) | {"median_wall_s": theirs.median_wall_s},
-                    "gnssatt": asdict(ours[motion])
-                    | {"median_wall_s": ours[motion].median_wall_s, "same_as_above": same},
+                    "gnssatt": asdict(ours[key])
+                    | {"median_wall_s": ours[key].median_wall_s, "same_as_above": same},
                 }
             )
     return ref, rows
@@ -619,7 +633,7 @@ def _cell(x: float | int | None, fmt: str, scale: float = 1.0) -> str:
 def _tool_cells(t: dict[str, object], notes: list[str], where: str) -> list[str]:
     """The six table cells of one tool's run; a note (why none, or a caveat) gets a numbered marker."""
     if t.get("same_as_above"):
-        return ["〃"] * 6
+        return ["〃"] * 7
     m = t["metrics"]
     note = str(t["note"])
     if isinstance(m, dict) and m["solved"] == 0:
@@ -629,12 +643,13 @@ def _tool_cells(t: dict[str, object], notes: list[str], where: str) -> list[str]
         notes.append(f"{where}: {note}")
         mark = f" [{len(notes)}]"
     if not isinstance(m, dict):
-        return [f"n/a{mark}"] + ["n/a"] * 5
+        return [f"n/a{mark}"] + ["n/a"] * 6
     wall = t["median_wall_s"]
     per = None if wall is None else float(wall) / float(m["epochs"])  # type: ignore[arg-type]
     return [
         _cell(m["fix_rate"], ".1f", 100) + mark,
         _cell(m["wrong_fixes"], ".0f"),
+        _cell(m.get("first_fix_s"), ".0f"),
         f"{_cell(m['error_fixed_median_m'], '.1f', 1e3)}/{_cell(m['error_fixed_p95_m'], '.1f', 1e3)}",
         _cell(m["error_all_median_m"], ".1f", 1e3),
         _cell(wall, ".2f"),  # type: ignore[arg-type]
@@ -645,9 +660,9 @@ def _tool_cells(t: dict[str, object], notes: list[str], where: str) -> list[str]
 def table(rows: list[dict[str, object]]) -> str:
     """One markdown table, ``RTKLIB | gnssatt`` side by side in each metric's column, then the notes."""
     lines = [
-        "| data | mode | sys | f | fixed % R \\| g | wrong R \\| g | err fixed med/95 mm R \\| g "
-        "| err all med mm R \\| g | wall s R \\| g | ms/epoch R \\| g |",
-        "|" + "---|" * 10,
+        "| data | mode | sys | f | fixed % R \\| g | wrong R \\| g | first fix s R \\| g "
+        "| err fixed med/95 mm R \\| g | err all med mm R \\| g | wall s R \\| g | ms/epoch R \\| g |",
+        "|" + "---|" * 11,
     ]
     notes: list[str] = []
     for row in rows:

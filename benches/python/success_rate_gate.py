@@ -14,7 +14,10 @@ epoch by epoch (``motion="moving"``, ``method="lambda"``) under each acceptance 
   fix;
 - ``gate 0.5 + known length``: the defaults with the antennas' distance given (``baseline_length_m``: the
   simulated length, or for GEONET the length of RTKLIB's static L1+L2 solution below, 3335.389 m): the
-  length-constrained fix gated by its simulated success rate, else the default rule.
+  length-constrained fix gated by its simulated success rate, else the default rule;
+- ``gate 0.5 + filter``: the defaults with the multi-epoch filter (``filter="kinematic"``: each epoch's
+  baseline from its own data, the float ambiguities carried along their arcs, integers fixed on the
+  filter's covariance and held).
 
 A fix is wrong when its baseline is more than 5 cm from the truth (simulation) or from RTKLIB 2.4.3's static
 L1+L2 solution of the GEONET pair (ENU 953.6732, -3196.1396, 4.6497 m at the base's header position, measured
@@ -43,6 +46,7 @@ RULES = {
     "gate 0.5 + FFRT 1e-3": {"min_success_rate": 0.5, "max_failure_rate": 1e-3},
     "gate 0.5 + FFRT 1e-2": {"min_success_rate": 0.5, "max_failure_rate": 1e-2},
     "gate 0.5 + known length": {"min_success_rate": 0.5, "max_failure_rate": 0.0, "known_length": True},
+    "gate 0.5 + filter": {"min_success_rate": 0.5, "max_failure_rate": 0.0, "filter": "kinematic"},
 }
 SIM_SETS = (("G", 1), ("G", 2), ("GE", 1))
 GEONET_BASE_M = (-3976219.5082, 3382372.5671, 3652512.9849)

@@ -698,6 +698,7 @@ class GnssSession:
     method: list[str]  # (n,) "lambda" or "ml"
     solved: NDArray[np.bool_]  # (n,)
     fixed: NDArray[np.bool_]  # (n,)
+    fix_state: list[str]  # (n,) "fixed", "held" or "float"
     fixed_ambiguities: NDArray[np.int64]  # (n,)
     ambiguities: NDArray[np.int64]  # (n,)
     ratio: NDArray[np.float64]  # (n,)
@@ -735,6 +736,7 @@ class GnssOptions:
         step_deg: float | None = None,
         window_deg: float | None = None,
         baseline_lengths_m: Sequence[float] | None = None,
+        filter: str | None = None,
     ) -> GnssOptions: ...
 
 @final

@@ -180,6 +180,7 @@ def _attitude(args: argparse.Namespace) -> int:
             method=args.method,
             motion=args.motion,
             continuity=args.continuity,
+            filter=args.filter,
             systems=args.systems,
             frequencies=args.frequencies if args.frequencies == "all" else int(args.frequencies),
             elevation_mask_deg=args.elevation_mask,
@@ -227,6 +228,15 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         action="store_true",
         help="moving baseline mode: hold fixed ambiguities along arcs without cycle slips (implies "
         "--motion moving; refused with --motion static and with --baselines)",
+    )
+    att.add_argument(
+        "--filter",
+        choices=("static", "kinematic", "velocity"),
+        default=None,
+        help="two antennas: a multi-epoch Kalman filter of the baseline with this process model (static; "
+        "kinematic: random walk, each epoch from its own data and the carried ambiguities; velocity: "
+        "constant velocity), fixing on its covariance and holding the integers; the CSV's state column "
+        "says fixed, held or float (implies --motion moving)",
     )
     att.add_argument(
         "--systems",

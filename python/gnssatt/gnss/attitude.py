@@ -49,6 +49,7 @@ __all__ = [
 
 MethodName = Literal["auto", "ml", "lambda"]
 MotionName = Literal["static", "moving"]
+FilterName = Literal["static", "kinematic", "velocity"]
 
 #: System letters in the engine's order (columns ``sats_G`` ... and rows of ``double_differences``).
 SYSTEMS = "GRECJ"
@@ -101,6 +102,10 @@ class AttitudeSeries:
         (n,) ``"ml"`` or ``"lambda"``.
     fixed
         (n,) 1 where every ambiguity was fixed and validated (or held along an arc), else 0.
+    fix_state
+        (n,) ``"fixed"`` (every ambiguity fixed and validated at the epoch), ``"held"`` (every ambiguity
+        fixed through integers held from earlier epochs: ``continuity`` or ``filter``) or ``"float"``
+        (not every ambiguity fixed, or unsolved).
     satellites
         (n,) satellites used.
     baselines_enu_m
@@ -124,8 +129,9 @@ class AttitudeSeries:
         :class:`EngineWarning`).
     code_sigma_scale
         Per rover, the code sigma the receivers showed against the model's, estimated from the float
-        solutions' residuals in moving mode, and applied to the code variances when above 1 (NaN where not
-        estimated: static mode, or fewer than 50 residual degrees of freedom); ``docs/observation_engine.md``.
+        solutions' residuals in moving mode, and applied to the code variances within 0.5-10 of the
+        model's sigma (NaN where not estimated: static mode, or fewer than 50 residual degrees of
+        freedom); ``docs/observation_engine.md``.
     """
 
     time: NDArray[np.datetime64]
@@ -133,6 +139,7 @@ class AttitudeSeries:
     angles_deg: NDArray[np.float64]
     method: NDArray[np.str_]
     fixed: NDArray[np.int64]
+    fix_state: NDArray[np.str_]
     satellites: NDArray[np.int64]
     angle_sigmas_deg: NDArray[np.float64]
     baselines_enu_m: NDArray[np.float64]
@@ -202,6 +209,7 @@ class AttitudeSeries:
             out[name] = self.angles_deg[:, j]
         out["method"] = self.method
         out["fixed"] = self.fixed
+        out["state"] = self.fix_state
         out["satellites"] = self.satellites
         for r in range(self.baselines_enu_m.shape[1]):
             suffix = "" if r == 0 else f"_{r + 1}"
@@ -257,7 +265,7 @@ class AttitudeSeries:
                     )
         for r, scale in enumerate(self.code_sigma_scale, start=1):
             if np.isfinite(scale):
-                applied = "applied" if scale > 1.0 else "not applied below 1"
+                applied = "applied within 0.5-10, 0.1-10 with a known length"
                 lines.append(f"code noise, rover {r}: {scale:.2f} x the model's sigma (estimated; {applied})")
         return "\n".join(lines)
 
@@ -348,6 +356,7 @@ def attitude_from_rinex(
     method: MethodName = "auto",
     motion: MotionName | None = None,
     continuity: bool = False,
+    filter: FilterName | None = None,
     systems: str = SYSTEMS,
     frequencies: int | Literal["all"] = "all",
     elevation_mask_deg: float | None = None,
@@ -380,6 +389,14 @@ def attitude_from_rinex(
         Moving baseline mode: hold fixed integers along slip-free arcs instead of fixing every epoch
         afresh. Refused with ``motion="static"`` (one set for the session already) and with
         ``baselines`` (attitude mode fixes every epoch on its own, with the array's geometry).
+    filter
+        Two antennas: a multi-epoch Kalman filter of the baseline (implies ``motion="moving"``) with the
+        process model ``"static"`` (the baseline does not change), ``"kinematic"`` (a random walk of
+        30 m/sqrt(s): each epoch's baseline from its own data and the ambiguities carried along their arcs)
+        or ``"velocity"`` (constant velocity, white acceleration 1 (m/s^2)^2/Hz); integers fixed on the
+        filter's covariance every epoch and held while they agree with it (``fix_state``;
+        ``docs/observation_engine.md``). Refused with ``motion="static"``, ``continuity``, ``baselines``,
+        ``baseline_length_m`` and ``method="ml"``.
     systems
         Satellite systems, letters among ``"GRECJ"`` (default all).
     frequencies
@@ -468,6 +485,8 @@ def attitude_from_rinex(
     if motion is not None:
         motion = choice("motion", motion, get_args(MotionName))
     continuity = flag("continuity", continuity)
+    if filter is not None:
+        filter = choice("filter", filter, get_args(FilterName))
     systems = _systems(systems)
     n_freq = _frequencies(frequencies)
     opts: dict[str, Any] = {}
@@ -504,7 +523,7 @@ def attitude_from_rinex(
     elif n_rover != 1:
         raise InvalidInputError(f"expected baselines ({n_rover}, 3) for {n_rover + 1} antennas, got none")
     if motion is None:
-        motion = "moving" if baselines is not None or continuity else "static"
+        motion = "moving" if baselines is not None or continuity or filter is not None else "static"
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
     nv = _as_nav(nav)
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
@@ -519,6 +538,7 @@ def attitude_from_rinex(
             motion=motion,
             method=method,
             continuity=continuity,
+            filter=filter,
             **opts,
         ),
     )
@@ -642,6 +662,7 @@ def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
         angles_deg=s.angles_deg,
         method=np.array(s.method, dtype=str),
         fixed=np.asarray(s.fixed, dtype=np.int64),
+        fix_state=np.array(s.fix_state, dtype=str),
         satellites=per_system.sum(axis=1),
         angle_sigmas_deg=s.angle_sigmas_deg,
         baselines_enu_m=s.baselines_enu_m,

@@ -4,6 +4,7 @@
 //! live); errors name the CLI option (`--min-success-rate`, ...).
 
 use gnssatt_core::gnss::options::{EngineOptions, Method, Motion};
+use gnssatt_core::gnss::rtk::filter::Dynamics;
 use gnssatt_core::gnss::signal::System;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -24,7 +25,7 @@ impl GnssOptions {
         *, systems = None, frequencies = None, elevation_mask_deg = None, base_position_m = None,
         motion = None, method = None, continuity = None, min_success_rate = None, ratio_threshold = None,
         max_failure_rate = None, body_baselines_m = None, step_deg = None, window_deg = None,
-        baseline_lengths_m = None
+        baseline_lengths_m = None, filter = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -43,6 +44,7 @@ impl GnssOptions {
         step_deg: Option<f64>,
         window_deg: Option<f64>,
         baseline_lengths_m: Option<Vec<f64>>,
+        filter: Option<String>,
     ) -> PyResult<GnssOptions> {
         let mut o = EngineOptions::default();
         if let Some(s) = systems {
@@ -97,6 +99,21 @@ impl GnssOptions {
         }
         if let Some(c) = continuity {
             o.continuity = c;
+        }
+        if let Some(f) = filter {
+            o.filter = Some(match f.as_str() {
+                "static" => Dynamics::Static,
+                "kinematic" => Dynamics::KINEMATIC,
+                "velocity" => Dynamics::VELOCITY,
+                _ => {
+                    return Err(invalid_input(
+                        py,
+                        format!(
+                            "--filter: expected 'static', 'kinematic' or 'velocity', got {f:?}"
+                        ),
+                    ))
+                }
+            });
         }
         if let Some(p) = min_success_rate {
             o.min_success_rate = p;

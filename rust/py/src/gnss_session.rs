@@ -36,6 +36,10 @@ pub struct GnssSession {
     solved: Py<PyAny>,
     #[pyo3(get)]
     fixed: Py<PyAny>,
+    /// (n,) str "fixed" (validated at the epoch), "held" (fixed through integers held from earlier
+    /// epochs) or "float" (not every ambiguity fixed; unsolved epochs too).
+    #[pyo3(get)]
+    fix_state: Vec<&'static str>,
     /// (n,) int64.
     #[pyo3(get)]
     fixed_ambiguities: Py<PyAny>,
@@ -135,6 +139,7 @@ pub fn session_object(
         fixed: any(Array1::from_iter(epochs.iter().map(|e| e.fixed))
             .into_pyarray(py)
             .into_any()),
+        fix_state: epochs.iter().map(|e| e.fix_state.name()).collect(),
         fixed_ambiguities: any(Array1::from_iter(
             epochs
                 .iter()

@@ -1,5 +1,6 @@
 //! Settings of the observation engine, with the defaults a user would expect.
 
+use super::rtk::filter::Dynamics;
 use super::rtk::known_length::LENGTH_RANGE_M;
 use super::signal::{System, MAX_FREQUENCIES};
 use crate::error::{Error, Result};
@@ -60,6 +61,10 @@ pub struct EngineOptions {
     /// Hold fixed integers along slip-free arcs in moving baseline mode (refused when static and with
     /// body baselines).
     pub continuity: bool,
+    /// Moving baseline mode: a multi-epoch filter of each rover's baseline with this process model
+    /// (`rtk::filter`): float ambiguities carried along their arcs, fixing on the filter's covariance,
+    /// fix-and-hold. `None`: every epoch on its own (or `continuity`).
+    pub filter: Option<Dynamics>,
     /// Smallest bootstrapped success rate (from the float covariance) of the ambiguity set fixed; the
     /// largest subset that reaches it is fixed (partial fixing) when the full set does not.
     pub min_success_rate: f64,
@@ -95,6 +100,7 @@ impl Default for EngineOptions {
             motion: Motion::Moving,
             method: Method::Auto,
             continuity: false,
+            filter: None,
             min_success_rate: 0.5,
             ratio_threshold: 3.0,
             max_failure_rate: 0.0,
@@ -193,6 +199,29 @@ impl EngineOptions {
                 "expected moving motion: a static session fixes one set of integers for all epochs \
                  already, got static and continuity",
             ));
+        }
+        if let Some(d) = self.filter {
+            d.validate()?;
+            let refused = if !self.body_baselines_m.is_empty() {
+                Some("body baselines (attitude mode fixes every epoch on its own)")
+            } else if self.motion == Motion::Static {
+                Some("static motion (the static mode is the batch solution of every epoch; the filter's \
+                      static model is --filter static with moving motion)")
+            } else if self.continuity {
+                Some("--continuity (the filter holds its own integers)")
+            } else if !self.baseline_lengths_m.is_empty() {
+                Some("--baseline-length (the filter has no length constraint yet)")
+            } else if self.method == Method::Ml {
+                Some("--method ml (the filter is double differences and LAMBDA)")
+            } else {
+                None
+            };
+            if let Some(what) = refused {
+                return Err(Error::out_of_range(
+                    "--filter",
+                    format!("expected moving baseline mode with LAMBDA, got {what}"),
+                ));
+            }
         }
         if !self.body_baselines_m.is_empty() && self.motion == Motion::Static {
             return Err(Error::out_of_range(

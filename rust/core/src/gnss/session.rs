@@ -82,6 +82,7 @@ fn calibrate(
     let probe_opts = EngineOptions {
         method: Method::Lambda,
         continuity: false,
+        filter: None,
         body_baselines_m: Vec::new(),
         baseline_lengths_m: Vec::new(),
         ..opts.clone()

@@ -6,6 +6,29 @@ use super::signal::MAX_FREQUENCIES;
 /// Number of systems (per-system counts are indexed by [`crate::gnss::signal::System::index`]).
 pub const N_SYSTEMS: usize = 5;
 
+/// How an epoch's integers were settled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FixState {
+    /// Not every ambiguity fixed (float, or partially fixed).
+    Float,
+    /// Every ambiguity fixed and validated at this epoch (the gate on this epoch's own covariance).
+    Fixed,
+    /// Every ambiguity fixed through integers held from earlier epochs (`continuity`, the filter), not
+    /// validated again on this epoch's own.
+    Held,
+}
+
+impl FixState {
+    /// `"float"`, `"fixed"` or `"held"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            FixState::Float => "float",
+            FixState::Fixed => "fixed",
+            FixState::Held => "held",
+        }
+    }
+}
+
 /// The solution of one epoch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EpochSolution {
@@ -16,6 +39,8 @@ pub struct EpochSolution {
     pub solved: bool,
     /// Every ambiguity of the epoch fixed and validated (or held along an arc).
     pub fixed: bool,
+    /// `Fixed` or `Held` exactly when `fixed`.
+    pub fix_state: FixState,
     /// Ambiguities fixed (partial fixing fixes fewer than `ambiguities`).
     pub fixed_ambiguities: usize,
     /// Double-difference ambiguities of the float solution.

@@ -61,12 +61,13 @@ use super::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry, Sat
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
+use super::rtk::filter::BaselineFilter;
 use super::rtk::{
     model::SdRangeModel, solve_attitude, solve_baseline, solve_known_length, AttitudeSolution,
     BaselineSolution, DdEpoch, FixOptions, SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
-use super::solution::{EpochSolution, N_SYSTEMS};
+use super::solution::{EpochSolution, FixState, N_SYSTEMS};
 use super::spp::single_point;
 use crate::error::{Error, Result};
 use crate::interrupt;
@@ -101,6 +102,7 @@ struct Prepared {
 struct Estimate {
     method: Method,
     fixed: bool,
+    fix_state: FixState,
     fixed_ambiguities: usize,
     ambiguities: usize,
     ratio: f64,
@@ -124,6 +126,8 @@ pub struct Engine {
     spp_prior: Vec<Option<Vector3<f64>>>,
     /// Per rover: integers held from the previous epoch (continuity).
     held: Vec<Vec<(u64, u64, i64)>>,
+    /// Per rover: the multi-epoch filter (`EngineOptions::filter`).
+    filters: Vec<BaselineFilter>,
     /// Per rover: the baseline length from the LAMBDA solutions so far (the grid's in baseline mode).
     length: Vec<LengthEstimate>,
     /// Per rover: every epoch seen (static mode).
@@ -140,9 +144,13 @@ pub struct Engine {
 /// standard error is then `sqrt(2 / dof)` = 20 %).
 pub const CODE_SCALE_MIN_DOF: f64 = 50.0;
 
-/// Range of the code variance factor applied: the model is never made less conservative (a factor
-/// below 1 is reported, not applied, see [`CodeNoiseScale`]), and at most `10^2`.
-pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (1.0, 100.0);
+/// Range of the code variance factor applied, both ways (see [`CodeNoiseScale`]): at least `1 / 4` (a
+/// sigma half the model's: 0.15 m + 0.15 m / sin el, about what a geodetic receiver's code shows with
+/// multipath), at most `10^2`. The floor: the estimate comes from the session's first 50 degrees of
+/// freedom (a few minutes, one satellite geometry), while code multipath changes over tens of minutes,
+/// and the gate's success rate scales with the code sigma; a receiver that looked quieter than half the
+/// model over its first epochs is not trusted further.
+pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (0.25, 100.0);
 
 /// Range of the code variance factor applied to a rover with a known length (both ways, see
 /// `CodeNoiseScale::known_length_factor`): at most `10^2` up, `10^-2` down.
@@ -154,11 +162,10 @@ pub const KNOWN_LENGTH_FACTOR_RANGE: (f64, f64) = (0.01, 100.0);
 /// residuals are the code double differences'). A receiver noisier than the model makes the float
 /// ambiguities look better than they are and the success-rate gate too permissive: the code variances are
 /// then scaled up by the estimate, once [`CODE_SCALE_MIN_DOF`] residual degrees of freedom are in. A quieter
-/// receiver (the usual case: GEONET's is 0.37 of the model's sigma) is reported and not applied: scaling the
-/// variances down made the ratio test at its threshold of 3 (calibrated, like RTKLIB's, on this
-/// conservative model) refuse correct fixes (simulated GPS L1+L2 single epochs, 0.51 of the model: 99.7 %
-/// fixed unscaled, 94.0 % scaled). A rover with a known length is scaled both ways
-/// ([`CodeNoiseScale::known_length_factor`]).
+/// receiver (the usual case: GEONET's is 0.37 of the model's sigma) makes the gate refuse epochs the data
+/// fix: its variances are scaled down, to [`CODE_SCALE_FACTOR_RANGE`]'s floor at most
+/// (docs/observation_engine.md has the fix rates and wrong fixes measured either way). A rover with a
+/// known length is scaled within [`KNOWN_LENGTH_FACTOR_RANGE`] ([`CodeNoiseScale::known_length_factor`]).
 #[derive(Debug, Clone, Copy, Default)]
 struct CodeNoiseScale {
     /// Sum of weighted squared residuals with the model's (unscaled) variances.
@@ -196,8 +203,8 @@ impl CodeNoiseScale {
     }
 }
 
-/// `dd` with every code sigma scaled by `sqrt(factor)`, borrowed unchanged when the factor is 1 (the
-/// usual case: the factor is applied only above 1).
+/// `dd` with every code sigma scaled by `sqrt(factor)`, borrowed unchanged when the factor is 1 (before
+/// the estimate stands).
 fn scale_code(dd: &DdEpoch, factor: f64) -> Cow<'_, DdEpoch> {
     if factor == 1.0 {
         return Cow::Borrowed(dd);
@@ -320,6 +327,10 @@ impl Engine {
             }
         }
         let n_rovers = n_receivers - 1;
+        let filters = match opts.filter {
+            Some(d) => vec![BaselineFilter::new(d)?; n_rovers],
+            None => Vec::new(),
+        };
         Ok(Engine {
             eph,
             nav: nav.clone(),
@@ -330,6 +341,7 @@ impl Engine {
             previous_time_ns: None,
             spp_prior: vec![None; n_receivers],
             held: vec![Vec::new(); n_rovers],
+            filters,
             length: vec![LengthEstimate::default(); n_rovers],
             static_epochs: vec![Vec::new(); n_rovers],
             code_scale: vec![CodeNoiseScale::default(); n_rovers],
@@ -435,7 +447,7 @@ impl Engine {
             self.previous_time_ns = Some(obs.time_gpst_ns[k]);
         }
         let mut estimates = self.lambda(&prepared)?;
-        if self.opts.method != Method::Lambda {
+        if self.opts.method != Method::Lambda && self.opts.filter.is_none() {
             self.grid(&prepared, &mut estimates)?;
         }
         Ok(prepared
@@ -664,7 +676,8 @@ impl Engine {
         }
         let n_rovers = self.n_receivers - 1;
         // Per rover, per epoch.
-        let mut solutions: Vec<Vec<Option<BaselineSolution>>> = Vec::with_capacity(n_rovers);
+        let mut solutions: Vec<Vec<Option<(BaselineSolution, FixState)>>> =
+            Vec::with_capacity(n_rovers);
         for r in 0..n_rovers {
             let mut per_epoch = Vec::with_capacity(prepared.len());
             let static_session = if self.opts.motion == Motion::Static {
@@ -699,6 +712,33 @@ impl Engine {
                     continue;
                 };
                 self.count_double_differences(dd);
+                if self.opts.filter.is_some() {
+                    let scaled = scale_code(dd, self.code_scale[r].factor());
+                    match self.filters[r].step(scaled.as_ref(), p.time_gpst_ns, &fix) {
+                        Ok(f) => {
+                            if f.hold_rejected {
+                                self.warn_once(
+                                    format!("hold rejected {r}"),
+                                    format!(
+                                        "rover {}: held integers disagreed with the filter's float \
+                                         ambiguities at epoch {k} ({} ns GPST) and were dropped (an \
+                                         undetected slip or a wrong fix); the filter fixes again",
+                                        r + 1,
+                                        p.time_gpst_ns
+                                    ),
+                                );
+                            }
+                            self.length[r].add(&f.solution.baseline_m, &f.solution.covariance_m2);
+                            per_epoch.push(Some((f.solution, f.state)));
+                        }
+                        Err(e) if leaves_epoch_unsolved(&e) => {
+                            self.note_unsolved(k, p.time_gpst_ns, &e);
+                            per_epoch.push(None);
+                        }
+                        Err(e) => return Err(e),
+                    }
+                    continue;
+                }
                 let held = match (&static_session, self.opts.continuity) {
                     (Some(s), _) => present(&s.integers, dd),
                     (None, true) => present(&self.held[r], dd),
@@ -712,6 +752,7 @@ impl Engine {
                 let scaled = scale_code(dd, factor);
                 let mut result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &held, &fix);
                 let mut unheld = held.is_empty();
+                let holding = !held.is_empty() && static_session.is_none();
                 if static_session.is_none() && !held.is_empty() {
                     let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held));
                     if !keep {
@@ -736,7 +777,12 @@ impl Engine {
                             sol.success_rate = s.success_rate;
                         }
                         self.length[r].add(&sol.baseline_m, &sol.covariance_m2);
-                        per_epoch.push(Some(sol));
+                        let state = match (sol.fixed, holding && !unheld) {
+                            (false, _) => FixState::Float,
+                            (true, true) => FixState::Held,
+                            (true, false) => FixState::Fixed,
+                        };
+                        per_epoch.push(Some((sol, state)));
                     }
                     Err(e) if leaves_epoch_unsolved(&e) => {
                         self.note_unsolved(k, p.time_gpst_ns, &e);
@@ -751,9 +797,12 @@ impl Engine {
         Ok((0..prepared.len())
             .map(|k| {
                 let base = prepared[k].base_m?;
-                let sols: Option<Vec<&BaselineSolution>> =
+                let sols: Option<Vec<&(BaselineSolution, FixState)>> =
                     solutions.iter().map(|s| s[k].as_ref()).collect();
-                Some(baseline_estimate(&base, &sols?))
+                let sols = sols?;
+                let states: Vec<FixState> = sols.iter().map(|s| s.1).collect();
+                let sols: Vec<&BaselineSolution> = sols.iter().map(|s| &s.0).collect();
+                Some(baseline_estimate(&base, &sols, &states))
             })
             .collect())
     }
@@ -799,6 +848,11 @@ impl Engine {
         Estimate {
             method: Method::Lambda,
             fixed: a.fixed,
+            fix_state: if a.fixed {
+                FixState::Fixed
+            } else {
+                FixState::Float
+            },
             fixed_ambiguities: a.baselines.iter().map(|b| b.fixed_ambiguities).sum(),
             ambiguities: a.baselines.iter().map(|b| b.ambiguities).sum(),
             ratio: a.ratio,
@@ -962,6 +1016,7 @@ impl Engine {
                 },
                 solved: false,
                 fixed: false,
+                fix_state: FixState::Float,
                 fixed_ambiguities: 0,
                 ambiguities: 0,
                 ratio: f64::NAN,
@@ -991,6 +1046,7 @@ impl Engine {
             method: e.method,
             solved: true,
             fixed: e.fixed,
+            fix_state: e.fix_state,
             fixed_ambiguities: e.fixed_ambiguities,
             ambiguities: e.ambiguities,
             ratio: e.ratio,
@@ -1012,6 +1068,7 @@ fn ml_estimate() -> Estimate {
     Estimate {
         method: Method::Ml,
         fixed: false,
+        fix_state: FixState::Float,
         fixed_ambiguities: 0,
         ambiguities: 0,
         ratio: f64::NAN,
@@ -1052,13 +1109,25 @@ fn held_consistent(dd: &DdEpoch, sol: &BaselineSolution, held: &[(u64, u64, i64)
 }
 
 /// Baseline-mode estimate from one solution per rover, East-North-Up at the base.
-fn baseline_estimate(base: &Vector3<f64>, sols: &[&BaselineSolution]) -> Estimate {
+fn baseline_estimate(
+    base: &Vector3<f64>,
+    sols: &[&BaselineSolution],
+    states: &[FixState],
+) -> Estimate {
     let (lat, lon, _) = geodetic_from_ecef(base);
     let r = enu_from_ecef(lat, lon);
     let first = sols[0];
+    let fixed = sols.iter().all(|s| s.fixed);
     Estimate {
         method: Method::Lambda,
-        fixed: sols.iter().all(|s| s.fixed),
+        fixed,
+        fix_state: if !fixed {
+            FixState::Float
+        } else if states.contains(&FixState::Held) {
+            FixState::Held
+        } else {
+            FixState::Fixed
+        },
         fixed_ambiguities: sols.iter().map(|s| s.fixed_ambiguities).sum(),
         ambiguities: sols.iter().map(|s| s.ambiguities).sum(),
         ratio: first.ratio,

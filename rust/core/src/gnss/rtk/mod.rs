@@ -52,6 +52,7 @@
 
 pub mod constrained;
 pub mod dd;
+pub mod filter;
 pub mod fix;
 pub mod float;
 pub mod glonass;
