@@ -197,7 +197,7 @@ def _attitude(args: argparse.Namespace) -> int:
         # matplotlib costs about a second: imported only when the plot is wanted
         from gnssatt.plots import attitude_series
 
-        attitude_series(series, png)
+        attitude_series(series, png, data=" -> ".join(Path(o).name for o in args.obs))
     for w in caught:
         print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print(series.summary())

@@ -109,20 +109,37 @@ def likelihood_sections(grid: LikelihoodGrid, truth_deg: ArrayLike, path: Path) 
     return path
 
 
-def attitude_series(series: AttitudeSeries, path: Path) -> Path:
-    """Time series of the angles of :func:`gnssatt.gnss.attitude.attitude_from_rinex` (one panel each)."""
+def attitude_series(series: AttitudeSeries, path: Path, *, data: str = "") -> Path:
+    """Time series of the angles of :func:`gnssatt.gnss.attitude.attitude_from_rinex` (one panel each),
+    fixed, held and float epochs marked apart; ``data`` names the files or stations in the title."""
     _agg()
     import matplotlib.pyplot as plt
 
     names = series.angle_names
     minutes = (series.time - series.time[0]).astype("timedelta64[ms]").astype(np.float64) / 60_000.0
     fig, axes = plt.subplots(len(names), 1, figsize=(8, 2.2 * len(names)), sharex=True, squeeze=False)
+    styles = {"fixed": ("C0", "."), "held": ("C2", "."), "float": ("C3", "x")}
     for ax, j in zip(axes[:, 0], range(len(names)), strict=True):
-        ax.plot(minutes, series.angles_deg[:, j], ".", ms=3)
-        ax.set_ylabel(names[j])
+        for state, (colour, marker) in styles.items():
+            rows = series.fix_state == state
+            if rows.any():
+                ax.plot(
+                    minutes[rows],
+                    series.angles_deg[rows, j],
+                    marker,
+                    ms=3,
+                    color=colour,
+                    linestyle="none",
+                    label=f"{state} ({int(rows.sum())})",
+                )
+        # the angle itself on the axis (163.3858 deg, not "+1.63385e2" above the axis)
+        ax.ticklabel_format(axis="y", useOffset=False, style="plain")
+        ax.set_ylabel(f"{names[j].removesuffix('_deg').replace('_', ' ')} (deg)")
         ax.grid(alpha=0.3)
+    axes[0, 0].legend(loc="best", fontsize="small", title="epochs")
     axes[-1, 0].set_xlabel(f"minutes from {np.datetime_as_string(series.time[0], unit='s')} GPST")
-    fig.suptitle(f"{series.mode} mode, method {', '.join(sorted(set(series.method)))}")
+    what = f"{series.mode} mode, method {', '.join(sorted(set(series.method)))}"
+    fig.suptitle(f"{data}: {what}" if data else what)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
