@@ -397,19 +397,22 @@ def _plot_errors(t: np.ndarray, series: dict[str, dict[str, np.ndarray]], path: 
         ):
             ax = axes[row, col]
             for i, c in enumerate("xyz"):
-                ax.plot(t, err[0, :, sl][:, i] * scale, lw=0.7, label=f"{c} error (run 0)")
+                # |error| on a log axis beside the 3-sigma envelope: a signed error on a symlog axis drew
+                # the three traces as one solid band around zero
+                ax.plot(
+                    t, np.abs(err[0, :, sl][:, i]) * scale, lw=0.5, alpha=0.8, label=f"|{c} error| (run 0)"
+                )
                 ax.plot(
                     t,
                     3 * _rms(sig[:, :, sl][:, :, i], axis=0) * scale,
                     "--",
-                    lw=0.7,
+                    lw=1.0,
                     color=f"C{i}",
                     label=f"{c} 3 sigma",
                 )
-                ax.plot(t, -3 * _rms(sig[:, :, sl][:, :, i], axis=0) * scale, "--", lw=0.7, color=f"C{i}")
             ax.axvspan(*OUTAGE_S, color="0.85", label="phase outage")
-            ax.set_ylabel(f"{'attitude' if row == 0 else 'drift'} error, {unit}")
-            ax.set_yscale("symlog", linthresh=1e-3 if row == 0 else 1e-2)
+            ax.set_ylabel(f"|{'attitude' if row == 0 else 'drift'} error|, {unit}")
+            ax.set_yscale("log")
             ax.set_title(f"{mode}ly coupled")
         axes[1, col].set_xlabel("t, s")
     axes[0, 0].legend(fontsize=7, ncol=2)
