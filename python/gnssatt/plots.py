@@ -181,17 +181,31 @@ def position_series(series: PositionSeries, path: Path) -> Path:
     return path
 
 
+# Fewer runs than this give a strip plot instead of a histogram (error_histograms).
+MIN_HISTOGRAM_RUNS = 30
+
+
 def error_histograms(errors: Mapping[str, ArrayLike], path: Path, *, title: str, unit: str) -> Path:
     """One histogram (probability density) per error series, titled with its mean ``M`` and standard
-    deviation ``sigma``, like Belokonov et al.'s figures 3 and 4; saved as PNG at ``path``."""
+    deviation ``sigma``, like Belokonov et al.'s figures 3 and 4; saved as PNG at ``path``. Under
+    ``MIN_HISTOGRAM_RUNS`` values a histogram shows nothing but its bins, so each value is drawn as a point
+    (a strip plot) instead."""
     _agg()
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, len(errors), figsize=(4 * len(errors), 3.6), dpi=120, squeeze=False)
     for ax, (label, values) in zip(axes[0], errors.items(), strict=True):
         v = np.asarray(values, dtype=float)
-        ax.hist(v, bins=30, density=True, color="C0", alpha=0.8)
-        ax.set(xlabel=f"error {label} ({unit})", ylabel="probability density")
+        if v.size >= MIN_HISTOGRAM_RUNS:
+            # about two bins per sqrt(runs), at most the paper's 30
+            ax.hist(v, bins=min(30, int(2 * np.sqrt(v.size))), density=True, color="C0", alpha=0.8)
+            ax.set(xlabel=f"error {label} ({unit})", ylabel="probability density")
+        else:
+            jitter = np.random.default_rng(0).uniform(-0.2, 0.2, v.size)  # drawing only, fixed
+            ax.plot(v, jitter, "o", color="C0", alpha=0.8, label=f"{v.size} runs")
+            ax.axvline(float(np.mean(v)), color="C3", lw=1, label="mean")
+            ax.set(xlabel=f"error {label} ({unit})", ylim=(-1, 1), yticks=[])
+            ax.legend(loc="upper right", fontsize=7)
         ax.set_title(f"M = {np.mean(v):.3g}, sigma = {np.std(v):.3g}", fontsize=9)
         ax.grid(True, alpha=0.3)
     fig.suptitle(title, fontsize=10)
