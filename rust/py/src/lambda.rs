@@ -6,8 +6,10 @@ use gnssatt_core::lambda::validation::{
     fixed_failure_rate_threshold, partial_fix, ratio_test, RatioThreshold,
 };
 use gnssatt_core::lambda::{bootstrap_success_rate, ils, ils_batch, reduce};
-use nalgebra::DMatrix;
-use numpy::ndarray::{Array1, Array2, Array3};
+use std::borrow::Cow;
+
+use nalgebra::{DMatrix, DVector};
+use numpy::ndarray::{Array1, Array2, Array3, ArrayView, Dimension, ShapeError};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
 };
@@ -32,6 +34,25 @@ fn to_numpy1<T: numpy::Element + Copy>(
     v: impl IntoIterator<Item = T>,
 ) -> Py<PyArray1<T>> {
     Array1::from_iter(v).into_pyarray(py).unbind()
+}
+
+/// The float ambiguities (n,) and their covariance (n, n) of one problem, converted and checked once.
+fn problem(
+    py: Python<'_>,
+    float_ambiguities: &PyReadonlyArray1<'_, f64>,
+    covariance: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<(DVector<f64>, DMatrix<f64>)> {
+    Ok((
+        dvector(py, "float_ambiguities", float_ambiguities)?,
+        dmatrix(py, "covariance", covariance)?,
+    ))
+}
+
+/// The elements of `a` in row-major order: borrowed when C-contiguous (what the wrapper passes), else
+/// copied once.
+fn row_major<'a, D: Dimension>(a: &'a ArrayView<'_, f64, D>) -> Cow<'a, [f64]> {
+    a.as_slice()
+        .map_or_else(|| Cow::Owned(a.iter().copied().collect()), Cow::Borrowed)
 }
 
 fn threshold_of(
@@ -74,8 +95,7 @@ fn lambda_ils(
     covariance: PyReadonlyArray2<'_, f64>,
     candidates: usize,
 ) -> PyResult<IlsSolution> {
-    let a = dvector(py, "float_ambiguities", &float_ambiguities)?;
-    let q = dmatrix(py, "covariance", &covariance)?;
+    let (a, q) = problem(py, &float_ambiguities, &covariance)?;
     let sol = py.detach(|| ils(&a, &q, candidates)).into_py_result(py)?;
     Ok(IlsSolution {
         fixed: to_numpy2(py, &sol.fixed.transpose()),
@@ -117,29 +137,13 @@ fn lambda_ils_batch(
             ),
         ));
     }
-    // The wrapper passes C-contiguous arrays; anything else is copied once.
-    let a_vec;
-    let a_flat = match a.as_slice() {
-        Some(s) => s,
-        None => {
-            a_vec = a.iter().copied().collect::<Vec<f64>>();
-            &a_vec
-        }
-    };
-    let q_vec;
-    let q_flat = match q.as_slice() {
-        Some(s) => s,
-        None => {
-            q_vec = q.iter().copied().collect::<Vec<f64>>();
-            &q_vec
-        }
-    };
+    let (a_flat, q_flat) = (row_major(&a), row_major(&q));
     let m = candidates;
-    let sol = interruptible::run(py, || ils_batch(a_flat, q_flat, n, m))?;
-    let fixed = Array3::from_shape_vec((k, m, n), sol.fixed)
-        .map_err(|e| invalid_input(py, format!("batch result of unexpected size: {e}")))?;
-    let norms = Array2::from_shape_vec((k, m), sol.squared_norms)
-        .map_err(|e| invalid_input(py, format!("batch result of unexpected size: {e}")))?;
+    let sol = interruptible::run(py, || ils_batch(&a_flat, &q_flat, n, m))?;
+    let unexpected =
+        |e: ShapeError| invalid_input(py, format!("batch result of unexpected size: {e}"));
+    let fixed = Array3::from_shape_vec((k, m, n), sol.fixed).map_err(unexpected)?;
+    let norms = Array2::from_shape_vec((k, m), sol.squared_norms).map_err(unexpected)?;
     Ok(IlsBatch {
         fixed: fixed.into_pyarray(py).unbind(),
         squared_norms: norms.into_pyarray(py).unbind(),
@@ -223,8 +227,7 @@ fn lambda_ratio_test(
     seed: u64,
 ) -> PyResult<RatioTest> {
     let t = threshold_of(py, threshold, failure_rate, samples, seed)?;
-    let a = dvector(py, "float_ambiguities", &float_ambiguities)?;
-    let q = dmatrix(py, "covariance", &covariance)?;
+    let (a, q) = problem(py, &float_ambiguities, &covariance)?;
     let r = py.detach(|| ratio_test(&a, &q, t)).into_py_result(py)?;
     Ok(RatioTest {
         accepted: r.accepted,
@@ -268,8 +271,7 @@ fn lambda_partial_fix(
     min_success_rate: f64,
 ) -> PyResult<PartialFix> {
     let t = threshold_of(py, threshold, failure_rate, samples, seed)?;
-    let a = dvector(py, "float_ambiguities", &float_ambiguities)?;
-    let q = dmatrix(py, "covariance", &covariance)?;
+    let (a, q) = problem(py, &float_ambiguities, &covariance)?;
     let r = py
         .detach(|| partial_fix(&a, &q, t, min_success_rate))
         .into_py_result(py)?;
