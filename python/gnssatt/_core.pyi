@@ -58,6 +58,7 @@ __all__ = [
     "WahbaBatch",
     "YawBatch",
     "__version__",
+    "_panic_for_tests",
     "bnb_stats",
     "circular_orbit_ecef",
     "dcm_to_euler",
@@ -97,6 +98,9 @@ __all__ = [
 ]
 
 __version__: str
+
+def _panic_for_tests(message: str, *, in_worker: bool = False) -> None:
+    """The panic boundary's test hook: panics with ``message`` (on a worker thread with ``in_worker``)."""
 
 # rotation.rs
 def euler_to_dcm(seq: str, angles_rad: tuple[float, float, float] | list[float]) -> NDArray[np.float64]: ...

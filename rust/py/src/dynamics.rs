@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{fixed, rows, values};
 use crate::errors::IntoPyResult;
+use crate::guard::guard;
 use crate::interruptible;
 
 /// Calls of at most this many RK4 steps (all rows together; about 60 ms of one core) run on the calling
@@ -73,6 +74,7 @@ impl From<ModelArgs> for TumbleModel {
 }
 
 /// Antenna axes (n, m, 3) of n initial states at m times.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (params, times_s, model, *, step_s))]
 fn tumble_axes<'py>(
@@ -93,6 +95,7 @@ fn tumble_axes<'py>(
 }
 
 /// Objective (1) for each of n parameter rows against measured axes (m, 3).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (params, times_s, measured, model, *, step_s))]
 fn tumble_cost<'py>(
@@ -115,6 +118,7 @@ fn tumble_cost<'py>(
 
 /// Full states (m, 7) of one initial state: scalar-last quaternion of `dcm_orb0_from_body` (the paper's
 /// orbital axes X0 radial, Y0 along-track, Z0 normal) and the absolute angular velocity (body, rad/s).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (param, times_s, model, *, step_s))]
 fn tumble_states<'py>(

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 // where `gnssatt._core` itself imported.
 pyo3::import_exception!(gnssatt.errors, ConvergenceError);
 pyo3::import_exception!(gnssatt.errors, DegenerateGeometryError);
-pyo3::import_exception!(gnssatt.errors, InternalError);
+pyo3::import_exception!(gnssatt.errors, InternalError); // a panic (`guard.rs`)
 pyo3::import_exception!(gnssatt.errors, InvalidInputError);
 pyo3::import_exception!(gnssatt.errors, WorkLimitError);
 pyo3::import_exception!(gnssatt.errors, GnssattWarning);
@@ -42,11 +42,6 @@ pub fn to_py_err(_py: Python<'_>, e: &Error) -> PyErr {
 
 pub fn invalid_input(_py: Python<'_>, message: String) -> PyErr {
     InvalidInputError::new_err(message)
-}
-
-/// `gnssatt.errors.InternalError`: a defect of the core (a panic that `gnss.rs` catches around the engine).
-pub fn internal_error(_py: Python<'_>, message: String) -> PyErr {
-    InternalError::new_err(message)
 }
 
 /// Issues each of `messages` as a `gnssatt.errors.GnssattWarning` (an error only where a warnings

@@ -6,8 +6,6 @@
 //! [`GnssSession`] of per-epoch numpy arrays (`gnss_session.rs`). Options come as one checked
 //! [`GnssOptions`] (`gnss_options.rs`; `None`: the engine's defaults).
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
-
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations, MAX_OBSERVATION_CELLS};
 use gnssatt_core::gnss::options::EngineOptions;
 use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
@@ -18,10 +16,11 @@ use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray4};
 use pyo3::prelude::*;
 
 use crate::convert::{exact, shape_error};
-use crate::errors::{internal_error, invalid_input, IntoPyResult};
+use crate::errors::{invalid_input, IntoPyResult};
 use crate::gnss_nav_input::Navigation;
 use crate::gnss_options::{engine_options, GnssOptions};
 use crate::gnss_session::{session_object, GnssSession};
+use crate::guard::guard;
 use crate::interruptible;
 
 /// `glonass_channel` value of a satellite whose channel is unknown (or that is not GLONASS).
@@ -165,23 +164,6 @@ fn observations(
     Ok(obs)
 }
 
-/// Runs `work` (a core call) without the GIL, interruptibly; a panic of the core (a defect) becomes
-/// `gnssatt.errors.InternalError` here, since class methods are not reached by the module's panic guard.
-fn guarded_run<T: Send>(
-    py: Python<'_>,
-    what: &str,
-    work: impl FnOnce() -> gnssatt_core::Result<T> + Send,
-) -> PyResult<T> {
-    let caught = interruptible::run(py, || Ok(catch_unwind(AssertUnwindSafe(work))))?;
-    match caught {
-        Ok(result) => result.into_py_result(py),
-        Err(_) => Err(internal_error(
-            py,
-            format!("{what}: Rust core defect (panic); please report it with its input"),
-        )),
-    }
-}
-
 /// Observations of every receiver on common epochs (`gnssatt._core.ObservationArrays`), converted into the
 /// core's `Observations` and checked once, when made: the arrays of
 /// `gnssatt.gnss.session_input.SessionInput` (`time_gpst_ns` (n_ep,) GPST ns; `sats` (n_sat,) ids;
@@ -192,6 +174,7 @@ pub struct ObservationArrays {
     obs: Observations,
 }
 
+#[guard]
 #[pymethods]
 impl ObservationArrays {
     #[new]
@@ -259,6 +242,7 @@ impl ObservationArrays {
 
 /// Processes a whole session in one call (see `gnssatt.gnss.attitude.attitude_from_rinex` for the meaning of
 /// every option); returns a [`GnssSession`].
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (observations, navigation, options = None))]
 fn gnss_run<'py>(
@@ -272,7 +256,7 @@ fn gnss_run<'py>(
     let opts = engine_options(options.as_deref());
     let nav = &navigation.get().nav;
     let attitude = !opts.body_baselines_m.is_empty();
-    let sol: SessionSolution = guarded_run(py, "gnss_run", || session::run(obs, nav, &opts))?;
+    let sol: SessionSolution = interruptible::run(py, || session::run(obs, nav, &opts))?;
     Ok(session_object(
         py,
         &sol.epochs,
@@ -295,6 +279,7 @@ pub struct GnssEngine {
     attitude: bool,
 }
 
+#[guard]
 #[pymethods]
 impl GnssEngine {
     #[new]
@@ -322,7 +307,7 @@ impl GnssEngine {
         let nav = &navigation.get().nav;
         let attitude = !opts.body_baselines_m.is_empty();
         let (s, c) = (ids.clone(), ch.clone());
-        let engine = guarded_run(py, "GnssEngine", move || {
+        let engine = interruptible::run(py, move || {
             stream::Engine::new(nav, opts, s, c, n_receivers)
         })?;
         Ok(GnssEngine {
@@ -365,7 +350,7 @@ impl GnssEngine {
             ));
         }
         let engine = &mut self.engine;
-        let epochs = guarded_run(py, "GnssEngine.process", move || engine.process(obs))?;
+        let epochs = interruptible::run(py, move || engine.process(obs))?;
         Ok(session_object(
             py,
             &epochs,

@@ -21,6 +21,7 @@ use gnssatt_core::Error;
 use crate::convert::{exact, fixed, rows, values};
 use crate::errors::{invalid_input, warn_all, IntoPyResult};
 use crate::gnss_nav_input::{sat_from_str, Navigation};
+use crate::guard::guard;
 use crate::interruptible;
 use crate::results::result_type;
 
@@ -77,6 +78,7 @@ result_type! {
 /// Broadcast positions (n, 3) ECEF m (frame of the transmit instant), clocks (n,) s (relativistic term
 /// included, no group delay) and validity (n,) of `sats[i]` at GPST `t_gpst_ns[i] + offset_s[i]`, as
 /// [`SatelliteStates`]; NaN where not valid (no healthy record within its validity interval).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (navigation, sats, t_gpst_ns, *, offset_s=None))]
 fn gnss_satellite_states<'py>(
@@ -137,6 +139,7 @@ result_type! {
 /// in parallel): code `code_m` (n_ep, n_sat, 3) m, NaN where absent; `glonass_channel` (n_sat,), 99
 /// where none. Returns [`SinglePoints`]; rows of epochs without a solution are NaN (and 0 satellites).
 /// Navigation records the engine cannot use are skipped with a `GnssattWarning` naming them.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (navigation, time_gpst_ns, sats, glonass_channel, code_m, *,
                     approx_position_m=None, systems="GRECJ", frequencies=1, elevation_mask_deg=10.0))]
@@ -248,6 +251,7 @@ result_type! {
 /// clock at transmission (n,) s (relativistic term included, no group delay), elevation and azimuth
 /// (clockwise from North) at the receiver's geodetic position (n,) rad, and validity (n,); NaN where not
 /// valid (no usable record).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (navigation, sats, t_rx_gpst_ns, receiver_m, receiver_clock_s))]
 fn gnss_transmit_states<'py>(
@@ -336,6 +340,7 @@ fn gnss_transmit_states<'py>(
 /// beta0..3 as broadcast (s and semicircle powers); the receiver's geodetic latitude and longitude, rad;
 /// per evaluation (n,) GPST `t_gpst_ns`, satellite azimuth and elevation (rad) and carrier frequency (Hz;
 /// the L1 delay scaled by `(f_L1 / f)^2`). 0 for a satellite at or below the horizon.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (coefficients, t_gpst_ns, lat_rad, lon_rad, azimuth_rad, elevation_rad,
                     frequency_hz))]

@@ -11,6 +11,7 @@ use pyo3::types::PyDict;
 
 use crate::convert::{exact, fixed};
 use crate::errors::invalid_input;
+use crate::guard::guard;
 
 /// A satellite id `"G05"`: a system letter and a PRN 1..=99.
 pub fn sat_from_str(py: Python<'_>, name: &str, s: &str) -> PyResult<SatId> {
@@ -300,6 +301,7 @@ pub struct Navigation {
     pub nav: NavData,
 }
 
+#[guard]
 #[pymethods]
 impl Navigation {
     #[new]

@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{fixed, rows};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::guard::guard;
 
 /// Options of the observation engine (see `gnssatt.gnss.attitude.attitude_from_rinex` for the meaning of each).
 #[pyclass(frozen, module = "gnssatt._core")]
@@ -18,6 +19,7 @@ pub struct GnssOptions {
     inner: EngineOptions,
 }
 
+#[guard]
 #[pymethods]
 impl GnssOptions {
     #[new]

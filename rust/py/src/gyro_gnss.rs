@@ -13,11 +13,13 @@ use pyo3::prelude::*;
 
 use crate::convert::{exact, fixed, quats_to_numpy, rows, square, values, vectors};
 use crate::errors::invalid_input;
+use crate::guard::guard;
 use crate::gyro_gnss_options::GyroGnssOptions;
 use crate::interruptible;
 use crate::results::result_type;
 
 /// Attitude (n, 4) at the time stamps `t` from `q0` and the body rates held over each interval.
+#[guard]
 #[pyfunction]
 fn gyro_propagate<'py>(
     py: Python<'py>,
@@ -191,6 +193,7 @@ fn typed(py: Python<'_>, run: FilterRun) -> PyResult<GyroGnssRun> {
 /// Runs the filter from the initial state `q0` (4,), `drift0` (3,), `p0` (6, 6) over the gyro record, with
 /// attitude fixes `fix_*` and phase rows `phase_*` (empty arrays for none); see
 /// `gnssatt.attitude.gyro_gnss.gyro_gnss_filter`.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (
     gyro_t, gyro_rates, *, q0, drift0, p0, options, fix_t, fix_q, fix_cov, epoch_t, phase_epoch, phase_track,

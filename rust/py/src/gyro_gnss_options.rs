@@ -9,6 +9,7 @@ use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 
 use crate::convert::vectors;
+use crate::guard::guard;
 
 /// Settings of the gyro + GNSS filter (see `gnssatt.attitude.gyro_gnss.gyro_gnss_filter` for the meaning of each).
 ///
@@ -21,6 +22,7 @@ pub struct GyroGnssOptions {
     pub inner: Settings,
 }
 
+#[guard]
 #[pymethods]
 impl GyroGnssOptions {
     #[new]

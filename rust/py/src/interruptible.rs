@@ -19,8 +19,8 @@ const SLICE: Duration = Duration::from_millis(50);
 
 /// Runs `work` without the interpreter lock, interruptibly; maps its error with the library's classes.
 ///
-/// A panic of the worker is resumed on the calling thread, where the module's panic guard turns it into
-/// `gnssatt.errors.InternalError`.
+/// A panic of the worker is resumed on the calling thread, where the entry point's `#[guard]` turns it
+/// into `gnssatt.errors.InternalError`.
 pub fn run<T: Send>(py: Python<'_>, work: impl FnOnce() -> Result<T, Error> + Send) -> PyResult<T> {
     let (result, signal) = py.detach(|| {
         std::thread::scope(|scope| {

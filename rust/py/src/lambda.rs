@@ -17,6 +17,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{dmatrix, dvector};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::guard::guard;
 use crate::interruptible;
 use crate::results::result_type;
 
@@ -87,6 +88,7 @@ result_type! {
 }
 
 /// The `candidates` best integer vectors of `float_ambiguities` (n,) in the metric of `covariance` (n, n).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, candidates = 2))]
 fn lambda_ils(
@@ -116,6 +118,7 @@ result_type! {
 
 /// The `candidates` best integer vectors of each row of `float_ambiguities` (k, n), with `covariance`
 /// (1, n, n) shared by every row or (k, n, n) one per row; in parallel, interruptible (Ctrl-C).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, candidates = 2))]
 fn lambda_ils_batch(
@@ -162,6 +165,7 @@ result_type! {
 }
 
 /// The LAMBDA decorrelation of `covariance` (n, n).
+#[guard]
 #[pyfunction]
 fn lambda_decorrelate(
     py: Python<'_>,
@@ -177,6 +181,7 @@ fn lambda_decorrelate(
 }
 
 /// Bootstrapped success rate of the decorrelated ambiguities.
+#[guard]
 #[pyfunction]
 fn lambda_bootstrap_success_rate(
     py: Python<'_>,
@@ -187,6 +192,7 @@ fn lambda_bootstrap_success_rate(
 }
 
 /// Fixed-failure-rate ratio threshold by seeded simulation.
+#[guard]
 #[pyfunction]
 fn lambda_ffrt_threshold(
     py: Python<'_>,
@@ -215,6 +221,7 @@ result_type! {
 }
 
 /// The ratio test at a fixed `threshold` or at the threshold of a simulated `failure_rate`.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, *, threshold, failure_rate, samples, seed))]
 fn lambda_ratio_test(
@@ -257,6 +264,7 @@ result_type! {
 
 /// The largest subset of decorrelated ambiguities with a bootstrapped success rate of at least
 /// `min_success_rate` that passes the ratio test.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, *, threshold, failure_rate, samples, seed, min_success_rate))]
 #[allow(clippy::too_many_arguments)]

@@ -1,5 +1,6 @@
 //! Python bindings of gnssatt-core, exposed as `gnssatt._core`. Bindings only: every function checks its
-//! numpy inputs (`convert`), releases the GIL around the numerics, and maps core errors (`errors`).
+//! numpy inputs (`convert`), releases the GIL around the numerics, maps core errors (`errors`), and
+//! turns a panic into an exception at every entry point (`guard`).
 
 use pyo3::prelude::*;
 
@@ -11,6 +12,7 @@ mod gnss_nav;
 mod gnss_nav_input;
 mod gnss_options;
 mod gnss_session;
+mod guard;
 mod gyro_gnss;
 mod gyro_gnss_options;
 mod interruptible;
@@ -36,10 +38,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gyro_gnss::register(m)?;
     gnss_nav::register(m)?;
     gnss::register(m)?;
-    // The last line of defence: every function is wrapped so that a panic (a defect: the core is written not
-    // to panic) reaches Python as gnssatt.errors.InternalError, not as a BaseException (see _panic_guard.py).
-    m.py()
-        .import("gnssatt._panic_guard")?
-        .call_method1("install", (m,))?;
+    guard::register(m)?;
     Ok(())
 }

@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 
 use crate::convert::vectors;
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::guard::guard;
 use crate::interruptible;
 use crate::results::result_type;
 
@@ -94,6 +95,7 @@ result_type! {
 }
 
 /// Grid search over the attitude angles (psi, theta, phi).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, *, statistic, step_rad, window_rad, search, refine, two_dimensional))]
 #[allow(clippy::too_many_arguments)]
@@ -159,6 +161,7 @@ result_type! {
 }
 
 /// The work of a branch-and-bound search next to the exhaustive grid's.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, *, statistic, step_rad, window_rad))]
 #[allow(clippy::too_many_arguments)]
@@ -195,6 +198,7 @@ result_type! {
 }
 
 /// The statistic on every node of the grid.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (phase_diffs, los, wavelengths, baselines, *, statistic, step_rad, window_rad, two_dimensional))]
 #[allow(clippy::too_many_arguments)]
@@ -301,6 +305,7 @@ fn series_arrays(py: Python<'_>, sol: &[MlSolution]) -> MlSeries {
 }
 
 /// Per-epoch ML attitude over a batch (GIL released, interruptible).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (sd_phase, los, wavelengths, baselines, *, step_rad, window_rad))]
 fn ml_attitude_series(
@@ -324,6 +329,7 @@ fn ml_attitude_series(
 }
 
 /// Per-epoch ML direction of one baseline over a batch (GIL released, interruptible).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (sd_phase, los, wavelengths, baseline_length_m, *, step_rad, window_rad))]
 fn ml_baseline_series(
@@ -344,6 +350,7 @@ fn ml_baseline_series(
 
 /// The work a series call of these shapes is charged (every epoch solved with all its signals), in the
 /// kernel terms of `LIKELIHOOD_MAX_SERIES_WORK`: checked by the Python layer before it copies the measurements.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (n_epochs, n_rover, n_sig, *, step_rad, wavelength_m, longest_baseline_m, window_rad, two_dimensional))]
 #[allow(clippy::too_many_arguments)]

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{dmatrix, to_numpy, vectors};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::guard::guard;
 use crate::results::result_type;
 
 result_type! {
@@ -20,6 +21,7 @@ result_type! {
 }
 
 /// Attitude from baselines (m, 3) body, lines of sight (n, 3) reference and range differences (m, n), m.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (baselines, los, range_diffs, method = "svd"))]
 fn matrix_attitude(

@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{exact, fixed, rows, rows3, square, values};
 use crate::errors::{invalid_input, IntoPyResult};
+use crate::guard::guard;
 use crate::interruptible;
 use crate::results::result_type;
 
@@ -73,6 +74,7 @@ result_type! {
 }
 
 /// The state propagated over `duration_s` with its state-transition matrix.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (state, duration_s, model, *, step_s))]
 fn glonass_propagate(
@@ -92,6 +94,7 @@ fn glonass_propagate(
 }
 
 /// ECEF positions and velocities of a circular orbit at times (n,).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (elements, times_s, *, theta0_rad, omega_rad_s))]
 fn circular_orbit_ecef(
@@ -156,6 +159,7 @@ fn config(model: ModelArgs, accel_psd_m2_s3: f64, step_s: f64) -> FilterConfig {
 }
 
 /// Loosely coupled run: fixes (n_t, 3) x2, their covariances (n_t, 6, 6) and validity (n_t,).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (times_s, x0, p0, fix_position_m, fix_velocity_m_s, fix_covariance, fix_valid, *, model, accel_psd_m2_s3, step_s))]
 #[allow(clippy::too_many_arguments)]
@@ -200,6 +204,7 @@ fn orbit_filter_loose(
 
 /// Tightly coupled run: satellite states (n_t, n_sat, 3) x2, pseudoranges, Doppler and tracking (n_t,
 /// n_sat), wavelengths and systems (n_sat,), noise sigmas.
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (times_s, x0, p0, sat_position_m, sat_velocity_m_s, pseudorange_m, doppler_hz, visible, wavelength_m, system, *, code_sigma_m, doppler_sigma_hz, model, accel_psd_m2_s3, step_s))]
 #[allow(clippy::too_many_arguments)]

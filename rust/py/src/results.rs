@@ -32,6 +32,7 @@ macro_rules! result_type {
             $($(#[$fdoc])* pub $field: $ty,)*
         }
 
+        #[crate::guard::guard]
         #[pyo3::pymethods]
         impl $name {
             fn __repr__(&self, py: pyo3::Python<'_>) -> pyo3::PyResult<String> {

@@ -8,8 +8,10 @@ use pyo3::prelude::*;
 
 use crate::convert::{matrix3, to_numpy};
 use crate::errors::IntoPyResult;
+use crate::guard::guard;
 
 /// Active body -> reference matrix of intrinsic Euler angles (radians).
+#[guard]
 #[pyfunction]
 fn euler_to_dcm<'py>(
     py: Python<'py>,
@@ -22,6 +24,7 @@ fn euler_to_dcm<'py>(
 }
 
 /// Intrinsic Euler angles (radians) of a rotation matrix.
+#[guard]
 #[pyfunction]
 fn dcm_to_euler(py: Python<'_>, seq: &str, dcm: PyReadonlyArray2<'_, f64>) -> PyResult<[f64; 3]> {
     let seq = EulerSeq::parse(seq).into_py_result(py)?;
@@ -31,12 +34,14 @@ fn dcm_to_euler(py: Python<'_>, seq: &str, dcm: PyReadonlyArray2<'_, f64>) -> Py
 }
 
 /// Rotation matrix of a scalar-last quaternion [x, y, z, w].
+#[guard]
 #[pyfunction]
 fn quat_to_dcm<'py>(py: Python<'py>, quat: [f64; 4]) -> PyResult<Bound<'py, PyArray2<f64>>> {
     Ok(to_numpy(py, &quaternion::to_dcm(quat).into_py_result(py)?))
 }
 
 /// Scalar-last quaternion [x, y, z, w] (w >= 0) of a rotation matrix.
+#[guard]
 #[pyfunction]
 fn dcm_to_quat(py: Python<'_>, dcm: PyReadonlyArray2<'_, f64>) -> PyResult<[f64; 4]> {
     let m = matrix3(py, "dcm", &dcm)?;
@@ -45,6 +50,7 @@ fn dcm_to_quat(py: Python<'_>, dcm: PyReadonlyArray2<'_, f64>) -> PyResult<[f64;
 }
 
 /// The proper rotation nearest to a 3x3 matrix (Frobenius norm).
+#[guard]
 #[pyfunction]
 fn nearest_rotation<'py>(
     py: Python<'py>,

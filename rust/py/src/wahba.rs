@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{matrices_to_numpy, quats_to_numpy, values, vectors};
 use crate::errors::IntoPyResult;
+use crate::guard::guard;
 use crate::interruptible;
 use crate::results::result_type;
 
@@ -48,6 +49,7 @@ result_type! {
 }
 
 /// Wahba's problem per epoch. `body`, `reference`: (epochs * pairs, 3); `weights`: (epochs * pairs,).
+#[guard]
 #[pyfunction]
 #[pyo3(signature = (body, reference, weights, pairs, method = "svd"))]
 fn wahba_batch(
@@ -79,6 +81,7 @@ fn wahba_batch(
 }
 
 /// TRIAD per epoch; every argument (epochs, 3).
+#[guard]
 #[pyfunction]
 #[pyo3(name = "triad_batch")]
 fn triad_batch_py(
@@ -106,6 +109,7 @@ fn triad_batch_py(
 
 /// Eq. (3) of Ryzhkov and Holembiovskyi per epoch: b_body, b_orbital (epochs, 3); pitch_rad, roll_rad
 /// (epochs,).
+#[guard]
 #[pyfunction]
 #[pyo3(name = "yaw_batch")]
 fn yaw_batch_py(
