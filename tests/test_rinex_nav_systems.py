@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from gnssatt import _core
+from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.rinex import RinexNav, read_nav
 from gnssatt.rinex.nav import NavInput, gps_ns, nav_input
 
@@ -213,3 +214,29 @@ def test_beidou_geo_matches_simulator_truth(sat: str) -> None:
     pos, *_ = satellite_states(read_nav(SKYDEL), [sat], _t("2023-01-08T12:00:00"), dt)
     truth = [float(r[k]) for k in ("ecef_x_m", "ecef_y_m", "ecef_z_m")]
     assert np.linalg.norm(pos[0] - truth) < 0.01
+
+
+def test_read_nav_takes_a_file_a_list_of_files_or_a_read_nav() -> None:
+    # one reader for every function taking navigation data: a list is read in order and merged record by
+    # record, a RinexNav read already is passed through unchanged
+    brdm, brdc = read_nav(BRDM), read_nav(BRDC)
+    both = read_nav([BRDM, str(BRDC)])
+    assert both.kepler.sats.tolist() == brdm.kepler.sats.tolist() + brdc.kepler.sats.tolist()
+    assert len(both.glonass) == len(brdm.glonass) + len(brdc.glonass)
+    assert both.path == f"{BRDM}+{BRDC}"
+    assert read_nav((BRDM,)).kepler.sats.tolist() == brdm.kepler.sats.tolist()
+    assert read_nav(brdm) is brdm
+
+
+@pytest.mark.parametrize(
+    ("value", "error", "message"),
+    [
+        ([], InvalidInputError, "at least one navigation file"),
+        (3, InvalidTypeError, "navigation file, a list of them or a RinexNav, got int"),
+        ([BRDM, 3], InvalidTypeError, r"path\[1\] as a str or os.PathLike, got int"),
+        ([BRDM, ""], InvalidInputError, r"path\[1\] as a file name"),
+    ],
+)
+def test_read_nav_refuses_what_is_not_navigation_files(value: object, error: type, message: str) -> None:
+    with pytest.raises(error, match=message):
+        read_nav(value)  # type: ignore[arg-type]

@@ -311,24 +311,6 @@ def _obs_list(name: str, value: object) -> list[RinexObs | str | PathLike[str]]:
     return list(value)
 
 
-def _as_nav(x: RinexNav | str | PathLike[str] | Sequence[str | PathLike[str]]) -> RinexNav:
-    if isinstance(x, RinexNav):
-        return x
-    if isinstance(x, str | PathLike):
-        return read_nav(path_text(x, "nav"))
-    if not isinstance(x, list | tuple):
-        raise InvalidTypeError(
-            f"expected nav as a RinexNav, a navigation file or a list of them, got {type(x).__name__}"
-        )
-    if not x:
-        raise InvalidInputError("expected at least one navigation file in nav, got none")
-    navs = [read_nav(path_text(p, f"nav[{i}]")) for i, p in enumerate(x)]
-    out = navs[0]
-    for n in navs[1:]:
-        out = out + n
-    return out
-
-
 def _systems(value: object) -> str:
     if not isinstance(value, str):
         raise InvalidTypeError(f"expected systems as system letters such as 'GE', got {type(value).__name__}")
@@ -525,7 +507,7 @@ def attitude_from_rinex(
     if motion is None:
         motion = "moving" if baselines is not None or continuity or filter is not None else "static"
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
-    nv = _as_nav(nav)
+    nv = read_nav(nav)
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
     _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)

@@ -21,8 +21,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gnssatt._arrays import instance, integer, path_text, scalar
-from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
-from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, leap_seconds, nav_input, read_nav
+from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.gnss.session_input import epochs_gpst_ns
+from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, nav_input, read_nav
 from gnssatt.rinex.obs import RinexObs, read_obs
 from gnssatt.rinex.signals import choose_signals
 
@@ -34,9 +35,6 @@ SYSTEMS = "GRECJ"
 _SLOTS = 3
 #: ``glonass_channel`` of a satellite that is not GLONASS or whose channel is unknown.
 _NO_CHANNEL = 99
-_NS = 1_000_000_000
-#: Offsets of RINEX time systems to GPST at the same instant, s (GLONASS and UTC: leap seconds, below).
-_TIME_OFFSET_S = {"GPS": 0, "GAL": 0, "QZS": 0, "IRN": 0, "BDT": 14}
 
 
 @dataclass(frozen=True)
@@ -185,38 +183,6 @@ def _frequencies(value: object) -> int:
     return integer("frequencies", value, minimum=1, maximum=_SLOTS)
 
 
-def _navigation(nav: object) -> RinexNav:
-    if isinstance(nav, RinexNav):
-        return nav
-    if isinstance(nav, str | PathLike):
-        return read_nav(path_text(nav, "nav"))
-    if not isinstance(nav, list | tuple):
-        raise InvalidTypeError(
-            f"expected nav as a RinexNav, a navigation file or a list of them, got {type(nav).__name__}"
-        )
-    if not nav:
-        raise InvalidInputError("expected at least one navigation file in nav, got none")
-    out = read_nav(path_text(nav[0], "nav[0]"))
-    for i, p in enumerate(nav[1:], start=1):
-        out = out + read_nav(path_text(p, f"nav[{i}]"))
-    return out
-
-
-def _gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
-    """The file's epoch labels as GPST ns since the GPS epoch."""
-    t = (obs.time - GPS_EPOCH).astype(np.int64)
-    ts = obs.time_system
-    if ts in _TIME_OFFSET_S:
-        return np.asarray(t + _TIME_OFFSET_S[ts] * _NS, dtype=np.int64)
-    if ts in ("GLO", "UTC") and len(obs.time):
-        utc = obs.time[0] - np.timedelta64(3 if ts == "GLO" else 0, "h")
-        n = leaps if leaps is not None else leap_seconds(utc)
-        return np.asarray(t + (n - (3 * 3600 if ts == "GLO" else 0)) * _NS, dtype=np.int64)
-    if ts in ("GLO", "UTC"):
-        return np.asarray(t, dtype=np.int64)
-    raise RinexError(obs.path, None, f"unknown time system {ts!r}: expected GPS, GLO, GAL, BDT, QZS or UTC")
-
-
 def position_from_rinex(
     obs: RinexObs | str | PathLike[str],
     nav: RinexNav | str | PathLike[str] | Sequence[str | PathLike[str]],
@@ -285,9 +251,9 @@ def position_from_rinex(
     if not isinstance(obs, RinexObs):
         obs = read_obs(path_text(obs, "obs"))
     obs = instance("obs", obs, RinexObs, "an observation file or a RinexObs (from read_obs)")
-    nv = _navigation(nav)
+    nv = read_nav(nav)
     leaps = obs.leap_seconds if obs.leap_seconds is not None else nv.leap_seconds
-    t = _gpst_ns(obs, leaps)
+    t = epochs_gpst_ns(obs, leaps)
     keep = [k for k, s in enumerate(obs.sats) if s[0] in letters]
     sats = [obs.sats[k] for k in keep]
     code = np.full((len(t), len(sats), _SLOTS), np.nan)

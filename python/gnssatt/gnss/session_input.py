@@ -33,6 +33,7 @@ __all__ = [
     "MixedTrackingWarning",
     "SessionInput",
     "SystemDroppedWarning",
+    "epochs_gpst_ns",
     "session_input",
 ]
 
@@ -190,16 +191,37 @@ def _systems(value: object) -> str:
     return "".join(c for c in SYSTEMS if c in value)
 
 
-def _gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
-    """The file's epoch labels as GPST ns since the GPS epoch."""
+def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
+    """The epoch labels of ``obs`` as GPST ns since the GPS epoch.
+
+    Parameters
+    ----------
+    obs
+        An observation file read by :func:`~gnssatt.rinex.obs.read_obs`, labelled in its ``time_system``.
+    leaps
+        GPS - UTC leap seconds for a file labelled in GLONASS time or UTC (None: from the date of its first
+        epoch, :func:`~gnssatt.rinex.nav.leap_seconds`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_epochs,) int64 GPST ns.
+
+    Raises
+    ------
+    RinexError
+        A time system other than GPS, GLO, GAL, BDT, QZS, IRN or UTC.
+    """
     t = (obs.time - GPS_EPOCH).astype(np.int64)
     ts = obs.time_system
     if ts in _TIME_OFFSET_S:
-        return t + _TIME_OFFSET_S[ts] * _NS
+        return np.asarray(t + _TIME_OFFSET_S[ts] * _NS, dtype=np.int64)
     if ts in ("GLO", "UTC"):
+        if not len(obs.time):
+            return np.asarray(t, dtype=np.int64)
         utc = obs.time[0] - np.timedelta64(3 if ts == "GLO" else 0, "h")
         n = leaps if leaps is not None else leap_seconds(utc)
-        return t + (n - (3 * 3600 if ts == "GLO" else 0)) * _NS
+        return np.asarray(t + (n - (3 * 3600 if ts == "GLO" else 0)) * _NS, dtype=np.int64)
     raise RinexError(obs.path, None, f"unknown time system {ts!r}: expected GPS, GLO, GAL, BDT, QZS or UTC")
 
 
@@ -348,7 +370,7 @@ def session_input(
     leaps = next((o.leap_seconds for o in files if o.leap_seconds is not None), None)
     if leaps is None and nav is not None:
         leaps = nav.leap_seconds
-    times = [_gpst_ns(o, leaps) for o in files]
+    times = [epochs_gpst_ns(o, leaps) for o in files]
     tol = _tolerance(times)
     index = _common(times, tol)
     if len(index[0]) == 0:

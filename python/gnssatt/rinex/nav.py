@@ -10,6 +10,9 @@ the GPS-UTC leap seconds (the header's ``LEAP SECONDS`` where given, else the ta
 
 from __future__ import annotations
 
+import functools
+import operator
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from typing import Any
@@ -19,7 +22,7 @@ from numpy.typing import NDArray
 
 from gnssatt import _core
 from gnssatt._arrays import instance
-from gnssatt.errors import RinexError
+from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex._fields import (
     HEADER_LABELS,
     Cursor,
@@ -274,9 +277,9 @@ def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) ->
         raise RinexError(path, lineno, f"expected {what} as a whole number in [{lo}, {hi}], got {value}")
 
 
-def read_nav(path: str | PathLike[str]) -> RinexNav:
+def read_nav(path: str | PathLike[str] | Sequence[str | PathLike[str]] | RinexNav) -> RinexNav:
     """Read a RINEX 2.xx (GPS ``N``, GLONASS ``G``, Galileo ``E``, SBAS ``H``), 3.xx or 4.xx (any system)
-    navigation file.
+    navigation file, or several merged into one.
 
     The reader follows the rule of ``docs/robustness.md`` ("Real files"): malformed records are refused,
     a valid file is read whole, records it cannot use are skipped with one
@@ -296,7 +299,10 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
     Parameters
     ----------
     path
-        The navigation file (str or ``os.PathLike``). Hatanaka- and gzip/Z/zip/bz2-compressed files are read
+        The navigation file (str or ``os.PathLike``), or a list or tuple of them, read in order and merged
+        (:meth:`RinexNav.__add__`: records of every file, the first file's header values where it has them);
+        a :class:`RinexNav` already read is returned as it is, so that every function taking navigation data
+        takes any of these through this one reader. Hatanaka- and gzip/Z/zip/bz2-compressed files are read
         with the optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``).
 
     Returns
@@ -320,8 +326,9 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
         [0, 1), a malformed or non-finite number,
         a date or time that does not exist, a week, time of week or GLONASS channel that is not a whole
         number in its range; the message names the file and line. Every other failure while reading becomes
-        a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str or
-        ``os.PathLike``, ``InvalidInputError`` if it is empty.
+        a ``RinexError`` naming the line being read. ``InvalidTypeError`` if ``path`` is not a str,
+        ``os.PathLike``, list or tuple of them or a :class:`RinexNav`; ``InvalidInputError`` if a name is
+        empty or the list is.
 
     Examples
     --------
@@ -348,7 +355,22 @@ def read_nav(path: str | PathLike[str]) -> RinexNav:
     >>> (np.diff(nav.kepler.toe_ns[:2]) / 1e9).tolist(), bool(nav.kepler.toe_ns[0] == toe_ns[0])
     ([3600.0], True)
     """
-    p = path_text(path)
+    if isinstance(path, RinexNav):
+        return path
+    if isinstance(path, str | PathLike):
+        return _read_one(path_text(path))
+    if not isinstance(path, list | tuple):
+        raise InvalidTypeError(
+            f"expected path as a navigation file, a list of them or a RinexNav, got {type(path).__name__}"
+        )
+    if not path:
+        raise InvalidInputError("expected at least one navigation file in path, got none")
+    navs = [_read_one(path_text(p, f"path[{i}]")) for i, p in enumerate(path)]
+    return functools.reduce(operator.add, navs)
+
+
+def _read_one(p: str) -> RinexNav:
+    """One navigation file, its name checked."""
     with reading(p) as cursor:
         skips = Skips(p)
         nav = _read_nav(p, *read_lines(p), cursor, skips)
