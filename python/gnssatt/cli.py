@@ -17,6 +17,7 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 __all__ = ["main"]
@@ -150,15 +151,56 @@ def _reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def _output_arguments(parser: argparse.ArgumentParser, default: str) -> None:
+    """``--out`` (a CSV; the plot beside it) and ``--no-plot``, alike for ``attitude`` and ``position``."""
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path(default),
+        help=f"CSV output; the plot goes to the same name .png (default {default} in the current folder)",
+    )
+    parser.add_argument(
+        "--no-plot", action="store_true", help="write only the CSV (the plot costs about a second)"
+    )
+
+
+def _plot_path(out: Path) -> Path:
+    """The plot's file, the CSV ``out`` with ``.png``, once ``out`` is known to be a writable CSV name."""
+    png = out.with_suffix(".png")
+    if png == out:
+        raise _UsageError(f"--out {out}: expected a CSV file name (the plot goes to the same name .png)")
+    _writable("--out", out, folder=False)
+    return png
+
+
+def _write(
+    args: argparse.Namespace,
+    series: Any,
+    png: Path,
+    caught: list[warnings.WarningMessage],
+    plot: Callable[[ModuleType], object],
+) -> int:
+    """Write the CSV and (unless ``--no-plot``) the plot, then the warnings ``caught`` one line each on
+    stderr, the summary and what was written."""
+    series.to_csv(args.out)
+    if not args.no_plot:
+        # matplotlib costs about a second: imported only when the plot is wanted
+        from gnssatt import plots
+
+        plot(plots)
+    for w in caught:
+        print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
+    print(series.summary())
+    print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
+    return 0
+
+
 def _attitude(args: argparse.Namespace) -> int:
     import numpy as np
 
     from gnssatt.gnss.attitude import attitude_from_rinex
 
-    png = args.out.with_suffix(".png")
-    if png == args.out:
-        raise _UsageError(f"--out {args.out}: expected a CSV file name (the plot goes to the same name .png)")
-    _writable("--out", args.out, folder=False)
+    png = _plot_path(args.out)
     baselines = None
     if args.baselines is not None:
         if not args.baselines.is_file():
@@ -192,17 +234,8 @@ def _attitude(args: argparse.Namespace) -> int:
             window_deg=args.window,
             baseline_length_m=args.baseline_length,
         )
-    series.to_csv(args.out)
-    if not args.no_plot:
-        # matplotlib costs about a second: imported only when the plot is wanted
-        from gnssatt.plots import attitude_series
-
-        attitude_series(series, png, data=" -> ".join(Path(o).name for o in args.obs))
-    for w in caught:
-        print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
-    print(series.summary())
-    print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
-    return 0
+    data = " -> ".join(Path(o).name for o in args.obs)
+    return _write(args, series, png, caught, lambda plots: plots.attitude_series(series, png, data=data))
 
 
 def _attitude_options(att: argparse.ArgumentParser) -> None:
@@ -308,10 +341,7 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
 def _position(args: argparse.Namespace) -> int:
     from gnssatt.gnss.position import position_from_rinex
 
-    png = args.out.with_suffix(".png")
-    if png == args.out:
-        raise _UsageError(f"--out {args.out}: expected a CSV file name (the plot goes to the same name .png)")
-    _writable("--out", args.out, folder=False)
+    png = _plot_path(args.out)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         series = position_from_rinex(
@@ -321,25 +351,14 @@ def _position(args: argparse.Namespace) -> int:
             frequencies=args.frequencies if args.frequencies == "all" else int(args.frequencies),
             elevation_mask_deg=args.elevation_mask,
         )
-    series.to_csv(args.out)
-    if not args.no_plot:
-        from gnssatt.plots import position_series
-
-        position_series(series, png)
-    for w in caught:
-        print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
-    print(series.summary())
-    print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
-    return 0
+    return _write(args, series, png, caught, lambda plots: plots.position_series(series, png))
 
 
 def _position_parser(sub: Any) -> None:
     pos = sub.add_parser("position", help="code position of one receiver at every epoch of a RINEX file")
     pos.add_argument("--obs", required=True, type=Path, help="observation file")
     pos.add_argument("--nav", action="append", required=True, type=Path, help="navigation file(s)")
-    pos.add_argument(
-        "--out", type=Path, default=Path("position.csv"), help="CSV output (plot: same name .png)"
-    )
+    _output_arguments(pos, "position.csv")
     pos.add_argument(
         "--systems",
         type=_systems,
@@ -360,7 +379,6 @@ def _position_parser(sub: Any) -> None:
         metavar="DEG",
         help="degrees (default 10)",
     )
-    pos.add_argument("--no-plot", action="store_true", help="write only the CSV")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -463,15 +481,7 @@ def _main(argv: Sequence[str] | None) -> int:
         help="known distance of each rover antenna from the first, m (two antennas: one value; baseline "
         "mode): the integers are fixed with this length constraint",
     )
-    att.add_argument(
-        "--out",
-        type=Path,
-        default=Path("results.csv"),
-        help="CSV output; the plot goes to the same name .png (default results.csv in the current folder)",
-    )
-    att.add_argument(
-        "--no-plot", action="store_true", help="write only the CSV (the plot costs about a second)"
-    )
+    _output_arguments(att, "results.csv")
     _attitude_options(att)
     _position_parser(sub)
     args = parser.parse_args(argv)
