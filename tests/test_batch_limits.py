@@ -7,11 +7,11 @@ allocates (tracemalloc), never by timing it.
 
 from __future__ import annotations
 
-import tracemalloc
 from collections.abc import Callable
 
 import numpy as np
 import pytest
+from allocation import traced_peak
 from scipy.spatial.transform import Rotation
 
 from gnssatt import magnetic, ml_attitude_series, ml_baseline_series, sim
@@ -65,17 +65,12 @@ REPRODUCERS: dict[str, tuple[Callable[[], object], str, str]] = {
 @pytest.mark.parametrize("name", list(REPRODUCERS))
 def test_the_reproducers_are_refused_before_the_batch_is_copied(name: str) -> None:
     call, parameter, amount = REPRODUCERS[name]
-    tracemalloc.start()
-    try:
-        with pytest.raises(WorkLimitError, match=parameter) as info:
-            call()
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    with traced_peak() as peak, pytest.raises(WorkLimitError, match=parameter) as info:
+        call()
     message = str(info.value)
     assert amount in message and "limit" in message, message
     # the batch as float64 is 24-144 MB; a refusal made from its shape allocates nothing of its size
-    assert peak < 8_000_000, peak
+    assert peak.bytes < 8_000_000, peak
 
 
 def test_the_series_limit_counts_cells_epochs_signals_and_rovers() -> None:

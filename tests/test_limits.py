@@ -14,10 +14,10 @@ import subprocess
 import sys
 import textwrap
 import time
-import tracemalloc
 
 import numpy as np
 import pytest
+from allocation import traced_peak
 
 from gnssatt import _core, orbit
 from gnssatt.attitude import dynamics as tumble
@@ -148,16 +148,11 @@ def test_absurd_work_is_refused_before_it_starts(name: str) -> None:
     # A refusal is a check, not work: counted by the memory the call allocates (tracemalloc sees numpy's
     # buffers), never timed. Every call here would allocate hundreds of MB doing the work (the outputs,
     # or a copy of its inputs); the inputs themselves are small or zero-stride views.
-    tracemalloc.start()
-    try:
-        with pytest.raises(WorkLimitError, match=parameter) as info:
-            call()
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    with traced_peak() as peak, pytest.raises(WorkLimitError, match=parameter) as info:
+        call()
     assert isinstance(info.value, InvalidInputError)
     assert "limit" in str(info.value)
-    assert peak < 64_000_000, peak
+    assert peak.bytes < 64_000_000, peak
 
 
 def test_a_rate_too_fast_for_the_tumble_step_is_refused_not_nan() -> None:
