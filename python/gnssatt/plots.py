@@ -155,16 +155,27 @@ def position_series(series: PositionSeries, path: Path) -> Path:
     enu = series.enu_about_median_m()
     ok = series.solved
     minutes = (series.time - series.time[0]).astype("timedelta64[ms]").astype(np.float64) / 60_000.0
-    fig, (ax_h, ax_u) = plt.subplots(1, 2, figsize=(11, 4.5), gridspec_kw={"width_ratios": [1, 1.4]})
+    fig, (ax_h, ax_u) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1, 1.4]})
     ax_h.plot(enu[ok, 0], enu[ok, 1], ".", ms=3, alpha=0.6)
     ax_h.plot([0.0], [0.0], "k+", ms=12, label="median position")
+    shown = [np.abs(enu[ok, :2]).ravel()]
     if np.isfinite(series.header_position_m).all() and ok.any():
         from gnssatt.frames import dcm_ecef_from_enu, ecef_to_geodetic
 
         lat, lon, _ = ecef_to_geodetic(series.median_position_m)
         d = (series.header_position_m - series.median_position_m) @ dcm_ecef_from_enu(float(lat), float(lon))
         ax_h.plot([d[0]], [d[1]], "rx", ms=10, label=f"header position ({d[2]:+.2f} m up)")
-    ax_h.set(xlabel="east about the median (m)", ylabel="north about the median (m)", aspect="equal")
+        shown.append(np.abs(d[:2]))
+    # a square panel with one scale on both axes, centred on the median: a metre east is a metre north
+    half = 1.15 * float(max(np.max(np.concatenate(shown), initial=0.0), 0.01))
+    ax_h.set(
+        xlabel="east about the median (m)",
+        ylabel="north about the median (m)",
+        xlim=(-half, half),
+        ylim=(-half, half),
+        aspect="equal",
+    )
+    ax_h.set_box_aspect(1)
     ax_h.legend(loc="best")
     ax_u.plot(minutes[ok], enu[ok, 2], ".", ms=3)
     start = np.datetime_as_string(series.time[0], unit="s") if len(series.time) else "-"

@@ -107,7 +107,13 @@ pub fn single_point(
     opts: &EngineOptions,
     prior: Option<&Vector3<f64>>,
 ) -> Result<SppSolution> {
-    let mut out = code_solution(obs, receiver, epoch, eph, nav, opts, prior)?;
+    let inputs = Inputs {
+        obs,
+        eph,
+        nav,
+        opts,
+    };
+    let mut out = code_solution(inputs, receiver, epoch, prior)?;
     let t = obs.time_gpst_ns[epoch];
     let fallback = out
         .clock_s
@@ -127,17 +133,30 @@ pub fn single_point(
     Ok(out)
 }
 
+/// What every epoch's code solution of a session reads (one value, so that [`single_point`] and
+/// [`single_points`] pass it on instead of repeating the list).
+#[derive(Clone, Copy)]
+struct Inputs<'a> {
+    obs: &'a Observations,
+    eph: &'a Ephemerides,
+    nav: &'a NavData,
+    opts: &'a EngineOptions,
+}
+
 /// [`single_point`] without the geometry of every session satellite (`geometry` left empty): what
 /// positioning alone needs.
 fn code_solution(
-    obs: &Observations,
+    inputs: Inputs<'_>,
     receiver: usize,
     epoch: usize,
-    eph: &Ephemerides,
-    nav: &NavData,
-    opts: &EngineOptions,
     prior: Option<&Vector3<f64>>,
 ) -> Result<SppSolution> {
+    let Inputs {
+        obs,
+        eph,
+        nav,
+        opts,
+    } = inputs;
     if receiver >= obs.receivers.len() || epoch >= obs.n_epochs() {
         return Err(Error::out_of_range(
             "single_point",
@@ -375,11 +394,17 @@ pub fn single_points(
             ),
         ));
     }
+    let inputs = Inputs {
+        obs,
+        eph,
+        nav,
+        opts,
+    };
     (0..obs.n_epochs())
         .into_par_iter()
         .map(|e| {
             crate::interrupt::check_every(e, "single point")?;
-            match code_solution(obs, receiver, e, eph, nav, opts, None) {
+            match code_solution(inputs, receiver, e, None) {
                 Ok(s) => Ok(Some(s)),
                 Err(err @ (Error::Shape { .. } | Error::Interrupted { .. })) => Err(err),
                 Err(_) => Ok(None),
