@@ -210,7 +210,7 @@ def test_attitude_fixes_rotation_is_the_body_to_eci_attitude() -> None:
 ATTITUDE_RESULTS = [
     gnssatt.MatrixAttitudeResult,
     gnssatt.LikelihoodAttitude,
-    gnssatt.AttitudeSeries,
+    gnssatt.LikelihoodAttitudeSeries,
     RinexAttitudeSeries,
     gnssatt.YawResult,
     gnssatt.TriadResult,

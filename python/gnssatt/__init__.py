@@ -34,10 +34,10 @@ if TYPE_CHECKING:  # what the lazy table below provides, spelled out for type ch
     from gnssatt.attitude.gyro_gnss import GyroGnssResult, gyro_gnss_filter, gyro_propagate
     from gnssatt.attitude.likelihood import (
         AttitudePrior,
-        AttitudeSeries,
         BaselineDirection,
         BaselineSeries,
         LikelihoodAttitude,
+        LikelihoodAttitudeSeries,
         LikelihoodGrid,
         likelihood_grid,
         ml_attitude,
@@ -90,10 +90,10 @@ _EXPORTS: dict[str, str] = {
         "attitude.gyro_gnss": ("GyroGnssResult", "gyro_gnss_filter", "gyro_propagate"),
         "attitude.likelihood": (
             "AttitudePrior",
-            "AttitudeSeries",
             "BaselineDirection",
             "BaselineSeries",
             "LikelihoodAttitude",
+            "LikelihoodAttitudeSeries",
             "LikelihoodGrid",
             "likelihood_grid",
             "ml_attitude",
@@ -115,7 +115,6 @@ _EXPORTS: dict[str, str] = {
 
 __all__ = [
     "AttitudePrior",
-    "AttitudeSeries",
     "BaselineDirection",
     "BaselineSeries",
     "ConvergenceError",
@@ -126,6 +125,7 @@ __all__ = [
     "IlsBatchResult",
     "InvalidInputError",
     "LikelihoodAttitude",
+    "LikelihoodAttitudeSeries",
     "LikelihoodGrid",
     "MatrixAttitudeResult",
     "NearDegenerateWarning",

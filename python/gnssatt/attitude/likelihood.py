@@ -54,10 +54,10 @@ from gnssatt.rotation import rotation_from_euler
 
 __all__ = [
     "AttitudePrior",
-    "AttitudeSeries",
     "BaselineDirection",
     "BaselineSeries",
     "LikelihoodAttitude",
+    "LikelihoodAttitudeSeries",
     "LikelihoodGrid",
     "likelihood_grid",
     "ml_attitude",
@@ -668,7 +668,7 @@ def prior_from_velocity(
 
 
 @dataclass(frozen=True)
-class AttitudeSeries:
+class LikelihoodAttitudeSeries:
     """Per-epoch attitudes from :func:`ml_attitude_series`.
 
     Attributes
@@ -704,7 +704,7 @@ class BaselineSeries:
     direction_enu
         (n_ep, 3) unit vectors along the baseline, East-North-Up.
     z_max, solved
-        As in :class:`AttitudeSeries`; every angle and vector is NaN where ``solved`` is False.
+        As in :class:`LikelihoodAttitudeSeries`; every angle and vector is NaN where ``solved`` is False.
     """
 
     heading_deg: NDArray[np.float64]
@@ -878,7 +878,7 @@ def ml_attitude_series(
     mask: ArrayLike | None = None,
     step_deg: float | None = None,
     window_deg: float | None = None,
-) -> AttitudeSeries:
+) -> LikelihoodAttitudeSeries:
     """Maximum-likelihood attitude of every epoch of a batch, in one call (GIL released; Ctrl-C stops it).
 
     Each epoch gives what :func:`ml_attitude` gives for that epoch alone with the default statistic, search
@@ -914,7 +914,7 @@ def ml_attitude_series(
 
     Returns
     -------
-    AttitudeSeries
+    LikelihoodAttitudeSeries
         Per epoch: the body -> ENU rotation, the eq. (5) angles (deg, NaN where unsolved), ``z_max`` and
         whether the epoch was solved.
 
@@ -962,7 +962,7 @@ def ml_attitude_series(
     euler, z, solved = series.euler_gost_rad, series.z_max, series.solved
     euler_deg = np.degrees(euler)
     matrices = rotation_from_euler(np.where(solved[:, None], euler_deg, 0.0)).as_matrix()
-    return AttitudeSeries(
+    return LikelihoodAttitudeSeries(
         rotation=Rotation.from_matrix(np.where(solved[:, None, None], matrices, np.eye(3))),
         euler_gost_deg=euler_deg,
         z_max=z,
