@@ -60,12 +60,37 @@ def euler_to_dcm(seq: str, angles: ArrayLike, *, degrees: bool = False) -> NDArr
     as ``"ZYX"`` (Ryzhkov and Oliinyk; Ryzhkov and Holembiovskyi), ``"YZX"`` (Bunyaeva et al., GOST normal
     frame) or ``"YZY"`` (Belokonov et al.).
 
+    Parameters
+    ----------
+    seq
+        The intrinsic sequence, one of :data:`SEQUENCES` (upper case).
+    angles
+        (3,) the three angles, in sequence order; radians, or degrees with ``degrees``.
+    degrees
+        Read ``angles`` in degrees (default False: radians).
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) the body -> reference rotation matrix.
+
     Raises
     ------
     InvalidInputError
         ``seq`` not one of :data:`SEQUENCES`, a wrong shape or non-finite values
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind, a ``degrees`` that is not a
         bool).
+
+    Examples
+    --------
+    A quarter turn about Z maps the body X axis onto the reference Y axis:
+
+    >>> import numpy as np
+    >>> from gnssatt.rotation import euler_to_dcm
+    >>> np.round(euler_to_dcm("ZYX", [90.0, 0.0, 0.0], degrees=True), 12) + 0.0
+    array([[ 0., -1.,  0.],
+           [ 1.,  0.,  0.],
+           [ 0.,  0.,  1.]])
     """
     return _core.euler_to_dcm(_seq(seq), _angles(angles, degrees))
 
@@ -74,6 +99,20 @@ def dcm_to_euler(seq: str, dcm: ArrayLike, *, degrees: bool = False) -> NDArray[
     """Angles of an intrinsic sequence; the middle one in [-90, 90] deg (Tait-Bryan) or [0, 180] deg
     (proper Euler), the others in (-180, 180].
 
+    Parameters
+    ----------
+    seq
+        The intrinsic sequence, one of :data:`SEQUENCES` (upper case).
+    dcm
+        (3, 3) body -> reference rotation matrix, orthogonal to 1e-6.
+    degrees
+        Return degrees (default False: radians).
+
+    Returns
+    -------
+    numpy.ndarray
+        (3,) the angles in sequence order, radians or degrees.
+
     Raises
     ------
     InvalidInputError
@@ -81,6 +120,16 @@ def dcm_to_euler(seq: str, dcm: ArrayLike, *, degrees: bool = False) -> NDArray[
         orthogonal to 1e-6
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind, a ``degrees`` that is not a
         bool).
+
+    Examples
+    --------
+    The inverse of :func:`euler_to_dcm` within the ranges above:
+
+    >>> import numpy as np
+    >>> from gnssatt.rotation import dcm_to_euler, euler_to_dcm
+    >>> m = euler_to_dcm("ZYX", [30.0, -20.0, 10.0], degrees=True)
+    >>> np.round(dcm_to_euler("ZYX", m, degrees=True), 9)
+    array([ 30., -20.,  10.])
     """
     seq, m, degrees = _seq(seq), _dcm(dcm), flag("degrees", degrees)
     angles = np.array(_core.dcm_to_euler(seq, m))
@@ -90,11 +139,32 @@ def dcm_to_euler(seq: str, dcm: ArrayLike, *, degrees: bool = False) -> NDArray[
 def quat_to_dcm(quat: ArrayLike) -> NDArray[np.float64]:
     """Matrix of a scalar-last quaternion ``[x, y, z, w]`` (normalised first).
 
+    Parameters
+    ----------
+    quat
+        (4,) scalar-last quaternion, any non-zero norm.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) the rotation matrix of the normalised quaternion.
+
     Raises
     ------
     InvalidInputError
         A wrong shape, non-finite values or a zero quaternion (:class:`~gnssatt.errors.InvalidTypeError`
         for values that are not real numbers).
+
+    Examples
+    --------
+    ``[0, 0, 1, 1]`` normalised is a quarter turn about Z (half-angle 45 deg):
+
+    >>> import numpy as np
+    >>> from gnssatt.rotation import quat_to_dcm
+    >>> np.round(quat_to_dcm([0.0, 0.0, 1.0, 1.0]), 12) + 0.0
+    array([[ 0., -1.,  0.],
+           [ 1.,  0.,  0.],
+           [ 0.,  0.,  1.]])
     """
     q = shaped("quat", quat, "(4,)", (4,))
     return _core.quat_to_dcm((float(q[0]), float(q[1]), float(q[2]), float(q[3])))
@@ -103,17 +173,46 @@ def quat_to_dcm(quat: ArrayLike) -> NDArray[np.float64]:
 def dcm_to_quat(dcm: ArrayLike) -> NDArray[np.float64]:
     """Scalar-last unit quaternion ``[x, y, z, w]`` with ``w >= 0``.
 
+    Parameters
+    ----------
+    dcm
+        (3, 3) rotation matrix, orthogonal to 1e-6.
+
+    Returns
+    -------
+    numpy.ndarray
+        (4,) the unit quaternion, ``w >= 0`` (of the two signs, the one with the non-negative scalar).
+
     Raises
     ------
     InvalidInputError
         A wrong shape, non-finite values or a ``dcm`` that is not orthogonal to 1e-6
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+
+    Examples
+    --------
+    A half turn about X:
+
+    >>> import numpy as np
+    >>> from gnssatt.rotation import dcm_to_quat
+    >>> np.round(dcm_to_quat(np.diag([1.0, -1.0, -1.0])), 12) + 0.0
+    array([1., 0., 0., 0.])
     """
     return np.array(_core.dcm_to_quat(_dcm(dcm)))
 
 
 def nearest_rotation(matrix: ArrayLike) -> NDArray[np.float64]:
     """The proper rotation closest to a 3 x 3 matrix in the Frobenius norm (determinant fixed to +1).
+
+    Parameters
+    ----------
+    matrix
+        (3, 3) any real matrix of rank 2 or more, e.g. an estimate of a rotation spoiled by noise.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) the nearest proper rotation matrix.
 
     Raises
     ------
@@ -122,6 +221,16 @@ def nearest_rotation(matrix: ArrayLike) -> NDArray[np.float64]:
         not real numbers).
     DegenerateGeometryError
         A matrix whose nearest rotation is not unique (rank below 2, e.g. zero).
+
+    Examples
+    --------
+    A rotation scaled by 3 has that rotation as its nearest:
+
+    >>> import numpy as np
+    >>> from gnssatt.rotation import nearest_rotation
+    >>> quarter_z = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    >>> bool(np.allclose(nearest_rotation(3.0 * quarter_z), quarter_z, atol=1e-12))
+    True
     """
     m = shaped("matrix", matrix, "(3, 3)", (3, 3))
     # the nearest rotation of c M is that of M for any c > 0: scale to entries of order one, so that the
@@ -168,11 +277,34 @@ def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
     ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``). Also importable
     from :mod:`gnssatt.attitude.likelihood`, its former home.
 
+    Parameters
+    ----------
+    euler_gost_deg
+        (3,) or (n, 3) ``(psi, theta, phi)``, degrees: psi about the normal frame's Y (up), theta about the
+        new Z, phi about the new X (body X nose, Y up, Z right wing).
+
+    Returns
+    -------
+    scipy.spatial.transform.Rotation
+        The body -> ENU rotation, one or a stack of n.
+
     Raises
     ------
     InvalidInputError
         Wrong shape or non-finite angles (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
         real numbers).
+
+    Examples
+    --------
+    ``psi = 90`` deg turns the nose from North (the normal frame's X) to West (compass heading ``-psi``); the
+    body's up axis stays up:
+
+    >>> import numpy as np
+    >>> from gnssatt.rotation import rotation_from_euler
+    >>> r = rotation_from_euler([90.0, 0.0, 0.0])
+    >>> np.round(r.apply([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]), 12) + 0.0
+    array([[-1.,  0.,  0.],
+           [ 0.,  0.,  1.]])
     """
     angles = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n, 3)", (3,), (None, 3))
     r_normal = Rotation.from_euler("YZX", angles, degrees=True).as_matrix()
@@ -183,10 +315,28 @@ def euler_from_rotation(rotation: Rotation) -> NDArray[np.float64]:
     """Eq. (5) angles ``(psi, theta, phi)`` in degrees of a body -> ENU rotation (single or a stack): the
     inverse of :func:`rotation_from_euler`. Also importable from :mod:`gnssatt.attitude.likelihood`.
 
+    Parameters
+    ----------
+    rotation
+        A body -> ENU rotation, single or a stack.
+
+    Returns
+    -------
+    numpy.ndarray
+        (3,) or (n, 3) ``(psi, theta, phi)``, degrees (scipy's ``YZX`` ranges: theta in [-90, 90]).
+
     Raises
     ------
     InvalidTypeError
         ``rotation`` is not a scipy :class:`~scipy.spatial.transform.Rotation`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gnssatt.rotation import euler_from_rotation, rotation_from_euler
+    >>> np.round(euler_from_rotation(rotation_from_euler([[10.0, 20.0, 30.0], [-45.0, 5.0, 0.0]])), 9)
+    array([[ 10.,  20.,  30.],
+           [-45.,   5.,   0.]])
     """
     r = instance("rotation", rotation, Rotation, "a scipy Rotation")
     r_normal = ENU_FROM_NORMAL.T @ r.as_matrix()

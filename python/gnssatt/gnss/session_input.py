@@ -211,6 +211,19 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
     ------
     RinexError
         A time system other than GPS, GLO, GAL, BDT, QZS, IRN or UTC.
+
+    Examples
+    --------
+    A file labelled in GPS time: its first epoch, 2005-04-02 00:00:00, counted from the GPS epoch
+    (1980-01-06):
+
+    >>> import numpy as np
+    >>> from gnssatt.data import geonet_dir
+    >>> from gnssatt.gnss.session_input import epochs_gpst_ns
+    >>> from gnssatt.rinex import read_obs
+    >>> t = epochs_gpst_ns(read_obs(geonet_dir() / "07590920.05o"), None)
+    >>> int(t[0]) == (9218 * 86_400) * 10**9, len(t)
+    (True, 120)
     """
     t = (obs.time - GPS_EPOCH).astype(np.int64)
     ts = obs.time_system
@@ -309,6 +322,18 @@ def session_input(
         A file of no epochs (a header only), a file without carrier-phase observations of the chosen
         systems and slots, no system left that every file has, no epoch common to all files, no satellite
         seen by every file (each message names the files).
+
+    Examples
+    --------
+    The GEONET pair shipped with gnssatt (stations 0759 and 3040, GPS L1, 120 epochs) on common epochs:
+
+    >>> from gnssatt.data import geonet_dir
+    >>> from gnssatt.gnss.session_input import session_input
+    >>> from gnssatt.rinex import read_obs
+    >>> files = [read_obs(geonet_dir() / name) for name in ("07590920.05o", "30400920.05o")]
+    >>> si = session_input(files, systems="G", frequencies=1)
+    >>> si.code_m.shape, si.sats[:3], si.epochs_dropped
+    ((2, 120, 11, 3), ('G01', 'G03', 'G04'), (0, 0))
     """
     if isinstance(observations, RinexObs) or not isinstance(observations, Sequence):
         raise InvalidTypeError(
