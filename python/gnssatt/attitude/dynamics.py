@@ -39,7 +39,16 @@ from scipy.stats import chi2
 
 from gnssatt import _core
 from gnssatt import constants as _constants
-from gnssatt._arrays import finite_result, float_array, instance, integer, scalar, text, vector_array
+from gnssatt._arrays import (
+    batch_limit,
+    finite_result,
+    float_array,
+    instance,
+    integer,
+    scalar,
+    text,
+    vector_array,
+)
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
@@ -79,6 +88,10 @@ MAX_RESTARTS = 100
 #: Most RK4 steps of one :func:`fit_rotation` at its generation cap, all runs together (about 20 minutes
 #: of one core; the default settings on 1500 one-second epochs need 5.4e8).
 MAX_FIT_RK4_STEPS = 10_000_000_000
+#: Most output times of one :func:`propagate` call, counted from the shape of ``t`` before it is copied:
+#: 25 us a time (the rotations and axes of each state; ``docs/limits.md``) makes about 6.6 s.
+#: :func:`propagate_axes` (0.1 us a time) is bounded by the core's output limit.
+MAX_PROPAGATE_TIMES = 2**18
 
 
 @dataclass(frozen=True)
@@ -405,7 +418,8 @@ def propagate(
         Bad shapes, types or values; an initial rate so fast that a step turns the body by more than
         ``MAX_ROTATION_PER_STEP_RAD`` (1 rad).
     WorkLimitError
-        More than ``MAX_RK4_STEPS`` RK4 steps (checked before any work).
+        More than ``MAX_RK4_STEPS`` RK4 steps (checked before any work), or more than
+        :data:`MAX_PROPAGATE_TIMES` times ``t`` (checked before they are copied).
     ConvergenceError
         The integration diverged (a non-finite state).
 
@@ -426,6 +440,7 @@ def propagate(
     array([[1., 0., 0.],
            [0., 0., 1.]])
     """
+    batch_limit(MAX_PROPAGATE_TIMES, "MAX_PROPAGATE_TIMES", "times", t=(t, 0))
     p = _params(params, 1)
     tt = _times(t)
     mdl = _default(model)

@@ -44,9 +44,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, float_array, plain_array, scalar, shaped
+from gnssatt._arrays import batch_limit, choice, float_array, plain_array, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
-from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
+from gnssatt.geometry import MAX_BASELINE_M, MAX_BASELINES, MAX_SIGNALS, MIN_BASELINE_M, checked_baselines
 
 # The GOST Euler sequence lives in gnssatt.rotation (the base layer, which the simulator may import); these
 # names stay here too, the paths users and older code know.
@@ -211,6 +211,14 @@ def _intake(
     *,
     n_baselines: int | None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    # from the shapes, before anything is copied: the kernel's work is cells x epochs x baselines x signals
+    batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "lines of sight (all epochs)", los=(los, 1))
+    batch_limit(
+        MAX_BASELINES * MAX_SIGNALS,
+        "MAX_BASELINES x MAX_SIGNALS",
+        "phase differences",
+        phase_diffs=(phase_diffs, 0),
+    )
     p = float_array("phase_diffs", phase_diffs, ndim=(2, 3), shape="(m, M) or (epochs, m, M)")
     if p.ndim == 2:
         p = p[None]
@@ -377,6 +385,10 @@ def ml_attitude(
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
     DegenerateGeometryError
         Collinear baselines.
+    WorkLimitError
+        More than :data:`~gnssatt.geometry.MAX_SIGNALS` lines of sight over all epochs, more than
+        :data:`~gnssatt.geometry.MAX_BASELINES` baselines, or more phase differences than the two together,
+        refused from the shapes before anything is copied.
 
     Examples
     --------
@@ -454,7 +466,7 @@ def likelihood_grid(
 
     Raises
     ------
-    InvalidInputError, DegenerateGeometryError
+    InvalidInputError, DegenerateGeometryError, WorkLimitError
         As :func:`ml_attitude` (one baseline suffices here).
 
     Examples
@@ -542,7 +554,7 @@ def ml_baseline(
 
     Raises
     ------
-    InvalidInputError, DegenerateGeometryError
+    InvalidInputError, DegenerateGeometryError, WorkLimitError
         As :func:`ml_attitude`.
 
     Examples
@@ -562,6 +574,7 @@ def ml_baseline(
     >>> round(result.heading_deg, 6), round(result.elevation_deg, 6)
     (330.0, 10.0)
     """
+    batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "phase differences (all epochs)", phase_diffs=(phase_diffs, 0))
     p = float_array("phase_diffs", phase_diffs, ndim=(1, 2), shape="(M,) or (epochs, M)")
     p = p[:, None, :] if p.ndim == 2 else p[None, None, :]
     length = scalar(
