@@ -14,9 +14,24 @@ import pytest
 from allocation import traced_peak
 from scipy.spatial.transform import Rotation
 
-from gnssatt import magnetic, ml_attitude_series, ml_baseline_series, sim
+from gnssatt import (
+    likelihood_grid,
+    magnetic,
+    matrix_attitude,
+    ml_attitude,
+    ml_attitude_series,
+    ml_baseline,
+    ml_baseline_series,
+    sim,
+    triad,
+    wahba,
+    yaw_from_magnetometer,
+)
+from gnssatt.attitude import dynamics
 from gnssatt.attitude.likelihood import MAX_SERIES_WORK, rotation_from_euler
-from gnssatt.errors import WorkLimitError
+from gnssatt.attitude.wahba import MAX_VECTOR_PAIRS
+from gnssatt.errors import DegenerateGeometryError, InvalidInputError, WorkLimitError
+from gnssatt.geometry import attitude_dop
 from gnssatt.orbit.constellation import gps_nominal
 from gnssatt.orbit.line_of_sight import MAX_GEOMETRY_VALUES
 from gnssatt.orbit.receivers import GroundReceiver
@@ -134,3 +149,99 @@ def test_batches_within_the_limits_run() -> None:
     too_many = magnetic.MAX_IGRF_TERMS // magnetic.IGRF_COEFFICIENTS + 1
     with pytest.raises(WorkLimitError, match=f"{too_many} points"):
         magnetic.igrf_field_ecef(np.broadcast_to([7e6, 0.0, 0.0], (too_many, 3)), 2021.0)
+
+
+# The whole-call row limits of the other batch entry points (one mechanism, gnssatt._arrays.batch_limit):
+# name -> (call with a zero-stride view of BIG rows, parameter named, limit constant named)
+def _view(row: object, n: int = BIG) -> np.ndarray:
+    arr = np.asarray(row, dtype=float)
+    return np.broadcast_to(arr, (n, *arr.shape))
+
+
+_E = np.eye(3)
+ROW_LIMITS: dict[str, tuple[Callable[[], object], str, str]] = {
+    "wahba": (lambda: wahba(_view([1.0, 0.0, 0.0]), _view([1.0, 0.0, 0.0])), "body", "MAX_VECTOR_PAIRS"),
+    "triad": (lambda: triad(_view(_E[0]), _E[1], _E[0], _E[1]), "b1", "MAX_BATCH_ROWS"),
+    "yaw_from_magnetometer": (
+        lambda: yaw_from_magnetometer(_view([20.0, -5.0, 40.0]), [20.0, -5.0, 40.0], 0.0, 0.0),
+        "b_body",
+        "MAX_YAW_EPOCHS",
+    ),
+    "matrix_attitude": (
+        lambda: matrix_attitude(_view([1.0, 0.0, 0.0]), LOS, np.zeros((2, 6))),
+        "baselines",
+        "MAX_BASELINES",
+    ),
+    "ml_attitude los": (lambda: ml_attitude(SD[0], _view(LOS[0]), BASELINES, 0.19), "los", "MAX_SIGNALS"),
+    "likelihood_grid phase_diffs": (
+        lambda: likelihood_grid(_view(SD[0, 0]), LOS, BASELINES, 0.19),
+        "phase_diffs",
+        "MAX_BASELINES x MAX_SIGNALS",
+    ),
+    "ml_baseline": (lambda: ml_baseline(_view(0.1), LOS, 1.0, 0.19), "phase_diffs", "MAX_SIGNALS"),
+    "propagate": (lambda: dynamics.propagate(np.zeros(6), _view(0.0)), "t", "MAX_PROPAGATE_TIMES"),
+    "dipole_field_ecef": (
+        lambda: magnetic.dipole_field_ecef(_view([7e6, 0.0, 0.0]), 2021.0),
+        "position_ecef_m",
+        "MAX_DIPOLE_POINTS",
+    ),
+    "dipole_orbital": (lambda: magnetic.dipole_orbital(_view(0.1), 7e6, 1.0), "u", "MAX_DIPOLE_POINTS"),
+    "elevation_mask": (lambda: sim.elevation_mask(_view([0.0, 0.6, 0.8])), "los_ref", "MAX_BATCH_ROWS"),
+    "elevation_azimuth": (lambda: sim.elevation_azimuth(_view([0.0, 0.6, 0.8])), "los_enu", "MAX_BATCH_ROWS"),
+    "los_body": (lambda: sim.los_body(_view([0.0, 0.6, 0.8]), Rotation.identity()), "los", "MAX_BATCH_ROWS"),
+    "solve_kepler": (lambda: sim.solve_kepler(_view(0.3), 0.1), "mean_anomaly_rad", "MAX_BATCH_ROWS"),
+    "ecef_to_geodetic": (lambda: sim.ecef_to_geodetic(_view([7e6, 0.0, 0.0])), "r_ecef", "MAX_BATCH_ROWS"),
+    "attitude_dop": (
+        lambda: attitude_dop(np.eye(3), _view([0.0, 0.6, 0.8]), Rotation.identity()),
+        "los",
+        "MAX_SIGNALS",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(ROW_LIMITS))
+def test_batches_over_a_row_limit_are_refused_from_the_shapes(name: str) -> None:
+    call, parameter, constant = ROW_LIMITS[name]
+    tracemalloc.start()
+    try:
+        with pytest.raises(WorkLimitError, match=f"^{parameter} asks for") as info:
+            call()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert constant in str(info.value) and "limit" in str(info.value), info.value
+    assert peak < 8_000_000, peak
+
+
+def test_the_row_limit_takes_the_limit_and_refuses_one_more() -> None:
+    from gnssatt._arrays import MAX_BATCH_ROWS, batch_limit
+
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "rows", x=(_view([1.0, 2.0, 3.0], MAX_BATCH_ROWS), 1))
+    with pytest.raises(WorkLimitError, match=f"x asks for {MAX_BATCH_ROWS + 1} rows"):
+        batch_limit(
+            MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "rows", x=(_view([1.0, 2.0, 3.0], MAX_BATCH_ROWS + 1), 1)
+        )
+    # the argument with the most items is the one named; a scalar counts one
+    with pytest.raises(WorkLimitError, match=r"^b asks for 11 rows"):
+        batch_limit(10, "C", "rows", a=(np.zeros((5, 3)), 1), b=(np.zeros(11), 0), c=(None, 0))
+    # a batch at a function's own limit runs: the largest accepted wahba of two pairs an epoch
+    n = MAX_VECTOR_PAIRS // 2
+    assert n * 2 <= MAX_VECTOR_PAIRS
+    with pytest.raises(WorkLimitError, match=f"body asks for {MAX_VECTOR_PAIRS + 2} vector pairs"):
+        wahba(_view(_E[:2], n + 1), _view(_E[:2], n + 1))
+
+
+def test_shape_mismatches_name_the_arguments_the_caller_passed() -> None:
+    # matrix_attitude's range_diffs is (m, n) from baselines and los: a baselines or los of another size
+    # is named itself, with the shape expected and the one that came (not only the derived range_diffs)
+    with pytest.raises(
+        InvalidInputError, match=r"baselines \(5, 3\) and los \(6, 3\), got range_diffs \(2, 6\)"
+    ):
+        matrix_attitude(np.tile(BASELINES, (3, 1))[:5], LOS, np.zeros((2, 6)))
+    with pytest.raises(InvalidInputError, match=r"\(2, 7\) for baselines \(2, 3\) and los \(7, 3\)"):
+        matrix_attitude(BASELINES, np.vstack([LOS, LOS[:1]]), np.zeros((2, 6)))
+    # attitude_dop's degenerate Fisher information is a property of the arguments: they are named
+    with pytest.raises(DegenerateGeometryError, match=r"baselines \(2, 3\) and los \(3, 3\) do not fix"):
+        attitude_dop(
+            [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]], np.tile([[1.0, 0.0, 0.0]], (3, 1)), Rotation.identity()
+        )

@@ -237,9 +237,11 @@ def test_settle_is_checked_by_name() -> None:
 def test_batched_gradient_is_scipys_forward_difference() -> None:
     from scipy.optimize import approx_fprime
 
+    from gnssatt.attitude.dynamics.fit import _Objective
+
     t, axes = _noisy_short_case()
     axes /= np.linalg.norm(axes, axis=1, keepdims=True)
-    obj = tumble._Objective(t, axes, MODEL, 1.0)
+    obj = _Objective(t, axes, MODEL, 1.0)
     x = TRUTH + np.array([0.1, -0.05, 0.2, 1e-3, -1e-3, 5e-4])
     w = 0.05
     lower, upper = np.r_[[-np.inf] * 3, [-w] * 3], np.r_[[np.inf] * 3, [w] * 3]

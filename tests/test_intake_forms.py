@@ -139,7 +139,7 @@ def test_glonass_channels_share_the_intake_limits() -> None:
 def test_nan_gaps_intake_checks_size_and_masks() -> None:
     """ml_attitude_series ran np.isnan over a 2^40-row view (MemoryError) before the intake's size check;
     a masked phase is a gap like NaN."""
-    from gnssatt.attitude.likelihood import _gaps
+    from gnssatt.attitude.likelihood._intake import gapped as _gaps
 
     with pytest.raises(WorkLimitError, match="sd_phase has"):
         _gaps("sd_phase", np.broadcast_to(np.zeros((1, 2, 3)), (2**40, 2, 3)), ndim=3, shape="(n, 2, 3)")

@@ -24,6 +24,8 @@ from numpy.typing import NDArray
 from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError, WorkLimitError
 
 __all__ = [
+    "MAX_BATCH_ROWS",
+    "batch_limit",
     "checked_array",
     "choice",
     "finite_outputs",
@@ -83,6 +85,48 @@ def _size_limit(name: str, arr: np.ndarray) -> None:
     if arr.size > MAX_ELEMENTS:
         raise WorkLimitError(
             f"{name} has {arr.size} elements (shape {arr.shape}), more than the limit of {MAX_ELEMENTS}"
+        )
+
+
+#: Most rows (epochs, points, lines of sight) of one call of a vectorised transform or batch estimator that
+#: has no limit of its own, counted from the shapes before anything is copied: 0.5-3 us a row on the loaded
+#: 2-core build machine (``docs/limits.md``), so about 1-6 s; 10^7 rows took 5-60 s.
+MAX_BATCH_ROWS = 2**21
+
+
+def batch_limit(limit: int, constant: str, unit: str, /, **arguments: tuple[Any, int]) -> None:
+    """Refuses a batch call whose largest argument holds more than ``limit`` items, counted from the shapes
+    alone, before anything is copied, converted or scanned: the one whole-call limit of the batch entry
+    points (``docs/limits.md``). A zero-stride ``numpy.broadcast_to`` view of 10^7 rows costs nothing to pass
+    and seconds per million rows to copy and compute.
+
+    Parameters
+    ----------
+    limit
+        The most items one call takes.
+    constant
+        The name of the module constant that holds ``limit`` (named in the message).
+    unit
+        What one item is, plural (``"epochs"``, ``"vectors"``), for the message.
+    **arguments
+        ``name=(value, item_ndim)``: an argument and the number of its trailing dimensions that make one
+        item (1 for a (3,) vector in an (n, 3) batch, 0 for a scalar in an (n,) batch); the item count is the
+        product of the other dimensions.
+
+    Raises
+    ------
+    WorkLimitError
+        The argument with the most items exceeds ``limit``: the message names it, the count and the limit.
+    """
+    counts = {}
+    for name, (value, item_ndim) in arguments.items():
+        shape = np.shape(plain_array(name, value))
+        counts[name] = math.prod(shape[: max(len(shape) - item_ndim, 0)])
+    name = max(counts, key=lambda n: counts[n])
+    if counts[name] > limit:
+        raise WorkLimitError(
+            f"{name} asks for {counts[name]} {unit}, more than the limit of {limit} ({constant}) of one "
+            f"call: split it into batches of at most {limit}"
         )
 
 

@@ -21,7 +21,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import checked_array, finite_result, scalar, time_array, vector_array
+from gnssatt._arrays import (
+    MAX_BATCH_ROWS,
+    batch_limit,
+    checked_array,
+    finite_result,
+    scalar,
+    time_array,
+    vector_array,
+)
 from gnssatt.constants import OMEGA_E_RAD_S, WGS84_A_M, WGS84_E2
 from gnssatt.errors import ConvergenceError, InvalidInputError
 
@@ -376,6 +384,7 @@ def ecef_to_geodetic(r_ecef: ArrayLike) -> tuple[NDArray[Any], NDArray[Any], NDA
     >>> print(f"{float(lat):.6f} {float(lon):.6f} {float(h):.3f}")
     0.000000 90.000000 100.000
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "positions", r_ecef=(r_ecef, 1))
     r = vector_array("r_ecef", r_ecef, ndim=(1, 2), shape="(3,) or (n, 3)")
     radius = np.linalg.norm(r, axis=-1)
     if radius.size and radius.min() < MIN_GEODETIC_RADIUS_M:

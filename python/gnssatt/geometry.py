@@ -8,10 +8,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import instance, shaped, unit_rows
+from gnssatt._arrays import batch_limit, instance, shaped, unit_rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
-__all__ = ["MAX_BASELINE_M", "MIN_BASELINE_M", "attitude_dop", "range_difference_fisher"]
+__all__ = [
+    "MAX_BASELINES",
+    "MAX_BASELINE_M",
+    "MAX_SIGNALS",
+    "MIN_BASELINE_M",
+    "attitude_dop",
+    "range_difference_fisher",
+]
 
 #: Shortest baseline any estimator accepts, m: below a micrometre a baseline is a zero (and the squares and
 #: inverses the estimators form underflow or overflow near 1e-150 m).
@@ -19,6 +26,14 @@ MIN_BASELINE_M = 1e-6
 #: Longest baseline any estimator accepts, m (the Earth's diameter): range differences, informations (fourth
 #: power of the length) and grid steps then stay far from overflow.
 MAX_BASELINE_M = 1.3e7
+#: Most baselines (antennas but the reference) one estimator call takes, counted from the shape before the
+#: baselines are copied: arrays have 2-16 antennas, and the per-epoch estimators' work grows with baselines x
+#: lines of sight (``docs/limits.md``).
+MAX_BASELINES = 1024
+#: Most lines of sight (signals) of one epoch that a per-epoch estimator takes, counted from the shape before
+#: they are copied: all constellations on all frequencies are under 600; 1024 x 4096 pairs of the Fisher
+#: information take about 8 s on the loaded 2-core build machine (1.8 us a pair, ``docs/limits.md``).
+MAX_SIGNALS = 4096
 
 
 def checked_baselines(name: str, value: ArrayLike) -> NDArray[np.float64]:
@@ -30,7 +45,10 @@ def checked_baselines(name: str, value: ArrayLike) -> NDArray[np.float64]:
     InvalidInputError
         Wrong shape, non-finite values, a baseline shorter or longer than the limits (the message names the
         row and its length); :class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers.
+    WorkLimitError
+        More than :data:`MAX_BASELINES` rows, refused before they are copied.
     """
+    batch_limit(MAX_BASELINES, "MAX_BASELINES", "baselines", **{name: (value, 1)})
     b = shaped(name, value, "(m, 3)", (None, 3))
     # the largest component first, so that the squares neither overflow (1e200 m) nor underflow (1e-200 m)
     big = np.max(np.abs(b), axis=1, initial=0.0)
@@ -73,6 +91,9 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
         Wrong shapes, non-finite values, lines of sight that are not unit vectors, baselines outside the
         length limits; :class:`~gnssatt.errors.InvalidTypeError` for a ``rotation`` that is not a single
         Rotation.
+    WorkLimitError
+        More than :data:`MAX_BASELINES` baselines or :data:`MAX_SIGNALS` lines of sight, refused before
+        they are copied.
 
     Examples
     --------
@@ -85,6 +106,7 @@ def range_difference_fisher(baselines: ArrayLike, los: ArrayLike, rotation: Rota
     >>> bool(np.allclose(range_difference_fisher(np.eye(3), np.eye(3), Rotation.identity()), 2 * np.eye(3)))
     True
     """
+    batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "lines of sight", los=(los, 1))
     b = checked_baselines("baselines", baselines)
     s = unit_rows("los", los, "(n, 3)", (None, 3))
     r = instance("rotation", rotation, Rotation, "a single scipy Rotation")
@@ -133,6 +155,7 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
     >>> abs(attitude_dop(np.eye(3), np.eye(3), Rotation.identity()) - 1.5**0.5) < 1e-12
     True
     """
+    batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "lines of sight", los=(los, 1))
     b = checked_baselines("baselines", baselines)
     s = unit_rows("los", los, "(n, 3)", (None, 3))
     for name, arr, dim in (("baselines", b, "m"), ("los", s, "n")):
@@ -145,7 +168,8 @@ def attitude_dop(baselines: ArrayLike, los: ArrayLike, rotation: Rotation) -> fl
         dop = float(np.sqrt(np.sum(1.0 / eig))) if eig[0] > 1e-12 * eig[-1] else float("inf")
     if not np.isfinite(dop):
         raise DegenerateGeometryError(
-            f"the geometry does not fix the attitude: the Fisher information has eigenvalues {eig[0]:.3e} "
-            f"to {eig[-1]:.3e} rad^-2 m^-2 (condition number above 1e12, or too small to invert)"
+            f"baselines {b.shape} and los {s.shape} do not fix the attitude: the Fisher information has "
+            f"eigenvalues {eig[0]:.3e} to {eig[-1]:.3e} rad^-2 m^-2 (condition number above 1e12, or too "
+            "small to invert); expected baselines not all parallel and los not all parallel"
         )
     return dop

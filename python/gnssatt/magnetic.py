@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import constants as _constants
-from gnssatt._arrays import checked_array, integer, plain_array, scalar, vector_array
+from gnssatt._arrays import batch_limit, checked_array, integer, plain_array, scalar, vector_array
 from gnssatt.errors import InvalidInputError, WorkLimitError
 
 # One geodetic -> ECEF conversion, in the base layer.
@@ -43,6 +43,7 @@ __all__ = [
     "EARTH_DIPOLE_T_M3",
     "IGRF_COEFFICIENTS",
     "IGRF_REFERENCE_RADIUS_M",
+    "MAX_DIPOLE_POINTS",
     "MAX_IGRF_TERMS",
     "dcm_ned_from_ecef",
     "dipole_coefficients",
@@ -81,6 +82,10 @@ IGRF_COEFFICIENTS = 195
 #: Most points x :data:`IGRF_COEFFICIENTS` one :func:`igrf_field_ecef` call evaluates: 2.5e7 (128,000
 #: points), measured at 70 us a point on the loaded 2-core build machine: about 9 s.
 MAX_IGRF_TERMS = 25_000_000
+#: Most points of one dipole-field call (:func:`dipole_field_ecef`, :func:`dipole_field_eci`,
+#: :func:`dipole_field_ned`, :func:`dipole_orbital`), counted from the shapes before anything is copied:
+#: 1-7 us a point on the loaded 2-core build machine (``docs/limits.md``), about 7 s at most.
+MAX_DIPOLE_POINTS = 2**20
 #: Points per ppigrf call (about 80 MB of its matrices).
 _IGRF_CHUNK = 8192
 
@@ -134,6 +139,7 @@ def dipole_orbital(
     array([[ 1.,  0.,  0.],
            [ 0.,  0., -2.]])
     """
+    batch_limit(MAX_DIPOLE_POINTS, "MAX_DIPOLE_POINTS", "points", u=(u, 0), radius=(radius, 0))
     u = checked_array("u", u, ndim=_ANY_NDIM, shape="(...)")
     r = _radii("radius", checked_array("radius", radius, ndim=_ANY_NDIM, shape="(...)"))
     inclination = scalar("inclination", inclination, minimum=0.0, maximum=np.pi, unit="rad")
@@ -325,6 +331,7 @@ def dipole_field_ecef(position_ecef_m: ArrayLike, decimal_year: float) -> NDArra
 
 
 def _positions(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    batch_limit(MAX_DIPOLE_POINTS, "MAX_DIPOLE_POINTS", "points", **{name: (value, 1)})
     r = vector_array(name, value, ndim=_ANY_NDIM[1:], shape="(..., 3)")
     with np.errstate(over="ignore"):  # a radius beyond float64 is refused as out of range
         _radii(name, np.linalg.norm(r, axis=-1))
@@ -426,6 +433,14 @@ def dipole_field_ned(
     >>> bool(np.isclose(np.linalg.norm(ned), np.linalg.norm(ecef), rtol=1e-12, atol=0.0)), bool(ned[2] > 0)
     (True, True)
     """
+    batch_limit(
+        MAX_DIPOLE_POINTS,
+        "MAX_DIPOLE_POINTS",
+        "points",
+        lat_deg=(lat_deg, 0),
+        lon_deg=(lon_deg, 0),
+        height_m=(height_m, 0),
+    )
     # checked here first, under this function's names and its own bound on heights (the dipole needs
     # MIN_RADIUS_M from the centre), before frames' conversion checks them again
     _geodetic(lat_deg, lon_deg, height_m)

@@ -2,7 +2,7 @@
 pass, so every batch entry point must answer it within the hang limit, with a result or a refusal such as
 ``WorkLimitError``. The sweep (``benches/python/hostile_inputs.py``) broadcasts every numeric array argument
 of every entry to 10^6 and 10^7 rows; here, to keep the suite fast, the entry points whose work grows with
-the batch and that the issue found running for minutes, at 10^7 rows."""
+the batch and that the issue or the third sweep found running for minutes, at 10^7 rows."""
 
 from __future__ import annotations
 
@@ -20,6 +20,11 @@ BATCHES = [
     ("gnssatt.sim.line_of_sight", "t"),
     ("gnssatt.sim.simulate_array", "antennas_body_m"),
     ("gnssatt.gyro_propagate", "t"),
+    # the row limits of gnssatt._arrays.batch_limit: one of each kind of batch
+    ("gnssatt.wahba", "body"),
+    ("gnssatt.matrix_attitude", "baselines"),
+    ("gnssatt.sim.elevation_azimuth", "los_enu"),
+    ("gnssatt.attitude.dynamics.propagate", "t"),
 ]
 
 

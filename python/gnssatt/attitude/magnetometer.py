@@ -14,11 +14,15 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import finite_outputs, flag, float_array
+from gnssatt._arrays import batch_limit, finite_outputs, flag, float_array
 from gnssatt.attitude.wahba import checked_vectors, warn_small
 from gnssatt.errors import InvalidInputError
 
-__all__ = ["YawResult", "yaw_from_magnetometer"]
+__all__ = ["MAX_YAW_EPOCHS", "YawResult", "yaw_from_magnetometer"]
+
+#: Most epochs of one :func:`yaw_from_magnetometer` call, counted from the shapes before anything is copied:
+#: 40-50 us an epoch on the loaded 2-core build machine (``docs/limits.md``), about 12 s at the limit.
+MAX_YAW_EPOCHS = 2**18
 
 #: Warn when ``|cos(pitch)|`` is below this (eq. (3) divides by it).
 COS_PITCH_WARN = 1e-2
@@ -91,6 +95,8 @@ def yaw_from_magnetometer(
     DegenerateGeometryError
         ``cos(pitch)`` = 0, a vanishing horizontal field ``a_x0^2 + a_y0^2``, or a zero field; the message
         names the quantity and the epoch.
+    WorkLimitError
+        More than :data:`MAX_YAW_EPOCHS` epochs, refused before they are copied.
 
     Warns
     -----
@@ -115,6 +121,15 @@ def yaw_from_magnetometer(
     >>> round(result.horizontal_fraction, 6), round(float(np.sqrt(425 / 2025)), 6)
     (0.458123, 0.458123)
     """
+    batch_limit(
+        MAX_YAW_EPOCHS,
+        "MAX_YAW_EPOCHS",
+        "epochs",
+        b_body=(b_body, 1),
+        b_orbital=(b_orbital, 1),
+        pitch=(pitch, 0),
+        roll=(roll, 0),
+    )
     bb = checked_vectors("b_body", b_body)
     bo = checked_vectors("b_orbital", b_orbital)
     p = float_array("pitch", pitch, ndim=(0, 1), shape="() or (epochs,)")

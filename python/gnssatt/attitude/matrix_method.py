@@ -10,9 +10,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, finite_outputs, shaped
+from gnssatt._arrays import batch_limit, choice, finite_outputs, plain_array, shaped
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
-from gnssatt.geometry import MAX_BASELINE_M, checked_baselines
+from gnssatt.geometry import MAX_BASELINE_M, MAX_SIGNALS, checked_baselines
 
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
 
@@ -120,12 +120,22 @@ def matrix_attitude(
     >>> round(result.residual_rms_m, 9) + 0.0
     0.0
     """
+    # from the shapes, before anything is copied: range_diffs is (m, n) with m baselines and n lines of sight
+    batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "lines of sight", los=(los, 1))
     b = checked_baselines("baselines", baselines)
     if len(b) < 2:
         raise InvalidInputError(f"expected baselines of shape (m, 3) with m >= 2, got {b.shape}")
     s = shaped("los", los, "(n, 3)", (None, 3))
     if len(s) < 2:
         raise InvalidInputError(f"expected los of shape (n, 3) with n >= 2, got {s.shape}")
+    raw = plain_array("range_diffs", range_diffs)
+    shape = raw.shape
+    if raw.dtype.kind in "iuf" and shape != (len(b), len(s)):
+        # name the argument whose size differs from range_diffs' (m, n), not range_diffs alone
+        raise InvalidInputError(
+            f"expected range_diffs of shape (m, n) with m the rows of baselines and n those of los, i.e. "
+            f"({len(b)}, {len(s)}) for baselines {b.shape} and los {s.shape}, got range_diffs {shape}"
+        )
     r = shaped("range_diffs", range_diffs, f"(m, n) = ({len(b)}, {len(s)})", (len(b), len(s)))
     method = choice("method", method, METHODS)
     if np.any(np.abs(r) > MAX_BASELINE_M):

@@ -18,10 +18,10 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import choice, finite_outputs, float_array, shaped
+from gnssatt._arrays import MAX_BATCH_ROWS, batch_limit, choice, finite_outputs, float_array, shaped
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError, NearDegenerateWarning
 
-__all__ = ["QUEST_MAX_WEIGHT_SPAN", "TriadResult", "WahbaResult", "triad", "wahba"]
+__all__ = ["MAX_VECTOR_PAIRS", "QUEST_MAX_WEIGHT_SPAN", "TriadResult", "WahbaResult", "triad", "wahba"]
 
 Method = Literal["svd", "davenport", "quest"]
 METHODS: tuple[Method, ...] = ("svd", "davenport", "quest")
@@ -35,6 +35,10 @@ WAHBA_WARN_RATIO = 1e-4
 #: beyond about 1e6 QUEST's characteristic quartic returns wrong rotations (``tests/test_vector_attitude.py``
 #: measures it against scipy's ``Rotation.align_vectors``).
 QUEST_MAX_WEIGHT_SPAN = 1e5
+#: Most vector pairs of one :func:`wahba` call (epochs x pairs), counted from the shapes before they are
+#: copied: 16 us an epoch of 2-3 pairs plus 2 us a pair of intake (``docs/limits.md``) make about 8 s at
+#: two pairs an epoch. TRIAD takes :data:`gnssatt._arrays.MAX_BATCH_ROWS` epochs.
+MAX_VECTOR_PAIRS = 2**20
 
 
 def warn_small(values: NDArray[np.float64], limit: float, what: str) -> None:
@@ -106,6 +110,8 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
         Wrong shapes or non-finite values.
     DegenerateGeometryError
         A zero vector, or ``b1 || b2`` or ``r1 || r2`` (sine of the angle at most 1e-10); names the epoch.
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_ROWS` epochs, refused before they are copied.
 
     Warns
     -----
@@ -127,6 +133,7 @@ def triad(b1: ArrayLike, b2: ArrayLike, r1: ArrayLike, r2: ArrayLike) -> TriadRe
     >>> round(result.sin_angle_body, 6)  # 45 deg between b1 and b2
     0.707107
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "epochs", b1=(b1, 1), b2=(b2, 1), r1=(r1, 1), r2=(r2, 1))
     arrs = [rescaled(checked_vectors(n, v)) for n, v in (("b1", b1), ("b2", b2), ("r1", r1), ("r2", r2))]
     single = all(a.ndim == 1 for a in arrs)
     try:
@@ -214,6 +221,8 @@ def wahba(
         Weights spanning more than :data:`QUEST_MAX_WEIGHT_SPAN` with ``method="quest"``; wrong shapes,
         non-finite values, negative weights, weights all zero, an unknown ``method``
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers or text).
+    WorkLimitError
+        More than :data:`MAX_VECTOR_PAIRS` vector pairs, refused before they are copied.
     DegenerateGeometryError
         A zero vector, or reference vectors all parallel (among the pairs with non-negligible weights);
         the message names ``body``, ``ref`` and ``weights`` and the epoch.
@@ -248,6 +257,14 @@ def wahba(
            [0. , 1. , 0. ],
            [0. , 0. , 0.5]])
     """
+    batch_limit(
+        MAX_VECTOR_PAIRS,
+        "MAX_VECTOR_PAIRS",
+        "vector pairs",
+        body=(body, 1),
+        ref=(ref, 1),
+        weights=(weights, 0),
+    )
     b = rescaled(shaped("body", body, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
     r = rescaled(shaped("ref", ref, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
     method = choice("method", method, METHODS)

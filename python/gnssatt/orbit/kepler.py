@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import checked_array, integer, readonly, scalar, time_array
+from gnssatt._arrays import MAX_BATCH_ROWS, batch_limit, checked_array, integer, readonly, scalar, time_array
 from gnssatt.constants import GM_M3_S2
 from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError
 from gnssatt.frames import matvec, rot_x, rot_z
@@ -87,6 +87,13 @@ def solve_kepler(
     >>> round(float(solve_kepler(np.pi, 0.7)), 12)
     3.14159265359
     """
+    batch_limit(
+        MAX_BATCH_ROWS,
+        "MAX_BATCH_ROWS",
+        "anomalies",
+        mean_anomaly_rad=(mean_anomaly_rad, 0),
+        eccentricity=(eccentricity, 0),
+    )
     m = checked_array("mean_anomaly_rad", mean_anomaly_rad, ndim=(0, 1, 2, 3), shape="(...)")
     e = checked_array("eccentricity", eccentricity, ndim=(0, 1, 2, 3), shape="(...)")
     if np.any((e < 0) | (e >= 1)):

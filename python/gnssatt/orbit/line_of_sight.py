@@ -20,6 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import (
+    MAX_BATCH_ROWS,
+    batch_limit,
     checked_array,
     finite_result,
     instance,
@@ -257,6 +259,7 @@ def los_body(los: ArrayLike, attitude: Rotation) -> NDArray[np.float64]:
     >>> np.round(los_body([[0.0, 1.0, 0.0]], attitude), 6) + 0.0
     array([[1., 0., 0.]])
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "lines of sight", los=(los, 1))
     g = vector_array("los", los, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
     m = attitude_matrices(attitude, g.shape[0] if g.ndim == 3 else None)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below, as an error
@@ -297,6 +300,7 @@ def elevation_azimuth(los_enu: ArrayLike) -> tuple[NDArray[np.float64], NDArray[
     >>> np.round(np.degrees(el), 6) + 0.0, np.round(np.degrees(az), 6) + 0.0
     (array([45.,  0.]), array([45., 90.]))
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "lines of sight", los_enu=(los_enu, 1))
     g = vector_array("los_enu", los_enu, ndim=(1, 2, 3), shape="(..., 3)", nonzero=True)
     el = np.arcsin(np.clip(g[..., 2] / np.linalg.norm(g, axis=-1), -1.0, 1.0))
     az = np.arctan2(g[..., 0], g[..., 1]) % (2.0 * np.pi)

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import float_array, scalar, vector_array
+from gnssatt._arrays import MAX_BATCH_ROWS, batch_limit, float_array, scalar, vector_array
 from gnssatt.constants import WGS84_A_M
 from gnssatt.errors import InvalidInputError
 from gnssatt.orbit.line_of_sight import los_body
@@ -49,6 +49,7 @@ def elevation_mask(los_ref: ArrayLike, mask_deg: float = 0.0) -> NDArray[np.bool
     >>> elevation_mask(los, 15.0)
     array([False,  True])
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "lines of sight", los_ref=(los_ref, 1))
     g = vector_array("los_ref", los_ref, ndim=(1, 2, 3), shape="(..., 3)", nonzero=True)
     m = scalar("mask_deg", mask_deg)
     if abs(m) > 90:
@@ -102,6 +103,7 @@ def antenna_cone_mask(
     >>> antenna_cone_mask(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]), attitude, half_angle_deg=30.0)
     array([False,  True])
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "lines of sight", los_ref=(los_ref, 1))
     b = float_array("boresight_body", boresight_body, ndim=1, shape="(3,)")
     if b.shape != (3,) or np.linalg.norm(b) < 1e-12:
         raise InvalidInputError(f"expected a non-zero boresight_body of shape (3,), got {b.tolist()}")
@@ -159,6 +161,13 @@ def earth_occlusion_mask(
     >>> earth_occlusion_mask(receiver, [[6.45e6, 1e7, 0.0]], atmosphere_m=100e3)
     array([False])
     """
+    batch_limit(
+        MAX_BATCH_ROWS,
+        "MAX_BATCH_ROWS",
+        "positions",
+        receiver_m=(receiver_m, 1),
+        satellites_m=(satellites_m, 1),
+    )
     r = float_array("receiver_m", receiver_m, ndim=(1, 2), shape="(3,) or (n_t, 3)")
     s = float_array("satellites_m", satellites_m, ndim=(2, 3), shape="(n_sat, 3) or (n_t, n_sat, 3)")
     if r.shape[-1] != 3 or s.shape[-1] != 3 or r.ndim + 1 != s.ndim:

@@ -1,29 +1,6 @@
-"""Rotation of a tumbling spacecraft from its antenna-axis directions (Belokonov et al., 2019).
-
-Euler's equations with gravity-gradient and aerodynamic torques and quaternion kinematics relative to the
-orbital frame (eqs. (3)-(4)) run in the Rust core (``gnssatt._core.tumble_*``, RK4, rayon over initial
-states). The initial state ``b = (psi, alpha, phi, wx, wy, wz)`` is fitted to axis directions collected
-over an interval by differential evolution (eq. (1), scipy's ``differential_evolution`` with a vectorised
-objective and the paper's stopping rule), which searches on long RK4 steps (about 5 s, axes interpolated)
-and is polished on the objective at the requested step. Given the axis noise, a fit whose objective
-exceeds what the noise explains (:func:`noise_cost_threshold`) is a local minimum and is restarted
-(:func:`fit_rotation`).
-
-Frames and angles (``docs/conventions.md``, Belokonov et al.):
-
-- orbital frame of the library: x along-track, y orbit normal, z radial (zenith). The paper's orbital frame
-  ``X0`` (radial), ``Y0`` (along-track), ``Z0`` (normal) is the same triad relabelled:
-  ``(x, y, z) = (Y0, Z0, X0)``. Axes and rotations returned here are in the library's orbital frame.
-- body frame: the paper's principal axes ``Xc, Yc, Zc``; the antenna (longitudinal) axis is ``Yc``.
-- angles: precession ``psi`` about ``Y0``, attack ``alpha`` about ``Z0'``, spin ``phi`` about ``Y0''``,
-  intrinsic ``YZY`` in the paper's orbital axes: ``dcm_orb0_from_body = R_y(psi) R_z(alpha) R_y(phi)``,
-  so ``cos(alpha)`` is the axis component along the velocity.
-- rates: the absolute (inertial) angular velocity in body axes, rad/s, as in eqs. (3).
-
-Every rotation by pi about ``Yc`` maps one solution onto another when the centre of pressure lies on
-``Yc`` (the default): ``(psi, alpha, phi + pi, -wx, wy, -wz)`` gives the same axis history; see
-:func:`fold_symmetric`.
-"""
+"""The fit of the tumble model's initial state to axis directions (eq. (1)): differential evolution on long
+RK4 steps, polished at the requested step, restarted while the objective exceeds what the axis noise
+explains (:func:`noise_cost_threshold`)."""
 
 from __future__ import annotations
 
@@ -38,36 +15,29 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 from gnssatt import _core
-from gnssatt import constants as _constants
-from gnssatt._arrays import finite_result, float_array, instance, integer, scalar, text, vector_array
+from gnssatt._arrays import (
+    finite_result,
+    integer,
+    scalar,
+    text,
+    vector_array,
+)
+from gnssatt.attitude.dynamics._intake import (
+    checked_times,
+    checked_work,
+    default_model,
+    grid_steps,
+)
+from gnssatt.attitude.dynamics.model import (
+    DCM_ORBITAL_FROM_ORB0,
+    MAX_RATE_RAD_S,
+    TumbleModel,
+)
+from gnssatt.attitude.dynamics.propagation import propagate_axes
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 
-__all__ = [
-    "RotationFit",
-    "TumbleModel",
-    "TumbleTrajectory",
-    "axis_cost",
-    "fit_rotation",
-    "fold_symmetric",
-    "noise_cost_threshold",
-    "propagate",
-    "propagate_axes",
-]
-
-GM_M3_S2 = _constants.GM_M3_S2
-EARTH_RADIUS_M = _constants.WGS84_A_M
-# Library orbital (x along, y normal, z radial) from the paper's (X0 radial, Y0 along, Z0 normal).
-DCM_ORBITAL_FROM_ORB0 = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
-MAX_RATE_RAD_S = math.radians(3.0)
 # Fewest epochs accepted by the fit: six unknowns, two independent components per axis direction.
 MIN_EPOCHS = 3
-#: Most RK4 steps of one propagation call, all initial states together (the core's limit, about 10 s of
-#: one core); a fit's population (``popsize * 6`` states) counts once per generation.
-MAX_RK4_STEPS = int(_core.DYNAMICS_MAX_RK4_STEPS)
-#: Largest rotation per RK4 step, ``|omega| h`` in rad, at the initial rates: RK4 on a rotation loses
-#: stability near 2.8 rad per step and accuracy long before (this bound keeps the angle error per step
-#: below about 1e-2 rad); beyond it the integration is refused rather than left to produce NaN.
-MAX_ROTATION_PER_STEP_RAD = float(_core.DYNAMICS_MAX_ROTATION_PER_STEP_RAD)
 #: Rotation per RK4 step of the fit's global search at the search box's fastest rate, rad (see
 #: ``search_step_s`` of :func:`fit_rotation`): RK4's local error ``(omega h)^5 / 120`` is 1.5e-4 rad.
 SEARCH_TURN_RAD = 0.45
@@ -79,412 +49,6 @@ MAX_RESTARTS = 100
 #: Most RK4 steps of one :func:`fit_rotation` at its generation cap, all runs together (about 20 minutes
 #: of one core; the default settings on 1500 one-second epochs need 5.4e8).
 MAX_FIT_RK4_STEPS = 10_000_000_000
-
-
-@dataclass(frozen=True)
-class TumbleModel:
-    """Parameters of eqs. (3)-(4); SI units.
-
-    The default is an assumed 3U-class nanosatellite (the paper does not list its parameters) on a
-    circular 500 km orbit: principal moments (0.035, 0.008, 0.030) kg m^2 with the antenna axis ``Yc``
-    the axis of least inertia, drag coefficient 2.2, area 0.03 m^2, density 5e-13 kg/m^3, centre of
-    pressure 2 cm behind the centre of mass along ``Yc``.
-
-    Attributes
-    ----------
-    inertia_kg_m2
-        Principal moments ``(Ix, Iy, Iz)``, kg m^2. Gravity gradient depends only on the ratios
-        ``Ix/Iz``, ``Iy/Iz`` (the paper's dimensionless coefficients); the scale matters for drag.
-    orbital_rate_rad_s
-        Orbital rate ``w0 = sqrt(mu / r^3)``, rad/s; the gravity-gradient coefficient is ``3 w0^2``.
-    gravity_gradient
-        Whether the gravity-gradient torque acts (the orbital frame turns at ``w0`` regardless).
-    density_kg_m3, drag_coefficient, area_m2
-        Drag ``F = -0.5 rho Cd S |V| V`` (constant area).
-    cp_offset_m
-        Centre of pressure minus centre of mass, body axes, m.
-    speed_m_s
-        Orbital speed, m/s (the atmosphere is taken at rest).
-    """
-
-    orbital_rate_rad_s: float
-    speed_m_s: float
-    inertia_kg_m2: tuple[float, float, float] = (0.035, 0.008, 0.030)
-    gravity_gradient: bool = True
-    density_kg_m3: float = 5e-13
-    drag_coefficient: float = 2.2
-    area_m2: float = 0.03
-    cp_offset_m: tuple[float, float, float] = (0.0, -0.02, 0.0)
-
-    def __post_init__(self) -> None:
-        for name in ("orbital_rate_rad_s", "speed_m_s", "density_kg_m3", "drag_coefficient", "area_m2"):
-            object.__setattr__(self, name, scalar(name, getattr(self, name), minimum=0.0))
-        inertia = vector_array("inertia_kg_m2", self.inertia_kg_m2, ndim=1, shape="(3,)")
-        ix, iy, iz = inertia
-        tol = 1e-12 * (ix + iy + iz)  # the core's tolerance: a thin plate has ix + iy = iz to rounding
-        if inertia.min() <= 0 or ix + iy < iz - tol or iy + iz < ix - tol or iz + ix < iy - tol:
-            raise InvalidInputError(
-                f"expected inertia_kg_m2 as positive principal moments obeying the triangle inequality, "
-                f"got {inertia.tolist()}"
-            )
-        cp = vector_array("cp_offset_m", self.cp_offset_m, ndim=1, shape="(3,)")
-        if not isinstance(self.gravity_gradient, bool | np.bool_):
-            raise InvalidTypeError(
-                f"expected gravity_gradient as a bool, got {type(self.gravity_gradient).__name__}"
-            )
-        object.__setattr__(self, "inertia_kg_m2", tuple(float(v) for v in inertia))
-        object.__setattr__(self, "cp_offset_m", tuple(float(v) for v in cp))
-
-    @classmethod
-    def circular(cls, altitude_m: float = 500e3, **kwargs: Any) -> TumbleModel:
-        """The model on a circular orbit of ``altitude_m`` above a 6378137 m sphere (altitude in
-        (-6378137, 1e12] m)."""
-        r = EARTH_RADIUS_M + scalar("altitude_m", altitude_m, maximum=1e12, unit="m")
-        if not r > 0:
-            raise InvalidInputError(f"expected altitude_m above -6378137 m, got {altitude_m}")
-        return cls(orbital_rate_rad_s=math.sqrt(GM_M3_S2 / r**3), speed_m_s=math.sqrt(GM_M3_S2 / r), **kwargs)
-
-    def _kwargs(self) -> _core._TumbleModelArgs:
-        return {
-            "inertia_kg_m2": self.inertia_kg_m2,
-            "orbital_rate_rad_s": float(self.orbital_rate_rad_s),
-            "gravity_gradient": bool(self.gravity_gradient),
-            "density_kg_m3": float(self.density_kg_m3),
-            "drag_coefficient": float(self.drag_coefficient),
-            "area_m2": float(self.area_m2),
-            "cp_offset_m": self.cp_offset_m,
-            "speed_m_s": float(self.speed_m_s),
-        }
-
-
-def _default(model: TumbleModel | None) -> TumbleModel:
-    return instance("model", TumbleModel.circular() if model is None else model, TumbleModel, "a TumbleModel")
-
-
-def _times(t: ArrayLike) -> NDArray[np.float64]:
-    tt = float_array("t", t, ndim=1, shape="(n_t,)")
-    if tt.size and tt[0] < 0:
-        raise InvalidInputError(f"expected t >= 0 s from the initial epoch, got {tt[0]}")
-    if np.any(np.diff(tt) < 0):
-        i = int(np.flatnonzero(np.diff(tt) < 0)[0]) + 1
-        raise InvalidInputError(f"expected non-decreasing t, got {tt[i]} after {tt[i - 1]} at index {i}")
-    return tt
-
-
-def _checked_work(
-    n_states: int, t: NDArray[np.float64], step_s: Any, max_rate_rad_s: float, name: str = "step_s"
-) -> float:
-    """``step_s`` (the parameter ``name``) as a float after checking the work and the rotation per step,
-    before any propagation.
-
-    The core's grid: ``ceil(t[-1] / step_s)`` equal RK4 steps from 0 to the last time (times between grid
-    points are interpolated); ``max_rate_rad_s`` is the fastest rate of the batch (:func:`_max_rate`).
-    """
-    h = scalar(name, step_s, minimum=0.0, strict=True, unit="s")
-    per_state = _grid_steps(t, h)
-    steps = n_states * per_state
-    if steps > MAX_RK4_STEPS:
-        raise WorkLimitError(
-            f"{n_states} initial states over t up to {t[-1]} s in {name} = {h} s need {steps:.3g} RK4 steps, "
-            f"beyond the limit of {MAX_RK4_STEPS}; use a longer {name}, fewer times or fewer states"
-        )
-    h_eff = float(t[-1]) / per_state if per_state else 0.0
-    if max_rate_rad_s * h_eff > MAX_ROTATION_PER_STEP_RAD:
-        raise InvalidInputError(
-            f"{name}: expected |omega| * step <= {MAX_ROTATION_PER_STEP_RAD} rad for a stable RK4 "
-            f"integration, got rates up to {max_rate_rad_s} rad/s (params plus twice the orbital rate) in "
-            f"steps of {h_eff} s; "
-            f"use {name} <= {MAX_ROTATION_PER_STEP_RAD / max_rate_rad_s:.3g} s"
-        )
-    return h
-
-
-def _grid_steps(t: NDArray[np.float64], step_s: float) -> float:
-    """RK4 steps of one trajectory to the last of ``t``, as the core counts them (its 1e-9 slack keeps a
-    span that is a whole number of steps up to rounding from gaining a step)."""
-    end = float(t[-1]) if t.size else 0.0
-    # In floats: a subnormal step makes the count infinite, which the work limit then refuses.
-    return max(float(np.ceil(end / step_s - 1e-9)), 1.0) if end > 0 else 0.0
-
-
-def _finite(what: str, value: NDArray[np.float64], step_s: float) -> NDArray[np.float64]:
-    return finite_result(what, value, f"the integration diverged (step_s = {step_s} s); try a shorter step_s")
-
-
-def _max_rate(p: NDArray[np.float64], model: TumbleModel) -> float:
-    """Fastest initial rate (norm) of the batch plus twice the orbital frame's rate: the bound the core
-    applies (``|omega| + 2 w0``, the body's rate relative to the rotating orbital frame with margin), checked
-    here first so that a fit is refused before its first generation."""
-    rates = np.linalg.norm(np.atleast_2d(p)[:, 3:], axis=1)
-    return float(np.max(rates, initial=0.0)) + 2.0 * model.orbital_rate_rad_s
-
-
-def _params(p: Any, ndim: int | tuple[int, ...]) -> NDArray[np.float64]:
-    arr = float_array("params", p, ndim=ndim, shape="(6,) or (n, 6)" if ndim != 1 else "(6,)")
-    if arr.shape[-1:] != (6,):
-        raise InvalidInputError(
-            f"expected params of shape {'(6,)' if ndim == 1 else '(6,) or (n, 6)'}, got {arr.shape}"
-        )
-    return arr
-
-
-def propagate_axes(
-    params: ArrayLike, t: ArrayLike, model: TumbleModel | None = None, *, step_s: float = 1.0
-) -> NDArray[np.float64]:
-    """Antenna axis (library orbital frame, unit) of one or many initial states at times ``t``.
-
-    Parameters
-    ----------
-    params
-        (6,) or (n, 6): ``(psi, alpha, phi)`` rad (intrinsic ``YZY``, module docstring) and
-        ``(wx, wy, wz)`` rad/s (absolute, body axes) at ``t = 0``.
-    t
-        (n_t,) seconds from the initial epoch, non-decreasing, >= 0.
-    model
-        :class:`TumbleModel`; default ``TumbleModel.circular()``.
-    step_s
-        Longest RK4 step, s, > 0: equal steps from 0 to the last time; a time between steps gets the cubic
-        Hermite interpolant of its step (error of RK4's order). ``1.0`` keeps the axis within 1e-6 rad of
-        the converged solution over 1500 s at 3 deg/s; ``3.0`` within 1.3e-4 rad (measured, 50 random
-        states) at a third of the work.
-
-    Returns
-    -------
-    (n_t, 3) or (n, n_t, 3). The batch runs on rayon's pool (``RAYON_NUM_THREADS`` sets its size).
-
-    Raises
-    ------
-    InvalidInputError
-        Bad shapes, types or values; an initial rate so fast that a step turns the body by more than
-        ``MAX_ROTATION_PER_STEP_RAD`` (1 rad).
-    WorkLimitError
-        More than ``MAX_RK4_STEPS`` (1e8) RK4 steps, all states together (checked before any work).
-    ConvergenceError
-        The integration diverged (non-finite axes).
-
-    Examples
-    --------
-    Without torques (no gravity gradient, no drag) a body at rest in inertial space keeps its axis fixed
-    while the orbital frame turns at the orbital rate ``w0``: the axis, along-track at ``t = 0``, is radial a
-    quarter orbit later, ``a(t) = (cos w0 t, 0, sin w0 t)``:
-
-    >>> import numpy as np
-    >>> from gnssatt.attitude.dynamics import TumbleModel, propagate_axes
-    >>> free = TumbleModel.circular(500e3, gravity_gradient=False, density_kg_m3=0.0)
-    >>> quarter = np.pi / 2 / free.orbital_rate_rad_s  # s
-    >>> np.round(propagate_axes([0.0] * 6, [0.0, quarter], free, step_s=30.0), 6) + 0.0
-    array([[1., 0., 0.],
-           [0., 0., 1.]])
-    """
-    p = _params(params, (1, 2))
-    tt = _times(t)
-    mdl = _default(model)
-    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p, mdl))
-    out = _finite("the propagated axes", _core.tumble_axes(np.atleast_2d(p), tt, mdl._kwargs(), step_s=h), h)
-    return out[0] if p.ndim == 1 else out
-
-
-def axis_cost(
-    params: ArrayLike,
-    t: ArrayLike,
-    measured_axes: ArrayLike,
-    model: TumbleModel | None = None,
-    *,
-    step_s: float = 1.0,
-) -> NDArray[np.float64]:
-    """Objective (1): ``sum_k |a(t_k; b) - a_meas_k|^2`` for each row ``b`` of ``params`` (n, 6) -> (n,).
-
-    ``measured_axes`` is (n_t, 3); limits and errors as :func:`propagate_axes`.
-
-    Parameters
-    ----------
-    params
-        (6,) or (n, 6) initial states ``(psi, alpha, phi, wx, wy, wz)``, rad and rad/s, as
-        :func:`propagate_axes`.
-    t
-        (n_t,) seconds from the initial epoch, non-decreasing, >= 0.
-    measured_axes
-        (n_t, 3) measured antenna axes, library orbital frame (unit vectors: the objective compares them as
-        given).
-    model
-        :class:`TumbleModel`; default ``TumbleModel.circular()``.
-    step_s
-        Longest RK4 step, s, > 0 (as :func:`propagate_axes`).
-
-    Returns
-    -------
-    numpy.ndarray
-        (n,) objective of each state, dimensionless; (1,) for a single state.
-
-    Raises
-    ------
-    InvalidInputError
-        Bad shapes, types or values, ``measured_axes`` not (n_t, 3); an initial rate so fast that a step turns
-        the body by more than ``MAX_ROTATION_PER_STEP_RAD`` (1 rad).
-    WorkLimitError
-        More than ``MAX_RK4_STEPS`` RK4 steps, all states together (checked before any work).
-    ConvergenceError
-        The integration diverged (a non-finite objective).
-
-    Examples
-    --------
-    The objective of a state on its own axes is zero; reversing one measured axis adds ``|2 a|^2 = 4``:
-
-    >>> import numpy as np
-    >>> from gnssatt.attitude.dynamics import axis_cost, propagate_axes
-    >>> state = np.array([0.3, 1.0, 0.5, 0.01, 0.02, -0.015])  # rad, rad/s
-    >>> t = np.arange(0.0, 401.0, 20.0)  # s
-    >>> axes = propagate_axes(state, t)  # (21, 3), library orbital frame
-    >>> np.round(axis_cost(state, t, axes), 9) + 0.0
-    array([0.])
-    >>> axes[0] *= -1.0
-    >>> np.round(axis_cost(state, t, axes), 9)
-    array([4.])
-    """
-    p = _params(params, (1, 2))
-    tt = _times(t)
-    m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
-    if m.shape != (tt.size, 3):
-        raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
-    mdl = _default(model)
-    h = _checked_work(len(np.atleast_2d(p)), tt, step_s, _max_rate(p, mdl))
-    out = _core.tumble_cost(np.atleast_2d(p), tt, m, mdl._kwargs(), step_s=h)
-    out = _finite("the objective", out, h)
-    return out if p.ndim == 2 else out[:1]
-
-
-@dataclass(frozen=True)
-class TumbleTrajectory:
-    """One propagated state history.
-
-    Attributes
-    ----------
-    t
-        (n_t,) s from the initial epoch.
-    rotation
-        Body -> library orbital frame, one per epoch (``rotation.apply(v_body)`` is orbital coordinates).
-    omega_rad_s
-        (n_t, 3) absolute angular velocity, body axes, rad/s.
-    axis
-        (n_t, 3) antenna axis ``Yc`` in the library orbital frame.
-    """
-
-    t: NDArray[np.float64]
-    rotation: Rotation
-    omega_rad_s: NDArray[np.float64]
-    axis: NDArray[np.float64]
-
-
-def propagate(
-    params: ArrayLike, t: ArrayLike, model: TumbleModel | None = None, *, step_s: float = 1.0
-) -> TumbleTrajectory:
-    """Full state history of one initial state ``params`` (6,); limits and errors as
-    :func:`propagate_axes`.
-
-    Parameters
-    ----------
-    params
-        (6,) initial state ``(psi, alpha, phi)`` rad (intrinsic ``YZY``, module docstring) and
-        ``(wx, wy, wz)`` rad/s (absolute, body axes) at ``t = 0``.
-    t
-        (n_t,) seconds from the initial epoch, non-decreasing, >= 0.
-    model
-        :class:`TumbleModel`; default ``TumbleModel.circular()``.
-    step_s
-        Longest RK4 step, s, > 0 (as :func:`propagate_axes`).
-
-    Returns
-    -------
-    TumbleTrajectory
-        At ``t``: the body -> library orbital rotation, the absolute rate in body axes (rad/s) and the
-        antenna axis ``Yc`` in the library orbital frame.
-
-    Raises
-    ------
-    InvalidInputError
-        Bad shapes, types or values; an initial rate so fast that a step turns the body by more than
-        ``MAX_ROTATION_PER_STEP_RAD`` (1 rad).
-    WorkLimitError
-        More than ``MAX_RK4_STEPS`` RK4 steps (checked before any work).
-    ConvergenceError
-        The integration diverged (a non-finite state).
-
-    Examples
-    --------
-    Without torques a spin about the principal axis ``Yc`` keeps its rate, and the spin axis stays fixed in
-    inertial space: along-track at ``t = 0``, radial a quarter orbit later:
-
-    >>> import numpy as np
-    >>> from gnssatt.attitude.dynamics import TumbleModel, propagate
-    >>> free = TumbleModel.circular(500e3, gravity_gradient=False, density_kg_m3=0.0)
-    >>> quarter = np.pi / 2 / free.orbital_rate_rad_s  # s
-    >>> path = propagate([0.0, 0.0, 0.0, 0.0, 0.02, 0.0], [0.0, quarter], free, step_s=10.0)
-    >>> np.round(path.omega_rad_s, 6) + 0.0
-    array([[0.  , 0.02, 0.  ],
-           [0.  , 0.02, 0.  ]])
-    >>> np.round(path.axis, 4) + 0.0
-    array([[1., 0., 0.],
-           [0., 0., 1.]])
-    """
-    p = _params(params, 1)
-    tt = _times(t)
-    mdl = _default(model)
-    h = _checked_work(1, tt, step_s, _max_rate(p, mdl))
-    out = _finite("the propagated state", _core.tumble_states(p, tt, mdl._kwargs(), step_s=h), h)
-    rot = Rotation.from_matrix(DCM_ORBITAL_FROM_ORB0) * Rotation.from_quat(out[:, :4])
-    return TumbleTrajectory(t=tt, rotation=rot, omega_rad_s=out[:, 4:], axis=rot.apply([0.0, 1.0, 0.0]))
-
-
-def fold_symmetric(params: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
-    """Of ``params`` and its mirror ``(psi, alpha, phi + pi, -wx, wy, -wz)``, the one nearer ``reference``.
-
-    The two give the same axis history when the inertia is diagonal and the centre of pressure lies on
-    ``Yc``; nearness is measured on wrapped angles (rad) plus rates scaled by 1000 s.
-
-    Parameters
-    ----------
-    params
-        (6,) state ``(psi, alpha, phi, wx, wy, wz)``, rad and rad/s.
-    reference
-        (6,) state to compare with, same units (e.g. the truth in a simulation).
-
-    Returns
-    -------
-    numpy.ndarray
-        (6,) ``params`` or its mirror, whichever is nearer ``reference``.
-
-    Raises
-    ------
-    InvalidInputError
-        Shapes other than (6,), non-finite values (:class:`~gnssatt.errors.InvalidTypeError` for values that
-        are not real numbers).
-
-    Examples
-    --------
-    A reference near the mirror selects it; the two states give the same axis history under the default model
-    (centre of pressure on ``Yc``):
-
-    >>> import numpy as np
-    >>> from gnssatt.attitude.dynamics import fold_symmetric, propagate_axes
-    >>> state = np.array([0.3, 1.0, 0.5, 0.01, 0.02, -0.015])  # rad, rad/s
-    >>> mirror = fold_symmetric(state, [0.3, 1.0, 3.6, -0.01, 0.02, 0.015])
-    >>> np.round(mirror - state, 6) + 0.0  # phi + pi, -wx, -wz
-    array([ 0.      ,  0.      ,  3.141593, -0.02    ,  0.      ,  0.03    ])
-    >>> t = np.arange(0.0, 401.0, 20.0)  # s
-    >>> bool(np.allclose(propagate_axes(mirror, t), propagate_axes(state, t), atol=1e-8))
-    True
-    """
-    p = _params(params, 1)
-    ref = float_array("reference", reference, ndim=1, shape="(6,)")
-    if ref.shape != (6,):
-        raise InvalidInputError(f"expected reference of shape (6,), got {ref.shape}")
-    mirror = p * np.array([1.0, 1.0, 1.0, -1.0, 1.0, -1.0]) + np.array([0.0, 0.0, math.pi, 0.0, 0.0, 0.0])
-
-    def dist(q: NDArray[np.float64]) -> float:
-        da = (q[:3] - ref[:3] + math.pi) % (2 * math.pi) - math.pi
-        return float(np.sum(da**2) + np.sum((1000.0 * (q[3:] - ref[3:])) ** 2))
-
-    return p if dist(p) <= dist(mirror) else mirror
 
 
 def noise_cost_threshold(n_epochs: int, axis_sigma_deg: float, false_restart: float = 1e-3) -> float:
@@ -935,7 +499,7 @@ def fit_rotation(
     >>> bool(fit.residual_rms_deg < 0.01)
     True
     """
-    tt = _times(t)
+    tt = checked_times(t)
     m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
     if m.shape != (tt.size, 3):
         raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
@@ -993,15 +557,15 @@ def fit_rotation(
     }
     w = scalar("max_rate_rad_s", max_rate_rad_s, minimum=0.0, strict=True)
     m = np.ascontiguousarray(m / norm[:, None])
-    mdl = _default(model)
+    mdl = default_model(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
     box_rate = math.sqrt(3.0) * w + 2.0 * mdl.orbital_rate_rad_s
-    step_s = _checked_work(1, tt, step_s, box_rate)
+    step_s = checked_work(1, tt, step_s, box_rate)
     if search_step_s is None:
         search_step_s = max(step_s, SEARCH_TURN_RAD / box_rate)
-    search_step_s = _checked_work(opts["popsize"] * 6, tt, search_step_s, box_rate, "search_step_s")
+    search_step_s = checked_work(opts["popsize"] * 6, tt, search_step_s, box_rate, "search_step_s")
     # The whole fit at its generation cap: every run, every generation, the whole population.
-    per_state = _grid_steps(tt, min(step_s, search_step_s))
+    per_state = grid_steps(tt, min(step_s, search_step_s))
     total = (opts["maxiter"] + 1) * opts["popsize"] * 6 * (max_restarts + 1) * per_state
     if total > MAX_FIT_RK4_STEPS:
         raise WorkLimitError(
