@@ -202,3 +202,46 @@ def test_bad_input_and_work_limit(tmp_path: Path) -> None:
         Blockage(outages_s=((5.0, 1.0),))
     with pytest.raises(InvalidInputError, match="n_antennas"):
         sim.car(tmp_path, n_antennas=4, duration_s=1.0)
+
+
+@pytest.fixture(scope="module")
+def rc():  # type: ignore[no-untyped-def]
+    """``benches/python/rtklib_compare.py`` as a module (its platform metrics)."""
+    import importlib.util
+    import sys
+
+    script = Path(__file__).resolve().parents[1] / "benches" / "python" / "rtklib_compare.py"
+    spec = importlib.util.spec_from_file_location("rtklib_compare_platforms", script)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules["rtklib_compare_platforms"] = mod  # dataclasses look their module up
+    spec.loader.exec_module(mod)
+    yield mod
+    del sys.modules["rtklib_compare_platforms"]
+
+
+def test_platform_metrics_of_a_hand_made_run(rc) -> None:  # type: ignore[no-untyped-def]
+    # ten epochs at 1 s, truth 1 m north; an outage ends at 5 s; solved at 1-8, fixed at 2, 3, 6, 7
+    time_s = 1000.0 + np.arange(10.0)
+    truth = np.tile([0.0, 1.0, 0.0], (10, 1))
+    t = time_s[1:9]
+    enu = np.tile([0.0, 1.0, 0.0], (8, 1))
+    enu[5] = [0.1, 1.0, 0.0]  # epoch 6: 0.1 m east, heading 5.711 deg (atan 0.1), a wrong fix at 5 cm
+    enu[0] = [1.0, 0.0, 0.0]  # epoch 1, float: 90 deg off
+    fixed = np.isin(np.arange(1, 9), [2, 3, 6, 7])
+    sol = rc.Solutions(t, enu, fixed, "test")
+    m = rc.platform_metrics(sol, time_s, truth, [1005.0], 0.05)
+    assert m["fix_rate"] == 0.4 and m["fixed"] == 4 and m["solved"] == 8
+    assert m["wrong_fixes"] == 1
+    assert m["first_fix_s"] == 2.0 and m["refix_s"] == 1.0 and m["refix_missed"] == 0
+    assert m["heading_rms_fixed_deg"] == pytest.approx(np.sqrt(np.degrees(np.arctan(0.1)) ** 2 / 4))
+    assert m["heading_rms_all_deg"] == pytest.approx(np.sqrt((np.degrees(np.arctan(0.1)) ** 2 + 90.0**2) / 8))
+    never = rc.platform_metrics(sol, time_s, truth, [1008.5], 0.05)
+    assert never["refix_s"] is None and never["refix_missed"] == 1
+    # the pair of two base -> antenna solutions: the common epochs, fixed where both are
+    a = rc.Solutions(t[:4], np.zeros((4, 3)), np.array([True, True, False, True]), "pos")
+    b = rc.Solutions(t[1:], np.ones((7, 3)), np.ones(7, dtype=bool), "pos")
+    pair = rc.pair_solutions(a, b)
+    np.testing.assert_array_equal(pair.time_s, t[1:4])
+    np.testing.assert_array_equal(pair.fixed, [True, False, True])
+    np.testing.assert_array_equal(pair.enu_m, np.ones((3, 3)))
