@@ -57,10 +57,11 @@ __all__ = [
     "simulate_platform",
 ]
 
-#: Largest epochs x satellites x receivers (antennas and base) of one call: the geometry is computed at
-#: three instants per cell (the Doppler's central difference), about 15 us a cell on the shared 2-core
-#: machine, so the limit is near 30 s of work and 1.5 GB of intermediate arrays.
-MAX_PLATFORM_OBSERVATIONS = 2_000_000
+#: Largest epochs x satellites of the systems simulated x receivers (antennas and base) of one call,
+#: counted before any work. Measured on the shared 2-core machine at load 11: 15.7 s for the car preset
+#: with every system, three antennas and a base over 60 s (601 x 99 x 4 = 238 000 counted), two thirds
+#: of it writing the RINEX text; the limit is about a minute there and some 300 MB of arrays.
+MAX_PLATFORM_OBSERVATIONS = 1_000_000
 #: Largest number of legs of a trajectory and of outage or tree-lined windows (bounds the Python loops).
 MAX_LEGS = 10_000
 #: Largest speed (m/s), turn rate (deg/s), climb rate (m/s) and lever arm (m) accepted: a jet, a car
@@ -460,6 +461,24 @@ def simulate_platform(
     WorkLimitError
         Epochs x satellites x receivers above ``MAX_PLATFORM_OBSERVATIONS``, or a session longer than
         ``MAX_SPAN_S``.
+
+    Examples
+    --------
+    Two antennas 2 m apart along the nose of a platform driving north at 5 m/s, no base:
+
+    >>> import tempfile
+    >>> import numpy as np
+    >>> from gnssatt import sim
+    >>> traj = sim.Trajectory((sim.Leg(10.0, 5.0),), heading0_deg=0.0)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     run = sim.simulate_platform(
+    ...         folder, traj, [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]], duration_s=2.0, interval_s=1.0,
+    ...         base_offset_enu_m=None, rng=1,
+    ...     )
+    >>> run.base_path is None, run.position_enu_m[:, 1].tolist()
+    (True, [0.0, 5.0, 10.0])
+    >>> bool(np.allclose(run.baselines_enu_m[:, 0], [0.0, 2.0, 0.0]))
+    True
     """
     from gnssatt.rinex.nav import gps_ns, read_nav
     from gnssatt.rinex.signals import slot_frequency_hz
@@ -732,6 +751,21 @@ def car(
     ------
     InvalidTypeError, InvalidInputError, WorkLimitError
         As :func:`simulate_platform`; ``turn_radius_m`` not in [1, 1e4] m.
+
+    Examples
+    --------
+    A one-second session: its first outage (3 s from 55 % of the session) leaves 6 of the 11 epochs at the
+    antennas, all 11 at the base:
+
+    >>> import tempfile
+    >>> from gnssatt import sim
+    >>> from gnssatt.rinex import read_obs
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     run = sim.car(folder, n_antennas=3, duration_s=1.0, rng=1)
+    ...     names = [p.name for p in (*run.obs_paths, run.base_path)]
+    ...     n_epochs = [len(read_obs(p).time) for p in (run.obs_paths[0], run.base_path)]
+    >>> names, n_epochs, round(float(run.heading_deg[0]), 6)
+    (['ant0.rnx', 'ant1.rnx', 'ant2.rnx', 'base.rnx'], [6, 11], 30.0)
     """
     speed = _checked("speed_m_s", speed_m_s, 0.1, MAX_SPEED_M_S, "m/s")
     radius = _checked("turn_radius_m", turn_radius_m, 1.0, 1e4, "m")
@@ -803,6 +837,17 @@ def ship(
     ------
     InvalidTypeError, InvalidInputError, WorkLimitError
         As :func:`simulate_platform`.
+
+    Examples
+    --------
+    The roll reaches its amplitude a quarter of its 8 s period in:
+
+    >>> import tempfile
+    >>> from gnssatt import sim
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     run = sim.ship(folder, duration_s=2.0, rng=1)
+    >>> [round(float(x), 3) for x in run.roll_deg]
+    [0.0, 10.607, 15.0]
     """
     d = _checked("duration_s", duration_s, 0.0, MAX_SPAN_S, "s")
     legs = (Leg(d / 3, 6.0), Leg(60.0, 6.0, 1.0), Leg(d, 6.0))
@@ -865,6 +910,17 @@ def aircraft(
     ------
     InvalidTypeError, InvalidInputError, WorkLimitError
         As :func:`simulate_platform`.
+
+    Examples
+    --------
+    The climb's flight-path angle ``atan(4 / 60)``:
+
+    >>> import tempfile
+    >>> from gnssatt import sim
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     run = sim.aircraft(folder, duration_s=1.0, rng=1)
+    >>> round(float(run.pitch_deg[0]), 3), round(float(run.position_enu_m[0, 2]), 1)
+    (3.814, 300.0)
     """
     d = _checked("duration_s", duration_s, 0.0, MAX_SPAN_S, "s")
     v = _checked("speed_m_s", speed_m_s, 1.0, MAX_SPEED_M_S, "m/s")
