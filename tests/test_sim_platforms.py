@@ -200,6 +200,10 @@ def test_bad_input_and_work_limit(tmp_path: Path) -> None:
         Trajectory((Leg(1.0, 1e4),))
     with pytest.raises(InvalidInputError, match="outages_s"):
         Blockage(outages_s=((5.0, 1.0),))
+    with pytest.raises(InvalidInputError, match="systems"):
+        NoiseProfile("GX", 1, (0.2, 0.2), (0.002, 0.002), 0.1, 0.0)
+    with pytest.raises(InvalidInputError, match="phase_sigma_m"):
+        NoiseProfile("G", 1, (0.2, 0.2), (-0.002, 0.002), 0.1, 0.0)
     with pytest.raises(InvalidInputError, match="n_antennas"):
         sim.car(tmp_path, n_antennas=4, duration_s=1.0)
 

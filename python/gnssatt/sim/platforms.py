@@ -230,12 +230,10 @@ class Blockage:
             if not isinstance(windows, tuple) or len(windows) > MAX_LEGS:
                 raise InvalidInputError(f"expected {name} as a tuple of at most {MAX_LEGS} (start, end)")
             for k, w in enumerate(windows):
-                if not (isinstance(w, tuple) and len(w) == 2) or not (
-                    np.isfinite(w[0]) and np.isfinite(w[1]) and w[0] <= w[1]
-                ):
-                    raise InvalidInputError(
-                        f"expected {name}[{k}] as (start_s, end_s), start <= end, got {w!r}"
-                    )
+                if not (isinstance(w, tuple) and len(w) == 2):
+                    raise InvalidInputError(f"expected {name}[{k}] as (start_s, end_s), got {w!r}")
+                start = scalar(f"{name}[{k}] start", w[0], unit="s")
+                scalar(f"{name}[{k}] end", w[1], minimum=start, unit="s")
         scalar("along_deg", self.along_deg, minimum=-90.0, maximum=90.0)
         scalar("across_deg", self.across_deg, minimum=-90.0, maximum=90.0)
 
@@ -284,6 +282,19 @@ class NoiseProfile:
     phase_sigma_m: tuple[float, float]
     doppler_sigma_hz: float
     slip_rate_per_s: float
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.systems, str) and self.systems and set(self.systems) <= set("GRECJ")):
+            raise InvalidInputError(f"expected systems as letters of 'GRECJ', got {self.systems!r}")
+        integer("frequencies", self.frequencies, minimum=1, maximum=3)
+        for name in ("code_sigma_m", "phase_sigma_m"):
+            ab = getattr(self, name)
+            if not (isinstance(ab, tuple) and len(ab) == 2):
+                raise InvalidInputError(f"expected {name} as (a, b) in m, got {ab!r}")
+            for x in ab:
+                scalar(name, x, minimum=0.0, maximum=1e3, unit="m")
+        scalar("doppler_sigma_hz", self.doppler_sigma_hz, minimum=0.0, maximum=1e3, unit="Hz")
+        scalar("slip_rate_per_s", self.slip_rate_per_s, minimum=0.0, maximum=1e3, unit="1/s")
 
     def sigma_m(self, ab: tuple[float, float], el_deg: NDArray[np.float64]) -> NDArray[np.float64]:
         """The elevation model ``sqrt(a^2 + b^2 / sin^2(el))`` of ``ab`` at ``el_deg``, m."""
@@ -401,7 +412,7 @@ def simulate_platform(
     interval_s: float,
     noise: str | NoiseProfile = "gps_l1_ublox",
     blockage: Blockage | None = None,
-    base_offset_enu_m: ArrayLike | None = (-150.0, 80.0, -1.5),
+    base_offset_enu_m: ArrayLike | None = None,
     elevation_min_deg: float = 10.0,
     start_s: float = 0.0,
     atmosphere: bool = True,
@@ -435,7 +446,7 @@ def simulate_platform(
         What hides satellites from the antennas; None: open sky.
     base_offset_enu_m
         (3,) static base relative to the trajectory's origin, ENU in its tangent plane, m (hundreds of
-        metres: near; kilometres: far); None: no base (a moving-base set-up only).
+        metres: near; kilometres: far); None (default): no base, a moving-base set-up only.
     elevation_min_deg
         Elevation mask of every receiver, degrees.
     start_s
@@ -697,6 +708,19 @@ def _array(n_antennas: int, along_m: float, across_m: float, mast_m: float = 0.0
     return arms[:n]
 
 
+def _base(value: ArrayLike) -> NDArray[np.float64]:
+    """A preset's base offset: always a (3,) array (a preset always writes its base)."""
+    return shaped("base_offset_enu_m", value, "(3,)", (3,))
+
+
+def _separations(baseline_m: object) -> tuple[float, float]:
+    """``baseline_m`` as the (along, across) separations of a preset array, each in (0, MAX_LEVER_ARM_M] m."""
+    ab = shaped("baseline_m", baseline_m, "(2,)", (2,))
+    if not np.all((ab > 0.0) & (ab <= MAX_LEVER_ARM_M)):
+        raise InvalidInputError(f"expected baseline_m in (0, {MAX_LEVER_ARM_M}] m, got {ab.tolist()}")
+    return float(ab[0]), float(ab[1])
+
+
 def _checked(name: str, value: float, lo: float, hi: float, unit: str) -> float:
     return scalar(name, value, minimum=lo, maximum=hi, unit=unit)
 
@@ -711,7 +735,7 @@ def car(
     speed_m_s: float = 12.0,
     turn_radius_m: float = 40.0,
     baseline_m: tuple[float, float] = (1.2, 0.9),
-    base_offset_enu_m: ArrayLike | None = (-150.0, 80.0, -1.5),
+    base_offset_enu_m: ArrayLike = (-150.0, 80.0, -1.5),
     start_s: float = 7200.0,
     rng: int | np.random.Generator | None = None,
 ) -> SimulatedPlatform:
@@ -736,7 +760,7 @@ def car(
         Along and across separations of the array, m (0.3 to 5 m in the presets' use; up to
         ``MAX_LEVER_ARM_M``).
     base_offset_enu_m
-        Static base from the start point, ENU, m; None: none.
+        Static base from the start point, ENU, m.
     start_s
         First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
         degrees, of the 24 nominal ones).
@@ -780,11 +804,11 @@ def car(
     block = Blockage(
         outages_s=((0.55 * d, 0.55 * d + 3.0), (0.8 * d, 0.8 * d + 2.0)), tree_lined_s=((0.2 * d, 0.45 * d),)
     )
-    along, across = (float(x) for x in baseline_m)
+    along, across = _separations(baseline_m)
     return simulate_platform(
         folder, Trajectory(tuple(legs), heading0_deg=30.0), _array(n_antennas, along, across),
         duration_s=duration, interval_s=interval_s, noise=noise, blockage=block,
-        base_offset_enu_m=base_offset_enu_m, start_s=start_s, rng=rng,
+        base_offset_enu_m=_base(base_offset_enu_m), start_s=start_s, rng=rng,
     )  # fmt: skip
 
 
@@ -799,7 +823,7 @@ def ship(
     pitch_amplitude_deg: float = 10.0,
     heave_amplitude_m: float = 1.5,
     baseline_m: tuple[float, float] = (4.0, 3.0),
-    base_offset_enu_m: ArrayLike | None = (-300.0, -200.0, 2.0),
+    base_offset_enu_m: ArrayLike = (-300.0, -200.0, 2.0),
     start_s: float = 7200.0,
     rng: int | np.random.Generator | None = None,
 ) -> SimulatedPlatform:
@@ -822,7 +846,7 @@ def ship(
     baseline_m
         Along and across separations of the array, m.
     base_offset_enu_m
-        Static base (a quay) from the start point (the origin, at sea level), ENU, m; None: none.
+        Static base (a quay) from the start point (the origin, at sea level), ENU, m.
     start_s
         First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
         degrees, of the 24 nominal ones).
@@ -856,10 +880,10 @@ def ship(
         pitch_amplitude_deg=pitch_amplitude_deg, pitch_period_s=6.0, heave_amplitude_m=heave_amplitude_m,
         heave_period_s=7.0, height_m=0.0,
     )  # fmt: skip
-    along, across = (float(x) for x in baseline_m)
+    along, across = _separations(baseline_m)
     return simulate_platform(
         folder, traj, _array(n_antennas, along, across, mast_m=8.0), duration_s=d, interval_s=interval_s,
-        noise=noise, base_offset_enu_m=base_offset_enu_m, start_s=start_s, rng=rng,
+        noise=noise, base_offset_enu_m=_base(base_offset_enu_m), start_s=start_s, rng=rng,
     )  # fmt: skip
 
 
@@ -872,7 +896,7 @@ def aircraft(
     noise: str | NoiseProfile = "gps_l1_ublox",
     speed_m_s: float = 60.0,
     baseline_m: tuple[float, float] = (3.0, 4.5),
-    base_offset_enu_m: ArrayLike | None = (-500.0, -300.0, 0.0),
+    base_offset_enu_m: ArrayLike = (-500.0, -300.0, 0.0),
     start_s: float = 7200.0,
     rng: int | np.random.Generator | None = None,
 ) -> SimulatedPlatform:
@@ -895,7 +919,7 @@ def aircraft(
     baseline_m
         Along and across separations of the array, m.
     base_offset_enu_m
-        Static base on the airfield, ENU from the origin (300 m below the start), m; None: none.
+        Static base on the airfield, ENU from the origin (300 m below the start), m.
     start_s
         First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
         degrees, of the 24 nominal ones).
@@ -926,8 +950,8 @@ def aircraft(
     v = _checked("speed_m_s", speed_m_s, 1.0, MAX_SPEED_M_S, "m/s")
     legs = (Leg(d / 4, v, 0.0, 4.0), Leg(d / 8, v), Leg(60.0, v, 3.0), Leg(d, v))
     traj = Trajectory(legs, heading0_deg=250.0, start_enu_m=(0.0, 0.0, 300.0), banked=True)
-    along, across = (float(x) for x in baseline_m)
+    along, across = _separations(baseline_m)
     return simulate_platform(
         folder, traj, _array(n_antennas, along, across), duration_s=d, interval_s=interval_s, noise=noise,
-        base_offset_enu_m=base_offset_enu_m, start_s=start_s, rng=rng,
+        base_offset_enu_m=_base(base_offset_enu_m), start_s=start_s, rng=rng,
     )  # fmt: skip
