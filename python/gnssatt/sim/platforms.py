@@ -86,6 +86,18 @@ class Leg:
     turn_rate_deg_s: float = 0.0
     climb_rate_m_s: float = 0.0
 
+    def __post_init__(self) -> None:
+        scalar("duration_s", self.duration_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
+        scalar("speed_m_s", self.speed_m_s, minimum=0.0, maximum=MAX_SPEED_M_S, unit="m/s")
+        scalar(
+            "turn_rate_deg_s", self.turn_rate_deg_s, minimum=-MAX_TURN_RATE_DEG_S,
+            maximum=MAX_TURN_RATE_DEG_S, unit="deg/s",
+        )  # fmt: skip
+        scalar(
+            "climb_rate_m_s", self.climb_rate_m_s, minimum=-MAX_CLIMB_RATE_M_S, maximum=MAX_CLIMB_RATE_M_S,
+            unit="m/s",
+        )  # fmt: skip
+
 
 @dataclass(frozen=True)
 class Trajectory:
@@ -132,17 +144,6 @@ class Trajectory:
             raise InvalidTypeError(f"expected legs as a tuple of Leg, got {type(self.legs).__name__}")
         if not 1 <= len(self.legs) <= MAX_LEGS:
             raise InvalidInputError(f"expected 1 to {MAX_LEGS} legs, got {len(self.legs)}")
-        for k, leg in enumerate(self.legs):
-            scalar(f"legs[{k}].duration_s", leg.duration_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
-            scalar(f"legs[{k}].speed_m_s", leg.speed_m_s, minimum=0.0, maximum=MAX_SPEED_M_S, unit="m/s")
-            scalar(
-                f"legs[{k}].turn_rate_deg_s", leg.turn_rate_deg_s, minimum=-MAX_TURN_RATE_DEG_S,
-                maximum=MAX_TURN_RATE_DEG_S, unit="deg/s",
-            )  # fmt: skip
-            scalar(
-                f"legs[{k}].climb_rate_m_s", leg.climb_rate_m_s, minimum=-MAX_CLIMB_RATE_M_S,
-                maximum=MAX_CLIMB_RATE_M_S, unit="m/s",
-            )  # fmt: skip
         scalar("heading0_deg", self.heading0_deg, minimum=-360.0, maximum=360.0)
         shaped("start_enu_m", self.start_enu_m, "(3,)", (3,))
         scalar("lat_deg", self.lat_deg, minimum=-90.0, maximum=90.0)
@@ -227,13 +228,13 @@ class Blockage:
     def __post_init__(self) -> None:
         for name in ("outages_s", "tree_lined_s"):
             windows = getattr(self, name)
-            if not isinstance(windows, tuple) or len(windows) > MAX_LEGS:
-                raise InvalidInputError(f"expected {name} as a tuple of at most {MAX_LEGS} (start, end)")
-            for k, w in enumerate(windows):
-                if not (isinstance(w, tuple) and len(w) == 2):
-                    raise InvalidInputError(f"expected {name}[{k}] as (start_s, end_s), got {w!r}")
-                start = scalar(f"{name}[{k}] start", w[0], unit="s")
-                scalar(f"{name}[{k}] end", w[1], minimum=start, unit="s")
+            if isinstance(windows, tuple) and not windows:
+                continue
+            w = shaped(name, windows, "(n_windows, 2) (start_s, end_s)", (None, 2))
+            if len(w) > MAX_LEGS:
+                raise InvalidInputError(f"expected {name} with at most {MAX_LEGS} windows, got {len(w)}")
+            if np.any(w[:, 1] < w[:, 0]):
+                raise InvalidInputError(f"expected {name} windows with start_s <= end_s, got {w.tolist()}")
         scalar("along_deg", self.along_deg, minimum=-90.0, maximum=90.0)
         scalar("across_deg", self.across_deg, minimum=-90.0, maximum=90.0)
 
@@ -284,15 +285,15 @@ class NoiseProfile:
     slip_rate_per_s: float
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.systems, str) and self.systems and set(self.systems) <= set("GRECJ")):
+        if not isinstance(self.systems, str):
+            raise InvalidTypeError(f"expected systems as text, got {type(self.systems).__name__}")
+        if not (self.systems and set(self.systems) <= set("GRECJ")):
             raise InvalidInputError(f"expected systems as letters of 'GRECJ', got {self.systems!r}")
         integer("frequencies", self.frequencies, minimum=1, maximum=3)
         for name in ("code_sigma_m", "phase_sigma_m"):
-            ab = getattr(self, name)
-            if not (isinstance(ab, tuple) and len(ab) == 2):
-                raise InvalidInputError(f"expected {name} as (a, b) in m, got {ab!r}")
-            for x in ab:
-                scalar(name, x, minimum=0.0, maximum=1e3, unit="m")
+            ab = shaped(name, getattr(self, name), "(2,) (a, b) in m", (2,))
+            if np.any(ab < 0.0) or np.any(ab > 1e3):
+                raise InvalidInputError(f"expected {name} within [0, 1e3] m, got {ab.tolist()}")
         scalar("doppler_sigma_hz", self.doppler_sigma_hz, minimum=0.0, maximum=1e3, unit="Hz")
         scalar("slip_rate_per_s", self.slip_rate_per_s, minimum=0.0, maximum=1e3, unit="1/s")
 
