@@ -358,10 +358,15 @@ SEED_KEPT = {
     "gnssatt.ambiguity.ratio_test",
     "gnssatt.ambiguity.partial_fix",
 }
-# rng= tested elsewhere: each call writes RINEX files (tests/test_rinex_simulate_gnss.py, and below)
+# rng= tested elsewhere: each call writes RINEX files (tests/test_rinex_simulate_gnss.py,
+# tests/test_sim_platforms.py, and below)
 RNG_ELSEWHERE = {
     "gnssatt.sim.rinex_scenario.simulate_gnss_rinex",
     "gnssatt.sim.rinex_scenario.simulate_rinex_array",
+    "gnssatt.sim.platforms.simulate_platform",
+    "gnssatt.sim.platforms.car",
+    "gnssatt.sim.platforms.ship",
+    "gnssatt.sim.platforms.aircraft",
 }
 
 

@@ -10,6 +10,7 @@ parameter. A second part checks the finite inputs that used to give NaN.
 from __future__ import annotations
 
 import math
+import tempfile
 from collections.abc import Callable
 from typing import Any
 
@@ -55,6 +56,7 @@ PHASES = scen.phase_observations(
 FILTERED = orbit_nav.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
 
 # name -> (callable taking keyword arguments, valid keyword arguments)
+_PLATFORM_DIR = tempfile.mkdtemp(prefix="gnssatt-intake-platforms-")
 FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     # gnssatt.magnetic
     "dipole_orbital": (
@@ -242,6 +244,70 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     ),
     "OrbitalReceiver.state_eci": (LEO.state_eci, {"t": T3}),
     "GroundReceiver.dcm_eci_from_enu": (GROUND.dcm_eci_from_enu, {"t": T3}),
+    # gnssatt.sim.platforms (one-second sessions written into a temporary folder)
+    "simulate_platform": (
+        sim.simulate_platform,
+        {
+            "folder": _PLATFORM_DIR,
+            "trajectory": sim.Trajectory((sim.Leg(5.0, 10.0, 3.0),)),
+            "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
+            "duration_s": 1.0,
+            "interval_s": 0.5,
+            "noise": "gps_l1_ublox",
+            "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
+            "elevation_min_deg": 10.0,
+            "start_s": 7200.0,
+            "rng": 1,
+        },
+    ),
+    **{
+        name: (
+            getattr(sim, name),
+            {
+                "folder": _PLATFORM_DIR,
+                "n_antennas": 2,
+                "duration_s": 1.0,
+                "interval_s": 0.5,
+                "noise": "gps_l1_ublox",
+                "baseline_m": np.array([1.0, 0.8]),
+                "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
+                "start_s": 7200.0,
+                "rng": 1,
+            },
+        )
+        for name in ("car", "ship", "aircraft")
+    },
+    "Leg": (sim.Leg, {"duration_s": 5.0, "speed_m_s": 10.0, "turn_rate_deg_s": 3.0, "climb_rate_m_s": 1.0}),
+    "Trajectory": (
+        sim.Trajectory,
+        {
+            "legs": (sim.Leg(5.0, 10.0),),
+            "heading0_deg": 30.0,
+            "start_enu_m": np.zeros(3),
+            "roll_amplitude_deg": 5.0,
+            "roll_period_s": 8.0,
+        },
+    ),
+    "Blockage": (
+        sim.Blockage,
+        {
+            "outages_s": np.array([[1.0, 2.0]]),
+            "tree_lined_s": np.array([[3.0, 5.0]]),
+            "along_deg": 15.0,
+            "across_deg": 45.0,
+        },
+    ),
+    "NoiseProfile": (
+        sim.NoiseProfile,
+        {
+            "systems": "G",
+            "frequencies": 1,
+            "code_sigma_m": np.array([0.25, 0.25]),
+            "phase_sigma_m": np.array([0.002, 0.002]),
+            "doppler_sigma_hz": 0.1,
+            "slip_rate_per_s": 0.001,
+        },
+    ),
     # gnssatt.sim.spaceborne
     "simulate_spaceborne": (
         sim.simulate_spaceborne,
@@ -469,9 +535,10 @@ OBJECTS = {
     "measurements",
     "data",
     "model",
+    "trajectory",
 }
 # Parameters that take text.
-TEXT = {"frame", "plane", "band", "prefix", "coupling", "prefixes", "line1", "line2"}
+TEXT = {"frame", "plane", "band", "prefix", "coupling", "prefixes", "line1", "line2", "noise", "systems"}
 # Parameters that take integers (counts, indices, channels).
 INTEGERS = {
     "max_degree",
@@ -490,9 +557,13 @@ INTEGERS = {
     "patience",
     "maxiter",
     "seed",
+    "n_antennas",
+    "frequencies",
 }
 # Containers of integers or mixed records, covered by the specific cases below.
 SKIP = {
+    "folder",
+    "legs",
     "ids",
     "slots",
     "frequencies_hz",
@@ -532,6 +603,8 @@ NONE_OK = {
     *((name, "rng") for name in ("gyro_output", "phase_observations", "attitude_fixes", "noisy_orbit")),
     ("fit_rotation", "axis_sigma_deg"),
     ("simulate_array", "cn0_dbhz"),
+    *((name, "rng") for name in ("simulate_platform", "car", "ship", "aircraft")),
+    ("simulate_platform", "base_offset_enu_m"),  # None: no base
 }
 # Arrays that hold NaN where a value is unknown or not measured (checked by the specific cases).
 NAN_OK = {("SpaceborneMeasurements", "pseudorange_m"), ("SpaceborneMeasurements", "doppler_hz")}
@@ -890,6 +963,7 @@ def test_every_public_function_has_cases() -> None:
         "gnssatt.attitude.dynamics.TumbleTrajectory",
         "gnssatt.sim.SpaceborneMeasurements",
         "gnssatt.sim.Receiver",
+        "gnssatt.sim.SimulatedPlatform",
         "gnssatt.constants",
     }
     assert missing - not_inputs == set()

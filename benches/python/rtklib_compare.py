@@ -2,6 +2,8 @@
 
     python benches/python/rtklib_compare.py --rtklib-src ../shared/peers/rtklib-2.4.3 [--rnx2rtkp PATH]
         [--datasets geonet,sim] [--out DIR] [--repeats N] [--cssrlib DIR]
+    python benches/python/rtklib_compare.py --rtklib-src ../shared/peers/rtklib-2.4.3 --datasets platforms
+        [--profiles gps_l1_ublox,geodetic] [--platform-duration-s S] [--seed N]
 
 Datasets: ``geonet`` (the GEONET pair shipped in ``gnssatt.data``: 3.3 km, GPS L1/L2, 120 epochs, base 0759 at
 its header position) and ``sim`` (a simulated 1 m static baseline, 300 epochs at 1 s, every system and
@@ -10,6 +12,18 @@ frequency ``gnssatt.sim.rinex_scenario`` writes); ``cssrlib`` (``--cssrlib DIR``
 base at 3034's header position), which has no truth: gnssatt's single-epoch fixes are compared with RTKLIB's
 ``kinematic-instantaneous`` ones (``pos1-navsys=45``, ``-f 3``) epoch by epoch where both fix (a table of its
 own: fixed counts, median and largest difference).
+Simulated platforms (``car``, ``ship``, ``aircraft``, or ``platforms`` for all three): the presets of
+``gnssatt.sim.platforms`` with three antennas and a static base, each noise profile of ``--profiles``
+(``gps_l1_ublox``: GPS L1, ``-f 1``; ``geodetic``: GRECJ, three frequencies, ``-f 3``). RTKLIB runs
+``kinematic-instantaneous``, ``kinematic-continuous`` and ``kinematic-fix-and-hold`` (each antenna against the
+static base at its true position, the pair's baseline the difference of the two solutions, fixed where both
+are) and ``movingbase-instantaneous`` / ``-continuous`` / ``-fix-and-hold`` (antenna 0 the base of antenna 1,
+``pos2-armode`` in a conf copy); gnssatt runs the pair single-epoch, ``--filter kinematic`` and ``--filter
+velocity`` (antenna 0 the moving base, no base position) and the three antennas with ``--baselines``
+(baseline 1 of its CSV). Per run: fix rate over every epoch of the session (outages included), wrong fixes
+(fixed pair baselines more than ``--wrong-fix-m`` from the truth), time to first fix from the session's
+start, time to re-fix after each whole outage (the longest), heading error RMS over fixed and over all solved
+epochs, wall time (both RTKLIB runs of a kinematic pair summed). A table of its own (``platforms.md``).
 Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
 ``movingbase-instantaneous.conf``; gnssatt ``--motion moving``), filtered (RTKLIB's Kalman filter,
 ``kinematic-continuous.conf``; gnssatt ``--filter kinematic``) and static (``static-continuous.conf``;
@@ -678,12 +692,282 @@ def table(rows: list[dict[str, object]]) -> str:
     return "\n".join(lines + [""] + [f"[{i}] {n}" for i, n in enumerate(notes, 1)])
 
 
+# ---------------------------------------------------------------------------------------------------------
+# Simulated moving platforms (gnssatt.sim.platforms): RTKLIB's kinematic and moving-base modes against
+# gnssatt's single-epoch, filtered and attitude runs on the same files, heading from the antenna pair
+
+#: Platforms and noise profiles compared (``gnssatt.sim.car`` / ``ship`` / ``aircraft``; profiles of
+#: ``gnssatt.sim.NOISE_PROFILES``), and each profile's systems and frequency slots.
+PLATFORMS = ("car", "ship", "aircraft")
+PROFILES = {"gps_l1_ublox": ("G", 1), "geodetic": ("GRECJ", 3)}
+#: RTKLIB runs on a platform: name -> (conf, pos2-armode, moving base). The kinematic ones process each
+#: antenna against the static base (``-r`` its true position) and difference the two solutions (fixed where
+#: both are); the moving-base ones take antenna 0 as the base of antenna 1.
+PLATFORM_RTKLIB = {
+    "kinematic-instantaneous": ("kinematic-instantaneous.conf", "instantaneous", False),
+    "kinematic-continuous": ("kinematic-continuous.conf", "continuous", False),
+    "kinematic-fix-and-hold": ("kinematic-continuous.conf", "fix-and-hold", False),
+    "movingbase-instantaneous": ("movingbase-instantaneous.conf", "instantaneous", True),
+    "movingbase-continuous": ("movingbase-instantaneous.conf", "continuous", True),
+    "movingbase-fix-and-hold": ("movingbase-instantaneous.conf", "fix-and-hold", True),
+}
+#: gnssatt runs on a platform: name -> (extra options, antennas).
+PLATFORM_GNSSATT = {
+    "single-epoch": ([], 2),
+    "filter-kinematic": (["--filter", "kinematic"], 2),
+    "filter-velocity": (["--filter", "velocity"], 2),
+    "attitude-3-antennas": ([], 3),
+}
+
+
+@dataclass(frozen=True)
+class PlatformSession:
+    """One simulated platform's files and the truth the metrics need."""
+
+    name: str
+    profile: str
+    obs: tuple[Path, ...]  # antennas 0, 1, 2
+    base: Path
+    nav: Path
+    base_ecef_m: NDArray[np.float64]
+    baselines_file: Path  # body-frame lever arms of antennas 1 and 2 from antenna 0
+    time_s: NDArray[np.float64]  # GPST seconds of every epoch of the session
+    pair_enu_m: NDArray[np.float64]  # (n, 3) antenna 1 - antenna 0, ENU at antenna 0
+    pair_base_enu_m: NDArray[np.float64]  # (n, 3) the same in ENU at the static base
+    outage_ends_s: tuple[float, ...]  # GPST seconds
+    description: str
+
+
+def platform_session(
+    name: str, profile: str, folder: Path, duration_s: float | None, seed: int
+) -> PlatformSession:
+    """Simulate ``name`` (three antennas, a static base) with the noise ``profile`` into ``folder``."""
+    from gnssatt import sim
+
+    folder.mkdir(parents=True, exist_ok=True)
+    preset = {"car": sim.car, "ship": sim.ship, "aircraft": sim.aircraft}[name]
+    kwargs: dict[str, object] = {} if duration_s is None else {"duration_s": duration_s}
+    run = preset(folder, n_antennas=3, noise=profile, rng=seed, **kwargs)  # type: ignore[operator]
+    lever = {"car": ((1.2, 0.0, 0.0), (0.0, 0.0, 0.9)), "ship": ((4.0, 0.0, 0.0), (0.0, 0.0, 3.0))}
+    rel = lever.get(name, ((3.0, 0.0, 0.0), (0.0, 0.0, 4.5)))
+    bl = folder / "baselines.txt"
+    bl.write_text("".join(f"{x} {y} {z}\n" for x, y, z in rel))
+    t = gpst_seconds(run.time)
+    span = float(t[-1] - t[0] + (t[1] - t[0] if len(t) > 1 else 0.0))
+    n_sys = "".join(dict.fromkeys(s[0] for s in run.sats))
+    lengths = np.linalg.norm(run.baselines_enu_m[0], axis=1)
+    return PlatformSession(
+        name, profile, run.obs_paths, run.base_path, run.nav_path, run.base_ecef_m, bl, t,
+        run.baselines_enu_m[:, 0], run.rover_enu_m[:, 1] - run.rover_enu_m[:, 0],
+        tuple(float(t[0] + e) for e in run.outage_ends_s),
+        f"{name}, {profile}: {len(t)} epochs over {span:.0f} s, {len(run.sats)} satellites ({n_sys}), "
+        f"antennas {lengths[0]:.1f} m and {lengths[1]:.1f} m from antenna 0, seed {seed}",
+    )  # fmt: skip
+
+
+def heading_deg(enu_m: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Azimuth of ENU vectors from North towards East, degrees."""
+    return np.degrees(np.arctan2(enu_m[:, 0], enu_m[:, 1]))
+
+
+def platform_metrics(
+    sol: Solutions, time_s: NDArray[np.float64], truth_enu_m: NDArray[np.float64],
+    outage_ends_s: Sequence[float], wrong_fix_m: float,
+) -> dict[str, float | int | None]:  # fmt: skip
+    """Fix rate over every epoch of the session (``time_s``, its truth ``truth_enu_m``), wrong fixes (a
+    fixed baseline more than ``wrong_fix_m`` from the truth), time to first fix (the first fixed epoch
+    less the session's first epoch, s), time to re-fix after each outage (its first fixed epoch at or
+    after the outage's end less the end; the longest, None if one never re-fixes), and the RMS of the
+    heading error over fixed and over all solved epochs (degrees)."""
+    i = match_epochs(sol.time_s, time_s)
+    known = i >= 0
+    err = np.linalg.norm(sol.enu_m[known] - truth_enu_m[i[known]], axis=1)
+    fixed = sol.fixed[known]
+    t_fix = sol.time_s[known][fixed]
+    dh = heading_deg(sol.enu_m[known]) - heading_deg(truth_enu_m[i[known]])
+    dh = (dh + 180.0) % 360.0 - 180.0
+    refix: list[float] = []
+    for end in outage_ends_s:
+        after = t_fix[t_fix >= end - EPOCH_TOLERANCE_S]
+        refix.append(float(after[0] - end) if after.size else float("inf"))
+    rms = lambda x: float(np.sqrt(np.mean(x**2))) if x.size else None  # noqa: E731
+    return {
+        "epochs": len(time_s),
+        "solved": int(known.sum()),
+        "fixed": int(fixed.sum()),
+        "fix_rate": float(fixed.sum()) / len(time_s),
+        "wrong_fixes": int(np.sum(err[fixed] > wrong_fix_m)),
+        "first_fix_s": float(t_fix[0] - time_s[0]) if t_fix.size else None,
+        "refix_s": (None if not refix or not np.isfinite(max(refix)) else max(refix)) if refix else None,
+        "refix_missed": int(sum(not np.isfinite(x) for x in refix)),
+        "outages": len(refix),
+        "heading_rms_fixed_deg": rms(dh[fixed]),
+        "heading_rms_all_deg": rms(dh),
+    }
+
+
+def pair_solutions(a: Solutions, b: Solutions) -> Solutions:
+    """Antenna 1 - antenna 0 from two base -> antenna solutions: the epochs both have, fixed where both
+    are."""
+    i = match_epochs(b.time_s, a.time_s)
+    ok = i >= 0
+    return Solutions(
+        b.time_s[ok], b.enu_m[ok] - a.enu_m[i[ok]], b.fixed[ok] & a.fixed[i[ok]], "pos pair difference"
+    )
+
+
+def rtklib_platform_runs(
+    rtk: Rtklib, ps: PlatformSession, folder: Path, opts: Settings
+) -> list[dict[str, object]]:
+    """Every run of :data:`PLATFORM_RTKLIB` on ``ps``: metrics, commands and summed wall times."""
+    systems, freqs = PROFILES[ps.profile]
+    rows: list[dict[str, object]] = []
+    for mode, (conf_name, armode, moving) in PLATFORM_RTKLIB.items():
+        conf = rtk.conf_dir / f"{ps.name}-{ps.profile}-{mode}.conf"
+        write_conf(
+            rtk.conf_src / conf_name, conf,
+            {"pos1-navsys": str(navsys(systems)), "pos2-armode": armode, "out-solformat": "enu",
+             "out-timeform": "tow"},
+        )  # fmt: skip
+        base = [str(rtk.binary), "-k", str(conf), "-f", str(freqs)]
+        pairs = [(ps.obs[1], ps.obs[0], [])] if moving else [
+            (ps.obs[k], ps.base, ["-r", *(f"{x:.4f}" for x in ps.base_ecef_m)]) for k in (0, 1)
+        ]  # fmt: skip
+        sols, walls, cmds, why = [], 0.0, [], ""
+        for k, (rover, ref, extra) in enumerate(pairs):
+            out = folder / f"rtklib-{ps.name}-{ps.profile}-{mode}-{k}.pos"
+            cmd = [*base, *extra, "-o", str(out), str(rover), str(ref), str(ps.nav)]
+            wall, why = timed_run(cmd, out, opts.repeats, opts.timeout_s)
+            cmds.append(cmd)
+            if why:
+                break
+            walls += statistics.median(wall)
+            sols.append(parse_pos(out))
+        row: dict[str, object] = {"tool": "RTKLIB", "mode": mode, "commands": cmds, "note": why}
+        if not why:
+            sol = sols[0] if moving else pair_solutions(sols[0], sols[1])
+            truth = ps.pair_enu_m if moving else ps.pair_base_enu_m
+            row["metrics"] = platform_metrics(sol, ps.time_s, truth, ps.outage_ends_s, opts.wrong_fix_m)
+            row["wall_s"] = walls
+        rows.append(row)
+    return rows
+
+
+def gnssatt_platform_runs(ps: PlatformSession, folder: Path, opts: Settings) -> list[dict[str, object]]:
+    """Every run of :data:`PLATFORM_GNSSATT` on ``ps`` (antenna 0 the moving base, no base position)."""
+    systems, freqs = PROFILES[ps.profile]
+    exe = Path(sys.executable).with_name("gnssatt")
+    head = [str(exe)] if exe.exists() else [sys.executable, "-m", "gnssatt"]
+    rows: list[dict[str, object]] = []
+    for mode, (extra, n_ant) in PLATFORM_GNSSATT.items():
+        out = folder / f"gnssatt-{ps.name}-{ps.profile}-{mode}.csv"
+        cmd = [*head, "attitude"]
+        for p in ps.obs[:n_ant]:
+            cmd += ["--obs", str(p)]
+        cmd += ["--nav", str(ps.nav), "--method", "lambda", "--motion", "moving", "--elevation-mask", "10"]
+        cmd += ["--systems", systems, "--frequencies", str(freqs), "--out", str(out), *extra]
+        if n_ant == 3:
+            cmd += ["--baselines", str(ps.baselines_file)]
+        missing = [o for o in (*extra[:1], "--no-plot", "--baselines") if o not in opts.options]
+        row: dict[str, object] = {"tool": "gnssatt", "mode": mode, "commands": [cmd], "note": ""}
+        if missing and missing != ["--no-plot"]:
+            row["note"] = f"no {missing[0]}"
+            rows.append(row)
+            continue
+        if "--no-plot" in opts.options:
+            cmd.append("--no-plot")
+        wall, why = timed_run(cmd, out, opts.repeats, opts.timeout_s)
+        row["note"] = why
+        if not why:
+            sol = parse_gnssatt_csv(out, float(np.median(np.linalg.norm(ps.pair_enu_m, axis=1))))
+            row["metrics"] = platform_metrics(
+                sol, ps.time_s, ps.pair_enu_m, ps.outage_ends_s, opts.wrong_fix_m
+            )
+            row["wall_s"] = statistics.median(wall)
+        rows.append(row)
+    return rows
+
+
+def platform_table(rows: list[dict[str, object]]) -> str:
+    """Markdown table of the platform runs, one row per (platform, profile, tool, mode), then notes."""
+    lines = [
+        "| platform | profile | tool | mode | fixed % | wrong | first fix s | re-fix s "
+        "| heading RMS fixed deg | heading RMS all deg | wall s |",
+        "|" + "---|" * 11,
+    ]
+    notes: list[str] = []
+    for r in rows:
+        m = r.get("metrics")
+        mark = ""
+        if r.get("note"):
+            notes.append(f"{r['platform']} {r['profile']} {r['tool']} {r['mode']}: {r['note']}")
+            mark = f" [{len(notes)}]"
+        if not isinstance(m, dict):
+            cells = [f"n/a{mark}"] + ["n/a"] * 6
+        else:
+            refix = m["refix_s"]
+            if m["outages"] == 0:
+                refix_cell = "-"
+            elif m["refix_missed"]:
+                refix_cell = f"never ({m['refix_missed']}/{m['outages']})"
+            else:
+                refix_cell = _cell(refix, ".1f")
+            cells = [
+                _cell(m["fix_rate"], ".1f", 100) + mark,
+                _cell(m["wrong_fixes"], ".0f"),
+                _cell(m["first_fix_s"], ".1f"),
+                refix_cell,
+                _cell(m["heading_rms_fixed_deg"], ".3f"),
+                _cell(m["heading_rms_all_deg"], ".2f"),
+                _cell(r.get("wall_s"), ".2f"),  # type: ignore[arg-type]
+            ]
+        lines.append(
+            f"| {r['platform']} | {r['profile']} | {r['tool']} | {r['mode']} | " + " | ".join(cells) + " |"
+        )
+    return "\n".join(lines + [""] + [f"[{i}] {n}" for i, n in enumerate(notes, 1)])
+
+
+def compare_platforms(
+    names: Sequence[str], profiles: Sequence[str], rtk: Rtklib | None, out: Path, opts: Settings,
+    duration_s: float | None, seed: int,
+) -> tuple[list[str], list[dict[str, object]]]:  # fmt: skip
+    """Simulate every platform with every profile and run both tools; descriptions and rows."""
+    described, rows = [], []
+    for name in names:
+        for profile in profiles:
+            ps = platform_session(
+                name, profile, out / "platform-data" / f"{name}-{profile}", duration_s, seed
+            )
+            described.append(ps.description)
+            folder = out / "platforms"
+            folder.mkdir(parents=True, exist_ok=True)
+            runs = [] if rtk is None else rtklib_platform_runs(rtk, ps, folder, opts)
+            runs += gnssatt_platform_runs(ps, folder, opts)
+            rows += [{"platform": name, "profile": profile, **r} for r in runs]
+    return described, rows
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rnx2rtkp", type=Path, default=None, help="RTKLIB rnx2rtkp binary (default: build it)")
     ap.add_argument("--rtklib-src", type=Path, default=None, help="RTKLIB 2.4.3 folder (build.sh, conf/)")
     ap.add_argument(
-        "--datasets", default="geonet,sim", help="comma-separated: geonet, sim, cssrlib (default geonet,sim)"
+        "--datasets",
+        default="geonet,sim",
+        help="comma-separated: geonet, sim, cssrlib, car, ship, aircraft, platforms (= car,ship,aircraft) "
+        "(default geonet,sim)",
+    )
+    ap.add_argument(
+        "--profiles",
+        default="gps_l1_ublox,geodetic",
+        help="noise profiles of the simulated platforms (default gps_l1_ublox,geodetic)",
+    )
+    ap.add_argument(
+        "--platform-duration-s",
+        type=float,
+        default=None,
+        help="length of each simulated platform session, s (default: the preset's, car 60, ship and "
+        "aircraft 120)",
     )
     ap.add_argument(
         "--cssrlib", type=Path, default=None, help="folder of the cssrlib 3034/SEPT pair (dataset cssrlib)"
@@ -710,9 +994,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         "RTKLIB's static solution for GEONET)",
     )
     args = ap.parse_args(argv)
-    names = [n.strip() for n in args.datasets.split(",") if n.strip()]
-    if not names or any(n not in ("geonet", "sim", "cssrlib") for n in names):
-        ap.error(f"--datasets: expected geonet, sim and/or cssrlib, got {args.datasets!r}")
+    names = [
+        n.strip() for n in args.datasets.replace("platforms", ",".join(PLATFORMS)).split(",") if n.strip()
+    ]
+    if not names or any(n not in ("geonet", "sim", "cssrlib", *PLATFORMS) for n in names):
+        ap.error(
+            f"--datasets: expected geonet, sim, cssrlib, car, ship and/or aircraft, got {args.datasets!r}"
+        )
+    profiles = [p.strip() for p in args.profiles.split(",") if p.strip()]
+    if not profiles or any(p not in PROFILES for p in profiles):
+        ap.error(f"--profiles: expected {', '.join(PROFILES)}, got {args.profiles!r}")
+    platforms = [n for n in names if n in PLATFORMS]
+    names = [n for n in names if n not in PLATFORMS]
     if "cssrlib" in names and (args.cssrlib is None or args.rtklib_src is None):
         ap.error("--datasets cssrlib needs --cssrlib DIR and --rtklib-src DIR (RTKLIB is its reference)")
     if args.repeats < 1 or args.sim_epochs < 2 or not args.wrong_fix_m > 0 or not args.timeout_s > 0:
@@ -766,6 +1059,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         }
         all_rows += rows
     report["rows"] = all_rows
+    platform_text = ""
+    if platforms:
+        described, p_rows = compare_platforms(
+            platforms, profiles, rtk, out, settings, args.platform_duration_s, args.seed
+        )
+        report["platforms"] = {"sessions": described, "rows": p_rows}
+        platform_text = platform_table(p_rows)
     text = table(all_rows)
     print(f"machine: {machine}; wall times: median of {args.repeats} run(s)")
     print("RTKLIB skipped (no --rtklib-src): gnssatt only\n" if rtk is None else "", end="")
@@ -776,6 +1076,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(text)
     for block in extra:
         print("\n" + block)
+    if platform_text:
+        print("\nsimulated platforms:\n" + "\n".join(f"- {d}" for d in report["platforms"]["sessions"]))  # type: ignore[index]
+        print("\n" + platform_text)
+        (out / "platforms.md").write_text(platform_text + "\n")
     (out / "results.json").write_text(json.dumps(report, indent=1, default=str))
     (out / "table.md").write_text(text + "\n")
     print(f"\nwrote {out / 'results.json'} and {out / 'table.md'}")

@@ -389,6 +389,39 @@ ENTRIES: dict[str, Entry] = {
         },
         counts={"ambiguity_max"},
     ),
+    "gnssatt.sim.simulate_platform": _e(
+        lambda: {
+            "folder": s.folder(),
+            "trajectory": sim.Trajectory((sim.Leg(5.0, 10.0, 3.0),)),
+            "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
+            "duration_s": 1.0,
+            "interval_s": 0.5,
+            "noise": "gps_l1_ublox",
+            "blockage": sim.Blockage(outages_s=((0.4, 0.6),)),
+            "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
+            "elevation_min_deg": 10.0,
+            "start_s": 7200.0,
+            "atmosphere": True,
+            "rng": 1,
+        },
+    ),
+    **{
+        f"gnssatt.sim.{name}": _e(
+            lambda: {
+                "folder": s.folder(),
+                "n_antennas": 2,
+                "duration_s": 1.0,
+                "interval_s": 0.5,
+                "noise": "gps_l1_ublox",
+                "baseline_m": (1.0, 0.8),
+                "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
+                "start_s": 7200.0,
+                "rng": 1,
+            },
+            counts={"n_antennas"},
+        )
+        for name in ("car", "ship", "aircraft")
+    },
     "gnssatt.sim.simulate_spaceborne": _e(
         lambda: {
             "receiver_position_m": _sb()["r"].copy(),

@@ -92,7 +92,8 @@ def write_obs(
         (n_sat,) satellite ids.
     observations
         RINEX 3 code (``"C1C"``, ``"L1C"``, ``"D1C"``, ``"S1C"``) -> (n_ep, n_sat) values (m, cycles, Hz,
-        dB-Hz); NaN leaves a field blank, a satellite with every field blank is left out of the epoch. Each
+        dB-Hz); NaN leaves a field blank, a satellite with every field blank is left out of the epoch, an
+        epoch with every satellite left out is not written. Each
         system's ``SYS / # / OBS TYPES`` lists the codes with a value for one of its satellites (every code
         where none has any).
     approx_position_m
@@ -198,6 +199,8 @@ def write_obs(
     out.append(_hdr("", "END OF HEADER"))
     for e in range(len(t)):
         present = [k for k in range(len(sats)) if np.any(np.isfinite(data[e, k]))]
+        if not present:  # a receiver that tracks nothing (a tunnel) writes no epoch
+            continue
         y, mo, d, hh, mi, sec = _parts(t[e])
         out.append(f"> {y:4d} {mo:02d} {d:02d} {hh:02d} {mi:02d}{sec:11.7f}  0{len(present):3d}\n")
         for k in present:

@@ -30,6 +30,11 @@ Typical use::
                               gps.select(list(geom.ids)).wavelengths_m(), np.random.default_rng(1),
                               phase_sigma_rad=0.1)
     dphi = meas.phase_diffs()  # (2, n_visible), rad
+
+Moving platforms written as RINEX with their truth (:mod:`gnssatt.sim.platforms`)::
+
+    run = sim.car("folder", n_antennas=2, duration_s=60.0, noise="gps_l1_ublox", rng=1)
+    run.obs_paths, run.base_path, run.nav_path, run.heading_deg
 """
 
 from gnssatt.frames import (
@@ -64,21 +69,41 @@ from gnssatt.sim.measurements import (
     simulate_array,
     wrap_rad,
 )
+from gnssatt.sim.platforms import (
+    NOISE_PROFILES,
+    Blockage,
+    Leg,
+    NoiseProfile,
+    SimulatedPlatform,
+    Trajectory,
+    aircraft,
+    car,
+    ship,
+    simulate_platform,
+)
 from gnssatt.sim.spaceborne import simulate_spaceborne
 
 __all__ = [
     "GLONASS_SLOT_CHANNELS",
     "GPS_BASELINE_SLOTS",
     "GPS_SLOT_EPOCH_GHA_RAD",
+    "NOISE_PROFILES",
     "ArrayMeasurements",
+    "Blockage",
     "Constellation",
     "Geometry",
     "GroundReceiver",
     "KeplerOrbits",
+    "Leg",
+    "NoiseProfile",
     "OrbitalReceiver",
     "Receiver",
+    "SimulatedPlatform",
     "SpaceborneMeasurements",
+    "Trajectory",
+    "aircraft",
     "antenna_cone_mask",
+    "car",
     "correlator_amplitude",
     "dcm_ecef_from_eci",
     "dcm_ecef_from_enu",
@@ -99,7 +124,9 @@ __all__ = [
     "phase_diffs",
     "random_attitude",
     "random_los",
+    "ship",
     "simulate_array",
+    "simulate_platform",
     "simulate_spaceborne",
     "solve_kepler",
     "walker",

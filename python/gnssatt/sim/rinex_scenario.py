@@ -227,7 +227,7 @@ MAX_HEIGHT_M = 1e5
 _C = 299_792_458.0
 #: Half-step of the central difference that gives the Doppler, s (its truncation error, rho''' h^2 / 6,
 #: is below 1e-9 m/s).
-_DOPPLER_H_S = 0.05
+DOPPLER_HALF_STEP_S = 0.05
 
 
 @dataclass(frozen=True)
@@ -281,7 +281,7 @@ class SimulatedGnss:
 
 
 @dataclass(frozen=True)
-class _Geometry:
+class TransmitGeometry:
     """Satellites seen at receptions of shape ``S`` (then one satellite axis): transmit-time positions in
     the ECEF frame of reception (``S + (n_sat, 3)``, m), satellite clocks (s), elevations and azimuths
     (rad) at each receiver; NaN where no record is usable."""
@@ -296,13 +296,14 @@ class _Geometry:
 _CHUNK = 200_000
 
 
-def _transmit(
+def transmit_geometry(
     nav: _core.Navigation, sats: list[str], t_rx_ns: NDArray[np.int64], receiver_m: NDArray[np.float64],
     receiver_clock_s: NDArray[np.float64],
-) -> tuple[NDArray[np.bool_], _Geometry]:  # fmt: skip
+) -> tuple[NDArray[np.bool_], TransmitGeometry]:  # fmt: skip
     """Every satellite of ``sats`` at every reception (labels ``t_rx_ns`` of shape ``S``, receivers
     ``S + (3,)`` ECEF m with clocks ``S`` s): the engine's light time and Earth rotation
-    (``_core.gnss_transmit_states``), in chunks of at most ``_CHUNK`` evaluations."""
+    (``_core.gnss_transmit_states``), in chunks of at most ``_CHUNK`` evaluations. Shared by the
+    simulators of :mod:`gnssatt.sim`, which check their inputs first."""
     shape = t_rx_ns.shape
     n_sat = len(sats)
     t = np.repeat(t_rx_ns.reshape(-1).astype(np.int64), n_sat)
@@ -318,7 +319,7 @@ def _transmit(
         for k in ("position_m", "clock_s", "elevation_rad", "azimuth_rad", "valid")
     )
     full = (*shape, n_sat)
-    geometry = _Geometry(p.reshape(*full, 3), c.reshape(full), el.reshape(full), az.reshape(full))
+    geometry = TransmitGeometry(p.reshape(*full, 3), c.reshape(full), el.reshape(full), az.reshape(full))
     return ok.reshape(full), geometry
 
 
@@ -554,7 +555,7 @@ def simulate_gnss_rinex(
     pos = rx.position_ecef_m[None, None, :] + np.einsum("ij,tjk,ak->tai", enu2ecef, rot, ant)
     ids = list(allsats.ids)
     # geometry of every satellite at the reference antenna: visibility
-    ok, at_ref = _transmit(nav, ids, t_ns, pos[:, 0], np.full(n_epochs, dt_rx[0]))
+    ok, at_ref = transmit_geometry(nav, ids, t_ns, pos[:, 0], np.full(n_epochs, dt_rx[0]))
     el = np.where(ok, np.degrees(at_ref.elevation_rad), -90.0)
     keep = np.all(el > elevation_min_deg, axis=0)
     if n_sats is not None:
@@ -573,15 +574,15 @@ def simulate_gnss_rinex(
                 f = slot_frequency_hz(s[0], slot, channels.get(s))
                 lam[k, slot] = _C / f if f else np.nan
     # every antenna at the label and half a Doppler step either side: (n_ep, n_ant, 3 instants) receptions
-    steps_ns = np.array([0, -round(_DOPPLER_H_S * 1e9), round(_DOPPLER_H_S * 1e9)])
+    steps_ns = np.array([0, -round(DOPPLER_HALF_STEP_S * 1e9), round(DOPPLER_HALF_STEP_S * 1e9)])
     t_rx = (t_ns[:, None, None] + steps_ns[None, None, :]).repeat(n_ant, axis=1)
     rx_pos = np.broadcast_to(pos[:, :, None, :], (n_epochs, n_ant, 3, 3))
     rx_clk = np.broadcast_to(dt_rx[None, :, None], (n_epochs, n_ant, 3))
-    _, seen = _transmit(nav, sats, t_rx, rx_pos, rx_clk)
+    _, seen = transmit_geometry(nav, sats, t_rx, rx_pos, rx_clk)
     rng_m = np.linalg.norm(seen.position_m - pos[:, :, None, None, :], axis=-1)  # (n_ep, n_ant, 3, n_sat)
     rho, clk = rng_m[:, :, 0], seen.clock_s[:, :, 0]
     rate = ((rng_m[:, :, 2] - _C * seen.clock_s[:, :, 2]) - (rng_m[:, :, 1] - _C * seen.clock_s[:, :, 1])) / (
-        2 * _DOPPLER_H_S
+        2 * DOPPLER_HALF_STEP_S
     )
     # ionospheric group delay of each carrier, m
     iono: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat, 3))
