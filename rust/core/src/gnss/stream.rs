@@ -728,8 +728,35 @@ impl Engine {
                                     ),
                                 );
                             }
-                            self.length[r].add(&f.solution.baseline_m, &f.solution.covariance_m2);
-                            per_epoch.push(Some((f.solution, f.state)));
+                            // An epoch the filter leaves float is solved on its own too: the
+                            // filter never fixes fewer epochs than single epochs.
+                            let single = match f.state {
+                                FixState::Float => self
+                                    .solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix)
+                                    .ok()
+                                    .filter(|s| s.fixed),
+                                _ => None,
+                            };
+                            if single.as_ref().is_some_and(|s| !f.agrees_with_float(s)) {
+                                self.warn_once(
+                                    format!("filter float biased {r}"),
+                                    format!(
+                                        "rover {}: the epoch's own fix at epoch {k} ({} ns GPST) \
+                                         disagrees with the filter's float baseline beyond its \
+                                         covariance (errors correlated in time, such as code biases \
+                                         or the ionosphere, bias the float); the single-epoch fix, \
+                                         which passed the gate, is reported",
+                                        r + 1,
+                                        p.time_gpst_ns
+                                    ),
+                                );
+                            }
+                            let (solution, state) = match single {
+                                Some(s) => (s, FixState::Fixed),
+                                None => (f.solution, f.state),
+                            };
+                            self.length[r].add(&solution.baseline_m, &solution.covariance_m2);
+                            per_epoch.push(Some((solution, state)));
                         }
                         Err(e) if leaves_epoch_unsolved(&e) => {
                             self.note_unsolved(k, p.time_gpst_ns, &e);

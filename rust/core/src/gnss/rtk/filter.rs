@@ -36,7 +36,13 @@
 //!
 //! The filter's state per epoch ([`FixState`]): `Fixed` when the epoch's own full set passed the gate (in
 //! agreement with what was held), `Held` when every ambiguity is fixed through held integers (new arcs
-//! fixed conditionally on them), `Float` otherwise (partially fixed epochs included).
+//! fixed conditionally on them), `Float` otherwise (partially fixed epochs included). The engine then
+//! solves a `Float` epoch on its own as well and reports that single-epoch fix instead where the
+//! single-epoch gate passes it: the filter never fixes fewer epochs than single epochs do on the same
+//! data. Where such a fix disagrees with the filter's float ([`FilterEpoch::agrees_with_float`]) the
+//! engine warns: on the real moving rover of `docs/rtklib_comparison.md` the filter's float is biased
+//! (its hold test rejects the held integers from the second epoch on) and these fixes agree with
+//! RTKLIB's within millimetres.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -146,6 +152,23 @@ pub struct FilterEpoch {
     pub restarted_arcs: usize,
     /// Whether a held set was dropped at this epoch because the float ambiguities disagreed with it.
     pub hold_rejected: bool,
+}
+
+impl FilterEpoch {
+    /// Whether the baseline of `other` (another solution of the same epoch: its own single-epoch fix)
+    /// agrees with the filter's float baseline: the chi-square of their difference (covariance the sum
+    /// of both, which over-covers: the epoch's observations are in the filter's float too) within its
+    /// `1 - 1e-3` quantile ([`HOLD_TEST_Z`]). A disagreement says the filter's float is biased (errors
+    /// correlated in time that the filter averages as white: code biases between tracking modes,
+    /// multipath, the ionosphere of a long baseline) or the other solution is wrong.
+    pub fn agrees_with_float(&self, other: &BaselineSolution) -> bool {
+        let d = other.baseline_m - self.float_baseline_m;
+        let c = self.float_covariance_m2 + other.covariance_m2;
+        match Cholesky::new((c + c.transpose()) * 0.5) {
+            Some(ch) => d.dot(&ch.solve(&d)) <= chi2_quantile(3, HOLD_TEST_Z),
+            None => false,
+        }
+    }
 }
 
 /// The filter of one rover's baseline.

@@ -281,3 +281,34 @@ fn refuses_bad_process_noise_and_time_order() {
     let again = f.step(&sc.epoch(&truth, 0.0), SECOND_NS, &GATE);
     assert!(matches!(again, Err(crate::error::Error::OutOfRange { .. })));
 }
+
+#[test]
+fn an_epochs_own_fix_agrees_with_the_float_unless_it_is_off_beyond_their_covariance() {
+    // GPS L1 + L2, 9 satellites: single epochs fix; the filter, gated shut, stays float.
+    let mut sc = Scenario::new(33, &[(System::Gps, 9, &[0, 1])], 15.0);
+    let truth = Vector3::new(0.6, 0.7, -0.2);
+    let mut f = BaselineFilter::new(Dynamics::KINEMATIC).unwrap();
+    for k in 0..5i64 {
+        let e = sc.epoch(&truth, k as f64);
+        let out = f.step(&e, k * SECOND_NS, &NO_FIX).unwrap();
+        assert_eq!(out.state, FixState::Float);
+        let single =
+            crate::gnss::rtk::solve_baseline(std::slice::from_ref(&e), &[], &GATE).unwrap();
+        assert!(single.fixed, "epoch {k}: the single epoch does not fix");
+        assert!(out.agrees_with_float(&single), "epoch {k}");
+        // The float moved along x to a chi-square of exactly s^2 (the 3-dof quantile at 1e-3 is 16.3).
+        let c = out.float_covariance_m2 + single.covariance_m2;
+        let dir = Vector3::new(1.0, 0.0, 0.0);
+        let ci = c.try_inverse().unwrap();
+        let unit = 1.0 / dir.dot(&(ci * dir)).sqrt();
+        for (s, agrees) in [(2.0, true), (10.0, false)] {
+            let mut moved = single.clone();
+            moved.baseline_m = out.float_baseline_m + dir * (s * unit);
+            assert_eq!(
+                out.agrees_with_float(&moved),
+                agrees,
+                "epoch {k}, {s} sigmas"
+            );
+        }
+    }
+}
