@@ -159,6 +159,8 @@ def _attitude(args: argparse.Namespace) -> int:
     if png == args.out:
         raise _UsageError(f"--out {args.out}: expected a CSV file name (the plot goes to the same name .png)")
     _writable("--out", args.out, folder=False)
+    if args.nmea is not None:
+        _writable("--nmea", args.nmea, folder=False)
     baselines = None
     if args.baselines is not None:
         if not args.baselines.is_file():
@@ -193,6 +195,10 @@ def _attitude(args: argparse.Namespace) -> int:
             baseline_length_m=args.baseline_length,
         )
     series.to_csv(args.out)
+    if args.nmea is not None:
+        from gnssatt.gnss.nmea import write_nmea
+
+        write_nmea(args.nmea, series)
     if not args.no_plot:
         # matplotlib costs about a second: imported only when the plot is wanted
         from gnssatt.plots import attitude_series
@@ -202,6 +208,8 @@ def _attitude(args: argparse.Namespace) -> int:
         print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print(series.summary())
     print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
+    if args.nmea is not None:
+        print(f"wrote {args.nmea}")
     return 0
 
 
@@ -226,8 +234,16 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
     att.add_argument(
         "--continuity",
         action="store_true",
-        help="moving baseline mode: hold fixed ambiguities along arcs without cycle slips (implies "
-        "--motion moving; refused with --motion static and with --baselines)",
+        help="moving mode: hold fixed ambiguities along arcs without cycle slips while they agree with "
+        "each epoch's data, with --baselines too (implies --motion moving; refused with --motion static)",
+    )
+    att.add_argument(
+        "--nmea",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="also write NMEA 0183 $GNHDT (true heading) and $PSAT,HPR (heading, pitch, roll, UTC) "
+        "sentences per solved epoch to FILE (docs/observation_engine.md)",
     )
     att.add_argument(
         "--filter",
