@@ -207,6 +207,11 @@ def _attitude(args: argparse.Namespace) -> int:
     for w in caught:
         print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print(series.summary())
+    static = args.motion == "static" or (
+        args.motion is None and baselines is None and not args.continuity and args.filter is None
+    )
+    if static and np.any(series.fixed == 1):
+        print(series.combined_baseline().summary())
     print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
     if args.nmea is not None:
         print(f"wrote {args.nmea}")
