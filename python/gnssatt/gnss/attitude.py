@@ -466,9 +466,11 @@ def attitude_from_rinex(
         epoch fixed on its own (or held along arcs with ``continuity``). Default: static for two antennas
         (moving with ``continuity``), moving in attitude mode, where ``"static"`` is refused.
     continuity
-        Moving baseline mode: hold fixed integers along slip-free arcs instead of fixing every epoch
-        afresh. Refused with ``motion="static"`` (one set for the session already) and with
-        ``baselines`` (attitude mode fixes every epoch on its own, with the array's geometry).
+        Moving mode: hold fixed integers along slip-free arcs while each epoch's data agree with them
+        (chi-square), instead of fixing every epoch afresh; in attitude mode the integers of the whole
+        array, new arcs fixed on them, a fresh fix replacing them only when the data prefer it
+        (``fix_state`` says ``held``; ``docs/observation_engine.md``). Refused with ``motion="static"``
+        (one set for the session already).
     filter
         Two antennas: a multi-epoch Kalman filter of the baseline (implies ``motion="moving"``) with the
         process model ``"static"`` (the baseline does not change), ``"kinematic"`` (a random walk of
