@@ -46,6 +46,19 @@ def checksum(body: str) -> str:
     -------
     str
         The checksum, e.g. ``"2C"``.
+
+    Raises
+    ------
+    UnicodeEncodeError
+        ``body`` not ASCII.
+
+    Examples
+    --------
+    A Hemisphere VS100 compass's sentence as logged on NOAA's R/V Ronald H. Brown:
+
+    >>> from gnssatt.gnss.nmea import checksum
+    >>> checksum("GPHDT,74.20,T")
+    '34'
     """
     return f"{reduce(lambda a, c: a ^ c, body.encode('ascii'), 0):02X}"
 
@@ -70,6 +83,17 @@ def hdt_sentence(heading_deg: float) -> str:
     -------
     str
         The sentence without its line end.
+
+    Raises
+    ------
+    TypeError, ValueError
+        ``heading_deg`` not a number.
+
+    Examples
+    --------
+    >>> from gnssatt.gnss.nmea import hdt_sentence
+    >>> hdt_sentence(-0.5)
+    '$GNHDT,359.500,T*21'
     """
     return _sentence(f"GNHDT,{_angle(float(heading_deg) % 360.0)},T")
 
@@ -88,6 +112,20 @@ def hpr_sentence(time_utc: np.datetime64, heading_deg: float, pitch_deg: float, 
     -------
     str
         The sentence without its line end.
+
+    Raises
+    ------
+    TypeError, ValueError
+        ``time_utc`` not a ``datetime64`` or an angle not a number.
+
+    Examples
+    --------
+    Two antennas (no roll):
+
+    >>> import numpy as np
+    >>> from gnssatt.gnss.nmea import hpr_sentence
+    >>> hpr_sentence(np.datetime64("2024-03-01T09:59:42.25"), 12.5, -1.25, float("nan"))
+    '$PSAT,HPR,095942.25,12.500,-1.250,,N*25'
     """
     cs = int(np.rint((time_utc - time_utc.astype("datetime64[D]")) / np.timedelta64(10, "ms")))
     cs %= 8_640_000
@@ -111,6 +149,21 @@ def utc_from_gpst(time_gpst: NDArray[np.datetime64]) -> NDArray[np.datetime64]:
     -------
     numpy.ndarray
         (n,) UTC ``datetime64[ns]``.
+
+    Raises
+    ------
+    ValueError
+        ``time_gpst`` not convertible to ``datetime64``.
+
+    Examples
+    --------
+    GPS - UTC became 18 s at 2017-01-01T00:00:00 UTC:
+
+    >>> import numpy as np
+    >>> from gnssatt.gnss.nmea import utc_from_gpst
+    >>> utc = utc_from_gpst(np.array(["2017-01-01T00:00:16", "2017-01-01T00:00:18"], "datetime64[ns]"))
+    >>> [str(t) for t in utc.astype("datetime64[s]")]
+    ['2016-12-31T23:59:59', '2017-01-01T00:00:00']
     """
     t = np.asarray(time_gpst, dtype="datetime64[ns]")
     # A leap second takes effect at a UTC date: the table is looked up at GPST minus its value there.
@@ -131,6 +184,31 @@ def nmea_sentences(series: AttitudeSeries) -> list[str]:
     -------
     list of str
         Two sentences per epoch with a finite heading (no line ends).
+
+    Raises
+    ------
+    AttributeError
+        ``series`` not an :class:`~gnssatt.gnss.attitude.AttitudeSeries`.
+
+    Examples
+    --------
+    Three epochs of a simulated 1 m triangle at heading 330, pitch 10, roll -5 deg (as
+    :func:`~gnssatt.gnss.attitude.attitude_from_rinex`'s example); 2024-03-01 10:00:00 GPST is 09:59:42 UTC:
+
+    >>> import tempfile
+    >>> from gnssatt.gnss.attitude import attitude_from_rinex
+    >>> from gnssatt.gnss.nmea import nmea_sentences
+    >>> from gnssatt.sim import equilateral_triangle
+    >>> from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
+    >>> antennas = equilateral_triangle(1.0, plane="xz")
+    >>> quiet = {"phase_sigma_m": 1e-5, "code_sigma_m": 0.01, "atmosphere": False}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     sim = simulate_gnss_rinex(folder, antennas, [30.0, 10.0, -5.0], systems="GE", frequencies=2,
+    ...                               n_epochs=3, rng=0, **quiet)
+    ...     series = attitude_from_rinex(list(sim.obs_paths), sim.nav_path, antennas[1:] - antennas[0])
+    >>> lines = nmea_sentences(series)
+    >>> len(lines), lines[0][:6], round(float(lines[0].split(",")[1]), 1), lines[1][:19]
+    (6, '$GNHDT', 330.0, '$PSAT,HPR,095942.00')
     """
     utc = utc_from_gpst(series.time)
     angles = series.angles_deg
@@ -164,6 +242,22 @@ def write_nmea(path: str | PathLike[str], series: AttitudeSeries) -> int:
     ------
     OSError
         When ``path`` cannot be written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from gnssatt.gnss.attitude import attitude_from_rinex
+    >>> from gnssatt.gnss.nmea import write_nmea
+    >>> from gnssatt.sim import equilateral_triangle
+    >>> from gnssatt.sim.rinex_scenario import simulate_gnss_rinex
+    >>> antennas = equilateral_triangle(1.0, plane="xz")
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     sim = simulate_gnss_rinex(folder, antennas, [30.0, 10.0, -5.0], systems="GE", frequencies=2,
+    ...                               n_epochs=3, rng=0, atmosphere=False)
+    ...     series = attitude_from_rinex(list(sim.obs_paths), sim.nav_path, antennas[1:] - antennas[0])
+    ...     write_nmea(Path(folder) / "heading.nmea", series)
+    3
     """
     lines = nmea_sentences(series)
     with open(path, "w", encoding="ascii", newline="") as f:
