@@ -16,7 +16,7 @@ import pytest
 from gnssatt import sim
 from gnssatt.cli import main
 from gnssatt.gnss.attitude import AttitudeSeries, attitude_from_rinex
-from gnssatt.gnss.nmea import checksum, hdt_sentence, nmea_sentences, utc_from_gpst, write_nmea
+from gnssatt.gnss.nmea import _checksum, _hdt_sentence, _utc_from_gpst, nmea_sentences, write_nmea
 from gnssatt.sim.rinex_scenario import SimulatedRinex, simulate_rinex_array
 
 ANT = sim.equilateral_triangle(1.0, plane="xz")
@@ -38,8 +38,8 @@ def session(tmp_path_factory: pytest.TempPathFactory) -> tuple[SimulatedRinex, A
 def test_checksum_of_a_published_sentence() -> None:
     # A Hemisphere VS100's output as logged on NOAA's R/V Ronald H. Brown (psl.noaa.gov ATOMIC 2020 raw
     # GPS log): "$GPHDT,74.20,T*34".
-    assert checksum("GPHDT,74.20,T") == "34"
-    assert hdt_sentence(-0.5) == f"$GNHDT,359.500,T*{checksum('GNHDT,359.500,T')}"
+    assert _checksum("GPHDT,74.20,T") == "34"
+    assert _hdt_sentence(-0.5) == f"$GNHDT,359.500,T*{_checksum('GNHDT,359.500,T')}"
 
 
 def test_sentences_parse_back_with_headings_and_utc_times(
@@ -92,7 +92,7 @@ def test_two_angles_write_an_empty_roll(session: tuple[SimulatedRinex, AttitudeS
     ],
 )
 def test_utc_from_gpst_across_the_2017_leap_second(gpst: str, utc: str) -> None:
-    got = utc_from_gpst(np.array([gpst], dtype="datetime64[ns]"))
+    got = _utc_from_gpst(np.array([gpst], dtype="datetime64[ns]"))
     assert got[0] == np.datetime64(utc, "ns")
 
 

@@ -21,20 +21,20 @@ from __future__ import annotations
 
 from functools import reduce
 from os import PathLike
-from typing import TYPE_CHECKING
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
+from gnssatt._arrays import path_text
+from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.gnss.attitude import AttitudeSeries
 from gnssatt.rinex.nav import leap_seconds
 
-if TYPE_CHECKING:
-    from gnssatt.gnss.attitude import AttitudeSeries
-
-__all__ = ["checksum", "hdt_sentence", "hpr_sentence", "nmea_sentences", "utc_from_gpst", "write_nmea"]
+__all__ = ["nmea_sentences", "write_nmea"]
 
 
-def checksum(body: str) -> str:
+def _checksum(body: str) -> str:
     """Two-digit upper-case hexadecimal XOR of the characters of ``body`` (between ``$`` and ``*``).
 
     Parameters
@@ -56,22 +56,22 @@ def checksum(body: str) -> str:
     --------
     A Hemisphere VS100 compass's sentence as logged on NOAA's R/V Ronald H. Brown:
 
-    >>> from gnssatt.gnss.nmea import checksum
-    >>> checksum("GPHDT,74.20,T")
+    >>> from gnssatt.gnss.nmea import _checksum
+    >>> _checksum("GPHDT,74.20,T")
     '34'
     """
     return f"{reduce(lambda a, c: a ^ c, body.encode('ascii'), 0):02X}"
 
 
 def _sentence(body: str) -> str:
-    return f"${body}*{checksum(body)}"
+    return f"${body}*{_checksum(body)}"
 
 
 def _angle(value: float) -> str:
     return "" if not np.isfinite(value) else f"{value:.3f}"
 
 
-def hdt_sentence(heading_deg: float) -> str:
+def _hdt_sentence(heading_deg: float) -> str:
     """``$GNHDT,<heading>,T*hh``: true heading, degrees clockwise from true North, in [0, 360).
 
     Parameters
@@ -91,14 +91,14 @@ def hdt_sentence(heading_deg: float) -> str:
 
     Examples
     --------
-    >>> from gnssatt.gnss.nmea import hdt_sentence
-    >>> hdt_sentence(-0.5)
+    >>> from gnssatt.gnss.nmea import _hdt_sentence
+    >>> _hdt_sentence(-0.5)
     '$GNHDT,359.500,T*21'
     """
     return _sentence(f"GNHDT,{_angle(float(heading_deg) % 360.0)},T")
 
 
-def hpr_sentence(time_utc: np.datetime64, heading_deg: float, pitch_deg: float, roll_deg: float) -> str:
+def _hpr_sentence(time_utc: np.datetime64, heading_deg: float, pitch_deg: float, roll_deg: float) -> str:
     """``$PSAT,HPR,<hhmmss.ss>,<heading>,<pitch>,<roll>,N*hh`` (Hemisphere GNSS; module docstring).
 
     Parameters
@@ -123,8 +123,8 @@ def hpr_sentence(time_utc: np.datetime64, heading_deg: float, pitch_deg: float, 
     Two antennas (no roll):
 
     >>> import numpy as np
-    >>> from gnssatt.gnss.nmea import hpr_sentence
-    >>> hpr_sentence(np.datetime64("2024-03-01T09:59:42.25"), 12.5, -1.25, float("nan"))
+    >>> from gnssatt.gnss.nmea import _hpr_sentence
+    >>> _hpr_sentence(np.datetime64("2024-03-01T09:59:42.25"), 12.5, -1.25, float("nan"))
     '$PSAT,HPR,095942.25,12.500,-1.250,,N*25'
     """
     cs = int(np.rint((time_utc - time_utc.astype("datetime64[D]")) / np.timedelta64(10, "ms")))
@@ -137,7 +137,7 @@ def hpr_sentence(time_utc: np.datetime64, heading_deg: float, pitch_deg: float, 
     return _sentence(f"PSAT,HPR,{hms},{_angle(heading)},{_angle(pitch_deg)},{_angle(roll_deg)},N")
 
 
-def utc_from_gpst(time_gpst: NDArray[np.datetime64]) -> NDArray[np.datetime64]:
+def _utc_from_gpst(time_gpst: NDArray[np.datetime64]) -> NDArray[np.datetime64]:
     """UTC labels of GPST instants: GPST minus the leap seconds (GPS - UTC) in force then.
 
     Parameters
@@ -160,8 +160,8 @@ def utc_from_gpst(time_gpst: NDArray[np.datetime64]) -> NDArray[np.datetime64]:
     GPS - UTC became 18 s at 2017-01-01T00:00:00 UTC:
 
     >>> import numpy as np
-    >>> from gnssatt.gnss.nmea import utc_from_gpst
-    >>> utc = utc_from_gpst(np.array(["2017-01-01T00:00:16", "2017-01-01T00:00:18"], "datetime64[ns]"))
+    >>> from gnssatt.gnss.nmea import _utc_from_gpst
+    >>> utc = _utc_from_gpst(np.array(["2017-01-01T00:00:16", "2017-01-01T00:00:18"], "datetime64[ns]"))
     >>> [str(t) for t in utc.astype("datetime64[s]")]
     ['2016-12-31T23:59:59', '2017-01-01T00:00:00']
     """
@@ -187,7 +187,7 @@ def nmea_sentences(series: AttitudeSeries) -> list[str]:
 
     Raises
     ------
-    AttributeError
+    InvalidTypeError
         ``series`` not an :class:`~gnssatt.gnss.attitude.AttitudeSeries`.
 
     Examples
@@ -210,7 +210,9 @@ def nmea_sentences(series: AttitudeSeries) -> list[str]:
     >>> len(lines), lines[0][:6], round(float(lines[0].split(",")[1]), 1), lines[1][:19]
     (6, '$GNHDT', 330.0, '$PSAT,HPR,095942.00')
     """
-    utc = utc_from_gpst(series.time)
+    if not isinstance(series, AttitudeSeries):
+        raise InvalidTypeError(f"expected series as an AttitudeSeries, got {type(series).__name__}")
+    utc = _utc_from_gpst(series.time)
     angles = series.angles_deg
     out: list[str] = []
     for k in range(len(series.time)):
@@ -218,8 +220,8 @@ def nmea_sentences(series: AttitudeSeries) -> list[str]:
         if not np.isfinite(heading):
             continue
         roll = float(angles[k, 2]) if angles.shape[1] > 2 else float("nan")
-        out.append(hdt_sentence(heading))
-        out.append(hpr_sentence(utc[k], heading, pitch, roll))
+        out.append(_hdt_sentence(heading))
+        out.append(_hpr_sentence(utc[k], heading, pitch, roll))
     return out
 
 
@@ -240,8 +242,12 @@ def write_nmea(path: str | PathLike[str], series: AttitudeSeries) -> int:
 
     Raises
     ------
+    InvalidTypeError
+        ``path`` not a str or os.PathLike, ``series`` not an :class:`~gnssatt.gnss.attitude.AttitudeSeries`.
+    InvalidInputError
+        ``path`` empty, a folder, or in a folder that does not exist.
     OSError
-        When ``path`` cannot be written.
+        When ``path`` cannot be written otherwise (permissions, a full disk).
 
     Examples
     --------
@@ -259,7 +265,12 @@ def write_nmea(path: str | PathLike[str], series: AttitudeSeries) -> int:
     ...     write_nmea(Path(folder) / "heading.nmea", series)
     3
     """
+    target = Path(path_text(path, "path"))
+    if target.is_dir():
+        raise InvalidInputError(f"expected path as a file name, got the folder {str(target)!r}")
+    if not target.parent.is_dir():
+        raise InvalidInputError(f"expected path in an existing folder, got {str(target)!r}")
     lines = nmea_sentences(series)
-    with open(path, "w", encoding="ascii", newline="") as f:
+    with open(target, "w", encoding="ascii", newline="") as f:
         f.writelines(line + "\r\n" for line in lines)
     return len(lines) // 2
