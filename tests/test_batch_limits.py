@@ -202,15 +202,10 @@ ROW_LIMITS: dict[str, tuple[Callable[[], object], str, str]] = {
 @pytest.mark.parametrize("name", list(ROW_LIMITS))
 def test_batches_over_a_row_limit_are_refused_from_the_shapes(name: str) -> None:
     call, parameter, constant = ROW_LIMITS[name]
-    tracemalloc.start()
-    try:
-        with pytest.raises(WorkLimitError, match=f"^{parameter} asks for") as info:
-            call()
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    with traced_peak() as peak, pytest.raises(WorkLimitError, match=f"^{parameter} asks for") as info:
+        call()
     assert constant in str(info.value) and "limit" in str(info.value), info.value
-    assert peak < 8_000_000, peak
+    assert peak.bytes < 8_000_000, peak.bytes
 
 
 def test_the_row_limit_takes_the_limit_and_refuses_one_more() -> None:

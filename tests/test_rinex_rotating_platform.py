@@ -8,7 +8,6 @@ from __future__ import annotations
 import dataclasses
 from functools import cache
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
@@ -77,18 +76,12 @@ def test_single_epoch_constrained_fix_matches_truth(rotating: SimulatedRinex) ->
     assert np.max(np.linalg.norm(fitted - s.baselines_enu_m[sol.fixed == 1], axis=2)) < WRONG_M
 
 
-@pytest.mark.parametrize(
-    ("kwargs", "name"),
-    [({"motion": "moving", "continuity": True}, "continuity"), ({"motion": "static"}, "motion")],
-)
-def test_attitude_mode_refuses_the_modes_that_hold_integers(
-    rotating: SimulatedRinex, kwargs: dict[str, Any], name: str
-) -> None:
-    """Attitude mode fixes every epoch on its own with the array's geometry: holding integers along arcs
-    and one static set are baseline mode's, refused here by name rather than ignored."""
+def test_attitude_mode_refuses_static_motion(rotating: SimulatedRinex) -> None:
+    """One static set of integers is baseline mode's, refused here by name rather than ignored (holding
+    integers along arcs, ``continuity``, is attitude mode's too: tests/test_gnss_attitude_hold.py)."""
     s = rotating
-    with pytest.raises(InvalidInputError, match=f"--{name}.*attitude mode fixes every epoch"):
-        attitude_from_rinex(list(s.obs_paths), s.nav_path, BODY, method="lambda", **kwargs)
+    with pytest.raises(InvalidInputError, match=r"--motion.*attitude mode fixes every epoch"):
+        attitude_from_rinex(list(s.obs_paths), s.nav_path, BODY, method="lambda", motion="static")
 
 
 @pytest.mark.slow

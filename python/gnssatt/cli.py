@@ -179,9 +179,11 @@ def _write(
     png: Path,
     caught: list[warnings.WarningMessage],
     plot: Callable[[ModuleType], object],
+    notes: Sequence[str] = (),
+    also_written: Sequence[Path] = (),
 ) -> int:
     """Write the CSV and (unless ``--no-plot``) the plot, then the warnings ``caught`` one line each on
-    stderr, the summary and what was written."""
+    stderr, the summary, the ``notes`` and what was written (the files ``also_written`` already were)."""
     series.to_csv(args.out)
     if not args.no_plot:
         # matplotlib costs about a second: imported only when the plot is wanted
@@ -191,7 +193,11 @@ def _write(
     for w in caught:
         print(f"gnssatt: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print(series.summary())
+    for note in notes:
+        print(note)
     print(f"wrote {args.out}" if args.no_plot else f"wrote {args.out} and {png}")
+    for path in also_written:
+        print(f"wrote {path}")
     return 0
 
 
@@ -201,6 +207,8 @@ def _attitude(args: argparse.Namespace) -> int:
     from gnssatt.gnss.attitude import attitude_from_rinex
 
     png = _plot_path(args.out)
+    if args.nmea is not None:
+        _writable("--nmea", args.nmea, folder=False)
     baselines = None
     if args.baselines is not None:
         if not args.baselines.is_file():
@@ -234,8 +242,24 @@ def _attitude(args: argparse.Namespace) -> int:
             window_deg=args.window,
             baseline_length_m=args.baseline_length,
         )
+    if args.nmea is not None:
+        from gnssatt.gnss.nmea import write_nmea
+
+        write_nmea(args.nmea, series)
+    static = args.motion == "static" or (
+        args.motion is None and baselines is None and not args.continuity and args.filter is None
+    )
+    notes = [series.combined_baseline().summary()] if static and np.any(series.fixed == 1) else []
     data = " -> ".join(Path(o).name for o in args.obs)
-    return _write(args, series, png, caught, lambda plots: plots.attitude_series(series, png, data=data))
+    return _write(
+        args,
+        series,
+        png,
+        caught,
+        lambda plots: plots.attitude_series(series, png, data=data),
+        notes=notes,
+        also_written=[] if args.nmea is None else [args.nmea],
+    )
 
 
 def _attitude_options(att: argparse.ArgumentParser) -> None:
@@ -259,8 +283,16 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
     att.add_argument(
         "--continuity",
         action="store_true",
-        help="moving baseline mode: hold fixed ambiguities along arcs without cycle slips (implies "
-        "--motion moving; refused with --motion static and with --baselines)",
+        help="moving mode: hold fixed ambiguities along arcs without cycle slips while they agree with "
+        "each epoch's data, with --baselines too (implies --motion moving; refused with --motion static)",
+    )
+    att.add_argument(
+        "--nmea",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="also write NMEA 0183 $GNHDT (true heading) and $PSAT,HPR (heading, pitch, roll, UTC) "
+        "sentences per solved epoch to FILE (docs/observation_engine.md)",
     )
     att.add_argument(
         "--filter",

@@ -18,6 +18,7 @@ import inspect
 import pkgutil
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import cache
 from typing import Any
 
 import numpy as np
@@ -89,6 +90,15 @@ def _e(build: Callable[[], dict[str, Any]], **kw: Any) -> Entry:
         if key in kw:
             kw[key] = frozenset(kw[key])
     return Entry(build, **kw)
+
+
+@cache
+def _attitude_series() -> Any:
+    """A solved series of the shared RINEX array (the NMEA writers' input)."""
+    from gnssatt.gnss.attitude import attitude_from_rinex
+
+    a = s.rinex_array()
+    return attitude_from_rinex(list(a.obs_paths), a.nav_path, method="lambda", systems="G")
 
 
 def _unit(rows: list[list[float]]) -> np.ndarray:
@@ -587,6 +597,10 @@ ENTRIES: dict[str, Entry] = {
             "elevation_mask_deg": 10.0,
         },
         nan_output="epochs without a solution are NaN, flagged in the series",
+    ),
+    "gnssatt.gnss.nmea.nmea_sentences": _e(lambda: {"series": _attitude_series()}),
+    "gnssatt.gnss.nmea.write_nmea": _e(
+        lambda: {"path": s.folder() / "written.nmea", "series": _attitude_series()}
     ),
     "gnssatt.position_from_rinex": _e(
         lambda: {

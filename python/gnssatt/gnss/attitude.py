@@ -42,6 +42,7 @@ __all__ = [
     "MIN_DIRECTION_BASELINE_M",
     "SYSTEMS",
     "AttitudeSeries",
+    "CombinedBaseline",
     "EngineWarning",
     "ZeroBaselineWarning",
     "attitude_from_rinex",
@@ -81,6 +82,37 @@ class EngineWarning(GnssattWarning):
 class ZeroBaselineWarning(EngineWarning):
     """Baseline mode: the baseline solved is shorter than :data:`MIN_DIRECTION_BASELINE_M` at some epochs,
     whose azimuth and elevation are therefore NaN (the baseline itself is kept)."""
+
+
+@dataclass(frozen=True)
+class CombinedBaseline:
+    """The baselines of a static session from every fixed epoch (:meth:`AttitudeSeries.combined_baseline`).
+
+    Attributes
+    ----------
+    baselines_enu_m
+        (m, 3) rover minus reference antenna, East-North-Up at the reference antenna, m.
+    covariances_enu_m2
+        (m, 3, 3) their covariances, m^2 (white noise across epochs).
+    epochs
+        Fixed epochs combined.
+    """
+
+    baselines_enu_m: NDArray[np.float64]
+    covariances_enu_m2: NDArray[np.float64]
+    epochs: int
+
+    def summary(self) -> str:
+        """One line per rover: ENU components with their one-sigma, mm, and the epochs combined."""
+        lines = []
+        for r, (b, q) in enumerate(zip(self.baselines_enu_m, self.covariances_enu_m2, strict=True), start=1):
+            sd = 1e3 * np.sqrt(np.diag(q))
+            lines.append(
+                f"combined baseline, rover {r} ({self.epochs} fixed epochs): "
+                f"east {b[0]:.4f} +- {sd[0]:.1f} mm, north {b[1]:.4f} +- {sd[1]:.1f} mm, "
+                f"up {b[2]:.4f} +- {sd[2]:.1f} mm"
+            )
+        return "\n".join(lines)
 
 
 @dataclass(frozen=True)
@@ -132,6 +164,9 @@ class AttitudeSeries:
         solutions' residuals in moving mode, and applied to the code variances within 0.5-10 of the
         model's sigma (NaN where not estimated: static mode, or fewer than 50 residual degrees of
         freedom); ``docs/observation_engine.md``.
+    baseline_covariances_enu_m2
+        (n, m, 3, 3) covariance of each baseline, ENU, m^2 (NaN where unsolved or from the ML grid);
+        :meth:`combined_baseline` combines the fixed epochs.
     """
 
     time: NDArray[np.datetime64]
@@ -152,6 +187,51 @@ class AttitudeSeries:
     signal_codes: Mapping[str, Any]
     warnings: tuple[str, ...]
     code_sigma_scale: tuple[float, ...] = ()
+    baseline_covariances_enu_m2: NDArray[np.float64] | None = None
+
+    def combined_baseline(self) -> CombinedBaseline:
+        """One baseline per rover from every fixed epoch: the batch least-squares solution of a static
+        session with its covariance.
+
+        With the integers fixed, an epoch's double differences depend on the baseline alone, and with white
+        noise across epochs the batch least-squares baseline of all of them is the information-weighted
+        mean of the per-epoch fixed baselines: ``Q = (sum_k Q_k^-1)^-1``, ``b = Q sum_k Q_k^-1 b_k``. The
+        epochs used are the solved ones with every ambiguity fixed (``fixed == 1``, state ``fixed`` or
+        ``held``) and a finite covariance. It is the static solution only where the antennas did not move
+        (``motion="static"``, or a moving run of a static pair); time-correlated errors (multipath) make
+        ``Q`` optimistic by up to the number of epochs per correlation time.
+
+        Returns
+        -------
+        CombinedBaseline
+            Baselines (m, 3), covariances (m, 3, 3) and the number of epochs used.
+
+        Raises
+        ------
+        InvalidInputError
+            No fixed epoch with a finite covariance (``epochs`` 0), or a series without covariances.
+        """
+        cov = self.baseline_covariances_enu_m2
+        if cov is None:
+            raise InvalidInputError(
+                "combined_baseline: expected a series with baseline covariances, got none"
+            )
+        finite = np.all(np.isfinite(cov), axis=(1, 2, 3)) & np.all(
+            np.isfinite(self.baselines_enu_m), axis=(1, 2)
+        )
+        rows = self.solved & (self.fixed == 1) & finite
+        if not rows.any():
+            raise InvalidInputError(
+                f"combined_baseline: expected at least one fixed epoch with a finite covariance, got none of "
+                f"{len(rows)} epochs"
+            )
+        info = np.linalg.inv(cov[rows])  # (k, m, 3, 3)
+        total = info.sum(axis=0)
+        q = np.linalg.inv(total)
+        b = np.einsum("rij,rj->ri", q, np.einsum("krij,krj->ri", info, self.baselines_enu_m[rows]))
+        return CombinedBaseline(
+            baselines_enu_m=b, covariances_enu_m2=0.5 * (q + q.transpose(0, 2, 1)), epochs=int(rows.sum())
+        )
 
     @property
     def angle_names(self) -> tuple[str, ...]:
@@ -368,9 +448,11 @@ def attitude_from_rinex(
         epoch fixed on its own (or held along arcs with ``continuity``). Default: static for two antennas
         (moving with ``continuity``), moving in attitude mode, where ``"static"`` is refused.
     continuity
-        Moving baseline mode: hold fixed integers along slip-free arcs instead of fixing every epoch
-        afresh. Refused with ``motion="static"`` (one set for the session already) and with
-        ``baselines`` (attitude mode fixes every epoch on its own, with the array's geometry).
+        Moving mode: hold fixed integers along slip-free arcs while each epoch's data agree with them
+        (chi-square), instead of fixing every epoch afresh; in attitude mode the integers of the whole
+        array, new arcs fixed on them, a fresh fix replacing them only when the data prefer it
+        (``fix_state`` says ``held``; ``docs/observation_engine.md``). Refused with ``motion="static"``
+        (one set for the session already).
     filter
         Two antennas: a multi-epoch Kalman filter of the baseline (implies ``motion="moving"``) with the
         process model ``"static"`` (the baseline does not change), ``"kinematic"`` (a random walk of
@@ -657,4 +739,5 @@ def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
         signal_codes=dict(signal_codes),
         warnings=tuple(s.warnings),
         code_sigma_scale=tuple(float(x) for x in s.code_sigma_scale),
+        baseline_covariances_enu_m2=np.asarray(s.baseline_covariance_enu_m2, dtype=np.float64),
     )

@@ -58,8 +58,8 @@ pub struct EngineOptions {
     pub base_position_m: Option<[f64; 3]>,
     pub motion: Motion,
     pub method: Method,
-    /// Hold fixed integers along slip-free arcs in moving baseline mode (refused when static and with
-    /// body baselines).
+    /// Hold fixed integers along slip-free arcs in moving mode, baseline or attitude (refused when
+    /// static).
     pub continuity: bool,
     /// Moving baseline mode: a multi-epoch filter of each rover's baseline with this process model
     /// (`rtk::filter`): float ambiguities carried along their arcs, fixing on the filter's covariance,
@@ -182,16 +182,6 @@ impl EngineOptions {
                     format!("expected finite body coordinates within 1e4 m, row {i} is {b:?}"),
                 ));
             }
-        }
-        // Attitude mode fixes every epoch on its own with the array's geometry: the modes that hold or
-        // pool integers across epochs are baseline mode's, and refused here rather than ignored.
-        if !self.body_baselines_m.is_empty() && self.continuity {
-            return Err(Error::out_of_range(
-                "--continuity",
-                "expected baseline mode (no body baselines): attitude mode fixes every epoch on its \
-                 own, with the array's geometry, and holds no integers, got body baselines and \
-                 continuity",
-            ));
         }
         if self.continuity && self.motion == Motion::Static {
             return Err(Error::out_of_range(

@@ -36,12 +36,18 @@
 //!
 //! # Continuity and static mode
 //! With `continuity` (moving, baseline mode) the integers fixed at one epoch are imposed at the next on
-//! the arcs that continue; when the fixed solution's double-difference phase residuals of held arcs
-//! exceed [`HELD_RESIDUAL_CYCLES`] (an undetected slip), or the held solution is not fixed, the epoch is
-//! fixed again without them. In static mode (baseline mode) every call solves one baseline over all
+//! the arcs that continue (every pair of arcs held against one reference, so a change of reference
+//! satellite keeps them); when the fixed solution's double-difference phase residuals of held arcs
+//! exceed [`HELD_RESIDUAL_CYCLES`] (an undetected slip), or the held solution is not fixed, or (a rover
+//! with a known length) the held integers' chi-square on the epoch's float solution exceeds its
+//! [`crate::gnss::rtk::constrained::HOLD_Z`] quantile, the epoch is fixed again without them. In
+//! attitude mode `continuity` holds the integers of every rover together
+//! ([`crate::gnss::rtk::solve_attitude_held`]): checked each epoch against the float solutions and the
+//! body baselines by their chi-square, new arcs fixed on them, replaced by a fresh fix only when the data
+//! prefer it by the ratio threshold; a slip restarts only its own arc. In static mode (baseline mode) every call solves one baseline over all
 //! epochs seen so far ([`crate::gnss::rtk::solve_baseline`] with every epoch), then each epoch of the
 //! call gets its baseline from those integers: over a whole session that is the static solution;
-//! streamed, each chunk gets the running solution. Attitude mode solves every epoch on its own.
+//! streamed, each chunk gets the running solution. Attitude mode has no static mode.
 
 mod arcs;
 mod ml;
@@ -61,9 +67,11 @@ use super::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry, Sat
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
+use super::rtk::constrained::{chi2_quantile_at, HOLD_Z};
 use super::rtk::filter::BaselineFilter;
+use super::rtk::float;
 use super::rtk::{
-    model::SdRangeModel, solve_attitude, solve_baseline, solve_known_length, AttitudeSolution,
+    model::SdRangeModel, solve_attitude_held, solve_baseline, solve_known_length, AttitudeSolution,
     BaselineSolution, DdEpoch, FixOptions, SignalPair,
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
@@ -656,17 +664,53 @@ impl Engine {
                     .map(|(d, &f)| scale_code(d, f).into_owned())
                     .collect();
                 let body = self.opts.body_baselines_m.clone();
-                out.push(match solve_attitude(&dds, &body, &fix) {
-                    Ok(a) => {
+                let held: Vec<Vec<(u64, u64, i64)>> = if self.opts.continuity {
+                    self.held
+                        .iter()
+                        .zip(&dds)
+                        .map(|(h, d)| present(h, d))
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                out.push(match solve_attitude_held(&dds, &body, &fix, &held) {
+                    Ok(h) => {
                         for ((c, b), &f) in
-                            self.code_scale.iter_mut().zip(&a.baselines).zip(&factors)
+                            self.code_scale.iter_mut().zip(&h.fresh.baselines).zip(&factors)
                         {
                             c.add(b, f);
                         }
-                        p.base_m.map(|b| self.attitude_estimate(&b, &a))
+                        if h.rejected {
+                            self.warn_once(
+                                "attitude hold rejected".into(),
+                                format!(
+                                    "held integers disagreed with the data at epoch {k} ({} ns GPST) \
+                                     and were dropped (an undetected slip, a wrong fix, or a fresh fix \
+                                     the data prefer); the epoch is fixed afresh",
+                                    p.time_gpst_ns
+                                ),
+                            );
+                        }
+                        let a = h.solution;
+                        if self.opts.continuity {
+                            if a.fixed {
+                                for (held, b) in self.held.iter_mut().zip(&a.baselines) {
+                                    held.clone_from(&b.integers);
+                                }
+                            } else if !h.held {
+                                self.held.iter_mut().for_each(Vec::clear);
+                            }
+                        }
+                        let state = match (a.fixed, h.held) {
+                            (false, _) => FixState::Float,
+                            (true, true) => FixState::Held,
+                            (true, false) => FixState::Fixed,
+                        };
+                        p.base_m.map(|b| self.attitude_estimate(&b, &a, state))
                     }
                     Err(e) if leaves_epoch_unsolved(&e) => {
                         self.note_unsolved(k, p.time_gpst_ns, &e);
+                        self.held.iter_mut().for_each(Vec::clear);
                         None
                     }
                     Err(e) => return Err(e),
@@ -781,7 +825,11 @@ impl Engine {
                 let mut unheld = held.is_empty();
                 let holding = !held.is_empty() && static_session.is_none();
                 if static_session.is_none() && !held.is_empty() {
-                    let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held));
+                    // A known length's held set is also checked against the epoch's float solution (the
+                    // constrained fix of new arcs leans on it): its chi-square, as attitude mode's.
+                    let known_length = self.opts.baseline_lengths_m.get(r).is_some();
+                    let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held))
+                        && (!known_length || held_chi2_consistent(scaled.as_ref(), &held));
                     if !keep {
                         result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix);
                         unheld = true;
@@ -857,7 +905,12 @@ impl Engine {
 
     /// Attitude-mode estimate from the constrained fix: baselines and covariances in ENU at the base,
     /// angle sigmas propagated from the rovers' baseline covariances.
-    fn attitude_estimate(&self, base: &Vector3<f64>, a: &AttitudeSolution) -> Estimate {
+    fn attitude_estimate(
+        &self,
+        base: &Vector3<f64>,
+        a: &AttitudeSolution,
+        fix_state: FixState,
+    ) -> Estimate {
         let (lat, lon, _) = geodetic_from_ecef(base);
         let r = enu_from_ecef(lat, lon);
         let baselines_enu_m: Vec<Vector3<f64>> =
@@ -875,11 +928,7 @@ impl Engine {
         Estimate {
             method: Method::Lambda,
             fixed: a.fixed,
-            fix_state: if a.fixed {
-                FixState::Fixed
-            } else {
-                FixState::Float
-            },
+            fix_state,
             fixed_ambiguities: a.baselines.iter().map(|b| b.fixed_ambiguities).sum(),
             ambiguities: a.baselines.iter().map(|b| b.ambiguities).sum(),
             ratio: a.ratio,
@@ -1107,13 +1156,29 @@ fn ml_estimate() -> Estimate {
     }
 }
 
-/// The held integers whose two arcs both have a signal at this epoch.
+/// The held integers whose two arcs both have a signal at this epoch, for every pair of arcs held
+/// against one reference: `N(a, b) = N(a, r) - N(b, r)` and `N(r, b) = -N(b, r)`, so that a change of
+/// reference satellite (the float solution keys its ambiguities by arc and reference arc) keeps them.
 fn present(held: &[(u64, u64, i64)], dd: &DdEpoch) -> Vec<(u64, u64, i64)> {
     let arcs: BTreeSet<u64> = dd.signals.iter().map(|s| s.arc).collect();
-    held.iter()
-        .copied()
-        .filter(|(a, r, _)| arcs.contains(a) && arcs.contains(r))
-        .collect()
+    let mut by_reference: std::collections::BTreeMap<u64, Vec<(u64, i64)>> = Default::default();
+    for &(a, r, n) in held {
+        if arcs.contains(&a) && arcs.contains(&r) {
+            by_reference.entry(r).or_default().push((a, n));
+        }
+    }
+    let mut out = Vec::new();
+    for (r, members) in by_reference {
+        let with_reference: Vec<(u64, i64)> = std::iter::once((r, 0)).chain(members).collect();
+        for &(a, na) in &with_reference {
+            for &(b, nb) in &with_reference {
+                if a != b {
+                    out.push((a, b, na - nb));
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Whether every held integer agrees with the fixed baseline: the double-difference phase minus the
@@ -1133,6 +1198,18 @@ fn held_consistent(dd: &DdEpoch, sol: &BaselineSolution, held: &[(u64, u64, i64)
             _ => true,
         }
     })
+}
+
+/// Whether `held` agrees with the epoch's float solution: the weighted squared residuals the held
+/// integers add (chi-square with them imposed minus without) stay within the
+/// [`crate::gnss::rtk::constrained::HOLD_Z`] chi-square quantile of the number imposed.
+fn held_chi2_consistent(dd: &DdEpoch, held: &[(u64, u64, i64)]) -> bool {
+    let one = std::slice::from_ref(dd);
+    let (Ok(free), Ok(with)) = (float::solve(one, &[]), float::solve(one, held)) else {
+        return false;
+    };
+    let n = with.used_held.len();
+    n == 0 || with.chi2 - free.chi2 <= chi2_quantile_at(n, HOLD_Z)
 }
 
 /// Baseline-mode estimate from one solution per rover, East-North-Up at the base.

@@ -16,11 +16,14 @@
 //! [`crate::lambda::gate`]: the second best's objective is at least `ratio_threshold` times larger and
 //! its own objective is plausible (below the `1 - 1e-9` chi-square quantile of its degrees of freedom,
 //! which refuses a best that is only the least wrong of a list that missed the truth). Rovers are treated as independent (their shared base observations are ignored).
+//!
+//! [`solve_attitude_held`] scores integers held from earlier epochs with the same objective on the
+//! epoch's float solutions and keeps them while it is plausible (fix-and-hold for arrays).
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::enu_at;
-use super::fix::{ambiguity_problem, fix_problem, validate_input};
+use super::fix::{ambiguity_problem, fix_problem, float_result, validate_input};
 use super::float::{self, FloatSolution};
 use super::{AttitudeSolution, BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{ensure_finite, Error, Result};
@@ -51,6 +54,8 @@ struct Rover {
     /// `(integers, ||a - z||^2, conditioned baseline ENU)`, best screening cost first.
     candidates: Vec<(DVector<i64>, f64, Vector3<f64>)>,
     weight: f64,
+    /// The held integers the float solution imposed.
+    held_used: Vec<(u64, u64, i64)>,
 }
 
 /// Attitude mode, one epoch: each rover's [`DdEpoch`] (same base), the body baselines (one per rover,
@@ -66,6 +71,142 @@ pub fn solve_attitude(
     body_m: &[[f64; 3]],
     fix: &FixOptions,
 ) -> Result<AttitudeSolution> {
+    Ok(fresh(epochs, body_m, fix)?.solution)
+}
+
+/// Upper-tail standard normal quantile of the held integers' chi-square test (tail 1e-3): a false
+/// alarm only costs a fresh fix, a wrong integer kept costs every later epoch.
+pub const HOLD_Z: f64 = 3.09;
+
+/// What [`solve_attitude_held`] made of the held integers.
+#[derive(Debug, Clone)]
+pub struct HeldAttitude {
+    /// The epoch's solution: the held integers' (new arcs fixed on them) when `held`, else the fresh fix
+    /// (or float) of [`solve_attitude`].
+    pub solution: AttitudeSolution,
+    /// The solution comes from the held integers.
+    pub held: bool,
+    /// The held integers were dropped: their chi-square on this epoch's float solution exceeded its
+    /// [`HOLD_Z`] quantile, or a fresh validated fix the data prefer replaced them.
+    pub rejected: bool,
+    /// The epoch's fresh solution (its float residuals feed the code noise estimate).
+    pub fresh: AttitudeSolution,
+}
+
+/// Attitude mode with integers held from earlier epochs: `held[i]` is rover `i`'s
+/// `(arc, reference arc, integer)` triples present at this epoch (possibly none).
+///
+/// The held integers (and, for the arcs they do not cover, the best constrained candidates conditioned
+/// on them) are scored with the objective of the module documentation on this epoch's unheld float
+/// solutions: `sum_i chi2(held_i) - chi2(free_i)` (the ambiguity residuals' quadratic form) plus the
+/// constrained search's cost of what remains. They are kept while that cost is below the [`HOLD_Z`]
+/// chi-square quantile of `sum n_i + 3 m - 3` degrees of freedom (the fresh fix's), and while a fresh
+/// validated fix with other integers does not have a cost `ratio_threshold` times smaller (the data must
+/// prefer it as the ratio test prefers a best candidate to its second: no heading jump from a marginal
+/// fresh fix). Arcs the held integers do not cover are fixed on them when their constrained ratio passes
+/// `ratio_threshold`; otherwise the epoch is float on the held integers (kept for the next epoch).
+///
+/// # Errors
+/// Those of [`solve_attitude`].
+pub fn solve_attitude_held(
+    epochs: &[DdEpoch],
+    body_m: &[[f64; 3]],
+    fix: &FixOptions,
+    held: &[Vec<(u64, u64, i64)>],
+) -> Result<HeldAttitude> {
+    let fresh_fix = fresh(epochs, body_m, fix)?;
+    let fresh_out = |rejected: bool, f: Fresh| HeldAttitude {
+        solution: f.solution.clone(),
+        held: false,
+        rejected,
+        fresh: f.solution,
+    };
+    if held.len() != epochs.len() || held.iter().all(Vec::is_empty) {
+        return Ok(fresh_out(false, fresh_fix));
+    }
+    let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
+    let to_enu = enu_at(&epochs[0].base_m);
+    let keep = keep_per_rover(epochs.len());
+    let rovers = epochs
+        .iter()
+        .zip(&body)
+        .zip(held)
+        .map(|((e, f), h)| rover(e, f.norm(), &to_enu, fix, keep, h))
+        .collect::<Result<Vec<_>>>()?;
+    let (best, ratio) = best_combination(&rovers, &body);
+    let Some((choice, extension_cost)) = best else {
+        return Ok(fresh_out(true, fresh_fix));
+    };
+    let imposed: f64 = rovers
+        .iter()
+        .zip(&fresh_fix.rovers)
+        .map(|(h, f)| h.fl.chi2 - f.fl.chi2)
+        .sum();
+    let cost = imposed.max(0.0) + extension_cost;
+    let dof: usize = fresh_fix
+        .rovers
+        .iter()
+        .map(|r| r.fl.ambiguities.len())
+        .sum::<usize>()
+        + 3 * rovers.len()
+        - 3;
+    if cost > chi2_quantile_at(dof, HOLD_Z) {
+        return Ok(fresh_out(true, fresh_fix));
+    }
+    let remaining = rovers.iter().any(|r| !r.fl.ambiguities.is_empty());
+    let extended = !remaining || ratio >= fix.ratio_threshold;
+    let baselines: Vec<BaselineSolution> = if extended {
+        rovers
+            .iter()
+            .zip(&choice)
+            .map(|(r, &c)| constrained_solution(r, c, ratio, &to_enu))
+            .collect()
+    } else {
+        rovers.iter().map(|r| r.unconstrained.clone()).collect()
+    };
+    if let (true, Some(fresh_cost)) = (fresh_fix.solution.fixed, fresh_fix.cost) {
+        let differ = fresh_fix
+            .solution
+            .baselines
+            .iter()
+            .zip(&baselines)
+            .any(|(f, h)| {
+                let mut a = f.integers.clone();
+                let mut b = h.integers.clone();
+                a.sort_unstable();
+                b.sort_unstable();
+                a != b
+            });
+        if differ && (!extended || cost > fix.ratio_threshold * fresh_cost) {
+            return Ok(fresh_out(true, fresh_fix));
+        }
+    }
+    let enu: Vec<Vector3<f64>> = baselines.iter().map(|b| to_enu * b.baseline_m).collect();
+    let weights: Vec<f64> = body.iter().map(|f| f.norm_squared()).collect();
+    let rotation = wahba::solve(&body, &enu, &weights, wahba::Method::Svd)?.dcm_ref_from_body;
+    let solution = AttitudeSolution {
+        rotation_enu_from_body: rotation,
+        baselines,
+        fixed: extended,
+        ratio: if remaining { ratio } else { f64::INFINITY },
+        success_rate: fresh_fix.solution.success_rate,
+    };
+    Ok(HeldAttitude {
+        solution,
+        held: true,
+        rejected: false,
+        fresh: fresh_fix.solution,
+    })
+}
+
+/// The fresh constrained fix of one epoch, its rovers and the accepted combination's objective.
+struct Fresh {
+    solution: AttitudeSolution,
+    rovers: Vec<Rover>,
+    cost: Option<f64>,
+}
+
+fn fresh(epochs: &[DdEpoch], body_m: &[[f64; 3]], fix: &FixOptions) -> Result<Fresh> {
     validate_attitude(epochs, body_m)?;
     validate_input(epochs, fix)?;
     let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
@@ -74,7 +215,7 @@ pub fn solve_attitude(
     let rovers = epochs
         .iter()
         .zip(&body)
-        .map(|(e, f)| rover(e, f.norm(), &to_enu, fix, keep))
+        .map(|(e, f)| rover(e, f.norm(), &to_enu, fix, keep, &[]))
         .collect::<Result<Vec<_>>>()?;
     let success: f64 = rovers
         .iter()
@@ -90,11 +231,11 @@ pub fn solve_attitude(
             .gate()
             .decide_constrained(ratio, *cost, chi2_quantile(dof), None, || Ok(success))?
             .accepted
-            .then(|| choice.clone()),
+            .then(|| (choice.clone(), *cost)),
         None => None,
     };
     let baselines: Vec<BaselineSolution> = match &accepted {
-        Some(choice) => rovers
+        Some((choice, _)) => rovers
             .iter()
             .zip(choice)
             .map(|(r, &c)| constrained_solution(r, c, ratio, &to_enu))
@@ -104,12 +245,16 @@ pub fn solve_attitude(
     let enu: Vec<Vector3<f64>> = baselines.iter().map(|b| to_enu * b.baseline_m).collect();
     let weights: Vec<f64> = body.iter().map(|f| f.norm_squared()).collect();
     let rotation = wahba::solve(&body, &enu, &weights, wahba::Method::Svd)?.dcm_ref_from_body;
-    Ok(AttitudeSolution {
-        rotation_enu_from_body: rotation,
-        baselines,
-        fixed: accepted.is_some(),
-        ratio,
-        success_rate: success,
+    Ok(Fresh {
+        solution: AttitudeSolution {
+            rotation_enu_from_body: rotation,
+            baselines,
+            fixed: accepted.is_some(),
+            ratio,
+            success_rate: success,
+        },
+        rovers,
+        cost: accepted.map(|(_, c)| c),
     })
 }
 
@@ -173,15 +318,36 @@ fn rover(
     to_enu: &Matrix3<f64>,
     fix: &FixOptions,
     keep: usize,
+    held: &[(u64, u64, i64)],
 ) -> Result<Rover> {
-    let fl = float::solve(std::slice::from_ref(epoch), &[])?;
+    let fl = float::solve(std::slice::from_ref(epoch), held)?;
+    let held_used: Vec<(u64, u64, i64)> = held
+        .iter()
+        .copied()
+        .filter(|&(a, r, _)| fl.used_held.contains(&(a, r)))
+        .collect();
     // One decorrelation serves the unconstrained fix and the candidate search.
-    let (problem, q_aa) = ambiguity_problem(&fl)?.ok_or_else(|| Error::Shape {
-        name: "epochs",
-        expected: "float ambiguities in every rover's epoch".into(),
-        actual: "none".into(),
-    })?;
-    let unconstrained = fix_problem(&fl, &[], fix, &problem, &q_aa)?;
+    let Some((problem, q_aa)) = ambiguity_problem(&fl)? else {
+        if held.is_empty() {
+            return Err(Error::Shape {
+                name: "epochs",
+                expected: "float ambiguities in every rover's epoch".into(),
+                actual: "none".into(),
+            });
+        }
+        // Every ambiguity held: one candidate, the held baseline.
+        let unconstrained = float_result(&fl, held);
+        let q_cond = unconstrained.covariance_m2;
+        return Ok(Rover {
+            weight: 3.0 / q_cond.trace(),
+            candidates: vec![(DVector::zeros(0), 0.0, to_enu * fl.baseline_m)],
+            fl,
+            unconstrained,
+            q_cond,
+            held_used,
+        });
+    };
+    let unconstrained = fix_problem(&fl, held, fix, &problem, &q_aa)?;
     let na = fl.ambiguities.len();
     let a = &fl.ambiguities_cycles;
     let q_ab = fl.covariance.view((3, 0), (na, 3)).into_owned();
@@ -192,7 +358,7 @@ fn rover(
     let red = q_ab.transpose() * &k;
     let q_cond = q_bb - Matrix3::from_fn(|i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
     let found = problem.solve(CANDIDATES, DEFAULT_MAX_NODES)?;
-    let mut candidates: Vec<(DVector<i64>, f64, Vector3<f64>, f64)> = (0..CANDIDATES)
+    let mut candidates: Vec<(DVector<i64>, f64, Vector3<f64>, f64)> = (0..found.fixed.ncols())
         .map(|c| {
             let z = found.fixed.column(c).into_owned();
             let d = a - z.map(|v| v as f64);
@@ -211,6 +377,7 @@ fn rover(
         fl,
         unconstrained,
         q_cond,
+        held_used,
         candidates: candidates
             .into_iter()
             .map(|(z, f, b, _)| (z, f, b))
@@ -278,21 +445,31 @@ fn constrained_solution(
     s.baseline_m = to_enu.transpose() * b_enu;
     s.covariance_m2 = r.q_cond;
     s.fixed = true;
-    s.fixed_ambiguities = r.fl.ambiguities.len();
+    s.fixed_ambiguities = r.fl.ambiguities.len() + r.held_used.len();
     s.ratio = ratio;
-    s.integers =
+    s.integers = r.held_used.clone();
+    s.integers.extend(
         r.fl.ambiguities
             .iter()
             .zip(z.iter())
-            .map(|(a, &v)| (a.arc, a.reference_arc, a.offset + v))
-            .collect();
+            .map(|(a, &v)| (a.arc, a.reference_arc, a.offset + v)),
+    );
     s
 }
 
 /// Wilson-Hilferty approximation of the chi-square quantile with `dof` degrees of freedom at the
 /// standard normal quantile [`PLAUSIBLE_Z`] (relative error under 1 % for dof >= 3).
 pub(super) fn chi2_quantile(dof: usize) -> f64 {
+    chi2_quantile_at(dof, PLAUSIBLE_Z)
+}
+
+/// Wilson-Hilferty chi-square quantile of `dof` degrees of freedom at the standard normal quantile `z`.
+pub(crate) fn chi2_quantile_at(dof: usize, z: f64) -> f64 {
     let k = dof.max(1) as f64;
     let c = 2.0 / (9.0 * k);
-    k * (1.0 - c + PLAUSIBLE_Z * c.sqrt()).powi(3)
+    k * (1.0 - c + z * c.sqrt()).powi(3)
 }
+
+#[cfg(test)]
+#[path = "constrained_tests.rs"]
+mod tests;

@@ -70,7 +70,7 @@ use super::geometry::{enu_from_ecef, geodetic_from_ecef, SatGeometry};
 use super::signal::System;
 use super::solution::N_SYSTEMS;
 
-pub use constrained::solve_attitude;
+pub use constrained::{solve_attitude, solve_attitude_held, HeldAttitude};
 pub use fix::solve_baseline;
 pub use known_length::solve_known_length;
 
