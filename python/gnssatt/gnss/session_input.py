@@ -191,7 +191,7 @@ def _systems(value: object) -> str:
     return "".join(c for c in SYSTEMS if c in value)
 
 
-def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
+def epochs_gpst_ns(obs: RinexObs, leaps: int | None = None) -> NDArray[np.int64]:
     """The epoch labels of ``obs`` as GPST ns since the GPS epoch.
 
     Parameters
@@ -209,6 +209,10 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
 
     Raises
     ------
+    InvalidTypeError
+        ``obs`` not a ``RinexObs``, ``leaps`` not None or an integer.
+    InvalidInputError
+        ``leaps`` outside [0, 100] s (GPS - UTC has only grown since 1980, from 0; 18 s since 2017).
     RinexError
         A time system other than GPS, GLO, GAL, BDT, QZS, IRN or UTC.
 
@@ -225,6 +229,9 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
     >>> int(t[0]) == (9218 * 86_400) * 10**9, len(t)
     (True, 120)
     """
+    obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
+    if leaps is not None:
+        leaps = integer("leaps", leaps, minimum=0, maximum=100)
     t = (obs.time - GPS_EPOCH).astype(np.int64)
     ts = obs.time_system
     if ts in _TIME_OFFSET_S:
