@@ -638,6 +638,7 @@ ENTRIES: dict[str, Entry] = {
         lambda: {"observations": _obs(), "systems": "G", "frequencies": 1, "nav": s.rinex_read()["nav"]},
         nan_output="absent observations (slots, satellites, epochs) are NaN",
     ),
+    "gnssatt.gnss.session_input.epochs_gpst_ns": _e(lambda: {"obs": _obs()[0], "leaps": 14}),
     "gnssatt.rinex.signals.choose_signals": _e(lambda: {"obs": _obs()[0], "system": "G"}),
     "gnssatt.rinex.signals.slot_bands": _e(lambda: {"system": "C", "version": 3.02}),
     "gnssatt.rinex.signals.slot_frequency_hz": _e(lambda: {"system": "R", "slot": 1, "glonass_channel": -3}),

@@ -211,6 +211,10 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
     ------
     RinexError
         A time system other than GPS, GLO, GAL, BDT, QZS, IRN or UTC.
+    InvalidTypeError
+        ``obs`` not a :class:`~gnssatt.rinex.obs.RinexObs`, ``leaps`` not an integer.
+    InvalidInputError
+        ``leaps`` outside [0, 1000].
 
     Examples
     --------
@@ -225,6 +229,9 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
     >>> int(t[0]) == (9218 * 86_400) * 10**9, len(t)
     (True, 120)
     """
+    obs = instance("obs", obs, RinexObs, "an observation file read by read_obs")
+    if leaps is not None:
+        leaps = integer("leaps", leaps, minimum=0, maximum=1000)
     t = (obs.time - GPS_EPOCH).astype(np.int64)
     ts = obs.time_system
     if ts in _TIME_OFFSET_S:
