@@ -191,7 +191,7 @@ def _systems(value: object) -> str:
     return "".join(c for c in SYSTEMS if c in value)
 
 
-def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
+def epochs_gpst_ns(obs: RinexObs, leaps: int | None = None) -> NDArray[np.int64]:
     """The epoch labels of ``obs`` as GPST ns since the GPS epoch.
 
     Parameters
@@ -225,7 +225,7 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None) -> NDArray[np.int64]:
     >>> from gnssatt.data import geonet_dir
     >>> from gnssatt.gnss.session_input import epochs_gpst_ns
     >>> from gnssatt.rinex import read_obs
-    >>> t = epochs_gpst_ns(read_obs(geonet_dir() / "07590920.05o"), None)
+    >>> t = epochs_gpst_ns(read_obs(geonet_dir() / "07590920.05o"))
     >>> int(t[0]) == (9218 * 86_400) * 10**9, len(t)
     (True, 120)
     """
