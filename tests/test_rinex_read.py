@@ -107,13 +107,9 @@ def test_rinex_error_pickles() -> None:
 def test_path_of_the_wrong_kind_or_a_folder(tmp_path: Path) -> None:
     from gnssatt.errors import InvalidTypeError
 
-    expected = {
-        read_obs: r"expected path as a str or os\.PathLike",
-        read_nav: r"expected path as a navigation file, a list of them or a RinexNav",
-    }
     for reader in (read_obs, read_nav):
         for bad in (None, 3, b"file.05o"):
-            with pytest.raises(InvalidTypeError, match=expected[reader]):
+            with pytest.raises(InvalidTypeError, match=r"expected path as a str or os\.PathLike"):
                 reader(bad)  # type: ignore[arg-type]
         with pytest.raises(RinexError, match="cannot open"):
             reader(tmp_path)

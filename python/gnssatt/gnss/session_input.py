@@ -209,12 +209,12 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None = None) -> NDArray[np.int64]
 
     Raises
     ------
-    InvalidTypeError
-        ``obs`` not a ``RinexObs``, ``leaps`` not None or an integer.
-    InvalidInputError
-        ``leaps`` outside [0, 100] s (GPS - UTC has only grown since 1980, from 0; 18 s since 2017).
     RinexError
         A time system other than GPS, GLO, GAL, BDT, QZS, IRN or UTC.
+    InvalidTypeError
+        ``obs`` not a :class:`~gnssatt.rinex.obs.RinexObs`, ``leaps`` not an integer.
+    InvalidInputError
+        ``leaps`` outside [0, 1000].
 
     Examples
     --------
@@ -225,13 +225,13 @@ def epochs_gpst_ns(obs: RinexObs, leaps: int | None = None) -> NDArray[np.int64]
     >>> from gnssatt.data import geonet_dir
     >>> from gnssatt.gnss.session_input import epochs_gpst_ns
     >>> from gnssatt.rinex import read_obs
-    >>> t = epochs_gpst_ns(read_obs(geonet_dir() / "07590920.05o"), None)
+    >>> t = epochs_gpst_ns(read_obs(geonet_dir() / "07590920.05o"))
     >>> int(t[0]) == (9218 * 86_400) * 10**9, len(t)
     (True, 120)
     """
-    obs = instance("obs", obs, RinexObs, "a RinexObs (from read_obs)")
+    obs = instance("obs", obs, RinexObs, "an observation file read by read_obs")
     if leaps is not None:
-        leaps = integer("leaps", leaps, minimum=0, maximum=100)
+        leaps = integer("leaps", leaps, minimum=0, maximum=1000)
     t = (obs.time - GPS_EPOCH).astype(np.int64)
     ts = obs.time_system
     if ts in _TIME_OFFSET_S:

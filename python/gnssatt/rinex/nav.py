@@ -361,7 +361,8 @@ def read_nav(path: str | PathLike[str] | Sequence[str | PathLike[str]] | RinexNa
         return _read_one(path_text(path))
     if not isinstance(path, list | tuple):
         raise InvalidTypeError(
-            f"expected path as a navigation file, a list of them or a RinexNav, got {type(path).__name__}"
+            "expected path as a str or os.PathLike (or a list of them, or a RinexNav), got "
+            f"{type(path).__name__}"
         )
     if not path:
         raise InvalidInputError("expected at least one navigation file in path, got none")
