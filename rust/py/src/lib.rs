@@ -20,6 +20,7 @@ mod matrix_method;
 mod orbit;
 mod pool;
 mod results;
+mod rinex;
 mod rotation;
 mod wahba;
 
@@ -36,6 +37,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gyro_gnss::register(m)?;
     gnss_nav::register(m)?;
     gnss::register(m)?;
+    rinex::register(m)?;
     // The last line of defence: every function is wrapped so that a panic (a defect: the core is written not
     // to panic) reaches Python as gnssatt.errors.InternalError, not as a BaseException (see _panic_guard.py).
     m.py()
