@@ -362,7 +362,7 @@ pub fn continues_sat_list(line: &[u8]) -> bool {
     let end = line.iter().rposition(|&b| b != b' ').map_or(0, |k| k + 1);
     let sats = &line[32..end.max(32)];
     !sats.is_empty()
-        && sats.len() % 3 == 0
+        && sats.len().is_multiple_of(3)
         && sats.chunks(3).all(|t| {
             (t[0].is_ascii_uppercase() || t[0] == b' ')
                 && (t[1] == b' ' || is_digit(t[1]))

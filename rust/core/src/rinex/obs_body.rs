@@ -313,10 +313,10 @@ fn epoch_block(
         ));
     }
     if event {
-        for j in i + 1..i + 1 + n {
-            let label = strip(slice(lines[j], 60, 80));
+        for (j, line) in lines.iter().enumerate().take(i + 1 + n).skip(i + 1) {
+            let label = strip(slice(line, 60, 80));
             let known = opts.header_labels.iter().any(|h| h.as_bytes() == label);
-            if !known || lines[j].first() == Some(&b'>') {
+            if !known || line.first() == Some(&b'>') {
                 return Err(err(
                     lineno,
                     format!(
@@ -347,8 +347,8 @@ fn epoch_block(
     }
     let mut ids: Vec<[u8; 3]> = Vec::with_capacity(n);
     if v3 {
-        for j in i + 1..i + 1 + n {
-            if lines[j].first() == Some(&b'>') {
+        for (j, line) in lines.iter().enumerate().take(i + 1 + n).skip(i + 1) {
+            if line.first() == Some(&b'>') {
                 return Err(err(
                     lineno,
                     format!(
@@ -358,7 +358,7 @@ fn epoch_block(
                     ),
                 ));
             }
-            ids.push(sat_id(j + 1, slice(lines[j], 0, 3), None)?);
+            ids.push(sat_id(j + 1, slice(line, 0, 3), None)?);
         }
     } else {
         let mut listed = Vec::with_capacity(36 * n_head);
