@@ -47,10 +47,10 @@ def _outcome(reader: Any, path: Path) -> tuple[str, Any, list[str]]:
 def _same_value(a: Any, b: Any) -> bool:
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
         a, b = np.asarray(a), np.asarray(b)
-        return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+        return bool(a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes())
     if isinstance(a, float) and isinstance(b, float):
-        return np.float64(a).tobytes() == np.float64(b).tobytes()
-    return type(a) is type(b) and a == b
+        return bool(np.float64(a).tobytes() == np.float64(b).tobytes())
+    return type(a) is type(b) and bool(a == b)
 
 
 def differences(path: Path, old: Any) -> list[str]:

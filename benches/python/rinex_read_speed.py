@@ -11,6 +11,7 @@ package), as a user's read does; the ``decompress`` column is that share, measur
 from __future__ import annotations
 
 import argparse
+import functools
 import statistics
 import sys
 import time
@@ -49,9 +50,9 @@ def main() -> None:
             warnings.simplefilter("ignore")
             size_mb = len(read_bytes(str(f))) / 1e6
             n_ep = len(read_obs(f).time)
-            raw_ms = 1e3 * median_s(lambda f=f: read_bytes(str(f)), args.repeats)
-            t_old = 1e3 * median_s(lambda f=f: old(f), args.repeats)
-            t_new = 1e3 * median_s(lambda f=f: read_obs(f), args.repeats)
+            raw_ms = 1e3 * median_s(functools.partial(read_bytes, str(f)), args.repeats)
+            t_old = 1e3 * median_s(functools.partial(old, f), args.repeats)
+            t_new = 1e3 * median_s(functools.partial(read_obs, f), args.repeats)
         print(
             f"| {f.name} | {size_mb:.1f} | {n_ep} | {raw_ms:.1f} | {t_old:.1f} | {t_new:.1f} | "
             f"{t_old / t_new:.1f}x |"
