@@ -5,7 +5,7 @@
 
 Drawn from the same ``ast`` walk and layer table (``LAYERS``) as ``tests/test_import_layers.py``, which
 also checks that the page shows the current graph. Arrows point from importer to imported unit; imports of
-``errors`` and of the shared internals (``_arrays``, ``_core``, ``_panic_guard``), which nearly
+``errors`` and of the shared internals (``_arrays``, ``_core``), which nearly
 every unit makes, are left out to keep the picture readable.
 """
 

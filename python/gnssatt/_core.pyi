@@ -45,6 +45,7 @@ __all__ = [
     "MlEstimate",
     "MlSeries",
     "Navigation",
+    "ObsBody",
     "ObservationArrays",
     "OrbitFilterRun",
     "OrbitStates",
@@ -89,6 +90,7 @@ __all__ = [
     "orbit_filter_loose",
     "orbit_filter_tight",
     "quat_to_dcm",
+    "rinex_obs_body",
     "triad_batch",
     "tumble_axes",
     "tumble_cost",
@@ -793,3 +795,35 @@ GNSS_DEFAULT_RATIO_THRESHOLD: float
 GNSS_DEFAULT_MAX_FAILURE_RATE: float
 GNSS_DEFAULT_ELEVATION_MASK_DEG: float
 GNSS_MAX_FREQUENCIES: int
+
+# RINEX observation bodies (rust/py/src/rinex.rs)
+@final
+class ObsBody:
+    @property
+    def time_ns(self) -> NDArray[np.int64]: ...  # (n_epochs,) ns since 1970, as written
+    @property
+    def epoch_flag(self) -> NDArray[np.uint8]: ...
+    @property
+    def clock_offset_s(self) -> NDArray[np.float64]: ...
+    @property
+    def sats(self) -> list[str]: ...
+    @property
+    def data(self) -> NDArray[np.float64]: ...  # (n_epochs, n_sats, n_codes)
+    @property
+    def lli(self) -> NDArray[np.uint8]: ...
+    @property
+    def ssi(self) -> NDArray[np.uint8]: ...
+    @property
+    def cut(self) -> str | None: ...
+
+def rinex_obs_body(
+    path: str,
+    text: bytes,
+    first_line: int,
+    v3: bool,
+    default_system: str,
+    layouts: list[tuple[str, int, list[int], list[int], list[float]]],
+    n_codes: int,
+    header_labels: list[str],
+    max_cells: int,
+) -> ObsBody: ...

@@ -38,9 +38,11 @@ __all__ = [
     "number",
     "output_path",
     "path_text",
+    "read_bytes",
     "read_lines",
     "reading",
     "sat_list",
+    "split_lines",
     "time_labels",
 ]
 
@@ -150,14 +152,11 @@ def time_labels(name: str, value: object) -> np.ndarray:
     return value.astype("datetime64[ns]")
 
 
-def read_lines(p: str) -> tuple[list[str], bool]:
-    """The lines of file ``p`` without their line ends, and whether the last line has a line end.
+def read_bytes(p: str) -> bytes:
+    """The bytes of file ``p``, decompressed where it is compressed.
 
     Hatanaka (``.crx``, ``.??d``) and gzip / Unix-compress / zip / bzip2 files are decompressed with the
-    optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``). Lines are split at ``\\n`` only (a
-    ``\\r`` before it is dropped): a stray form feed or other control byte stays inside its line, where the
-    field check sees it, instead of shifting every later line number. A last line without a line end may be
-    complete (writers that omit the final line end) or cut: the readers check its fields.
+    optional ``hatanaka`` package (``pip install gnssatt[hatanaka]``).
     """
     try:
         raw = Path(p).read_bytes()
@@ -177,11 +176,27 @@ def read_lines(p: str) -> tuple[list[str], bool]:
             raw = hatanaka.decompress(raw)
         except Exception as exc:  # the package raises ValueError and its own errors on corrupt input
             raise RinexError(p, None, f"cannot decompress: {exc}") from exc
+    return bytes(raw)
+
+
+def split_lines(raw: bytes) -> tuple[list[str], bool]:
+    """The lines of ``raw`` without their line ends, and whether the last line has a line end.
+
+    Lines are split at ``\\n`` only (a ``\\r`` before it is dropped): a stray form feed or other control
+    byte stays inside its line, where the field check sees it, instead of shifting every later line
+    number. A byte outside ASCII reads as U+FFFD. A last line without a line end may be complete (writers
+    that omit the final line end) or cut: the readers check its fields.
+    """
     lines = raw.decode("ascii", errors="replace").split("\n")
     ended = lines[-1] == ""
     if ended:
         lines.pop()
     return [ln[:-1] if ln.endswith("\r") else ln for ln in lines], ended
+
+
+def read_lines(p: str) -> tuple[list[str], bool]:
+    """The lines of file ``p`` (:func:`read_bytes`, :func:`split_lines`) and whether the last one ends."""
+    return split_lines(read_bytes(p))
 
 
 def number(path: str, lineno: int, text: str, what: str) -> float:

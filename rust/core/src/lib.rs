@@ -17,6 +17,7 @@ pub mod likelihood;
 pub mod magnetometer;
 pub mod matrix_method;
 pub mod orbit;
+pub mod rinex;
 pub mod rotation;
 pub mod wahba;
 

@@ -22,6 +22,7 @@ mod matrix_method;
 mod orbit;
 mod pool;
 mod results;
+mod rinex;
 mod rotation;
 mod wahba;
 
@@ -38,6 +39,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gyro_gnss::register(m)?;
     gnss_nav::register(m)?;
     gnss::register(m)?;
+    rinex::register(m)?;
     guard::register(m)?;
     Ok(())
 }
