@@ -232,7 +232,7 @@ def test_read_nav_takes_a_file_a_list_of_files_or_a_read_nav() -> None:
     ("value", "error", "message"),
     [
         ([], InvalidInputError, "at least one navigation file"),
-        (3, InvalidTypeError, r"str or os.PathLike \(or a list of them, or a RinexNav\), got int"),
+        (3, InvalidTypeError, r"\(a navigation file\), a list of them or a RinexNav, got int"),
         ([BRDM, 3], InvalidTypeError, r"path\[1\] as a str or os.PathLike, got int"),
         ([BRDM, ""], InvalidInputError, r"path\[1\] as a file name"),
     ],

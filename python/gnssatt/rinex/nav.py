@@ -361,7 +361,7 @@ def read_nav(path: str | PathLike[str] | Sequence[str | PathLike[str]] | RinexNa
         return _read_one(path_text(path))
     if not isinstance(path, list | tuple):
         raise InvalidTypeError(
-            "expected path as a str or os.PathLike (or a list of them, or a RinexNav), got "
+            "expected path as a str or os.PathLike (a navigation file), a list of them or a RinexNav, got "
             f"{type(path).__name__}"
         )
     if not path:
