@@ -1,22 +1,5 @@
 """The tumbling-spacecraft model of Belokonov et al.: its parameters (:class:`TumbleModel`), frames and
-the limits of its integration (the propagation is :mod:`~gnssatt.attitude.dynamics.propagation`, the fit
-:mod:`~gnssatt.attitude.dynamics.fit`; all three are names of :mod:`gnssatt.attitude.dynamics` too).
-
-Frames and angles (``docs/conventions.md``, Belokonov et al.):
-
-- orbital frame of the library: x along-track, y orbit normal, z radial (zenith). The paper's orbital frame
-  ``X0`` (radial), ``Y0`` (along-track), ``Z0`` (normal) is the same triad relabelled:
-  ``(x, y, z) = (Y0, Z0, X0)``. Axes and rotations returned here are in the library's orbital frame.
-- body frame: the paper's principal axes ``Xc, Yc, Zc``; the antenna (longitudinal) axis is ``Yc``.
-- angles: precession ``psi`` about ``Y0``, attack ``alpha`` about ``Z0'``, spin ``phi`` about ``Y0''``,
-  intrinsic ``YZY`` in the paper's orbital axes: ``dcm_orb0_from_body = R_y(psi) R_z(alpha) R_y(phi)``,
-  so ``cos(alpha)`` is the axis component along the velocity.
-- rates: the absolute (inertial) angular velocity in body axes, rad/s, as in eqs. (3).
-
-Every rotation by pi about ``Yc`` maps one solution onto another when the centre of pressure lies on
-``Yc`` (the default): ``(psi, alpha, phi + pi, -wx, wy, -wz)`` gives the same axis history; see
-:func:`fold_symmetric`.
-"""
+the limits of its integration (the propagation is :mod:`~gnssatt.attitude.dynamics.propagation`)."""
 
 from __future__ import annotations
 
