@@ -82,3 +82,9 @@ __all__ = [
     "propagate",
     "propagate_axes",
 ]
+
+# The classes' one public home is this package (the submodules are how the code is organised, not paths to
+# import from): pickles and the API reference name it, and the reference describes each class once.
+for _cls in (RotationFit, TumbleModel, TumbleTrajectory):
+    _cls.__module__ = __name__
+del _cls
