@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import choice, flag, path_text, scalar, shaped
 from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
-from gnssatt.rinex.nav import RinexNav, read_nav
+from gnssatt.rinex.nav import RinexNav, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
 
 if TYPE_CHECKING:
@@ -589,7 +589,7 @@ def attitude_from_rinex(
     if motion is None:
         motion = "moving" if baselines is not None or continuity or filter is not None else "static"
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
-    nv = read_nav(nav)
+    nv = navigation(nav, "nav")
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
     _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)

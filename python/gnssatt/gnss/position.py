@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from gnssatt._arrays import instance, integer, path_text, scalar
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.session_input import epochs_gpst_ns
-from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, nav_input, read_nav
+from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, nav_input, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
 from gnssatt.rinex.signals import choose_signals
 
@@ -251,7 +251,7 @@ def position_from_rinex(
     if not isinstance(obs, RinexObs):
         obs = read_obs(path_text(obs, "obs"))
     obs = instance("obs", obs, RinexObs, "an observation file or a RinexObs (from read_obs)")
-    nv = read_nav(nav)
+    nv = navigation(nav, "nav")
     leaps = obs.leap_seconds if obs.leap_seconds is not None else nv.leap_seconds
     t = epochs_gpst_ns(obs, leaps)
     keep = [k for k, s in enumerate(obs.sats) if s[0] in letters]

@@ -355,18 +355,24 @@ def read_nav(path: str | PathLike[str] | Sequence[str | PathLike[str]] | RinexNa
     >>> (np.diff(nav.kepler.toe_ns[:2]) / 1e9).tolist(), bool(nav.kepler.toe_ns[0] == toe_ns[0])
     ([3600.0], True)
     """
-    if isinstance(path, RinexNav):
-        return path
-    if isinstance(path, str | PathLike):
-        return _read_one(path_text(path))
-    if not isinstance(path, list | tuple):
+    return navigation(path, "path")
+
+
+def navigation(value: object, name: str) -> RinexNav:
+    """:func:`read_nav` of the argument ``name`` of a caller (``nav`` of the engine's entry points): a
+    refusal names that argument."""
+    if isinstance(value, RinexNav):
+        return value
+    if isinstance(value, str | PathLike):
+        return _read_one(path_text(value, name))
+    if not isinstance(value, list | tuple):
         raise InvalidTypeError(
-            "expected path as a str or os.PathLike (a navigation file), a list of them or a RinexNav, got "
-            f"{type(path).__name__}"
+            f"expected {name} as a str or os.PathLike (a navigation file), a list of them or a RinexNav, got "
+            f"{type(value).__name__}"
         )
-    if not path:
-        raise InvalidInputError("expected at least one navigation file in path, got none")
-    navs = [_read_one(path_text(p, f"path[{i}]")) for i, p in enumerate(path)]
+    if not value:
+        raise InvalidInputError(f"expected at least one navigation file in {name}, got none")
+    navs = [_read_one(path_text(p, f"{name}[{i}]")) for i, p in enumerate(value)]
     return functools.reduce(operator.add, navs)
 
 
