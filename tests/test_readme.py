@@ -75,7 +75,7 @@ def test_the_developer_loop_names_what_the_project_defines() -> None:
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())
     assert "maturin develop --profile quick --extras dev" in code
     assert "quick" in cargo["profile"] and "dev" in project["project"]["optional-dependencies"]
-    assert 'python -m pytest -m "not slow"' in code
+    assert 'python -m pytest -n auto -m "not slow"' in code
     assert any(m.startswith("slow:") for m in project["tool"]["pytest"]["ini_options"]["markers"])
 
 
