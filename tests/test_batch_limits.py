@@ -28,13 +28,14 @@ from gnssatt import (
     yaw_from_magnetometer,
 )
 from gnssatt.attitude import dynamics
-from gnssatt.attitude.likelihood import MAX_SERIES_WORK, rotation_from_euler
+from gnssatt.attitude.likelihood import MAX_SERIES_WORK
 from gnssatt.attitude.wahba import MAX_VECTOR_PAIRS
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError, WorkLimitError
 from gnssatt.geometry import attitude_dop
 from gnssatt.orbit.constellation import gps_nominal
 from gnssatt.orbit.line_of_sight import MAX_GEOMETRY_VALUES
 from gnssatt.orbit.receivers import GroundReceiver
+from gnssatt.rotation import rotation_from_euler
 from gnssatt.sim.measurements import MAX_SIMULATED_VALUES
 
 LOS = sim.random_los(1, 6, min_elevation_deg=15.0)

@@ -97,7 +97,7 @@ FORKED = textwrap.dedent(
 def rust_parallel_trial(rng: np.random.Generator) -> list[float]:
     """Two epochs of the ML series on the whole domain: rayon over the epochs, each search parallel too."""
     from gnssatt import ml_attitude_series
-    from gnssatt.attitude.likelihood import rotation_from_euler
+    from gnssatt.rotation import rotation_from_euler
     from gnssatt.sim import equilateral_triangle, random_los
 
     los = random_los(rng, 6, min_elevation_deg=15.0)

@@ -274,8 +274,7 @@ ENU_FROM_NORMAL = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
 def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
     """Body -> ENU rotation of eq. (5) angles ``(psi, theta, phi)`` in degrees, (3,) or (n, 3): the GOST
-    ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``). Also importable
-    from :mod:`gnssatt.attitude.likelihood`, its former home.
+    ``YZX`` sequence in the normal frame (``docs/conventions.md``, ``euler_gost_deg``).
 
     Parameters
     ----------
@@ -313,7 +312,7 @@ def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
 
 def euler_from_rotation(rotation: Rotation) -> NDArray[np.float64]:
     """Eq. (5) angles ``(psi, theta, phi)`` in degrees of a body -> ENU rotation (single or a stack): the
-    inverse of :func:`rotation_from_euler`. Also importable from :mod:`gnssatt.attitude.likelihood`.
+    inverse of :func:`rotation_from_euler`.
 
     Parameters
     ----------

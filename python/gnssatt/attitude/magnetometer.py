@@ -37,7 +37,7 @@ class YawResult:
     Attributes
     ----------
     yaw_rad
-        psi in radians, (-pi, pi]; float or (epochs,). Formerly ``yaw``.
+        psi in radians, (-pi, pi]; float or (epochs,).
     rotation
         Body -> orbital rotation ``ZYX(yaw, pitch, roll)`` with the given pitch and roll.
     cos_pitch

@@ -37,7 +37,7 @@ class MatrixAttitudeResult:
         The method used.
     heading_pitch_roll_deg
         (3,) heading, pitch, roll in degrees: the intrinsic ``ZYX`` angles of ``rotation`` (body ->
-        reference), ``rotation.as_euler("ZYX", degrees=True)``. Formerly ``euler_deg``.
+        reference), ``rotation.as_euler("ZYX", degrees=True)``.
     """
 
     rotation: Rotation

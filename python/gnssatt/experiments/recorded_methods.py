@@ -8,8 +8,8 @@ satellite geometry) and keeps the 5, 6, 7 or 8 highest satellites. Methods, on t
 ``ml`` (whole-domain grid each epoch; all through
 :func:`gnssatt.gnss.attitude.attitude_from_rinex`, GPS L1), ``ml_window`` (+/- 10 deg around the previous
 epoch),
-``lambda`` (geometry-constrained single-epoch fix; attitude mode holds no integers across epochs, so
-there is no held variant here: the GEONET part below holds them).
+``lambda`` (geometry-constrained single-epoch fix; the held variant of attitude mode, ``--continuity``, is
+not run here: the GEONET part below holds them).
 Per method and satellite count: fraction of epochs with a wrong solution (an Euler angle off by more than
 3 deg, i.e. a wrong peak or wrong integers), fix rate (LAMBDA), RMS error of the right solutions, time per
 epoch (file reading excluded; the engine's single-point positioning included).

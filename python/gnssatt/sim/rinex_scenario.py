@@ -51,8 +51,7 @@ class SimulatedRinex:
     time
         (n_ep,) GPST labels, ``datetime64[ns]``.
     euler_gost_deg
-        (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` (compass heading ``-psi``), degrees. Formerly
-        ``euler_deg``.
+        (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` (compass heading ``-psi``), degrees.
     baselines_enu_m
         (n_ep, n_ant - 1, 3) true baselines in East-North-Up, m.
     sats
@@ -105,7 +104,6 @@ def simulate_rinex_array(
         first the reference antenna, m.
     euler_gost_deg
         (n_ep, 3) eq. (5) angles per epoch, degrees (a rotating platform), or (3,) for a static one.
-        Formerly ``euler_deg``.
     interval_s
         Epoch spacing, s; the number of epochs is that of ``euler_gost_deg`` (static: 10).
     rng
@@ -246,7 +244,6 @@ class SimulatedGnss:
         Satellites written (above the mask at every epoch at the reference antenna).
     euler_gost_deg
         (n_ep, 3) true eq. (5) angles ``(psi, theta, phi)`` of the platform (body -> ENU), degrees.
-        Formerly ``euler_deg``.
     baselines_enu_m
         (n_ep, n_ant - 1, 3) true baselines antenna i - antenna 0 in East-North-Up at antenna 0, m.
     antenna_ecef_m
@@ -431,8 +428,7 @@ def simulate_gnss_rinex(
     antennas_body_m
         (n_ant, 3) antenna positions in the body frame (as :func:`simulate_rinex_array`), 2 to 16 antennas.
     euler_gost_deg
-        (3,) platform attitude (static) or (n_epochs, 3) per epoch, eq. (5) angles, degrees. Formerly
-        ``euler_deg``.
+        (3,) platform attitude (static) or (n_epochs, 3) per epoch, eq. (5) angles, degrees.
     systems
         Letters of the systems, from ``"GRECJ"``.
     frequencies

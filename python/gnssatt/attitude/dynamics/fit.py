@@ -135,7 +135,7 @@ class RotationFit:
         (3,) ``params[:3]`` in degrees: precession psi, attack alpha, spin phi of the intrinsic ``YZY``
         sequence from the paper's orbital frame ``X0 Y0 Z0`` (``docs/conventions.md``, Belokonov et al.), not
         of
-        ``rotation``'s frame. Formerly ``angles_deg``.
+        ``rotation``'s frame.
     omega_deg_s
         (3,) ``params[3:]``, body rates in deg/s.
     """

@@ -48,10 +48,6 @@ from gnssatt.attitude.likelihood.series import (
     ml_baseline_series,
 )
 
-# The GOST Euler sequence lives in gnssatt.rotation (the base layer, which the simulator may import); these
-# names stay here too, the paths users and older code know.
-from gnssatt.rotation import rotation_from_euler as rotation_from_euler
-
 __all__ = [
     "AttitudePrior",
     "BaselineDirection",

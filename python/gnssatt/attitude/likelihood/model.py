@@ -37,7 +37,7 @@ class AttitudePrior:
     Attributes
     ----------
     euler_gost_deg
-        (psi, theta, phi) of eq. (5), degrees, each in [-360, 360]. Formerly ``euler_deg``.
+        (psi, theta, phi) of eq. (5), degrees, each in [-360, 360].
     half_width_deg
         Half-widths of the window in psi, theta, phi, degrees, each in (0, 360].
 
@@ -77,10 +77,9 @@ class LikelihoodAttitude:
     rotation
         Body -> East-North-Up rotation.
     euler_gost_deg
-        (psi, theta, phi) of eq. (5) in degrees (refined when asked); psi, phi in (-180, 180]. Formerly
-        ``euler_deg``.
+        (psi, theta, phi) of eq. (5) in degrees (refined when asked); psi, phi in (-180, 180].
     grid_euler_gost_deg
-        Angles of the grid maximum, degrees, the same sequence. Formerly ``grid_euler_deg``.
+        Angles of the grid maximum, degrees, the same sequence.
     z_max
         The statistic at the grid maximum.
     cells_evaluated

@@ -38,7 +38,7 @@ class LikelihoodAttitudeSeries:
         where ``solved`` is False.
     euler_gost_deg
         (n_ep, 3) (psi, theta, phi) of eq. (5), degrees, refined as :func:`ml_attitude` with its defaults;
-        NaN where ``solved`` is False. Formerly ``euler_deg``.
+        NaN where ``solved`` is False.
     z_max
         (n_ep,) the ambiguity function at each epoch's grid maximum; NaN where ``solved`` is False.
     solved
