@@ -11,9 +11,9 @@ from gnssatt.attitude.likelihood import (
     ml_attitude_series,
     ml_baseline,
     ml_baseline_series,
-    rotation_from_euler,
 )
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.rotation import rotation_from_euler
 
 L1, L2 = 299792458.0 / 1575.42e6, 299792458.0 / 1227.6e6
 
