@@ -73,7 +73,7 @@ def test_the_developer_loop_names_what_the_project_defines() -> None:
     code = "".join(c for _, c in DEVELOP)
     cargo = tomllib.loads((ROOT / "Cargo.toml").read_text())
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())
-    assert "maturin develop --profile quick --extras dev" in code
+    assert "maturin develop --profile quick --extras test,dev" in code
     assert "quick" in cargo["profile"] and "dev" in project["project"]["optional-dependencies"]
     assert 'python -m pytest -n auto -m "not slow"' in code
     assert any(m.startswith("slow:") for m in project["tool"]["pytest"]["ini_options"]["markers"])
