@@ -70,7 +70,9 @@ plot_html_show_formats = False
 plot_html_show_source_link = False  # each page shows the script with literalinclude
 plot_include_source = False
 
-# furo: a theme of the scientific Python ecosystem whose content column widens with the window, so that code
-# lines are not cut at a fixed page width; light and dark modes follow the reader's setting.
+# furo: a theme of the scientific Python ecosystem; light and dark modes follow the reader's setting. Its content
+# column is a fixed 46em; _static/wide.css lets it grow on wide windows so that code lines are not cut.
 html_theme = "furo"
+html_static_path = ["_static"]
+html_css_files = ["wide.css"]
 html_title = f"gnssatt {release}"
