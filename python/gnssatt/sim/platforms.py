@@ -18,29 +18,35 @@ positive) and ``roll_deg = phi`` (right wing down positive). Antenna i is at ``p
 
 from __future__ import annotations
 
+import inspect
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt import _core
 from gnssatt._arrays import flag, folder_path, generator, instance, integer, scalar, shaped
 from gnssatt.constants import SPEED_OF_LIGHT_M_S as _C
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.frames import ecef_to_geodetic, geodetic_to_ecef
 from gnssatt.rinex.nav import nav_input
-from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation, write_obs
+from gnssatt.rinex.writer import MAX_SPAN_S, write_nav_from_constellation
 from gnssatt.rotation import rotation_from_euler
 from gnssatt.sim.rinex_scenario import (
     DOPPLER_HALF_STEP_S,
     KLOBUCHAR,
     MIN_INTERVAL_S,
-    SIM_CODES,
     T0,
     gnss_constellation,
+    klobuchar_m,
+    observables,
+    ranges_and_rates,
     transmit_geometry,
+    wavelengths_m,
+    write_receiver_obs,
 )
 
 __all__ = [
@@ -493,7 +499,6 @@ def simulate_platform(
     True
     """
     from gnssatt.rinex.nav import gps_ns, read_nav
-    from gnssatt.rinex.signals import slot_frequency_hz
     from gnssatt.sim.atmosphere import troposphere_delay_m
 
     folder = folder_path("folder", folder)
@@ -571,23 +576,8 @@ def simulate_platform(
     sats = [s for s, k in zip(ids, keep, strict=True) if k]
     n_sat = len(sats)
     channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
-    lam = np.full((n_sat, 3), np.nan)
-    for k, s in enumerate(sats):
-        for slot in range(n_freq):
-            if SIM_CODES[s[0]][slot] is not None:
-                f = slot_frequency_hz(s[0], slot, channels.get(s))
-                lam[k, slot] = _C / f if f else np.nan
-
-    t_rx = np.broadcast_to(
-        t_ns[:, None, None] + np.array([0, -round(h * 1e9), round(h * 1e9)]), (n_ep, n_rx, 3)
-    )
-    rx_clk = np.broadcast_to(dt_rx[None, :, None], (n_ep, n_rx, 3))
-    valid, seen = transmit_geometry(nav, sats, np.ascontiguousarray(t_rx), pos, rx_clk)
-    rng_m = np.linalg.norm(seen.position_m - pos[:, :, :, None, :], axis=-1)  # (n_ep, n_rx, 3, n_sat)
-    rho, clk = rng_m[:, :, 0], seen.clock_s[:, :, 0]
-    rate = ((rng_m[:, :, 2] - _C * seen.clock_s[:, :, 2]) - (rng_m[:, :, 1] - _C * seen.clock_s[:, :, 1])) / (
-        2 * h
-    )
+    lam = wavelengths_m(sats, channels, n_freq)
+    valid, seen, rho, clk, rate = ranges_and_rates(nav, sats, t_ns, pos, dt_rx)
     el_deg = np.where(valid[:, :, 0], np.degrees(seen.elevation_rad[:, :, 0]), -90.0)
     az_deg = np.degrees(seen.azimuth_rad[:, :, 0])
     visible = el_deg > elevation_min_deg
@@ -605,17 +595,9 @@ def simulate_platform(
         tropo = np.stack(
             [troposphere_delay_m(float(lat_r[q]), float(hgt[q]), el_r[q]) for q in range(el_r.shape[0])]
         ).reshape(n_ep, n_rx, n_sat)
-        freq = np.where(np.isfinite(lam), _C / lam, 1575.42e6)
-        shape4 = (n_ep, n_rx, n_sat, 3)
-        el_b = np.broadcast_to(np.radians(np.maximum(el_deg, 0.0))[..., None], shape4).ravel()
-        az_b = np.broadcast_to(np.radians(az_deg)[..., None], shape4).ravel()
-        f_b = np.broadcast_to(freq, shape4).ravel()
-        t_b = np.broadcast_to(t_ns[:, None, None, None], shape4).ravel().astype(np.int64)
         # the receiver's latitude and longitude vary little over a session: those of the first epoch
-        iono = _core.gnss_klobuchar_delay(
-            np.asarray(KLOBUCHAR), t_b, float(lat_r[0]), float(lon_r[0]), np.ascontiguousarray(az_b),
-            np.ascontiguousarray(el_b), np.ascontiguousarray(f_b),
-        ).reshape(shape4)  # fmt: skip
+        el_r3 = np.radians(np.maximum(el_deg, 0.0))
+        iono = klobuchar_m(t_ns, float(lat_r[0]), float(lon_r[0]), el_r3, np.radians(az_deg), lam)
 
     # ambiguities: a draw per arc; slips within arcs
     shape = (n_ep, n_rx, n_sat, 3)
@@ -640,33 +622,21 @@ def simulate_platform(
     geo = rho + _C * (dt_rx[None, :, None] - clk)
     sig_code = prof.sigma_m(prof.code_sigma_m, el_deg)[..., None]
     sig_phase = prof.sigma_m(prof.phase_sigma_m, el_deg)[..., None]
-    code = geo[..., None] + tropo[..., None] + iono + sig_code * gen.standard_normal(shape)
-    phase_m = geo[..., None] + tropo[..., None] - iono + sig_phase * gen.standard_normal(shape)
-    phase = phase_m / lam + n_cycles
-    doppler = -rate[..., None] / lam + prof.doppler_sigma_hz * gen.standard_normal(shape)
+    code, phase, doppler = observables(
+        gen, geo, tropo, iono, lam, rate, sig_code, sig_phase, prof.doppler_sigma_hz
+    )
+    phase = phase + n_cycles
     snr = np.broadcast_to((30.0 + 20.0 * np.sin(np.radians(np.maximum(el_deg, 0.0))))[..., None], shape)
     ok4 = (visible & valid[:, :, 0])[..., None] & np.isfinite(lam)[None, None]
     code, phase, doppler, snr = (np.where(ok4, x, np.nan) for x in (code, phase, doppler, snr))
 
-    paths = []
-    for r in range(n_rx):
-        obs: dict[str, NDArray[np.float64]] = {}
-        flags: dict[str, NDArray[np.float64]] = {}
-        for k, s in enumerate(sats):
-            for slot, band in enumerate(SIM_CODES[s[0]][:n_freq]):
-                if band is None:
-                    continue
-                for kind, arr in (("C", code), ("L", phase), ("D", doppler), ("S", snr)):
-                    col = obs.setdefault(kind + band, np.full((n_ep, n_sat), np.nan))
-                    col[:, k] = arr[:, r, k, slot]
-                fl = flags.setdefault("L" + band, np.zeros((n_ep, n_sat)))
-                fl[:, k] = np.where(ok4[:, r, k, slot], lli[:, r, k, slot], 0)
-        p = folder / ("base.rnx" if r == n_ant else f"ant{r}.rnx")
-        write_obs(
-            p, times, sats, obs, approx_position_m=pos[0, r, 0],
-            marker_name="BASE" if r == n_ant else f"ANT{r}", lli=flags, glonass_channels=channels,
+    lli_written = np.where(ok4, lli, 0)
+    paths = [folder / ("base.rnx" if r == n_ant else f"ant{r}.rnx") for r in range(n_rx)]
+    for r, p in enumerate(paths):
+        write_receiver_obs(
+            p, times, sats, n_freq, tuple(x[:, r] for x in (code, phase, doppler, snr)), lli_written[:, r],
+            pos[0, r, 0], "BASE" if r == n_ant else f"ANT{r}", channels,
         )  # fmt: skip
-        paths.append(p)
 
     ant_ecef = pos[:, :n_ant, 0]
     local = _dcm_ecef_from_enu(
@@ -726,6 +696,47 @@ def _checked(name: str, value: float, lo: float, hi: float, unit: str) -> float:
     return scalar(name, value, minimum=lo, maximum=hi, unit=unit)
 
 
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+# What the presets' docstrings share, written once: ``_preset_doc`` puts each block where the docstring names
+# it (``{session}``, ``{baseline}``, ``{tail}``), so that the presets document one contract in one wording.
+_PRESET_DOC_BLOCKS = {
+    "{session}": """duration_s, interval_s
+    Session length and epoch spacing, s.
+noise
+    Noise profile or its name (:data:`NOISE_PROFILES`).""",
+    "{baseline}": """baseline_m
+    Along and across separations of the array, m (0.3 to 5 m in the presets' use; up to
+    ``MAX_LEVER_ARM_M``).""",
+    "{tail}": """start_s
+    First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
+    degrees, of the 24 nominal ones).
+rng
+    Seed or generator (:func:`simulate_platform`).
+
+Returns
+-------
+SimulatedPlatform
+
+Raises
+------
+InvalidTypeError, InvalidInputError, WorkLimitError
+    As :func:`simulate_platform`""",
+}
+
+
+def _preset_doc(fn: _F) -> _F:
+    """``fn`` with the shared blocks of ``_PRESET_DOC_BLOCKS`` written into its docstring."""
+    doc = inspect.cleandoc(fn.__doc__ or "")
+    for marker, block in _PRESET_DOC_BLOCKS.items():
+        if marker not in doc:
+            raise AssertionError(f"{fn.__name__}'s docstring lacks {marker}")
+        doc = doc.replace(marker, block)
+    fn.__doc__ = doc
+    return fn
+
+
+@_preset_doc
 def car(
     folder: str | PathLike[str],
     *,
@@ -751,31 +762,13 @@ def car(
     n_antennas
         2 (roof antennas ``baseline_m[0]`` apart along the car) or 3 (a third ``baseline_m[1]`` to the
         right of the first).
-    duration_s, interval_s
-        Session length and epoch spacing, s.
-    noise
-        Noise profile or its name (:data:`NOISE_PROFILES`).
+    {session}
     speed_m_s, turn_radius_m
         Speed, m/s, and the radius of every turn, m (turn rate ``speed / radius``).
-    baseline_m
-        Along and across separations of the array, m (0.3 to 5 m in the presets' use; up to
-        ``MAX_LEVER_ARM_M``).
+    {baseline}
     base_offset_enu_m
         Static base from the start point, ENU, m.
-    start_s
-        First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
-        degrees, of the 24 nominal ones).
-    rng
-        Seed or generator (:func:`simulate_platform`).
-
-    Returns
-    -------
-    SimulatedPlatform
-
-    Raises
-    ------
-    InvalidTypeError, InvalidInputError, WorkLimitError
-        As :func:`simulate_platform`; ``turn_radius_m`` not in [1, 1e4] m.
+    {tail}; ``turn_radius_m`` not in [1, 1e4] m.
 
     Examples
     --------
@@ -813,6 +806,7 @@ def car(
     )  # fmt: skip
 
 
+@_preset_doc
 def ship(
     folder: str | PathLike[str],
     *,
@@ -835,33 +829,16 @@ def ship(
     Parameters
     ----------
     folder
-        Existing folder for the files.
+        Existing folder for the files (:func:`simulate_platform`).
     n_antennas
         2 (``baseline_m[0]`` apart fore-aft) or 3 (a third ``baseline_m[1]`` to starboard).
-    duration_s, interval_s
-        Session length and epoch spacing, s.
-    noise
-        Noise profile or its name.
+    {session}
     roll_amplitude_deg, pitch_amplitude_deg, heave_amplitude_m
         Swell amplitudes (degrees, degrees, m).
-    baseline_m
-        Along and across separations of the array, m.
+    {baseline}
     base_offset_enu_m
         Static base (a quay) from the start point (the origin, at sea level), ENU, m.
-    start_s
-        First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
-        degrees, of the 24 nominal ones).
-    rng
-        Seed or generator.
-
-    Returns
-    -------
-    SimulatedPlatform
-
-    Raises
-    ------
-    InvalidTypeError, InvalidInputError, WorkLimitError
-        As :func:`simulate_platform`.
+    {tail}.
 
     Examples
     --------
@@ -888,6 +865,7 @@ def ship(
     )  # fmt: skip
 
 
+@_preset_doc
 def aircraft(
     folder: str | PathLike[str],
     *,
@@ -908,33 +886,16 @@ def aircraft(
     Parameters
     ----------
     folder
-        Existing folder for the files.
+        Existing folder for the files (:func:`simulate_platform`).
     n_antennas
         2 (``baseline_m[0]`` apart along the fuselage) or 3 (a third ``baseline_m[1]`` out on the right wing).
-    duration_s, interval_s
-        Session length and epoch spacing, s.
-    noise
-        Noise profile or its name.
+    {session}
     speed_m_s
         Airspeed (ground speed, no wind), m/s.
-    baseline_m
-        Along and across separations of the array, m.
+    {baseline}
     base_offset_enu_m
         Static base on the airfield, ENU from the origin (300 m below the start), m.
-    start_s
-        First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
-        degrees, of the 24 nominal ones).
-    rng
-        Seed or generator.
-
-    Returns
-    -------
-    SimulatedPlatform
-
-    Raises
-    ------
-    InvalidTypeError, InvalidInputError, WorkLimitError
-        As :func:`simulate_platform`.
+    {tail}.
 
     Examples
     --------

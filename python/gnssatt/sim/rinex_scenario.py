@@ -320,6 +320,109 @@ def transmit_geometry(
     return ok.reshape(full), geometry
 
 
+# --- the measurement model both simulators write (simulate_gnss_rinex here, simulate_platform) -------------
+
+
+def wavelengths_m(sats: list[str], channels: dict[str, int], n_freq: int) -> NDArray[np.float64]:
+    """Carrier wavelengths (n_sat, 3) m of the simulated slots (``SIM_CODES``); NaN for a slot a satellite
+    does not transmit or beyond the first ``n_freq``."""
+    from gnssatt.rinex.signals import slot_frequency_hz
+
+    lam = np.full((len(sats), 3), np.nan)
+    for k, s in enumerate(sats):
+        for slot in range(n_freq):
+            if SIM_CODES[s[0]][slot] is not None:
+                f = slot_frequency_hz(s[0], slot, channels.get(s))
+                lam[k, slot] = _C / f if f else np.nan
+    return lam
+
+
+def ranges_and_rates(
+    nav: _core.Navigation,
+    sats: list[str],
+    t_ns: NDArray[np.int64],
+    receiver_m: NDArray[np.float64],
+    receiver_clock_s: NDArray[np.float64],
+) -> tuple[
+    NDArray[np.bool_], TransmitGeometry, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]
+]:
+    """Every satellite seen by every receiver at the labels ``t_ns`` (n_ep,) and half a Doppler step either
+    side: receivers ``receiver_m`` (n_ep, n_rx, 3 instants, 3) ECEF m with clocks ``receiver_clock_s``
+    (n_rx,) s. Returns the validity and geometry of :func:`transmit_geometry` (n_ep, n_rx, 3, n_sat), the
+    geometric range (n_ep, n_rx, n_sat) m and the satellite clock s at the label, and the range rate less
+    the satellite clock's drift (central difference), m/s."""
+    h_ns = round(DOPPLER_HALF_STEP_S * 1e9)
+    instants = receiver_m.shape[:3]
+    t_rx = np.ascontiguousarray(np.broadcast_to(t_ns[:, None, None] + np.array([0, -h_ns, h_ns]), instants))
+    clock = np.broadcast_to(receiver_clock_s[None, :, None], instants)
+    valid, seen = transmit_geometry(nav, sats, t_rx, receiver_m, clock)
+    rng_m = np.linalg.norm(seen.position_m - receiver_m[:, :, :, None, :], axis=-1)  # (n_ep, n_rx, 3, n_sat)
+    rate = ((rng_m[:, :, 2] - _C * seen.clock_s[:, :, 2]) - (rng_m[:, :, 1] - _C * seen.clock_s[:, :, 1])) / (
+        2 * DOPPLER_HALF_STEP_S
+    )
+    return valid, seen, rng_m[:, :, 0], seen.clock_s[:, :, 0], rate
+
+
+def klobuchar_m(
+    t_ns: NDArray[np.int64], lat_rad: float, lon_rad: float, elevation_rad: NDArray[np.float64],
+    azimuth_rad: NDArray[np.float64], lam: NDArray[np.float64],
+) -> NDArray[np.float64]:  # fmt: skip
+    """Ionospheric group delay (n_ep, n_rx, n_sat, 3) m of each carrier (``KLOBUCHAR``, the coefficients
+    the navigation file gives: exact in its 12.4E fields) at the elevations and azimuths (n_ep, n_rx,
+    n_sat) rad; L1's frequency where a slot has no carrier."""
+    freq = np.where(np.isfinite(lam), _C / lam, 1575.42e6)  # (n_sat, 3)
+    shape = (*elevation_rad.shape, 3)
+    el_b, az_b, f_b = (
+        np.broadcast_to(x, shape).ravel() for x in (elevation_rad[..., None], azimuth_rad[..., None], freq)
+    )
+    t_b = np.broadcast_to(t_ns[:, None, None, None], shape).ravel().astype(np.int64)
+    delay = _core.gnss_klobuchar_delay(np.asarray(KLOBUCHAR), t_b, lat_rad, lon_rad, az_b, el_b, f_b)
+    return delay.reshape(shape)
+
+
+def observables(
+    gen: np.random.Generator, geometric_m: NDArray[np.float64], tropo_m: NDArray[np.float64],
+    iono_m: NDArray[np.float64], lam: NDArray[np.float64], rate_m_s: NDArray[np.float64],
+    code_sigma_m: float | NDArray[np.float64], phase_sigma_m: float | NDArray[np.float64],
+    doppler_sigma_hz: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
+    """Code (m), carrier phase (cycles, without its integer ambiguity) and Doppler (Hz), each (n_ep, n_rx,
+    n_sat, 3), from the geometric terms (range plus clocks, n_ep, n_rx, n_sat) m, the troposphere (same
+    shape) and the ionosphere (one per carrier) m: code delayed and phase advanced by the ionosphere, white
+    noise drawn from ``gen`` in that order."""
+    shape = iono_m.shape
+    code = geometric_m[..., None] + tropo_m[..., None] + iono_m + code_sigma_m * gen.standard_normal(shape)
+    phase_m = (
+        geometric_m[..., None] + tropo_m[..., None] - iono_m + phase_sigma_m * gen.standard_normal(shape)
+    )
+    doppler = -rate_m_s[..., None] / lam + doppler_sigma_hz * gen.standard_normal(shape)
+    return code, phase_m / lam, doppler
+
+
+def write_receiver_obs(
+    path: Path, times: NDArray[np.datetime64], sats: list[str], n_freq: int,
+    observations: tuple[NDArray[np.float64], ...], lli: NDArray[np.float64],
+    approx_position_m: NDArray[np.float64], marker_name: str, channels: dict[str, int],
+) -> None:  # fmt: skip
+    """One receiver's observation file: ``observations`` = (code, phase, Doppler, SNR), each (n_ep, n_sat,
+    3), and the phases' loss-of-lock indicators ``lli`` (n_ep, n_sat, 3), as the ``SIM_CODES`` columns."""
+    n_ep, n_sat = len(times), len(sats)
+    obs: dict[str, NDArray[np.float64]] = {}
+    flags: dict[str, NDArray[np.float64]] = {}
+    for k, s in enumerate(sats):
+        for slot, band in enumerate(SIM_CODES[s[0]][:n_freq]):
+            if band is None:
+                continue
+            for kind, arr in zip("CLDS", observations, strict=True):
+                col = obs.setdefault(kind + band, np.full((n_ep, n_sat), np.nan))
+                col[:, k] = arr[:, k, slot]
+            flags.setdefault("L" + band, np.zeros((n_ep, n_sat)))[:, k] = lli[:, k, slot]
+    write_obs(
+        path, times, sats, obs, approx_position_m=approx_position_m, marker_name=marker_name, lli=flags,
+        glonass_channels=channels,
+    )  # fmt: skip
+
+
 def _slips(value: object) -> list[tuple[int, int, str, int]]:
     """``value`` as (epoch >= 0, antenna >= 0, satellite id, slot >= 0) tuples (ranges checked later)."""
     if isinstance(value, str) or not isinstance(value, Sequence):
@@ -472,7 +575,6 @@ def simulate_gnss_rinex(
         More than ``MAX_EPOCHS`` epochs, or a session longer than ``MAX_SPAN_S``.
     """
     from gnssatt.rinex.nav import gps_ns, read_nav
-    from gnssatt.rinex.signals import slot_frequency_hz
     from gnssatt.sim.atmosphere import troposphere_delay_m
 
     folder = folder_path("folder", folder)
@@ -563,23 +665,10 @@ def simulate_gnss_rinex(
     sats = [s for s, k in zip(ids, keep, strict=True) if k]
     n_sat = len(sats)
     channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
-    lam = np.full((n_sat, 3), np.nan)
-    for k, s in enumerate(sats):
-        for slot in range(n_freq):
-            if SIM_CODES[s[0]][slot] is not None:
-                f = slot_frequency_hz(s[0], slot, channels.get(s))
-                lam[k, slot] = _C / f if f else np.nan
-    # every antenna at the label and half a Doppler step either side: (n_ep, n_ant, 3 instants) receptions
-    steps_ns = np.array([0, -round(DOPPLER_HALF_STEP_S * 1e9), round(DOPPLER_HALF_STEP_S * 1e9)])
-    t_rx = (t_ns[:, None, None] + steps_ns[None, None, :]).repeat(n_ant, axis=1)
+    lam = wavelengths_m(sats, channels, n_freq)
+    # every antenna at the label and half a Doppler step either side
     rx_pos = np.broadcast_to(pos[:, :, None, :], (n_epochs, n_ant, 3, 3))
-    rx_clk = np.broadcast_to(dt_rx[None, :, None], (n_epochs, n_ant, 3))
-    _, seen = transmit_geometry(nav, sats, t_rx, rx_pos, rx_clk)
-    rng_m = np.linalg.norm(seen.position_m - pos[:, :, None, None, :], axis=-1)  # (n_ep, n_ant, 3, n_sat)
-    rho, clk = rng_m[:, :, 0], seen.clock_s[:, :, 0]
-    rate = ((rng_m[:, :, 2] - _C * seen.clock_s[:, :, 2]) - (rng_m[:, :, 1] - _C * seen.clock_s[:, :, 1])) / (
-        2 * DOPPLER_HALF_STEP_S
-    )
+    _, seen, rho, clk, rate = ranges_and_rates(nav, sats, t_ns, rx_pos, dt_rx)
     # ionospheric group delay of each carrier, m
     iono: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat, 3))
     tropo: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat))
@@ -587,16 +676,7 @@ def simulate_gnss_rinex(
         lat, lon = np.radians(lat_deg), np.radians(lon_deg)
         el_i, az_i = seen.elevation_rad[:, :, 0], seen.azimuth_rad[:, :, 0]
         tropo = troposphere_delay_m(lat, height_m, el_i)
-        freq = np.where(np.isfinite(lam), _C / lam, 1575.42e6)  # (n_sat, 3)
-        shape = (n_epochs, n_ant, n_sat, 3)
-        el_b, az_b, f_b = (
-            np.broadcast_to(x, shape).ravel() for x in (el_i[..., None], az_i[..., None], freq)
-        )
-        t_b = np.broadcast_to(t_ns[:, None, None, None], shape).ravel().astype(np.int64)
-        # KLOBUCHAR is exact in the header's 12.4E fields: the coefficients the files give
-        iono = _core.gnss_klobuchar_delay(np.asarray(KLOBUCHAR), t_b, lat, lon, az_b, el_b, f_b).reshape(
-            shape
-        )
+        iono = klobuchar_m(t_ns, lat, lon, el_i, az_i, lam)
     amb = gen.integers(-1000, 1000, size=(n_ant, n_sat, 3))
     jumps = np.zeros((n_epochs, n_ant, n_sat, 3), dtype=np.int64)
     lli = np.zeros((n_epochs, n_ant, n_sat, 3))
@@ -615,31 +695,19 @@ def simulate_gnss_rinex(
         applied.append((int(e), int(i), str(s), int(slot), size))
     geo = rho + _C * (dt_rx[None, :, None] - clk)  # (n_ep, n_ant, n_sat)
     shape = (n_epochs, n_ant, n_sat, 3)
-    code = geo[..., None] + tropo[..., None] + iono + sig["code_sigma_m"] * gen.standard_normal(shape)
-    phase_m = geo[..., None] + tropo[..., None] - iono + sig["phase_sigma_m"] * gen.standard_normal(shape)
-    phase = phase_m / lam + amb + jumps
-    doppler = -rate[..., None] / lam + sig["doppler_sigma_hz"] * gen.standard_normal(shape)
+    code, phase, doppler = observables(
+        gen, geo, tropo, iono, lam, rate, sig["code_sigma_m"], sig["phase_sigma_m"], sig["doppler_sigma_hz"]
+    )
+    phase = phase + amb + jumps
     snr = np.broadcast_to(30.0 + 20.0 * np.sin(np.radians(el[:, keep]))[:, None, :, None], shape)
     valid = np.isfinite(lam)[None, None]
     code, phase, doppler = (np.where(valid, x, np.nan) for x in (code, phase, doppler))
-    paths = []
-    for i in range(n_ant):
-        obs: dict[str, NDArray[np.float64]] = {}
-        flags: dict[str, NDArray[np.float64]] = {}
-        for k, s in enumerate(sats):
-            for slot, band in enumerate(SIM_CODES[s[0]][:n_freq]):
-                if band is None:
-                    continue
-                for kind, arr in (("C", code), ("L", phase), ("D", doppler), ("S", snr)):
-                    col = obs.setdefault(kind + band, np.full((n_epochs, n_sat), np.nan))
-                    col[:, k] = arr[:, i, k, slot]
-                flags.setdefault("L" + band, np.zeros((n_epochs, n_sat)))[:, k] = lli[:, i, k, slot]
-        p = folder / file_names[0].format(i=i)
-        write_obs(
-            p, times, sats, obs, approx_position_m=pos[0, i], marker_name=f"ANT{i}", lli=flags,
-            glonass_channels=channels,
+    paths = [folder / file_names[0].format(i=i) for i in range(n_ant)]
+    for i, p in enumerate(paths):
+        write_receiver_obs(
+            p, times, sats, n_freq, tuple(x[:, i] for x in (code, phase, doppler, snr)), lli[:, i], pos[0, i],
+            f"ANT{i}", channels,
         )  # fmt: skip
-        paths.append(p)
     rel = ant[1:] - ant[0]
     return SimulatedGnss(
         obs_paths=tuple(paths),

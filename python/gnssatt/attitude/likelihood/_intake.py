@@ -20,7 +20,7 @@ from gnssatt.attitude.likelihood.model import (
     RefineName,
 )
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.geometry import MAX_BASELINES, MAX_SIGNALS, checked_baselines
+from gnssatt.geometry import MAX_BASELINE_M, MAX_BASELINES, MAX_SIGNALS, MIN_BASELINE_M, checked_baselines
 
 
 def checked_inputs(
@@ -112,6 +112,19 @@ def named_lobe(b: NDArray[np.float64], length_name: str = "baselines") -> Iterat
             f"{exc} (L = {longest:.6g} m, {what}; lambda from wavelength): choose a finer step_deg, a "
             f"shorter {length_name} or a longer wavelength"
         ) from exc
+
+
+def checked_length(baseline_length_m: float) -> float:
+    """The one baseline's length of :func:`ml_baseline` and :func:`ml_baseline_series`, metres."""
+    return scalar(
+        "baseline_length_m", baseline_length_m, minimum=MIN_BASELINE_M, maximum=MAX_BASELINE_M, unit="m"
+    )
+
+
+def direction_enu(heading_rad: ArrayLike, elevation_rad: ArrayLike) -> NDArray[np.float64]:
+    """Unit vectors (..., 3) East-North-Up of compass headings and elevations, radians."""
+    h, e = np.asarray(heading_rad, dtype=np.float64), np.asarray(elevation_rad, dtype=np.float64)
+    return np.stack([np.sin(h) * np.cos(e), np.cos(h) * np.cos(e), np.sin(e)], axis=-1)
 
 
 def checked_step(step_deg: float | None) -> float | None:

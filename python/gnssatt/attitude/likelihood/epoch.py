@@ -13,9 +13,11 @@ from gnssatt import _core
 from gnssatt._arrays import batch_limit, choice, float_array, scalar, shaped
 from gnssatt.attitude.likelihood._intake import (
     checked_inputs,
+    checked_length,
     checked_refine,
     checked_step,
     checked_window,
+    direction_enu,
     named_lobe,
     window_rows,
 )
@@ -29,7 +31,7 @@ from gnssatt.attitude.likelihood.model import (
     StatisticName,
 )
 from gnssatt.errors import InvalidInputError
-from gnssatt.geometry import MAX_BASELINE_M, MAX_SIGNALS, MIN_BASELINE_M
+from gnssatt.geometry import MAX_SIGNALS
 from gnssatt.rotation import rotation_from_euler
 
 
@@ -295,9 +297,7 @@ def ml_baseline(
     batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "phase differences (all epochs)", phase_diffs=(phase_diffs, 0))
     p = float_array("phase_diffs", phase_diffs, ndim=(1, 2), shape="(M,) or (epochs, M)")
     p = p[:, None, :] if p.ndim == 2 else p[None, None, :]
-    length = scalar(
-        "baseline_length_m", baseline_length_m, minimum=MIN_BASELINE_M, maximum=MAX_BASELINE_M, unit="m"
-    )
+    length = checked_length(baseline_length_m)
     p, s, w, b = checked_inputs(p, los, [[length, 0.0, 0.0]], wavelength, n_baselines=1)
     statistic = choice("statistic", statistic, get_args(StatisticName))
     win = None
@@ -320,11 +320,10 @@ def ml_baseline(
         )
     angles, z, cells, step = est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad
     psi, theta = angles[0], angles[1]
-    direction = np.array([-np.sin(psi) * np.cos(theta), np.cos(psi) * np.cos(theta), np.sin(theta)])
     return BaselineDirection(
         heading_deg=float(np.degrees(-psi) % 360.0),
         elevation_deg=float(np.degrees(theta)),
-        direction_enu=direction,
+        direction_enu=direction_enu(-psi, theta),
         z_max=float(z),
         cells_evaluated=int(cells),
         step_deg=float(np.degrees(step)),

@@ -13,7 +13,9 @@ from scipy.spatial.transform import Rotation
 from gnssatt import _core
 from gnssatt._arrays import plain_array, scalar
 from gnssatt.attitude.likelihood._intake import (
+    checked_length,
     checked_step,
+    direction_enu,
     gapped,
     named_lobe,
 )
@@ -23,7 +25,7 @@ from gnssatt.attitude.likelihood.model import (
     MIN_WAVELENGTH_M,
 )
 from gnssatt.errors import InvalidInputError, WorkLimitError
-from gnssatt.geometry import MAX_BASELINE_M, MIN_BASELINE_M, checked_baselines
+from gnssatt.geometry import checked_baselines
 from gnssatt.rotation import rotation_from_euler
 
 
@@ -370,9 +372,7 @@ def ml_baseline_series(
     >>> np.round(series.heading_deg, 6), np.round(series.elevation_deg, 6)
     (array([330., 328.]), array([10., 10.]))
     """
-    length = scalar(
-        "baseline_length_m", baseline_length_m, minimum=MIN_BASELINE_M, maximum=MAX_BASELINE_M, unit="m"
-    )
+    length = checked_length(baseline_length_m)
     step = checked_step(step_deg)
     _check_series_work(sd_phase, wavelength, step, window_deg, length, two_dimensional=True)
     p, gaps = gapped("sd_phase", sd_phase, ndim=2, shape="(n_ep, n_sig)")
@@ -387,13 +387,10 @@ def ml_baseline_series(
         series = _core.ml_baseline_series(p, s, w, length, step_rad=step, window_rad=window)
     direction, z, solved = series.direction_rad, series.z_max, series.solved
     heading, elevation = direction[:, 0], direction[:, 1]
-    enu = np.stack(
-        [np.sin(heading) * np.cos(elevation), np.cos(heading) * np.cos(elevation), np.sin(elevation)], axis=1
-    )
     return BaselineSeries(
         heading_deg=np.degrees(heading) % 360.0,  # an angle just under 2 pi can round to 360 deg
         elevation_deg=np.degrees(elevation),
-        direction_enu=enu,
+        direction_enu=direction_enu(heading, elevation),
         z_max=z,
         solved=solved,
     )
