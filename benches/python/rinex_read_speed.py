@@ -24,7 +24,7 @@ from gnssatt.rinex import read_obs
 from gnssatt.rinex._fields import read_bytes
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _obs_reference import PYTHON_READER_REV, reference_reader
+from _reference import PYTHON_READER_REV, reference_reader
 
 
 def median_s(fn: Callable[[], Any], repeats: int) -> float:

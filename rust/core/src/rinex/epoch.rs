@@ -196,7 +196,7 @@ pub fn datetime64_text(ns: i64) -> String {
 /// `gnssatt.rinex._fields.epoch_ns`: nanoseconds since 1970 of a calendar label, after checking that it
 /// is one (seconds in [0, 60), up to 61 at 23:59 for a UTC leap second).
 #[allow(clippy::too_many_arguments)]
-fn epoch_ns(
+pub(super) fn epoch_ns(
     lineno: usize,
     y: i64,
     mo: i64,
