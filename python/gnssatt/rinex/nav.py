@@ -367,7 +367,7 @@ def _read_nav(p: str, raw: bytes, cursor: Cursor, skips: Skips) -> RinexNav:
     ks = np.array(r.kepler_sats, dtype="U3")
     toc = epochs_ns(r.kepler_toc_ns)
     fields = {name: kr[:, 3 + k] for k, name in enumerate(KEPLER_FIELDS)}
-    is_bds = np.char.startswith(ks, "C")
+    is_bds = ks.astype("U1") == "C"  # not numpy.char: its first use imports it (start-up)
     week = fields["week"] + np.where(is_bds, 1356, 0)
     toe = (week.astype(np.int64) * _WEEK_NS) + np.round(fields["toe_sow"] * 1e9).astype(np.int64)
     toe = np.where(is_bds, toe + _BDT_OFFSET_NS, toe)

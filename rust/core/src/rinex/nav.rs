@@ -8,7 +8,7 @@
 //! as an `IndexError` or `OverflowError` (a record start shorter than its separators, an empty line after
 //! a RINEX 4 marker, a sqrt(A) whose square overflows) reads as the message its guard wrote for those.
 
-use super::epoch::{epoch_ns, integer, number};
+use super::epoch::{epoch_ns, fortran, integer, number};
 use super::lines::{blank, is_space, slice, split_lines, strip, tail};
 use super::obs_body::BodyError;
 use super::text::{py_float_repr, py_format_g, py_repr};
@@ -148,7 +148,11 @@ fn values(
                 ),
             ));
         }
-        out.push(number(lineno, text, &format!("broadcast field {}", k + 1))?);
+        // the message is written only for a field refused
+        out.push(match fortran(strip(text)) {
+            Some(v) if v.is_finite() => v,
+            _ => number(lineno, text, &format!("broadcast field {}", k + 1))?,
+        });
     }
     Ok(())
 }
