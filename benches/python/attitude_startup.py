@@ -9,12 +9,16 @@ rover, 120 epochs, GPS L1 + L2). The gnssatt command is the one of ``docs/exampl
 (``gnssatt attitude --obs 07590920.05o --obs 30400920.05o --nav 07590920.05n --motion moving --frequencies
 2``) with ``--no-plot``; RTKLIB's is the one of ``../shared/peers/README.md`` (``kinematic-instantaneous``,
 ``-f 2``), the peer built with its ``build.sh``. Each start is a fresh process; the commands alternate so
-that a load change hits all alike; medians are printed with the difference to RTKLIB.
+that a load change hits all alike; medians are printed with the difference to RTKLIB. The Python commands
+run with bytecode caching on (``PYTHONDONTWRITEBYTECODE`` removed; the warm-up start writes the
+``__pycache__`` files), as an installed package runs: pip compiles a wheel's modules when it installs it.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -26,10 +30,18 @@ from pathlib import Path
 IMPORTS = "import gnssatt.cli, gnssatt.gnss.attitude, gnssatt.gnss.session_input"
 
 
-def wall_s(cmd: list[str], cwd: str) -> float:
+_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+
+
+def wall_cpu_s(cmd: list[str], cwd: str) -> tuple[float, float]:
+    """Wall and CPU (user + system) seconds of one run of ``cmd``: on a loaded machine the CPU time
+    is the steadier measure of the work a start does."""
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run(cmd, cwd=cwd, check=True, capture_output=True)
-    return time.perf_counter() - t0
+    subprocess.run(cmd, cwd=cwd, check=True, capture_output=True, env=_ENV)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
 
 
 def main() -> None:
@@ -55,19 +67,24 @@ def main() -> None:
             str(args.rnx2rtkp.resolve()), "-k", str(conf), "-f", "2",
             "-r", "-3976219.5082", "3382372.5671", "3652512.9849", "-o", "startup.pos", *files,
         ]  # fmt: skip
-    times: dict[str, list[float]] = {k: [] for k in commands}
+    times: dict[str, list[tuple[float, float]]] = {k: [] for k in commands}
     with tempfile.TemporaryDirectory() as folder:
-        for cmd in commands.values():  # warm the file cache
-            wall_s(cmd, folder)
+        for cmd in commands.values():  # warm the file cache, write the bytecode
+            wall_cpu_s(cmd, folder)
         for _ in range(args.starts):
             for name, cmd in commands.items():
-                times[name].append(wall_s(cmd, folder))
-    ref = statistics.median(times["rnx2rtkp"]) if "rnx2rtkp" in times else None
-    print(f"| command | median wall s ({args.starts} starts) | minus rnx2rtkp s |")
-    print("|---|---:|---:|")
-    for name, ts in times.items():
-        m = statistics.median(ts)
-        print(f"| {name} | {m:.3f} | {'' if ref is None else f'{m - ref:+.3f}'} |")
+                times[name].append(wall_cpu_s(cmd, folder))
+    med = {
+        k: (statistics.median(t[0] for t in v), statistics.median(t[1] for t in v)) for k, v in times.items()
+    }
+    ref = med.get("rnx2rtkp")
+    print(
+        f"| command ({args.starts} starts, medians) | wall s | minus rnx2rtkp s | CPU s | minus rnx2rtkp s |"
+    )
+    print("|---|---:|---:|---:|---:|")
+    for name, (wall, cpu) in med.items():
+        dw, dc = ("", "") if ref is None else (f"{wall - ref[0]:+.3f}", f"{cpu - ref[1]:+.3f}")
+        print(f"| {name} | {wall:.3f} | {dw} | {cpu:.3f} | {dc} |")
 
 
 if __name__ == "__main__":
