@@ -595,8 +595,8 @@ pub fn read_nav(text: &[u8], header_labels: &[String]) -> Result<NavRecords, Bod
                 // G, E, C, J: refuse a shape that is not an ellipse, skip an ellipse inside the Earth
                 let orbit = &vals[3..];
                 let (sqrt_a, e) = (orbit[7], orbit[5]);
-                // (comparisons written so that NaN, which `number` never gives, would fail them too)
-                if !(sqrt_a > 0.0) {
+                // (NaN, which `number` never gives, would be refused too)
+                if sqrt_a.is_nan() || sqrt_a <= 0.0 {
                     return Err(err(
                         lineno + 2,
                         format!(
