@@ -28,7 +28,7 @@ from gnssatt.rinex import read_obs
 from gnssatt.rinex._fields import read_bytes
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _obs_reference import PYTHON_READER_REV, reference_reader
+from _reference import PYTHON_READER_REV, reference_reader
 
 _NOT_RINEX = {"LICENSE", "COMMIT", "SHA256SUMS"}
 

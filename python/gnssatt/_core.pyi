@@ -44,6 +44,7 @@ __all__ = [
     "MatrixAttitude",
     "MlEstimate",
     "MlSeries",
+    "NavRecords",
     "Navigation",
     "ObsBody",
     "ObservationArrays",
@@ -90,6 +91,7 @@ __all__ = [
     "orbit_filter_loose",
     "orbit_filter_tight",
     "quat_to_dcm",
+    "rinex_nav_records",
     "rinex_obs_body",
     "triad_batch",
     "tumble_axes",
@@ -827,3 +829,33 @@ def rinex_obs_body(
     header_labels: list[str],
     max_cells: int,
 ) -> ObsBody: ...
+
+# RINEX navigation files (rust/py/src/rinex_nav.rs)
+@final
+class NavRecords:
+    @property
+    def kepler_values(self) -> NDArray[np.float64]: ...  # (n, 29): af0-af2, the 26 orbit fields
+    @property
+    def kepler_sats(self) -> list[str]: ...
+    @property
+    def kepler_toc_ns(self) -> NDArray[np.int64]: ...  # (n,) ns since 1970 of the label
+    @property
+    def glonass_values(self) -> NDArray[np.float64]: ...  # (m, 15)
+    @property
+    def glonass_sats(self) -> list[str]: ...
+    @property
+    def glonass_tb_ns(self) -> NDArray[np.int64]: ...  # (m,) ns since 1970 of the UTC label
+    @property
+    def iono_alpha(self) -> NDArray[np.float64]: ...
+    @property
+    def iono_beta(self) -> NDArray[np.float64]: ...
+    @property
+    def leap_seconds(self) -> int | None: ...
+    @property
+    def unused(self) -> list[tuple[str, int]]: ...
+    @property
+    def skips(self) -> list[tuple[str, str]]: ...  # ("not an orbit" | "cut", description)
+    @property
+    def lines(self) -> int: ...
+
+def rinex_nav_records(path: str, text: bytes, header_labels: list[str]) -> NavRecords: ...

@@ -1,5 +1,6 @@
-"""RINEX 2.xx and 3.xx navigation files: broadcast ephemerides of GPS, Galileo, BeiDou, QZSS (Keplerian)
-and GLONASS (state vectors).
+"""RINEX 2.xx, 3.xx and 4.xx navigation files: broadcast ephemerides of GPS, Galileo, BeiDou, QZSS
+(Keplerian) and GLONASS (state vectors). The file is parsed by the Rust core (``gnssatt_core::rinex::nav``);
+this module opens and decompresses it and converts the records into the arrays below.
 
 Times
 -----
@@ -22,16 +23,13 @@ from numpy.typing import NDArray
 
 from gnssatt import _core
 from gnssatt._arrays import instance
-from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
+from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.rinex._fields import (
     HEADER_LABELS,
     Cursor,
     Skips,
-    epoch_ns,
-    integer,
-    number,
     path_text,
-    read_lines,
+    read_bytes,
     reading,
     time_labels,
 )
@@ -233,50 +231,6 @@ class RinexNav:
         )
 
 
-#: Record-start layout (0-based slices): year, month, day, hour, minute, second; separators; first field.
-_HEAD_V3 = (((4, 8), (9, 11), (12, 14), (15, 17), (18, 20), (21, 23)), (3, 8, 11, 14, 17, 20), 23)
-_HEAD_V2 = (((3, 5), (6, 8), (9, 11), (12, 14), (15, 17), (17, 22)), (2, 5, 8, 11, 14), 22)
-#: RINEX 4 ephemeris messages read, per system (the others, CNAV, CNV1-3, SBAS, IRNSS, are counted and
-#: skipped: the engine uses the legacy messages only).
-_V4_MESSAGES = {"G": ("LNAV",), "J": ("LNAV",), "E": ("INAV", "FNAV"), "C": ("D1", "D2"), "R": ("FDMA",)}
-#: Lines of a record per system letter (GLONASS: 5 lines from RINEX 3.05 on).
-_RECORD_LINES = {"G": 8, "E": 8, "C": 8, "J": 8, "I": 8, "S": 4, "R": 4}
-
-
-def _values(path: str, lineno: int, line: str, start: int, count: int) -> list[float]:
-    """``count`` D19.12 fields from column ``start``; a blank field is 0, a field the line ends inside is
-    refused (a cut number would read as another value)."""
-    out = []
-    for k in range(count):
-        text = line[start + 19 * k : start + 19 * (k + 1)]
-        if not text.strip():
-            out.append(0.0)
-            continue
-        if len(text) < 19:
-            raise RinexError(
-                path, lineno, f"the line ends inside broadcast field {k + 1} (a field cut short)"
-            )
-        out.append(number(path, lineno, text, f"broadcast field {k + 1}"))
-    return out
-
-
-def _orbit_shape(path: str, lineno: int, orbit: list[float]) -> None:
-    """Refuse a Keplerian record whose shape is not an ellipse: sqrt(A) <= 0 or an eccentricity outside
-    [0, 1) (broadcast orbit 2: Cuc, e, Cus, sqrt(A)). Any ellipse is accepted here; one that is not an orbit
-    around the Earth is skipped by the caller."""
-    sqrt_a, e = orbit[7], orbit[5]
-    if not sqrt_a > 0.0:
-        raise RinexError(path, lineno + 2, f"expected sqrt(A) > 0 m^0.5 (broadcast field 4), got {sqrt_a}")
-    if not 0.0 <= e < 1.0:
-        raise RinexError(path, lineno + 2, f"expected an eccentricity in [0, 1) (broadcast field 2), got {e}")
-
-
-def _whole(path: str, lineno: int, value: float, lo: int, hi: int, what: str) -> None:
-    """Refuse a broadcast value that must be an integer in [lo, hi] (it becomes one in int64 arithmetic)."""
-    if value != round(value) or not lo <= value <= hi:
-        raise RinexError(path, lineno, f"expected {what} as a whole number in [{lo}, {hi}], got {value}")
-
-
 def read_nav(path: str | PathLike[str] | Sequence[str | PathLike[str]] | RinexNav) -> RinexNav:
     """Read a RINEX 2.xx (GPS ``N``, GLONASS ``G``, Galileo ``E``, SBAS ``H``), 3.xx or 4.xx (any system)
     navigation file, or several merged into one.
@@ -380,7 +334,7 @@ def _read_one(p: str) -> RinexNav:
     """One navigation file, its name checked."""
     with reading(p) as cursor:
         skips = Skips(p)
-        nav = _read_nav(p, *read_lines(p), cursor, skips)
+        nav = _read_nav(p, read_bytes(p), cursor, skips)
     for key, count in sorted(nav.skipped.items(), key=lambda kv: -kv[1]):
         skips.add(_UNUSED_MESSAGES, f"{key} x{count}", count)
     skips.warn()
@@ -393,206 +347,41 @@ _NOT_AN_ORBIT = (
     "Keplerian records skipped: not an orbit (perigee a (1 - e) below the Earth's equatorial radius)"
 )
 _CUT_RECORD = "record left out: the file ends inside it (the records before it are read)"
-#: WGS-84 equatorial radius, m: a perigee below it is inside the Earth.
-_EARTH_RADIUS_M = 6_378_137.0
-#: RINEX 2 navigation file types: the system of their records (H: SBAS GEO, E: Galileo, RINEX 2.12).
-_V2_TYPES = {"N": "G", "G": "R", "E": "E", "H": "S"}
-#: Systems whose records the engine does not use: the key of :attr:`RinexNav.skipped` (as RINEX 4 names
-#: their messages).
-_UNUSED_SYSTEMS = {"S": "EPH S SBAS", "I": "EPH I LNAV"}
 
 
-def _read_nav(p: str, lines: list[str], ended: bool, cursor: Cursor, skips: Skips) -> RinexNav:
-    if not lines or lines[0][60:80].strip() != "RINEX VERSION / TYPE":
-        raise RinexError(p, 1, "expected 'RINEX VERSION / TYPE' in columns 61-80")
-    version = number(p, 1, lines[0][0:9], "the RINEX version")
-    if not (2.0 <= version < 5.0):
-        raise RinexError(p, 1, f"unknown navigation file version {version}: expected 2.xx, 3.xx or 4.xx")
-    ftype = lines[0][20:21]
-    if version < 3 and ftype not in _V2_TYPES:
-        raise RinexError(
-            p,
-            1,
-            f"expected a GPS ('N'), GLONASS ('G'), Galileo ('E') or SBAS ('H') navigation file, got type "
-            f"{ftype!r}",
-        )
-    if version >= 3 and ftype != "N":
-        raise RinexError(p, 1, f"expected a navigation file (type 'N'), got {ftype!r}")
-    v2_system = _V2_TYPES.get(ftype, "G")
-    alpha = np.full(4, np.nan)
-    beta = np.full(4, np.nan)
-    leaps: int | None = None
-    body = None
-    last_known = 1
-    for i, line in enumerate(lines[1:], start=1):
-        cursor.line = i + 1
-        label = line[60:80].strip()
-        if label in HEADER_LABELS:
-            last_known = i + 1
-        if label == "END OF HEADER":
-            body = i + 1
-            break
-        if label == "ION ALPHA" and v2_system == "G":  # a Galileo file's holds NeQuick's three
-            alpha = np.array(
-                [number(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION ALPHA") for k in range(4)]
-            )
-        elif label == "ION BETA" and v2_system == "G":
-            beta = np.array([number(p, i + 1, line[2 + 12 * k : 14 + 12 * k], "ION BETA") for k in range(4)])
-        elif label == "IONOSPHERIC CORR" and line[0:4] in ("GPSA", "GPSB"):
-            vals = np.array(
-                [number(p, i + 1, line[5 + 12 * k : 17 + 12 * k], "IONOSPHERIC CORR") for k in range(4)]
-            )
-            if line[3] == "A":
-                alpha = vals
-            else:
-                beta = vals
-        elif label == "LEAP SECONDS":
-            leaps = integer(p, i + 1, line[0:6], "LEAP SECONDS")
-    if body is None:
-        raise RinexError(
-            p,
-            min(last_known + 1, len(lines)),
-            "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
-            "label",
-        )
-    v3 = version >= 3
-    start = 4 if v3 else 3
-    dates, seps, first_field = _HEAD_V3 if v3 else _HEAD_V2
-    kep_rows: list[list[float]] = []
-    kep_sats: list[str] = []
-    kep_epoch: list[int] = []
-    glo_rows: list[list[float]] = []
-    glo_sats: list[str] = []
-    glo_epoch: list[int] = []
-    i = body
-    n = len(lines)
-    skipped: dict[str, int] = {}
-    while i < n:
-        line = lines[i]
-        lineno = i + 1
-        cursor.line = lineno
-        if not line.strip():
-            i += 1
-            continue
-        if version >= 4:
-            if line[0] != ">":
-                raise RinexError(
-                    p, lineno, f"expected a record marker such as '> EPH G01 LNAV', got {line[:40]!r}"
-                )
-            kind, sat4, message = [*line[1:].split(), "", "", ""][:3]
-            end = i + 1
-            while end < n and not lines[end].startswith(">"):
-                end += 1
-            if kind == "EPH" and message in _V4_MESSAGES.get(sat4[0:1], ()):
-                if end == i + 1:
-                    raise RinexError(p, lineno, f"the record marker {line.strip()!r} has no record after it")
-                i += 1  # the record follows in the layout of RINEX 3
-                line, lineno = lines[i], i + 1
-            else:
-                if kind == "ION" and sat4[0:1] == "G" and message == "LNAV" and np.isnan(alpha[0]):
-                    alpha, beta = _v4_klobuchar(p, lines, i, end)
-                else:
-                    key = f"{kind} {sat4[0:1]} {message}"
-                    skipped[key] = skipped.get(key, 0) + 1
-                i = end
-                continue
-        try:
-            if v3:
-                sysc = line[0]
-                prn = integer(p, lineno, line[1:3], "the satellite number")
-            else:
-                sysc = v2_system
-                prn = integer(p, lineno, line[0:2], "the satellite number")
-            if sysc not in _RECORD_LINES:
-                raise RinexError(p, lineno, f"unknown satellite system {sysc!r} in a navigation record")
-            if not 1 <= prn <= 99:
-                raise RinexError(p, lineno, f"expected a satellite number 1-99, got {prn}")
-            n_lines = 5 if sysc == "R" and version >= 3.05 else _RECORD_LINES[sysc]
-            if i + n_lines > n:
-                # the last record, cut by the end of the file: the records before it are complete
-                skips.add(_CUT_RECORD, f"{sysc}{prn:02d} at line {lineno} ({n - i} of its {n_lines} lines)")
-                break
-            for q in range(1, n_lines):
-                if lines[i + q][:start].strip():
-                    raise RinexError(
-                        p,
-                        lineno,
-                        f"the record has {q} line(s), but a {sysc} record has {n_lines}: line {lineno + q} "
-                        f"does not continue it (columns 1-{start} not blank)",
-                    )
-            if any(line[c] != " " for c in seps) or len(line) < first_field:
-                raise RinexError(
-                    p, lineno, f"expected a record start 'sat yy mm dd hh mm ss', got {line[:23]!r}"
-                )
-            y, mo, d, hh, mi = (integer(p, lineno, line[a:b], "the epoch") for a, b in dates[:5])
-            sec = number(p, lineno, line[dates[5][0] : dates[5][1]], "the epoch seconds")
-            if not v3:
-                if not 0 <= y <= 99:
-                    raise RinexError(p, lineno, f"expected a two-digit year, got {y}")
-                y += 1900 if y >= 80 else 2000
-            t_ns = epoch_ns(p, lineno, y, mo, d, hh, mi, sec)
-            sat = f"{sysc}{prn:02d}"
-            head = _values(p, lineno, line, first_field, 3)
-            orbit: list[float] = []
-            for q in range(1, n_lines):
-                cursor.line = lineno + q
-                orbit += _values(p, lineno + q, lines[i + q], start, 4)
-        except RinexError as exc:
-            if ended or exc.line != n:
-                raise
-            # the file has no line end and the fault is in its last line: the file was cut inside it
-            skips.add(_CUT_RECORD, f"{line[:3].strip()} at line {lineno} (line {n} is cut: {exc.message})")
-            break
-        if sysc in _UNUSED_SYSTEMS:
-            key = _UNUSED_SYSTEMS[sysc]
-            skipped[key] = skipped.get(key, 0) + 1
-        elif sysc in "GECJ":
-            _orbit_shape(p, lineno, orbit)
-            if orbit[7] ** 2 * (1.0 - orbit[5]) < _EARTH_RADIUS_M:
-                skips.add(
-                    _NOT_AN_ORBIT,
-                    f"{sat} at line {lineno} (sqrt(A) {orbit[7]:.6g} m^0.5, e {orbit[5]:.6g})",
-                )
-                i += n_lines
-                continue
-            _whole(p, lineno + 5, orbit[18], 0, 9999, "the week")
-            if not 0.0 <= orbit[8] <= 604_800.0:
-                raise RinexError(
-                    p, lineno + 3, f"expected a time of ephemeris in [0, 604800] s, got {orbit[8]}"
-                )
-            kep_rows.append(head + orbit[:26])
-            kep_sats.append(sat)
-            kep_epoch.append(t_ns)
-        elif sysc == "R":
-            _whole(p, lineno + 2, orbit[7], -7, 13, "the GLONASS frequency channel")
-            glo_rows.append(head + orbit[:12])
-            glo_sats.append(sat)
-            glo_epoch.append(t_ns)
-        i += n_lines
-    cursor.line = n
+def _read_nav(p: str, raw: bytes, cursor: Cursor, skips: Skips) -> RinexNav:
+    """The records of the decompressed file ``raw``, parsed by the Rust core (``gnssatt_core::rinex::nav``:
+    the header values, the record walk and every check of a field), as the arrays of :class:`RinexNav`
+    in GPST."""
+    r = _core.rinex_nav_records(p, raw, sorted(HEADER_LABELS))
+    for kind, record in r.skips:
+        skips.add(_CUT_RECORD if kind == "cut" else _NOT_AN_ORBIT, record)
+    skipped = dict(r.unused)
+    leaps = r.leap_seconds
+    cursor.line = r.lines
 
-    def epochs_ns(ep: list[int]) -> NDArray[np.int64]:
-        return gps_ns(np.array(ep, dtype=np.int64).astype("datetime64[ns]"))
+    def epochs_ns(ep: NDArray[np.int64]) -> NDArray[np.int64]:
+        return gps_ns(ep.astype("datetime64[ns]"))
 
-    kr = np.array(kep_rows, dtype=np.float64).reshape(-1, 29)
-    ks = np.array(kep_sats, dtype="U3")
-    toc = epochs_ns(kep_epoch)
+    kr = r.kepler_values
+    ks = np.array(r.kepler_sats, dtype="U3")
+    toc = epochs_ns(r.kepler_toc_ns)
     fields = {name: kr[:, 3 + k] for k, name in enumerate(KEPLER_FIELDS)}
-    is_bds = np.char.startswith(ks, "C")
+    is_bds = ks.astype("U1") == "C"  # not numpy.char: its first use imports it (start-up)
     week = fields["week"] + np.where(is_bds, 1356, 0)
     toe = (week.astype(np.int64) * _WEEK_NS) + np.round(fields["toe_sow"] * 1e9).astype(np.int64)
     toe = np.where(is_bds, toe + _BDT_OFFSET_NS, toe)
     toc = np.where(is_bds, toc + _BDT_OFFSET_NS, toc)
     kepler = KeplerEphemerides(ks, toc, toe, kr[:, :3].copy(), fields)
 
-    gr = np.array(glo_rows, dtype=np.float64).reshape(-1, 15)
-    tb = epochs_ns(glo_epoch)
+    gr = r.glonass_values
+    tb = epochs_ns(r.glonass_tb_ns)
     if len(tb):
         first_utc = GPS_EPOCH + np.timedelta64(int(tb[0]), "ns")
         tb = tb + 1_000_000_000 * (leaps if leaps is not None else leap_seconds(first_utc))
     km = 1000.0
     glonass = GlonassEphemerides(
-        sats=np.array(glo_sats, dtype="U3"),
+        sats=np.array(r.glonass_sats, dtype="U3"),
         tb_ns=tb,
         clock_bias=gr[:, 0],
         gamma_n=gr[:, 1],
@@ -606,24 +395,11 @@ def _read_nav(p: str, lines: list[str], ended: bool, cursor: Cursor, skips: Skip
         path=p,
         kepler=kepler,
         glonass=glonass,
-        iono_alpha=alpha,
-        iono_beta=beta,
+        iono_alpha=r.iono_alpha,
+        iono_beta=r.iono_beta,
         leap_seconds=leaps,
         skipped=skipped,
     )
-
-
-def _v4_klobuchar(
-    p: str, lines: list[str], i: int, end: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Alpha and beta of a RINEX 4 ``> ION G.. LNAV`` record: an epoch with alpha0-2, then alpha3 and
-    beta0-2, then beta3 and the region flag."""
-    if end - i < 4:
-        raise RinexError(p, i + 1, f"a GPS ION record has 3 lines, this one {end - i - 1}")
-    v = _values(p, i + 2, lines[i + 1], 23, 3)
-    v += _values(p, i + 3, lines[i + 2], 4, 4)
-    v += _values(p, i + 4, lines[i + 3], 4, 1)
-    return np.array(v[:4]), np.array(v[4:8])
 
 
 @dataclass(frozen=True)

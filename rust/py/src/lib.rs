@@ -23,6 +23,7 @@ mod orbit;
 mod pool;
 mod results;
 mod rinex;
+mod rinex_nav;
 mod rotation;
 mod wahba;
 
@@ -40,6 +41,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gnss_nav::register(m)?;
     gnss::register(m)?;
     rinex::register(m)?;
+    rinex_nav::register(m)?;
     guard::register(m)?;
     Ok(())
 }

@@ -83,54 +83,67 @@ fn digit_run(s: &[u8]) -> usize {
     s.iter().take_while(|&&b| is_digit(b)).count()
 }
 
-/// `gnssatt.rinex._fields.number`: a finite Fortran number (`D` or `E` exponent) between blanks.
-pub fn number(lineno: usize, text: &[u8], what: &str) -> Result<f64, BodyError> {
-    let core = strip(text);
-    let fail = || {
-        err(
-            lineno,
-            format!("expected a number for {what}, got {}", quoted(core)),
-        )
-    };
+/// The value of a Fortran number (`D` or `E` exponent) with no blank around it, or None where `core` is
+/// not one (`gnssatt.rinex._fields._NUMBER`: `[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?`); an
+/// overflow reads as infinity.
+pub fn fortran(core: &[u8]) -> Option<f64> {
     let mut k = usize::from(matches!(core.first(), Some(b'+' | b'-')));
     let whole = digit_run(&core[k..]);
     k += whole;
     if core.get(k) == Some(&b'.') {
         let frac = digit_run(&core[k + 1..]);
         if whole == 0 && frac == 0 {
-            return Err(fail());
+            return None;
         }
         k += 1 + frac;
     } else if whole == 0 {
-        return Err(fail());
+        return None;
     }
     if matches!(core.get(k), Some(b'E' | b'e' | b'D' | b'd')) {
         let mut m = k + 1;
         m += usize::from(matches!(core.get(m), Some(b'+' | b'-')));
         let exp = digit_run(&core[m.min(core.len())..]);
         if exp == 0 {
-            return Err(fail());
+            return None;
         }
         k = m + exp;
     }
     if k != core.len() {
-        return Err(fail());
+        return None;
     }
-    let cleaned: String = core
-        .iter()
-        .map(|&b| match b {
-            b'D' | b'd' => 'e',
-            _ => b as char,
-        })
-        .collect();
-    let value: f64 = cleaned.parse().map_err(|_| fail())?;
-    if !value.is_finite() {
-        return Err(err(
+    // Rust's parser takes `e` only: the number is copied with its `D` replaced (on the stack where short)
+    let mut buf = [0u8; 40];
+    let mut owned = Vec::new();
+    let text: &mut [u8] = if core.len() <= buf.len() {
+        let part = &mut buf[..core.len()];
+        part.copy_from_slice(core);
+        part
+    } else {
+        owned.extend_from_slice(core);
+        &mut owned
+    };
+    for b in text.iter_mut() {
+        if matches!(*b, b'D' | b'd') {
+            *b = b'e';
+        }
+    }
+    std::str::from_utf8(text).ok()?.parse().ok()
+}
+
+/// `gnssatt.rinex._fields.number`: a finite Fortran number (`D` or `E` exponent) between blanks.
+pub fn number(lineno: usize, text: &[u8], what: &str) -> Result<f64, BodyError> {
+    let core = strip(text);
+    match fortran(core) {
+        Some(value) if value.is_finite() => Ok(value),
+        Some(_) => Err(err(
             lineno,
             format!("expected a finite number for {what}, got {}", quoted(core)),
-        ));
+        )),
+        None => Err(err(
+            lineno,
+            format!("expected a number for {what}, got {}", quoted(core)),
+        )),
     }
-    Ok(value)
 }
 
 /// Days since 1970-01-01 of a proleptic Gregorian date, or None where it is not a date.
@@ -196,7 +209,7 @@ pub fn datetime64_text(ns: i64) -> String {
 /// `gnssatt.rinex._fields.epoch_ns`: nanoseconds since 1970 of a calendar label, after checking that it
 /// is one (seconds in [0, 60), up to 61 at 23:59 for a UTC leap second).
 #[allow(clippy::too_many_arguments)]
-fn epoch_ns(
+pub(super) fn epoch_ns(
     lineno: usize,
     y: i64,
     mo: i64,
