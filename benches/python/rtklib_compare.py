@@ -1,7 +1,7 @@
 """Side by side with RTKLIB 2.4.3: ``gnssatt attitude`` and ``rnx2rtkp`` on the same files, modes and signals.
 
     python benches/python/rtklib_compare.py --rtklib-src ../shared/peers/rtklib-2.4.3 [--rnx2rtkp PATH]
-        [--datasets geonet,sim] [--out DIR] [--repeats N] [--cssrlib DIR]
+        [--datasets geonet,sim] [--out DIR] [--repeats N] [--cssrlib DIR] [--threads N]
     python benches/python/rtklib_compare.py --rtklib-src ../shared/peers/rtklib-2.4.3 --datasets platforms
         [--profiles gps_l1_ublox,geodetic] [--platform-duration-s S] [--seed N]
 
@@ -31,6 +31,7 @@ Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
 and system set (``pos1-navsys`` in a conf copy / ``--systems``) the files hold; base position ``-r`` /
 ``--base-position`` from the base file's header.
 
+``--threads N``: the engine's threads (``RAYON_NUM_THREADS`` of the gnssatt runs; ``rnx2rtkp`` runs on one).
 RTKLIB: ``--rnx2rtkp PATH``, or built from ``--rtklib-src DIR`` (``DIR/build.sh``) into the output folder;
 its confs are read from ``DIR/conf`` and written, modified, into the output folder (the peer folder is never
 edited). Without ``--rtklib-src`` only gnssatt runs, and the table says RTKLIB was skipped.
@@ -993,7 +994,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="gnssatt's single-epoch runs get --baseline-length: the reference's length (the truth, or "
         "RTKLIB's static solution for GEONET)",
     )
+    ap.add_argument(
+        "--threads",
+        type=int,
+        default=None,
+        help="threads of gnssatt's engine (RAYON_NUM_THREADS of its runs; default: every CPU)",
+    )
     args = ap.parse_args(argv)
+    if args.threads is not None:
+        if args.threads < 1:
+            ap.error(f"--threads: expected >= 1, got {args.threads}")
+        os.environ["RAYON_NUM_THREADS"] = str(args.threads)
     names = [
         n.strip() for n in args.datasets.replace("platforms", ",".join(PLATFORMS)).split(",") if n.strip()
     ]
@@ -1032,7 +1043,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     options = help_options(exe_help)
     settings = Settings(options, args.repeats, args.wrong_fix_m, args.timeout_s, args.known_length)
     # The machine may be shared: the load beside the CPU count says how far wall times are inflated.
-    machine = f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at the start"
+    threads = os.environ.get("RAYON_NUM_THREADS", "every CPU")
+    load = os.getloadavg()[0]
+    machine = f"{os.cpu_count()} CPUs, load average {load:.1f} at the start, gnssatt threads {threads}"
     report: dict[str, object] = {
         "machine": machine,
         "rtklib": None if rtk is None else str(rtk.binary),

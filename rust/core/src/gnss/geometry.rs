@@ -75,10 +75,35 @@ fn sagnac(p: &Vector3<f64>, tau: f64) -> Vector3<f64> {
     Vector3::new(c * p.x + s * p.y, -s * p.x + c * p.y, p.z)
 }
 
+/// A receiver position with what every satellite's geometry from it shares: its geodetic position and
+/// East-North-Up rotation (`None` within [`MIN_HORIZON_RADIUS_M`] of the Earth's centre), computed once
+/// per receiver and epoch instead of once per satellite.
+#[derive(Debug, Clone, Copy)]
+pub struct Site {
+    pub position_m: Vector3<f64>,
+    /// Latitude (rad), longitude (rad), height (m) ([`geodetic_from_ecef`]) and the rotation
+    /// [`enu_from_ecef`] there.
+    pub horizon: Option<((f64, f64, f64), Matrix3<f64>)>,
+}
+
+impl Site {
+    pub fn new(position_m: &Vector3<f64>) -> Site {
+        let horizon = (position_m.norm() >= MIN_HORIZON_RADIUS_M).then(|| {
+            let geodetic = geodetic_from_ecef(position_m);
+            (geodetic, enu_from_ecef(geodetic.0, geodetic.1))
+        });
+        Site {
+            position_m: *position_m,
+            horizon,
+        }
+    }
+}
+
 /// Geometry of `sat` for a reception at label `t_rx_gpst_ns` by a receiver at `receiver_m` (ECEF) whose
 /// clock reads `rx_clock_s` ahead (true reception = label - clock): the light time is iterated from
 /// the receiver position. `None` where the satellite has no usable record at that time or the receiver
-/// coincides with the satellite.
+/// coincides with the satellite. The geometry of many satellites from one position:
+/// [`satellite_geometry_from`].
 pub fn satellite_geometry(
     eph: &Ephemerides,
     sat: SatId,
@@ -86,19 +111,31 @@ pub fn satellite_geometry(
     rx_clock_s: f64,
     receiver_m: &Vector3<f64>,
 ) -> Option<SatGeometry> {
+    satellite_geometry_from(eph, sat, t_rx_gpst_ns, rx_clock_s, &Site::new(receiver_m))
+}
+
+/// [`satellite_geometry`] from a [`Site`].
+pub fn satellite_geometry_from(
+    eph: &Ephemerides,
+    sat: SatId,
+    t_rx_gpst_ns: i64,
+    rx_clock_s: f64,
+    site: &Site,
+) -> Option<SatGeometry> {
+    let receiver_m = &site.position_m;
     if !rx_clock_s.is_finite() || !receiver_m.iter().all(|x| x.is_finite()) {
         return None;
     }
     // A first guess of the light time of a medium Earth orbit; the iteration does the rest.
     let mut tau = 0.075;
-    let mut state = eph.state(sat, t_rx_gpst_ns, -rx_clock_s - tau)?;
-    let mut position = sagnac(&state.position_m, tau);
+    let (mut transmit_m, mut clock_s) = eph.position_clock(sat, t_rx_gpst_ns, -rx_clock_s - tau)?;
+    let mut position = sagnac(&transmit_m, tau);
     for _ in 0..MAX_LIGHT_TIME_ITERATIONS {
         let next = (position - receiver_m).norm() / SPEED_OF_LIGHT_M_S;
         let converged = (next - tau).abs() < 1e-12;
         tau = next;
-        state = eph.state(sat, t_rx_gpst_ns, -rx_clock_s - tau)?;
-        position = sagnac(&state.position_m, tau);
+        (transmit_m, clock_s) = eph.position_clock(sat, t_rx_gpst_ns, -rx_clock_s - tau)?;
+        position = sagnac(&transmit_m, tau);
         if converged {
             break;
         }
@@ -109,19 +146,19 @@ pub fn satellite_geometry(
         return None;
     }
     let los = d / range;
-    let (elevation, azimuth) = if receiver_m.norm() >= MIN_HORIZON_RADIUS_M {
-        let (lat, lon, _) = geodetic_from_ecef(receiver_m);
-        let enu = enu_from_ecef(lat, lon) * los;
-        (
-            enu.z.clamp(-1.0, 1.0).asin(),
-            enu.x.atan2(enu.y).rem_euclid(std::f64::consts::TAU),
-        )
-    } else {
-        (f64::NAN, f64::NAN)
+    let (elevation, azimuth) = match &site.horizon {
+        Some((_, enu_from_ecef)) => {
+            let enu = enu_from_ecef * los;
+            (
+                enu.z.clamp(-1.0, 1.0).asin(),
+                enu.x.atan2(enu.y).rem_euclid(std::f64::consts::TAU),
+            )
+        }
+        None => (f64::NAN, f64::NAN),
     };
     Some(SatGeometry {
         position_m: position,
-        clock_s: state.clock_s,
+        clock_s,
         range_m: range,
         los_ecef: los,
         elevation_rad: elevation,

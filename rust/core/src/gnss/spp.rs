@@ -2,10 +2,10 @@
 //! pseudoranges, by weighted, iterated least squares.
 //!
 //! Model of the code of satellite k: `P = |r_k(t_tx) - x| + c (dt_sys - dt_k - gd_k) + I_k + T_k`,
-//! with the transmit-time position in the ECEF frame of reception ([`satellite_geometry`]), the broadcast
-//! clock `dt_k` and group delay `gd_k` of the slot used ([`Ephemerides::group_delay_s`]), the Klobuchar
-//! ionosphere `I_k` scaled to the slot's frequency and the standard troposphere `T_k`
-//! ([`crate::gnss::atmosphere`]). Each satellite contributes the code of its lowest frequency slot
+//! with the transmit-time position in the ECEF frame of reception
+//! ([`super::geometry::satellite_geometry`]), the broadcast clock `dt_k` and group delay `gd_k` of the
+//! slot used ([`Ephemerides::group_delay_s`]), the Klobuchar ionosphere `I_k` scaled to the slot's
+//! frequency and the standard troposphere `T_k` ([`crate::gnss::atmosphere`]). Each satellite contributes the code of its lowest frequency slot
 //! among those used (`opts.frequencies`); weights are `1 / sigma^2` of [`code_variance_m2`]. The
 //! elevation mask applies once the position is known (after the first iteration, or from a prior).
 //! Residual check: where the residual RMS exceeds [`MAX_RESIDUAL_RMS_M`] and the satellites
@@ -16,7 +16,7 @@ use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::atmosphere::{day_of_year, klobuchar_delay_m, niell_mapping, troposphere_delay_at_m};
 use super::ephemeris::Ephemerides;
-use super::geometry::{geodetic_from_ecef, satellite_geometry, SatGeometry, MIN_HORIZON_RADIUS_M};
+use super::geometry::{satellite_geometry_from, SatGeometry, Site, MIN_HORIZON_RADIUS_M};
 use super::navdata::NavData;
 use super::observations::Observations;
 use super::options::EngineOptions;
@@ -121,13 +121,14 @@ pub fn single_point(
         .copied()
         .find(|c| c.is_finite())
         .unwrap_or(0.0);
+    let site = Site::new(&out.position_m);
     out.geometry = obs
         .sats
         .iter()
         .map(|&id| {
             let c = out.clock_s[id.system.index()];
             let clock = if c.is_finite() { c } else { fallback };
-            satellite_geometry(eph, id, t, clock, &out.position_m)
+            satellite_geometry_from(eph, id, t, clock, &site)
         })
         .collect();
     Ok(out)
@@ -421,11 +422,11 @@ fn linearise(
     clock_m: &[f64; N_SYSTEMS],
     mask: bool,
 ) -> Linearised {
+    let site = Site::new(x);
     let known = x.norm() > MIN_HORIZON_RADIUS_M;
-    let (lat, lon, height) = if known {
-        geodetic_from_ecef(x)
-    } else {
-        (0.0, 0.0, 0.0)
+    let (lat, lon, height) = match (known, &site.horizon) {
+        (true, Some((geodetic, _))) => *geodetic,
+        _ => (0.0, 0.0, 0.0),
     };
     let mut lin = Linearised {
         rows: Vec::new(),
@@ -439,7 +440,8 @@ fn linearise(
             continue;
         }
         let id = p.obs.sats[c.sat];
-        let Some(g) = satellite_geometry(eph, id, t, clock_m[c.system] / SPEED_OF_LIGHT_M_S, x)
+        let Some(g) =
+            satellite_geometry_from(eph, id, t, clock_m[c.system] / SPEED_OF_LIGHT_M_S, &site)
         else {
             continue;
         };
@@ -488,7 +490,7 @@ fn linearise(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gnss::geometry::enu_from_ecef;
+    use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry};
     use crate::gnss::navdata::KeplerRecord;
     use crate::gnss::observations::ReceiverObservations;
     use crate::gnss::signal::{SatId, System};

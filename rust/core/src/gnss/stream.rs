@@ -52,6 +52,7 @@
 mod arcs;
 mod ml;
 mod output;
+mod parallel;
 #[cfg(test)]
 mod tests;
 
@@ -63,7 +64,9 @@ use nalgebra::{Matrix3, Vector3};
 use self::arcs::ArcTracker;
 use self::output::{attitude_sigmas_deg, azimuth_elevation, heading_pitch_roll, row_major};
 use super::ephemeris::Ephemerides;
-use super::geometry::{enu_from_ecef, geodetic_from_ecef, satellite_geometry, SatGeometry};
+use super::geometry::{
+    enu_from_ecef, geodetic_from_ecef, satellite_geometry_from, SatGeometry, Site,
+};
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method, Motion};
@@ -76,7 +79,7 @@ use super::rtk::{
 };
 use super::signal::{SatId, MAX_FREQUENCIES};
 use super::solution::{EpochSolution, FixState, N_SYSTEMS};
-use super::spp::single_point;
+use super::spp::SppSolution;
 use crate::error::{Error, Result};
 use crate::interrupt;
 use crate::likelihood::dcm_enu_from_body;
@@ -204,9 +207,15 @@ impl CodeNoiseScale {
 
     /// Adds a solution computed with the code variances scaled by `factor`.
     fn add(&mut self, sol: &BaselineSolution, factor: f64) {
-        if sol.float_dof > 0 && sol.float_chi2.is_finite() {
-            self.chi2 += sol.float_chi2 * factor;
-            self.dof += sol.float_dof as f64;
+        self.add_float(sol.float_chi2, sol.float_dof, factor);
+    }
+
+    /// Adds a float solution's weighted squared residuals `chi2` of `dof` degrees of freedom, computed
+    /// with the code variances scaled by `factor`.
+    fn add_float(&mut self, chi2: f64, dof: usize, factor: f64) {
+        if dof > 0 && chi2.is_finite() {
+            self.chi2 += chi2 * factor;
+            self.dof += dof as f64;
         }
     }
 }
@@ -449,10 +458,13 @@ impl Engine {
             }
         }
         let mut prepared = Vec::with_capacity(obs.n_epochs());
-        for k in 0..obs.n_epochs() {
-            interrupt::check("GNSS engine")?;
-            prepared.push(self.prepare(obs, k)?);
-            self.previous_time_ns = Some(obs.time_gpst_ns[k]);
+        for start in (0..obs.n_epochs()).step_by(parallel::BLOCK) {
+            let end = (start + parallel::BLOCK).min(obs.n_epochs());
+            for (k, spp) in (start..end).zip(self.code_solutions(obs, start..end)) {
+                interrupt::check("GNSS engine")?;
+                prepared.push(self.prepare(obs, k, spp)?);
+                self.previous_time_ns = Some(obs.time_gpst_ns[k]);
+            }
         }
         let mut estimates = self.lambda(&prepared)?;
         if self.opts.method != Method::Lambda && self.opts.filter.is_none() {
@@ -465,17 +477,21 @@ impl Engine {
             .collect())
     }
 
-    /// Step 1-3 of the module documentation for epoch `k` of `obs`.
-    fn prepare(&mut self, obs: &Observations, k: usize) -> Result<Prepared> {
+    /// Step 1-3 of the module documentation for epoch `k` of `obs`, from its code solutions `spp` (one
+    /// per receiver, [`Engine::code_solutions`]).
+    fn prepare(
+        &mut self,
+        obs: &Observations,
+        k: usize,
+        spp: Vec<Result<SppSolution>>,
+    ) -> Result<Prepared> {
         self.arcs.advance(obs, k);
         let t = obs.time_gpst_ns[k];
         let mut positions = Vec::with_capacity(self.n_receivers);
         let mut clocks_s = Vec::with_capacity(self.n_receivers);
-        for r in 0..self.n_receivers {
-            let prior = self.spp_prior[r];
-            match single_point(obs, r, k, &self.eph, &self.nav, &self.opts, prior.as_ref()) {
+        for (r, spp) in spp.into_iter().enumerate() {
+            match spp {
                 Ok(spp) => {
-                    self.spp_prior[r] = Some(spp.position_m);
                     positions.push(Some((spp.position_m, spp.geometry)));
                     clocks_s.push(spp.clock_s);
                 }
@@ -493,11 +509,12 @@ impl Engine {
                 Err(e) => return Err(e),
             }
         }
-        // The base's geometry: the code solution's, or recomputed at the surveyed position.
+        // The base's geometry: the code solution's, or at the surveyed position (computed with the code
+        // solution: `Engine::code_solutions`).
         let base = match (self.opts.base_position_m, positions[0].take()) {
             (Some(given), code) => {
                 let given = Vector3::from(given);
-                if let Some((code, _)) = code {
+                if let Some((code, geometry)) = code {
                     let d = (code - given).norm();
                     if d > BASE_WARNING_DISTANCE_M {
                         self.warn_once(
@@ -509,7 +526,7 @@ impl Engine {
                             ),
                         );
                     }
-                    Some((given, self.geometry(t, &clocks_s[0], &given)))
+                    Some((given, geometry))
                 } else {
                     None
                 }
@@ -549,6 +566,7 @@ impl Engine {
         receiver_m: &Vector3<f64>,
     ) -> Vec<Option<SatGeometry>> {
         let fallback = clocks_s.iter().copied().find(|c| c.is_finite());
+        let site = Site::new(receiver_m);
         self.sats
             .iter()
             .map(|&sat| {
@@ -557,7 +575,7 @@ impl Engine {
                 }
                 let own = clocks_s[sat.system.index()];
                 let clock = if own.is_finite() { Some(own) } else { fallback }?;
-                satellite_geometry(&self.eph, sat, t, clock, receiver_m)
+                satellite_geometry_from(&self.eph, sat, t, clock, &site)
             })
             .collect()
     }
@@ -749,6 +767,13 @@ impl Engine {
             } else {
                 None
             };
+            if self.opts.motion == Motion::Moving
+                && !self.opts.continuity
+                && self.opts.filter.is_none()
+            {
+                solutions.push(self.single_epochs(r, prepared, &fix)?);
+                continue;
+            }
             for (k, p) in prepared.iter().enumerate() {
                 interrupt::check("GNSS engine")?;
                 let Some(dd) = &p.rovers[r] else {

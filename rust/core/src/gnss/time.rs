@@ -12,10 +12,15 @@ pub const WEEK_NS: i64 = 604_800 * NS_PER_S;
 /// BDT = GPST - 14 s (BDS-SIS-ICD 3.2: BDT started at 2006-01-01 00:00:00 UTC, GPST - UTC was 14 s).
 pub const BDT_MINUS_GPST_NS: i64 = -14 * NS_PER_S;
 
-/// `a - b` in seconds (exact in i128, then one rounding to f64).
+/// `a - b` in seconds (exact in i128, then one rounding to f64). The difference of two times of one
+/// session fits an i64, whose conversion rounds the same integer the same way and costs a tenth of the
+/// i128 one (the record choice of every satellite state takes several).
 #[inline]
 pub fn seconds_between(a_ns: i64, b_ns: i64) -> f64 {
-    (i128::from(a_ns) - i128::from(b_ns)) as f64 * 1e-9
+    match a_ns.checked_sub(b_ns) {
+        Some(d) => d as f64 * 1e-9,
+        None => (i128::from(a_ns) - i128::from(b_ns)) as f64 * 1e-9,
+    }
 }
 
 /// Seconds of week of GPST instant `t_gpst_ns` in the time scale of `system` (GPS, Galileo and QZSS

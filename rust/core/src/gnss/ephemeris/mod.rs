@@ -134,7 +134,13 @@ pub fn kepler_healthy(record: &KeplerRecord) -> bool {
     }
 }
 
-/// Nearest usable record (`usable(record, age_s)`) by reference time; the lower `rank` breaks ties.
+/// Nearest usable record (`usable(record, age_s)`) by reference time; the lower `rank` breaks ties, then
+/// the order of `records`, which is sorted by reference time.
+///
+/// The sort bounds the search: ages grow away from `t_gpst_ns` on either side, so the scan stops on a side
+/// at the first record older than the best usable one found, and the choice among the records scanned is
+/// the one a scan of every record makes (a record left out is older than the one chosen). A day of
+/// Galileo I/NAV is about 140 records per satellite, asked for 10 times per epoch and receiver.
 fn nearest<R>(
     records: &[R],
     t_gpst_ns: i64,
@@ -142,10 +148,35 @@ fn nearest<R>(
     usable: impl Fn(&R, f64) -> bool,
     rank: impl Fn(&R) -> u8,
 ) -> Option<&R> {
-    records
+    let age = |r: &R| seconds_between(t_gpst_ns, reference_ns(r)).abs();
+    let split = records.partition_point(|r| reference_ns(r) < t_gpst_ns);
+    let mut best = f64::INFINITY;
+    let mut lo = split;
+    while lo > 0 {
+        let a = age(&records[lo - 1]);
+        if a > best {
+            break;
+        }
+        lo -= 1;
+        if a < best && usable(&records[lo], a) {
+            best = a;
+        }
+    }
+    let mut hi = split;
+    while hi < records.len() {
+        let a = age(&records[hi]);
+        if a > best {
+            break;
+        }
+        if a < best && usable(&records[hi], a) {
+            best = a;
+        }
+        hi += 1;
+    }
+    records[lo..hi]
         .iter()
         .filter_map(|r| {
-            let age = seconds_between(t_gpst_ns, reference_ns(r)).abs();
+            let age = age(r);
             usable(r, age).then_some((age, rank(r), r))
         })
         .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
@@ -312,6 +343,30 @@ impl Ephemerides {
             && state.clock_s.is_finite()
             && state.clock_drift_s_s.is_finite();
         finite.then_some(state)
+    }
+
+    /// Position and clock of [`Ephemerides::state`] (the same record, the same values) without the
+    /// velocity and clock drift: what the light-time iteration of
+    /// [`crate::gnss::geometry::satellite_geometry`] asks for several times per satellite and epoch, at
+    /// half the Keplerian work (`state` evaluates the orbit twice for its finite differences).
+    pub fn position_clock(
+        &self,
+        sat: SatId,
+        t_gpst_ns: i64,
+        offset_s: f64,
+    ) -> Option<(Vector3<f64>, f64)> {
+        if sat.system == System::Glonass {
+            return self
+                .state(sat, t_gpst_ns, offset_s)
+                .map(|s| (s.position_m, s.clock_s));
+        }
+        if !offset_s.is_finite() || offset_s.abs() > 86_400.0 {
+            return None;
+        }
+        let t_select = t_gpst_ns.saturating_add((offset_s * 1e9).round() as i64);
+        let r = self.kepler_record(sat, t_select)?;
+        let (p, clock) = kepler::position_clock(r, t_gpst_ns, offset_s);
+        (p.iter().all(|x| x.is_finite()) && clock.is_finite()).then_some((p, clock))
     }
 
     /// Group delay to ADD to the satellite clock for a single-frequency pseudorange of `slot`, s, from

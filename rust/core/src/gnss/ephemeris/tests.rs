@@ -266,3 +266,37 @@ fn circular_orbit_velocity_closed_form() {
     );
     assert!(s.clock_drift_s_s.abs() < 1e-15);
 }
+
+#[test]
+fn the_bounded_record_choice_is_the_scan_of_every_record() {
+    // Records (reference time, healthy, rank) sorted by time with repeats, unhealthy ones, equal ages on
+    // both sides and ranks that break ties; the choice of `nearest` against the first minimum of
+    // (age, rank) over every usable record, at times before, between, on and after the records.
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(30);
+    for trial in 0..400 {
+        let n = rng.random_range(0..12usize);
+        let mut records: Vec<(i64, bool, u8, usize)> = (0..n)
+            .map(|i| {
+                let t = rng.random_range(0..8i64) * 900 * NS_PER_S;
+                (t, rng.random_bool(0.7), rng.random_range(0..2u8), i)
+            })
+            .collect();
+        records.sort_by_key(|r| r.0);
+        let max_age_s = [1000.0, 2000.0, 1e9][trial % 3];
+        let usable = |r: &(i64, bool, u8, usize), age: f64| r.1 && age <= max_age_s;
+        for step in -2..20i64 {
+            let t = step * 450 * NS_PER_S;
+            let got = nearest(&records, t, |r| r.0, usable, |r| r.2).map(|r| r.3);
+            let want = records
+                .iter()
+                .filter_map(|r| {
+                    let age = seconds_between(t, r.0).abs();
+                    usable(r, age).then_some((age, r.2, r.3))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+                .map(|r| r.2);
+            assert_eq!(got, want, "trial {trial}, t {t}, {records:?}");
+        }
+    }
+}

@@ -78,9 +78,18 @@ pub fn solve_baseline(
     held: &[(u64, u64, i64)],
     fix: &FixOptions,
 ) -> Result<BaselineSolution> {
-    validate_input(epochs, fix)?;
-    let fl = float::solve(epochs, held)?;
+    let fl = baseline_float(epochs, held, fix)?;
     fix_float(&fl, held, fix)
+}
+
+/// The checks and the float solution of [`solve_baseline`].
+pub(crate) fn baseline_float(
+    epochs: &[DdEpoch],
+    held: &[(u64, u64, i64)],
+    fix: &FixOptions,
+) -> Result<FloatSolution> {
+    validate_input(epochs, fix)?;
+    float::solve(epochs, held)
 }
 
 /// The fixed (or partially fixed, or float) baseline of a float solution.

@@ -202,6 +202,17 @@ pub fn solve_known_length(
     length_m: f64,
     fix: &FixOptions,
 ) -> Result<BaselineSolution> {
+    let fl = known_length_float(epochs, held, length_m, fix)?;
+    fix_known_length(&fl, held, length_m, fix)
+}
+
+/// The checks and the float solution of [`solve_known_length`].
+pub(crate) fn known_length_float(
+    epochs: &[DdEpoch],
+    held: &[(u64, u64, i64)],
+    length_m: f64,
+    fix: &FixOptions,
+) -> Result<FloatSolution> {
     let (lo, hi) = LENGTH_RANGE_M;
     if !(lo..=hi).contains(&length_m) {
         return Err(Error::out_of_range(
@@ -210,13 +221,23 @@ pub fn solve_known_length(
         ));
     }
     validate_input(epochs, fix)?;
-    let fl = float::solve(epochs, held)?;
-    let Some((problem, q_aa)) = ambiguity_problem(&fl)? else {
-        return Ok(float_result(&fl, held));
+    float::solve(epochs, held)
+}
+
+/// The fix of [`solve_known_length`] from its float solution (the observation engine computes the float
+/// solutions of a session in order and fixes them in parallel).
+pub(crate) fn fix_known_length(
+    fl: &FloatSolution,
+    held: &[(u64, u64, i64)],
+    length_m: f64,
+    fix: &FixOptions,
+) -> Result<BaselineSolution> {
+    let Some((problem, q_aa)) = ambiguity_problem(fl)? else {
+        return Ok(float_result(fl, held));
     };
-    match constrained_fix(&fl, held, &problem, &q_aa, length_m, fix)? {
+    match constrained_fix(fl, held, &problem, &q_aa, length_m, fix)? {
         Some(s) => Ok(s),
-        None => fix_problem(&fl, held, fix, &problem, &q_aa),
+        None => fix_problem(fl, held, fix, &problem, &q_aa),
     }
 }
 

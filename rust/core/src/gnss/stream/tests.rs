@@ -849,3 +849,70 @@ fn options_that_would_be_ignored_are_refused() {
     .to_string();
     assert!(e.contains("--continuity") && e.contains("static"), "{e}");
 }
+
+#[test]
+fn single_epochs_in_parallel_are_those_of_one_epoch_at_a_time() {
+    // More epochs than a block of `parallel::BLOCK`, two rovers, and the three regimes of the code noise
+    // scale: the model about right (the factor moves every epoch once it stands), the model five times
+    // the noise (the factor clamped at its floor, where the float solutions are computed ahead), and a
+    // known length (its own range). The engine starts uncalibrated (no `run`), so each regime also
+    // passes the epoch where the estimate starts to stand. One epoch per call on one thread is the
+    // epoch-by-epoch engine; the whole session on four threads must give it bit for bit.
+    let n = super::parallel::BLOCK + 9;
+    let truth = simulate(n, &[[0.6, -0.8, 0.05], [2.0, 1.0, -0.1]], 21);
+    let loud = crate::gnss::options::ElevationSigma { a_m: 1.5, b_m: 1.5 };
+    let regimes = [
+        options(),
+        EngineOptions {
+            code_sigma: loud,
+            ..options()
+        },
+        EngineOptions {
+            baseline_lengths_m: vec![(0.36f64 + 0.64 + 0.0025).sqrt(), 5.01f64.sqrt()],
+            ..options()
+        },
+    ];
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    for opts in regimes {
+        let engine = || {
+            Engine::new(
+                &truth.nav,
+                opts.clone(),
+                truth.obs.sats.clone(),
+                truth.obs.glonass_channel.clone(),
+                3,
+            )
+            .unwrap()
+        };
+        let (whole, whole_engine) = pool(4).install(|| {
+            let mut e = engine();
+            (e.process(&truth.obs).unwrap(), e)
+        });
+        let (single, single_engine) = pool(1).install(|| {
+            let mut e = engine();
+            let mut out = Vec::new();
+            for k in 0..n {
+                out.extend(e.process(&truth.obs.epochs(k..k + 1)).unwrap());
+            }
+            (out, e)
+        });
+        // Debug text: every float to its last bit, NaN equal to NaN.
+        assert_eq!(format!("{whole:?}"), format!("{single:?}"));
+        assert_eq!(whole_engine.warnings(), single_engine.warnings());
+        assert_eq!(
+            format!("{:?}", whole_engine.code_sigma_scale()),
+            format!("{:?}", single_engine.code_sigma_scale())
+        );
+        assert_eq!(
+            whole_engine.double_differences(),
+            single_engine.double_differences()
+        );
+        assert!(whole_engine.code_scale_calibrated());
+        assert!(whole.iter().filter(|e| e.fixed).count() > n / 2);
+    }
+}
