@@ -12,8 +12,10 @@ best candidates (what RTKLIB's ratio test uses) of every draw.
   program written here (``HARNESS``, our code; RTKLIB's is only compiled, never copied) with ``cc -O3``; it
   times the loop over the draws ``--repeats`` times and prints the per-call median, and the integers it found.
 - gnssatt core: ``gnssatt.lambda_ils_batch`` on the same draws with one thread (``RAYON_NUM_THREADS=1`` in
-  a subprocess, set before the pool starts), per problem: the Rust core's decorrelation, checks, search
-  and recomputed norms, with the intake paid once per batch.
+  a subprocess, set before the pool starts) and one covariance per problem (``(k, n, n)``, all equal), per
+  problem: the Rust core's decorrelation, checks, search and recomputed norms, with the intake paid once
+  per batch (what RTKLIB's ``lambda()`` does per call).
+- gnssatt shared: the same batch with the one ``(n, n)`` covariance, decorrelated once for all the draws.
 - gnssatt per call: ``gnssatt.lambda_ils`` from Python, one call per draw: what a loop over problems pays.
 
 Times are the CPU time of the timing process (``CLOCK_PROCESS_CPUTIME_ID``, ``time.process_time``), not wall
@@ -90,19 +92,22 @@ import sys, time, numpy as np, gnssatt
 data = np.load(sys.argv[1]); repeats = int(sys.argv[2])
 q, a = data["q"], data["a"]
 times = []
-for _ in range(repeats):
-    loops = 1
-    while True:
-        t0 = time.process_time()
-        for _ in range(loops):
-            out = gnssatt.lambda_ils_batch(a, q, candidates=2)
-        t1 = time.process_time()
-        if t1 - t0 > 0.02:
-            break
-        loops *= 2
-    times.append((t1 - t0) / (loops * len(a)))
-print(f"{sorted(times)[len(times) // 2]:.6e}")
-np.save(sys.argv[3], out.fixed[:, 0, :])
+each = np.ascontiguousarray(np.broadcast_to(q, (len(a), *q.shape)))
+for cov in (each, q):
+    times = []
+    for _ in range(repeats):
+        loops = 1
+        while True:
+            t0 = time.process_time()
+            for _ in range(loops):
+                out = gnssatt.lambda_ils_batch(a, cov, candidates=2)
+            t1 = time.process_time()
+            if t1 - t0 > 0.02:
+                break
+            loops *= 2
+        times.append((t1 - t0) / (loops * len(a)))
+    print(f"{sorted(times)[len(times) // 2]:.6e}")
+    np.save(sys.argv[3] + (".each.npy" if cov is each else ".shared.npy"), out.fixed[:, 0, :])
 """
 
 
@@ -186,17 +191,18 @@ def time_rtklib(exe: Path, q: NDArray, a: NDArray, repeats: int, work: Path) -> 
     return float(lines[0]), fixed.astype(np.int64)
 
 
-def time_core(q: NDArray, a: NDArray, repeats: int, work: Path) -> tuple[float, NDArray]:
+def time_core(q: NDArray, a: NDArray, repeats: int, work: Path) -> tuple[float, float, NDArray, NDArray]:
     np.savez(work / "problems.npz", q=q, a=a)
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     out = subprocess.run(
-        [sys.executable, "-c", CORE_TIMER, str(work / "problems.npz"), str(repeats), str(work / "fixed.npy")],
+        [sys.executable, "-c", CORE_TIMER, str(work / "problems.npz"), str(repeats), str(work / "fixed")],
         check=True,
         capture_output=True,
         text=True,
         env=env,
     )
-    return float(out.stdout.strip()), np.load(work / "fixed.npy")
+    each_s, shared_s = (float(v) for v in out.stdout.split())
+    return each_s, shared_s, np.load(work / "fixed.each.npy"), np.load(work / "fixed.shared.npy")
 
 
 def time_per_call(q: NDArray, a: NDArray, repeats: int) -> float:
@@ -232,25 +238,34 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         exe = build_harness(args.rtklib_src, work) if args.rtklib_src else None
-        print("| n | RTKLIB lambda() us | gnssatt core us | core / RTKLIB | lambda_ils us | call / RTKLIB |")
-        print("|---|---|---|---|---|---|")
+        print(
+            "| n | RTKLIB lambda() us | gnssatt core us | core / RTKLIB | shared Q us | shared / RTKLIB "
+            "| lambda_ils us | call / RTKLIB |"
+        )
+        print("|---|---|---|---|---|---|---|---|")
         for n in sizes:
             q = geometry_covariance(n)
             a = draws(q, args.draws, 42 + n)
-            core_s, core_fixed = time_core(q, a, args.repeats, work)
+            core_s, shared_s, core_fixed, shared_fixed = time_core(q, a, args.repeats, work)
             call_s = time_per_call(q, a, args.repeats)
-            row: dict[str, float | int | None] = {"n": n, "core_us": core_s * 1e6, "call_us": call_s * 1e6}
+            row: dict[str, float | int | None] = {
+                "n": n,
+                "core_us": core_s * 1e6,
+                "shared_us": shared_s * 1e6,
+                "call_us": call_s * 1e6,
+            }
             if exe is not None:
                 rtk_s, rtk_fixed = time_rtklib(exe, q, a, args.repeats, work)
                 row["rtklib_us"] = rtk_s * 1e6
-                row["disagreements"] = int(np.sum(np.any(rtk_fixed != core_fixed, axis=1)))
+                differ = np.any(rtk_fixed != core_fixed, axis=1) | np.any(rtk_fixed != shared_fixed, axis=1)
+                row["disagreements"] = int(np.sum(differ))
             rows.append(row)
             rtk = row.get("rtklib_us")
-            core, call = float(row["core_us"] or 0), float(row["call_us"] or 0)
-            ratios = [f"{v / rtk:.2f}" if rtk else "-" for v in (core, call)]
+            core, shared, call = (float(row[key] or 0) for key in ("core_us", "shared_us", "call_us"))
+            ratios = [f"{v / rtk:.2f}" if rtk else "-" for v in (core, shared, call)]
             print(
                 f"| {n} | {f'{rtk:.2f}' if rtk else 'skipped'} | {core:.2f} | {ratios[0]} "
-                f"| {call:.2f} | {ratios[1]} |"
+                f"| {shared:.2f} | {ratios[1]} | {call:.2f} | {ratios[2]} |"
                 + (f" {row['disagreements']} draws disagree" if row.get("disagreements") else ""),
                 flush=True,
             )

@@ -20,8 +20,8 @@ Limits (each refused before any work with :class:`~gnssatt.errors.WorkLimitError
 ambiguities, ``candidates <= MAX_CANDIDATES``, ``samples <= MAX_SAMPLES``. One search over n ambiguities
 visits at most ``min(NODES_PER_AMBIGUITY * n, MAX_NODES)`` nodes (3.2e7, about 3 s, at n = 64) before
 raising ``ConvergenceError``; the simulations of the fixed-failure-rate threshold share 1e9 nodes between
-their samples; a :func:`lambda_ils_batch` call is bounded by :data:`BATCH_MAX_WORK` and
-:data:`BATCH_MAX_NODES`.
+their samples; a :func:`lambda_ils_batch` call is bounded by :data:`BATCH_MAX_WORK` (before any work) and
+:data:`BATCH_MAX_SEARCH_WORK` (while it runs), about 10 s of one core together.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from gnssatt._arrays import float_array, integer, scalar
 from gnssatt.errors import ConvergenceError, InvalidInputError, WorkLimitError
 
 __all__ = [
-    "BATCH_MAX_NODES",
+    "BATCH_MAX_SEARCH_WORK",
     "BATCH_MAX_WORK",
     "MAX_ABS_AMBIGUITY",
     "MAX_CANDIDATES",
@@ -75,9 +75,12 @@ n >= 40."""
 NODES_PER_AMBIGUITY: int = int(_core.LAMBDA_NODES_PER_AMBIGUITY)
 """Search nodes per ambiguity of a problem's budget (500,000: it reaches :data:`MAX_NODES` at n = 200)."""
 BATCH_MAX_WORK: int = int(_core.LAMBDA_BATCH_MAX_WORK)
-"""Most work units ``k * (n**3 + 1000)`` of one :func:`lambda_ils_batch` call (2^32, about 10 s of a core)."""
-BATCH_MAX_NODES: int = int(_core.LAMBDA_BATCH_MAX_NODES)
-"""Most search nodes of all the problems of one :func:`lambda_ils_batch` call together (1e9)."""
+"""Most work units ``k * (n**3 + 1000)`` of the decorrelations of one :func:`lambda_ils_batch` call (2^31, at
+most about 5 s of a core), checked before any work."""
+BATCH_MAX_SEARCH_WORK: int = int(_core.LAMBDA_BATCH_MAX_SEARCH_WORK)
+"""Most work units ``nodes * (n + 16)`` of all the searches of one :func:`lambda_ils_batch` call together
+(2^31, about 5 s of a core: 3.8e7 nodes at n = 40), or one search's own budget where that is larger
+(n >= 59)."""
 MAX_ABS_AMBIGUITY: float = float(_core.LAMBDA_MAX_ABS_AMBIGUITY)
 """Largest magnitude of a float ambiguity and of any integer returned, cycles (4.5e15 < 2^53)."""
 _MAX_SEED = 2**64 - 1
@@ -272,7 +275,7 @@ def lambda_ils_batch(
         As :func:`lambda_ils`, and ``k * (n**3 + 1000) > BATCH_MAX_WORK`` (checked before any work).
     ConvergenceError
         As :func:`lambda_ils` for the lowest-numbered problem that fails, or the searches of the batch
-        together passed :data:`BATCH_MAX_NODES` nodes.
+        together passed :data:`BATCH_MAX_SEARCH_WORK` work units (``nodes * (n + 16)``).
 
     Examples
     --------

@@ -1,7 +1,7 @@
 //! Bindings of LAMBDA integer ambiguity resolution (`gnssatt_core::lambda`). The GIL is released around
 //! every decorrelation and search; the fixed-failure-rate simulation runs on rayon's global pool.
 
-use gnssatt_core::lambda::batch::{BATCH_MAX_NODES, BATCH_MAX_WORK};
+use gnssatt_core::lambda::batch::{is_short, BATCH_MAX_SEARCH_WORK, BATCH_MAX_WORK};
 use gnssatt_core::lambda::validation::{
     fixed_failure_rate_threshold, partial_fix, ratio_test, RatioThreshold,
 };
@@ -117,7 +117,8 @@ result_type! {
 }
 
 /// The `candidates` best integer vectors of each row of `float_ambiguities` (k, n), with `covariance`
-/// (1, n, n) shared by every row or (k, n, n) one per row; in parallel, interruptible (Ctrl-C).
+/// (1, n, n) shared by every row or (k, n, n) one per row; in parallel, interruptible (Ctrl-C), except a
+/// short batch (`batch::is_short`), solved on the calling thread.
 #[guard]
 #[pyfunction]
 #[pyo3(signature = (float_ambiguities, covariance, candidates = 2))]
@@ -142,7 +143,14 @@ fn lambda_ils_batch(
     }
     let (a_flat, q_flat) = (row_major(&a), row_major(&q));
     let m = candidates;
-    let sol = interruptible::run(py, || ils_batch(&a_flat, &q_flat, n, m))?;
+    // A short batch (well under a millisecond of decorrelation) runs on the calling thread like
+    // `lambda_ils`: the worker thread and the pool would cost more than the work.
+    let sol = if is_short(k, n) {
+        py.detach(|| ils_batch(&a_flat, &q_flat, n, m))
+            .into_py_result(py)?
+    } else {
+        interruptible::run(py, || ils_batch(&a_flat, &q_flat, n, m))?
+    };
     let unexpected =
         |e: ShapeError| invalid_input(py, format!("batch result of unexpected size: {e}"));
     let fixed = Array3::from_shape_vec((k, m, n), sol.fixed).map_err(unexpected)?;
@@ -327,7 +335,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
         gnssatt_core::lambda::NODES_PER_AMBIGUITY,
     )?;
     m.add("LAMBDA_BATCH_MAX_WORK", BATCH_MAX_WORK)?;
-    m.add("LAMBDA_BATCH_MAX_NODES", BATCH_MAX_NODES)?;
+    m.add("LAMBDA_BATCH_MAX_SEARCH_WORK", BATCH_MAX_SEARCH_WORK)?;
     m.add(
         "LAMBDA_MAX_ABS_AMBIGUITY",
         gnssatt_core::lambda::MAX_ABS_AMBIGUITY,

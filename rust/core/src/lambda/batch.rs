@@ -3,9 +3,12 @@
 //!
 //! Each problem is solved exactly as [`super::ils`] solves it alone (same decorrelation, checks, search
 //! and node budget [`node_budget`]), so a batch's answers do not depend on its size, its order or the
-//! number of threads. The work of the whole call is bounded twice: before anything runs,
+//! number of threads. A covariance shared by every problem is decorrelated and checked once
+//! ([`Problem::solve_floats`]): the answers are the same, the decorrelation's O(n^3) paid once. The work of the whole call is bounded twice, in the same units (about 2-3 ns of one
+//! core each), so that a call finishes or is refused in about 10 s: before anything runs,
 //! `k (n^3 + BATCH_FIXED_WORK)` must stay within [`BATCH_MAX_WORK`] (the decorrelation and its checks are
-//! O(n^3) per problem); while it runs, the nodes of all searches together within [`BATCH_MAX_NODES`].
+//! O(n^3) per problem); while it runs, the searches' nodes, `n + NODE_FIXED_WORK` units each, within
+//! [`BATCH_MAX_SEARCH_WORK`] together. A small batch ([`is_short`]) runs on the calling thread.
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
@@ -21,14 +24,24 @@ use crate::interrupt;
 /// the mapping back), about that of the `n^3` part at n = 10.
 pub const BATCH_FIXED_WORK: u64 = 1_000;
 
-/// Most work units `k (n^3 + BATCH_FIXED_WORK)` of one batch (2^32): measured at 2-3 ns per unit on one
-/// core (n = 4 to 40, two candidates), about 10 s of one core.
-pub const BATCH_MAX_WORK: u64 = 1 << 32;
+/// Most work units `k (n^3 + BATCH_FIXED_WORK)` of the decorrelations of one batch (2^31): measured at
+/// 1-3 ns per unit on one core (n = 4 to 40, two candidates), at most about 5 s of one core.
+pub const BATCH_MAX_WORK: u64 = 1 << 31;
 
-/// Most search nodes of all the problems of one batch together (1e9, about a minute of one core at
-/// n = 40); past it the batch stops with [`Error::Numerical`] (a `ConvergenceError` in Python). Whether
-/// a batch passes depends only on its problems: the total is the sum of each search's own count.
-pub const BATCH_MAX_NODES: u64 = 1_000_000_000;
+/// Work units charged per search node besides its `n` (the partial sums a node updates): a node costs
+/// about 60 ns at n = 40 (16 million a second), under the `n + 16 = 56` units' 110-170 ns.
+pub const NODE_FIXED_WORK: u64 = 16;
+
+/// Most work units `nodes (n + NODE_FIXED_WORK)` of all the searches of one batch together (2^31, about
+/// 5 s of one core; 3.8e7 nodes at n = 40); past it the batch stops with [`Error::Numerical`] (a
+/// `ConvergenceError` in Python). Whether a batch passes depends only on its problems: the total is the
+/// sum of each search's own count. With [`BATCH_MAX_WORK`], a call's whole work stays within about 10 s
+/// of one core (plus at most one search per thread in flight when the budget runs out).
+pub const BATCH_MAX_SEARCH_WORK: u64 = 1 << 31;
+
+/// Largest decorrelation work `k (n^3 + BATCH_FIXED_WORK)` of a batch solved on the calling thread
+/// (2^16, well under a millisecond): below it, handing the problems to a pool costs more than it saves.
+pub const SHORT_WORK: u64 = 1 << 16;
 
 /// The solutions of a batch of `k` problems of `n` ambiguities with `m` candidates each.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,21 +55,54 @@ pub struct BatchSolution {
     pub nodes_visited: Vec<u64>,
 }
 
+/// The decorrelation work `k (n^3 + BATCH_FIXED_WORK)` of `k` problems of `n` ambiguities (saturating).
+pub fn batch_work(k: usize, n: usize) -> u64 {
+    (n as u64)
+        .saturating_pow(3)
+        .saturating_add(BATCH_FIXED_WORK)
+        .saturating_mul(k as u64)
+}
+
+/// Whether a batch is small enough to be solved on the calling thread ([`SHORT_WORK`]).
+pub fn is_short(k: usize, n: usize) -> bool {
+    batch_work(k, n) <= SHORT_WORK
+}
+
 /// Checks the size of a batch before any work: `k (n^3 + BATCH_FIXED_WORK) <= BATCH_MAX_WORK`.
 ///
 /// # Errors
 /// [`Error::TooLarge`] naming `float_ambiguities` with the work asked for.
 pub fn check_batch_work(k: usize, n: usize) -> Result<()> {
-    let per = (n as u64)
-        .saturating_pow(3)
-        .saturating_add(BATCH_FIXED_WORK);
-    let work = per.saturating_mul(k as u64);
+    let work = batch_work(k, n);
     if work > BATCH_MAX_WORK {
         return Err(Error::too_large(
             "float_ambiguities",
             work as f64,
             BATCH_MAX_WORK as f64,
             "work units (problems x (n^3 + 1000))",
+        ));
+    }
+    Ok(())
+}
+
+/// Checks the searches' work so far, `total_nodes (n + NODE_FIXED_WORK)`, against
+/// [`BATCH_MAX_SEARCH_WORK`], or one full search's budget `node_budget(n) (n + NODE_FIXED_WORK)` where
+/// that is larger (n >= 59): a batch of one problem is never refused where [`super::ils`] would answer.
+///
+/// # Errors
+/// [`Error::Numerical`] with the nodes, the work and the limit.
+pub fn check_search_work(total_nodes: u64, n: usize) -> Result<()> {
+    let per_node = n as u64 + NODE_FIXED_WORK;
+    let work = total_nodes.saturating_mul(per_node);
+    let limit = BATCH_MAX_SEARCH_WORK.max(node_budget(n).saturating_mul(per_node));
+    if work > limit {
+        return Err(Error::numerical(
+            "LAMBDA batch",
+            format!(
+                "the searches of the batch visited {total_nodes} nodes together, {work} work units \
+                 ({per_node} per node at n = {n}), more than the batch's search budget of {limit} \
+                 (BATCH_MAX_SEARCH_WORK, or one search's budget if larger); split the batch"
+            ),
         ));
     }
     Ok(())
@@ -73,7 +119,8 @@ pub fn check_batch_work(k: usize, n: usize) -> Result<()> {
 /// # Errors
 /// [`Error::Shape`] for sizes that do not fit, [`Error::TooLarge`] from [`check_batch_work`] and
 /// [`check_candidates`]; otherwise the error of the lowest-numbered problem that fails (the message
-/// starts with `problem p`), those of [`super::ils`]; [`Error::Numerical`] past [`BATCH_MAX_NODES`];
+/// starts with `problem p`), those of [`super::ils`]; [`Error::Numerical`] past
+/// [`BATCH_MAX_SEARCH_WORK`];
 /// [`Error::Interrupted`] on [`crate::interrupt::request`].
 pub fn ils_batch(a: &[f64], q: &[f64], n: usize, m: usize) -> Result<BatchSolution> {
     check_candidates(m)?;
@@ -98,19 +145,29 @@ pub fn ils_batch(a: &[f64], q: &[f64], n: usize, m: usize) -> Result<BatchSoluti
     let nodes = AtomicU64::new(0);
     // The lowest problem known to fail: problems after it need not run (their answer is not returned).
     let first_failure = AtomicUsize::new(usize::MAX);
-    let solved: Vec<Option<Result<super::IlsSolution>>> = (0..k)
-        .into_par_iter()
-        .map(|p| {
-            if p > first_failure.load(Ordering::Relaxed) {
-                return None;
-            }
-            let out = solve_one(p, a, q, n, m, shared, &nodes);
-            if out.is_err() {
-                first_failure.fetch_min(p, Ordering::Relaxed);
-            }
-            Some(out)
-        })
-        .collect();
+    // One covariance for every problem: decorrelated (and checked) once, with problem 0's float vector,
+    // so that a failure there is problem 0's, the lowest failing one, as when each is solved alone.
+    let base = if shared && k > 0 {
+        let a0 = DVector::from_column_slice(&a[..n]);
+        Some(Problem::new(&a0, &DMatrix::from_row_slice(n, n, q)).map_err(|e| at_problem(e, 0))?)
+    } else {
+        None
+    };
+    let run = |p: usize| {
+        if p > first_failure.load(Ordering::Relaxed) {
+            return None;
+        }
+        let out = solve_one(p, a, q, n, m, base.as_ref(), &nodes);
+        if out.is_err() {
+            first_failure.fetch_min(p, Ordering::Relaxed);
+        }
+        Some(out)
+    };
+    let solved: Vec<Option<Result<super::IlsSolution>>> = if is_short(k, n) {
+        (0..k).map(run).collect()
+    } else {
+        (0..k).into_par_iter().map(run).collect()
+    };
     let mut out = BatchSolution {
         fixed: Vec::with_capacity(k * m * n),
         squared_norms: Vec::with_capacity(k * m),
@@ -135,25 +192,23 @@ fn solve_one(
     q: &[f64],
     n: usize,
     m: usize,
-    shared: bool,
+    base: Option<&Problem>,
     nodes: &AtomicU64,
 ) -> Result<super::IlsSolution> {
     interrupt::check("LAMBDA batch")?;
     let nn = n * n;
-    let qp = if shared { q } else { &q[p * nn..(p + 1) * nn] };
     let av = DVector::from_column_slice(&a[p * n..(p + 1) * n]);
-    let qm = DMatrix::from_row_slice(n, n, qp);
-    let s = Problem::new(&av, &qm)?.solve(m, node_budget(n))?;
-    let total = nodes.fetch_add(s.nodes_visited, Ordering::Relaxed) + s.nodes_visited;
-    if total > BATCH_MAX_NODES {
-        return Err(Error::numerical(
-            "LAMBDA batch",
-            format!(
-                "the searches of the batch visited more than {BATCH_MAX_NODES:e} nodes together (the \
-                 batch's node budget); split the batch"
-            ),
-        ));
-    }
+    let s = match base {
+        Some(b) => b.solve_floats(&av, m, node_budget(n))?,
+        None => {
+            let qm = DMatrix::from_row_slice(n, n, &q[p * nn..(p + 1) * nn]);
+            Problem::new(&av, &qm)?.solve(m, node_budget(n))?
+        }
+    };
+    check_search_work(
+        nodes.fetch_add(s.nodes_visited, Ordering::Relaxed) + s.nodes_visited,
+        n,
+    )?;
     Ok(s)
 }
 
@@ -238,6 +293,16 @@ mod tests {
             e.contains("problem 1:") && e.contains("not positive definite"),
             "{e}"
         );
+        // A shared covariance is checked once, as problem 0's; a float vector as its own problem's.
+        let e = ils_batch(&a, &bad, n, 2).unwrap_err().to_string();
+        assert!(
+            e.contains("problem 0:") && e.contains("not positive definite"),
+            "{e}"
+        );
+        let mut far = a.clone();
+        far[2 * n + 1] = f64::NAN;
+        let e = ils_batch(&far, &good, n, 2).unwrap_err().to_string();
+        assert!(e.contains("problem 2 contains a non-finite"), "{e}");
         assert!(matches!(
             ils_batch(&a, &q[..6], n, 2),
             Err(Error::Shape { .. })
@@ -246,10 +311,25 @@ mod tests {
             ils_batch(&a[..3], &good, n, 2),
             Err(Error::Shape { .. })
         ));
-        // 2^32 work units: refused before anything is allocated or solved.
+        // 2^31 work units: refused before anything is allocated or solved.
         let e = check_batch_work(1 << 20, 256).unwrap_err();
         assert!(matches!(e, Error::TooLarge { .. }), "{e:?}");
         check_batch_work(1000, 64).unwrap();
+        let k = (BATCH_MAX_WORK / (40u64.pow(3) + BATCH_FIXED_WORK)) as usize;
+        check_batch_work(k, 40).unwrap();
+        assert!(matches!(
+            check_batch_work(k + 1, 40),
+            Err(Error::TooLarge { .. })
+        ));
+        // The searches' budget: 2^31 units of n + 16 per node.
+        check_search_work(BATCH_MAX_SEARCH_WORK / 56, 40).unwrap();
+        let e = check_search_work(BATCH_MAX_SEARCH_WORK / 56 + 1, 40)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("BATCH_MAX_SEARCH_WORK") && e.contains("56 per node"),
+            "{e}"
+        );
         assert!(matches!(
             ils_batch(&a, &good, n, 0),
             Err(Error::OutOfRange { .. })

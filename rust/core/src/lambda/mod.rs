@@ -90,30 +90,13 @@ impl Problem {
     pub fn new(a: &DVector<f64>, q: &DMatrix<f64>) -> Result<Problem> {
         ensure_finite("float ambiguities", a.iter())?;
         ldl::check_covariance(q)?;
-        if a.len() != q.nrows() {
-            return Err(Error::Shape {
-                name: "float ambiguities",
-                expected: format!("({n},) to match a ({n}, {n}) covariance", n = q.nrows()),
-                actual: format!("({},)", a.len()),
-            });
-        }
-        if let Some(i) = a.iter().position(|v| v.abs() >= MAX_ABS_AMBIGUITY) {
-            return Err(Error::out_of_range(
-                "float ambiguities",
-                format!(
-                    "|a[{i}]| = {:e} exceeds {MAX_ABS_AMBIGUITY:e} cycles",
-                    a[i].abs()
-                ),
-            ));
-        }
+        check_floats(a, q.nrows())?;
         let (reduction, transformed) = reduction::reduce_transformed(q)?;
         let metric = Metric::new("LAMBDA", q)?;
-        let rounded = a.map(f64::round);
-        let frac = a - &rounded;
-        let zhat = reduction.z_f64().tr_mul(&frac);
+        let Floats { offset, frac, zhat } = Floats::new(&reduction, a);
         Ok(Problem {
             reduction,
-            offset: rounded.map(|v| v as i64),
+            offset,
             frac,
             zhat,
             transformed,
@@ -121,6 +104,17 @@ impl Problem {
             q: q.clone(),
             metric,
         })
+    }
+
+    /// The `m` best integer vectors of another float vector `a` with this problem's covariance: the same
+    /// answer (and nodes) as `Problem::new(a, q)?.solve(m, max_nodes)`, without decorrelating `q` again.
+    ///
+    /// # Errors
+    /// Those of [`Problem::new`] about `a`, and those of [`Problem::solve`].
+    pub fn solve_floats(&self, a: &DVector<f64>, m: usize, max_nodes: u64) -> Result<IlsSolution> {
+        ensure_finite("float ambiguities", a.iter())?;
+        check_floats(a, self.len())?;
+        self.solve_ref(Floats::new(&self.reduction, a).borrow(), m, max_nodes)
     }
 
     /// Number of ambiguities.
@@ -140,12 +134,24 @@ impl Problem {
     /// [`Error::Convergence`] past `max_nodes` nodes; [`Error::Numerical`] when a recomputed norm
     /// disagrees with the search's or an integer is beyond [`MAX_ABS_AMBIGUITY`].
     pub fn solve(&self, m: usize, max_nodes: u64) -> Result<IlsSolution> {
-        let found = search(&self.reduction.factor, &self.zhat, m, max_nodes)?;
+        self.solve_ref(self.own_floats(), m, max_nodes)
+    }
+
+    fn own_floats(&self) -> FloatsRef<'_> {
+        FloatsRef {
+            offset: &self.offset,
+            frac: &self.frac,
+            zhat: &self.zhat,
+        }
+    }
+
+    fn solve_ref(&self, f: FloatsRef<'_>, m: usize, max_nodes: u64) -> Result<IlsSolution> {
+        let found = search(&self.reduction.factor, f.zhat, m, max_nodes)?;
         let n = self.len();
         let fixed = (0..m)
-            .map(|c| self.to_original(&found.z.column(c).into_owned()))
+            .map(|c| self.to_original_from(f.offset, &found.z.column(c).into_owned()))
             .collect::<Result<Vec<_>>>()?;
-        let recomputed: Vec<f64> = fixed.iter().map(|z| self.original_norm(z)).collect();
+        let recomputed: Vec<f64> = fixed.iter().map(|z| self.norm_from(f, z)).collect();
         let order = agreeing_order("LAMBDA", &found.squared_norms, &recomputed)?;
         let mut out = DMatrix::<i64>::zeros(n, m);
         for (c, &k) in order.iter().enumerate() {
@@ -160,9 +166,13 @@ impl Problem {
 
     /// `(a - z)^T Q^-1 (a - z)` from the original float vector and covariance.
     pub fn original_norm(&self, z: &DVector<i64>) -> f64 {
+        self.norm_from(self.own_floats(), z)
+    }
+
+    fn norm_from(&self, f: FloatsRef<'_>, z: &DVector<i64>) -> f64 {
         // a - z = (a - round(a)) - (z - round(a)): the integer difference is small and exact.
         let r = DVector::from_fn(self.len(), |i, _| {
-            self.frac[i] - z[i].saturating_sub(self.offset[i]) as f64
+            f.frac[i] - z[i].saturating_sub(f.offset[i]) as f64
         });
         self.metric.squared_norm(&r)
     }
@@ -174,6 +184,10 @@ impl Problem {
     /// [`Error::Numerical`] for a non-integer or too large `z`, or a result beyond
     /// [`MAX_ABS_AMBIGUITY`].
     pub fn to_original(&self, z: &DVector<f64>) -> Result<DVector<i64>> {
+        self.to_original_from(&self.offset, z)
+    }
+
+    fn to_original_from(&self, offset: &DVector<i64>, z: &DVector<f64>) -> Result<DVector<i64>> {
         let zi = exact_integers(z)?;
         let n = self.len();
         let mut out = DVector::zeros(n);
@@ -182,10 +196,68 @@ impl Problem {
             let back: i128 = (0..n)
                 .map(|k| self.reduction.z_inv[(k, i)] as i128 * zi[k] as i128)
                 .sum();
-            out[i] = bounded_integer(i, self.offset[i] as i128 + back)?;
+            out[i] = bounded_integer(i, offset[i] as i128 + back)?;
         }
         Ok(out)
     }
+}
+
+/// The float-vector part of a problem: `round(a)`, `a - round(a)` (exact) and `Z^T (a - round(a))`.
+struct Floats {
+    offset: DVector<i64>,
+    frac: DVector<f64>,
+    zhat: DVector<f64>,
+}
+
+impl Floats {
+    fn new(reduction: &Reduction, a: &DVector<f64>) -> Floats {
+        let rounded = a.map(f64::round);
+        let frac = a - &rounded;
+        let zhat = reduction.z_f64().tr_mul(&frac);
+        Floats {
+            offset: rounded.map(|v| v as i64),
+            frac,
+            zhat,
+        }
+    }
+
+    fn borrow(&self) -> FloatsRef<'_> {
+        FloatsRef {
+            offset: &self.offset,
+            frac: &self.frac,
+            zhat: &self.zhat,
+        }
+    }
+}
+
+/// A borrowed [`Floats`] (a problem's own or another float vector's).
+#[derive(Clone, Copy)]
+struct FloatsRef<'a> {
+    offset: &'a DVector<i64>,
+    frac: &'a DVector<f64>,
+    zhat: &'a DVector<f64>,
+}
+
+/// Checks finite float ambiguities `a` against a covariance of dimension `n`: the length and
+/// `|a_i| < MAX_ABS_AMBIGUITY`.
+fn check_floats(a: &DVector<f64>, n: usize) -> Result<()> {
+    if a.len() != n {
+        return Err(Error::Shape {
+            name: "float ambiguities",
+            expected: format!("({n},) to match a ({n}, {n}) covariance"),
+            actual: format!("({},)", a.len()),
+        });
+    }
+    if let Some(i) = a.iter().position(|v| v.abs() >= MAX_ABS_AMBIGUITY) {
+        return Err(Error::out_of_range(
+            "float ambiguities",
+            format!(
+                "|a[{i}]| = {:e} exceeds {MAX_ABS_AMBIGUITY:e} cycles",
+                a[i].abs()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `z` as exact integers: each entry integer-valued with `|z_k| <= 2^53`.

@@ -9,8 +9,8 @@
 //! while the reduction updates them, where every step is exact under that bound, and returned as `i64`);
 //! a step that would pass the bound stops the reduction with [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
 //! [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer Gauss
-//! transformations (unit triangular) and permutations, and `Z Z^-1 = I` is verified in exact integer
-//! arithmetic.
+//! transformations (unit triangular) and permutations, and `Z Z^-1 = I`, true by construction, is
+//! confirmed on the all-ones vector in exact integer arithmetic (O(n^2), see [`inverse_defect`]).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -297,10 +297,13 @@ fn swap(l: &mut DMatrix<f64>, d: &mut DVector<f64>, t: &mut Transform, k: usize,
 pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
     let n = q.nrows();
     let what = "LAMBDA decorrelation";
-    if let Some((i, j, s)) = inverse_defect(&r.z, &r.z_inv) {
+    if let Some((name, i, s)) = inverse_defect(&r.z, &r.z_inv) {
         return Err(Error::numerical(
             what,
-            format!("Z Z^-1 is not the identity at [{i}, {j}] ({s}) for dimension {n}"),
+            format!(
+                "{name} is not the identity: row {i} of {name} times the all-ones vector is {s}, not 1, \
+                 for dimension {n}"
+            ),
         ));
     }
     let Ltdl { l, d } = &r.factor;
@@ -369,32 +372,66 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
             ),
         ));
     }
-    let zqz = (&zqz + zqz.transpose()) * 0.5;
+    let mut zqz = zqz;
+    for j in 0..n {
+        for i in (j + 1)..n {
+            let mean = 0.5 * (zqz[(i, j)] + zqz[(j, i)]);
+            zqz[(i, j)] = mean;
+            zqz[(j, i)] = mean;
+        }
+    }
     Ok(Transformed { qz, zqz })
 }
 
-/// The first entry `(i, j, value)` where `Z Z^-1` differs from the identity, computed exactly: in `f64`
-/// when every partial sum stays below 2^53 (then the floating-point product is exact in any order),
-/// else in `i128` (entries <= 2^52, n <= MAX_DIMENSION terms: no overflow).
-fn inverse_defect(z: &DMatrix<i64>, z_inv: &DMatrix<i64>) -> Option<(usize, usize, i128)> {
+/// The first entry `(i, value)` where `Z (Z^-1 1)` or `Z^-1 (Z 1)` differs from the all-ones vector `1`
+/// (`"Z Z^-1"` or `"Z^-1 Z"` named), computed exactly: in `f64` when every partial sum stays below 2^53
+/// (`n^2 max|Z| max|Z^-1| < 2^53`; then each product and sum is an exact integer), else in `i128`
+/// (`|Z|, |Z^-1| <= 2^52` and n <= MAX_DIMENSION = 2^8 keep every sum below 2^120).
+///
+/// `Z Z^-1 = I` holds by construction (every Gauss step and swap updates both in exact arithmetic); this
+/// O(n^2) check confirms it without the O(n^3) product. It cannot be fooled by one wrong entry: with
+/// `Z^-1 + c e_r e_s^T`, `Z (Z^-1 + c e_r e_s^T) 1 = 1 + c Z e_r`, not `1` since `Z` is invertible, and
+/// a wrong entry of `Z` shows in `Z^-1 (Z 1)` in the same way.
+fn inverse_defect(z: &DMatrix<i64>, z_inv: &DMatrix<i64>) -> Option<(&'static str, usize, i128)> {
     let n = z.nrows();
-    let bound = z.amax() as f64 * z_inv.amax() as f64 * n as f64;
+    let pairs = [("Z Z^-1", z, z_inv), ("Z^-1 Z", z_inv, z)];
+    let bound = (n * n) as f64 * z.amax() as f64 * z_inv.amax() as f64;
     if bound < 9_007_199_254_740_992.0 {
-        let p = z.map(|v| v as f64) * z_inv.map(|v| v as f64);
-        return (0..n)
-            .flat_map(|i| (0..n).map(move |j| (i, j)))
-            .find(|&(i, j)| p[(i, j)] != f64::from(u8::from(i == j)))
-            .map(|(i, j)| (i, j, p[(i, j)] as i128));
+        let times = |m: &DMatrix<i64>, x: &[f64]| -> Vec<f64> {
+            let mut s = vec![0.0; n];
+            for (col, &xj) in m.column_iter().zip(x) {
+                for (acc, &v) in s.iter_mut().zip(col.iter()) {
+                    *acc += v as f64 * xj;
+                }
+            }
+            s
+        };
+        let ones = vec![1.0; n];
+        for (name, a, b) in pairs {
+            let w = times(a, &times(b, &ones));
+            if let Some(i) = w.iter().position(|&v| v != 1.0) {
+                return Some((name, i, w[i] as i128));
+            }
+        }
+        return None;
     }
-    (0..n)
-        .flat_map(|i| (0..n).map(move |j| (i, j)))
-        .map(|(i, j)| {
-            let s: i128 = (0..n)
-                .map(|k| z[(i, k)] as i128 * z_inv[(k, j)] as i128)
-                .sum();
-            (i, j, s)
-        })
-        .find(|&(i, j, s)| s != i128::from(i == j))
+    let times = |m: &DMatrix<i64>, x: &[i128]| -> Vec<i128> {
+        let mut s = vec![0i128; n];
+        for (col, &xj) in m.column_iter().zip(x) {
+            for (acc, &v) in s.iter_mut().zip(col.iter()) {
+                *acc += v as i128 * xj;
+            }
+        }
+        s
+    };
+    let ones = vec![1i128; n];
+    for (name, a, b) in pairs {
+        let w = times(a, &times(b, &ones));
+        if let Some(i) = w.iter().position(|&v| v != 1) {
+            return Some((name, i, w[i]));
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -554,6 +591,12 @@ mod tests {
         red.z_inv[(0, 0)] += 1;
         let e = verify(&q, &red).unwrap_err().to_string();
         assert!(e.contains("not the identity"), "{e}");
+        // A wrong entry of Z itself, in either of the exact paths (entries near 2^52 take the i128 one).
+        for big in [1, 1i64 << 40] {
+            let mut red = reduce(&q).unwrap();
+            red.z[(1, 0)] += big;
+            assert!(inverse_defect(&red.z, &red.z_inv).is_some());
+        }
         let mut red = reduce(&q).unwrap();
         red.factor.d[1] = 0.0;
         assert!(verify(&q, &red).is_err());
