@@ -1,7 +1,7 @@
 """The multi-epoch filter (``filter=``, ``--filter``) on the shipped GEONET pair (3.3 km, GPS, 30 s, 120
 epochs): GPS L1 alone, which single epochs do not fix, fixed at most epochs with every fix within 5 cm of
-RTKLIB 2.4.3's static L1+L2 solution (a reference nothing here computed); the per-epoch state; the
-combinations the filter refuses."""
+RTKLIB 2.4.3's static L1+L2 solution (a reference nothing here computed); a known length checking the
+fixes; the per-epoch state; the combinations the filter refuses."""
 
 from __future__ import annotations
 
@@ -59,6 +59,26 @@ def test_gps_l1_fixes_most_epochs_and_every_fix_is_right(model: str) -> None:
     assert np.all(err[fixed] < WRONG_M), err[fixed].max()
 
 
+def test_a_known_length_checks_the_filters_fixes() -> None:
+    # The length of RTKLIB's static baseline: the fixes of test_gps_l1_fixes_most_epochs... keep it (each
+    # within 4 sigma of it, floor 1 cm: rtk/rigid.rs). Half a metre off it, no fix has the length: none is
+    # reported (a wrong length is not "fixed" into the data).
+    obs, nav = _files()
+    length = float(np.linalg.norm(RTKLIB_STATIC_ENU_M))
+    for given, expect_fixes in [(length, True), (length + 0.5, False)]:
+        s = attitude_from_rinex(
+            obs, nav, method="lambda", filter="kinematic", systems="G", frequencies=1,
+            base_position_m=BASE_M, baseline_length_m=given,
+        )  # fmt: skip
+        fixed = s.fixed.astype(bool)
+        if expect_fixes:
+            assert fixed.sum() >= 100, fixed.sum()
+            err = np.linalg.norm(s.baselines_enu_m[:, 0] - RTKLIB_STATIC_ENU_M, axis=1)
+            assert np.all(err[fixed] < WRONG_M), err[fixed].max()
+        else:
+            assert fixed.sum() == 0, fixed.sum()
+
+
 def test_the_state_says_how_each_epoch_was_fixed(tmp_path: Path) -> None:
     s = _filtered("kinematic", 2)
     assert set(s.fix_state) <= {"fixed", "held", "float"}
@@ -91,7 +111,9 @@ def test_cli_filter_writes_the_state_column(tmp_path: Path) -> None:
         ({"filter": "kalman"}, "filter"),
         ({"filter": "kinematic", "motion": "static"}, "--filter"),
         ({"filter": "kinematic", "continuity": True}, "--filter"),
-        ({"filter": "kinematic", "baseline_length_m": 3335.0}, "--filter"),
+        ({"rigid": True}, "--rigid"),
+        ({"filter": "kinematic", "rigid": True, "baseline_length_m": 3335.0}, "--rigid"),
+        ({"filter": "kinematic", "rigid": "yes"}, "rigid"),
     ],
 )
 def test_combinations_the_filter_cannot_honour_are_refused(kwargs: dict[str, Any], says: str) -> None:
