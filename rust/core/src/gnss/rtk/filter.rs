@@ -51,6 +51,7 @@ use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, Vector3};
 use super::dd::{covariance, groups, validate, Group};
 use super::fix::{fix_float, float_result};
 use super::float::{Ambiguity, FloatSolution, Summary, CONVERGED_M, MAX_ITERATIONS};
+use super::known_length::fix_known_length;
 use super::model::SdRangeModel;
 use super::rigid::{RigidLength, MIN_FIX_PHASES};
 use super::{BaselineSolution, DdEpoch, FixOptions};
@@ -783,7 +784,12 @@ impl BaselineFilter {
         let all: Vec<usize> = (0..na).collect();
         let float_all = float_result(&float(&all, f.clone(), c.clone(), Vec::new()), &[]);
         let redundant = na >= MIN_FIX_PHASES;
-        let mut fresh = fix_float(&float(&all, f.clone(), c.clone(), Vec::new()), &[], fix)?;
+        // A known length: the constrained search on the filter's covariance.
+        let fresh_float = float(&all, f.clone(), c.clone(), Vec::new());
+        let mut fresh = match self.length.and_then(|l| l.known_m()) {
+            Some(l) => fix_known_length(&fresh_float, &[], l, fix)?,
+            None => fix_float(&fresh_float, &[], fix)?,
+        };
         let mut length_refused = false;
         if fresh.fixed && !(redundant && self.length_ok(&fresh)) {
             length_refused = redundant;

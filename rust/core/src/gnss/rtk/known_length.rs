@@ -210,13 +210,26 @@ pub fn solve_known_length(
         ));
     }
     validate_input(epochs, fix)?;
-    let fl = float::solve(epochs, held)?;
-    let Some((problem, q_aa)) = ambiguity_problem(&fl)? else {
-        return Ok(float_result(&fl, held));
+    fix_known_length(&float::solve(epochs, held)?, held, length_m, fix)
+}
+
+/// The fix of a float solution made elsewhere (the multi-epoch filter's) with a known length (in
+/// [`LENGTH_RANGE_M`]): the constrained fix when it passes, else [`super::fix::fix_float`]'s.
+///
+/// # Errors
+/// Those of the constrained search and of LAMBDA.
+pub(crate) fn fix_known_length(
+    fl: &FloatSolution,
+    held: &[(u64, u64, i64)],
+    length_m: f64,
+    fix: &FixOptions,
+) -> Result<BaselineSolution> {
+    let Some((problem, q_aa)) = ambiguity_problem(fl)? else {
+        return Ok(float_result(fl, held));
     };
-    match constrained_fix(&fl, held, &problem, &q_aa, length_m, fix)? {
+    match constrained_fix(fl, held, &problem, &q_aa, length_m, fix)? {
         Some(s) => Ok(s),
-        None => fix_problem(&fl, held, fix, &problem, &q_aa),
+        None => fix_problem(fl, held, fix, &problem, &q_aa),
     }
 }
 

@@ -67,6 +67,11 @@ impl RigidLength {
         }
     }
 
+    /// The known length, m (`None`: learned).
+    pub fn known_m(&self) -> Option<f64> {
+        self.known_m
+    }
+
     /// The length and its standard deviation, m: the known one, or the learned one once
     /// [`RIGID_MIN_FIXES`] fixes are in; `None` before.
     pub fn reference(&self) -> Option<(f64, f64)> {
