@@ -460,9 +460,9 @@ def attitude_from_rinex(
         30 m/sqrt(s): each epoch's baseline from its own data and the ambiguities carried along their arcs)
         or ``"velocity"`` (constant velocity, white acceleration 1 (m/s^2)^2/Hz); integers fixed on the
         filter's covariance every epoch and held while they agree with it (``fix_state``;
-        ``docs/observation_engine.md``). With ``baseline_length_m`` every fix's length is checked against
-        the known one (and the single-epoch fallback is the length-constrained fix). Refused with
-        ``motion="static"``, ``continuity``, ``baselines`` and ``method="ml"``.
+        ``docs/observation_engine.md``). With ``baseline_length_m`` the filter's fix is the
+        length-constrained integer search on its covariance, and every fix's length is checked against the
+        known one. Refused with ``motion="static"``, ``continuity``, ``baselines`` and ``method="ml"``.
     rigid
         With ``filter``: both antennas are on one rigid body (a moving base on the rover's vehicle), so the
         baseline's length is constant. The filter learns it from its first fixes and refuses a fix whose
