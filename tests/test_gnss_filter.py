@@ -212,3 +212,13 @@ def test_a_rigid_pair_on_the_simulated_car_has_no_wrong_fix(
     assert fixes_off[True] < WRONG_M, fixes_off
     if model == "kinematic":
         assert fixes_off[False] > 0.5, fixes_off
+
+
+def test_cli_rigid_without_filter_is_refused_naming_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    obs, nav = _files()
+    argv = ["attitude", "--obs", str(obs[0]), "--obs", str(obs[1]), "--nav", str(nav[0])]
+    argv += ["--frequencies", "1", "--systems", "G", "--rigid", "--no-plot", "--out", str(tmp_path / "r.csv")]
+    assert main(argv) == 2
+    assert "--rigid" in capsys.readouterr().err
