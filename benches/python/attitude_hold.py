@@ -1,6 +1,7 @@
 """Fix, hold and float counts of attitude mode (three antennas) and of a known-length pair on a simulated
-rotating platform, GPS L1 only, single-epoch against ``continuity`` (held integers), with the wrong fixes
-against the simulator's truth.
+rotating platform, GPS L1 only, single-epoch against ``continuity`` (held integers) and, for the pair, the
+multi-epoch filter (``filter="kinematic"``, its fix the length-constrained search on its covariance), with
+the wrong fixes against the simulator's truth.
 
 A fixed or held epoch is wrong when any of its baselines is more than ``WRONG_M`` from the truth (a wrong
 integer moves a 1 m baseline by centimetres to decimetres; a right fix of 2 mm phase noise is within about
@@ -34,8 +35,15 @@ def run(n_ep: int, n_sessions: int) -> None:
     tri = sim.equilateral_triangle(1.0, plane="xz")
     pair = tri[:2]
     rows = []
+    modes: dict[str, dict[str, object]] = {
+        "single-epoch": {},
+        "continuity": {"continuity": True},
+        "filter": {"filter": "kinematic"},
+    }
     for name, ant in (("3 antennas", tri), ("2 antennas + length", pair)):
-        for continuity in (False, True):
+        for mode, extra in modes.items():
+            if mode == "filter" and len(ant) > 2:
+                continue  # the filter is baseline mode only
             counts = {"fixed": 0, "held": 0, "float": 0}
             wrong = 0
             for session in range(n_sessions):
@@ -44,7 +52,7 @@ def run(n_ep: int, n_sessions: int) -> None:
                         Path(d), ant, euler(n_ep), rng=100 + session, n_sats=7, start_s=3600.0 * session
                     )
                     body = ant[1:] - ant[0]
-                    kw: dict[str, object] = {"continuity": continuity, "method": "lambda", "motion": "moving"}
+                    kw: dict[str, object] = {"method": "lambda", "motion": "moving", **extra}
                     if len(ant) == 2:
                         kw["baseline_length_m"] = [float(np.linalg.norm(body[0]))]
                         args: tuple[object, ...] = ()
@@ -55,13 +63,13 @@ def run(n_ep: int, n_sessions: int) -> None:
                             warnings.simplefilter("ignore")
                             sol = attitude_from_rinex(list(s.obs_paths), s.nav_path, *args, **kw)  # type: ignore[arg-type]
                     except ValueError as e:
-                        print(f"{name}, continuity={continuity}: refused ({e})")
+                        print(f"{name}, {mode}: refused ({e})")
                         break
                 for state in counts:
                     counts[state] += int(np.sum(sol.fix_state == state))
                 err = np.linalg.norm(sol.baselines_enu_m - s.baselines_enu_m, axis=2).max(axis=1)
                 wrong += int(np.sum((sol.fix_state != "float") & (err > WRONG_M)))
-            rows.append((name, "continuity" if continuity else "single-epoch", counts, wrong))
+            rows.append((name, mode, counts, wrong))
     total = n_ep * n_sessions
     print(f"{n_sessions} sessions x {n_ep} epochs, GPS L1, 7 satellites, 1 m baselines, 2 mm phase noise")
     print(f"{'array':22s} {'mode':13s} {'fixed':>6s} {'held':>6s} {'float':>6s} {'wrong':>6s} of {total}")

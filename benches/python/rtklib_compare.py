@@ -715,8 +715,8 @@ PLATFORM_RTKLIB = {
 #: gnssatt runs on a platform: name -> (extra options, antennas).
 PLATFORM_GNSSATT = {
     "single-epoch": ([], 2),
-    "filter-kinematic": (["--filter", "kinematic"], 2),
-    "filter-velocity": (["--filter", "velocity"], 2),
+    "filter-kinematic": (["--filter", "kinematic", "--rigid"], 2),
+    "filter-velocity": (["--filter", "velocity", "--rigid"], 2),
     "attitude-3-antennas": ([], 3),
 }
 

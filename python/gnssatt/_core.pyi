@@ -745,6 +745,7 @@ class GnssOptions:
         window_deg: float | None = None,
         baseline_lengths_m: Sequence[float] | None = None,
         filter: str | None = None,
+        rigid: bool | None = None,
     ) -> GnssOptions: ...
 
 @final

@@ -231,6 +231,7 @@ def _attitude(args: argparse.Namespace) -> int:
             motion=args.motion,
             continuity=args.continuity,
             filter=args.filter,
+            rigid=args.rigid,
             systems=args.systems,
             frequencies=args.frequencies if args.frequencies == "all" else int(args.frequencies),
             elevation_mask_deg=args.elevation_mask,
@@ -302,6 +303,13 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         "kinematic: random walk, each epoch from its own data and the carried ambiguities; velocity: "
         "constant velocity), fixing on its covariance and holding the integers; the CSV's state column "
         "says fixed, held or float (implies --motion moving)",
+    )
+    att.add_argument(
+        "--rigid",
+        action="store_true",
+        help="with --filter: both antennas are on one rigid body (a moving base on the vehicle), so the "
+        "baseline length is constant; the filter learns it from its fixes and refuses a fix whose length "
+        "disagrees (not for a rover moving against a static base)",
     )
     att.add_argument(
         "--systems",

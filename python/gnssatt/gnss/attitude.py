@@ -419,6 +419,7 @@ def attitude_from_rinex(
     motion: MotionName | None = None,
     continuity: bool = False,
     filter: FilterName | None = None,
+    rigid: bool = False,
     systems: str = SYSTEMS,
     frequencies: int | Literal["all"] = "all",
     elevation_mask_deg: float | None = None,
@@ -459,8 +460,15 @@ def attitude_from_rinex(
         30 m/sqrt(s): each epoch's baseline from its own data and the ambiguities carried along their arcs)
         or ``"velocity"`` (constant velocity, white acceleration 1 (m/s^2)^2/Hz); integers fixed on the
         filter's covariance every epoch and held while they agree with it (``fix_state``;
-        ``docs/observation_engine.md``). Refused with ``motion="static"``, ``continuity``, ``baselines``,
-        ``baseline_length_m`` and ``method="ml"``.
+        ``docs/observation_engine.md``). With ``baseline_length_m`` the filter's fix is the
+        length-constrained integer search on its covariance, and every fix's length is checked against the
+        known one. Refused with ``motion="static"``, ``continuity``, ``baselines`` and ``method="ml"``.
+    rigid
+        With ``filter``: both antennas are on one rigid body (a moving base on the rover's vehicle), so the
+        baseline's length is constant. The filter learns it from its first fixes and refuses a fix whose
+        length disagrees beyond 4 sigma (``docs/observation_engine.md``). Wrong for a rover moving against a
+        static base (its length changes); refused without ``filter`` and with ``baseline_length_m`` (a
+        known length is checked already).
     systems
         Satellite systems, letters among ``"GRECJ"`` (default all).
     frequencies
@@ -549,6 +557,7 @@ def attitude_from_rinex(
     if motion is not None:
         motion = choice("motion", motion, get_args(MotionName))
     continuity = flag("continuity", continuity)
+    rigid = flag("rigid", rigid)
     if filter is not None:
         filter = choice("filter", filter, get_args(FilterName))
     systems = _systems(systems)
@@ -603,6 +612,7 @@ def attitude_from_rinex(
             method=method,
             continuity=continuity,
             filter=filter,
+            rigid=rigid,
             **opts,
         ),
     )

@@ -27,7 +27,7 @@ impl GnssOptions {
         *, systems = None, frequencies = None, elevation_mask_deg = None, base_position_m = None,
         motion = None, method = None, continuity = None, min_success_rate = None, ratio_threshold = None,
         max_failure_rate = None, body_baselines_m = None, step_deg = None, window_deg = None,
-        baseline_lengths_m = None, filter = None
+        baseline_lengths_m = None, filter = None, rigid = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new<'py>(
@@ -47,6 +47,7 @@ impl GnssOptions {
         window_deg: Option<f64>,
         baseline_lengths_m: Option<Vec<f64>>,
         filter: Option<String>,
+        rigid: Option<bool>,
     ) -> PyResult<GnssOptions> {
         let mut o = EngineOptions::default();
         if let Some(s) = systems {
@@ -131,6 +132,9 @@ impl GnssOptions {
         }
         if let Some(l) = baseline_lengths_m {
             o.baseline_lengths_m = l;
+        }
+        if let Some(r) = rigid {
+            o.rigid = r;
         }
         o.ml_step_rad = step_deg.map(f64::to_radians);
         o.ml_window_rad = window_deg.map(f64::to_radians);

@@ -65,6 +65,11 @@ pub struct EngineOptions {
     /// (`rtk::filter`): float ambiguities carried along their arcs, fixing on the filter's covariance,
     /// fix-and-hold. `None`: every epoch on its own (or `continuity`).
     pub filter: Option<Dynamics>,
+    /// With `filter`: the two antennas are on one rigid body (a moving base on the rover's vehicle), so
+    /// the baseline's length is a constant; the filter learns it from its fixes and refuses a fix whose
+    /// length disagrees (`rtk::rigid`). Wrong for a rover moving against a static base. A known length
+    /// (`baseline_lengths_m`) is rigid already.
+    pub rigid: bool,
     /// Smallest bootstrapped success rate (from the float covariance) of the ambiguity set fixed; the
     /// largest subset that reaches it is fixed (partial fixing) when the full set does not.
     pub min_success_rate: f64,
@@ -101,6 +106,7 @@ impl Default for EngineOptions {
             method: Method::Auto,
             continuity: false,
             filter: None,
+            rigid: false,
             min_success_rate: 0.5,
             ratio_threshold: 3.0,
             max_failure_rate: 0.0,
@@ -199,8 +205,6 @@ impl EngineOptions {
                       static model is --filter static with moving motion)")
             } else if self.continuity {
                 Some("--continuity (the filter holds its own integers)")
-            } else if !self.baseline_lengths_m.is_empty() {
-                Some("--baseline-length (the filter has no length constraint yet)")
             } else if self.method == Method::Ml {
                 Some("--method ml (the filter is double differences and LAMBDA)")
             } else {
@@ -212,6 +216,14 @@ impl EngineOptions {
                     format!("expected moving baseline mode with LAMBDA, got {what}"),
                 ));
             }
+        }
+        if self.rigid && (self.filter.is_none() || !self.baseline_lengths_m.is_empty()) {
+            return Err(Error::out_of_range(
+                "--rigid",
+                "expected --filter without --baseline-length (the length of a rigid pair is learned \
+                 by the filter; a known length is rigid already), got --rigid without --filter or with \
+                 a known length",
+            ));
         }
         if !self.body_baselines_m.is_empty() && self.motion == Motion::Static {
             return Err(Error::out_of_range(

@@ -83,6 +83,7 @@ fn calibrate(
         method: Method::Lambda,
         continuity: false,
         filter: None,
+        rigid: false,
         body_baselines_m: Vec::new(),
         baseline_lengths_m: Vec::new(),
         ..opts.clone()

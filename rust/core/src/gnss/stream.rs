@@ -73,6 +73,7 @@ use super::options::{EngineOptions, Method, Motion};
 use super::rtk::constrained::{chi2_quantile_at, HOLD_Z};
 use super::rtk::filter::BaselineFilter;
 use super::rtk::float;
+use super::rtk::rigid::RigidLength;
 use super::rtk::{
     model::SdRangeModel, solve_attitude_held, solve_baseline, solve_known_length, AttitudeSolution,
     BaselineSolution, DdEpoch, FixOptions, SignalPair,
@@ -345,7 +346,16 @@ impl Engine {
         }
         let n_rovers = n_receivers - 1;
         let filters = match opts.filter {
-            Some(d) => vec![BaselineFilter::new(d)?; n_rovers],
+            Some(d) => (0..n_rovers)
+                .map(|r| {
+                    let f = BaselineFilter::new(d)?;
+                    Ok(match opts.baseline_lengths_m.get(r) {
+                        Some(&l) => f.with_length(RigidLength::known(l)),
+                        None if opts.rigid => f.with_length(RigidLength::learned()),
+                        None => f,
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?,
             None => Vec::new(),
         };
         Ok(Engine {
@@ -797,15 +807,31 @@ impl Engine {
                                     ),
                                 );
                             }
-                            // An epoch the filter leaves float is solved on its own too: the
-                            // filter never fixes fewer epochs than single epochs.
+                            if f.length_refused {
+                                self.warn_once(
+                                    format!("length refused {r}"),
+                                    format!(
+                                        "rover {}: a fix at epoch {k} ({} ns GPST) whose length \
+                                         disagreed with the pair's (known or learned from earlier \
+                                         fixes) was refused",
+                                        r + 1,
+                                        p.time_gpst_ns
+                                    ),
+                                );
+                            }
+                            // An epoch the filter leaves float is solved on its own too (through the
+                            // filter's checks of a fix): the filter never fixes fewer epochs than
+                            // single epochs.
                             let single = match f.state {
                                 FixState::Float => self
                                     .solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix)
                                     .ok()
-                                    .filter(|s| s.fixed),
+                                    .filter(|s| s.fixed && self.filters[r].accepts(s)),
                                 _ => None,
                             };
+                            if let Some(s) = &single {
+                                self.filters[r].learn(s);
+                            }
                             if single.as_ref().is_some_and(|s| !f.agrees_with_float(s)) {
                                 self.warn_once(
                                     format!("filter float biased {r}"),

@@ -49,9 +49,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, Vector3};
 
 use super::dd::{covariance, groups, validate, Group};
-use super::fix::fix_float;
+use super::fix::{fix_float, float_result};
 use super::float::{Ambiguity, FloatSolution, Summary, CONVERGED_M, MAX_ITERATIONS};
+use super::known_length::fix_known_length;
 use super::model::SdRangeModel;
+use super::rigid::{RigidLength, MIN_FIX_PHASES};
 use super::{BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{Error, Result};
 use crate::gnss::solution::{FixState, N_SYSTEMS};
@@ -152,6 +154,9 @@ pub struct FilterEpoch {
     pub restarted_arcs: usize,
     /// Whether a held set was dropped at this epoch because the float ambiguities disagreed with it.
     pub hold_rejected: bool,
+    /// Whether a fix (fresh or held) was refused at this epoch because its length disagreed with the
+    /// rigid pair's ([`BaselineFilter::with_length`]).
+    pub length_refused: bool,
 }
 
 impl FilterEpoch {
@@ -183,6 +188,8 @@ pub struct BaselineFilter {
     /// Held integers: per arc, its integer relative to the other held arcs of its (system, slot) (any
     /// common constant: only differences within a group are used).
     held: BTreeMap<u64, i64>,
+    /// The rigid pair's length that every fix is checked against (`None`: any length).
+    length: Option<RigidLength>,
 }
 
 impl BaselineFilter {
@@ -199,14 +206,42 @@ impl BaselineFilter {
             arcs: Vec::new(),
             time_ns: None,
             held: BTreeMap::new(),
+            length: None,
         })
+    }
+
+    /// The filter of a rigid pair: every fix's length is checked against `length` (known, or learned
+    /// from the fixes this filter reports and those given to [`Self::learn`]) and refused beyond
+    /// [`super::rigid::RIGID_LENGTH_SIGMAS`]; a refused fix is neither reported nor held.
+    pub fn with_length(mut self, length: RigidLength) -> BaselineFilter {
+        self.length = Some(length);
+        self
+    }
+
+    /// Whether a fix of this epoch made elsewhere (the single-epoch fallback) passes the filter's own
+    /// checks of a fix: [`MIN_FIX_PHASES`] double-differenced phases and the rigid pair's length.
+    pub fn accepts(&self, sol: &BaselineSolution) -> bool {
+        sol.ambiguities >= MIN_FIX_PHASES && self.length_ok(sol)
+    }
+
+    /// Adds a reported fix made elsewhere to the learned length.
+    pub fn learn(&mut self, sol: &BaselineSolution) {
+        if let Some(l) = &mut self.length {
+            l.add(sol);
+        }
+    }
+
+    fn length_ok(&self, sol: &BaselineSolution) -> bool {
+        self.length
+            .as_ref()
+            .is_none_or(|l| l.consistent(&sol.baseline_m, &sol.covariance_m2))
     }
 
     fn nk(&self) -> usize {
         self.dynamics.kinematic_states()
     }
 
-    /// Forgets everything (the next epoch starts the filter again).
+    /// Forgets everything but the rigid pair's length (the next epoch starts the filter again).
     pub fn reset(&mut self) {
         *self = BaselineFilter {
             dynamics: self.dynamics,
@@ -215,6 +250,7 @@ impl BaselineFilter {
             arcs: Vec::new(),
             time_ns: None,
             held: BTreeMap::new(),
+            length: self.length,
         };
     }
 
@@ -270,7 +306,11 @@ impl BaselineFilter {
         };
         let float_baseline_m = Vector3::new(self.x[0], self.x[1], self.x[2]);
         let float_covariance_m2 = self.p.fixed_view::<3, 3>(0, 0).into_owned();
-        let (solution, state, hold_rejected) = self.fix(epoch, &groups, fix, chi2, dof)?;
+        let (solution, state, hold_rejected, length_refused) =
+            self.fix(epoch, &groups, fix, chi2, dof)?;
+        if state != FixState::Float {
+            self.learn(&solution);
+        }
         Ok(FilterEpoch {
             solution,
             state,
@@ -279,6 +319,7 @@ impl BaselineFilter {
             new_arcs,
             restarted_arcs,
             hold_rejected,
+            length_refused,
         })
     }
 
@@ -673,7 +714,13 @@ impl BaselineFilter {
         (h, y)
     }
 
-    /// Steps 4-5: the epoch's fix, its state, whether a held set was rejected; updates the held set.
+    /// Steps 4-5: the epoch's fix, its state, whether a held set was rejected, whether a fix was refused
+    /// for its length; updates the held set.
+    ///
+    /// Beyond the gate: a fix of fewer than [`MIN_FIX_PHASES`] double-differenced phases is not
+    /// reported (a fresh one is not held either; held integers stay held for when the satellites
+    /// return), and a fix whose length disagrees with the rigid pair's is refused (a held one drops the
+    /// held set).
     fn fix(
         &mut self,
         epoch: &DdEpoch,
@@ -681,7 +728,7 @@ impl BaselineFilter {
         fix: &FixOptions,
         chi2: f64,
         dof: usize,
-    ) -> Result<(BaselineSolution, FixState, bool)> {
+    ) -> Result<(BaselineSolution, FixState, bool, bool)> {
         let nk = self.nk();
         let n = self.x.len();
         // Double-difference ambiguities of this epoch's references: a = T x.
@@ -735,16 +782,28 @@ impl BaselineFilter {
             }
         };
         let all: Vec<usize> = (0..na).collect();
-        let fresh = fix_float(&float(&all, f.clone(), c.clone(), Vec::new()), &[], fix)?;
+        let float_all = float_result(&float(&all, f.clone(), c.clone(), Vec::new()), &[]);
+        let redundant = na >= MIN_FIX_PHASES;
+        // A known length: the constrained search on the filter's covariance.
+        let fresh_float = float(&all, f.clone(), c.clone(), Vec::new());
+        let mut fresh = match self.length.and_then(|l| l.known_m()) {
+            Some(l) => fix_known_length(&fresh_float, &[], l, fix)?,
+            None => fix_float(&fresh_float, &[], fix)?,
+        };
+        let mut length_refused = false;
+        if fresh.fixed && !(redundant && self.length_ok(&fresh)) {
+            length_refused = redundant;
+            fresh = float_all.clone();
+        }
+        let fresh_state = if fresh.fixed {
+            FixState::Fixed
+        } else {
+            FixState::Float
+        };
         let held_idx: Vec<usize> = (0..na).filter(|&j| held_value[j].is_some()).collect();
         if held_idx.is_empty() {
-            let state = if fresh.fixed {
-                FixState::Fixed
-            } else {
-                FixState::Float
-            };
             self.hold(&fresh);
-            return Ok((fresh, state, false));
+            return Ok((fresh, fresh_state, false, length_refused));
         }
         // The held integers as values of the ambiguity unknowns (DD integer minus offset).
         let z_h = DVector::from_iterator(
@@ -768,13 +827,8 @@ impl BaselineFilter {
         let stat = d.dot(&chol_h.solve(&d));
         if stat > chi2_quantile(held_idx.len(), HOLD_TEST_Z) {
             self.held.clear();
-            let state = if fresh.fixed {
-                FixState::Fixed
-            } else {
-                FixState::Float
-            };
             self.hold(&fresh);
-            return Ok((fresh, state, true));
+            return Ok((fresh, fresh_state, true, length_refused));
         }
         // Condition the baseline and the other ambiguities on the held integers, then fix the rest.
         let free: Vec<usize> = (0..na).filter(|&j| held_value[j].is_none()).collect();
@@ -798,6 +852,13 @@ impl BaselineFilter {
         let mut held_sol = fix_float(&float(&free, f_c, c_c, used), &held_list, fix)?;
         held_sol.ratio = fresh.ratio;
         held_sol.success_rate = fresh.success_rate;
+        if held_sol.fixed && redundant && !self.length_ok(&held_sol) {
+            // The held integers give a length the pair does not have: they were wrong or an arc
+            // slipped unseen; the fresh fix (itself checked) takes over.
+            self.held.clear();
+            self.hold(&fresh);
+            return Ok((fresh, fresh_state, true, true));
+        }
         if fresh.fixed {
             let agrees = held_list
                 .iter()
@@ -830,21 +891,25 @@ impl BaselineFilter {
             if agrees || replace {
                 self.held.clear();
                 self.hold(&fresh);
-                return Ok((fresh, FixState::Fixed, replace));
+                return Ok((fresh, FixState::Fixed, replace, length_refused));
             }
         }
-        let state = if held_sol.fixed {
-            FixState::Held
-        } else {
-            FixState::Float
-        };
         if held_sol.fixed {
             self.hold(&held_sol);
         } else {
             // Keep the held integers that occurred (re-expressed against this epoch's references).
             self.set_held(&held_list);
         }
-        Ok((held_sol, state, false))
+        if !redundant {
+            // Held, but nothing in this epoch's phases could show a wrong integer: reported float.
+            return Ok((float_all, FixState::Float, false, length_refused));
+        }
+        let state = if held_sol.fixed {
+            FixState::Held
+        } else {
+            FixState::Float
+        };
+        Ok((held_sol, state, false, length_refused))
     }
 
     /// Holds the integers of a fully fixed solution (nothing changes otherwise).

@@ -5,6 +5,7 @@ use nalgebra::{DMatrix, DVector, Vector3};
 use super::*;
 use crate::gnss::rtk::dd::{covariance, groups};
 use crate::gnss::rtk::model::SdRangeModel;
+use crate::gnss::rtk::rigid::RigidLength;
 use crate::gnss::rtk::sim::Scenario;
 use crate::gnss::rtk::{BaselineSolution, DdEpoch, FixOptions};
 use crate::gnss::signal::System;
@@ -311,4 +312,146 @@ fn an_epochs_own_fix_agrees_with_the_float_unless_it_is_off_beyond_their_covaria
             );
         }
     }
+}
+
+/// Steps `f` through `n` epochs of `truth` from epoch `k0` (1 s apart): how many it reported fixed or
+/// held, and whether any of them refused a fix for its length.
+fn run(
+    f: &mut BaselineFilter,
+    sc: &mut Scenario,
+    truth: &Vector3<f64>,
+    k0: i64,
+    n: i64,
+) -> (usize, bool) {
+    let (mut fixed, mut refused) = (0, false);
+    for k in k0..k0 + n {
+        let out = f
+            .step(&sc.epoch(truth, k as f64), k * SECOND_NS, &GATE)
+            .unwrap();
+        fixed += usize::from(out.state != FixState::Float);
+        refused |= out.length_refused;
+        if out.state != FixState::Float {
+            assert!((out.solution.baseline_m - truth).norm() < 0.05, "epoch {k}");
+        }
+    }
+    (fixed, refused)
+}
+
+#[test]
+fn a_fix_whose_length_disagrees_with_the_known_length_is_refused() {
+    let truth = Vector3::new(0.6, 0.7, -0.2);
+    for (length_m, expect_fixes) in [(truth.norm(), true), (truth.norm() + 0.2, false)] {
+        let mut sc = Scenario::new(21, &[(System::Gps, 9, &[0, 1])], 15.0);
+        sc.prior_sigma_m = 1.0;
+        let mut f = BaselineFilter::new(Dynamics::KINEMATIC)
+            .unwrap()
+            .with_length(RigidLength::known(length_m));
+        let (fixed, refused) = run(&mut f, &mut sc, &truth, 0, 10);
+        assert_eq!(fixed > 5, expect_fixes, "length {length_m}: {fixed} fixed");
+        assert_eq!(refused, !expect_fixes, "length {length_m}");
+        if !expect_fixes {
+            assert_eq!(fixed, 0);
+            assert!(f.held_arcs().is_empty(), "a refused fix was held");
+        }
+    }
+}
+
+#[test]
+fn a_rigid_filter_refuses_fixes_of_another_length_after_every_arc_restarted() {
+    // The learned length stands after RIGID_MIN_FIXES fixes; then every arc restarts (an outage) and
+    // the data show a baseline 0.3 m longer: what a wrong fix looks like to the check. A filter that is
+    // not told the pair is rigid fixes it (a rover moving against its base may do that).
+    let first = Vector3::new(0.6, 0.7, -0.2);
+    let longer = first * (1.0 + 0.3 / first.norm());
+    for rigid in [true, false] {
+        let mut sc = Scenario::new(21, &[(System::Gps, 9, &[0, 1])], 15.0);
+        sc.prior_sigma_m = 1.0;
+        let f = BaselineFilter::new(Dynamics::KINEMATIC).unwrap();
+        let mut f = if rigid {
+            f.with_length(RigidLength::learned())
+        } else {
+            f
+        };
+        let (fixed, refused) = run(&mut f, &mut sc, &first, 0, 15);
+        assert!(fixed >= super::super::rigid::RIGID_MIN_FIXES, "{fixed}");
+        assert!(!refused);
+        f.reset();
+        let (fixed, refused) = run(&mut f, &mut sc, &longer, 15, 10);
+        assert_eq!(refused, rigid);
+        assert_eq!(fixed == 0, rigid, "rigid {rigid}: {fixed} fixed");
+    }
+}
+
+#[test]
+fn a_fix_without_phase_redundancy_is_not_reported() {
+    // GPS L1 only: with 4 satellites (3 double-differenced phases for the 3 baseline unknowns) every
+    // integer set fits the phases; with a second frequency (6) they show a wrong one. Static, 30 s
+    // apart: the geometry changes and the float converges. The engine's default gate.
+    const GATE: FixOptions = FixOptions {
+        min_success_rate: 0.5,
+        ratio_threshold: 3.0,
+        max_failure_rate: 0.0,
+    };
+    for (slots, expect_fixes) in [(&[0usize][..], false), (&[0, 1][..], true)] {
+        let mut sc = Scenario::new(51, &[(System::Gps, 4, slots)], 15.0);
+        sc.prior_sigma_m = 1.0;
+        let truth = Vector3::new(0.6, 0.7, -0.2);
+        let eps = epochs(&mut sc, &truth, 40, 30.0);
+        let mut f = BaselineFilter::new(Dynamics::Static).unwrap();
+        let mut fixed = 0;
+        for (k, e) in eps.iter().enumerate() {
+            let out = f.step(e, k as i64 * 30 * SECOND_NS, &GATE).unwrap();
+            fixed += usize::from(out.state != FixState::Float);
+        }
+        assert_eq!(fixed > 0, expect_fixes, "slots {slots:?}: {fixed} fixed");
+        if !expect_fixes {
+            // The data would fix: the batch solution of the same epochs passes the same gate.
+            let batch = crate::gnss::rtk::solve_baseline(&eps, &[], &GATE).unwrap();
+            assert!(batch.fixed, "the premise: the epochs fix");
+            // The single-epoch fallback's fixes go through the same rule (one epoch: one phase per
+            // ambiguity).
+            for (phases, accepted) in [(3, false), (4, true)] {
+                let one = BaselineSolution {
+                    ambiguities: phases,
+                    ..batch.clone()
+                };
+                assert_eq!(f.accepts(&one), accepted, "{phases} phases");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_known_length_fixes_the_filter_earlier_and_right() {
+    // GPS L1 only, 7 satellites, kinematic: the first epochs' float is code-wide; the constrained search
+    // (the length as a constraint of the integer search: rtk/known_length.rs) on the filter's covariance
+    // fixes before the unconstrained gate does, with the right integers.
+    let truth = Vector3::new(0.6, 0.7, -0.2);
+    let first_fix = |known: bool| {
+        let mut sc = Scenario::new(61, &[(System::Gps, 7, &[0])], 15.0);
+        sc.prior_sigma_m = 1.0;
+        let f = BaselineFilter::new(Dynamics::KINEMATIC).unwrap();
+        let mut f = if known {
+            f.with_length(RigidLength::known(truth.norm()))
+        } else {
+            f
+        };
+        let none = HashMap::new();
+        for k in 0..60i64 {
+            let out = f
+                .step(&sc.epoch(&truth, k as f64), k * SECOND_NS, &GATE)
+                .unwrap();
+            if out.state != FixState::Float {
+                assert_eq!(wrong_integers(&sc, &out.solution, &none), 0, "epoch {k}");
+                return Some(k);
+            }
+        }
+        None
+    };
+    let (with, without) = (first_fix(true), first_fix(false));
+    assert!(with.is_some(), "never fixed with the known length");
+    assert!(
+        without.is_none_or(|w| with.unwrap() < w),
+        "{with:?} vs {without:?}"
+    );
 }

@@ -224,8 +224,13 @@ pub(crate) fn known_length_float(
     float::solve(epochs, held)
 }
 
-/// The fix of [`solve_known_length`] from its float solution (the observation engine computes the float
-/// solutions of a session in order and fixes them in parallel).
+/// The fix of a float solution with a known length (in [`LENGTH_RANGE_M`]): the constrained fix when it
+/// passes, else [`super::fix::fix_float`]'s. The float solution comes from [`known_length_float`] (the
+/// observation engine computes a session's float solutions in order and fixes them in parallel) or from the
+/// multi-epoch filter.
+///
+/// # Errors
+/// Those of the constrained search and of LAMBDA.
 pub(crate) fn fix_known_length(
     fl: &FloatSolution,
     held: &[(u64, u64, i64)],

@@ -58,6 +58,7 @@ pub mod float;
 pub mod glonass;
 pub mod known_length;
 pub mod model;
+pub mod rigid;
 
 #[cfg(test)]
 mod sim;
