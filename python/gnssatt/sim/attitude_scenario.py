@@ -26,7 +26,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import finite_result, float_array, generator, instance, integer, scalar, vector_array
+from gnssatt._arrays import (
+    MAX_BATCH_ROWS,
+    batch_limit,
+    finite_result,
+    float_array,
+    generator,
+    instance,
+    integer,
+    scalar,
+    vector_array,
+)
 from gnssatt._arrays import rows as _rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.observations import AttitudeFixes, PhaseObservations
@@ -62,7 +72,16 @@ def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def right_jacobian(a: ArrayLike) -> NDArray[np.float64]:
-    """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``."""
+    """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``a`` not of shape (..., 3) with finite components within +-``MAX_ANGLE_RAD``
+        (:class:`~gnssatt.errors.WorkLimitError` for more than :data:`gnssatt._arrays.MAX_BATCH_ROWS`
+        rotation vectors, refused before they are copied).
+    """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "rotation vectors", a=(a, 1))
     v = vector_array("a", a, ndim=(1, 2, 3), shape="(..., 3)")
     if v.size and np.max(np.abs(v)) > MAX_ANGLE_RAD:
         raise InvalidInputError(
@@ -93,10 +112,13 @@ def orbital_hold_motion(
     InvalidInputError
         Wrong shapes or non-finite values; ``period_s`` below 1e-3 s; ``amplitude_rad`` beyond +-pi
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_ROWS` times, refused before they are copied.
     ConvergenceError
         A non-finite body rate.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "times", t=(t, 0))
     tt = float_array("t", t, ndim=1, shape="(n_t,)")
     amp = float_array("amplitude_rad", amplitude_rad, ndim=1, shape="(3,)")
     per = float_array("period_s", period_s, ndim=1, shape="(3,)")
