@@ -575,7 +575,7 @@ def attitude_from_rinex(
         opts["window_deg"] = scalar(
             "window_deg", window_deg, minimum=0.0, maximum=MAX_WINDOW_DEG, strict=True
         )
-    grid_options = [n for n in ("step_deg", "window_deg") if n in opts]
+    grid_options: list[str] = [n for n in ("step_deg", "window_deg") if n in opts]
     if grid_options and (method == "lambda" or filter is not None):
         # the engine runs the likelihood grid with method ml or auto and without a filter only: these
         # options would change nothing
@@ -605,7 +605,12 @@ def attitude_from_rinex(
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
     _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)
-    modes = {"systems": systems, "frequencies": n_freq, "motion": motion, "continuity": continuity}
+    modes: dict[str, Any] = {
+        "systems": systems,
+        "frequencies": n_freq,
+        "motion": motion,
+        "continuity": continuity,
+    }
     options = _core.GnssOptions(**modes, method=method, filter=filter, **opts)  # checks every option
     if baseline_length_m is not None and len(si.time_gpst_ns) > KNOWN_LENGTH_PROBE_EPOCHS:
         _probe_known_lengths(opts["baseline_lengths_m"], si, ni.navigation(), modes, opts)
