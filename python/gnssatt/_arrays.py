@@ -96,7 +96,7 @@ MAX_BATCH_ROWS = 2**21
 
 #: Most values of one call of an element-wise numpy transform (``wrap_rad``, ``phase_diffs``, the troposphere
 #: and its mapping functions, ``correlator_amplitude``), counted over all dimensions before anything is
-#: copied: 10-60 ns and 24-64 bytes of temporaries a value (``docs/limits.md``), so under 2 s and 2 GiB.
+#: copied: 24-70 ns and 24-48 bytes of temporaries a value (``docs/limits.md``), so under 2.5 s and 1.6 GB.
 MAX_BATCH_VALUES = 2**25
 
 
