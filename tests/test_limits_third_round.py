@@ -1,19 +1,23 @@
 """Whole-call limits of the last unlimited public transforms (issue 31, third round): ``wrap_rad``,
 ``rotation_from_euler``, the troposphere and its mapping, ``right_jacobian``, ``phase_diffs``,
-``correlator_amplitude``; and shapes refused before the copy (``window_deg`` of 10^7 rows). Each is refused
-with a ``WorkLimitError`` (or a shape error) naming the parameter, the amount and the limit, before the batch
-is copied: checked by counting the memory the call allocates (tracemalloc), never by timing it.
+``correlator_amplitude``; the lines of sight of ``visibility_axis`` and the baselines of the attitude
+scenario, which the batch-size sweep found scanned before their limits; and shapes refused before the copy
+(``window_deg`` of 10^7 rows). Each is refused with a ``WorkLimitError`` (or a shape error) naming the
+parameter, the amount and the limit, before the batch is copied: checked by counting the memory the call
+allocates (tracemalloc), never by timing it.
 """
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
 from allocation import traced_peak
 
-from gnssatt import likelihood_grid, ml_attitude, sim
+from gnssatt import likelihood_grid, ml_attitude, sim, visibility_axis
 from gnssatt._arrays import MAX_BATCH_ROWS, MAX_BATCH_VALUES
 from gnssatt.errors import InvalidInputError, WorkLimitError
 from gnssatt.rotation import rotation_from_euler, wrap_rad
@@ -28,6 +32,21 @@ VALUES = MAX_BATCH_VALUES + 1
 def _view(row: object, n: int) -> np.ndarray:
     arr = np.asarray(row, dtype=float)
     return np.broadcast_to(arr, (n, *arr.shape))
+
+
+@functools.cache
+def _valid(entry: str) -> dict[str, Any]:
+    """The hostile inventory's valid arguments of ``entry``, built once (outside the traced block)."""
+    from hostile import inventory
+
+    return inventory.ENTRIES[entry].build()
+
+
+def _with_rows(entry: str, parameter: str, row: object, n: int = 10_000_000) -> object:
+    """The valid call of ``entry`` with ``parameter`` a zero-stride view of ``n`` rows."""
+    from hostile import inventory
+
+    return inventory.resolve(entry)(**{**_valid(entry), parameter: _view(row, n)})
 
 
 # name -> (call one item above its limit, parameter named, amount in the message, limit constant named)
@@ -82,6 +101,26 @@ LIMITS: dict[str, tuple[Callable[[], object], str, str, str]] = {
         f"{4 * (VALUES // 4 + 1)} phases",
         "MAX_BATCH_VALUES",
     ),
+    "visibility_axis": (
+        lambda: visibility_axis(_view([0.0, 0.0, 1.0], 10_000_000), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+        "visible_los",
+        "10000000 lines of sight",
+        "MAX_SATELLITES",
+    ),
+    "attitude_fixes": (
+        lambda: _with_rows("gnssatt.sim.attitude_scenario.attitude_fixes", "baselines_m", [1.0, 0.0, 0.0]),
+        "baselines_m",
+        "10000000 baselines",
+        "MAX_BASELINES",
+    ),
+    "phase_observations": (
+        lambda: _with_rows(
+            "gnssatt.sim.attitude_scenario.phase_observations", "baselines_m", [1.0, 0.0, 0.0]
+        ),
+        "baselines_m",
+        "10000000 baselines",
+        "MAX_BASELINES",
+    ),
     "correlator_amplitude": (
         lambda: correlator_amplitude(_view(45.0, VALUES), 1e-3),
         "cn0_dbhz",
@@ -94,6 +133,8 @@ LIMITS: dict[str, tuple[Callable[[], object], str, str, str]] = {
 @pytest.mark.parametrize("name", list(LIMITS))
 def test_one_item_over_the_limit_is_refused_before_the_batch_is_copied(name: str) -> None:
     call, parameter, amount, constant = LIMITS[name]
+    if name in ("attitude_fixes", "phase_observations"):
+        _valid(f"gnssatt.sim.attitude_scenario.{name}")  # the simulated valid arguments, before tracing
     with traced_peak() as peak, pytest.raises(WorkLimitError, match=parameter) as info:
         call()
     message = str(info.value)

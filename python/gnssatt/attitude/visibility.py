@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize
 
-from gnssatt._arrays import choice, instance, integer, scalar, shaped, unit_rows
+from gnssatt._arrays import batch_limit, choice, instance, integer, scalar, shaped, unit_rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 
 __all__ = ["MAX_SATELLITES", "visibility_axis", "visibility_sets"]
@@ -161,7 +161,8 @@ def visibility_axis(
         Wrong shapes, non-finite or non-unit lines of sight, or an empty set (every satellite visible or
         none), an unknown ``method``.
     WorkLimitError
-        More than :data:`MAX_SATELLITES` lines of sight in all.
+        More than :data:`MAX_SATELLITES` lines of sight in all (each argument counted from its shape before
+        it is copied).
     DegenerateGeometryError
         Coplanar lines of sight (eq. (5) singular).
 
@@ -185,6 +186,14 @@ def visibility_axis(
     (array([ 0.      , -0.642788,  0.766044]), array([-0.642788,  0.766044]))
     """
     method = choice("method", method, get_args(Method))
+    # each counted from its shape before the copy (10^7 rows took over 10 s to be scanned), then both
+    batch_limit(
+        MAX_SATELLITES,
+        "MAX_SATELLITES",
+        "lines of sight",
+        visible_los=(visible_los, 1),
+        invisible_los=(invisible_los, 1),
+    )
     vis = _los("visible_los", visible_los)
     inv = _los("invisible_los", invisible_los)
     integer("len(visible_los) + len(invisible_los)", len(vis) + len(inv), maximum=MAX_SATELLITES)

@@ -39,6 +39,7 @@ from gnssatt._arrays import (
 )
 from gnssatt._arrays import rows as _rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.geometry import MAX_BASELINES
 from gnssatt.observations import AttitudeFixes, PhaseObservations
 from gnssatt.orbit.constellation import Constellation
 from gnssatt.orbit.masks import earth_occlusion_mask
@@ -206,6 +207,8 @@ def gyro_output(
 
 
 def _baselines(value: ArrayLike) -> NDArray[np.float64]:
+    # counted from the shape before the copy: 10^7 rows of baselines took over 10 s to be scanned
+    batch_limit(MAX_BASELINES, "MAX_BASELINES", "baselines", baselines_m=(value, 1))
     b = vector_array("baselines_m", value, ndim=2, shape="(m, 3)", nonzero=True)
     norm = np.linalg.norm(b, axis=1)
     if len(b) == 0 or norm.max() > MAX_BASELINE_M:
@@ -271,6 +274,8 @@ def phase_observations(
         ``phase_sigma_cycles``, ``phase_sigma_cycles`` above 1e3 (``SIGMA_RANGE_CYCLES``),
         ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
         integer cycles)`` rows.
+    WorkLimitError
+        More than :data:`gnssatt.geometry.MAX_BASELINES` rows of ``baselines_m``, refused before the copy.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
     instance("gnss", gnss, Constellation, "a gnssatt.sim Constellation")
@@ -359,6 +364,8 @@ def attitude_fixes(
     ------
     InvalidInputError
         Bad types, shapes or values (``min_satellites`` < 1, ``phase_sigma_cycles`` <= 0).
+    WorkLimitError
+        More than :data:`gnssatt.geometry.MAX_BASELINES` rows of ``baselines_m``, refused before the copy.
     DegenerateGeometryError
         An epoch whose lines of sight and baselines do not fix all three attitude angles.
     """
