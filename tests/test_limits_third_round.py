@@ -166,3 +166,14 @@ def test_a_wrong_shape_of_many_rows_is_refused_before_the_copy() -> None:
             fn(sd, los, baselines, 0.19, step_deg=5.0, window_deg=_view([-10.0, 10.0], 10_000_000))
         assert "(10000000, 2)" in str(info.value)
         assert peak.bytes < 1_000_000, peak
+
+
+def test_the_shape_checked_before_the_copy_is_the_converted_one() -> None:
+    # a 0-d value converts to shape (1,), as before the shape moved ahead of the copy: a scalar time stays
+    # a one-element series
+    from gnssatt._arrays import float_array, shaped
+
+    assert float_array("t", 2.0, ndim=1, shape="(n_t,)").shape == (1,)
+    assert shaped("t", np.float64(2.0), "(n,)", (None,)).shape == (1,)
+    with pytest.raises(InvalidInputError, match=r"expected los of shape \(n, 3\), got \(1,\)"):
+        shaped("los", 2.0, "(n, 3)", (None, 3))

@@ -206,9 +206,11 @@ def float_array(
         )
     _size_limit(name, raw)
     allowed = (ndim,) if isinstance(ndim, int) else ndim
-    if raw.ndim not in allowed or (patterns and not _matches(raw.shape, patterns)):
-        # from the shape alone, before the copy: a zero-stride view of 10^7 rows cost seconds to convert
-        raise InvalidInputError(f"expected {name} of shape {shape}, got {raw.shape}")
+    # the shape the conversion gives (numpy.ascontiguousarray makes a 0-d value one of shape (1,)), checked
+    # before the copy: a zero-stride view of 10^7 rows cost seconds to convert
+    converted = raw.shape if raw.ndim else (1,)
+    if len(converted) not in allowed or (patterns and not _matches(converted, patterns)):
+        raise InvalidInputError(f"expected {name} of shape {shape}, got {converted}")
     arr = np.ascontiguousarray(raw, dtype=np.float64)
     if not arr.flags.writeable:
         # a read-only input comes back as itself; scipy's Rotation.apply (and any in-place step) refuses it
