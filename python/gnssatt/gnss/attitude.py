@@ -633,9 +633,9 @@ KNOWN_LENGTH_TOLERANCE_RELATIVE = 1e-3
 
 
 #: Epochs of the probe that checks ``baseline_length_m`` before a longer session runs: the first ones,
-#: solved without the length (LAMBDA alone); a static pair fixes from its first epochs
-#: (``tests/test_known_length_probe.py``), so a contradicted length is refused after these instead of the
-#: whole session.
+#: solved without the length (LAMBDA alone). The GEONET pair of ``tests/test_option_effects.py`` (3.3 km,
+#: 30 s epochs) fixes from its first epoch, so a contradicted length is refused after these instead of the
+#: whole session; a probe that fixes none of them leaves the check to the session.
 KNOWN_LENGTH_PROBE_EPOCHS = 30
 
 
