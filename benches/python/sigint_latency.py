@@ -14,6 +14,10 @@ loop polls the interrupt flag every 1024 steps. Calls:
 - ``montecarlo``: ``montecarlo.run`` of 10^6 trials of ``ml_attitude`` in this process.
 
     python benches/python/sigint_latency.py [--only ml_series,lambda_batch] [--epochs 2000] [--after 1]
+        [--main-only]
+
+By default the signal goes to the child's process group, as a terminal's Ctrl-C does; ``--main-only``
+sends it to the child process alone (``kill -INT pid``), which a process pool's workers do not see.
 """
 
 from __future__ import annotations
@@ -108,9 +112,14 @@ except KeyboardInterrupt:
     return PRELUDE + body
 
 
-def run(name: str, args: list[str], after_s: float) -> str:
+def run(name: str, args: list[str], after_s: float, main_only: bool) -> str:
+    # a session of its own, so that its process group holds the child and its workers alone (a terminal's
+    # Ctrl-C signals the foreground group; os.killpg on a child of our own group signalled nothing)
     child = subprocess.Popen(
-        [sys.executable, "-c", child_code(name), *args], stdout=subprocess.PIPE, text=True
+        [sys.executable, "-c", child_code(name), *args],
+        stdout=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
     )
     assert child.stdout is not None
     if child.stdout.readline().strip() != "ready":
@@ -118,7 +127,10 @@ def run(name: str, args: list[str], after_s: float) -> str:
         return f"setup failed (exit {child.returncode})"
     time.sleep(after_s)
     sent = time.monotonic()
-    os.killpg(child.pid, signal.SIGINT)
+    if main_only:
+        os.kill(child.pid, signal.SIGINT)
+    else:
+        os.killpg(child.pid, signal.SIGINT)
     try:
         out, _ = child.communicate(timeout=120)
     except subprocess.TimeoutExpired:
@@ -150,6 +162,11 @@ def main() -> int:
     parser.add_argument("--only", default=",".join(SETUP), help="comma-separated calls (default all)")
     parser.add_argument("--epochs", type=int, default=2000, help="epochs of the simulated RINEX session")
     parser.add_argument("--after", type=float, default=1.0, help="seconds from ready to SIGINT (default 1)")
+    parser.add_argument(
+        "--main-only",
+        action="store_true",
+        help="signal the child process alone, not its process group (its pool's workers go unsignalled)",
+    )
     args = parser.parse_args()
     names = [n for n in args.only.split(",") if n]
     print("| call | Ctrl-C |")
@@ -161,7 +178,7 @@ def main() -> int:
             obs, nav = session(folder, args.epochs)
         for name in names:
             extra = {"position": [*obs[:1], nav], "attitude": [*obs, nav]}.get(name, []) if obs else []
-            print(f"| {name} | {run(name, extra, args.after)} |", flush=True)
+            print(f"| {name} | {run(name, extra, args.after, args.main_only)} |", flush=True)
     return 0
 
 

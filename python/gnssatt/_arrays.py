@@ -25,6 +25,7 @@ from gnssatt.errors import ConvergenceError, InvalidInputError, InvalidTypeError
 
 __all__ = [
     "MAX_BATCH_ROWS",
+    "MAX_BATCH_VALUES",
     "batch_limit",
     "checked_array",
     "choice",
@@ -93,6 +94,11 @@ def _size_limit(name: str, arr: np.ndarray) -> None:
 #: 2-core build machine (``docs/limits.md``), so about 1-6 s; 10^7 rows took 5-60 s.
 MAX_BATCH_ROWS = 2**21
 
+#: Most values of one call of an element-wise numpy transform (``wrap_rad``, ``phase_diffs``, the troposphere
+#: and its mapping functions, ``correlator_amplitude``), counted over all dimensions before anything is
+#: copied: 24-70 ns and 24-48 bytes of temporaries a value (``docs/limits.md``), so under 2.5 s and 1.6 GB.
+MAX_BATCH_VALUES = 2**25
+
 
 def batch_limit(limit: int, constant: str, unit: str, /, **arguments: tuple[Any, int]) -> None:
     """Refuses a batch call whose largest argument holds more than ``limit`` items, counted from the shapes
@@ -159,8 +165,23 @@ def _describe(value: Any) -> str:
     return type(value).__name__
 
 
-def float_array(name: str, value: Any, *, ndim: int | tuple[int, ...], shape: str) -> NDArray[np.float64]:
-    """``value`` as a C-contiguous float64 array with ``ndim`` dimensions (one of them, if a tuple).
+def _matches(got: tuple[int, ...], patterns: tuple[tuple[int | None, ...], ...]) -> bool:
+    return any(
+        len(p) == len(got) and all(d is None or d == n for d, n in zip(p, got, strict=True)) for p in patterns
+    )
+
+
+def float_array(
+    name: str,
+    value: Any,
+    *,
+    ndim: int | tuple[int, ...],
+    shape: str,
+    patterns: tuple[tuple[int | None, ...], ...] = (),
+) -> NDArray[np.float64]:
+    """``value`` as a C-contiguous float64 array with ``ndim`` dimensions (one of them, if a tuple) and, if
+    ``patterns`` are given, a shape matching one of them (``None`` matches any length); the shape is checked
+    before the value is copied or scanned.
 
     Real integer and floating input is converted; complex, boolean, object and text input is refused rather
     than silently converted (numpy would drop an imaginary part, or turn ``True`` into 1.0).
@@ -184,13 +205,16 @@ def float_array(name: str, value: Any, *, ndim: int | tuple[int, ...], shape: st
             f"expected {name} as a real numeric array of shape {shape}, got {_describe(raw)}"
         )
     _size_limit(name, raw)
+    allowed = (ndim,) if isinstance(ndim, int) else ndim
+    # the shape the conversion gives (numpy.ascontiguousarray makes a 0-d value one of shape (1,)), checked
+    # before the copy: a zero-stride view of 10^7 rows cost seconds to convert
+    converted = raw.shape if raw.ndim else (1,)
+    if len(converted) not in allowed or (patterns and not _matches(converted, patterns)):
+        raise InvalidInputError(f"expected {name} of shape {shape}, got {converted}")
     arr = np.ascontiguousarray(raw, dtype=np.float64)
     if not arr.flags.writeable:
         # a read-only input comes back as itself; scipy's Rotation.apply (and any in-place step) refuses it
         arr = arr.copy()
-    allowed = (ndim,) if isinstance(ndim, int) else ndim
-    if arr.ndim not in allowed:
-        raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise InvalidInputError(f"{name} contains a non-finite value at index {bad}")
@@ -274,11 +298,9 @@ def shaped(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...])
     InvalidTypeError, InvalidInputError
         As :func:`float_array`, and for a shape that matches no pattern.
     """
-    arr = float_array(name, value, ndim=tuple(sorted({len(p) for p in patterns})), shape=shape)
-    for p in patterns:
-        if len(p) == arr.ndim and all(d is None or d == n for d, n in zip(p, arr.shape, strict=True)):
-            return arr
-    raise InvalidInputError(f"expected {name} of shape {shape}, got {arr.shape}")
+    return float_array(
+        name, value, ndim=tuple(sorted({len(p) for p in patterns})), shape=shape, patterns=patterns
+    )
 
 
 def unit_rows(name: str, value: Any, shape: str, *patterns: tuple[int | None, ...]) -> NDArray[np.float64]:

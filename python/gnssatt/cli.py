@@ -121,10 +121,32 @@ def _writable(option: str, path: Path, *, folder: bool) -> None:
         raise _UsageError(f"{option} {path}: folder {target} is not writable")
 
 
+#: ``gnssatt reproduce``'s root seed when ``--seed`` is not given.
+_DEFAULT_SEED = 2026
+
+
 def _reproduce(args: argparse.Namespace) -> int:
     from gnssatt.experiments import EXPERIMENTS, get
 
     if args.list:
+        # --list runs nothing: an option of a run given with it would change nothing
+        given = [
+            option
+            for option, used in (
+                ("experiment names", bool(args.names)),
+                ("--all", args.all),
+                ("--runs", args.runs is not None),
+                ("--seed", args.seed is not None),
+                ("--out", args.out is not None),
+                ("--no-progress", args.no_progress),
+            )
+            if used
+        ]
+        if given:
+            raise _UsageError(
+                f"reproduce --list lists the experiments and runs none: {', '.join(given)} would change "
+                "nothing; leave them out, or leave out --list"
+            )
         width = max(map(len, EXPERIMENTS))
         for exp in EXPERIMENTS.values():
             print(f"{exp.name.ljust(width)}  {exp.summary}  (default runs {exp.default_runs})")
@@ -135,6 +157,8 @@ def _reproduce(args: argparse.Namespace) -> int:
     if unknown:
         raise _UsageError(f"reproduce: unknown experiment {unknown[0]!r}; known: {', '.join(EXPERIMENTS)}")
     chosen = list(EXPERIMENTS.values()) if args.all else [get(n) for n in args.names]
+    args.seed = _DEFAULT_SEED if args.seed is None else args.seed
+    args.out = Path("out") if args.out is None else args.out
     _writable("--out", args.out, folder=True)
     for exp in chosen:
         runs = args.runs or (exp.quick_runs if args.all else exp.default_runs)
@@ -488,8 +512,10 @@ def _main(argv: Sequence[str] | None) -> int:
     rep.add_argument(
         "--runs", type=_integer(1), default=None, help="Monte Carlo runs (default: per experiment)"
     )
-    rep.add_argument("--seed", type=_integer(0), default=2026, help="root random seed (default 2026)")
-    rep.add_argument("--out", type=Path, default=Path("out"), help="output folder (default ./out)")
+    rep.add_argument(
+        "--seed", type=_integer(0), default=None, help=f"root random seed (default {_DEFAULT_SEED})"
+    )
+    rep.add_argument("--out", type=Path, default=None, help="output folder (default ./out)")
     rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
     att = sub.add_parser(
         "attitude",

@@ -88,6 +88,22 @@ def _run_chunk(trial: Callable[[np.random.Generator], T], seed: int, trials: ran
     return [trial(np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i,)))) for i in trials]
 
 
+def _cancel(futures: dict[Future[Any], int]) -> int:
+    """Cancels the futures that have not started; returns how many were cancelled."""
+    return sum(future.cancel() for future in futures)
+
+
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """Terminates the worker processes of ``pool`` (SIGTERM) and waits for them: the pool is then broken,
+    and its shutdown returns without waiting for chunks that would run for minutes. Python 3.14 has
+    ``ProcessPoolExecutor.terminate_workers``; before it the processes are only reachable here."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())
+    for process in workers:
+        process.terminate()
+    for process in workers:
+        process.join()
+
+
 def run(
     trial: Callable[[np.random.Generator], T],
     n_trials: int,
@@ -133,9 +149,13 @@ def run(
         pool (the default, or a ``ProcessPoolExecutor``), refused before the pool starts.
     WorkLimitError
         ``n_trials`` above :data:`MAX_TRIALS`.
+    KeyboardInterrupt
+        Ctrl-C (SIGINT) while the trials run: the chunks that have not started are cancelled, on any
+        executor; the pool this function created has its workers terminated, whether or not they saw the
+        signal, and is shut down before the interrupt comes out. A caller's executor is not shut down.
     Exception
         Whatever ``trial`` or ``executor.submit`` raises comes out unchanged (user code's own error; the
-        pool this function created is shut down first).
+        chunks not started are cancelled, the pool this function created is shut down first).
 
     Examples
     --------
@@ -179,8 +199,8 @@ def run(
     owned = executor is None
     if executor is None:
         executor = ProcessPoolExecutor(os.cpu_count(), mp_context=multiprocessing.get_context("spawn"))
+    futures: dict[Future[list[T]], int] = {}
     try:
-        futures = {}
         for k, chunk in enumerate(chunks):
             future = executor.submit(_run_chunk, trial, seed, chunk)
             # as_completed needs concurrent.futures.Future; a duck-typed executor that returns something
@@ -197,6 +217,17 @@ def run(
                 k = futures[future]
                 results[k] = future.result()
                 bar.update(len(chunks[k]))
+    except BaseException as exc:
+        if not owned:
+            _cancel(futures)  # nothing more starts; the caller's executor stays the caller's
+        elif isinstance(exc, KeyboardInterrupt):
+            # Ctrl-C: this function's own pool stops at once. Its workers may not have seen the signal (a
+            # terminal sends it to the whole group, `kill -INT` to this process alone), and a shutdown that
+            # waits for their running chunks took minutes. The pool's own thread then fails the pending
+            # chunks (a cancel from here races with it), and the shutdown below returns at once.
+            assert isinstance(executor, ProcessPoolExecutor)
+            _stop_workers(executor)
+        raise
     finally:
         if owned:
             executor.shutdown(cancel_futures=True)

@@ -19,7 +19,16 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import checked_array, choice, flag, instance, shaped
+from gnssatt._arrays import (
+    MAX_BATCH_ROWS,
+    MAX_BATCH_VALUES,
+    batch_limit,
+    checked_array,
+    choice,
+    flag,
+    instance,
+    shaped,
+)
 
 __all__ = [
     "ENU_FROM_NORMAL",
@@ -256,6 +265,8 @@ def wrap_rad(x: Any) -> NDArray[np.float64]:
     ------
     InvalidInputError
         Non-finite or non-numeric values.
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_VALUES` angles, refused before they are copied.
 
     Examples
     --------
@@ -264,6 +275,7 @@ def wrap_rad(x: Any) -> NDArray[np.float64]:
     >>> np.round(wrap_rad([np.pi, 1.5 * np.pi, -0.5]), 4)
     array([-3.1416, -1.5708, -0.5   ])
     """
+    batch_limit(MAX_BATCH_VALUES, "MAX_BATCH_VALUES", "angles", x=(x, 0))
     arr = checked_array("x", x, ndim=tuple(range(33)), shape="(...)")
     return (arr + np.pi) % (2.0 * np.pi) - np.pi
 
@@ -292,6 +304,8 @@ def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
     InvalidInputError
         Wrong shape or non-finite angles (:class:`~gnssatt.errors.InvalidTypeError` for values that are not
         real numbers).
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_ROWS` rows, refused before they are copied.
 
     Examples
     --------
@@ -305,6 +319,7 @@ def rotation_from_euler(euler_gost_deg: ArrayLike) -> Rotation:
     array([[-1.,  0.,  0.],
            [ 0.,  0.,  1.]])
     """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "attitudes", euler_gost_deg=(euler_gost_deg, 1))
     angles = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n, 3)", (3,), (None, 3))
     r_normal = Rotation.from_euler("YZX", angles, degrees=True).as_matrix()
     return Rotation.from_matrix(ENU_FROM_NORMAL @ r_normal)

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gnssatt._arrays import choice, flag, path_text, scalar, shaped
-from gnssatt.errors import GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
+from gnssatt.errors import ConvergenceError, GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
 from gnssatt.rinex.nav import RinexNav, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
 
@@ -521,9 +521,12 @@ def attitude_from_rinex(
     InvalidInputError
         Fewer than two observations, baselines of the wrong shape or not finite, an unknown method, motion
         or system letter, an option out of its range; ``method="ml"`` where the likelihood grid failed
-        or solved no epoch; a ``baseline_length_m`` that the fixed epochs contradict (beyond
+        or solved no epoch; ``step_deg`` or ``window_deg`` where the grid never runs (``method="lambda"``,
+        a ``filter``) or solved no epoch (``method="auto"`` with every epoch fixed), since they would change
+        nothing; a ``baseline_length_m`` that the fixed epochs contradict (beyond
         :data:`KNOWN_LENGTH_TOLERANCE_M` plus :data:`KNOWN_LENGTH_TOLERANCE_RELATIVE` of it), the
-        message giving the measured length.
+        message giving the measured length: checked first on the first :data:`KNOWN_LENGTH_PROBE_EPOCHS`
+        epochs of a longer session, before the session runs, then on the session.
 
     Examples
     --------
@@ -581,6 +584,15 @@ def attitude_from_rinex(
         opts["window_deg"] = scalar(
             "window_deg", window_deg, minimum=0.0, maximum=MAX_WINDOW_DEG, strict=True
         )
+    grid_options: list[str] = [n for n in ("step_deg", "window_deg") if n in opts]
+    if grid_options and (method == "lambda" or filter is not None):
+        # the engine runs the likelihood grid with method ml or auto and without a filter only: these
+        # options would change nothing
+        without = "method 'lambda'" if method == "lambda" else f"filter {filter!r}"
+        raise InvalidInputError(
+            f"{' and '.join(grid_options)} set the likelihood grid, which {without} never runs: leave "
+            "them out, or use method 'ml' or 'auto'"
+        )
     observations = _obs_list("observations", observations)
     n_rover = len(observations) - 1
     if baseline_length_m is not None:
@@ -602,24 +614,23 @@ def attitude_from_rinex(
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
     _check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)
-    s = _core.gnss_run(
-        si.observations(),
-        ni.navigation(),
-        _core.GnssOptions(
-            systems=systems,
-            frequencies=n_freq,
-            motion=motion,
-            method=method,
-            continuity=continuity,
-            filter=filter,
-            rigid=rigid,
-            **opts,
-        ),
+    modes: dict[str, Any] = {
+        "systems": systems,
+        "frequencies": n_freq,
+        "motion": motion,
+        "continuity": continuity,
+    }
+    options = _core.GnssOptions(  # checks every option
+        **modes, method=method, filter=filter, rigid=rigid, **opts
     )
+    if baseline_length_m is not None and len(si.time_gpst_ns) > KNOWN_LENGTH_PROBE_EPOCHS:
+        _probe_known_lengths(opts["baseline_lengths_m"], si, ni.navigation(), modes, opts)
+    s = _core.gnss_run(si.observations(), ni.navigation(), options)
     series = _series(s, si.signal_codes)
     _check_method(method, series)
+    _check_grid_options(grid_options, series)
     if baseline_length_m is not None:
-        _check_known_lengths(opts["baseline_lengths_m"], series)
+        _check_known_lengths(opts["baseline_lengths_m"], series, "the session")
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)
     return _undirected(series, [str(o.path) for o in obs])
@@ -632,9 +643,42 @@ KNOWN_LENGTH_TOLERANCE_M = 0.01
 KNOWN_LENGTH_TOLERANCE_RELATIVE = 1e-3
 
 
-def _check_known_lengths(lengths_m: list[float], series: AttitudeSeries) -> None:
+#: Epochs of the probe that checks ``baseline_length_m`` before a longer session runs: the first ones,
+#: solved without the length (LAMBDA alone). The GEONET pair of ``tests/test_option_effects.py`` (3.3 km,
+#: 30 s epochs) fixes from its first epoch, so a contradicted length is refused after these instead of the
+#: whole session; a probe that fixes none of them leaves the check to the session.
+KNOWN_LENGTH_PROBE_EPOCHS = 30
+
+
+def _probe_known_lengths(
+    lengths_m: list[float],
+    si: Any,
+    navigation: Any,
+    modes: dict[str, Any],
+    opts: dict[str, Any],
+) -> None:
+    """:func:`_check_known_lengths` on the first :data:`KNOWN_LENGTH_PROBE_EPOCHS` epochs solved without
+    the known length, before the session runs. A probe that fixes nothing, or fails, decides nothing: the
+    session's own check (and its own errors) follow."""
+    from gnssatt import _core
+
+    free = {k: v for k, v in opts.items() if k not in ("baseline_lengths_m", "step_deg", "window_deg")}
+    try:
+        probe = _core.gnss_run(
+            si.observations(slice(0, KNOWN_LENGTH_PROBE_EPOCHS)),
+            navigation,
+            _core.GnssOptions(**modes, method="lambda", filter=None, **free),
+        )
+    except (InvalidInputError, ConvergenceError):
+        return
+    first = f"the first {KNOWN_LENGTH_PROBE_EPOCHS} epochs (solved without the length, before the session)"
+    _check_known_lengths(lengths_m, _series(probe, si.signal_codes), first)
+
+
+def _check_known_lengths(lengths_m: list[float], series: AttitudeSeries, epochs: str) -> None:
     """Refuses ``baseline_length_m`` where the epochs fixed by LAMBDA measure another length (the engine
-    uses the known length only where it helps, so a wrong one left the result unchanged)."""
+    uses the known length only where it helps, so a wrong one left the result unchanged); ``epochs`` says
+    which epochs were looked at in the message."""
     rows = series.solved & (series.fixed == 1) & (series.method == "lambda")
     if not np.any(rows):
         return  # nothing measured the length independently
@@ -642,9 +686,21 @@ def _check_known_lengths(lengths_m: list[float], series: AttitudeSeries) -> None
     for r, (given, got) in enumerate(zip(lengths_m, measured, strict=True)):
         if abs(got - given) > KNOWN_LENGTH_TOLERANCE_M + KNOWN_LENGTH_TOLERANCE_RELATIVE * given:
             raise InvalidInputError(
-                f"baseline_length_m: rover {r + 1} is given as {given:.4g} m, but the {int(np.sum(rows))} "
-                f"fixed epochs measure {got:.4f} m (median): give the measured length or none"
+                f"baseline_length_m: rover {r + 1} is given as {given:.4g} m, but {int(np.sum(rows))} "
+                f"fixed epochs of {epochs} measure {got:.4f} m (median): give the measured length or none"
             )
+
+
+def _check_grid_options(names: list[str], series: AttitudeSeries) -> None:
+    """Refuses ``step_deg`` and ``window_deg`` where the likelihood grid solved no epoch: with method
+    ``"auto"`` it runs only on epochs LAMBDA left unfixed (and within 100 m in baseline mode), so the
+    options changed nothing."""
+    if names and not np.any(series.method == "ml"):
+        raise InvalidInputError(
+            f"{' and '.join(names)} set the likelihood grid, which solved none of the {len(series.method)} "
+            "epochs (method 'auto' runs it only where LAMBDA fixed nothing, and in baseline mode within "
+            "100 m): they changed nothing; leave them out, or use method 'ml'"
+        )
 
 
 def _check_method(method: str, series: AttitudeSeries) -> None:

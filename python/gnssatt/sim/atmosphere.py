@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gnssatt._arrays import float_array, scalar
+from gnssatt._arrays import MAX_BATCH_VALUES, batch_limit, float_array, scalar
 
 __all__ = ["niell_mapping", "saastamoinen_zenith_m", "troposphere_delay_m"]
 
@@ -79,7 +79,10 @@ def niell_mapping(
     ------
     InvalidTypeError, InvalidInputError
         As :func:`saastamoinen_zenith_m`; ``elevation_rad`` not finite.
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_VALUES` elevations, refused before they are copied.
     """
+    batch_limit(MAX_BATCH_VALUES, "MAX_BATCH_VALUES", "elevations", elevation_rad=(elevation_rad, 0))
     lat = abs(np.degrees(scalar("lat_rad", lat_rad, minimum=-np.pi / 2, maximum=np.pi / 2)))
     h = scalar("height_m", height_m, minimum=HEIGHT_RANGE_M[0], maximum=HEIGHT_RANGE_M[1])
     el = float_array("elevation_rad", elevation_rad, ndim=(0, 1, 2, 3, 4), shape="(...)")
@@ -97,7 +100,10 @@ def troposphere_delay_m(lat_rad: float, height_m: float, elevation_rad: ArrayLik
     ------
     InvalidTypeError, InvalidInputError
         As :func:`niell_mapping`.
+    WorkLimitError
+        As :func:`niell_mapping`.
     """
+    batch_limit(MAX_BATCH_VALUES, "MAX_BATCH_VALUES", "elevations", elevation_rad=(elevation_rad, 0))
     zd, zw = saastamoinen_zenith_m(lat_rad, height_m)
     md, mw = niell_mapping(lat_rad, height_m, elevation_rad)
     return zd * md + zw * mw

@@ -26,9 +26,20 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from gnssatt._arrays import finite_result, float_array, generator, instance, integer, scalar, vector_array
+from gnssatt._arrays import (
+    MAX_BATCH_ROWS,
+    batch_limit,
+    finite_result,
+    float_array,
+    generator,
+    instance,
+    integer,
+    scalar,
+    vector_array,
+)
 from gnssatt._arrays import rows as _rows
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
+from gnssatt.geometry import MAX_BASELINES
 from gnssatt.observations import AttitudeFixes, PhaseObservations
 from gnssatt.orbit.constellation import Constellation
 from gnssatt.orbit.masks import earth_occlusion_mask
@@ -62,7 +73,16 @@ def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def right_jacobian(a: ArrayLike) -> NDArray[np.float64]:
-    """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``."""
+    """Right Jacobian of SO(3), (..., 3, 3): ``exp(-[a x]) d/dt exp([a x]) = [(J_r(a) da/dt) x]``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``a`` not of shape (..., 3) with finite components within +-``MAX_ANGLE_RAD``
+        (:class:`~gnssatt.errors.WorkLimitError` for more than :data:`gnssatt._arrays.MAX_BATCH_ROWS`
+        rotation vectors, refused before they are copied).
+    """
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "rotation vectors", a=(a, 1))
     v = vector_array("a", a, ndim=(1, 2, 3), shape="(..., 3)")
     if v.size and np.max(np.abs(v)) > MAX_ANGLE_RAD:
         raise InvalidInputError(
@@ -93,10 +113,13 @@ def orbital_hold_motion(
     InvalidInputError
         Wrong shapes or non-finite values; ``period_s`` below 1e-3 s; ``amplitude_rad`` beyond +-pi
         (:class:`~gnssatt.errors.InvalidTypeError` for values of the wrong kind).
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_ROWS` times, refused before they are copied.
     ConvergenceError
         A non-finite body rate.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
+    batch_limit(MAX_BATCH_ROWS, "MAX_BATCH_ROWS", "times", t=(t, 0))
     tt = float_array("t", t, ndim=1, shape="(n_t,)")
     amp = float_array("amplitude_rad", amplitude_rad, ndim=1, shape="(3,)")
     per = float_array("period_s", period_s, ndim=1, shape="(3,)")
@@ -184,6 +207,8 @@ def gyro_output(
 
 
 def _baselines(value: ArrayLike) -> NDArray[np.float64]:
+    # counted from the shape before the copy: 10^7 rows of baselines took over 10 s to be scanned
+    batch_limit(MAX_BASELINES, "MAX_BASELINES", "baselines", baselines_m=(value, 1))
     b = vector_array("baselines_m", value, ndim=2, shape="(m, 3)", nonzero=True)
     norm = np.linalg.norm(b, axis=1)
     if len(b) == 0 or norm.max() > MAX_BASELINE_M:
@@ -249,6 +274,8 @@ def phase_observations(
         ``phase_sigma_cycles``, ``phase_sigma_cycles`` above 1e3 (``SIGMA_RANGE_CYCLES``),
         ``max_satellites`` < 0, ``slips`` not ``(time, satellite index in range,
         integer cycles)`` rows.
+    WorkLimitError
+        More than :data:`gnssatt.geometry.MAX_BASELINES` rows of ``baselines_m``, refused before the copy.
     """
     instance("receiver", receiver, OrbitalReceiver, "a gnssatt.sim OrbitalReceiver")
     instance("gnss", gnss, Constellation, "a gnssatt.sim Constellation")
@@ -337,6 +364,8 @@ def attitude_fixes(
     ------
     InvalidInputError
         Bad types, shapes or values (``min_satellites`` < 1, ``phase_sigma_cycles`` <= 0).
+    WorkLimitError
+        More than :data:`gnssatt.geometry.MAX_BASELINES` rows of ``baselines_m``, refused before the copy.
     DegenerateGeometryError
         An epoch whose lines of sight and baselines do not fix all three attitude angles.
     """

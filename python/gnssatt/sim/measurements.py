@@ -36,6 +36,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import (
+    MAX_BATCH_VALUES,
+    batch_limit,
     checked_array,
     finite_result,
     float_array,
@@ -169,6 +171,8 @@ def phase_diffs(phases: ArrayLike) -> NDArray[np.float64]:
     InvalidInputError
         Wrong shapes (fewer than 2 antennas), non-finite values (:class:`~gnssatt.errors.InvalidTypeError` for
         values that are not numbers, ragged sequences).
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_VALUES` phases, refused before they are copied.
 
     Examples
     --------
@@ -183,12 +187,8 @@ def phase_diffs(phases: ArrayLike) -> NDArray[np.float64]:
     >>> np.round(phase_diffs(np.exp(1j * phases)), 6)
     array([[ 0.3     , -0.283185]])
     """
-    try:
-        arr = np.asarray(phases)
-    except ValueError as exc:  # ragged nested sequences
-        raise InvalidTypeError(
-            f"expected phases as a numeric array of shape (..., n_ant, M), got {exc}"
-        ) from exc
+    batch_limit(MAX_BATCH_VALUES, "MAX_BATCH_VALUES", "phases", phases=(phases, 0))
+    arr = plain_array("phases", phases)
     if arr.dtype.kind == "c":
         if arr.ndim < 2 or arr.shape[-2] < 2 or not np.all(np.isfinite(arr)):
             raise InvalidInputError(f"expected finite phases of shape (..., n_ant >= 2, M), got {arr.shape}")
@@ -219,6 +219,9 @@ def correlator_amplitude(cn0_dbhz: ArrayLike, integration_time_s: float) -> NDAr
     InvalidInputError
         Non-finite values, ``cn0_dbhz`` outside ``CN0_RANGE_DBHZ``, ``integration_time_s`` outside (0, 1e6]
         (:class:`~gnssatt.errors.InvalidTypeError` for values that are not real numbers).
+    WorkLimitError
+        More than :data:`gnssatt._arrays.MAX_BATCH_VALUES` values of ``cn0_dbhz``, refused before they are
+        copied.
 
     Examples
     --------
@@ -230,6 +233,7 @@ def correlator_amplitude(cn0_dbhz: ArrayLike, integration_time_s: float) -> NDAr
     >>> np.round(correlator_amplitude([50.0, 40.0], 1e-3), 6), round(float(np.sqrt(200.0)), 6)
     (array([14.142136,  4.472136]), 14.142136)
     """
+    batch_limit(MAX_BATCH_VALUES, "MAX_BATCH_VALUES", "values", cn0_dbhz=(cn0_dbhz, 0))
     c = checked_array("cn0_dbhz", cn0_dbhz, ndim=(0, 1), shape="() or (n_sat,)")
     lo, hi = CN0_RANGE_DBHZ
     if c.size and (c.min() < lo or c.max() > hi):
