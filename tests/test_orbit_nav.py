@@ -118,3 +118,23 @@ def test_filter_bad_input() -> None:
         orbit_filter(meas, x0, np.eye(5))
     with pytest.raises(TypeError, match="SpaceborneMeasurements"):
         orbit_filter(truth, x0, P0)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("radius_m", [1.5e6, 6.0e6, 0.98 * 6_378_136.0])
+def test_noisy_orbit_refuses_x0_below_the_models_surface_by_name(radius_m: float) -> None:
+    # The core propagates only above 0.99 of the model's equatorial radius; the check before it names x0
+    # (a radius of 1e6-6.3e6 m used to pass and come back from the core as position_m).
+    x0 = np.array([radius_m, 0.0, 0.0, 0.0, 7.5e3, 0.0])
+    with pytest.raises(InvalidInputError, match=r"x0\[:3\]"):
+        noisy_orbit(x0, np.arange(0.0, 30.0, 10.0), 1, accel_psd_m2_s3=0.0)
+    with pytest.raises(InvalidInputError, match="position_m"):
+        orbit.glonass_propagate([radius_m, 0.0, 0.0], [0.0, 7.5e3, 0.0], 10.0)
+    with pytest.raises(InvalidInputError, match="radius_m"):
+        orbit.CircularOrbit(radius_m, 0.0, 0.0, 0.0)
+
+
+def test_the_orbit_radius_bound_is_the_cores() -> None:
+    # Just above the bound the core propagates (no error from either layer).
+    r = 1.0001 * orbit.MIN_ORBIT_RADIUS_FRACTION * orbit.GlonassModel().equatorial_radius_m
+    state = orbit.glonass_propagate([r, 0.0, 0.0], [0.0, 7.9e3, 0.0], 10.0)
+    assert np.isfinite(state.position_m).all()

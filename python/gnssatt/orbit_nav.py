@@ -19,7 +19,7 @@ from gnssatt import _core
 from gnssatt._arrays import finite_result, float_array, generator, instance, real_array, scalar, text
 from gnssatt.errors import InvalidInputError, InvalidTypeError, WorkLimitError
 from gnssatt.observations import SpaceborneMeasurements
-from gnssatt.orbit import MIN_ORBIT_RADIUS_M, GlonassModel, glonass_propagate, rk4_steps
+from gnssatt.orbit import MIN_ORBIT_RADIUS_FRACTION, GlonassModel, glonass_propagate, rk4_steps
 
 #: Most epochs of :func:`noisy_orbit` (a Python loop, about 0.1 ms per epoch).
 MAX_EPOCHS = 1_000_000
@@ -86,7 +86,8 @@ def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.
 
 
 def _initial_state(x0: ArrayLike, model: GlonassModel) -> NDArray[np.float64]:
-    """``x0`` as a (6,) bound orbit: radius in [MIN_ORBIT_RADIUS_M, MAX_ORBIT_RADIUS_M], speed at most two
+    """``x0`` as a (6,) bound orbit: radius in [MIN_ORBIT_RADIUS_FRACTION x the model's equatorial radius,
+    MAX_ORBIT_RADIUS_M], speed at most two
     escape speeds plus the axes' rotation (the bound of :func:`gnssatt.orbit.glonass_propagate`)."""
     x = float_array("x0", x0, ndim=1, shape="(6,)")
     if x.shape != (6,):
@@ -94,9 +95,10 @@ def _initial_state(x0: ArrayLike, model: GlonassModel) -> NDArray[np.float64]:
     with np.errstate(over="ignore"):
         r = float(np.linalg.norm(x[:3]))
         v = float(np.linalg.norm(x[3:]))
-    if not MIN_ORBIT_RADIUS_M <= r <= MAX_ORBIT_RADIUS_M:
+    r_min = MIN_ORBIT_RADIUS_FRACTION * model.equatorial_radius_m
+    if not r_min <= r <= MAX_ORBIT_RADIUS_M:
         raise InvalidInputError(
-            f"expected x0[:3] between {MIN_ORBIT_RADIUS_M:g} and {MAX_ORBIT_RADIUS_M:g} m from the Earth's "
+            f"expected x0[:3] between {r_min:.6g} and {MAX_ORBIT_RADIUS_M:g} m from the Earth's "
             f"centre, got |x0[:3]| = {r:.6g} m"
         )
     v_max = 2.0 * np.sqrt(2.0 * abs(model.gm_m3_s2) / r) + abs(model.omega_rad_s) * r
@@ -150,8 +152,9 @@ def noisy_orbit(
     ------
     InvalidInputError
         Bad shapes, types or values; times not strictly increasing; ``step_s`` <= 0; ``x0`` not a bound
-        orbit (radius outside [``MIN_ORBIT_RADIUS_M``, :data:`MAX_ORBIT_RADIUS_M`], speed above two escape
-        speeds plus the axes' rotation); ``accel_psd_m2_s3`` above :data:`MAX_ACCEL_PSD_M2_S3`.
+        orbit (radius outside [``MIN_ORBIT_RADIUS_FRACTION`` of the model's equatorial radius,
+        :data:`MAX_ORBIT_RADIUS_M`], speed above two escape speeds plus the axes' rotation);
+        ``accel_psd_m2_s3`` above :data:`MAX_ACCEL_PSD_M2_S3`.
     WorkLimitError
         More than ``MAX_EPOCHS`` (1e6) epochs, or more than :data:`gnssatt.orbit.MAX_RK4_STEPS` (1e7) RK4
         steps over the whole span (checked before any work).

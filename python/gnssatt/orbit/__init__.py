@@ -34,9 +34,10 @@ OMEGA_E_RAD_S = _constants.OMEGA_E_RAD_S
 #: :func:`gnssatt.orbit_nav.noisy_orbit` or :func:`gnssatt.orbit_nav.orbit_filter` call): the core's
 #: limit, about 58 days in 1 s steps, some 8 s of work.
 MAX_RK4_STEPS = int(_core.ORBIT_MAX_RK4_STEPS)
-#: Closest distance to the Earth's centre of a propagated position, m (central gravity ``GM / r^2`` grows
-#: without bound below it; every orbit lies far above).
-MIN_ORBIT_RADIUS_M = 1.0e6
+#: Closest distance to the Earth's centre of a propagated position, as a fraction of the model's equatorial
+#: radius (0.99: below the surface, the polar radius being 0.9966 of it, the model no longer describes the
+#: motion): the core's bound, checked here so that the message names the caller's argument.
+MIN_ORBIT_RADIUS_FRACTION = float(_core.ORBIT_MIN_RADIUS_FRACTION)
 #: Julian dates accepted by :func:`gmst_rad` (4713 BC to AD 22666): the IAU-82 polynomial is cubic in the
 #: centuries from J2000 and meaningless far outside.
 JULIAN_DATE_RANGE = (0.0, 1.0e7)
@@ -164,7 +165,8 @@ def glonass_propagate(
     ------
     InvalidInputError
         Non-finite or wrongly shaped state, a position nearer the Earth's centre than
-        ``MIN_ORBIT_RADIUS_M`` (1000 km), negative duration, step <= 0 or longer than the duration.
+        ``MIN_ORBIT_RADIUS_FRACTION`` (0.99) of the model's equatorial radius, negative duration,
+        step <= 0 or longer than the duration.
     WorkLimitError
         More than ``MAX_RK4_STEPS`` (1e7) steps.
     ConvergenceError
@@ -193,10 +195,12 @@ def glonass_propagate(
         acc = _vec3("lunisolar_m_s2", lunisolar_m_s2)
         m = GlonassModel(m.gm_m3_s2, m.j2, m.equatorial_radius_m, m.omega_rad_s, tuple(acc))
     r = _vec3("position_m", position_m)
-    if np.linalg.norm(r) < MIN_ORBIT_RADIUS_M:
+    r_min = MIN_ORBIT_RADIUS_FRACTION * m.equatorial_radius_m
+    if not np.linalg.norm(r) >= r_min:
         raise InvalidInputError(
-            f"expected position_m at least {MIN_ORBIT_RADIUS_M} m away from the Earth's centre, "
-            f"got |r| = {np.linalg.norm(r)} m"
+            f"expected position_m at least {r_min:.6g} m away from the Earth's centre ("
+            f"{MIN_ORBIT_RADIUS_FRACTION} of the model's equatorial radius), got |r| = "
+            f"{np.linalg.norm(r):.6g} m"
         )
     state = np.concatenate([r, _vec3("velocity_m_s", velocity_m_s)])
     d = scalar("duration_s", duration_s)
@@ -234,8 +238,8 @@ class CircularOrbit:
     Raises
     ------
     InvalidInputError
-        Non-finite or non-real elements, a radius outside [``MIN_ORBIT_RADIUS_M``, 1e12] m, a
-        non-positive ``gm_m3_s2``.
+        Non-finite or non-real elements, a radius outside [``MIN_ORBIT_RADIUS_FRACTION`` x the WGS-84
+        equatorial radius, 1e12] m, a non-positive ``gm_m3_s2``.
     """
 
     radius_m: float
@@ -247,7 +251,8 @@ class CircularOrbit:
     def __post_init__(self) -> None:
         for name in ("inclination_rad", "raan_rad", "arg_latitude0_rad"):
             object.__setattr__(self, name, scalar(name, getattr(self, name)))
-        r = scalar("radius_m", self.radius_m, minimum=MIN_ORBIT_RADIUS_M, unit="m")
+        r_min = MIN_ORBIT_RADIUS_FRACTION * _constants.WGS84_A_M
+        r = scalar("radius_m", self.radius_m, minimum=r_min, unit="m")
         object.__setattr__(self, "radius_m", scalar("radius_m", r, maximum=1e12, unit="m"))
         object.__setattr__(self, "gm_m3_s2", scalar("gm_m3_s2", self.gm_m3_s2, minimum=0.0, strict=True))
 

@@ -266,10 +266,14 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<StateWithStm>()?;
     m.add_class::<OrbitStates>()?;
     m.add_class::<OrbitFilterRun>()?;
-    // The limit lives in the core; Python reads it from here instead of restating it.
+    // The limits live in the core; Python reads them from here instead of restating them.
     m.add(
         "ORBIT_MAX_RK4_STEPS",
         gnssatt_core::orbit::glonass::MAX_RK4_STEPS,
+    )?;
+    m.add(
+        "ORBIT_MIN_RADIUS_FRACTION",
+        gnssatt_core::orbit::glonass::MIN_RADIUS_FRACTION,
     )?;
     Ok(())
 }
