@@ -387,14 +387,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.ml_baseline",
         likelihood.ml_baseline,
-        lambda: {
-            "phase_diffs": _phases()["phase_diffs"][0],
-            "los": LOS,
-            "baseline_length_m": 1.0,
-            "wavelength": L1,
-            "step_deg": 2.0,
-            "window_deg": WINDOW[:2],
-        },
+        VALID_CALLS["gnssatt.ml_baseline"],
         (
             Arg(
                 "phase_diffs",

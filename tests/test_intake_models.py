@@ -154,19 +154,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "Constellation.state_ecef": (GPS.state_ecef, {"t": T3, "theta0_rad": 0.0}),
     "gps_nominal": _shared("gnssatt.sim.gps_nominal"),
     "glonass_nominal": _shared("gnssatt.sim.glonass_nominal"),
-    "walker": (
-        sim.walker,
-        {
-            "n_sat": 24,
-            "n_planes": 3,
-            "phasing": 1,
-            "inclination_deg": 56.0,
-            "semi_major_axis_m": 2.96e7,
-            "prefix": "E",
-            "frequency_hz": 1.57542e9,
-            "raan0_deg": 0.0,
-        },
-    ),
+    "walker": _shared("gnssatt.sim.walker"),
     # gnssatt.constants
     "glonass_frequency_hz": _shared("gnssatt.constants.glonass_frequency_hz"),
     "glonass_wavelength_m": _shared("gnssatt.constants.glonass_wavelength_m"),
@@ -174,23 +162,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "phase_diffs": _shared("gnssatt.sim.phase_diffs"),
     "correlator_amplitude": _shared("gnssatt.sim.correlator_amplitude"),
     "wrap_rad": _shared("gnssatt.sim.wrap_rad"),
-    "simulate_array": (
-        sim.simulate_array,
-        {
-            "geometry": GEOM,
-            "attitude": Rotation.identity(),
-            "antennas_body_m": sim.equilateral_triangle(1.0),
-            "wavelengths_m": GPS.wavelengths_m(),
-            "rng": RNG,
-            "code_sigma_m": 0.5,
-            "phase_sigma_rad": 0.1,
-            "doppler_sigma_hz": 0.1,
-            "clock_bias_s": 1e-4,
-            "ambiguity_max": 10,
-            "cn0_dbhz": 45.0,
-            "integration_time_s": 1e-3,
-        },
-    ),
+    "simulate_array": _shared("gnssatt.sim.simulate_array"),
     # gnssatt.orbit.receivers
     "GroundReceiver": (
         sim.GroundReceiver,
@@ -274,26 +246,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         },
     ),
     # gnssatt.sim.spaceborne
-    "simulate_spaceborne": (
-        sim.simulate_spaceborne,
-        {
-            "receiver_position_m": MEAS.sat_position_m[:, 0] * 0.3,
-            "receiver_velocity_m_s": np.tile([0.0, 7.5e3, 0.0], (3, 1)),
-            "times_s": MEAS.times_s,
-            "constellation": GPS,
-            "rng": RNG,
-            "half_angle_deg": 85.0,
-            "atmosphere_m": 5e4,
-            "code_sigma_m": 1.0,
-            "doppler_sigma_hz": 0.2,
-            "clock_bias0_s": 1e-4,
-            "clock_drift0": 1e-8,
-            "q_bias_s2_s": 1e-20,
-            "q_drift_1_s": 1e-20,
-            "isb_m": 20.0,
-            "outages": [(0.0, 10.0, 3)],
-        },
-    ),
+    "simulate_spaceborne": _shared("gnssatt.sim.simulate_spaceborne"),
     "SpaceborneMeasurements": (SpaceborneMeasurements, dict(MEAS.__dict__)),
     "SpaceborneMeasurements.select_systems": (MEAS.select_systems, {"prefixes": "G"}),
     # gnssatt.sim.attitude_scenario
@@ -384,18 +337,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         {"x0": X0, "times_s": T3, "rng": RNG, "accel_psd_m2_s3": 1e-8, "step_s": 10.0, "model": None},
     ),
     "receiver_fix": _shared("gnssatt.orbit_nav.receiver_fix"),
-    "orbit_filter": (
-        orbit_nav.orbit_filter,
-        {
-            "data": MEAS,
-            "x0": FILTERED.states[0],
-            "p0": P0,
-            "coupling": "tight",
-            "accel_psd_m2_s3": 1e-8,
-            "step_s": 10.0,
-            "use_doppler": True,
-        },
-    ),
+    "orbit_filter": _shared("gnssatt.orbit_nav.orbit_filter"),
     "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
     # gnssatt.attitude.dynamics
     "TumbleModel": (
