@@ -215,7 +215,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "matrix_method.matrix_attitude",
         matrix_method.matrix_attitude,
-        lambda: {"baselines": BASELINES, "los": LOS, "range_diffs": RANGE_DIFFS},
+        VALID_CALLS["gnssatt.matrix_attitude"],
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -312,7 +312,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.prior_from_velocity",
         likelihood.prior_from_velocity,
-        lambda: {"velocity_enu": [100.0, 200.0, 5.0], "acceleration_enu": [1.0, -2.0, 0.0]},
+        VALID_CALLS["gnssatt.prior_from_velocity"],
         (
             Arg("velocity_enu", "array", shapes=ARRAY_SHAPE_3, out_of_range=([0.0, 0.0, 5.0],)),
             Arg("acceleration_enu", "array", shapes=ARRAY_SHAPE_3, optional=True),
@@ -496,7 +496,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "visibility.visibility_axis",
         visibility.visibility_axis,
-        lambda: {"visible_los": LOS[:3], "invisible_los": -LOS[3:]},
+        VALID_CALLS["gnssatt.visibility_axis"],
         (
             Arg("visible_los", "array", shapes=(LOS[:3, :2], LOS[0]), out_of_range=(LOS[:3] * 2,)),
             Arg("invisible_los", "array", shapes=(LOS[3:, :2], LOS[3]), out_of_range=(LOS[3:] * 2,)),
@@ -506,12 +506,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "visibility.visibility_sets",
         visibility.visibility_sets,
-        lambda: {
-            "receiver": _receiver()[0],
-            "constellation": _receiver()[1],
-            "t": np.arange(3.0),
-            "axes_orbital": np.tile([0.0, 0.0, 1.0], (3, 1)),
-        },
+        VALID_CALLS["gnssatt.attitude.visibility.visibility_sets"],
         (
             Arg("receiver", "object"),
             Arg("constellation", "object"),

@@ -182,21 +182,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "OrbitalReceiver.state_eci": (LEO.state_eci, {"t": T3}),
     "GroundReceiver.dcm_eci_from_enu": (GROUND.dcm_eci_from_enu, {"t": T3}),
     # gnssatt.sim.platforms (one-second sessions written into a temporary folder)
-    "simulate_platform": (
-        sim.simulate_platform,
-        {
-            "folder": _PLATFORM_DIR,
-            "trajectory": sim.Trajectory((sim.Leg(5.0, 10.0, 3.0),)),
-            "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
-            "duration_s": 1.0,
-            "interval_s": 0.5,
-            "noise": "gps_l1_ublox",
-            "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
-            "elevation_min_deg": 10.0,
-            "start_s": 7200.0,
-            "rng": 1,
-        },
-    ),
+    "simulate_platform": _shared("gnssatt.sim.simulate_platform"),
     **{
         name: (
             getattr(sim, name),
@@ -354,23 +340,9 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         },
     ),
     "TumbleModel.circular": (tumble.TumbleModel.circular, {"altitude_m": 5e5}),
-    "propagate_axes": (
-        tumble.propagate_axes,
-        {"params": np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03]), "t": T3, "step_s": 1.0},
-    ),
-    "axis_cost": (
-        tumble.axis_cost,
-        {
-            "params": np.array([[0.1, 0.2, 0.3, 0.01, 0.02, 0.03]]),
-            "t": T3,
-            "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
-            "step_s": 1.0,
-        },
-    ),
-    "propagate": (
-        tumble.propagate,
-        {"params": np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03]), "t": T3, "step_s": 1.0},
-    ),
+    "propagate_axes": _shared("gnssatt.attitude.dynamics.propagate_axes"),
+    "axis_cost": _shared("gnssatt.attitude.dynamics.axis_cost"),
+    "propagate": _shared("gnssatt.attitude.dynamics.propagate"),
     "fold_symmetric": _shared("gnssatt.attitude.dynamics.fold_symmetric"),
     "noise_cost_threshold": _shared("gnssatt.attitude.dynamics.noise_cost_threshold"),
     "fit_rotation": (
@@ -410,6 +382,7 @@ OBJECTS = {
     "data",
     "model",
     "trajectory",
+    "blockage",
 }
 # Parameters that take text.
 TEXT = {"frame", "plane", "band", "prefix", "coupling", "prefixes", "line1", "line2", "noise", "systems"}
@@ -453,6 +426,7 @@ SKIP = {
     "visible",
     "gravity_gradient",
     "use_doppler",
+    "atmosphere",
     "mutation",
     "satellites_eci_m",
     "receiver_eci_m",
@@ -479,6 +453,8 @@ NONE_OK = {
     ("simulate_array", "cn0_dbhz"),
     *((name, "rng") for name in ("simulate_platform", "car", "ship", "aircraft")),
     ("simulate_platform", "base_offset_enu_m"),  # None: no base
+    ("simulate_platform", "blockage"),  # None: open sky
+    *((name, "model") for name in ("propagate_axes", "axis_cost", "propagate")),  # None: the default model
 }
 # Arrays that hold NaN where a value is unknown or not measured (checked by the specific cases).
 NAN_OK = {("SpaceborneMeasurements", "pseudorange_m"), ("SpaceborneMeasurements", "doppler_hz")}
