@@ -183,23 +183,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "GroundReceiver.dcm_eci_from_enu": (GROUND.dcm_eci_from_enu, {"t": T3}),
     # gnssatt.sim.platforms (one-second sessions written into a temporary folder)
     "simulate_platform": _shared("gnssatt.sim.simulate_platform"),
-    **{
-        name: (
-            getattr(sim, name),
-            {
-                "folder": _PLATFORM_DIR,
-                "n_antennas": 2,
-                "duration_s": 1.0,
-                "interval_s": 0.5,
-                "noise": "gps_l1_ublox",
-                "baseline_m": np.array([1.0, 0.8]),
-                "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
-                "start_s": 7200.0,
-                "rng": 1,
-            },
-        )
-        for name in ("car", "ship", "aircraft")
-    },
+    **{name: _shared(f"gnssatt.sim.{name}") for name in ("car", "ship", "aircraft")},
     "Leg": (sim.Leg, {"duration_s": 5.0, "speed_m_s": 10.0, "turn_rate_deg_s": 3.0, "climb_rate_m_s": 1.0}),
     "Trajectory": (
         sim.Trajectory,
