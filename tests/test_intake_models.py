@@ -40,7 +40,6 @@ KEPLER = GPS.orbits
 T3 = np.array([0.0, 10.0, 20.0])
 ATT3 = Rotation.from_rotvec(np.zeros((3, 3)))
 BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-X0 = np.array([7.0e6, 0.0, 0.0, 0.0, 7.5e3, 0.0])
 P0 = np.diag([100.0, 100.0, 100.0, 1.0, 1.0, 1.0])
 
 
@@ -302,10 +301,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "tle_states": _shared("gnssatt.orbit.tle_states"),
     # gnssatt.orbit_nav
     "white_acceleration_noise": _shared("gnssatt.orbit_nav.white_acceleration_noise"),
-    "noisy_orbit": (
-        orbit_nav.noisy_orbit,
-        {"x0": X0, "times_s": T3, "rng": RNG, "accel_psd_m2_s3": 1e-8, "step_s": 10.0, "model": None},
-    ),
+    "noisy_orbit": _shared("gnssatt.orbit_nav.noisy_orbit"),
     "receiver_fix": _shared("gnssatt.orbit_nav.receiver_fix"),
     "orbit_filter": _shared("gnssatt.orbit_nav.orbit_filter"),
     "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
