@@ -268,17 +268,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "lunisolar_m_s2": (0.0, 0.0, 1e-6),
         },
     ),
-    "glonass_propagate": (
-        orbit.glonass_propagate,
-        {
-            "position_m": np.array([2.5e7, 0.0, 0.0]),
-            "velocity_m_s": np.array([0.0, 3.0e3, 1.0e3]),
-            "duration_s": 100.0,
-            "step_s": 10.0,
-            "lunisolar_m_s2": np.zeros(3),
-            "model": orbit.GlonassModel(),
-        },
-    ),
+    "glonass_propagate": _shared("gnssatt.orbit.glonass_propagate"),
     "CircularOrbit": (
         orbit.CircularOrbit,
         {
@@ -294,10 +284,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         {"times_s": T3, "theta0_rad": 0.0, "omega_rad_s": 7.29e-5},
     ),
     "gmst_rad": _shared("gnssatt.orbit.gmst_rad"),
-    "teme_to_ecef": (
-        orbit.teme_to_ecef,
-        {"r_teme_m": np.array([[7e6, 0, 0.0]]), "v_teme_m_s": np.array([[0, 7e3, 0.0]]), "jd_ut1": 2460000.5},
-    ),
+    "teme_to_ecef": _shared("gnssatt.orbit.teme_to_ecef"),
     "tle_states": _shared("gnssatt.orbit.tle_states"),
     # gnssatt.orbit_nav
     "white_acceleration_noise": _shared("gnssatt.orbit_nav.white_acceleration_noise"),

@@ -18,7 +18,7 @@ from hostile import scenario as s
 from hostile.trials import monte_trial
 from scipy.spatial.transform import Rotation
 
-from gnssatt import montecarlo, sim
+from gnssatt import montecarlo, orbit, sim
 from gnssatt.attitude import dynamics as tumble
 
 
@@ -398,11 +398,12 @@ VALID_CALLS: dict[str, Callable[[], dict[str, Any]]] = {
         "duration_s": 600.0,
         "step_s": 10.0,
         "lunisolar_m_s2": np.array([1e-6, 2e-6, -1e-6]),
+        "model": orbit.GlonassModel(),
     },
     "gnssatt.orbit.gmst_rad": lambda: {"jd_ut1": np.array([2451545.0, 2460000.5])},
     "gnssatt.orbit.teme_to_ecef": lambda: {
-        "r_teme_m": np.array([7e6, 0.0, 0.0]),
-        "v_teme_m_s": np.array([0.0, 7.5e3, 0.0]),
+        "r_teme_m": np.array([[7e6, 0.0, 0.0]]),  # (1, 3): one state, as rows
+        "v_teme_m_s": np.array([[0.0, 7.5e3, 0.0]]),
         "jd_ut1": 2460000.5,
     },
     "gnssatt.orbit.tle_states": lambda: {
