@@ -29,6 +29,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
+from valid_calls import VALID_CALLS
 
 from gnssatt import geometry, rotation, sim
 from gnssatt.attitude import (
@@ -184,37 +185,37 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "rotation.euler_to_dcm",
         rotation.euler_to_dcm,
-        lambda: {"seq": "ZYX", "angles": [0.1, 0.2, 0.3]},
+        VALID_CALLS["gnssatt.rotation.euler_to_dcm"],
         (Arg("seq", "choice"), Arg("angles", "array", shapes=ARRAY_SHAPE_3), Arg("degrees", "flag")),
     ),
     Function(
         "rotation.dcm_to_euler",
         rotation.dcm_to_euler,
-        lambda: {"seq": "ZYX", "dcm": TRUTH.as_matrix()},
+        VALID_CALLS["gnssatt.rotation.dcm_to_euler"],
         (Arg("seq", "choice"), Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),))),
     ),
     Function(
         "rotation.quat_to_dcm",
         rotation.quat_to_dcm,
-        lambda: {"quat": TRUTH.as_quat()},
+        VALID_CALLS["gnssatt.rotation.quat_to_dcm"],
         (Arg("quat", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),),
     ),
     Function(
         "rotation.dcm_to_quat",
         rotation.dcm_to_quat,
-        lambda: {"dcm": TRUTH.as_matrix()},
+        VALID_CALLS["gnssatt.rotation.dcm_to_quat"],
         (Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),)),),
     ),
     Function(
         "rotation.nearest_rotation",
         rotation.nearest_rotation,
-        lambda: {"matrix": TRUTH.as_matrix() + 0.01},
+        VALID_CALLS["gnssatt.rotation.nearest_rotation"],
         (Arg("matrix", "array", shapes=MATRIX_33),),
     ),
     Function(
         "matrix_method.matrix_attitude",
         matrix_method.matrix_attitude,
-        lambda: {"baselines": BASELINES, "los": LOS, "range_diffs": RANGE_DIFFS},
+        VALID_CALLS["gnssatt.matrix_attitude"],
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -230,12 +231,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "vector_attitude.triad",
         vector_attitude.triad,
-        lambda: {
-            "b1": [1.0, 0.0, 0.0],
-            "b2": [0.0, 1.0, 0.0],
-            "r1": TRUTH.apply([1.0, 0.0, 0.0]),
-            "r2": TRUTH.apply([0.0, 1.0, 0.0]),
-        },
+        VALID_CALLS["gnssatt.triad"],
         tuple(Arg(n, "array", shapes=VEC3_OR_N3) for n in ("b1", "b2", "r1", "r2")),
     ),
     Function(
@@ -258,12 +254,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "magnetometer.yaw_from_magnetometer",
         magnetometer.yaw_from_magnetometer,
-        lambda: {
-            "b_body": [2e-5, 1e-5, 3e-5],
-            "b_orbital": [1e-5, 2e-5, -3e-5],
-            "pitch": 0.1,
-            "roll": -0.2,
-        },
+        VALID_CALLS["gnssatt.yaw_from_magnetometer"],
         (
             Arg("b_body", "array", shapes=VEC3_OR_N3),
             Arg("b_orbital", "array", shapes=VEC3_OR_N3),
@@ -275,7 +266,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "geometry.range_difference_fisher",
         geometry.range_difference_fisher,
-        lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
+        VALID_CALLS["gnssatt.geometry.range_difference_fisher"],
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -285,7 +276,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "geometry.attitude_dop",
         geometry.attitude_dop,
-        lambda: {"baselines": BASELINES, "los": LOS, "rotation": TRUTH},
+        VALID_CALLS["gnssatt.geometry.attitude_dop"],
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -295,13 +286,13 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "rotation.rotation_from_euler",
         rotation.rotation_from_euler,
-        lambda: {"euler_gost_deg": [10.0, 5.0, -3.0]},
+        VALID_CALLS["gnssatt.rotation.rotation_from_euler"],
         (Arg("euler_gost_deg", "array", shapes=(np.zeros(2), np.zeros((3, 2)), np.zeros((1, 1, 3)))),),
     ),
     Function(
         "rotation.euler_from_rotation",
         rotation.euler_from_rotation,
-        lambda: {"rotation": TRUTH},
+        VALID_CALLS["gnssatt.rotation.euler_from_rotation"],
         (Arg("rotation", "object"),),
     ),
     Function(
@@ -321,7 +312,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.prior_from_velocity",
         likelihood.prior_from_velocity,
-        lambda: {"velocity_enu": [100.0, 200.0, 5.0], "acceleration_enu": [1.0, -2.0, 0.0]},
+        VALID_CALLS["gnssatt.prior_from_velocity"],
         (
             Arg("velocity_enu", "array", shapes=ARRAY_SHAPE_3, out_of_range=([0.0, 0.0, 5.0],)),
             Arg("acceleration_enu", "array", shapes=ARRAY_SHAPE_3, optional=True),
@@ -334,7 +325,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.ml_attitude",
         likelihood.ml_attitude,
-        lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
+        VALID_CALLS["gnssatt.ml_attitude"],
         (
             Arg(
                 "phase_diffs",
@@ -366,7 +357,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.likelihood_grid",
         likelihood.likelihood_grid,
-        lambda: {**_phases(), "window_deg": WINDOW, "step_deg": 2.0},
+        VALID_CALLS["gnssatt.likelihood_grid"],
         (
             Arg(
                 "phase_diffs",
@@ -396,14 +387,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.ml_baseline",
         likelihood.ml_baseline,
-        lambda: {
-            "phase_diffs": _phases()["phase_diffs"][0],
-            "los": LOS,
-            "baseline_length_m": 1.0,
-            "wavelength": L1,
-            "step_deg": 2.0,
-            "window_deg": WINDOW[:2],
-        },
+        VALID_CALLS["gnssatt.ml_baseline"],
         (
             Arg(
                 "phase_diffs",
@@ -429,7 +413,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "gyro_gnss.gyro_propagate",
         gyro_gnss.gyro_propagate,
-        lambda: {"q0": TRUTH.as_quat(), "t": np.arange(5.0), "rates": np.full((5, 3), 0.01)},
+        VALID_CALLS["gnssatt.gyro_propagate"],
         (
             Arg("q0", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),
             # equal times; an interval of 1e300 s at 0.01 rad/s (NaN quaternions before)
@@ -512,7 +496,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "visibility.visibility_axis",
         visibility.visibility_axis,
-        lambda: {"visible_los": LOS[:3], "invisible_los": -LOS[3:]},
+        VALID_CALLS["gnssatt.visibility_axis"],
         (
             Arg("visible_los", "array", shapes=(LOS[:3, :2], LOS[0]), out_of_range=(LOS[:3] * 2,)),
             Arg("invisible_los", "array", shapes=(LOS[3:, :2], LOS[3]), out_of_range=(LOS[3:] * 2,)),
@@ -522,12 +506,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "visibility.visibility_sets",
         visibility.visibility_sets,
-        lambda: {
-            "receiver": _receiver()[0],
-            "constellation": _receiver()[1],
-            "t": np.arange(3.0),
-            "axes_orbital": np.tile([0.0, 0.0, 1.0], (3, 1)),
-        },
+        VALID_CALLS["gnssatt.attitude.visibility.visibility_sets"],
         (
             Arg("receiver", "object"),
             Arg("constellation", "object"),

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from valid_calls import VALID_CALLS, resolve
 
 from gnssatt import constants, magnetic, orbit, orbit_nav, sim
 from gnssatt.attitude import dynamics as tumble
@@ -39,7 +40,6 @@ KEPLER = GPS.orbits
 T3 = np.array([0.0, 10.0, 20.0])
 ATT3 = Rotation.from_rotvec(np.zeros((3, 3)))
 BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-X0 = np.array([7.0e6, 0.0, 0.0, 0.0, 7.5e3, 0.0])
 P0 = np.diag([100.0, 100.0, 100.0, 1.0, 1.0, 1.0])
 
 
@@ -55,55 +55,38 @@ PHASES = scen.phase_observations(
 )
 FILTERED = orbit_nav.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
 
-# name -> (callable taking keyword arguments, valid keyword arguments)
+
+def _shared(qualified: str) -> tuple[Callable[..., Any], dict[str, Any]]:
+    """The shared valid call of the public function ``qualified`` (``valid_calls.VALID_CALLS``)."""
+    return resolve(qualified), VALID_CALLS[qualified]()
+
+
+# name -> (callable taking keyword arguments, valid keyword arguments): the shared valid call where the
+# function is public (``_shared``), else (methods, classes, a second form of one function, calls whose
+# specific cases below are written against other values) its own here
 _PLATFORM_DIR = tempfile.mkdtemp(prefix="gnssatt-intake-platforms-")
 FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     # gnssatt.magnetic
-    "dipole_orbital": (
-        magnetic.dipole_orbital,
-        {"u": np.array([0.0, 1.0]), "inclination": 1.0, "radius": 7e6, "strength": 7.7e15},
-    ),
-    "dipole_coefficients": (magnetic.dipole_coefficients, {"decimal_year": 2020.0}),
+    "dipole_orbital": _shared("gnssatt.magnetic.dipole_orbital"),
+    "dipole_coefficients": _shared("gnssatt.magnetic.dipole_coefficients"),
     "magnetic.geodetic_to_ecef": (  # the same function as sim.geodetic_to_ecef, here with arrays
         magnetic.geodetic_to_ecef,
         {"lat_deg": np.array([10.0, 20.0]), "lon_deg": 5.0, "height_m": 100.0},
     ),
-    "dcm_ned_from_ecef": (magnetic.dcm_ned_from_ecef, {"lat_deg": 10.0, "lon_deg": 5.0}),
-    "dipole_field_ecef": (
-        magnetic.dipole_field_ecef,
-        {"position_ecef_m": np.array([[7e6, 0.0, 0.0]]), "decimal_year": 2020.0},
-    ),
-    "dipole_field_eci": (
-        magnetic.dipole_field_eci,
-        {
-            "position_eci_m": np.array([7e6, 0.0, 0.0]),
-            "decimal_year": 2020.0,
-            "earth_rotation_angle_rad": 0.3,
-        },
-    ),
-    "dipole_field_ned": (
-        magnetic.dipole_field_ned,
-        {"lat_deg": 10.0, "lon_deg": 5.0, "height_m": 100.0, "decimal_year": 2020.0},
-    ),
-    "igrf_field_ecef": (
-        magnetic.igrf_field_ecef,
-        {"position_ecef_m": np.array([7e6, 0.0, 0.0]), "decimal_year": 2020.0, "max_degree": 13},
-    ),
+    "dcm_ned_from_ecef": _shared("gnssatt.magnetic.dcm_ned_from_ecef"),
+    "dipole_field_ecef": _shared("gnssatt.magnetic.dipole_field_ecef"),
+    "dipole_field_eci": _shared("gnssatt.magnetic.dipole_field_eci"),
+    "dipole_field_ned": _shared("gnssatt.magnetic.dipole_field_ned"),
+    "igrf_field_ecef": _shared("gnssatt.magnetic.igrf_field_ecef"),
     # gnssatt.frames
-    "earth_rotation_angle": (sim.earth_rotation_angle, {"t": T3, "theta0_rad": 0.1}),
-    "dcm_eci_from_ecef": (sim.dcm_eci_from_ecef, {"t": T3, "theta0_rad": 0.1}),
-    "dcm_ecef_from_eci": (sim.dcm_ecef_from_eci, {"t": 1.0, "theta0_rad": 0.1}),
-    "eci_to_ecef": (
-        sim.eci_to_ecef,
-        {"r_eci": np.array([7e6, 0, 0.0]), "v_eci": np.array([0, 7e3, 0.0]), "t": 1.0, "theta0_rad": 0.0},
-    ),
-    "ecef_to_eci": (
-        sim.ecef_to_eci,
-        {"r_ecef": np.array([7e6, 0, 0.0]), "v_ecef": np.array([0, 7e3, 0.0]), "t": 1.0, "theta0_rad": 0.0},
-    ),
-    "sim.geodetic_to_ecef": (sim.geodetic_to_ecef, {"lat_deg": 10.0, "lon_deg": 20.0, "height_m": 0.0}),
-    "ecef_to_geodetic": (sim.ecef_to_geodetic, {"r_ecef": np.array([7e6, 0.0, 1e6])}),
-    "dcm_ecef_from_enu": (sim.dcm_ecef_from_enu, {"lat_deg": 10.0, "lon_deg": 20.0}),
+    "earth_rotation_angle": _shared("gnssatt.sim.earth_rotation_angle"),
+    "dcm_eci_from_ecef": _shared("gnssatt.sim.dcm_eci_from_ecef"),
+    "dcm_ecef_from_eci": _shared("gnssatt.sim.dcm_ecef_from_eci"),
+    "eci_to_ecef": _shared("gnssatt.sim.eci_to_ecef"),
+    "ecef_to_eci": _shared("gnssatt.sim.ecef_to_eci"),
+    "sim.geodetic_to_ecef": _shared("gnssatt.sim.geodetic_to_ecef"),
+    "ecef_to_geodetic": _shared("gnssatt.sim.ecef_to_geodetic"),
+    "dcm_ecef_from_enu": _shared("gnssatt.sim.dcm_ecef_from_enu"),
     # gnssatt.orbit.line_of_sight
     "Geometry.from_los": (
         sim.Geometry.from_los,
@@ -123,14 +106,11 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         },
     ),
     "Geometry.select": (GEOM.select, {"mask": np.array([0, 1])}),
-    "los_body": (sim.los_body, {"los": np.array([[0, 0, 1.0]]), "attitude": Rotation.identity()}),
-    "elevation_azimuth": (sim.elevation_azimuth, {"los_enu": np.array([[0, 0.6, 0.8]])}),
-    "line_of_sight": (sim.line_of_sight, {"receiver": GROUND, "constellation": GPS, "t": T3}),
+    "los_body": _shared("gnssatt.sim.los_body"),
+    "elevation_azimuth": _shared("gnssatt.sim.elevation_azimuth"),
+    "line_of_sight": _shared("gnssatt.sim.line_of_sight"),
     # gnssatt.orbit.kepler
-    "solve_kepler": (
-        sim.solve_kepler,
-        {"mean_anomaly_rad": np.array([0.1, 2.0]), "eccentricity": 0.1, "tol": 1e-14, "max_iter": 50},
-    ),
+    "solve_kepler": _shared("gnssatt.sim.solve_kepler"),
     "KeplerOrbits": (
         sim.KeplerOrbits,
         {
@@ -150,29 +130,13 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "KeplerOrbits.state_eci": (KEPLER.state_eci, {"t": T3}),
     "KeplerOrbits.subset": (KEPLER.subset, {"index": np.array([0, 1])}),
     # gnssatt.orbit.masks
-    "elevation_mask": (sim.elevation_mask, {"los_ref": np.array([[0, 0.6, 0.8]]), "mask_deg": 10.0}),
-    "antenna_cone_mask": (
-        sim.antenna_cone_mask,
-        {
-            "los_ref": np.array([[0, 0.6, 0.8]]),
-            "attitude": Rotation.identity(),
-            "boresight_body": np.array([0, 0, 1.0]),
-            "half_angle_deg": 80.0,
-        },
-    ),
-    "earth_occlusion_mask": (
-        sim.earth_occlusion_mask,
-        {
-            "receiver_m": np.array([7e6, 0, 0.0]),
-            "satellites_m": np.array([[2e7, 0, 0.0]]),
-            "atmosphere_m": 1e5,
-            "radius_m": 6.4e6,
-        },
-    ),
+    "elevation_mask": _shared("gnssatt.sim.elevation_mask"),
+    "antenna_cone_mask": _shared("gnssatt.sim.antenna_cone_mask"),
+    "earth_occlusion_mask": _shared("gnssatt.sim.earth_occlusion_mask"),
     # gnssatt.sim.arrays
-    "equilateral_triangle": (sim.equilateral_triangle, {"side_m": 1.0, "plane": "xy"}),
-    "random_attitude": (sim.random_attitude, {"rng": RNG, "n": 3}),
-    "random_los": (sim.random_los, {"rng": RNG, "n_sat": 3, "min_elevation_deg": 10.0}),
+    "equilateral_triangle": _shared("gnssatt.sim.equilateral_triangle"),
+    "random_attitude": _shared("gnssatt.sim.random_attitude"),
+    "random_los": _shared("gnssatt.sim.random_los"),
     # gnssatt.orbit.constellation
     "Constellation": (
         sim.Constellation,
@@ -187,45 +151,17 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "Constellation.select": (GPS.select, {"which": np.array([0, 1])}),
     "Constellation.wavelengths_m": (GPS.wavelengths_m, {"band": "L1"}),
     "Constellation.state_ecef": (GPS.state_ecef, {"t": T3, "theta0_rad": 0.0}),
-    "gps_nominal": (sim.gps_nominal, {"extra_slots_deg": [(10.0, 20.0)]}),
-    "glonass_nominal": (sim.glonass_nominal, {"raan0_deg": 0.0, "arg_latitude0_deg": 0.0}),
-    "walker": (
-        sim.walker,
-        {
-            "n_sat": 24,
-            "n_planes": 3,
-            "phasing": 1,
-            "inclination_deg": 56.0,
-            "semi_major_axis_m": 2.96e7,
-            "prefix": "E",
-            "frequency_hz": 1.57542e9,
-            "raan0_deg": 0.0,
-        },
-    ),
+    "gps_nominal": _shared("gnssatt.sim.gps_nominal"),
+    "glonass_nominal": _shared("gnssatt.sim.glonass_nominal"),
+    "walker": _shared("gnssatt.sim.walker"),
     # gnssatt.constants
-    "glonass_frequency_hz": (constants.glonass_frequency_hz, {"k": np.array([-7, 6]), "band": "L1"}),
-    "glonass_wavelength_m": (constants.glonass_wavelength_m, {"k": 1, "band": "L2"}),
+    "glonass_frequency_hz": _shared("gnssatt.constants.glonass_frequency_hz"),
+    "glonass_wavelength_m": _shared("gnssatt.constants.glonass_wavelength_m"),
     # gnssatt.sim.measurements
-    "phase_diffs": (sim.phase_diffs, {"phases": np.zeros((3, 4))}),
-    "correlator_amplitude": (sim.correlator_amplitude, {"cn0_dbhz": 45.0, "integration_time_s": 1e-3}),
-    "wrap_rad": (sim.wrap_rad, {"x": np.array([4.0, -4.0])}),
-    "simulate_array": (
-        sim.simulate_array,
-        {
-            "geometry": GEOM,
-            "attitude": Rotation.identity(),
-            "antennas_body_m": sim.equilateral_triangle(1.0),
-            "wavelengths_m": GPS.wavelengths_m(),
-            "rng": RNG,
-            "code_sigma_m": 0.5,
-            "phase_sigma_rad": 0.1,
-            "doppler_sigma_hz": 0.1,
-            "clock_bias_s": 1e-4,
-            "ambiguity_max": 10,
-            "cn0_dbhz": 45.0,
-            "integration_time_s": 1e-3,
-        },
-    ),
+    "phase_diffs": _shared("gnssatt.sim.phase_diffs"),
+    "correlator_amplitude": _shared("gnssatt.sim.correlator_amplitude"),
+    "wrap_rad": _shared("gnssatt.sim.wrap_rad"),
+    "simulate_array": _shared("gnssatt.sim.simulate_array"),
     # gnssatt.orbit.receivers
     "GroundReceiver": (
         sim.GroundReceiver,
@@ -245,38 +181,8 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "OrbitalReceiver.state_eci": (LEO.state_eci, {"t": T3}),
     "GroundReceiver.dcm_eci_from_enu": (GROUND.dcm_eci_from_enu, {"t": T3}),
     # gnssatt.sim.platforms (one-second sessions written into a temporary folder)
-    "simulate_platform": (
-        sim.simulate_platform,
-        {
-            "folder": _PLATFORM_DIR,
-            "trajectory": sim.Trajectory((sim.Leg(5.0, 10.0, 3.0),)),
-            "antennas_body_m": np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
-            "duration_s": 1.0,
-            "interval_s": 0.5,
-            "noise": "gps_l1_ublox",
-            "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
-            "elevation_min_deg": 10.0,
-            "start_s": 7200.0,
-            "rng": 1,
-        },
-    ),
-    **{
-        name: (
-            getattr(sim, name),
-            {
-                "folder": _PLATFORM_DIR,
-                "n_antennas": 2,
-                "duration_s": 1.0,
-                "interval_s": 0.5,
-                "noise": "gps_l1_ublox",
-                "baseline_m": np.array([1.0, 0.8]),
-                "base_offset_enu_m": np.array([-50.0, 20.0, 0.0]),
-                "start_s": 7200.0,
-                "rng": 1,
-            },
-        )
-        for name in ("car", "ship", "aircraft")
-    },
+    "simulate_platform": _shared("gnssatt.sim.simulate_platform"),
+    **{name: _shared(f"gnssatt.sim.{name}") for name in ("car", "ship", "aircraft")},
     "Leg": (sim.Leg, {"duration_s": 5.0, "speed_m_s": 10.0, "turn_rate_deg_s": 3.0, "climb_rate_m_s": 1.0}),
     "Trajectory": (
         sim.Trajectory,
@@ -309,40 +215,12 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         },
     ),
     # gnssatt.sim.spaceborne
-    "simulate_spaceborne": (
-        sim.simulate_spaceborne,
-        {
-            "receiver_position_m": MEAS.sat_position_m[:, 0] * 0.3,
-            "receiver_velocity_m_s": np.tile([0.0, 7.5e3, 0.0], (3, 1)),
-            "times_s": MEAS.times_s,
-            "constellation": GPS,
-            "rng": RNG,
-            "half_angle_deg": 85.0,
-            "atmosphere_m": 5e4,
-            "code_sigma_m": 1.0,
-            "doppler_sigma_hz": 0.2,
-            "clock_bias0_s": 1e-4,
-            "clock_drift0": 1e-8,
-            "q_bias_s2_s": 1e-20,
-            "q_drift_1_s": 1e-20,
-            "isb_m": 20.0,
-            "outages": [(0.0, 10.0, 3)],
-        },
-    ),
+    "simulate_spaceborne": _shared("gnssatt.sim.simulate_spaceborne"),
     "SpaceborneMeasurements": (SpaceborneMeasurements, dict(MEAS.__dict__)),
     "SpaceborneMeasurements.select_systems": (MEAS.select_systems, {"prefixes": "G"}),
     # gnssatt.sim.attitude_scenario
-    "right_jacobian": (scen.right_jacobian, {"a": np.array([0.1, 0.2, 0.3])}),
-    "orbital_hold_motion": (
-        scen.orbital_hold_motion,
-        {
-            "receiver": LEO,
-            "t": T3,
-            "amplitude_rad": np.full(3, 0.01),
-            "period_s": np.full(3, 300.0),
-            "phase_rad": np.zeros(3),
-        },
-    ),
+    "right_jacobian": _shared("gnssatt.sim.attitude_scenario.right_jacobian"),
+    "orbital_hold_motion": _shared("gnssatt.sim.attitude_scenario.orbital_hold_motion"),
     "gyro_output": (
         scen.gyro_output,
         {
@@ -372,17 +250,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "slips": np.array([[10.0, 3.0, 1.0]]),
         },
     ),
-    "attitude_fixes": (
-        scen.attitude_fixes,
-        {
-            "phases": PHASES,
-            "attitude": ATT3,
-            "baselines_m": BASELINES,
-            "rng": RNG,
-            "phase_sigma_cycles": 0.01,
-            "min_satellites": 3,
-        },
-    ),
+    "attitude_fixes": _shared("gnssatt.sim.attitude_scenario.attitude_fixes"),
     "PhaseObservations": (scen.PhaseObservations, dict(PHASES.__dict__)),
     "GyroOutput": (scen.GyroOutput, {"t": T3, "rates": np.zeros((3, 3)), "drift": np.zeros((3, 3))}),
     "AttitudeFixes": (
@@ -400,17 +268,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
             "lunisolar_m_s2": (0.0, 0.0, 1e-6),
         },
     ),
-    "glonass_propagate": (
-        orbit.glonass_propagate,
-        {
-            "position_m": np.array([2.5e7, 0.0, 0.0]),
-            "velocity_m_s": np.array([0.0, 3.0e3, 1.0e3]),
-            "duration_s": 100.0,
-            "step_s": 10.0,
-            "lunisolar_m_s2": np.zeros(3),
-            "model": orbit.GlonassModel(),
-        },
-    ),
+    "glonass_propagate": _shared("gnssatt.orbit.glonass_propagate"),
     "CircularOrbit": (
         orbit.CircularOrbit,
         {
@@ -425,42 +283,14 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         orbit.CircularOrbit(7e6, 1.7, 0.0, 0.0).state_ecef,
         {"times_s": T3, "theta0_rad": 0.0, "omega_rad_s": 7.29e-5},
     ),
-    "gmst_rad": (orbit.gmst_rad, {"jd_ut1": np.array([2451545.0, 2460000.5])}),
-    "teme_to_ecef": (
-        orbit.teme_to_ecef,
-        {"r_teme_m": np.array([[7e6, 0, 0.0]]), "v_teme_m_s": np.array([[0, 7e3, 0.0]]), "jd_ut1": 2460000.5},
-    ),
-    "tle_states": (
-        orbit.tle_states,
-        {
-            "line1": "1 25544U 98067A   20062.59097222  .00016717  00000-0  10270-3 0  9006",
-            "line2": "2 25544  51.6442 147.0064 0004607  95.6506 329.8285 15.49249062 35087",
-            "times": np.array(["2020-03-02T12:00"], dtype="datetime64[ns]"),
-            "dut1_s": 0.1,
-        },
-    ),
+    "gmst_rad": _shared("gnssatt.orbit.gmst_rad"),
+    "teme_to_ecef": _shared("gnssatt.orbit.teme_to_ecef"),
+    "tle_states": _shared("gnssatt.orbit.tle_states"),
     # gnssatt.orbit_nav
-    "white_acceleration_noise": (
-        orbit_nav.white_acceleration_noise,
-        {"accel_psd_m2_s3": 1e-8, "dt_s": 10.0},
-    ),
-    "noisy_orbit": (
-        orbit_nav.noisy_orbit,
-        {"x0": X0, "times_s": T3, "rng": RNG, "accel_psd_m2_s3": 1e-8, "step_s": 10.0, "model": None},
-    ),
-    "receiver_fix": (orbit_nav.receiver_fix, {"measurements": MEAS}),
-    "orbit_filter": (
-        orbit_nav.orbit_filter,
-        {
-            "data": MEAS,
-            "x0": FILTERED.states[0],
-            "p0": P0,
-            "coupling": "tight",
-            "accel_psd_m2_s3": 1e-8,
-            "step_s": 10.0,
-            "use_doppler": True,
-        },
-    ),
+    "white_acceleration_noise": _shared("gnssatt.orbit_nav.white_acceleration_noise"),
+    "noisy_orbit": _shared("gnssatt.orbit_nav.noisy_orbit"),
+    "receiver_fix": _shared("gnssatt.orbit_nav.receiver_fix"),
+    "orbit_filter": _shared("gnssatt.orbit_nav.orbit_filter"),
     "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
     # gnssatt.attitude.dynamics
     "TumbleModel": (
@@ -477,28 +307,11 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
         },
     ),
     "TumbleModel.circular": (tumble.TumbleModel.circular, {"altitude_m": 5e5}),
-    "propagate_axes": (
-        tumble.propagate_axes,
-        {"params": np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03]), "t": T3, "step_s": 1.0},
-    ),
-    "axis_cost": (
-        tumble.axis_cost,
-        {
-            "params": np.array([[0.1, 0.2, 0.3, 0.01, 0.02, 0.03]]),
-            "t": T3,
-            "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
-            "step_s": 1.0,
-        },
-    ),
-    "propagate": (
-        tumble.propagate,
-        {"params": np.array([0.1, 0.2, 0.3, 0.01, 0.02, 0.03]), "t": T3, "step_s": 1.0},
-    ),
-    "fold_symmetric": (tumble.fold_symmetric, {"params": np.zeros(6), "reference": np.ones(6)}),
-    "noise_cost_threshold": (
-        tumble.noise_cost_threshold,
-        {"n_epochs": 10, "axis_sigma_deg": 5.0, "false_restart": 1e-3},
-    ),
+    "propagate_axes": _shared("gnssatt.attitude.dynamics.propagate_axes"),
+    "axis_cost": _shared("gnssatt.attitude.dynamics.axis_cost"),
+    "propagate": _shared("gnssatt.attitude.dynamics.propagate"),
+    "fold_symmetric": _shared("gnssatt.attitude.dynamics.fold_symmetric"),
+    "noise_cost_threshold": _shared("gnssatt.attitude.dynamics.noise_cost_threshold"),
     "fit_rotation": (
         tumble.fit_rotation,
         {
@@ -536,6 +349,7 @@ OBJECTS = {
     "data",
     "model",
     "trajectory",
+    "blockage",
 }
 # Parameters that take text.
 TEXT = {"frame", "plane", "band", "prefix", "coupling", "prefixes", "line1", "line2", "noise", "systems"}
@@ -579,6 +393,7 @@ SKIP = {
     "visible",
     "gravity_gradient",
     "use_doppler",
+    "atmosphere",
     "mutation",
     "satellites_eci_m",
     "receiver_eci_m",
@@ -605,6 +420,8 @@ NONE_OK = {
     ("simulate_array", "cn0_dbhz"),
     *((name, "rng") for name in ("simulate_platform", "car", "ship", "aircraft")),
     ("simulate_platform", "base_offset_enu_m"),  # None: no base
+    ("simulate_platform", "blockage"),  # None: open sky
+    *((name, "model") for name in ("propagate_axes", "axis_cost", "propagate")),  # None: the default model
 }
 # Arrays that hold NaN where a value is unknown or not measured (checked by the specific cases).
 NAN_OK = {("SpaceborneMeasurements", "pseudorange_m"), ("SpaceborneMeasurements", "doppler_hz")}

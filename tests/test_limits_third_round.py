@@ -37,17 +37,17 @@ def _view(row: object, n: int) -> np.ndarray:
 
 @functools.cache
 def _valid(entry: str) -> dict[str, Any]:
-    """The hostile inventory's valid arguments of ``entry``, built once (outside the traced block)."""
-    from hostile import inventory
+    """The shared valid arguments of ``entry``, built once (outside the traced block)."""
+    from valid_calls import VALID_CALLS
 
-    return inventory.ENTRIES[entry].build()
+    return VALID_CALLS[entry]()
 
 
 def _with_rows(entry: str, parameter: str, row: object, n: int = 10_000_000) -> object:
     """The valid call of ``entry`` with ``parameter`` a zero-stride view of ``n`` rows."""
-    from hostile import inventory
+    from valid_calls import resolve
 
-    return inventory.resolve(entry)(**{**_valid(entry), parameter: _view(row, n)})
+    return resolve(entry)(**{**_valid(entry), parameter: _view(row, n)})
 
 
 # name -> (call one item above its limit, parameter named, amount in the message, limit constant named)

@@ -12,6 +12,7 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import seed as hypothesis_seed
 from hypothesis import strategies as st
+from valid_calls import resolve
 
 from . import harness
 from . import inventory as inv
@@ -28,7 +29,7 @@ def drawn_job(name: str, data: st.DataObject) -> tuple[Job, str, Any]:
     valid = entry.build()
     param = data.draw(st.sampled_from(sorted(valid)), label="param")
     value = data.draw(mu.hostile_value(valid[param]), label="value")
-    none_ok = mu.none_ok(param, inspect.signature(inv.resolve(name)).parameters[param].default)
+    none_ok = mu.none_ok(param, inspect.signature(resolve(name)).parameters[param].default)
     refuse = mu.must_refuse_drawn(
         value, mu.kind(valid[param]), nonfinite_ok=param in entry.nonfinite_ok, none_ok=none_ok
     )

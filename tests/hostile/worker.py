@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any, BinaryIO
 
 import numpy as np
+from valid_calls import resolve
 
 from . import outcomes as oc
 
@@ -71,7 +72,7 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
     from . import mutations as mu
 
     entry = inv.ENTRIES[entry_name]
-    fn = inv.resolve(entry_name)
+    fn = resolve(entry_name)
     valid = entry.build()[param]
     default = inspect.signature(fn).parameters[param].default
     out = mu.mutants(
@@ -91,7 +92,7 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
 def _execute(job: Job) -> Answer:
     from . import inventory as inv
 
-    fn = inv.resolve(job.function)
+    fn = resolve(job.function)
     names = job.names
     must_refuse = job.must_refuse
     must_accept, propagates = False, ""
