@@ -455,3 +455,105 @@ fn a_known_length_fixes_the_filter_earlier_and_right() {
         "{with:?} vs {without:?}"
     );
 }
+
+/// The epochs of `a_fix_without_phase_redundancy_is_not_reported`: GPS L1 only, 4 satellites (3
+/// double-differenced phases), static, 30 s apart.
+fn four_satellites() -> (Scenario, Vector3<f64>, Vec<DdEpoch>) {
+    let mut sc = Scenario::new(51, &[(System::Gps, 4, &[0])], 15.0);
+    sc.prior_sigma_m = 1.0;
+    let truth = Vector3::new(0.6, 0.7, -0.2);
+    let eps = epochs(&mut sc, &truth, 40, 30.0);
+    (sc, truth, eps)
+}
+
+#[test]
+fn a_length_is_the_fourth_observation_of_a_four_satellite_fix() {
+    // The same 3 phases as above: no fix without a length; with the known length, or a learned one
+    // once established, the length's residual checks the fix and the filter fixes, with the right
+    // integers.
+    const GATE: FixOptions = FixOptions {
+        min_success_rate: 0.5,
+        ratio_threshold: 3.0,
+        max_failure_rate: 0.0,
+    };
+    let (sc, truth, eps) = four_satellites();
+    let none = HashMap::new();
+    for length in [
+        None,
+        Some(RigidLength::known(truth.norm())),
+        Some(RigidLength::learned()),
+    ] {
+        let f = BaselineFilter::new(Dynamics::Static).unwrap();
+        let mut f = match length {
+            Some(l) => f.with_length(l),
+            None => f,
+        };
+        if length.is_some_and(|l| l.known_m().is_none()) {
+            // Fixes of earlier epochs with more satellites establish the length.
+            let batch = crate::gnss::rtk::solve_baseline(&eps, &[], &GATE).unwrap();
+            for _ in 0..super::super::rigid::RIGID_MIN_FIXES {
+                f.learn(&BaselineSolution {
+                    baseline_m: truth,
+                    covariance_m2: nalgebra::Matrix3::identity() * 1e-4,
+                    fixed: true,
+                    ..batch.clone()
+                });
+            }
+        }
+        let mut fixed = 0;
+        for (k, e) in eps.iter().enumerate() {
+            let out = f.step(e, k as i64 * 30 * SECOND_NS, &GATE).unwrap();
+            if out.state != FixState::Float {
+                fixed += 1;
+                assert_eq!(wrong_integers(&sc, &out.solution, &none), 0, "epoch {k}");
+            }
+        }
+        assert_eq!(fixed > 0, length.is_some(), "{length:?}: {fixed} fixed");
+    }
+}
+
+#[test]
+fn the_length_refuses_a_four_satellite_fix_one_cycle_off() {
+    // The float of one 4-satellite epoch: every set one cycle off in one ambiguity fits the 3 phases
+    // exactly as well as the right one, but moves the baseline by a wavelength times the weak geometry's
+    // dilution. The length sees that move along the baseline only: the 3 sets that lengthen or shorten
+    // it by 0.29-0.45 m (12-20 sigma) are refused, the 3 that move it mostly across (5-7 cm along, under
+    // the 4-sigma 0.1 m) pass it and are left to the gate's ratio test, as every set is without a length.
+    let (sc, truth, eps) = four_satellites();
+    let fl = crate::gnss::rtk::float::solve(&eps[..1], &[]).unwrap();
+    let na = fl.ambiguities.len();
+    assert_eq!(na, 3);
+    let f = DVector::from_iterator(
+        3 + na,
+        fl.baseline_m
+            .iter()
+            .chain(fl.ambiguities_cycles.iter())
+            .copied(),
+    );
+    let right: Vec<(u64, u64, i64)> = fl
+        .ambiguities
+        .iter()
+        .map(|a| {
+            let (k, slot) = Scenario::of_arc(a.arc);
+            let (q, _) = Scenario::of_arc(a.reference_arc);
+            (a.arc, a.reference_arc, sc.dd_integer(k, q, slot))
+        })
+        .collect();
+    let length = RigidLength::known(truth.norm());
+    let check = |integers: &[(u64, u64, i64)]| {
+        let (b, q) = conditioned_on(&f, &fl.covariance, &fl.ambiguities, integers).unwrap();
+        length.consistent(&b, &q)
+    };
+    assert!(check(&right));
+    let mut refused = Vec::new();
+    for j in 0..na {
+        for step in [-1, 1] {
+            let mut wrong = right.clone();
+            wrong[j].2 += step;
+            if !check(&wrong) {
+                refused.push((j, step));
+            }
+        }
+    }
+    assert_eq!(refused, [(0, 1), (2, -1), (2, 1)]);
+}
