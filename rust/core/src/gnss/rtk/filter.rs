@@ -53,7 +53,7 @@ use super::fix::{fix_float, float_result};
 use super::float::{Ambiguity, FloatSolution, Summary, CONVERGED_M, MAX_ITERATIONS};
 use super::known_length::fix_known_length;
 use super::model::SdRangeModel;
-use super::rigid::RigidLength;
+use super::rigid::{RigidLength, MIN_FIX_PHASES};
 use super::{BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{Error, Result};
 use crate::gnss::solution::{FixState, N_SYSTEMS};
@@ -219,12 +219,9 @@ impl BaselineFilter {
     }
 
     /// Whether a fix of this epoch made elsewhere (the single-epoch fallback) passes the filter's own
-    /// checks of a fix: [`super::rigid::MIN_FIX_OBSERVATIONS`] and the rigid pair's length. Only a learned length
-    /// counts as an observation here: with a known one the fallback's fix is the constrained one, its
-    /// baseline drawn onto the sphere of that length, and its length cannot show a wrong integer.
+    /// checks of a fix: [`MIN_FIX_PHASES`] double-differenced phases and the rigid pair's length.
     pub fn accepts(&self, sol: &BaselineSolution) -> bool {
-        let learned = self.length.filter(|l| l.known_m().is_none());
-        RigidLength::redundant(learned.as_ref(), sol.ambiguities) && self.length_ok(sol)
+        sol.ambiguities >= MIN_FIX_PHASES && self.length_ok(sol)
     }
 
     /// Adds a reported fix made elsewhere to the learned length.
@@ -235,13 +232,9 @@ impl BaselineFilter {
     }
 
     fn length_ok(&self, sol: &BaselineSolution) -> bool {
-        self.length_ok_at(&sol.baseline_m, &sol.covariance_m2)
-    }
-
-    fn length_ok_at(&self, baseline_m: &Vector3<f64>, covariance_m2: &Matrix3<f64>) -> bool {
         self.length
             .as_ref()
-            .is_none_or(|l| l.consistent(baseline_m, covariance_m2))
+            .is_none_or(|l| l.consistent(&sol.baseline_m, &sol.covariance_m2))
     }
 
     fn nk(&self) -> usize {
@@ -724,12 +717,10 @@ impl BaselineFilter {
     /// Steps 4-5: the epoch's fix, its state, whether a held set was rejected, whether a fix was refused
     /// for its length; updates the held set.
     ///
-    /// Beyond the gate: a fix of fewer than [`super::rigid::MIN_FIX_OBSERVATIONS`] (double-differenced phases, and
-    /// the rigid pair's length where there is one) is not reported (a fresh one is not held either; held
-    /// integers stay held for when the satellites return), and a fix whose length disagrees with the
-    /// rigid pair's is refused (a held one drops the held set). The length is tested on the baseline
-    /// conditioned on the integers alone: a known length's constrained fix draws its baseline onto the
-    /// sphere, where the length would show nothing.
+    /// Beyond the gate: a fix of fewer than [`MIN_FIX_PHASES`] double-differenced phases is not
+    /// reported (a fresh one is not held either; held integers stay held for when the satellites
+    /// return), and a fix whose length disagrees with the rigid pair's is refused (a held one drops the
+    /// held set).
     fn fix(
         &mut self,
         epoch: &DdEpoch,
@@ -792,7 +783,7 @@ impl BaselineFilter {
         };
         let all: Vec<usize> = (0..na).collect();
         let float_all = float_result(&float(&all, f.clone(), c.clone(), Vec::new()), &[]);
-        let redundant = RigidLength::redundant(self.length.as_ref(), na);
+        let redundant = na >= MIN_FIX_PHASES;
         // A known length: the constrained search on the filter's covariance.
         let fresh_float = float(&all, f.clone(), c.clone(), Vec::new());
         let mut fresh = match self.length.and_then(|l| l.known_m()) {
@@ -800,12 +791,7 @@ impl BaselineFilter {
             None => fix_float(&fresh_float, &[], fix)?,
         };
         let mut length_refused = false;
-        let fresh_length_ok = || {
-            self.length.is_none()
-                || conditioned_on(&f, &c, &amb, &fresh.integers)
-                    .is_some_and(|(b, q)| self.length_ok_at(&b, &q))
-        };
-        if fresh.fixed && !(redundant && fresh_length_ok()) {
+        if fresh.fixed && !(redundant && self.length_ok(&fresh)) {
             length_refused = redundant;
             fresh = float_all.clone();
         }
@@ -963,25 +949,6 @@ impl BaselineFilter {
     pub fn held_arcs(&self) -> Vec<u64> {
         self.held.keys().copied().collect()
     }
-}
-
-/// The baseline and its covariance (m, m^2) of the float `f`, `c` (baseline then the ambiguities `amb`)
-/// conditioned on a full integer set and nothing else: `b - C_ba C_aa^-1 (a - z)`,
-/// `C_bb - C_ba C_aa^-1 C_ab`. `None` when an ambiguity has no integer or `C_aa` is not positive definite.
-fn conditioned_on(
-    f: &DVector<f64>,
-    c: &DMatrix<f64>,
-    amb: &[Ambiguity],
-    integers: &[(u64, u64, i64)],
-) -> Option<(Vector3<f64>, Matrix3<f64>)> {
-    let na = amb.len();
-    let z = full_vector(amb, integers)?;
-    let c_ab = c.view((3, 0), (na, 3)).into_owned();
-    let k = Cholesky::new(c.view((3, 3), (na, na)).into_owned())?.solve(&c_ab); // C_aa^-1 C_ab
-    let db = k.tr_mul(&(f.rows(3, na) - z));
-    let r = c_ab.tr_mul(&k);
-    let q = Matrix3::from_fn(|i, j| c[(i, j)] - 0.5 * (r[(i, j)] + r[(j, i)]));
-    Some((Vector3::new(f[0] - db[0], f[1] - db[1], f[2] - db[2]), q))
 }
 
 /// The integer vector of the ambiguity unknowns (DD integer minus offset) from a full set of triples;

@@ -31,15 +31,11 @@ pub const RIGID_LENGTH_FLOOR_M: f64 = 0.01;
 /// first fixes of a session are not checked: a learned length is only as good as the fixes it comes from).
 pub const RIGID_MIN_FIXES: usize = 10;
 
-/// Fewest observations that check a reported fix: one more than the baseline's 3 unknowns. The
-/// double-differenced phases count, and so does the rigid pair's length once there is one
-/// ([`RigidLength::reference`]: a known length, or a learned one after [`RIGID_MIN_FIXES`] fixes): its
-/// residual is one degree of freedom that the phases alone do not have. With 3 phases (4 satellites of one
-/// system and frequency) and no length every integer set fits the phases exactly, no residual can show a
-/// wrong integer or a slip, and the fixed baseline is the phases' exact solution with the weak geometry's
-/// dilution (on the simulated car in trees its sigma is 4 cm, 2.5 times that of 5 satellites); with the
-/// length, the one residual is the length's and [`RigidLength::consistent`] tests it.
-pub const MIN_FIX_OBSERVATIONS: usize = 4;
+/// Fewest double-differenced phases of a reported fix: one more than the baseline's 3 unknowns. With 3
+/// (4 satellites of one system and frequency) every integer set fits the phases exactly, no residual can
+/// show a wrong integer or a slip, and the fixed baseline is the phases' exact solution with the weak
+/// geometry's dilution (on the simulated car in trees its sigma is 4 cm, 2.5 times that of 5 satellites).
+pub const MIN_FIX_PHASES: usize = 4;
 
 /// What is known of a rigid pair's length: given by the user or learned from the fixes so far.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,13 +94,6 @@ impl RigidLength {
         };
         let s2 = variance + sigma_ref * sigma_ref + RIGID_LENGTH_FLOOR_M * RIGID_LENGTH_FLOOR_M;
         (l - l_ref).powi(2) <= RIGID_LENGTH_SIGMAS * RIGID_LENGTH_SIGMAS * s2
-    }
-
-    /// Whether a fix of `phases` double-differenced phases has [`MIN_FIX_OBSERVATIONS`] observations,
-    /// the length counted when there is a reference to test it against.
-    pub fn redundant(length: Option<&RigidLength>, phases: usize) -> bool {
-        let length_observations = usize::from(length.is_some_and(|l| l.reference().is_some()));
-        phases + length_observations >= MIN_FIX_OBSERVATIONS
     }
 
     /// Adds a fully fixed baseline to the learned length (float solutions and a known length: nothing).
