@@ -50,34 +50,37 @@
 //! streamed, each chunk gets the running solution. Attitude mode has no static mode.
 
 mod arcs;
+mod attitude;
+mod code_scale;
+mod filter;
+mod held;
+mod lambda;
+mod length;
 mod ml;
 mod output;
 mod parallel;
 #[cfg(test)]
 mod tests;
 
-use std::borrow::Cow;
 use std::collections::BTreeSet;
 
 use nalgebra::{Matrix3, Vector3};
 
 use self::arcs::ArcTracker;
-use self::output::{attitude_sigmas_deg, azimuth_elevation, heading_pitch_roll, row_major};
-use super::ephemeris::Ephemerides;
-use super::geometry::{
-    enu_from_ecef, geodetic_from_ecef, satellite_geometry_from, SatGeometry, Site,
+use self::code_scale::CodeNoiseScale;
+pub use self::code_scale::{
+    CODE_SCALE_FACTOR_RANGE, CODE_SCALE_MIN_DOF, KNOWN_LENGTH_FACTOR_RANGE,
 };
+use self::length::LengthEstimate;
+use self::output::{azimuth_elevation, heading_pitch_roll, row_major};
+use super::ephemeris::Ephemerides;
+use super::geometry::{satellite_geometry_from, SatGeometry, Site};
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
-use super::options::{EngineOptions, Method, Motion};
-use super::rtk::constrained::{chi2_quantile_at, HOLD_Z};
+use super::options::{EngineOptions, Method};
 use super::rtk::filter::BaselineFilter;
-use super::rtk::float;
 use super::rtk::rigid::RigidLength;
-use super::rtk::{
-    model::SdRangeModel, solve_attitude_held, solve_baseline, solve_known_length, AttitudeSolution,
-    BaselineSolution, DdEpoch, FixOptions, SignalPair,
-};
+use super::rtk::{DdEpoch, FixOptions, SignalPair};
 use super::signal::{SatId, MAX_FREQUENCIES};
 use super::solution::{EpochSolution, FixState, N_SYSTEMS};
 use super::spp::SppSolution;
@@ -150,124 +153,6 @@ pub struct Engine {
     usable_signals: u64,
     warnings: Vec<String>,
     warned: BTreeSet<String>,
-}
-
-/// Degrees of freedom of code residuals before [`CodeNoiseScale`] departs from the model (its relative
-/// standard error is then `sqrt(2 / dof)` = 20 %).
-pub const CODE_SCALE_MIN_DOF: f64 = 50.0;
-
-/// Range of the code variance factor applied, both ways (see [`CodeNoiseScale`]): at least `1 / 4` (a
-/// sigma half the model's: 0.15 m + 0.15 m / sin el, about what a geodetic receiver's code shows with
-/// multipath), at most `10^2`. The floor: the estimate comes from the session's first 50 degrees of
-/// freedom (a few minutes, one satellite geometry), while code multipath changes over tens of minutes,
-/// and the gate's success rate scales with the code sigma; a receiver that looked quieter than half the
-/// model over its first epochs is not trusted further.
-pub const CODE_SCALE_FACTOR_RANGE: (f64, f64) = (0.25, 100.0);
-
-/// Range of the code variance factor applied to a rover with a known length (both ways, see
-/// `CodeNoiseScale::known_length_factor`): at most `10^2` up, `10^-2` down.
-pub const KNOWN_LENGTH_FACTOR_RANGE: (f64, f64) = (0.01, 100.0);
-
-/// Variance-component estimate of the receivers' code noise against the model (`code_sigma`,
-/// `a^2 + b^2 / sin^2 el`): the float solutions' weighted squared residuals over their degrees of freedom,
-/// summed over the epochs solved so far in moving mode (single epochs without held integers, where the
-/// residuals are the code double differences'). A receiver noisier than the model makes the float
-/// ambiguities look better than they are and the success-rate gate too permissive: the code variances are
-/// then scaled up by the estimate, once [`CODE_SCALE_MIN_DOF`] residual degrees of freedom are in. A quieter
-/// receiver (the usual case: GEONET's is 0.37 of the model's sigma) makes the gate refuse epochs the data
-/// fix: its variances are scaled down, to [`CODE_SCALE_FACTOR_RANGE`]'s floor at most
-/// (docs/observation_engine.md has the fix rates and wrong fixes measured either way). A rover with a
-/// known length is scaled within [`KNOWN_LENGTH_FACTOR_RANGE`] ([`CodeNoiseScale::known_length_factor`]).
-#[derive(Debug, Clone, Copy, Default)]
-struct CodeNoiseScale {
-    /// Sum of weighted squared residuals with the model's (unscaled) variances.
-    chi2: f64,
-    dof: f64,
-}
-
-impl CodeNoiseScale {
-    /// The variance factor to apply to the model's code variances.
-    fn factor(&self) -> f64 {
-        let (lo, hi) = CODE_SCALE_FACTOR_RANGE;
-        self.estimate().map_or(1.0, |f| f.clamp(lo, hi))
-    }
-
-    /// The variance factor of a rover with a known length: the estimate either way, within
-    /// [`KNOWN_LENGTH_FACTOR_RANGE`]. The constrained fix is gated by a success rate simulated from the
-    /// float covariance, which is only as right as the noise model; its ratio test is on the constrained
-    /// objective, not the unconstrained ratio whose threshold the unscaled model was calibrated for.
-    fn known_length_factor(&self) -> f64 {
-        let (lo, hi) = KNOWN_LENGTH_FACTOR_RANGE;
-        self.estimate().map_or(1.0, |f| f.clamp(lo, hi))
-    }
-
-    /// The estimated variance factor, once [`CODE_SCALE_MIN_DOF`] degrees of freedom are in.
-    fn estimate(&self) -> Option<f64> {
-        (self.dof >= CODE_SCALE_MIN_DOF).then(|| self.chi2 / self.dof)
-    }
-
-    /// Adds a solution computed with the code variances scaled by `factor`.
-    fn add(&mut self, sol: &BaselineSolution, factor: f64) {
-        self.add_float(sol.float_chi2, sol.float_dof, factor);
-    }
-
-    /// Adds a float solution's weighted squared residuals `chi2` of `dof` degrees of freedom, computed
-    /// with the code variances scaled by `factor`.
-    fn add_float(&mut self, chi2: f64, dof: usize, factor: f64) {
-        if dof > 0 && chi2.is_finite() {
-            self.chi2 += chi2 * factor;
-            self.dof += dof as f64;
-        }
-    }
-}
-
-/// `dd` with every code sigma scaled by `sqrt(factor)`, borrowed unchanged when the factor is 1 (before
-/// the estimate stands).
-fn scale_code(dd: &DdEpoch, factor: f64) -> Cow<'_, DdEpoch> {
-    if factor == 1.0 {
-        return Cow::Borrowed(dd);
-    }
-    let mut out = dd.clone();
-    let s = factor.sqrt();
-    out.signals.iter_mut().for_each(|p| p.sigma_code_m *= s);
-    Cow::Owned(out)
-}
-
-/// Inverse-variance mean of baseline lengths: `sum l / sigma^2` and `sum 1 / sigma^2`, `sigma` the
-/// baseline's standard deviation along itself.
-#[derive(Debug, Clone, Copy, Default)]
-struct LengthEstimate {
-    weighted_sum: f64,
-    weight: f64,
-}
-
-impl LengthEstimate {
-    fn add(&mut self, baseline_m: &Vector3<f64>, covariance_m2: &Matrix3<f64>) {
-        let l = baseline_m.norm();
-        if !(l > 0.0 && l.is_finite()) {
-            return;
-        }
-        let u = baseline_m / l;
-        let variance = (u.transpose() * covariance_m2 * u)[(0, 0)];
-        if variance.is_finite() {
-            // A fixed baseline's variance can round to 0: a floor of (0.1 mm)^2 keeps the weight finite.
-            let w = 1.0 / variance.max(1e-8);
-            self.weighted_sum += w * l;
-            self.weight += w;
-        }
-    }
-
-    /// The length, m, when its sigma is below [`GRID_LENGTH_RELATIVE_SIGMA`] of it; else the length and
-    /// sigma so far (NaN before any solution).
-    fn known(&self) -> std::result::Result<f64, (f64, f64)> {
-        let l = self.weighted_sum / self.weight;
-        let sigma = self.weight.sqrt().recip();
-        if l > 0.0 && sigma < GRID_LENGTH_RELATIVE_SIGMA * l {
-            Ok(l)
-        } else {
-            Err((l, sigma))
-        }
-    }
 }
 
 /// Errors that leave an epoch unsolved rather than stop the session: everything but an interrupt or a
@@ -664,331 +549,11 @@ impl Engine {
         }
     }
 
-    /// LAMBDA estimates of every epoch (`None`: unsolved), in moving, continuity or static mode.
-    fn lambda(&mut self, prepared: &[Prepared]) -> Result<Vec<Option<Estimate>>> {
-        let fix = self.fix_options();
-        if self.attitude_mode() && self.opts.method == Method::Ml {
-            // The grid needs nothing from the integer fix when the body baselines are known.
-            return Ok(prepared.iter().map(|_| None).collect());
-        }
-        if self.attitude_mode() {
-            let mut out = Vec::with_capacity(prepared.len());
-            for (k, p) in prepared.iter().enumerate() {
-                interrupt::check("GNSS engine")?;
-                let Some(dds) = p
-                    .rovers
-                    .iter()
-                    .map(Option::as_ref)
-                    .collect::<Option<Vec<&DdEpoch>>>()
-                else {
-                    out.push(None);
-                    continue;
-                };
-                dds.iter().for_each(|d| self.count_double_differences(d));
-                let factors: Vec<f64> = self.code_scale.iter().map(|c| c.factor()).collect();
-                let dds: Vec<DdEpoch> = dds
-                    .into_iter()
-                    .zip(&factors)
-                    .map(|(d, &f)| scale_code(d, f).into_owned())
-                    .collect();
-                let body = self.opts.body_baselines_m.clone();
-                let held: Vec<Vec<(u64, u64, i64)>> = if self.opts.continuity {
-                    self.held
-                        .iter()
-                        .zip(&dds)
-                        .map(|(h, d)| present(h, d))
-                        .collect()
-                } else {
-                    Vec::new()
-                };
-                out.push(match solve_attitude_held(&dds, &body, &fix, &held) {
-                    Ok(h) => {
-                        for ((c, b), &f) in
-                            self.code_scale.iter_mut().zip(&h.fresh.baselines).zip(&factors)
-                        {
-                            c.add(b, f);
-                        }
-                        if h.rejected {
-                            self.warn_once(
-                                "attitude hold rejected".into(),
-                                format!(
-                                    "held integers disagreed with the data at epoch {k} ({} ns GPST) \
-                                     and were dropped (an undetected slip, a wrong fix, or a fresh fix \
-                                     the data prefer); the epoch is fixed afresh",
-                                    p.time_gpst_ns
-                                ),
-                            );
-                        }
-                        let a = h.solution;
-                        if self.opts.continuity {
-                            if a.fixed {
-                                for (held, b) in self.held.iter_mut().zip(&a.baselines) {
-                                    held.clone_from(&b.integers);
-                                }
-                            } else if !h.held {
-                                self.held.iter_mut().for_each(Vec::clear);
-                            }
-                        }
-                        let state = match (a.fixed, h.held) {
-                            (false, _) => FixState::Float,
-                            (true, true) => FixState::Held,
-                            (true, false) => FixState::Fixed,
-                        };
-                        p.base_m.map(|b| self.attitude_estimate(&b, &a, state))
-                    }
-                    Err(e) if leaves_epoch_unsolved(&e) => {
-                        self.note_unsolved(k, p.time_gpst_ns, &e);
-                        self.held.iter_mut().for_each(Vec::clear);
-                        None
-                    }
-                    Err(e) => return Err(e),
-                });
-            }
-            return Ok(out);
-        }
-        let n_rovers = self.n_receivers - 1;
-        // Per rover, per epoch.
-        let mut solutions: Vec<Vec<Option<(BaselineSolution, FixState)>>> =
-            Vec::with_capacity(n_rovers);
-        for r in 0..n_rovers {
-            let mut per_epoch = Vec::with_capacity(prepared.len());
-            let static_session = if self.opts.motion == Motion::Static {
-                // Epochs without a signal add nothing to the static solution.
-                self.static_epochs[r].extend(
-                    prepared
-                        .iter()
-                        .filter_map(|p| p.rovers[r].clone())
-                        .filter(|d| !d.signals.is_empty()),
-                );
-                let all = std::mem::take(&mut self.static_epochs[r]);
-                let sol = match self.solve(r, &all, &[], &fix) {
-                    Ok(s) => Some(s),
-                    Err(e) if leaves_epoch_unsolved(&e) => {
-                        self.warn_once(
-                            format!("static {r}"),
-                            format!("the static baseline of rover {r} has no solution: {e}"),
-                        );
-                        None
-                    }
-                    Err(e) => return Err(e),
-                };
-                self.static_epochs[r] = all;
-                sol
-            } else {
-                None
-            };
-            if self.opts.motion == Motion::Moving
-                && !self.opts.continuity
-                && self.opts.filter.is_none()
-            {
-                solutions.push(self.single_epochs(r, prepared, &fix)?);
-                continue;
-            }
-            for (k, p) in prepared.iter().enumerate() {
-                interrupt::check("GNSS engine")?;
-                let Some(dd) = &p.rovers[r] else {
-                    per_epoch.push(None);
-                    continue;
-                };
-                self.count_double_differences(dd);
-                if self.opts.filter.is_some() {
-                    let scaled = scale_code(dd, self.code_scale[r].factor());
-                    match self.filters[r].step(scaled.as_ref(), p.time_gpst_ns, &fix) {
-                        Ok(f) => {
-                            if f.hold_rejected {
-                                self.warn_once(
-                                    format!("hold rejected {r}"),
-                                    format!(
-                                        "rover {}: held integers disagreed with the filter's float \
-                                         ambiguities at epoch {k} ({} ns GPST) and were dropped (an \
-                                         undetected slip or a wrong fix); the filter fixes again",
-                                        r + 1,
-                                        p.time_gpst_ns
-                                    ),
-                                );
-                            }
-                            if f.length_refused {
-                                self.warn_once(
-                                    format!("length refused {r}"),
-                                    format!(
-                                        "rover {}: a fix at epoch {k} ({} ns GPST) whose length \
-                                         disagreed with the pair's (known or learned from earlier \
-                                         fixes) was refused",
-                                        r + 1,
-                                        p.time_gpst_ns
-                                    ),
-                                );
-                            }
-                            // An epoch the filter leaves float is solved on its own too (through the
-                            // filter's checks of a fix): the filter never fixes fewer epochs than
-                            // single epochs.
-                            let single = match f.state {
-                                FixState::Float => self
-                                    .solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix)
-                                    .ok()
-                                    .filter(|s| s.fixed && self.filters[r].accepts(s)),
-                                _ => None,
-                            };
-                            if let Some(s) = &single {
-                                self.filters[r].learn(s);
-                            }
-                            if single.as_ref().is_some_and(|s| !f.agrees_with_float(s)) {
-                                self.warn_once(
-                                    format!("filter float biased {r}"),
-                                    format!(
-                                        "rover {}: the epoch's own fix at epoch {k} ({} ns GPST) \
-                                         disagrees with the filter's float baseline beyond its \
-                                         covariance (errors correlated in time, such as code biases \
-                                         or the ionosphere, bias the float); the single-epoch fix, \
-                                         which passed the gate, is reported",
-                                        r + 1,
-                                        p.time_gpst_ns
-                                    ),
-                                );
-                            }
-                            let (solution, state) = match single {
-                                Some(s) => (s, FixState::Fixed),
-                                None => (f.solution, f.state),
-                            };
-                            self.length[r].add(&solution.baseline_m, &solution.covariance_m2);
-                            per_epoch.push(Some((solution, state)));
-                        }
-                        Err(e) if leaves_epoch_unsolved(&e) => {
-                            self.note_unsolved(k, p.time_gpst_ns, &e);
-                            per_epoch.push(None);
-                        }
-                        Err(e) => return Err(e),
-                    }
-                    continue;
-                }
-                let held = match (&static_session, self.opts.continuity) {
-                    (Some(s), _) => present(&s.integers, dd),
-                    (None, true) => present(&self.held[r], dd),
-                    (None, false) => Vec::new(),
-                };
-                let factor = if self.opts.baseline_lengths_m.is_empty() {
-                    self.code_scale[r].factor()
-                } else {
-                    self.code_scale[r].known_length_factor()
-                };
-                let scaled = scale_code(dd, factor);
-                let mut result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &held, &fix);
-                let mut unheld = held.is_empty();
-                let holding = !held.is_empty() && static_session.is_none();
-                if static_session.is_none() && !held.is_empty() {
-                    // A known length's held set is also checked against the epoch's float solution (the
-                    // constrained fix of new arcs leans on it): its chi-square, as attitude mode's.
-                    let known_length = self.opts.baseline_lengths_m.get(r).is_some();
-                    let keep = matches!(&result, Ok(s) if s.fixed && held_consistent(dd, s, &held))
-                        && (!known_length || held_chi2_consistent(scaled.as_ref(), &held));
-                    if !keep {
-                        result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &[], &fix);
-                        unheld = true;
-                    }
-                }
-                if let (Ok(sol), true, None) = (&result, unheld, &static_session) {
-                    self.code_scale[r].add(sol, factor);
-                }
-                match result {
-                    Ok(mut sol) => {
-                        if self.opts.continuity && static_session.is_none() {
-                            self.held[r] = if sol.fixed {
-                                sol.integers.clone()
-                            } else {
-                                Vec::new()
-                            };
-                        }
-                        if let Some(s) = &static_session {
-                            sol.ratio = s.ratio;
-                            sol.success_rate = s.success_rate;
-                        }
-                        self.length[r].add(&sol.baseline_m, &sol.covariance_m2);
-                        let state = match (sol.fixed, holding && !unheld) {
-                            (false, _) => FixState::Float,
-                            (true, true) => FixState::Held,
-                            (true, false) => FixState::Fixed,
-                        };
-                        per_epoch.push(Some((sol, state)));
-                    }
-                    Err(e) if leaves_epoch_unsolved(&e) => {
-                        self.note_unsolved(k, p.time_gpst_ns, &e);
-                        self.held[r].clear();
-                        per_epoch.push(None);
-                    }
-                    Err(e) => return Err(e),
-                }
-            }
-            solutions.push(per_epoch);
-        }
-        Ok((0..prepared.len())
-            .map(|k| {
-                let base = prepared[k].base_m?;
-                let sols: Option<Vec<&(BaselineSolution, FixState)>> =
-                    solutions.iter().map(|s| s[k].as_ref()).collect();
-                let sols = sols?;
-                let states: Vec<FixState> = sols.iter().map(|s| s.1).collect();
-                let sols: Vec<&BaselineSolution> = sols.iter().map(|s| &s.0).collect();
-                Some(baseline_estimate(&base, &sols, &states))
-            })
-            .collect())
-    }
-
-    /// Rover `r`'s baseline over `epochs`: with its known length when there is one.
-    fn solve(
-        &self,
-        r: usize,
-        epochs: &[DdEpoch],
-        held: &[(u64, u64, i64)],
-        fix: &FixOptions,
-    ) -> Result<BaselineSolution> {
-        match self.opts.baseline_lengths_m.get(r) {
-            Some(&l) => solve_known_length(epochs, held, l, fix),
-            None => solve_baseline(epochs, held, fix),
-        }
-    }
-
     fn note_unsolved(&mut self, k: usize, t: i64, e: &Error) {
         self.warn_once(
             format!("unsolved {:?}", std::mem::discriminant(e)),
             format!("epoch {k} ({t} ns GPST) has no solution: {e}; such epochs are unsolved"),
         );
-    }
-
-    /// Attitude-mode estimate from the constrained fix: baselines and covariances in ENU at the base,
-    /// angle sigmas propagated from the rovers' baseline covariances.
-    fn attitude_estimate(
-        &self,
-        base: &Vector3<f64>,
-        a: &AttitudeSolution,
-        fix_state: FixState,
-    ) -> Estimate {
-        let (lat, lon, _) = geodetic_from_ecef(base);
-        let r = enu_from_ecef(lat, lon);
-        let baselines_enu_m: Vec<Vector3<f64>> =
-            a.baselines.iter().map(|b| r * b.baseline_m).collect();
-        let covariances_enu_m2: Vec<Matrix3<f64>> = a
-            .baselines
-            .iter()
-            .map(|b| r * b.covariance_m2 * r.transpose())
-            .collect();
-        let sigmas = attitude_sigmas_deg(
-            &a.rotation_enu_from_body,
-            &baselines_enu_m,
-            &covariances_enu_m2,
-        );
-        Estimate {
-            method: Method::Lambda,
-            fixed: a.fixed,
-            fix_state,
-            fixed_ambiguities: a.baselines.iter().map(|b| b.fixed_ambiguities).sum(),
-            ambiguities: a.baselines.iter().map(|b| b.ambiguities).sum(),
-            ratio: a.ratio,
-            success_rate: a.success_rate,
-            baselines_enu_m,
-            covariances_enu_m2,
-            enu_from_body: Some(a.rotation_enu_from_body),
-            attitude_sigmas_deg: Some(sigmas),
-        }
     }
 
     /// Replaces the estimates the method gives to the grid (step 4): every solvable epoch for `Ml`,
@@ -1202,96 +767,6 @@ fn ml_estimate() -> Estimate {
         success_rate: f64::NAN,
         baselines_enu_m: Vec::new(),
         covariances_enu_m2: Vec::new(),
-        enu_from_body: None,
-        attitude_sigmas_deg: None,
-    }
-}
-
-/// The held integers whose two arcs both have a signal at this epoch, for every pair of arcs held
-/// against one reference: `N(a, b) = N(a, r) - N(b, r)` and `N(r, b) = -N(b, r)`, so that a change of
-/// reference satellite (the float solution keys its ambiguities by arc and reference arc) keeps them.
-fn present(held: &[(u64, u64, i64)], dd: &DdEpoch) -> Vec<(u64, u64, i64)> {
-    let arcs: BTreeSet<u64> = dd.signals.iter().map(|s| s.arc).collect();
-    let mut by_reference: std::collections::BTreeMap<u64, Vec<(u64, i64)>> = Default::default();
-    for &(a, r, n) in held {
-        if arcs.contains(&a) && arcs.contains(&r) {
-            by_reference.entry(r).or_default().push((a, n));
-        }
-    }
-    let mut out = Vec::new();
-    for (r, members) in by_reference {
-        let with_reference: Vec<(u64, i64)> = std::iter::once((r, 0)).chain(members).collect();
-        for &(a, na) in &with_reference {
-            for &(b, nb) in &with_reference {
-                if a != b {
-                    out.push((a, b, na - nb));
-                }
-            }
-        }
-    }
-    out
-}
-
-/// Whether every held integer agrees with the fixed baseline: the double-difference phase minus the
-/// ranges to `base + baseline` minus the integer stays within [`HELD_RESIDUAL_CYCLES`] (GLONASS pairs of
-/// different wavelengths, whose receiver clock term does not cancel, are not checked).
-fn held_consistent(dd: &DdEpoch, sol: &BaselineSolution, held: &[(u64, u64, i64)]) -> bool {
-    let model = SdRangeModel::new(&dd.base_m, &(dd.base_m + sol.baseline_m));
-    let sd = |s: &SignalPair| {
-        (s.rover_phase_cycles - s.base_phase_cycles) - model.range_m(s) / s.wavelength_m
-    };
-    held.iter().all(|&(arc, reference, n)| {
-        let find = |a: u64| dd.signals.iter().find(|s| s.arc == a);
-        match (find(arc), find(reference)) {
-            (Some(i), Some(j)) if i.wavelength_m == j.wavelength_m => {
-                (sd(i) - sd(j) - n as f64).abs() <= HELD_RESIDUAL_CYCLES
-            }
-            _ => true,
-        }
-    })
-}
-
-/// Whether `held` agrees with the epoch's float solution: the weighted squared residuals the held
-/// integers add (chi-square with them imposed minus without) stay within the
-/// [`crate::gnss::rtk::constrained::HOLD_Z`] chi-square quantile of the number imposed.
-fn held_chi2_consistent(dd: &DdEpoch, held: &[(u64, u64, i64)]) -> bool {
-    let one = std::slice::from_ref(dd);
-    let (Ok(free), Ok(with)) = (float::solve(one, &[]), float::solve(one, held)) else {
-        return false;
-    };
-    let n = with.used_held.len();
-    n == 0 || with.chi2 - free.chi2 <= chi2_quantile_at(n, HOLD_Z)
-}
-
-/// Baseline-mode estimate from one solution per rover, East-North-Up at the base.
-fn baseline_estimate(
-    base: &Vector3<f64>,
-    sols: &[&BaselineSolution],
-    states: &[FixState],
-) -> Estimate {
-    let (lat, lon, _) = geodetic_from_ecef(base);
-    let r = enu_from_ecef(lat, lon);
-    let first = sols[0];
-    let fixed = sols.iter().all(|s| s.fixed);
-    Estimate {
-        method: Method::Lambda,
-        fixed,
-        fix_state: if !fixed {
-            FixState::Float
-        } else if states.contains(&FixState::Held) {
-            FixState::Held
-        } else {
-            FixState::Fixed
-        },
-        fixed_ambiguities: sols.iter().map(|s| s.fixed_ambiguities).sum(),
-        ambiguities: sols.iter().map(|s| s.ambiguities).sum(),
-        ratio: first.ratio,
-        success_rate: first.success_rate,
-        baselines_enu_m: sols.iter().map(|s| r * s.baseline_m).collect(),
-        covariances_enu_m2: sols
-            .iter()
-            .map(|s| r * s.covariance_m2 * r.transpose())
-            .collect(),
         enu_from_body: None,
         attitude_sigmas_deg: None,
     }
