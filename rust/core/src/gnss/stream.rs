@@ -53,6 +53,7 @@ mod arcs;
 mod attitude;
 mod code_scale;
 mod filter;
+mod grid;
 mod held;
 mod lambda;
 mod length;
@@ -86,8 +87,6 @@ use super::solution::{EpochSolution, FixState, N_SYSTEMS};
 use super::spp::SppSolution;
 use crate::error::{Error, Result};
 use crate::interrupt;
-use crate::likelihood::dcm_enu_from_body;
-use crate::likelihood::{ml_attitude_series, ml_baseline_series, MlEpoch};
 
 /// Distance between `base_position_m` and the base's code solution beyond which a warning is given, m
 /// (a code solution is within a few metres; 30 m means a wrong or mistyped survey position, which
@@ -556,130 +555,6 @@ impl Engine {
         );
     }
 
-    /// Replaces the estimates the method gives to the grid (step 4): every solvable epoch for `Ml`,
-    /// the unfixed ones within [`AUTO_ML_MAX_BASELINE_M`] for `Auto`.
-    fn grid(&mut self, prepared: &[Prepared], estimates: &mut [Option<Estimate>]) -> Result<()> {
-        let method = self.opts.method;
-        let wanted = move |e: &Option<Estimate>, length: f64| match method {
-            Method::Ml => true,
-            _ => !e.as_ref().is_some_and(|e| e.fixed) && length < AUTO_ML_MAX_BASELINE_M,
-        };
-        if self.attitude_mode() {
-            let picks: Vec<usize> = (0..prepared.len())
-                .filter(|&k| prepared[k].rovers.iter().all(Option::is_some))
-                .filter(|&k| wanted(&estimates[k], 0.0))
-                .collect();
-            let epochs: Vec<Option<MlEpoch>> = picks
-                .iter()
-                .map(|&k| ml::epoch(&self.eph, &self.sats, &prepared[k], self.n_receivers - 1))
-                .collect();
-            let solvable: Vec<usize> = (0..picks.len()).filter(|&i| epochs[i].is_some()).collect();
-            if solvable.is_empty() {
-                return Ok(());
-            }
-            let series: Vec<MlEpoch> = epochs.into_iter().flatten().collect();
-            let sols = match ml_attitude_series(
-                &series,
-                &self.opts.body_baselines_m,
-                self.opts.ml_step_rad,
-                self.opts.ml_window_rad,
-            ) {
-                Ok(s) => s,
-                Err(e) if leaves_epoch_unsolved(&e) => {
-                    self.warn_once("ml".into(), format!("the likelihood grid failed: {e}"));
-                    return Ok(());
-                }
-                Err(e) => return Err(e),
-            };
-            for (i, sol) in solvable.into_iter().zip(sols) {
-                if !sol.solved {
-                    continue;
-                }
-                let k = picks[i];
-                let [psi, theta, phi] = sol.euler_gost_rad;
-                let m = dcm_enu_from_body(psi, theta, phi);
-                estimates[k] = Some(Estimate {
-                    baselines_enu_m: self
-                        .opts
-                        .body_baselines_m
-                        .iter()
-                        .map(|b| m * Vector3::from(*b))
-                        .collect(),
-                    covariances_enu_m2: vec![Matrix3::from_element(f64::NAN); self.n_receivers - 1],
-                    enu_from_body: Some(m),
-                    attitude_sigmas_deg: Some([f64::NAN; 3]),
-                    ..ml_estimate()
-                });
-            }
-            return Ok(());
-        }
-        if self.n_receivers != 2 {
-            // The baseline grid has one baseline; several rovers in baseline mode keep LAMBDA.
-            return Ok(());
-        }
-        // The grid's baseline length: a few percent of error in it moves the grid's maximum to a wrong
-        // direction, so the grid runs only once the length is known.
-        let known = match self.opts.baseline_lengths_m.first() {
-            Some(&l) => Ok(l),
-            None => self.length[0].known(),
-        };
-        let length = match known {
-            Ok(l) => l,
-            Err((l, sigma)) => {
-                if self.opts.method == Method::Ml {
-                    self.warn_once(
-                        "ml length".into(),
-                        format!(
-                            "the likelihood grid needs the baseline length to {:.0} %, and the solutions so \
-                             far give {l:.3} +- {sigma:.3} m: those epochs keep their double-difference \
-                             solution (--method lambda), later ones use the grid once the length is known",
-                            100.0 * GRID_LENGTH_RELATIVE_SIGMA
-                        ),
-                    );
-                }
-                return Ok(());
-            }
-        };
-        let picks: Vec<usize> = (0..prepared.len())
-            .filter(|&k| prepared[k].rovers[0].is_some() && wanted(&estimates[k], length))
-            .collect();
-        let epochs: Vec<Option<MlEpoch>> = picks
-            .iter()
-            .map(|&k| ml::epoch(&self.eph, &self.sats, &prepared[k], 1))
-            .collect();
-        let solvable: Vec<usize> = (0..picks.len()).filter(|&i| epochs[i].is_some()).collect();
-        if solvable.is_empty() {
-            return Ok(());
-        }
-        let series: Vec<MlEpoch> = epochs.into_iter().flatten().collect();
-        let sols = match ml_baseline_series(
-            &series,
-            length,
-            self.opts.ml_step_rad,
-            self.opts.ml_window_rad,
-        ) {
-            Ok(s) => s,
-            Err(e) if leaves_epoch_unsolved(&e) => {
-                self.warn_once("ml".into(), format!("the likelihood grid failed: {e}"));
-                return Ok(());
-            }
-            Err(e) => return Err(e),
-        };
-        for (i, sol) in solvable.into_iter().zip(sols) {
-            if !sol.solved {
-                continue;
-            }
-            let [az, el] = sol.direction_rad;
-            let unit = Vector3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
-            estimates[picks[i]] = Some(Estimate {
-                baselines_enu_m: vec![unit * length],
-                covariances_enu_m2: vec![Matrix3::from_element(f64::NAN)],
-                ..ml_estimate()
-            });
-        }
-        Ok(())
-    }
-
     /// The reported epoch (angles, sigmas, counts) from its estimate.
     fn epoch_solution(&self, p: &Prepared, e: Option<Estimate>) -> EpochSolution {
         let n_rovers = self.n_receivers - 1;
@@ -752,22 +627,5 @@ impl Engine {
             frequency_slots_used,
             base_position_m: base,
         }
-    }
-}
-
-/// An ML estimate's fields that do not depend on the mode.
-fn ml_estimate() -> Estimate {
-    Estimate {
-        method: Method::Ml,
-        fixed: false,
-        fix_state: FixState::Float,
-        fixed_ambiguities: 0,
-        ambiguities: 0,
-        ratio: f64::NAN,
-        success_rate: f64::NAN,
-        baselines_enu_m: Vec::new(),
-        covariances_enu_m2: Vec::new(),
-        enu_from_body: None,
-        attitude_sigmas_deg: None,
     }
 }
