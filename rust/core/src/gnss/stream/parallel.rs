@@ -20,9 +20,9 @@ use std::ops::Range;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
+use super::code_scale::scale_code;
 use super::{
-    leaves_epoch_unsolved, scale_code, Engine, Prepared, CODE_SCALE_FACTOR_RANGE,
-    KNOWN_LENGTH_FACTOR_RANGE,
+    leaves_epoch_unsolved, Engine, Prepared, CODE_SCALE_FACTOR_RANGE, KNOWN_LENGTH_FACTOR_RANGE,
 };
 use crate::error::Result;
 use crate::gnss::observations::Observations;

@@ -1,0 +1,139 @@
+//! Attitude mode (`body_baselines_m` given): the integers of every rover fixed together under the body
+//! baselines ([`crate::gnss::rtk::solve_attitude_held`]), held across epochs with `continuity`.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::code_scale::scale_code;
+use super::held::present;
+use super::lambda::fix_state;
+use super::output::attitude_sigmas_deg;
+use super::{Engine, Estimate, Prepared};
+use crate::error::Result;
+use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
+use crate::gnss::options::Method;
+use crate::gnss::rtk::{solve_attitude_held, AttitudeSolution, DdEpoch, FixOptions};
+use crate::gnss::solution::FixState;
+use crate::interrupt;
+
+impl Engine {
+    /// Attitude-mode estimates of every epoch of `prepared` (`None`: unsolved).
+    pub(super) fn attitude_epochs(
+        &mut self,
+        prepared: &[Prepared],
+        fix: &FixOptions,
+    ) -> Result<Vec<Option<Estimate>>> {
+        let mut out = Vec::with_capacity(prepared.len());
+        for (k, p) in prepared.iter().enumerate() {
+            interrupt::check("GNSS engine")?;
+            out.push(self.attitude_epoch(k, p, fix)?);
+        }
+        Ok(out)
+    }
+
+    /// The attitude-mode estimate of epoch `k` (`None`: a rover without code solution, or unsolved).
+    fn attitude_epoch(
+        &mut self,
+        k: usize,
+        p: &Prepared,
+        fix: &FixOptions,
+    ) -> Result<Option<Estimate>> {
+        let Some(dds) = p
+            .rovers
+            .iter()
+            .map(Option::as_ref)
+            .collect::<Option<Vec<&DdEpoch>>>()
+        else {
+            return Ok(None);
+        };
+        dds.iter().for_each(|d| self.count_double_differences(d));
+        let factors: Vec<f64> = self.code_scale.iter().map(|c| c.factor()).collect();
+        let dds: Vec<DdEpoch> = dds
+            .into_iter()
+            .zip(&factors)
+            .map(|(d, &f)| scale_code(d, f).into_owned())
+            .collect();
+        let body = self.opts.body_baselines_m.clone();
+        let held: Vec<Vec<(u64, u64, i64)>> = if self.opts.continuity {
+            self.held
+                .iter()
+                .zip(&dds)
+                .map(|(h, d)| present(h, d))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let result = solve_attitude_held(&dds, &body, fix, &held);
+        let Some(h) = self.solved(k, p.time_gpst_ns, result)? else {
+            self.held.iter_mut().for_each(Vec::clear);
+            return Ok(None);
+        };
+        for ((c, b), &f) in self
+            .code_scale
+            .iter_mut()
+            .zip(&h.fresh.baselines)
+            .zip(&factors)
+        {
+            c.add(b, f);
+        }
+        if h.rejected {
+            self.warn_once(
+                "attitude hold rejected".into(),
+                format!(
+                    "held integers disagreed with the data at epoch {k} ({} ns GPST) \
+                     and were dropped (an undetected slip, a wrong fix, or a fresh fix \
+                     the data prefer); the epoch is fixed afresh",
+                    p.time_gpst_ns
+                ),
+            );
+        }
+        let a = h.solution;
+        if self.opts.continuity {
+            if a.fixed {
+                for (held, b) in self.held.iter_mut().zip(&a.baselines) {
+                    held.clone_from(&b.integers);
+                }
+            } else if !h.held {
+                self.held.iter_mut().for_each(Vec::clear);
+            }
+        }
+        let state = fix_state(a.fixed, h.held);
+        Ok(p.base_m.map(|b| self.attitude_estimate(&b, &a, state)))
+    }
+
+    /// Attitude-mode estimate from the constrained fix: baselines and covariances in ENU at the base,
+    /// angle sigmas propagated from the rovers' baseline covariances.
+    fn attitude_estimate(
+        &self,
+        base: &Vector3<f64>,
+        a: &AttitudeSolution,
+        fix_state: FixState,
+    ) -> Estimate {
+        let (lat, lon, _) = geodetic_from_ecef(base);
+        let r = enu_from_ecef(lat, lon);
+        let baselines_enu_m: Vec<Vector3<f64>> =
+            a.baselines.iter().map(|b| r * b.baseline_m).collect();
+        let covariances_enu_m2: Vec<Matrix3<f64>> = a
+            .baselines
+            .iter()
+            .map(|b| r * b.covariance_m2 * r.transpose())
+            .collect();
+        let sigmas = attitude_sigmas_deg(
+            &a.rotation_enu_from_body,
+            &baselines_enu_m,
+            &covariances_enu_m2,
+        );
+        Estimate {
+            method: Method::Lambda,
+            fixed: a.fixed,
+            fix_state,
+            fixed_ambiguities: a.baselines.iter().map(|b| b.fixed_ambiguities).sum(),
+            ambiguities: a.baselines.iter().map(|b| b.ambiguities).sum(),
+            ratio: a.ratio,
+            success_rate: a.success_rate,
+            baselines_enu_m,
+            covariances_enu_m2,
+            enu_from_body: Some(a.rotation_enu_from_body),
+            attitude_sigmas_deg: Some(sigmas),
+        }
+    }
+}
