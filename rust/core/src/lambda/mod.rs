@@ -148,18 +148,30 @@ impl Problem {
     fn solve_ref(&self, f: FloatsRef<'_>, m: usize, max_nodes: u64) -> Result<IlsSolution> {
         let found = search(&self.reduction.factor, f.zhat, m, max_nodes)?;
         let n = self.len();
-        let fixed = (0..m)
-            .map(|c| self.to_original_from(f.offset, &found.z.column(c).into_owned()))
-            .collect::<Result<Vec<_>>>()?;
-        let recomputed: Vec<f64> = fixed.iter().map(|z| self.norm_from(f, z)).collect();
-        let order = agreeing_order("LAMBDA", &found.squared_norms, &recomputed)?;
-        let mut out = DMatrix::<i64>::zeros(n, m);
-        for (c, &k) in order.iter().enumerate() {
-            out.set_column(c, &fixed[k]);
+        // Mapped back into one matrix, norms recomputed through one residual buffer: the candidates
+        // cost no allocation each.
+        let mut fixed = DMatrix::<i64>::zeros(n, m);
+        let mut r = DVector::<f64>::zeros(n);
+        let mut recomputed = Vec::with_capacity(m);
+        for c in 0..m {
+            let mut column = fixed.column_mut(c);
+            self.to_original_into(
+                f.offset,
+                found.z.column(c).as_slice(),
+                column.as_mut_slice(),
+            )?;
+            recomputed.push(self.norm_into(f, column.as_slice(), &mut r));
         }
+        let order = agreeing_order("LAMBDA", &found.squared_norms, &recomputed)?;
+        let (fixed, squared_norms) = if order.iter().enumerate().all(|(c, &k)| c == k) {
+            (fixed, recomputed)
+        } else {
+            let out = DMatrix::from_fn(n, m, |i, c| fixed[(i, order[c])]);
+            (out, order.iter().map(|&k| recomputed[k]).collect())
+        };
         Ok(IlsSolution {
-            fixed: out,
-            squared_norms: order.iter().map(|&k| recomputed[k]).collect(),
+            fixed,
+            squared_norms,
             nodes_visited: found.nodes_visited,
         })
     }
@@ -170,11 +182,16 @@ impl Problem {
     }
 
     fn norm_from(&self, f: FloatsRef<'_>, z: &DVector<i64>) -> f64 {
+        self.norm_into(f, z.as_slice(), &mut DVector::zeros(self.len()))
+    }
+
+    /// [`Problem::norm_from`] through the residual buffer `r` (n).
+    fn norm_into(&self, f: FloatsRef<'_>, z: &[i64], r: &mut DVector<f64>) -> f64 {
         // a - z = (a - round(a)) - (z - round(a)): the integer difference is small and exact.
-        let r = DVector::from_fn(self.len(), |i, _| {
-            f.frac[i] - z[i].saturating_sub(f.offset[i]) as f64
-        });
-        self.metric.squared_norm(&r)
+        for (i, ri) in r.iter_mut().enumerate() {
+            *ri = f.frac[i] - z[i].saturating_sub(f.offset[i]) as f64;
+        }
+        self.metric.squared_norm_mut(r)
     }
 
     /// Maps integers of the decorrelated (shifted) space back: `round(a) + Z^-T z`, in exact integer
@@ -188,17 +205,26 @@ impl Problem {
     }
 
     fn to_original_from(&self, offset: &DVector<i64>, z: &DVector<f64>) -> Result<DVector<i64>> {
-        let zi = exact_integers(z)?;
-        let n = self.len();
-        let mut out = DVector::zeros(n);
-        for i in 0..n {
-            // |Z^-1| <= 2^52, |z| <= 2^53, n <= 256: every sum stays below 2^114, inside i128.
-            let back: i128 = (0..n)
-                .map(|k| self.reduction.z_inv[(k, i)] as i128 * zi[k] as i128)
-                .sum();
-            out[i] = bounded_integer(i, offset[i] as i128 + back)?;
-        }
+        let mut out = DVector::zeros(self.len());
+        self.to_original_into(offset, z.as_slice(), out.as_mut_slice())?;
         Ok(out)
+    }
+
+    /// [`Problem::to_original_from`] into `out` (n).
+    fn to_original_into(&self, offset: &DVector<i64>, z: &[f64], out: &mut [i64]) -> Result<()> {
+        for (k, &v) in z.iter().enumerate() {
+            exact_integer(k, v)?;
+        }
+        let n = self.len();
+        for (i, o) in out.iter_mut().enumerate() {
+            // |Z^-1| <= 2^52, |z| <= 2^53, n <= 256: every sum stays below 2^114, inside i128.
+            // (Exact integers of at most 2^53: exact as i64.)
+            let back: i128 = (0..n)
+                .map(|k| self.reduction.z_inv[(k, i)] as i128 * z[k] as i64 as i128)
+                .sum();
+            *o = bounded_integer(i, offset[i] as i128 + back)?;
+        }
+        Ok(())
     }
 }
 
@@ -260,22 +286,17 @@ fn check_floats(a: &DVector<f64>, n: usize) -> Result<()> {
     Ok(())
 }
 
-/// `z` as exact integers: each entry integer-valued with `|z_k| <= 2^53`.
-fn exact_integers(z: &DVector<f64>) -> Result<Vec<i64>> {
+/// Checks that decorrelated integer `k`, `v`, is an exact integer: integer-valued with `|v| <= 2^53`.
+fn exact_integer(k: usize, v: f64) -> Result<()> {
     const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
-    z.iter()
-        .enumerate()
-        .map(|(k, &v)| {
-            if v.fract() == 0.0 && v.abs() <= EXACT {
-                Ok(v as i64)
-            } else {
-                Err(Error::numerical(
-                    "LAMBDA",
-                    format!("decorrelated integer {k} = {v:e} is not an exact integer"),
-                ))
-            }
-        })
-        .collect()
+    if v.fract() == 0.0 && v.abs() <= EXACT {
+        Ok(())
+    } else {
+        Err(Error::numerical(
+            "LAMBDA",
+            format!("decorrelated integer {k} = {v:e} is not an exact integer"),
+        ))
+    }
 }
 
 /// An integer to be returned, refused beyond [`MAX_ABS_AMBIGUITY`] (element `i` in the message).

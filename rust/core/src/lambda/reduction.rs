@@ -135,7 +135,7 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
     }
     Ok(Reduction {
         z: z.z.map(|v| v as i64),
-        z_inv: z.z_inv_t.transpose().map(|v| v as i64),
+        z_inv: DMatrix::from_fn(n, n, |i, j| z.z_inv_t[(j, i)] as i64),
         factor: Ltdl { l, d },
     })
 }

@@ -50,10 +50,16 @@ impl Metric {
 
     /// `r^T Q^-1 r = |L^-1 r|^2`.
     pub fn squared_norm(&self, r: &DVector<f64>) -> f64 {
-        self.chol
-            .l_dirty()
-            .solve_lower_triangular(r)
-            .map_or(f64::INFINITY, |y| y.norm_squared())
+        self.squared_norm_mut(&mut r.clone())
+    }
+
+    /// [`Metric::squared_norm`] in place: `r` is overwritten by `L^-1 r`.
+    pub fn squared_norm_mut(&self, r: &mut DVector<f64>) -> f64 {
+        if self.chol.l_dirty().solve_lower_triangular_mut(r) {
+            r.norm_squared()
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// `(Q^-1)` applied to the columns of `b`: `Q^-1 b`.
