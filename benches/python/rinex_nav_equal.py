@@ -16,22 +16,16 @@ cut field). Exit status 1 on any difference.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import random
 import sys
-import tempfile
-import warnings
 from pathlib import Path
-from typing import Any
-
-import numpy as np
 
 from gnssatt.errors import RinexError
 from gnssatt.rinex import read_nav
 from gnssatt.rinex._fields import read_bytes
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _reference import PYTHON_NAV_REV, reference_nav_reader
+from _reference import PYTHON_NAV_REV, compare, reference_nav_reader
 from rinex_obs_equal import mutant
 
 _NOT_RINEX = {"LICENSE", "COMMIT", "SHA256SUMS"}
@@ -42,59 +36,6 @@ _FIELD_VALUES = (
     "-8.000000000000D+00", "                   ", " 1.0E+999          ", "   1.5", " 1.000000000000D+03",
     " nan               ", "1.0D+01 2.0D+00    ",
 )  # fmt: skip
-
-
-def _outcome(reader: Any, path: Path) -> tuple[str, Any, list[str]]:
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            result: Any = reader(path)
-            kind = "read"
-        except RinexError as exc:
-            kind, result = "error", (str(exc), exc.line)
-    return kind, result, [f"{w.category.__name__}: {w.message}" for w in caught]
-
-
-def _same(a: Any, b: Any, where: str, out: list[str]) -> None:
-    """Append to ``out`` where ``a`` and ``b`` differ (dataclasses and dicts field by field, arrays by
-    bytes, dtype and shape, floats by bits)."""
-    if dataclasses.is_dataclass(a) and dataclasses.is_dataclass(b):
-        for f in dataclasses.fields(a):
-            _same(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}", out)
-    elif isinstance(a, dict) and isinstance(b, dict):
-        if list(a) != list(b):
-            out.append(f"{where}: keys {list(a)} against {list(b)}")
-        for k in a:
-            if k in b:
-                _same(a[k], b[k], f"{where}[{k!r}]", out)
-    elif isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
-        a, b = np.asarray(a), np.asarray(b)
-        if not (a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()):
-            out.append(f"{where} differs")
-    elif isinstance(a, float) and isinstance(b, float):
-        if np.float64(a).tobytes() != np.float64(b).tobytes():
-            out.append(f"{where} differs")
-    elif type(a) is not type(b) or a != b:
-        out.append(f"{where}: {a!r} against {b!r}")
-
-
-def differences(path: Path, old: Any) -> list[str]:
-    """What differs between the current reader and ``old`` on ``path`` (empty: nothing)."""
-    k_new, r_new, w_new = _outcome(read_nav, path)
-    k_old, r_old, w_old = _outcome(old, path)
-    out: list[str] = []
-    if k_new != k_old:
-        shown_new = r_new if k_new == "error" else ""
-        shown_old = r_old if k_old == "error" else ""
-        return [f"new {k_new} {shown_new}, old {k_old} {shown_old}"]
-    if k_new == "error":
-        if r_new != r_old:
-            out.append(f"error: new {r_new}, old {r_old}")
-    else:
-        _same(r_new, r_old, "nav", out)
-    if w_new != w_old:
-        out.append(f"warnings: new {w_new}, old {w_old}")
-    return out
 
 
 def navigation_files(paths: list[Path]) -> list[Path]:
@@ -141,28 +82,13 @@ def main() -> int:
     ap.add_argument("--mutants", type=int, default=0)
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
-    old = reference_nav_reader(args.rev)
-    rng = random.Random(args.seed)
     files = navigation_files(args.paths)
-    n_diff = n_mut = n_mut_err = 0
-    for f in files:
-        diff = differences(f, old)
-        n_diff += bool(diff)
-        print(f"{'DIFFERENT' if diff else 'same     '} {f}" + "".join(f"\n    {d}" for d in diff))
-        if args.mutants:
-            raw = read_bytes(str(f))
-            with tempfile.TemporaryDirectory() as folder:
-                for m in range(args.mutants):
-                    p = Path(folder) / f"mutant{m}.rnx"
-                    p.write_bytes(field_mutant(raw, rng) if m % 2 else mutant(raw, rng))
-                    diff = differences(p, old)
-                    n_mut += 1
-                    n_mut_err += _outcome(read_nav, p)[0] == "error"
-                    if diff:
-                        n_diff += 1
-                        print(f"DIFFERENT mutant {m} of {f}" + "".join(f"\n    {d}" for d in diff))
-    print(f"{len(files)} files, {n_mut} mutants ({n_mut_err} refused): {n_diff} different from {args.rev}")
-    return 1 if n_diff else 0
+    old = reference_nav_reader(args.rev)
+
+    def mutate(raw: bytes, rng: random.Random, m: int) -> bytes:
+        return field_mutant(raw, rng) if m % 2 else mutant(raw, rng)
+
+    return compare(files, read_nav, old, args.rev, args.mutants, random.Random(args.seed), mutate)
 
 
 if __name__ == "__main__":

@@ -15,63 +15,16 @@ from __future__ import annotations
 import argparse
 import random
 import sys
-import tempfile
-import warnings
-from dataclasses import fields
 from pathlib import Path
-from typing import Any
-
-import numpy as np
 
 from gnssatt.errors import RinexError
 from gnssatt.rinex import read_obs
 from gnssatt.rinex._fields import read_bytes
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _reference import PYTHON_READER_REV, reference_reader
+from _reference import PYTHON_READER_REV, compare, reference_reader
 
 _NOT_RINEX = {"LICENSE", "COMMIT", "SHA256SUMS"}
-
-
-def _outcome(reader: Any, path: Path) -> tuple[str, Any, list[str]]:
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            result: Any = reader(path)
-            kind = "read"
-        except RinexError as exc:
-            kind, result = "error", (str(exc), exc.line)
-    return kind, result, [f"{w.category.__name__}: {w.message}" for w in caught]
-
-
-def _same_value(a: Any, b: Any) -> bool:
-    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
-        a, b = np.asarray(a), np.asarray(b)
-        return bool(a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes())
-    if isinstance(a, float) and isinstance(b, float):
-        return bool(np.float64(a).tobytes() == np.float64(b).tobytes())
-    return type(a) is type(b) and bool(a == b)
-
-
-def differences(path: Path, old: Any) -> list[str]:
-    """What differs between the current reader and ``old`` on ``path`` (empty: nothing)."""
-    k_new, r_new, w_new = _outcome(read_obs, path)
-    k_old, r_old, w_old = _outcome(old, path)
-    out = []
-    if k_new != k_old:
-        shown_new = r_new if k_new == "error" else ""
-        shown_old = r_old if k_old == "error" else ""
-        return [f"new {k_new} {shown_new}, old {k_old} {shown_old}"]
-    if k_new == "error":
-        if r_new != r_old:
-            out.append(f"error: new {r_new}, old {r_old}")
-    else:
-        for f in fields(r_new):
-            if not _same_value(getattr(r_new, f.name), getattr(r_old, f.name)):
-                out.append(f"field {f.name} differs")
-    if w_new != w_old:
-        out.append(f"warnings: new {w_new}, old {w_old}")
-    return out
 
 
 def observation_files(paths: list[Path]) -> list[Path]:
@@ -121,28 +74,17 @@ def main() -> int:
     ap.add_argument("--mutants", type=int, default=0)
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
-    old = reference_reader(args.rev)
-    rng = random.Random(args.seed)
     files = observation_files(args.paths)
-    n_diff = n_mut = n_mut_err = 0
-    for f in files:
-        diff = differences(f, old)
-        n_diff += bool(diff)
-        print(f"{'DIFFERENT' if diff else 'same     '} {f}" + "".join(f"\n    {d}" for d in diff))
-        if args.mutants:
-            raw = read_bytes(str(f))
-            with tempfile.TemporaryDirectory() as folder:
-                for m in range(args.mutants):
-                    p = Path(folder) / f"mutant{m}.rnx"
-                    p.write_bytes(mutant(raw, rng))
-                    diff = differences(p, old)
-                    n_mut += 1
-                    n_mut_err += _outcome(read_obs, p)[0] == "error"
-                    if diff:
-                        n_diff += 1
-                        print(f"DIFFERENT mutant {m} of {f}" + "".join(f"\n    {d}" for d in diff))
-    print(f"{len(files)} files, {n_mut} mutants ({n_mut_err} refused): {n_diff} different from {args.rev}")
-    return 1 if n_diff else 0
+    old = reference_reader(args.rev)
+    return compare(
+        files,
+        read_obs,
+        old,
+        args.rev,
+        args.mutants,
+        random.Random(args.seed),
+        lambda raw, rng, m: mutant(raw, rng),
+    )
 
 
 if __name__ == "__main__":

@@ -2,8 +2,8 @@
 //! of the numbers and the calendar that the header reader (`gnssatt.rinex._fields`) makes.
 
 use super::lines::{blank, is_digit, slice, strip, tail};
-use super::obs_body::BodyError;
-use super::text::{py_float_repr, py_format_g, py_repr};
+use super::obs_body::{err, quoted, BodyError};
+use super::text::{py_float_repr, py_format_g};
 
 /// Years a label may carry (`gnssatt.rinex._fields.YEARS`): datetime64[ns] holds 1678-2262.
 const YEARS: (i64, i64) = (1980, 2200);
@@ -43,17 +43,6 @@ pub struct EpochLine {
     /// Nanoseconds since 1970 (GPST as written); None for an event epoch whose time is not significant.
     pub time_ns: Option<i64>,
     pub clock_s: f64,
-}
-
-fn err(line: usize, message: String) -> BodyError {
-    BodyError::Malformed {
-        line: Some(line),
-        message,
-    }
-}
-
-fn quoted(s: &[u8]) -> String {
-    py_repr(s, '\u{fffd}')
 }
 
 /// `gnssatt.rinex._fields.integer`: digits with an optional sign between blanks.

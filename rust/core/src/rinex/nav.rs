@@ -10,8 +10,8 @@
 
 use super::epoch::{epoch_ns, fortran, integer, number};
 use super::lines::{blank, is_space, slice, split_lines, strip, tail};
-use super::obs_body::BodyError;
-use super::text::{py_float_repr, py_format_g, py_repr};
+use super::obs_body::{err, quoted, BodyError};
+use super::text::{py_float_repr, py_format_g};
 
 /// Values of a Keplerian record: af0-af2, then the 26 fields of its broadcast orbit lines
 /// (`gnssatt.rinex.nav.KEPLER_FIELDS`).
@@ -54,17 +54,6 @@ pub struct NavRecords {
     pub skips: Vec<(NavSkip, String)>,
     /// Lines of the file.
     pub lines: usize,
-}
-
-fn err(line: usize, message: String) -> BodyError {
-    BodyError::Malformed {
-        line: Some(line),
-        message,
-    }
-}
-
-fn quoted(s: &[u8]) -> String {
-    py_repr(s, '\u{fffd}')
 }
 
 /// The text of `s` as Python holds it (a byte of 0x80 or above is U+FFFD).

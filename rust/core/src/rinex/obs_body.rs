@@ -83,14 +83,16 @@ pub enum BodyError {
     },
 }
 
-fn err(line: usize, message: String) -> BodyError {
+/// The error for a record that breaks the RINEX rules at the 1-based `line` (every body reader's).
+pub(super) fn err(line: usize, message: String) -> BodyError {
     BodyError::Malformed {
         line: Some(line),
         message,
     }
 }
 
-fn quoted(s: &[u8]) -> String {
+/// A field quoted as Python's `repr` of the decoded line quotes it (a byte of 0x80 or above is U+FFFD).
+pub(super) fn quoted(s: &[u8]) -> String {
     py_repr(s, '\u{fffd}')
 }
 
