@@ -18,12 +18,13 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import gnssatt
-from gnssatt import orbit_nav, sim
+from gnssatt import sim
 from gnssatt._arrays import generator
 from gnssatt.attitude import dynamics as tumble
 from gnssatt.attitude import gyro_gnss
 from gnssatt.errors import InvalidInputError, InvalidTypeError
 from gnssatt.gnss.attitude import AttitudeSeries as RinexAttitudeSeries
+from gnssatt.orbit import determination
 from gnssatt.sim import attitude_scenario as scen
 from gnssatt.sim import rinex_scenario
 
@@ -309,7 +310,7 @@ STOCHASTIC: dict[str, tuple[Callable[..., Any], Callable[[Any], Any]]] = {
         lambda f: f.rotation.as_quat(),
     ),
     "noisy_orbit": (
-        lambda rng: orbit_nav.noisy_orbit(
+        lambda rng: determination.noisy_orbit(
             np.concatenate([_R[0], _V[0]]), T3, rng=rng, accel_psd_m2_s3=1e-6, step_s=10.0
         ),
         lambda x: x,

@@ -19,7 +19,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 from valid_calls import VALID_CALLS, resolve
 
-from gnssatt import constants, magnetic, orbit, orbit_nav, sim
+from gnssatt import constants, magnetic, orbit, sim
 from gnssatt.attitude import dynamics as tumble
 from gnssatt.errors import (
     ConvergenceError,
@@ -29,6 +29,7 @@ from gnssatt.errors import (
     WorkLimitError,
 )
 from gnssatt.observations import SpaceborneMeasurements
+from gnssatt.orbit import determination
 from gnssatt.sim import attitude_scenario as scen
 
 RNG = np.random.default_rng(0)
@@ -53,7 +54,7 @@ MEAS = _spaceborne()
 PHASES = scen.phase_observations(
     LEO, GPS, T3, ATT3, BASELINES, np.random.default_rng(2), phase_sigma_cycles=0.01, half_angle_deg=180.0
 )
-FILTERED = orbit_nav.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
+FILTERED = determination.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
 
 
 def _shared(qualified: str) -> tuple[Callable[..., Any], dict[str, Any]]:
@@ -286,11 +287,11 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "gmst_rad": _shared("gnssatt.orbit.gmst_rad"),
     "teme_to_ecef": _shared("gnssatt.orbit.teme_to_ecef"),
     "tle_states": _shared("gnssatt.orbit.tle_states"),
-    # gnssatt.orbit_nav
-    "white_acceleration_noise": _shared("gnssatt.orbit_nav.white_acceleration_noise"),
-    "noisy_orbit": _shared("gnssatt.orbit_nav.noisy_orbit"),
-    "receiver_fix": _shared("gnssatt.orbit_nav.receiver_fix"),
-    "orbit_filter": _shared("gnssatt.orbit_nav.orbit_filter"),
+    # gnssatt.orbit.determination
+    "white_acceleration_noise": _shared("gnssatt.orbit.determination.white_acceleration_noise"),
+    "noisy_orbit": _shared("gnssatt.orbit.determination.noisy_orbit"),
+    "receiver_fix": _shared("gnssatt.orbit.determination.receiver_fix"),
+    "orbit_filter": _shared("gnssatt.orbit.determination.orbit_filter"),
     "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
     # gnssatt.attitude.dynamics
     "TumbleModel": (
@@ -763,7 +764,7 @@ def test_fit_rotation_takes_directions_of_any_scale() -> None:
 def test_every_public_function_has_cases() -> None:
     # every name in the modules' __all__ that is a function or a class with a constructor is covered
     covered = {name.split(".")[-1] for name in FUNCTIONS} | {name.split(".")[0] for name in FUNCTIONS}
-    modules = [magnetic, orbit, orbit_nav, tumble, sim, scen, constants]
+    modules = [magnetic, orbit, determination, tumble, sim, scen, constants]
     missing = set()
     for module in modules:
         for name in module.__all__:
@@ -774,8 +775,8 @@ def test_every_public_function_has_cases() -> None:
     not_inputs = {
         "gnssatt.sim.ArrayMeasurements",
         "gnssatt.orbit.PropagatedState",
-        "gnssatt.orbit_nav.OrbitFilterResult",
-        "gnssatt.orbit_nav.ReceiverFixes",
+        "gnssatt.orbit.determination.OrbitFilterResult",
+        "gnssatt.orbit.determination.ReceiverFixes",
         "gnssatt.attitude.dynamics.RotationFit",
         "gnssatt.attitude.dynamics.TumbleTrajectory",
         "gnssatt.sim.SpaceborneMeasurements",
@@ -873,7 +874,7 @@ def test_simulated_measurements_overflow_raises_not_inf() -> None:
 
 def test_white_acceleration_noise_overflow_raises_not_inf() -> None:
     with pytest.raises(ConvergenceError, match="process noise"):
-        orbit_nav.white_acceleration_noise(1e300, 1e10)
+        determination.white_acceleration_noise(1e300, 1e10)
 
 
 def test_attitude_fixes_with_one_baseline_and_one_satellite_is_degenerate() -> None:
@@ -886,5 +887,5 @@ def test_receiver_fix_skips_collinear_satellites_instead_of_nan() -> None:
     pos = MEAS.sat_position_m.copy()
     pos[:] = np.linspace(1.0, 2.0, pos.shape[1])[None, :, None] * np.array([2.0e7, 0.0, 0.0])
     flat = SpaceborneMeasurements(**{**MEAS.__dict__, "sat_position_m": pos})
-    fixes = orbit_nav.receiver_fix(flat)
+    fixes = determination.receiver_fix(flat)
     assert np.all(np.isfinite(fixes.position_m[fixes.valid]))

@@ -412,15 +412,15 @@ VALID_CALLS: dict[str, Callable[[], dict[str, Any]]] = {
         "times": np.array(["2008-09-20T12:25:40", "2008-09-20T12:26:40"], dtype="datetime64[ns]"),
         "dut1_s": 0.1,
     },
-    # --- gnssatt.orbit_nav ---
-    "gnssatt.orbit_nav.noisy_orbit": lambda: {
+    # --- gnssatt.orbit.determination ---
+    "gnssatt.orbit.determination.noisy_orbit": lambda: {
         "x0": _sb()["x0"].copy(),
         "times_s": _sb()["t"].copy(),
         "rng": 1,
         "accel_psd_m2_s3": 1e-8,
         "step_s": 10.0,
     },
-    "gnssatt.orbit_nav.orbit_filter": lambda: {
+    "gnssatt.orbit.determination.orbit_filter": lambda: {
         "data": _sb()["meas"],
         "x0": _sb()["x0"] + 10.0,
         "p0": np.diag([30.0**2] * 3 + [0.05**2] * 3),
@@ -429,8 +429,8 @@ VALID_CALLS: dict[str, Callable[[], dict[str, Any]]] = {
         "step_s": 10.0,
         "use_doppler": True,
     },
-    "gnssatt.orbit_nav.receiver_fix": lambda: {"measurements": _sb()["meas"]},
-    "gnssatt.orbit_nav.white_acceleration_noise": lambda: {"accel_psd_m2_s3": 1e-8, "dt_s": 10.0},
+    "gnssatt.orbit.determination.receiver_fix": lambda: {"measurements": _sb()["meas"]},
+    "gnssatt.orbit.determination.white_acceleration_noise": lambda: {"accel_psd_m2_s3": 1e-8, "dt_s": 10.0},
     # --- gnssatt.attitude.dynamics ---
     "gnssatt.attitude.dynamics.axis_cost": lambda: {
         **_tumble_args(),

@@ -26,7 +26,7 @@ UBIQUITOUS = ("errors", *layers.SHARED_INTERNALS)
 
 
 def _node(unit: str) -> str:
-    return "pkg" if unit == "__init__" else "u" + unit.strip("_")
+    return "pkg" if unit == "__init__" else "u" + unit.strip("_").replace(".", "_")
 
 
 def mermaid() -> str:

@@ -1,5 +1,5 @@
 """One orbit (5670 s) at 1 Hz through the tightly coupled GPS + GLONASS orbit filter: the Rust inner loop
-(gnssatt.orbit_nav.orbit_filter) against the numpy implementation of the same filter
+(gnssatt.orbit.determination.orbit_filter) against the numpy implementation of the same filter
 (tests/references/orbit_reference.py, tight_filter). Prints medians and the ratio.
 
     PYTHONPATH=python python benches/python/orbit_filter_speed.py [--repeats 5] [--numpy-repeats 1]
@@ -17,7 +17,7 @@ import numpy as np
 
 from gnssatt import sim
 from gnssatt.experiments.orbit_filter import ORBIT, P0, Q_M2_S3
-from gnssatt.orbit_nav import noisy_orbit, orbit_filter
+from gnssatt.orbit.determination import noisy_orbit, orbit_filter
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))  # the numpy references
 

@@ -4,7 +4,7 @@
 A satellite on a 500 km sun-synchronous circular orbit carries a zenith-pointing GNSS receiver (85 deg cone,
 Earth and 50 km of atmosphere block the view). Pseudoranges have 1 m of noise, Doppler 0.2 Hz; the receiver
 clock wanders and GLONASS is offset from GPS by 20 m. For five minutes (900-1200 s) no satellite is tracked.
-The tightly coupled filter (:func:`gnssatt.orbit_nav.orbit_filter`) differences the measurements between
+The tightly coupled filter (:func:`gnssatt.orbit.determination.orbit_filter`) differences the measurements between
 satellites of one system, so clock and inter-system bias cancel, and predicts with the J2 model between
 updates. The true orbit follows the same model plus the white acceleration noise the filter assumes, so a
 consistent filter's normalised errors are chi-square distributed, which is what the run checks over
@@ -18,7 +18,7 @@ from scipy.stats import chi2
 
 from gnssatt import sim
 from gnssatt.orbit import CircularOrbit
-from gnssatt.orbit_nav import noisy_orbit, orbit_filter
+from gnssatt.orbit.determination import noisy_orbit, orbit_filter
 
 SEED = 2026
 RUNS = 20

@@ -1,7 +1,7 @@
 """Measurement types the estimators take and the simulator makes, on the base layer so that neither imports
 the other (``docs/architecture.md``): carrier-phase first differences and attitude fixes (inputs of
 :func:`gnssatt.gyro_gnss_filter`, :func:`gnssatt.phase_attitude_fixes`), and spaceborne pseudorange and
-Doppler measurements (inputs of :mod:`gnssatt.orbit_nav`). Each checks its fields on construction.
+Doppler measurements (inputs of :mod:`gnssatt.orbit.determination`). Each checks its fields on construction.
 """
 
 from __future__ import annotations
@@ -155,9 +155,9 @@ class SpaceborneMeasurements:
     isb_m: float
 
     def __post_init__(self) -> None:
-        # Also the intake of real receivers' data in this layout (gnssatt.orbit_nav): every field is checked
-        # for shape and type, the truth and the satellite states for finiteness, the measurements where
-        # tracked (NaN elsewhere).
+        # Also the intake of real receivers' data in this layout (gnssatt.orbit.determination): every field
+        # is checked for shape and type, the truth and the satellite states for finiteness, the measurements
+        # where tracked (NaN elsewhere).
         t = float_array("times_s", self.times_s, ndim=1, shape="(n_t,)")
         if t.size == 0 or np.any(np.diff(t) <= 0):
             raise InvalidInputError("expected at least one epoch and strictly increasing times_s")

@@ -31,7 +31,7 @@ PREFERRED = (
     "gnssatt.magnetic",
     "gnssatt.sim",
     "gnssatt.orbit",
-    "gnssatt.orbit_nav",
+    "gnssatt.orbit.determination",
     "gnssatt.attitude.dynamics",
     "gnssatt.rinex",
     "gnssatt.montecarlo",
@@ -132,10 +132,12 @@ META: dict[str, dict[str, Any]] = {
     "gnssatt.sim.walker": _e(counts={"n_sat", "n_planes"}),
     # --- gnssatt.orbit ---
     "gnssatt.orbit.glonass_propagate": _e(work={"step_s": WORK_TINY_STEP, "duration_s": (1e12, 1e300)}),
-    # --- gnssatt.orbit_nav ---
-    "gnssatt.orbit_nav.noisy_orbit": _e(work={"step_s": WORK_TINY_STEP}),
-    "gnssatt.orbit_nav.orbit_filter": _e(work={"step_s": WORK_TINY_STEP}),
-    "gnssatt.orbit_nav.receiver_fix": _e(nan_output="invalid epochs' fixes are NaN, flagged by valid"),
+    # --- gnssatt.orbit.determination ---
+    "gnssatt.orbit.determination.noisy_orbit": _e(work={"step_s": WORK_TINY_STEP}),
+    "gnssatt.orbit.determination.orbit_filter": _e(work={"step_s": WORK_TINY_STEP}),
+    "gnssatt.orbit.determination.receiver_fix": _e(
+        nan_output="invalid epochs' fixes are NaN, flagged by valid"
+    ),
     # --- gnssatt.attitude.dynamics ---
     "gnssatt.attitude.dynamics.axis_cost": _e(work={"step_s": WORK_TINY_STEP}),
     "gnssatt.attitude.dynamics.noise_cost_threshold": _e(counts={"n_epochs"}),

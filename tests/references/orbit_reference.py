@@ -1,7 +1,8 @@
-"""Slow numpy reference of the tightly coupled orbit filter (:func:`gnssatt.orbit_nav.orbit_filter`), written
-out independently of the Rust core for tests and benchmarks: the same equations (ICD model + RK4 with
-variational equations, Van Loan by ``scipy.linalg.expm``, Joseph update, between-satellite differences with
-``D R D^T``), one epoch at a time."""
+"""Slow numpy reference of the tightly coupled orbit filter
+(:func:`gnssatt.orbit.determination.orbit_filter`), written out independently of the Rust core for tests
+and benchmarks: the same equations (ICD model + RK4 with variational equations, Van Loan by
+``scipy.linalg.expm``, Joseph update, between-satellite differences with ``D R D^T``), one epoch at a
+time."""
 
 from __future__ import annotations
 

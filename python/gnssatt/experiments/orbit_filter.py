@@ -26,7 +26,7 @@ from gnssatt import montecarlo, sim
 from gnssatt.experiments import Experiment
 from gnssatt.experiments.report import format_table, write_report
 from gnssatt.orbit import CircularOrbit
-from gnssatt.orbit_nav import noisy_orbit, orbit_filter
+from gnssatt.orbit.determination import noisy_orbit, orbit_filter
 
 NAME = "orbit-filter"
 ORBIT = CircularOrbit(6_378_137.0 + 500e3, np.radians(97.4), 0.3, 0.0)

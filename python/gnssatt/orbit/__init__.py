@@ -31,8 +31,8 @@ __all__ = [
 #: Earth rotation rate of the GLONASS CDMA ICD (2016) and WGS-84, rad/s.
 OMEGA_E_RAD_S = _constants.OMEGA_E_RAD_S
 #: Most RK4 steps of one :func:`glonass_propagate` call (and of all the steps of one
-#: :func:`gnssatt.orbit_nav.noisy_orbit` or :func:`gnssatt.orbit_nav.orbit_filter` call): the core's
-#: limit, about 58 days in 1 s steps, some 8 s of work.
+#: :func:`gnssatt.orbit.determination.noisy_orbit` or :func:`gnssatt.orbit.determination.orbit_filter`
+#: call): the core's limit, about 58 days in 1 s steps, some 8 s of work.
 MAX_RK4_STEPS = int(_core.ORBIT_MAX_RK4_STEPS)
 #: Closest distance to the Earth's centre of a propagated position, as a fraction of the model's equatorial
 #: radius (0.99: below the surface, the polar radius being 0.9966 of it, the model no longer describes the

@@ -1,6 +1,6 @@
 //! Bindings of the Dzhepe Ali orbit models and orbit-determination filter (`gnssatt_core::orbit`). States
-//! are `(x, y, z, vx, vy, vz)` in Earth-fixed axes, m and m/s; `gnssatt.orbit` / `gnssatt.orbit_nav` hold the
-//! documented Python API.
+//! are `(x, y, z, vx, vy, vz)` in Earth-fixed axes, m and m/s; `gnssatt.orbit` / `gnssatt.orbit.determination`
+//! hold the documented Python API.
 
 use gnssatt_core::orbit::{
     propagate_with_stm, run_filter, CircularOrbit, Corrections, FilterConfig, FilterOutput, Fixes,

@@ -10,7 +10,7 @@ from scipy.stats import chi2
 
 from gnssatt import orbit, sim
 from gnssatt.errors import InvalidInputError
-from gnssatt.orbit_nav import noisy_orbit, orbit_filter, receiver_fix
+from gnssatt.orbit.determination import noisy_orbit, orbit_filter, receiver_fix
 
 LEO = orbit.CircularOrbit(6_878_137.0, np.radians(97.4), 0.3, 0.0)
 P0 = np.diag([30.0**2] * 3 + [0.05**2] * 3)

@@ -71,7 +71,7 @@ def white_acceleration_noise(accel_psd_m2_s3: float, dt_s: float) -> NDArray[np.
 
     Examples
     --------
-    >>> from gnssatt.orbit_nav import white_acceleration_noise
+    >>> from gnssatt.orbit.determination import white_acceleration_noise
     >>> import numpy as np
     >>> q = white_acceleration_noise(3e-8, 10.0)
     >>> bool(np.allclose([q[0, 0], q[0, 3], q[3, 3]], [3e-8 * 1e3 / 3, 3e-8 * 1e2 / 2, 3e-8 * 10.0]))
@@ -164,7 +164,7 @@ def noisy_orbit(
     Examples
     --------
     >>> import numpy as np
-    >>> from gnssatt.orbit_nav import noisy_orbit
+    >>> from gnssatt.orbit.determination import noisy_orbit
     >>> x0 = np.array([7.0e6, 0.0, 0.0, 0.0, 7.5e3, 0.0])
     >>> truth = noisy_orbit(x0, np.arange(0.0, 60.0, 10.0), 1, accel_psd_m2_s3=1e-10)
     >>> truth.shape, bool(np.array_equal(truth[0], x0))
@@ -303,7 +303,7 @@ def receiver_fix(measurements: SpaceborneMeasurements) -> ReceiverFixes:
     >>> t = np.arange(0.0, 60.0, 10.0)
     >>> r, v = leo.state_ecef(t)
     >>> meas = sim.simulate_spaceborne(r, v, t, sim.gps_nominal(), np.random.default_rng(1))
-    >>> from gnssatt.orbit_nav import receiver_fix
+    >>> from gnssatt.orbit.determination import receiver_fix
     >>> fix = receiver_fix(meas)
     >>> bool(fix.valid.all()), bool(np.linalg.norm(fix.position_m - r, axis=1).max() < 10.0)
     (True, True)
@@ -438,7 +438,7 @@ def orbit_filter(
     >>> t = np.arange(0.0, 60.0, 10.0)
     >>> r, v = leo.state_ecef(t)
     >>> meas = sim.simulate_spaceborne(r, v, t, sim.gps_nominal(), np.random.default_rng(1))
-    >>> from gnssatt.orbit_nav import orbit_filter
+    >>> from gnssatt.orbit.determination import orbit_filter
     >>> x0 = np.concatenate([r[0], v[0]]) + [50.0, -50.0, 30.0, 0.5, -0.5, 0.2]
     >>> res = orbit_filter(meas, x0, np.diag([1e4, 1e4, 1e4, 1.0, 1.0, 1.0]))
     >>> res.coupling, bool(np.linalg.norm(res.states[:, :3] - r, axis=1).max() < 10.0)
