@@ -24,5 +24,6 @@ pub mod signal;
 pub mod solution;
 pub mod spp;
 pub mod stream;
+pub mod synthetic;
 pub mod time;
 pub mod weights;

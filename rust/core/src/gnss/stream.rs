@@ -61,6 +61,8 @@ mod ml;
 mod output;
 mod parallel;
 #[cfg(test)]
+mod parallel_tests;
+#[cfg(test)]
 mod tests;
 
 use std::collections::BTreeSet;

@@ -11,48 +11,50 @@ use super::{Engine, Estimate, Prepared};
 use crate::error::Result;
 use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
 use crate::gnss::options::Method;
-use crate::gnss::rtk::{solve_attitude_held, AttitudeSolution, DdEpoch, FixOptions};
+use crate::gnss::rtk::{solve_attitude_held, AttitudeSolution, DdEpoch, FixOptions, HeldAttitude};
 use crate::gnss::solution::FixState;
 use crate::interrupt;
 
 impl Engine {
-    /// Attitude-mode estimates of every epoch of `prepared` (`None`: unsolved).
+    /// Attitude-mode estimates of every epoch of `prepared` (`None`: unsolved); without `continuity`
+    /// the epochs are solved in parallel ([`Engine::attitude_single_epochs`]).
     pub(super) fn attitude_epochs(
         &mut self,
         prepared: &[Prepared],
         fix: &FixOptions,
     ) -> Result<Vec<Option<Estimate>>> {
+        if !self.opts.continuity {
+            return self.attitude_single_epochs(prepared, fix);
+        }
         let mut out = Vec::with_capacity(prepared.len());
         for (k, p) in prepared.iter().enumerate() {
             interrupt::check("GNSS engine")?;
-            out.push(self.attitude_epoch(k, p, fix)?);
+            let factors = self.attitude_factors();
+            let result = self.attitude_solve(p, &factors, fix);
+            out.push(self.attitude_apply(k, p, &factors, result)?);
         }
         Ok(out)
     }
 
-    /// The attitude-mode estimate of epoch `k` (`None`: a rover without code solution, or unsolved).
-    fn attitude_epoch(
-        &mut self,
-        k: usize,
+    /// The code variance factor of every rover's next epoch.
+    pub(super) fn attitude_factors(&self) -> Vec<f64> {
+        self.code_scale.iter().map(|c| c.factor()).collect()
+    }
+
+    /// The constrained fix of epoch `p` with the code variances scaled by `factors` (`None`: a rover
+    /// without code solution); reads the held integers, changes nothing.
+    pub(super) fn attitude_solve(
+        &self,
         p: &Prepared,
+        factors: &[f64],
         fix: &FixOptions,
-    ) -> Result<Option<Estimate>> {
-        let Some(dds) = p
+    ) -> Option<Result<HeldAttitude>> {
+        let dds = p
             .rovers
             .iter()
-            .map(Option::as_ref)
-            .collect::<Option<Vec<&DdEpoch>>>()
-        else {
-            return Ok(None);
-        };
-        dds.iter().for_each(|d| self.count_double_differences(d));
-        let factors: Vec<f64> = self.code_scale.iter().map(|c| c.factor()).collect();
-        let dds: Vec<DdEpoch> = dds
-            .into_iter()
-            .zip(&factors)
-            .map(|(d, &f)| scale_code(d, f).into_owned())
-            .collect();
-        let body = self.opts.body_baselines_m.clone();
+            .zip(factors)
+            .map(|(d, &f)| Some(scale_code(d.as_ref()?, f).into_owned()))
+            .collect::<Option<Vec<DdEpoch>>>()?;
         let held: Vec<Vec<(u64, u64, i64)>> = if self.opts.continuity {
             self.held
                 .iter()
@@ -62,7 +64,29 @@ impl Engine {
         } else {
             Vec::new()
         };
-        let result = solve_attitude_held(&dds, &body, fix, &held);
+        Some(solve_attitude_held(
+            &dds,
+            &self.opts.body_baselines_m,
+            fix,
+            &held,
+        ))
+    }
+
+    /// The attitude-mode estimate of epoch `k` from its fix `result` ([`Engine::attitude_solve`] with
+    /// `factors`): the counts, code noise scale, warnings and held integers it updates, in epoch order.
+    pub(super) fn attitude_apply(
+        &mut self,
+        k: usize,
+        p: &Prepared,
+        factors: &[f64],
+        result: Option<Result<HeldAttitude>>,
+    ) -> Result<Option<Estimate>> {
+        let Some(result) = result else {
+            return Ok(None);
+        };
+        for d in p.rovers.iter().flatten() {
+            self.count_double_differences(d);
+        }
         let Some(h) = self.solved(k, p.time_gpst_ns, result)? else {
             self.held.iter_mut().for_each(Vec::clear);
             return Ok(None);
@@ -71,7 +95,7 @@ impl Engine {
             .code_scale
             .iter_mut()
             .zip(&h.fresh.baselines)
-            .zip(&factors)
+            .zip(factors)
         {
             c.add(b, f);
         }

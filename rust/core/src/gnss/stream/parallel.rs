@@ -14,6 +14,11 @@
 //!   and each kept only where the factor of the ordered pass is the same value. The scale counts an
 //!   epoch's residuals only when its fix succeeds; a fix that fails after its float solution (rare: the
 //!   search's node cap) takes the scale back and the block again from the next epoch.
+//! - **Attitude single epochs** ([`Engine::attitude_single_epochs`], attitude mode without
+//!   `continuity`): the same dependence through every rover's code noise scale, but the constrained fix
+//!   is one call (float solutions and search together). Where every rover's factor is settled, the
+//!   block's fixes are computed in parallel with those factors and each kept only where the factors of
+//!   the ordered pass are the same values; an epoch whose factors differ is fixed again in order.
 
 use std::ops::Range;
 
@@ -22,7 +27,8 @@ use rayon::prelude::*;
 
 use super::code_scale::scale_code;
 use super::{
-    leaves_epoch_unsolved, Engine, Prepared, CODE_SCALE_FACTOR_RANGE, KNOWN_LENGTH_FACTOR_RANGE,
+    leaves_epoch_unsolved, Engine, Estimate, Prepared, CODE_SCALE_FACTOR_RANGE,
+    KNOWN_LENGTH_FACTOR_RANGE,
 };
 use crate::error::Result;
 use crate::gnss::observations::Observations;
@@ -219,6 +225,41 @@ impl Engine {
                 }
             }
             start = next;
+        }
+        Ok(out)
+    }
+
+    /// Attitude-mode estimates of every epoch of `prepared` without `continuity`: what the
+    /// epoch-by-epoch loop of `Engine::attitude_epochs` gives, in parallel (module documentation).
+    pub(super) fn attitude_single_epochs(
+        &mut self,
+        prepared: &[Prepared],
+        fix: &FixOptions,
+    ) -> Result<Vec<Option<Estimate>>> {
+        let mut out = Vec::with_capacity(prepared.len());
+        for (b, block) in prepared.chunks(BLOCK).enumerate() {
+            let settled = self.code_scale.iter().all(|c| {
+                let (lo, hi) = CODE_SCALE_FACTOR_RANGE;
+                c.estimate().is_none_or(|f| f <= lo || f >= hi)
+            });
+            let guess = settled.then(|| self.attitude_factors());
+            let this = &*self;
+            let mut speculative: Vec<Option<_>> = match &guess {
+                Some(g) => block
+                    .par_iter()
+                    .map(|p| Some(this.attitude_solve(p, g, fix)))
+                    .collect(),
+                None => block.iter().map(|_| None).collect(),
+            };
+            for (i, p) in block.iter().enumerate() {
+                interrupt::check("GNSS engine")?;
+                let factors = self.attitude_factors();
+                let result = match (speculative[i].take(), &guess) {
+                    (Some(r), Some(g)) if *g == factors => r,
+                    _ => self.attitude_solve(p, &factors, fix),
+                };
+                out.push(self.attitude_apply(b * BLOCK + i, p, &factors, result)?);
+            }
         }
         Ok(out)
     }
