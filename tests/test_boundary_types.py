@@ -142,7 +142,7 @@ CASES: dict[str, Callable[[], object]] = {
     "PartialFix": lambda: _core.lambda_partial_fix(
         A3, Q3, threshold=None, failure_rate=None, samples=1000, seed=0, min_success_rate=0.9
     ),
-    "MatrixAttitude": lambda: _core.matrix_attitude(np.eye(3), np.eye(3), np.eye(3)),
+    "MatrixAttitude": lambda: _core.matrix_attitude(np.eye(3), np.eye(3), np.eye(3), "svd"),
     # 0.09 rad: just finer than half the main lobe of the 1 m baseline (0.095 rad), 1.7e5 grid cells
     "MlEstimate": lambda: _core.ml_search(
         *_ml_inputs(),
@@ -162,7 +162,7 @@ CASES: dict[str, Callable[[], object]] = {
         two_dimensional=False,
     ),
     "MlSeries": lambda: _core.ml_attitude_series(*_series_inputs(), step_rad=None, window_rad=None),
-    "WahbaBatch": lambda: _core.wahba_batch(np.eye(3), np.eye(3), np.ones(3), 3),
+    "WahbaBatch": lambda: _core.wahba_batch(np.eye(3), np.eye(3), np.ones(3), 3, "svd"),
     "TriadBatch": lambda: _core.triad_batch(*(np.eye(3)[None, k] for k in (0, 1, 0, 1))),
     "YawBatch": lambda: _core.yaw_batch(np.eye(3)[:1], np.eye(3)[:1], np.zeros(1), np.zeros(1)),
     "StateWithStm": lambda: _core.glonass_propagate(ICD_STATE, 60.0, GlonassModel()._kwargs(), step_s=10.0),

@@ -365,9 +365,9 @@ RNG_ELSEWHERE = {
     "gnssatt.sim.rinex_scenario.simulate_gnss_rinex",
     "gnssatt.sim.rinex_scenario.simulate_rinex_array",
     "gnssatt.sim.platforms.simulate_platform",
-    "gnssatt.sim.platforms.car",
-    "gnssatt.sim.platforms.ship",
-    "gnssatt.sim.platforms.aircraft",
+    "gnssatt.sim.platform_presets.car",
+    "gnssatt.sim.platform_presets.ship",
+    "gnssatt.sim.platform_presets.aircraft",
 }
 
 

@@ -201,7 +201,7 @@ def test_unknown_search_is_refused():
     rng = np.random.default_rng(8)
     los = sky(rng, 6)
     p = phases(rng, TRIANGLE, los, L1, [0.0, 0.0, 0.0])
-    with pytest.raises(InvalidInputError, match="search as one of 'auto', 'exhaustive', 'branch_and_bound'"):
+    with pytest.raises(InvalidInputError, match="expected search 'auto', 'exhaustive' or 'branch_and_bound'"):
         gnssatt.ml_attitude(p, los, TRIANGLE, L1, step_deg=6.0, search="fastest")
 
 

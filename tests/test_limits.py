@@ -207,7 +207,7 @@ def test_a_gyro_filter_covariance_that_overflows_raises_instead_of_inf() -> None
 def test_wahba_weights_that_overflow_raise_instead_of_nan() -> None:
     v = np.eye(3)[:2]
     with pytest.raises((ConvergenceError, DegenerateGeometryError)):
-        _core.wahba_batch(v, v, np.full(2, np.finfo(float).max), 2)
+        _core.wahba_batch(v, v, np.full(2, np.finfo(float).max), 2, "svd")
 
 
 CHILD = textwrap.dedent(

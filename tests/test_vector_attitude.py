@@ -158,7 +158,7 @@ def test_degenerate_and_bad_input() -> None:
         gnssatt.wahba([z, 2 * z], [x, x])
     with pytest.raises(DegenerateGeometryError, match="body vector 1 is zero"):
         gnssatt.wahba([z, np.zeros(3)], [x, y])
-    with pytest.raises(InvalidInputError, match="expected method as one of 'svd'"):
+    with pytest.raises(InvalidInputError, match="expected 'svd', 'davenport' or 'quest'"):
         gnssatt.wahba([z, x], [z, x], method="bogus")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="non-negative"):
         gnssatt.wahba([z, x], [z, x], [1.0, -1.0])

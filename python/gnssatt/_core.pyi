@@ -128,7 +128,7 @@ def matrix_attitude(
     baselines: NDArray[np.float64],
     los: NDArray[np.float64],
     range_diffs: NDArray[np.float64],
-    method: str = "svd",
+    method: str,
 ) -> MatrixAttitude: ...
 
 # likelihood.rs: phase_diffs (E, m, M), los (E, M, 3) ENU, wavelengths (E, M), baselines (m, 3) body.
@@ -179,7 +179,7 @@ def ml_search(
     step_rad: float | None,
     window_rad: list[list[float]] | None,
     search: str,
-    refine: str,
+    refine: bool | str,
     two_dimensional: bool,
 ) -> MlEstimate: ...
 def bnb_stats(
@@ -414,7 +414,7 @@ def wahba_batch(
     reference: NDArray[np.float64],
     weights: NDArray[np.float64],
     pairs: int,
-    method: str = "svd",
+    method: str,
 ) -> WahbaBatch: ...
 def triad_batch(
     b1: NDArray[np.float64], b2: NDArray[np.float64], r1: NDArray[np.float64], r2: NDArray[np.float64]

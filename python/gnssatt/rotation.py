@@ -24,7 +24,6 @@ from gnssatt._arrays import (
     MAX_BATCH_VALUES,
     batch_limit,
     checked_array,
-    choice,
     flag,
     instance,
     shaped,
@@ -48,10 +47,6 @@ SEQUENCES = (
     *("XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"),  # Tait-Bryan
     *("XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"),  # proper Euler
 )
-
-
-def _seq(seq: str) -> str:
-    return choice("seq", seq, SEQUENCES)
 
 
 def _angles(angles: ArrayLike, degrees: bool) -> tuple[float, float, float]:
@@ -101,7 +96,7 @@ def euler_to_dcm(seq: str, angles: ArrayLike, *, degrees: bool = False) -> NDArr
            [ 1.,  0.,  0.],
            [ 0.,  0.,  1.]])
     """
-    return _core.euler_to_dcm(_seq(seq), _angles(angles, degrees))
+    return _core.euler_to_dcm(seq, _angles(angles, degrees))
 
 
 def dcm_to_euler(seq: str, dcm: ArrayLike, *, degrees: bool = False) -> NDArray[np.float64]:
@@ -140,7 +135,7 @@ def dcm_to_euler(seq: str, dcm: ArrayLike, *, degrees: bool = False) -> NDArray[
     >>> np.round(dcm_to_euler("ZYX", m, degrees=True), 9)
     array([ 30., -20.,  10.])
     """
-    seq, m, degrees = _seq(seq), _dcm(dcm), flag("degrees", degrees)
+    m, degrees = _dcm(dcm), flag("degrees", degrees)
     angles = np.array(_core.dcm_to_euler(seq, m))
     return np.degrees(angles) if degrees else angles
 

@@ -10,14 +10,13 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import batch_limit, choice, finite_outputs, plain_array, shaped
+from gnssatt._arrays import batch_limit, finite_outputs, plain_array, shaped
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, MAX_SIGNALS, checked_baselines
 
 __all__ = ["MatrixAttitudeResult", "matrix_attitude"]
 
 Method = Literal["svd", "ml", "closed_form", "paper"]
-METHODS: tuple[Method, ...] = ("svd", "ml", "closed_form", "paper")
 
 
 @dataclass(frozen=True)
@@ -137,7 +136,6 @@ def matrix_attitude(
             f"({len(b)}, {len(s)}) for baselines {b.shape} and los {s.shape}, got range_diffs {shape}"
         )
     r = shaped("range_diffs", range_diffs, f"(m, n) = ({len(b)}, {len(s)})", (len(b), len(s)))
-    method = choice("method", method, METHODS)
     if np.any(np.abs(r) > MAX_BASELINE_M):
         k = tuple(int(i) for i in np.argwhere(np.abs(r) > MAX_BASELINE_M)[0])
         raise InvalidInputError(

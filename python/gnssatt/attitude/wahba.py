@@ -18,13 +18,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt import _core
-from gnssatt._arrays import MAX_BATCH_ROWS, batch_limit, choice, finite_outputs, float_array, shaped
+from gnssatt._arrays import MAX_BATCH_ROWS, batch_limit, finite_outputs, float_array, shaped
 from gnssatt.errors import DegenerateGeometryError, InvalidInputError, NearDegenerateWarning
 
 __all__ = ["MAX_VECTOR_PAIRS", "QUEST_MAX_WEIGHT_SPAN", "TriadResult", "WahbaResult", "triad", "wahba"]
 
 Method = Literal["svd", "davenport", "quest"]
-METHODS: tuple[Method, ...] = ("svd", "davenport", "quest")
 
 #: TRIAD warns when the sine of the angle between its two vectors (either frame) is below this.
 TRIAD_WARN_SIN = 1e-2
@@ -267,7 +266,6 @@ def wahba(
     )
     b = rescaled(shaped("body", body, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
     r = rescaled(shaped("ref", ref, "(n, 3) or (epochs, n, 3)", (None, 3), (None, None, 3)))
-    method = choice("method", method, METHODS)
     if b.shape != r.shape:
         raise InvalidInputError(
             f"expected body and ref of one shape (..., n, 3), got {b.shape} and {r.shape}"

@@ -69,6 +69,7 @@ from gnssatt.sim.measurements import (
     simulate_array,
     wrap_rad,
 )
+from gnssatt.sim.platform_presets import aircraft, car, ship
 from gnssatt.sim.platforms import (
     NOISE_PROFILES,
     Blockage,
@@ -76,9 +77,6 @@ from gnssatt.sim.platforms import (
     NoiseProfile,
     SimulatedPlatform,
     Trajectory,
-    aircraft,
-    car,
-    ship,
     simulate_platform,
 )
 from gnssatt.sim.spaceborne import simulate_spaceborne

@@ -7,8 +7,9 @@ satellite clocks, Klobuchar ionosphere and standard troposphere).
 The general mechanism is :func:`simulate_platform` with a :class:`Trajectory` (legs of constant speed,
 turn rate and climb rate, plus roll, pitch and heave oscillations, coordinated-turn bank), a
 :class:`Blockage` (whole outages and tree-lined stretches) and a :class:`NoiseProfile`
-(:data:`NOISE_PROFILES`: ``"gps_l1_ublox"``, ``"geodetic"``). The presets :func:`car`, :func:`ship` and
-:func:`aircraft` build on it.
+(:data:`NOISE_PROFILES`: ``"gps_l1_ublox"``, ``"geodetic"``). The presets
+:func:`~gnssatt.sim.platform_presets.car`, :func:`~gnssatt.sim.platform_presets.ship` and
+:func:`~gnssatt.sim.platform_presets.aircraft` (:mod:`gnssatt.sim.platform_presets`) build on it.
 
 Frames: ENU positions are in the tangent plane at the trajectory's origin (ECEF = origin + R0 ENU); the
 attitude is body -> local ENU at the platform, eq. (5) angles ``euler_gost_deg`` of Bunyaeva et al. (body X
@@ -18,12 +19,9 @@ positive) and ``roll_deg = phi`` (right wing down positive). Antenna i is at ``p
 
 from __future__ import annotations
 
-import inspect
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
-from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,9 +55,6 @@ __all__ = [
     "NoiseProfile",
     "SimulatedPlatform",
     "Trajectory",
-    "aircraft",
-    "car",
-    "ship",
     "simulate_platform",
 ]
 
@@ -410,6 +405,121 @@ def _antennas_ecef(
     return ant, enu, eul, local
 
 
+def _checked_noise(noise: str | NoiseProfile) -> NoiseProfile:
+    """``noise`` as a profile: a :class:`NoiseProfile`, or the name of one of :data:`NOISE_PROFILES`."""
+    if isinstance(noise, str):
+        if noise not in NOISE_PROFILES:
+            raise InvalidInputError(f"expected noise as one of {sorted(NOISE_PROFILES)}, got {noise!r}")
+        noise = NOISE_PROFILES[noise]
+    return instance("noise", noise, NoiseProfile, "a NoiseProfile or a profile name")
+
+
+def _receiver_positions(
+    traj: Trajectory,
+    t_rel: NDArray[np.float64],
+    lever: NDArray[np.float64],
+    base_off: NDArray[np.float64] | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None]:
+    """ECEF positions (n_ep, n_rx, 3 instants, 3) of the antennas, then the base, at the label and half a
+    Doppler step either side; the platform's ENU positions and Euler angles at the labels; the base."""
+    n_ant = lever.shape[0]
+    n_rx = n_ant + (base_off is not None)
+    h = DOPPLER_HALF_STEP_S
+    pos = np.empty((t_rel.size, n_rx, 3, 3))
+    for j, dt in enumerate((0.0, -h, h)):
+        ant, enu_j, eul_j, _ = _antennas_ecef(traj, t_rel + dt, lever)
+        pos[:, :n_ant, j] = ant
+        if j == 0:
+            enu, eul = enu_j, eul_j
+    base_ecef = None
+    if base_off is not None:
+        r0 = _dcm_ecef_from_enu(np.asarray(traj.lat_deg), np.asarray(traj.lon_deg))
+        base_ecef = geodetic_to_ecef(traj.lat_deg, traj.lon_deg, traj.height_m) + r0 @ base_off
+        pos[:, n_ant] = base_ecef
+    return pos, enu, eul, base_ecef
+
+
+def _atmosphere_delays(
+    atmosphere: bool,
+    pos: NDArray[np.float64],
+    el_deg: NDArray[np.float64],
+    az_deg: NDArray[np.float64],
+    t_ns: NDArray[np.int64],
+    lam: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Klobuchar ionosphere (n_ep, n_rx, n_sat, 3 slots) and troposphere (n_ep, n_rx, n_sat) delays, m;
+    zero without ``atmosphere``."""
+    from gnssatt.sim.atmosphere import troposphere_delay_m
+
+    n_ep, n_rx, n_sat = el_deg.shape
+    iono: NDArray[np.float64] = np.zeros((n_ep, n_rx, n_sat, 3))
+    tropo: NDArray[np.float64] = np.zeros((n_ep, n_rx, n_sat))
+    if atmosphere:
+        lat, lon, hgt = ecef_to_geodetic(pos[:, :, 0].reshape(-1, 3))
+        lat_r, lon_r = np.radians(np.asarray(lat)), np.radians(np.asarray(lon))
+        el_r = np.radians(np.maximum(el_deg, 0.0)).reshape(-1, n_sat)
+        hgt = np.asarray(hgt).reshape(-1)
+        # the troposphere's zenith delay depends on each receiver's height (an aircraft's changes)
+        tropo = np.stack(
+            [troposphere_delay_m(float(lat_r[q]), float(hgt[q]), el_r[q]) for q in range(el_r.shape[0])]
+        ).reshape(n_ep, n_rx, n_sat)
+        # the receiver's latitude and longitude vary little over a session: those of the first epoch
+        el_r3 = np.radians(np.maximum(el_deg, 0.0))
+        iono = klobuchar_m(t_ns, float(lat_r[0]), float(lon_r[0]), el_r3, np.radians(az_deg), lam)
+    return iono, tropo
+
+
+def _carrier_cycles(
+    gen: np.random.Generator,
+    visible: NDArray[np.bool_],
+    prof: NoiseProfile,
+    interval_s: float,
+    lam: NDArray[np.float64],
+    sats: list[str],
+    n_freq: int,
+) -> tuple[NDArray[np.int64], NDArray[np.bool_], list[tuple[int, int, str, int, int]]]:
+    """Integer cycles (n_ep, n_rx, n_sat, 3) on the phases: a draw per arc, slips within arcs at the
+    profile's rate; the loss-of-lock flags; the slips applied as (epoch, receiver, satellite, slot,
+    cycles)."""
+    shape = (*visible.shape, 3)
+    n_rx, n_sat = visible.shape[1:]
+    amb = gen.integers(-1000, 1000, size=(n_rx, n_sat, 3))
+    new_arc = visible.copy()
+    new_arc[1:] &= ~visible[:-1]
+    new_arc[0] = False
+    slip_event = visible & ~new_arc & (gen.random(visible.shape) < prof.slip_rate_per_s * interval_s)
+    slip_event[0] = False
+    size = gen.integers(1, 51, size=shape) * np.where(gen.random(shape) < 0.5, 1, -1)
+    arc_jump = gen.integers(-1000, 1000, size=shape)
+    jumps = np.where(slip_event[..., None], size, 0) + np.where(new_arc[..., None], arc_jump, 0)
+    n_cycles = amb[None] + np.cumsum(jumps, axis=0)
+    lli = (slip_event | new_arc)[..., None] & np.ones(3, dtype=bool)
+    applied = [
+        (int(e), int(r), sats[int(s)], slot, int(size[e, r, s, slot]))
+        for e, r, s in zip(*np.nonzero(slip_event), strict=True)
+        for slot in range(n_freq)
+        if np.isfinite(lam[s, slot])
+    ]
+    return n_cycles, lli, applied
+
+
+def _truth_baselines(
+    ant_ecef: NDArray[np.float64], base_ecef: NDArray[np.float64] | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """Baselines from antenna 0 in the local ENU of antenna 0 (n_ep, n_ant - 1, 3) and, with a base, the
+    antennas' positions in the base's ENU (n_ep, n_ant, 3), m."""
+    local = _dcm_ecef_from_enu(
+        *(np.asarray(x, dtype=np.float64) for x in ecef_to_geodetic(ant_ecef[:, 0])[:2])
+    )
+    baselines = np.einsum("tji,taj->tai", local, ant_ecef[:, 1:] - ant_ecef[:, :1])
+    rover = None
+    if base_ecef is not None:
+        lat_b, lon_b, _ = ecef_to_geodetic(base_ecef)
+        rb = _dcm_ecef_from_enu(np.asarray(lat_b, dtype=np.float64), np.asarray(lon_b, dtype=np.float64))
+        rover = (ant_ecef - base_ecef) @ rb
+    return baselines, rover
+
+
 def simulate_platform(
     folder: str | PathLike[str],
     trajectory: Trajectory,
@@ -499,7 +609,6 @@ def simulate_platform(
     True
     """
     from gnssatt.rinex.nav import gps_ns, read_nav
-    from gnssatt.sim.atmosphere import troposphere_delay_m
 
     folder = folder_path("folder", folder)
     traj = instance("trajectory", trajectory, Trajectory, "a Trajectory")
@@ -510,11 +619,7 @@ def simulate_platform(
         )
     duration_s = scalar("duration_s", duration_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     interval_s = scalar("interval_s", interval_s, minimum=MIN_INTERVAL_S, maximum=MAX_SPAN_S, unit="s")
-    if isinstance(noise, str):
-        if noise not in NOISE_PROFILES:
-            raise InvalidInputError(f"expected noise as one of {sorted(NOISE_PROFILES)}, got {noise!r}")
-        noise = NOISE_PROFILES[noise]
-    prof = instance("noise", noise, NoiseProfile, "a NoiseProfile or a profile name")
+    prof = _checked_noise(noise)
     n_freq = integer("noise.frequencies", prof.frequencies, minimum=1, maximum=3)
     block = Blockage() if blockage is None else instance("blockage", blockage, Blockage, "a Blockage")
     base_off = (
@@ -550,19 +655,7 @@ def simulate_platform(
     times = T0 + (t_s * 1e9).astype("timedelta64[ns]")
     t_ns = gps_ns(times)
 
-    # receivers at the label and half a Doppler step either side: (n_ep, n_rx, 3 instants, 3)
-    h = DOPPLER_HALF_STEP_S
-    pos = np.empty((n_ep, n_rx, 3, 3))
-    for j, dt in enumerate((0.0, -h, h)):
-        ant, enu_j, eul_j, _ = _antennas_ecef(traj, t_rel + dt, lever)
-        pos[:, :n_ant, j] = ant
-        if j == 0:
-            enu, eul = enu_j, eul_j
-    base_ecef = None
-    if base_off is not None:
-        r0 = _dcm_ecef_from_enu(np.asarray(traj.lat_deg), np.asarray(traj.lon_deg))
-        base_ecef = geodetic_to_ecef(traj.lat_deg, traj.lon_deg, traj.height_m) + r0 @ base_off
-        pos[:, n_ant] = base_ecef
+    pos, enu, eul, base_ecef = _receiver_positions(traj, t_rel, lever, base_off)
     heading = -eul[:, 0]
 
     # which satellites to write: above the mask at the base (or antenna 0) at some epoch
@@ -574,7 +667,6 @@ def simulate_platform(
     if not keep.any():
         raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg}")
     sats = [s for s, k in zip(ids, keep, strict=True) if k]
-    n_sat = len(sats)
     channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
     lam = wavelengths_m(sats, channels, n_freq)
     valid, seen, rho, clk, rate = ranges_and_rates(nav, sats, t_ns, pos, dt_rx)
@@ -584,40 +676,8 @@ def simulate_platform(
     for i in range(n_ant):
         visible[:, i] &= ~block.hidden(t_rel, heading, el_deg[:, i], az_deg[:, i])
 
-    iono: NDArray[np.float64] = np.zeros((n_ep, n_rx, n_sat, 3))
-    tropo: NDArray[np.float64] = np.zeros((n_ep, n_rx, n_sat))
-    if atmosphere:
-        lat, lon, hgt = ecef_to_geodetic(pos[:, :, 0].reshape(-1, 3))
-        lat_r, lon_r = np.radians(np.asarray(lat)), np.radians(np.asarray(lon))
-        el_r = np.radians(np.maximum(el_deg, 0.0)).reshape(-1, n_sat)
-        hgt = np.asarray(hgt).reshape(-1)
-        # the troposphere's zenith delay depends on each receiver's height (an aircraft's changes)
-        tropo = np.stack(
-            [troposphere_delay_m(float(lat_r[q]), float(hgt[q]), el_r[q]) for q in range(el_r.shape[0])]
-        ).reshape(n_ep, n_rx, n_sat)
-        # the receiver's latitude and longitude vary little over a session: those of the first epoch
-        el_r3 = np.radians(np.maximum(el_deg, 0.0))
-        iono = klobuchar_m(t_ns, float(lat_r[0]), float(lon_r[0]), el_r3, np.radians(az_deg), lam)
-
-    # ambiguities: a draw per arc; slips within arcs
-    shape = (n_ep, n_rx, n_sat, 3)
-    amb = gen.integers(-1000, 1000, size=(n_rx, n_sat, 3))
-    new_arc = visible.copy()
-    new_arc[1:] &= ~visible[:-1]
-    new_arc[0] = False
-    slip_event = visible & ~new_arc & (gen.random(visible.shape) < prof.slip_rate_per_s * interval_s)
-    slip_event[0] = False
-    size = gen.integers(1, 51, size=shape) * np.where(gen.random(shape) < 0.5, 1, -1)
-    arc_jump = gen.integers(-1000, 1000, size=shape)
-    jumps = np.where(slip_event[..., None], size, 0) + np.where(new_arc[..., None], arc_jump, 0)
-    n_cycles = amb[None] + np.cumsum(jumps, axis=0)
-    lli = (slip_event | new_arc)[..., None] & np.ones(3, dtype=bool)
-    applied = [
-        (int(e), int(r), sats[int(s)], slot, int(size[e, r, s, slot]))
-        for e, r, s in zip(*np.nonzero(slip_event), strict=True)
-        for slot in range(n_freq)
-        if np.isfinite(lam[s, slot])
-    ]
+    iono, tropo = _atmosphere_delays(atmosphere, pos, el_deg, az_deg, t_ns, lam)
+    n_cycles, lli, applied = _carrier_cycles(gen, visible, prof, interval_s, lam, sats, n_freq)
 
     geo = rho + _C * (dt_rx[None, :, None] - clk)
     sig_code = prof.sigma_m(prof.code_sigma_m, el_deg)[..., None]
@@ -626,7 +686,7 @@ def simulate_platform(
         gen, geo, tropo, iono, lam, rate, sig_code, sig_phase, prof.doppler_sigma_hz
     )
     phase = phase + n_cycles
-    snr = np.broadcast_to((30.0 + 20.0 * np.sin(np.radians(np.maximum(el_deg, 0.0))))[..., None], shape)
+    snr = np.broadcast_to((30.0 + 20.0 * np.sin(np.radians(np.maximum(el_deg, 0.0))))[..., None], phase.shape)
     ok4 = (visible & valid[:, :, 0])[..., None] & np.isfinite(lam)[None, None]
     code, phase, doppler, snr = (np.where(ok4, x, np.nan) for x in (code, phase, doppler, snr))
 
@@ -639,15 +699,7 @@ def simulate_platform(
         )  # fmt: skip
 
     ant_ecef = pos[:, :n_ant, 0]
-    local = _dcm_ecef_from_enu(
-        *(np.asarray(x, dtype=np.float64) for x in ecef_to_geodetic(ant_ecef[:, 0])[:2])
-    )
-    baselines = np.einsum("tji,taj->tai", local, ant_ecef[:, 1:] - ant_ecef[:, :1])
-    rover = None
-    if base_ecef is not None:
-        lat_b, lon_b, _ = ecef_to_geodetic(base_ecef)
-        rb = _dcm_ecef_from_enu(np.asarray(lat_b, dtype=np.float64), np.asarray(lon_b, dtype=np.float64))
-        rover = (ant_ecef - base_ecef) @ rb
+    baselines, rover = _truth_baselines(ant_ecef, base_ecef)
     return SimulatedPlatform(
         obs_paths=tuple(paths[:n_ant]),
         base_path=paths[n_ant] if base_off is not None else None,
@@ -669,251 +721,3 @@ def simulate_platform(
         outage_ends_s=tuple(float(b) for _, b in block.outages_s),
         elevation_deg=el_deg,
     )
-
-
-def _array(n_antennas: int, along_m: float, across_m: float, mast_m: float = 0.0) -> NDArray[np.float64]:
-    """Lever arms of a preset array: antenna 1 ``along_m`` towards the nose, antenna 2 ``across_m``
-    towards the right wing, all ``mast_m`` above the reference point."""
-    n = integer("n_antennas", n_antennas, minimum=2, maximum=3)
-    arms = np.array([[0.0, mast_m, 0.0], [along_m, mast_m, 0.0], [0.0, mast_m, across_m]])
-    return arms[:n]
-
-
-def _base(value: ArrayLike) -> NDArray[np.float64]:
-    """A preset's base offset: always a (3,) array (a preset always writes its base)."""
-    return shaped("base_offset_enu_m", value, "(3,)", (3,))
-
-
-def _separations(baseline_m: object) -> tuple[float, float]:
-    """``baseline_m`` as the (along, across) separations of a preset array, each in (0, MAX_LEVER_ARM_M] m."""
-    ab = shaped("baseline_m", baseline_m, "(2,)", (2,))
-    if not np.all((ab > 0.0) & (ab <= MAX_LEVER_ARM_M)):
-        raise InvalidInputError(f"expected baseline_m in (0, {MAX_LEVER_ARM_M}] m, got {ab.tolist()}")
-    return float(ab[0]), float(ab[1])
-
-
-def _checked(name: str, value: float, lo: float, hi: float, unit: str) -> float:
-    return scalar(name, value, minimum=lo, maximum=hi, unit=unit)
-
-
-_F = TypeVar("_F", bound=Callable[..., Any])
-
-# What the presets' docstrings share, written once: ``_preset_doc`` puts each block where the docstring names
-# it (``{session}``, ``{baseline}``, ``{tail}``), so that the presets document one contract in one wording.
-_PRESET_DOC_BLOCKS = {
-    "{session}": """duration_s, interval_s
-    Session length and epoch spacing, s.
-noise
-    Noise profile or its name (:data:`NOISE_PROFILES`).""",
-    "{baseline}": """baseline_m
-    Along and across separations of the array, m (0.3 to 5 m in the presets' use; up to
-    ``MAX_LEVER_ARM_M``).""",
-    "{tail}": """start_s
-    First epoch after ``2024-03-01T10:00:00`` GPST, s (the default: eight GPS satellites above 10
-    degrees, of the 24 nominal ones).
-rng
-    Seed or generator (:func:`simulate_platform`).
-
-Returns
--------
-SimulatedPlatform
-
-Raises
-------
-InvalidTypeError, InvalidInputError, WorkLimitError
-    As :func:`simulate_platform`""",
-}
-
-
-def _preset_doc(fn: _F) -> _F:
-    """``fn`` with the shared blocks of ``_PRESET_DOC_BLOCKS`` written into its docstring."""
-    doc = inspect.cleandoc(fn.__doc__ or "")
-    for marker, block in _PRESET_DOC_BLOCKS.items():
-        if marker not in doc:
-            raise AssertionError(f"{fn.__name__}'s docstring lacks {marker}")
-        doc = doc.replace(marker, block)
-    fn.__doc__ = doc
-    return fn
-
-
-@_preset_doc
-def car(
-    folder: str | PathLike[str],
-    *,
-    n_antennas: int = 2,
-    duration_s: float = 60.0,
-    interval_s: float = 0.1,
-    noise: str | NoiseProfile = "gps_l1_ublox",
-    speed_m_s: float = 12.0,
-    turn_radius_m: float = 40.0,
-    baseline_m: tuple[float, float] = (1.2, 0.9),
-    base_offset_enu_m: ArrayLike = (-150.0, 80.0, -1.5),
-    start_s: float = 7200.0,
-    rng: int | np.random.Generator | None = None,
-) -> SimulatedPlatform:
-    """A car at 10 Hz on a block circuit: straights of 10 s and 90-degree turns at ``turn_radius_m``
-    (right, right, left, ...), tree-lined from 20 % to 45 % of the session (mask 15 degrees along the road,
-    45 across), a 3 s outage (a bridge) at 55 % and a 2 s one at 80 %.
-
-    Parameters
-    ----------
-    folder
-        Existing folder for the files (:func:`simulate_platform`).
-    n_antennas
-        2 (roof antennas ``baseline_m[0]`` apart along the car) or 3 (a third ``baseline_m[1]`` to the
-        right of the first).
-    {session}
-    speed_m_s, turn_radius_m
-        Speed, m/s, and the radius of every turn, m (turn rate ``speed / radius``).
-    {baseline}
-    base_offset_enu_m
-        Static base from the start point, ENU, m.
-    {tail}; ``turn_radius_m`` not in [1, 1e4] m.
-
-    Examples
-    --------
-    A one-second session: its first outage (3 s from 55 % of the session) leaves 6 of the 11 epochs at the
-    antennas, all 11 at the base:
-
-    >>> import tempfile
-    >>> from gnssatt import sim
-    >>> from gnssatt.rinex import read_obs
-    >>> with tempfile.TemporaryDirectory() as folder:
-    ...     run = sim.car(folder, n_antennas=3, duration_s=1.0, rng=1)
-    ...     names = [p.name for p in (*run.obs_paths, run.base_path)]
-    ...     n_epochs = [len(read_obs(p).time) for p in (run.obs_paths[0], run.base_path)]
-    >>> names, n_epochs, round(float(run.heading_deg[0]), 6)
-    (['ant0.rnx', 'ant1.rnx', 'ant2.rnx', 'base.rnx'], [6, 11], 30.0)
-    """
-    speed = _checked("speed_m_s", speed_m_s, 0.1, MAX_SPEED_M_S, "m/s")
-    radius = _checked("turn_radius_m", turn_radius_m, 1.0, 1e4, "m")
-    duration = _checked("duration_s", duration_s, 0.0, MAX_SPAN_S, "s")
-    rate = np.degrees(speed / radius)
-    turn_s = 90.0 / rate
-    legs: list[Leg] = []
-    signs = (1.0, 1.0, -1.0)
-    while sum(x.duration_s for x in legs) <= duration and len(legs) < MAX_LEGS - 1:
-        legs += [Leg(10.0, speed), Leg(turn_s, speed, signs[(len(legs) // 2) % 3] * rate)]
-    d = duration
-    block = Blockage(
-        outages_s=((0.55 * d, 0.55 * d + 3.0), (0.8 * d, 0.8 * d + 2.0)), tree_lined_s=((0.2 * d, 0.45 * d),)
-    )
-    along, across = _separations(baseline_m)
-    return simulate_platform(
-        folder, Trajectory(tuple(legs), heading0_deg=30.0), _array(n_antennas, along, across),
-        duration_s=duration, interval_s=interval_s, noise=noise, blockage=block,
-        base_offset_enu_m=_base(base_offset_enu_m), start_s=start_s, rng=rng,
-    )  # fmt: skip
-
-
-@_preset_doc
-def ship(
-    folder: str | PathLike[str],
-    *,
-    n_antennas: int = 2,
-    duration_s: float = 120.0,
-    interval_s: float = 1.0,
-    noise: str | NoiseProfile = "gps_l1_ublox",
-    roll_amplitude_deg: float = 15.0,
-    pitch_amplitude_deg: float = 10.0,
-    heave_amplitude_m: float = 1.5,
-    baseline_m: tuple[float, float] = (4.0, 3.0),
-    base_offset_enu_m: ArrayLike = (-300.0, -200.0, 2.0),
-    start_s: float = 7200.0,
-    rng: int | np.random.Generator | None = None,
-) -> SimulatedPlatform:
-    """A ship at 6 m/s in a swell: roll ``roll_amplitude_deg`` with an 8 s period, pitch
-    ``pitch_amplitude_deg`` with 6 s, heave ``heave_amplitude_m`` with 7 s, a 60-degree turn at 1 deg/s
-    after a third of the session; antennas on a mast 8 m above the roll centre.
-
-    Parameters
-    ----------
-    folder
-        Existing folder for the files (:func:`simulate_platform`).
-    n_antennas
-        2 (``baseline_m[0]`` apart fore-aft) or 3 (a third ``baseline_m[1]`` to starboard).
-    {session}
-    roll_amplitude_deg, pitch_amplitude_deg, heave_amplitude_m
-        Swell amplitudes (degrees, degrees, m).
-    {baseline}
-    base_offset_enu_m
-        Static base (a quay) from the start point (the origin, at sea level), ENU, m.
-    {tail}.
-
-    Examples
-    --------
-    The roll reaches its amplitude a quarter of its 8 s period in:
-
-    >>> import tempfile
-    >>> from gnssatt import sim
-    >>> with tempfile.TemporaryDirectory() as folder:
-    ...     run = sim.ship(folder, duration_s=2.0, rng=1)
-    >>> [round(float(x), 3) for x in run.roll_deg]
-    [0.0, 10.607, 15.0]
-    """
-    d = _checked("duration_s", duration_s, 0.0, MAX_SPAN_S, "s")
-    legs = (Leg(d / 3, 6.0), Leg(60.0, 6.0, 1.0), Leg(d, 6.0))
-    traj = Trajectory(
-        legs, heading0_deg=120.0, roll_amplitude_deg=roll_amplitude_deg, roll_period_s=8.0,
-        pitch_amplitude_deg=pitch_amplitude_deg, pitch_period_s=6.0, heave_amplitude_m=heave_amplitude_m,
-        heave_period_s=7.0, height_m=0.0,
-    )  # fmt: skip
-    along, across = _separations(baseline_m)
-    return simulate_platform(
-        folder, traj, _array(n_antennas, along, across, mast_m=8.0), duration_s=d, interval_s=interval_s,
-        noise=noise, base_offset_enu_m=_base(base_offset_enu_m), start_s=start_s, rng=rng,
-    )  # fmt: skip
-
-
-@_preset_doc
-def aircraft(
-    folder: str | PathLike[str],
-    *,
-    n_antennas: int = 2,
-    duration_s: float = 120.0,
-    interval_s: float = 0.5,
-    noise: str | NoiseProfile = "gps_l1_ublox",
-    speed_m_s: float = 60.0,
-    baseline_m: tuple[float, float] = (3.0, 4.5),
-    base_offset_enu_m: ArrayLike = (-500.0, -300.0, 0.0),
-    start_s: float = 7200.0,
-    rng: int | np.random.Generator | None = None,
-) -> SimulatedPlatform:
-    """A light aircraft 300 m above the airfield at ``speed_m_s``: a climb at 4 m/s (a quarter of the
-    session), level flight, a banked right turn at the standard rate (3 deg/s, coordinated: bank
-    ``atan(v omega / g)``, 18 degrees at 60 m/s) through 180 degrees, level flight again.
-
-    Parameters
-    ----------
-    folder
-        Existing folder for the files (:func:`simulate_platform`).
-    n_antennas
-        2 (``baseline_m[0]`` apart along the fuselage) or 3 (a third ``baseline_m[1]`` out on the right wing).
-    {session}
-    speed_m_s
-        Airspeed (ground speed, no wind), m/s.
-    {baseline}
-    base_offset_enu_m
-        Static base on the airfield, ENU from the origin (300 m below the start), m.
-    {tail}.
-
-    Examples
-    --------
-    The climb's flight-path angle ``atan(4 / 60)``:
-
-    >>> import tempfile
-    >>> from gnssatt import sim
-    >>> with tempfile.TemporaryDirectory() as folder:
-    ...     run = sim.aircraft(folder, duration_s=1.0, rng=1)
-    >>> round(float(run.pitch_deg[0]), 3), round(float(run.position_enu_m[0, 2]), 1)
-    (3.814, 300.0)
-    """
-    d = _checked("duration_s", duration_s, 0.0, MAX_SPAN_S, "s")
-    v = _checked("speed_m_s", speed_m_s, 1.0, MAX_SPEED_M_S, "m/s")
-    legs = (Leg(d / 4, v, 0.0, 4.0), Leg(d / 8, v), Leg(60.0, v, 3.0), Leg(d, v))
-    traj = Trajectory(legs, heading0_deg=250.0, start_enu_m=(0.0, 0.0, 300.0), banked=True)
-    along, across = _separations(baseline_m)
-    return simulate_platform(
-        folder, traj, _array(n_antennas, along, across), duration_s=d, interval_s=interval_s, noise=noise,
-        base_offset_enu_m=_base(base_offset_enu_m), start_s=start_s, rng=rng,
-    )  # fmt: skip

@@ -485,6 +485,92 @@ def gnss_constellation(systems: str = "GRECJ", *, lon_deg: float = 36.2) -> sim.
     return out
 
 
+def _checked_attitudes(euler_gost_deg: ArrayLike, n_epochs: int) -> NDArray[np.float64]:
+    """(n_epochs, 3) attitudes: one row repeated over ``n_epochs``, or one row per epoch (whose count
+    then replaces ``n_epochs``)."""
+    eul = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n_epochs, 3)", (3,), (None, 3))
+    if eul.ndim == 2:
+        n_epochs = eul.shape[0]
+    n_epochs = integer("n_epochs", n_epochs, minimum=1)
+    if n_epochs > MAX_EPOCHS:
+        source = "n_epochs" if eul.ndim == 1 else "n_epochs (the rows of euler_gost_deg)"
+        raise WorkLimitError(f"expected {source} <= {MAX_EPOCHS} (MAX_EPOCHS), got {n_epochs}")
+    if eul.ndim == 1:
+        eul = np.tile(eul, (n_epochs, 1))
+    if np.any(np.abs(eul) > MAX_ANGLE_DEG):
+        raise InvalidInputError(f"expected |euler_gost_deg| <= {MAX_ANGLE_DEG} degrees")
+    return eul
+
+
+def _check_file_names(file_names: object) -> None:
+    if not (
+        isinstance(file_names, tuple)
+        and len(file_names) == 2
+        and all(isinstance(x, str) and x and "/" not in x for x in file_names)
+        and "{i}" in file_names[0]
+    ):
+        raise InvalidInputError(
+            f"expected file_names as two file names, the first with '{{i}}', got {file_names!r}"
+        )
+
+
+def _receiver_clocks(
+    gen: np.random.Generator, receiver_clock_s: ArrayLike | None, n_ant: int
+) -> NDArray[np.float64]:
+    """The antennas' receiver clocks, s: as given, or drawn uniform in +-1e-4 s."""
+    if receiver_clock_s is None:
+        # a shape tuple: with an untyped int size numpy's stubs pick the overload of a single float draw
+        return gen.uniform(-1e-4, 1e-4, size=(n_ant,))
+    dt_rx = shaped("receiver_clock_s", receiver_clock_s, f"({n_ant},)", (n_ant,))
+    if np.any(np.abs(dt_rx) > MAX_CLOCK_S):
+        raise InvalidInputError(f"expected |receiver_clock_s| <= {MAX_CLOCK_S} s")
+    return dt_rx
+
+
+def _kept_satellites(
+    el: NDArray[np.float64], elevation_min_deg: float, n_sats: int | None
+) -> NDArray[np.bool_]:
+    """The satellites above the mask at every epoch (elevations ``el`` (n_ep, n_all), degrees); with
+    ``n_sats``, the ``n_sats`` highest of them at the first epoch."""
+    keep: NDArray[np.bool_] = np.all(el > elevation_min_deg, axis=0)
+    if n_sats is not None:
+        order = np.argsort(-np.where(keep, el[0], -90.0))
+        keep = np.zeros_like(keep)
+        keep[order[: min(n_sats, int(np.all(el > elevation_min_deg, axis=0).sum()))]] = True
+    if not keep.any():
+        raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg} at every epoch")
+    return keep
+
+
+def _applied_slips(
+    gen: np.random.Generator,
+    slip_list: list[tuple[int, int, str, int]],
+    shape: tuple[int, int, int, int],
+    sats: list[str],
+    lam: NDArray[np.float64],
+    n_freq: int,
+) -> tuple[NDArray[np.int64], NDArray[np.float64], list[tuple[int, int, str, int, int]]]:
+    """Cycle jumps (n_ep, n_ant, n_sat, 3) from each slip's epoch on, its loss-of-lock flags and the
+    slips as applied (epoch, antenna, satellite, slot, cycles: 1 to 49 of a random sign)."""
+    n_epochs, n_ant = shape[:2]
+    jumps = np.zeros(shape, dtype=np.int64)
+    lli = np.zeros(shape)
+    applied = []
+    for slip in slip_list:
+        e, i, s, slot = slip
+        if not (e < n_epochs and i < n_ant and s in sats and slot < n_freq) or np.isnan(
+            lam[sats.index(s), slot]
+        ):
+            raise InvalidInputError(
+                f"expected slips of a simulated epoch, antenna, satellite and slot, got {slip!r}"
+            )
+        size = int(gen.integers(1, 50)) * (1 if gen.random() < 0.5 else -1)
+        jumps[e:, i, sats.index(s), slot] += size
+        lli[e, i, sats.index(s), slot] = 1
+        applied.append((int(e), int(i), str(s), int(slot), size))
+    return jumps, lli, applied
+
+
 def simulate_gnss_rinex(
     folder: str | PathLike[str],
     antennas_body_m: ArrayLike,
@@ -584,17 +670,8 @@ def simulate_gnss_rinex(
             f"expected antennas_body_m of shape (2..16, 3) within {MAX_ANTENNA_M} m, got {ant.shape}"
         )
     n_ant = ant.shape[0]
-    eul = shaped("euler_gost_deg", euler_gost_deg, "(3,) or (n_epochs, 3)", (3,), (None, 3))
-    if eul.ndim == 2:
-        n_epochs = eul.shape[0]
-    n_epochs = integer("n_epochs", n_epochs, minimum=1)
-    if n_epochs > MAX_EPOCHS:
-        source = "n_epochs" if eul.ndim == 1 else "n_epochs (the rows of euler_gost_deg)"
-        raise WorkLimitError(f"expected {source} <= {MAX_EPOCHS} (MAX_EPOCHS), got {n_epochs}")
-    if eul.ndim == 1:
-        eul = np.tile(eul, (n_epochs, 1))
-    if np.any(np.abs(eul) > MAX_ANGLE_DEG):
-        raise InvalidInputError(f"expected |euler_gost_deg| <= {MAX_ANGLE_DEG} degrees")
+    eul = _checked_attitudes(euler_gost_deg, n_epochs)
+    n_epochs = eul.shape[0]
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=3)
     interval_s = scalar("interval_s", interval_s, minimum=MIN_INTERVAL_S, maximum=MAX_INTERVAL_S, unit="s")
     start_s = scalar("start_s", start_s, minimum=-MAX_START_S, maximum=MAX_START_S, unit="s")
@@ -609,23 +686,9 @@ def simulate_gnss_rinex(
     if n_sats is not None:
         n_sats = integer("n_sats", n_sats, minimum=1)
     slip_list = _slips(slips)
-    if not (
-        isinstance(file_names, tuple)
-        and len(file_names) == 2
-        and all(isinstance(x, str) and x and "/" not in x for x in file_names)
-        and "{i}" in file_names[0]
-    ):
-        raise InvalidInputError(
-            f"expected file_names as two file names, the first with '{{i}}', got {file_names!r}"
-        )
+    _check_file_names(file_names)
     gen = generator("rng", rng)
-    if receiver_clock_s is None:
-        # a shape tuple: with an untyped int size numpy's stubs pick the overload of a single float draw
-        dt_rx = gen.uniform(-1e-4, 1e-4, size=(n_ant,))
-    else:
-        dt_rx = shaped("receiver_clock_s", receiver_clock_s, f"({n_ant},)", (n_ant,))
-        if np.any(np.abs(dt_rx) > MAX_CLOCK_S):
-            raise InvalidInputError(f"expected |receiver_clock_s| <= {MAX_CLOCK_S} s")
+    dt_rx = _receiver_clocks(gen, receiver_clock_s, n_ant)
     sig = {
         name: scalar(name, v, minimum=0.0, maximum=MAX_SIGMA_M, unit=unit)
         for name, v, unit in (
@@ -655,13 +718,7 @@ def simulate_gnss_rinex(
     # geometry of every satellite at the reference antenna: visibility
     ok, at_ref = transmit_geometry(nav, ids, t_ns, pos[:, 0], np.full(n_epochs, dt_rx[0]))
     el = np.where(ok, np.degrees(at_ref.elevation_rad), -90.0)
-    keep = np.all(el > elevation_min_deg, axis=0)
-    if n_sats is not None:
-        order = np.argsort(-np.where(keep, el[0], -90.0))
-        keep = np.zeros_like(keep)
-        keep[order[: min(n_sats, int(np.all(el > elevation_min_deg, axis=0).sum()))]] = True
-    if not keep.any():
-        raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg} at every epoch")
+    keep = _kept_satellites(el, elevation_min_deg, n_sats)
     sats = [s for s, k in zip(ids, keep, strict=True) if k]
     n_sat = len(sats)
     channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
@@ -678,21 +735,7 @@ def simulate_gnss_rinex(
         tropo = troposphere_delay_m(lat, height_m, el_i)
         iono = klobuchar_m(t_ns, lat, lon, el_i, az_i, lam)
     amb = gen.integers(-1000, 1000, size=(n_ant, n_sat, 3))
-    jumps = np.zeros((n_epochs, n_ant, n_sat, 3), dtype=np.int64)
-    lli = np.zeros((n_epochs, n_ant, n_sat, 3))
-    applied = []
-    for slip in slip_list:
-        e, i, s, slot = slip
-        if not (e < n_epochs and i < n_ant and s in sats and slot < n_freq) or np.isnan(
-            lam[sats.index(s), slot]
-        ):
-            raise InvalidInputError(
-                f"expected slips of a simulated epoch, antenna, satellite and slot, got {slip!r}"
-            )
-        size = int(gen.integers(1, 50)) * (1 if gen.random() < 0.5 else -1)
-        jumps[e:, i, sats.index(s), slot] += size
-        lli[e, i, sats.index(s), slot] = 1
-        applied.append((int(e), int(i), str(s), int(slot), size))
+    jumps, lli, applied = _applied_slips(gen, slip_list, (n_epochs, n_ant, n_sat, 3), sats, lam, n_freq)
     geo = rho + _C * (dt_rx[None, :, None] - clk)  # (n_ep, n_ant, n_sat)
     shape = (n_epochs, n_ant, n_sat, 3)
     code, phase, doppler = observables(

@@ -11,7 +11,30 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
-use crate::errors::invalid_input;
+use crate::errors::{invalid_input, invalid_type};
+
+/// An option given by its name (`method`, `statistic`, `seq` ...) as text: an `InvalidTypeError` naming
+/// the parameter for anything but a `str`. The binding that parses the name is the one place that checks
+/// it (an unknown name is an `InvalidInputError` listing the options); the Python layer passes it on.
+pub fn option_name(py: Python<'_>, name: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
+    value.extract::<String>().map_err(|_| {
+        invalid_type(
+            py,
+            format!(
+                "expected {name} as the name of an option (a str), got {}",
+                type_name(value)
+            ),
+        )
+    })
+}
+
+/// The Python type name of `value`, for messages.
+pub fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map_or_else(|_| "an object".to_string(), |n| n.to_string())
+}
 
 /// `expected {name} of shape {expected}, got {actual}`.
 pub fn shape_error(py: Python<'_>, name: &str, expected: &str, actual: &[usize]) -> PyErr {

@@ -11,6 +11,7 @@ pyo3::import_exception!(gnssatt.errors, ConvergenceError);
 pyo3::import_exception!(gnssatt.errors, DegenerateGeometryError);
 pyo3::import_exception!(gnssatt.errors, InternalError); // a panic (`guard.rs`)
 pyo3::import_exception!(gnssatt.errors, InvalidInputError);
+pyo3::import_exception!(gnssatt.errors, InvalidTypeError);
 pyo3::import_exception!(gnssatt.errors, WorkLimitError);
 pyo3::import_exception!(gnssatt.errors, GnssattWarning);
 
@@ -42,6 +43,11 @@ pub fn to_py_err(_py: Python<'_>, e: &Error) -> PyErr {
 
 pub fn invalid_input(_py: Python<'_>, message: String) -> PyErr {
     InvalidInputError::new_err(message)
+}
+
+/// A value of the wrong kind (`InvalidTypeError`, also a `TypeError`).
+pub fn invalid_type(_py: Python<'_>, message: String) -> PyErr {
+    InvalidTypeError::new_err(message)
 }
 
 /// Issues each of `messages` as a `gnssatt.errors.GnssattWarning` (an error only where a warnings

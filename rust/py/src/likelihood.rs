@@ -12,8 +12,8 @@ use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
-use crate::convert::vectors;
-use crate::errors::{invalid_input, IntoPyResult};
+use crate::convert::{option_name, type_name, vectors};
+use crate::errors::{invalid_input, invalid_type, IntoPyResult};
 use crate::guard::guard;
 use crate::interruptible;
 use crate::results::result_type;
@@ -24,7 +24,7 @@ fn model(
     los: &PyReadonlyArray3<'_, f64>,
     wavelengths: &PyReadonlyArray2<'_, f64>,
     baselines: &PyReadonlyArray2<'_, f64>,
-    statistic: &str,
+    statistic: &Bound<'_, PyAny>,
 ) -> PyResult<Model> {
     let b = vectors(py, "baselines", baselines)?;
     let (p, s, w) = (
@@ -57,7 +57,7 @@ fn model(
             wavelengths: (0..m).map(|k| w[[e, k]]).collect(),
         })
         .collect();
-    let stat = Statistic::parse(statistic).into_py_result(py)?;
+    let stat = Statistic::parse(&option_name(py, "statistic", statistic)?).into_py_result(py)?;
     Model::new(&b, &epochs, stat).into_py_result(py)
 }
 
@@ -94,6 +94,27 @@ result_type! {
     }
 }
 
+/// The public `refine` of `ml_attitude` / `ml_baseline`: `True` (Newton), `False` (none), `'parabolic'`
+/// or `'newton'`; numpy booleans count as booleans.
+fn refinement(py: Python<'_>, refine: &Bound<'_, PyAny>) -> PyResult<Refine> {
+    const EXPECTED: &str = "expected refine True, False, 'parabolic' or 'newton'";
+    if let Ok(name) = refine.extract::<String>() {
+        return match name.as_str() {
+            "parabolic" => Ok(Refine::Parabolic),
+            "newton" => Ok(Refine::Newton),
+            other => Err(invalid_input(py, format!("{EXPECTED}, got {other:?}"))),
+        };
+    }
+    match refine.extract::<bool>() {
+        Ok(true) => Ok(Refine::Newton),
+        Ok(false) => Ok(Refine::None),
+        Err(_) => Err(invalid_type(
+            py,
+            format!("{EXPECTED}, got {}", type_name(refine)),
+        )),
+    }
+}
+
 /// Grid search over the attitude angles (psi, theta, phi).
 #[guard]
 #[pyfunction]
@@ -105,25 +126,15 @@ fn ml_search(
     los: PyReadonlyArray3<'_, f64>,
     wavelengths: PyReadonlyArray2<'_, f64>,
     baselines: PyReadonlyArray2<'_, f64>,
-    statistic: &str,
+    statistic: &Bound<'_, PyAny>,
     step_rad: Option<f64>,
     window_rad: Option<[[f64; 2]; 3]>,
-    search: &str,
-    refine: &str,
+    search: &Bound<'_, PyAny>,
+    refine: &Bound<'_, PyAny>,
     two_dimensional: bool,
 ) -> PyResult<MlEstimate> {
-    let refine = match refine {
-        "none" => Refine::None,
-        "parabolic" => Refine::Parabolic,
-        "newton" => Refine::Newton,
-        other => {
-            return Err(invalid_input(
-                py,
-                format!("expected refine 'none', 'parabolic' or 'newton', got {other:?}"),
-            ))
-        }
-    };
-    let search = match search {
+    let refine = refinement(py, refine)?;
+    let search = match option_name(py, "search", search)?.as_str() {
         "exhaustive" => Search::Exhaustive,
         "branch_and_bound" => Search::BranchAndBound,
         "auto" => Search::Auto,
@@ -171,7 +182,7 @@ fn bnb_stats(
     los: PyReadonlyArray3<'_, f64>,
     wavelengths: PyReadonlyArray2<'_, f64>,
     baselines: PyReadonlyArray2<'_, f64>,
-    statistic: &str,
+    statistic: &Bound<'_, PyAny>,
     step_rad: Option<f64>,
     window_rad: Option<[[f64; 2]; 3]>,
 ) -> PyResult<BnbStats> {
@@ -208,7 +219,7 @@ fn likelihood_grid(
     los: PyReadonlyArray3<'_, f64>,
     wavelengths: PyReadonlyArray2<'_, f64>,
     baselines: PyReadonlyArray2<'_, f64>,
-    statistic: &str,
+    statistic: &Bound<'_, PyAny>,
     step_rad: Option<f64>,
     window_rad: Option<[[f64; 2]; 3]>,
     two_dimensional: bool,

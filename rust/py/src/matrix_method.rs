@@ -4,7 +4,7 @@ use gnssatt_core::matrix_method::{solve, Method};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use crate::convert::{dmatrix, to_numpy, vectors};
+use crate::convert::{dmatrix, option_name, to_numpy, vectors};
 use crate::errors::{invalid_input, IntoPyResult};
 use crate::guard::guard;
 use crate::results::result_type;
@@ -23,15 +23,14 @@ result_type! {
 /// Attitude from baselines (m, 3) body, lines of sight (n, 3) reference and range differences (m, n), m.
 #[guard]
 #[pyfunction]
-#[pyo3(signature = (baselines, los, range_diffs, method = "svd"))]
 fn matrix_attitude(
     py: Python<'_>,
     baselines: PyReadonlyArray2<'_, f64>,
     los: PyReadonlyArray2<'_, f64>,
     range_diffs: PyReadonlyArray2<'_, f64>,
-    method: &str,
+    method: &Bound<'_, PyAny>,
 ) -> PyResult<MatrixAttitude> {
-    let method = match method {
+    let method = match option_name(py, "method", method)?.as_str() {
         "svd" => Method::Svd,
         "ml" => Method::MaxLikelihood,
         "closed_form" => Method::ClosedForm,

@@ -6,7 +6,7 @@ use gnssatt_core::rotation::{euler::EulerSeq, quaternion};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use crate::convert::{matrix3, to_numpy};
+use crate::convert::{matrix3, option_name, to_numpy};
 use crate::errors::IntoPyResult;
 use crate::guard::guard;
 
@@ -15,10 +15,10 @@ use crate::guard::guard;
 #[pyfunction]
 fn euler_to_dcm<'py>(
     py: Python<'py>,
-    seq: &str,
+    seq: &Bound<'py, PyAny>,
     angles_rad: [f64; 3],
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let seq = EulerSeq::parse(seq).into_py_result(py)?;
+    let seq = EulerSeq::parse(&option_name(py, "seq", seq)?).into_py_result(py)?;
     ensure_finite("angles_rad", &angles_rad).into_py_result(py)?;
     Ok(to_numpy(py, &seq.to_dcm(angles_rad)))
 }
@@ -26,8 +26,12 @@ fn euler_to_dcm<'py>(
 /// Intrinsic Euler angles (radians) of a rotation matrix.
 #[guard]
 #[pyfunction]
-fn dcm_to_euler(py: Python<'_>, seq: &str, dcm: PyReadonlyArray2<'_, f64>) -> PyResult<[f64; 3]> {
-    let seq = EulerSeq::parse(seq).into_py_result(py)?;
+fn dcm_to_euler(
+    py: Python<'_>,
+    seq: &Bound<'_, PyAny>,
+    dcm: PyReadonlyArray2<'_, f64>,
+) -> PyResult<[f64; 3]> {
+    let seq = EulerSeq::parse(&option_name(py, "seq", seq)?).into_py_result(py)?;
     let m = matrix3(py, "dcm", &dcm)?;
     gnssatt_core::rotation::check_rotation("dcm", &m, 1e-6).into_py_result(py)?;
     Ok(seq.from_dcm(&m))

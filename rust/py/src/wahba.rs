@@ -8,7 +8,7 @@ use gnssatt_core::wahba::{solve_batch, triad_batch, Method};
 use numpy::{PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, ToPyArray};
 use pyo3::prelude::*;
 
-use crate::convert::{matrices_to_numpy, quats_to_numpy, values, vectors};
+use crate::convert::{matrices_to_numpy, option_name, quats_to_numpy, values, vectors};
 use crate::errors::IntoPyResult;
 use crate::guard::guard;
 use crate::interruptible;
@@ -51,16 +51,15 @@ result_type! {
 /// Wahba's problem per epoch. `body`, `reference`: (epochs * pairs, 3); `weights`: (epochs * pairs,).
 #[guard]
 #[pyfunction]
-#[pyo3(signature = (body, reference, weights, pairs, method = "svd"))]
 fn wahba_batch(
     py: Python<'_>,
     body: PyReadonlyArray2<'_, f64>,
     reference: PyReadonlyArray2<'_, f64>,
     weights: PyReadonlyArray1<'_, f64>,
     pairs: usize,
-    method: &str,
+    method: &Bound<'_, PyAny>,
 ) -> PyResult<WahbaBatch> {
-    let method = Method::parse(method).into_py_result(py)?;
+    let method = Method::parse(&option_name(py, "method", method)?).into_py_result(py)?;
     let b = vectors(py, "body", &body)?;
     let r = vectors(py, "reference", &reference)?;
     let w = values(py, "weights", &weights)?;

@@ -349,6 +349,78 @@ def _polished(
     return x, float(obj(x))
 
 
+def _checked_axes(tt: NDArray[np.float64], measured_axes: ArrayLike) -> NDArray[np.float64]:
+    """The (n_t, 3) measured axes as unit rows; any scale of a row is the same direction."""
+    m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
+    if m.shape != (tt.size, 3):
+        raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
+    if tt.size < MIN_EPOCHS:
+        raise InvalidInputError(f"expected at least {MIN_EPOCHS} epochs to fit 6 parameters, got {tt.size}")
+    with np.errstate(over="ignore"):  # an infinite norm is rescaled below
+        norm = np.linalg.norm(m, axis=1)
+    if np.any(norm < 1e-9):
+        raise InvalidInputError(f"measured_axes row {int(np.argmin(norm))} is zero")
+    scale = np.max(np.abs(m), axis=1, keepdims=True)  # directions only: rescaled first so no norm overflows
+    m = m / scale
+    norm = np.linalg.norm(m, axis=1)
+    return np.ascontiguousarray(m / norm[:, None])
+
+
+def _checked_rng(
+    rng: int | np.random.Generator | np.random.SeedSequence | None,
+) -> int | np.random.Generator | np.random.SeedSequence | None:
+    if rng is not None and not isinstance(rng, np.random.Generator | np.random.SeedSequence):
+        rng = integer("rng", rng, minimum=0)
+        if rng > 2**32 - 1:  # scipy's integer seeds; a SeedSequence takes any entropy
+            raise InvalidInputError(
+                f"expected rng in [0, 2**32 - 1], a numpy Generator or SeedSequence, or None, got {rng}"
+            )
+    return rng
+
+
+def _checked_mutation(mutation: float | tuple[float, float]) -> float | tuple[float, float]:
+    """scipy's weight F, or a (low, high) pair that dithers it."""
+    if isinstance(mutation, tuple | list):
+        if len(mutation) != 2:
+            raise InvalidInputError(f"expected mutation as F or a (low, high) pair, got {mutation!r}")
+        lo, hi = (scalar(f"mutation[{k}]", f, minimum=0.0) for k, f in enumerate(mutation))
+        if not lo < hi < 2.0:
+            raise InvalidInputError(
+                f"expected mutation (low, high) with 0 <= low < high < 2, got {mutation!r}"
+            )
+        return (lo, hi)
+    f = scalar("mutation", mutation, minimum=0.0)
+    if f >= 2.0:
+        raise InvalidInputError(f"expected mutation in [0, 2), got {f}")
+    return f
+
+
+def _check_fit_work(tt: NDArray[np.float64], step_s: float, opts: _DeOptions, max_restarts: int) -> None:
+    """Refuses a fit whose runs at their generation cap (every run, every generation, the whole
+    population, at the shorter of the two steps) would take more than ``MAX_FIT_RK4_STEPS``."""
+    per_state = grid_steps(tt, step_s)
+    total = (opts["maxiter"] + 1) * opts["popsize"] * 6 * (max_restarts + 1) * per_state
+    if total > MAX_FIT_RK4_STEPS:
+        raise WorkLimitError(
+            f"fit_rotation may need {total:.3g} RK4 steps ((maxiter + 1) * popsize * 6 * (max_restarts + 1) "
+            f"propagations of {per_state:.3g} steps), beyond the limit of {MAX_FIT_RK4_STEPS:.3g}; lower "
+            "maxiter, popsize or max_restarts, or use a longer step_s"
+        )
+
+
+def _run_generators(
+    rng: int | np.random.Generator | np.random.SeedSequence | None, n_spawn: int
+) -> tuple[np.random.Generator | int | None, list[np.random.Generator]]:
+    """The first run's randomness and the restarts' generators. An integer seeds scipy's first run
+    directly and roots the restarts' SeedSequence, as the former ``seed=`` did, so that fits (and the
+    visibility-rotation figures) keep their numbers."""
+    if isinstance(rng, np.random.Generator):
+        return rng, rng.spawn(n_spawn)
+    root = rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
+    first = np.random.default_rng(root) if isinstance(rng, np.random.SeedSequence) else rng
+    return first, [np.random.default_rng(c) for c in root.spawn(n_spawn)]
+
+
 def fit_rotation(
     t: ArrayLike,
     measured_axes: ArrayLike,
@@ -399,10 +471,9 @@ def fit_rotation(
         Most restarts, >= 0.
     min_restarts
         Restarts run whatever the first run's objective, ``0 <= min_restarts <= max_restarts`` (also
-        without ``axis_sigma_deg``). A local minimum whose objective lies within the noise spread of the
-        global one passes the threshold; in the 400-trial study of ``gnssatt reproduce visibility-rotation``
-        five of the six fits more than 15 deg off were such minima, 0.3-6 % above the truth's objective,
-        and one horizon restart found the global basin in each. The best objective is returned.
+        without ``axis_sigma_deg``): a local minimum whose objective lies within the noise spread of the
+        global one passes the threshold (how often, in ``docs/results/visibility_rotation.md``, "The
+        settings of fit_rotation"). The best objective is returned.
     restart
         ``"horizon"`` (default): each restart runs differential evolution (same settings, next seed) on
         the first 10, 20 or 5 % of the span only, where the global basin is wide, then refines by
@@ -417,10 +488,7 @@ def fit_rotation(
         when a tuple) and crossover probability P.
     strategy
         scipy's mutation strategy. ``"rand1bin"`` is the paper's ``b_m = b1 + F (b2 - b3)`` with random
-        ``b1``; with the stopping rule above it ran into ``maxiter`` (130 000 evaluations, 30 s) on 3 of 4
-        noisy test cases without ending in better minima than scipy's default ``"best1bin"`` (5 s), kept
-        here. A single run of either ends in a local minimum in about 1 trial in 3 at 3 deg/s with noisy
-        axes: hence the restarts.
+        ``b1``; scipy's ``"best1bin"`` is the default (why, in the results page above).
     tol_abs
         The paper's stopping rule: stop when the population-mean objective changes by less than
         ``tol_abs`` between consecutive generations (0.001 in the paper), here required over ``patience``
@@ -433,10 +501,8 @@ def fit_rotation(
         Relative spread, >= 0, at which a run also stops: once every member's objective lies within
         ``settle`` times the best one's (``max - min <= settle * min``) the population has gathered in
         one basin, and the polish (``polish=True``) finishes the minimum faster than further
-        generations. ``0`` leaves the paper's rule alone. With the default 0.003 (and the looser
-        Nelder-Mead windows of a horizon restart) trials 60-251 of the 400-trial study took 33,400
-        objective evaluations instead of 42,500, with every attitude error within 0.1 deg of the former
-        (``docs/results/visibility-rotation-timing.md``).
+        generations. ``0`` leaves the paper's rule alone (what the default saves, in
+        ``docs/results/visibility-rotation-timing.md``).
     maxiter
         Generation cap per run.
     max_rate_rad_s
@@ -451,12 +517,8 @@ def fit_rotation(
         RK4 step of the global search (the differential evolution and a restart's windows), s. ``None``:
         the step that turns the fastest state of the search box by ``SEARCH_TURN_RAD`` (0.45 rad), but
         no shorter than ``step_s``: 4.8 s for the 3 deg/s box. The search only has to reach the global
-        basin; at 5 s the axis over 1500 s stays within 0.1 deg of the converged solution for states
-        below 3 deg/s (0.8 deg at the box's corners; the axis noise is 5 deg) at a fifth of the steps,
-        and the polish on the objective at ``step_s`` removes that difference from the result: in the
-        400 trials of ``gnssatt reproduce visibility-rotation --seed 2026`` 399 attitude errors lie
-        within 0.1 deg of those of a 1 s search (the one fit left in a local minimum moved from 82.2 to
-        80.4 deg; ``docs/results/visibility-rotation-timing.md``).
+        basin, and the polish on the objective at ``step_s`` removes the longer step's error from the
+        result (measured in ``docs/results/visibility-rotation-timing.md``, "Search step").
 
     Returns
     -------
@@ -500,18 +562,7 @@ def fit_rotation(
     True
     """
     tt = checked_times(t)
-    m = vector_array("measured_axes", measured_axes, ndim=2, shape="(n_t, 3)")
-    if m.shape != (tt.size, 3):
-        raise InvalidInputError(f"expected measured_axes of shape ({tt.size}, 3), got {m.shape}")
-    if tt.size < MIN_EPOCHS:
-        raise InvalidInputError(f"expected at least {MIN_EPOCHS} epochs to fit 6 parameters, got {tt.size}")
-    with np.errstate(over="ignore"):  # an infinite norm is rescaled below
-        norm = np.linalg.norm(m, axis=1)
-    if np.any(norm < 1e-9):
-        raise InvalidInputError(f"measured_axes row {int(np.argmin(norm))} is zero")
-    scale = np.max(np.abs(m), axis=1, keepdims=True)  # directions only: rescaled first so no norm overflows
-    m = m / scale
-    norm = np.linalg.norm(m, axis=1)
+    m = _checked_axes(tt, measured_axes)
     max_restarts = integer("max_restarts", max_restarts, minimum=0, maximum=MAX_RESTARTS)
     min_restarts = integer("min_restarts", min_restarts, minimum=0)
     if min_restarts > max_restarts:
@@ -525,28 +576,10 @@ def fit_rotation(
     text("strategy", strategy)
     if not isinstance(polish, bool | np.bool_):
         raise InvalidTypeError(f"expected polish as a bool, got {type(polish).__name__}")
-    if rng is not None and not isinstance(rng, np.random.Generator | np.random.SeedSequence):
-        rng = integer("rng", rng, minimum=0)
-        if rng > 2**32 - 1:  # scipy's integer seeds; a SeedSequence takes any entropy
-            raise InvalidInputError(
-                f"expected rng in [0, 2**32 - 1], a numpy Generator or SeedSequence, or None, got {rng}"
-            )
-    if isinstance(mutation, tuple | list):
-        if len(mutation) != 2:
-            raise InvalidInputError(f"expected mutation as F or a (low, high) pair, got {mutation!r}")
-        lo, hi = (scalar(f"mutation[{k}]", f, minimum=0.0) for k, f in enumerate(mutation))
-        if not lo < hi < 2.0:
-            raise InvalidInputError(
-                f"expected mutation (low, high) with 0 <= low < high < 2, got {mutation!r}"
-            )
-        mutation = (lo, hi)
-    else:
-        mutation = scalar("mutation", mutation, minimum=0.0)
-        if mutation >= 2.0:
-            raise InvalidInputError(f"expected mutation in [0, 2), got {mutation}")
+    rng = _checked_rng(rng)
     opts: _DeOptions = {
         "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
-        "mutation": mutation,
+        "mutation": _checked_mutation(mutation),
         "recombination": scalar("recombination", recombination, minimum=0.0, maximum=1.0),
         "strategy": strategy,
         "tol_abs": scalar("tol_abs", tol_abs, minimum=0.0),
@@ -556,7 +589,6 @@ def fit_rotation(
         "polish": polish,
     }
     w = scalar("max_rate_rad_s", max_rate_rad_s, minimum=0.0, strict=True)
-    m = np.ascontiguousarray(m / norm[:, None])
     mdl = default_model(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
     box_rate = math.sqrt(3.0) * w + 2.0 * mdl.orbital_rate_rad_s
@@ -564,29 +596,12 @@ def fit_rotation(
     if search_step_s is None:
         search_step_s = max(step_s, SEARCH_TURN_RAD / box_rate)
     search_step_s = checked_work(opts["popsize"] * 6, tt, search_step_s, box_rate, "search_step_s")
-    # The whole fit at its generation cap: every run, every generation, the whole population.
-    per_state = grid_steps(tt, min(step_s, search_step_s))
-    total = (opts["maxiter"] + 1) * opts["popsize"] * 6 * (max_restarts + 1) * per_state
-    if total > MAX_FIT_RK4_STEPS:
-        raise WorkLimitError(
-            f"fit_rotation may need {total:.3g} RK4 steps ((maxiter + 1) * popsize * 6 * (max_restarts + 1) "
-            f"propagations of {per_state:.3g} steps), beyond the limit of {MAX_FIT_RK4_STEPS:.3g}; lower "
-            "maxiter, popsize or max_restarts, or use a longer step_s"
-        )
+    _check_fit_work(tt, min(step_s, search_step_s), opts, max_restarts)
     obj = _Objective(tt, m, mdl, step_s)
     search = _Objective(tt, m, mdl, search_step_s)
 
     bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
-    # An integer seeds scipy's first run directly and roots the restarts' SeedSequence, as the former
-    # ``seed=`` did, so that fits (and the visibility-rotation figures) keep their numbers.
-    n_spawn = max_restarts if threshold < math.inf else min_restarts
-    first: np.random.Generator | int | None
-    if isinstance(rng, np.random.Generator):
-        first, restarts = rng, rng.spawn(n_spawn)
-    else:
-        root = rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
-        first = np.random.default_rng(root) if isinstance(rng, np.random.SeedSequence) else rng
-        restarts = [np.random.default_rng(c) for c in root.spawn(n_spawn)]
+    first, restarts = _run_generators(rng, max_restarts if threshold < math.inf else min_restarts)
     runs: list[tuple[NDArray[np.float64], float, int, str]] = []
     for k, run_rng in enumerate([first, *restarts]):
         if k > min_restarts and min(r[1] for r in runs) <= threshold:

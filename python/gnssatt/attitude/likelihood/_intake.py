@@ -17,9 +17,8 @@ from gnssatt.attitude.likelihood.model import (
     MIN_WAVELENGTH_M,
     WINDOW_LIMIT_DEG,
     AttitudePrior,
-    RefineName,
 )
-from gnssatt.errors import InvalidInputError, InvalidTypeError
+from gnssatt.errors import InvalidInputError
 from gnssatt.geometry import MAX_BASELINE_M, MAX_BASELINES, MAX_SIGNALS, MIN_BASELINE_M, checked_baselines
 
 
@@ -134,18 +133,6 @@ def checked_step(step_deg: float | None) -> float | None:
     if step > MAX_STEP_DEG:
         raise InvalidInputError(f"expected step_deg <= {MAX_STEP_DEG:g} deg, got {step} deg")
     return float(np.radians(step))
-
-
-def checked_refine(refine: RefineName) -> str:
-    if isinstance(refine, bool | np.bool_):
-        return "newton" if refine else "none"
-    if not isinstance(refine, str):
-        raise InvalidTypeError(
-            f"expected refine True, False, 'parabolic' or 'newton', got {type(refine).__name__}"
-        )
-    if refine not in ("parabolic", "newton"):
-        raise InvalidInputError(f"expected refine True, False, 'parabolic' or 'newton', got {refine!r}")
-    return refine
 
 
 def gapped(

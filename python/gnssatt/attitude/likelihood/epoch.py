@@ -4,17 +4,14 @@ from the velocity (:func:`prior_from_velocity`)."""
 
 from __future__ import annotations
 
-from typing import get_args
-
 import numpy as np
 from numpy.typing import ArrayLike
 
 from gnssatt import _core
-from gnssatt._arrays import batch_limit, choice, float_array, scalar, shaped
+from gnssatt._arrays import batch_limit, float_array, scalar, shaped
 from gnssatt.attitude.likelihood._intake import (
     checked_inputs,
     checked_length,
-    checked_refine,
     checked_step,
     checked_window,
     direction_enu,
@@ -128,8 +125,6 @@ def ml_attitude(
     array([30., 10., -5.])
     """
     p, s, w, b = checked_inputs(phase_diffs, los, baselines, wavelength, n_baselines=2)
-    statistic = choice("statistic", statistic, get_args(StatisticName))
-    search = choice("search", search, get_args(SearchName))
     with named_lobe(b):
         est = _core.ml_search(
             p,
@@ -140,7 +135,7 @@ def ml_attitude(
             step_rad=checked_step(step_deg),
             window_rad=checked_window(window_deg),
             search=search,
-            refine=checked_refine(refine),
+            refine=refine,
             two_dimensional=False,
         )
     angles, grid_angles, z = est.angles_rad, est.grid_angles_rad, est.z_max
@@ -209,7 +204,6 @@ def likelihood_grid(
     [30.0, 10.0, -5.0]
     """
     p, s, w, b = checked_inputs(phase_diffs, los, baselines, wavelength, n_baselines=1)
-    statistic = choice("statistic", statistic, get_args(StatisticName))
     step = checked_step(step_deg)
     with named_lobe(b):
         g = _core.likelihood_grid(
@@ -299,7 +293,6 @@ def ml_baseline(
     p = p[:, None, :] if p.ndim == 2 else p[None, None, :]
     length = checked_length(baseline_length_m)
     p, s, w, b = checked_inputs(p, los, [[length, 0.0, 0.0]], wavelength, n_baselines=1)
-    statistic = choice("statistic", statistic, get_args(StatisticName))
     win = None
     if window_deg is not None:
         w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
@@ -315,7 +308,7 @@ def ml_baseline(
             step_rad=checked_step(step_deg),
             window_rad=win,
             search="exhaustive",
-            refine=checked_refine(refine),
+            refine=refine,
             two_dimensional=True,
         )
     angles, z, cells, step = est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad

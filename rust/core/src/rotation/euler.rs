@@ -24,7 +24,7 @@ impl Axis {
     }
 
     fn from_char(c: char) -> Option<Axis> {
-        match c.to_ascii_uppercase() {
+        match c {
             'X' => Some(Axis::X),
             'Y' => Some(Axis::Y),
             'Z' => Some(Axis::Z),
@@ -54,7 +54,8 @@ pub const YZY: EulerSeq = EulerSeq {
 };
 
 impl EulerSeq {
-    /// Parses a sequence such as `"ZYX"` (case-insensitive; always intrinsic).
+    /// Parses a sequence such as `"ZYX"` (upper case, always intrinsic: scipy reads lower case as
+    /// extrinsic, which this is not).
     ///
     /// # Errors
     /// [`Error::OutOfRange`] unless three axes with no two consecutive ones equal.
@@ -190,7 +191,7 @@ mod tests {
 
     #[test]
     fn bad_sequences_are_rejected() {
-        for bad in ["ZZX", "XY", "ABC", "XYZX"] {
+        for bad in ["ZZX", "XY", "ABC", "XYZX", "zyx", "Zyx"] {
             assert!(EulerSeq::parse(bad).is_err(), "{bad}");
         }
     }
