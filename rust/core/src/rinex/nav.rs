@@ -12,14 +12,13 @@ use super::epoch::{epoch_ns, fortran, integer, number};
 use super::lines::{blank, is_space, slice, split_lines, strip, tail};
 use super::obs_body::{err, quoted, BodyError};
 use super::text::{py_float_repr, py_format_g};
+use crate::gnss::geometry::WGS84_A_M;
 
 /// Values of a Keplerian record: af0-af2, then the 26 fields of its broadcast orbit lines
 /// (`gnssatt.rinex.nav.KEPLER_FIELDS`).
 pub const KEPLER_VALUES: usize = 29;
 /// Values of a GLONASS record: clock bias, gamma_n, message frame time, then 12 orbit fields.
 pub const GLONASS_VALUES: usize = 15;
-/// WGS-84 equatorial radius, m: a perigee below it is inside the Earth.
-const EARTH_RADIUS_M: f64 = 6_378_137.0;
 
 /// Why a record was left out (the caller words the warning).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -610,7 +609,8 @@ pub fn read_nav(text: &[u8], header_labels: &[String]) -> Result<NavRecords, Bod
                         "OverflowError: (34, 'Numerical result out of range')",
                     ));
                 }
-                if a * (1.0 - e) < EARTH_RADIUS_M {
+                // A perigee below the equatorial radius is inside the Earth.
+                if a * (1.0 - e) < WGS84_A_M {
                     nav.skips.push((
                         NavSkip::NotAnOrbit,
                         format!(

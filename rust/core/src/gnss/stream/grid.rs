@@ -6,10 +6,10 @@ use nalgebra::{Matrix3, Vector3};
 use super::{leaves_epoch_unsolved, ml, Engine, Estimate, Prepared};
 use super::{AUTO_ML_MAX_BASELINE_M, GRID_LENGTH_RELATIVE_SIGMA};
 use crate::error::Result;
-use crate::gnss::options::Method;
+use crate::gnss::options::{EngineOptions, Method};
 use crate::gnss::solution::FixState;
 use crate::likelihood::dcm_enu_from_body;
-use crate::likelihood::{ml_attitude_series, ml_baseline_series, MlEpoch};
+use crate::likelihood::{ml_attitude_series, ml_baseline_series, MlEpoch, MlSolution};
 
 impl Engine {
     /// Replaces the estimates the method gives to the grid (step 4): every solvable epoch for `Ml`,
@@ -37,32 +37,39 @@ impl Engine {
         }
     }
 
-    /// The grid input of the epochs `picks` of `prepared`: the indices into `picks` of those with one,
-    /// and their inputs.
-    fn grid_epochs(
-        &self,
+    /// The grid's solved epochs among `picks` of `prepared`, as (index into `prepared`, solution):
+    /// `solve` runs the grid on the epochs that have a grid input; none (and a warning) when its error
+    /// leaves the epochs unsolved.
+    fn grid_solutions(
+        &mut self,
         prepared: &[Prepared],
         picks: &[usize],
         n_rovers: usize,
-    ) -> (Vec<usize>, Vec<MlEpoch>) {
+        solve: impl FnOnce(&[MlEpoch], &EngineOptions) -> Result<Vec<MlSolution>>,
+    ) -> Result<Vec<(usize, MlSolution)>> {
         let epochs: Vec<Option<MlEpoch>> = picks
             .iter()
             .map(|&k| ml::epoch(&self.eph, &self.sats, &prepared[k], n_rovers))
             .collect();
         let solvable: Vec<usize> = (0..picks.len()).filter(|&i| epochs[i].is_some()).collect();
-        (solvable, epochs.into_iter().flatten().collect())
-    }
-
-    /// The grid's `result`; `None` (and a warning) when its error leaves the epochs unsolved.
-    fn grid_solved<T>(&mut self, result: Result<T>) -> Result<Option<T>> {
-        match result {
-            Ok(s) => Ok(Some(s)),
+        if solvable.is_empty() {
+            return Ok(Vec::new());
+        }
+        let series: Vec<MlEpoch> = epochs.into_iter().flatten().collect();
+        let sols = match solve(&series, &self.opts) {
+            Ok(sols) => sols,
             Err(e) if leaves_epoch_unsolved(&e) => {
                 self.warn_once("ml".into(), format!("the likelihood grid failed: {e}"));
-                Ok(None)
+                return Ok(Vec::new());
             }
-            Err(e) => Err(e),
-        }
+            Err(e) => return Err(e),
+        };
+        Ok(solvable
+            .into_iter()
+            .zip(sols)
+            .filter(|(_, sol)| sol.solved)
+            .map(|(i, sol)| (picks[i], sol))
+            .collect())
     }
 
     /// Attitude mode: the grid over the body baselines.
@@ -75,24 +82,16 @@ impl Engine {
             .filter(|&k| prepared[k].rovers.iter().all(Option::is_some))
             .filter(|&k| self.grid_wanted(&estimates[k], 0.0))
             .collect();
-        let (solvable, series) = self.grid_epochs(prepared, &picks, self.n_receivers - 1);
-        if solvable.is_empty() {
-            return Ok(());
-        }
-        let result = ml_attitude_series(
-            &series,
-            &self.opts.body_baselines_m,
-            self.opts.ml_step_rad,
-            self.opts.ml_window_rad,
-        );
-        let Some(sols) = self.grid_solved(result)? else {
-            return Ok(());
-        };
-        for (i, sol) in solvable.into_iter().zip(sols) {
-            if !sol.solved {
-                continue;
-            }
-            let k = picks[i];
+        let sols =
+            self.grid_solutions(prepared, &picks, self.n_receivers - 1, |series, opts| {
+                ml_attitude_series(
+                    series,
+                    &opts.body_baselines_m,
+                    opts.ml_step_rad,
+                    opts.ml_window_rad,
+                )
+            })?;
+        for (k, sol) in sols {
             let [psi, theta, phi] = sol.euler_gost_rad;
             let m = dcm_enu_from_body(psi, theta, phi);
             estimates[k] = Some(Estimate {
@@ -143,26 +142,13 @@ impl Engine {
         let picks: Vec<usize> = (0..prepared.len())
             .filter(|&k| prepared[k].rovers[0].is_some() && self.grid_wanted(&estimates[k], length))
             .collect();
-        let (solvable, series) = self.grid_epochs(prepared, &picks, 1);
-        if solvable.is_empty() {
-            return Ok(());
-        }
-        let result = ml_baseline_series(
-            &series,
-            length,
-            self.opts.ml_step_rad,
-            self.opts.ml_window_rad,
-        );
-        let Some(sols) = self.grid_solved(result)? else {
-            return Ok(());
-        };
-        for (i, sol) in solvable.into_iter().zip(sols) {
-            if !sol.solved {
-                continue;
-            }
+        let sols = self.grid_solutions(prepared, &picks, 1, |series, opts| {
+            ml_baseline_series(series, length, opts.ml_step_rad, opts.ml_window_rad)
+        })?;
+        for (k, sol) in sols {
             let [az, el] = sol.direction_rad;
             let unit = Vector3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
-            estimates[picks[i]] = Some(Estimate {
+            estimates[k] = Some(Estimate {
                 baselines_enu_m: vec![unit * length],
                 covariances_enu_m2: vec![Matrix3::from_element(f64::NAN)],
                 ..ml_estimate()
