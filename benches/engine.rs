@@ -11,7 +11,8 @@
 //!
 //! Both are single-epoch (moving, no continuity), LAMBDA, mask 10 degrees, base at its known position, as
 //! `benches/python/engine_per_epoch.py` runs the engine from Python. Threads: rayon's default (every CPU;
-//! `RAYON_NUM_THREADS=1` for one).
+//! `RAYON_NUM_THREADS=1` for one). `GNSSATT_ENGINE_BENCH_OUT=DIR` writes each session's solutions (Debug
+//! text, every float to its last bit) to `DIR/NAME.txt`, to compare two builds.
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use gnssatt_core::gnss::navdata::{KeplerRecord, NavData};
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations};
@@ -19,6 +20,7 @@ use gnssatt_core::gnss::options::{EngineOptions, Method};
 use gnssatt_core::gnss::signal::{
     carrier_frequency_hz, SatId, System, MAX_FREQUENCIES, SPEED_OF_LIGHT_M_S,
 };
+use gnssatt_core::gnss::solution::EpochSolution;
 use gnssatt_core::gnss::stream::Engine;
 use gnssatt_core::gnss::synthetic;
 use gnssatt_core::rinex::{read_nav, read_obs_body, BodyOptions, ObsBody, SystemLayout};
@@ -39,8 +41,9 @@ struct Session {
 }
 
 impl Session {
-    /// Every epoch through a new engine (what one `gnss_run` call does after reading).
-    fn run(&self) -> usize {
+    /// Every epoch through a new engine (what one `gnss_run` call does after reading): the number of
+    /// fixed epochs and the solutions.
+    fn run(&self) -> (usize, Vec<EpochSolution>) {
         let mut engine = Engine::new(
             &self.nav,
             self.opts.clone(),
@@ -50,7 +53,7 @@ impl Session {
         )
         .expect("valid session");
         let epochs = engine.process(&self.obs).expect("session solves");
-        epochs.iter().filter(|e| e.fixed).count()
+        (epochs.iter().filter(|e| e.fixed).count(), epochs)
     }
 }
 
@@ -262,12 +265,17 @@ fn engine(c: &mut Criterion) {
     ] {
         let epochs = session.obs.n_epochs();
         // Not a test (that is tests/): a session that stopped fixing would time something else.
-        let fixed = session.run();
+        let (fixed, solutions) = session.run();
         assert!(
             fixed * 2 > epochs,
             "{name}: {fixed} of {epochs} epochs fixed"
         );
         eprintln!("{name}: {epochs} epochs, {fixed} fixed");
+        if let Some(dir) = std::env::var_os("GNSSATT_ENGINE_BENCH_OUT") {
+            // Every float to its last bit: two builds' files compare equal when their results do.
+            let path = PathBuf::from(dir).join(format!("{name}.txt"));
+            std::fs::write(&path, format!("{solutions:#?}")).expect("writable folder");
+        }
         g.throughput(Throughput::Elements(epochs as u64));
         g.bench_function(name, |b| b.iter(|| black_box(&session).run()));
     }

@@ -20,7 +20,7 @@ use super::geometry::{satellite_geometry_from, SatGeometry, Site, MIN_HORIZON_RA
 use super::navdata::NavData;
 use super::observations::Observations;
 use super::options::EngineOptions;
-use super::signal::{carrier_frequency_hz, MAX_FREQUENCIES, SPEED_OF_LIGHT_M_S};
+use super::signal::{carrier_frequency_hz, System, MAX_FREQUENCIES, SPEED_OF_LIGHT_M_S};
 use super::solution::N_SYSTEMS;
 use super::weights::code_variance_m2;
 use crate::error::{Error, Result};
@@ -57,8 +57,9 @@ pub struct SppSolution {
     pub pdop: f64,
     /// RMS of the residuals of the satellites used, m.
     pub residual_rms_m: f64,
-    /// Geometry of every session satellite (`obs.sats` order) at the solution, with the clock of its
-    /// system (or of the first system estimated); `None` where the satellite has no usable ephemeris.
+    /// Geometry of every session satellite (`obs.sats` order) the receiver observes at the epoch, at
+    /// the solution, with the clock of its system (or of the first system estimated); `None` where the
+    /// satellite is not observed or has no usable ephemeris ([`observed_geometry`]).
     pub geometry: Vec<Option<SatGeometry>>,
 }
 
@@ -91,7 +92,8 @@ struct Linearised {
 }
 
 /// Weighted, iterated code solution of `receiver` at `epoch` (module documentation); `prior` (ECEF, m)
-/// starts the iteration (else the receiver's header position, else the Earth's centre).
+/// starts the iteration (else the receiver's header position, else the Earth's centre). Its `geometry`
+/// is [`observed_geometry`] at the solution.
 ///
 /// # Errors
 /// [`Error::OutOfRange`] for a receiver or epoch index outside `obs` or invalid options;
@@ -107,35 +109,88 @@ pub fn single_point(
     opts: &EngineOptions,
     prior: Option<&Vector3<f64>>,
 ) -> Result<SppSolution> {
+    let mut out = single_point_position(obs, receiver, epoch, eph, nav, opts, prior)?;
+    out.geometry = observed_geometry(
+        obs,
+        receiver,
+        epoch,
+        eph,
+        opts.frequencies,
+        &out.clock_s,
+        &out.position_m,
+        None,
+    );
+    Ok(out)
+}
+
+/// [`single_point`] without the geometry (`geometry` left empty): for a receiver whose geometry is
+/// wanted elsewhere (the engine's base at a surveyed position), or positioning alone.
+///
+/// # Errors
+/// Those of [`single_point`].
+pub fn single_point_position(
+    obs: &Observations,
+    receiver: usize,
+    epoch: usize,
+    eph: &Ephemerides,
+    nav: &NavData,
+    opts: &EngineOptions,
+    prior: Option<&Vector3<f64>>,
+) -> Result<SppSolution> {
     let inputs = Inputs {
         obs,
         eph,
         nav,
         opts,
     };
-    let mut out = code_solution(inputs, receiver, epoch, prior)?;
-    let t = obs.time_gpst_ns[epoch];
-    let fallback = out
-        .clock_s
-        .iter()
-        .copied()
-        .find(|c| c.is_finite())
-        .unwrap_or(0.0);
-    let site = Site::new(&out.position_m);
-    out.geometry = obs
-        .sats
-        .iter()
-        .map(|&id| {
-            let c = out.clock_s[id.system.index()];
-            let clock = if c.is_finite() { c } else { fallback };
-            satellite_geometry_from(eph, id, t, clock, &site)
-        })
-        .collect();
-    Ok(out)
+    code_solution(inputs, receiver, epoch, prior)
 }
 
-/// What every epoch's code solution of a session reads (one value, so that [`single_point`] and
-/// [`single_points`] pass it on instead of repeating the list).
+/// Geometry (`obs.sats` order) seen from `position_m` at `epoch` of every satellite `receiver` observes
+/// there (a finite code or phase in a slot below `frequencies`) and, where `systems` is given, of one
+/// of them, with the receiver's clock of the satellite's system (else the first finite one); `None`
+/// for the others, where the satellite has no usable ephemeris, or where no clock is finite. Satellites
+/// not observed are left out because nothing selects their signals: computing them cost as much as
+/// the code solution itself.
+#[allow(clippy::too_many_arguments)]
+pub fn observed_geometry(
+    obs: &Observations,
+    receiver: usize,
+    epoch: usize,
+    eph: &Ephemerides,
+    frequencies: usize,
+    clock_s: &[f64; N_SYSTEMS],
+    position_m: &Vector3<f64>,
+    systems: Option<&[System]>,
+) -> Vec<Option<SatGeometry>> {
+    let t = obs.time_gpst_ns[epoch];
+    let rx = &obs.receivers[receiver];
+    let fallback = clock_s.iter().copied().find(|c| c.is_finite());
+    let site = Site::new(position_m);
+    let slots = frequencies.clamp(1, MAX_FREQUENCIES);
+    obs.sats
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| {
+            if systems.is_some_and(|s| !s.contains(&id.system)) {
+                return None;
+            }
+            let observed = (0..slots).any(|slot| {
+                let i = obs.index(epoch, k, slot);
+                rx.code_m[i].is_finite() || rx.phase_cycles[i].is_finite()
+            });
+            if !observed {
+                return None;
+            }
+            let own = clock_s[id.system.index()];
+            let clock = if own.is_finite() { Some(own) } else { fallback }?;
+            satellite_geometry_from(eph, id, t, clock, &site)
+        })
+        .collect()
+}
+
+/// What every epoch's code solution of a session reads (one value, so that [`single_point_position`]
+/// and [`single_points`] pass it on instead of repeating the list).
 #[derive(Clone, Copy)]
 struct Inputs<'a> {
     obs: &'a Observations,

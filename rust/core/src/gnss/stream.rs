@@ -77,7 +77,7 @@ pub use self::code_scale::{
 use self::length::LengthEstimate;
 use self::output::{azimuth_elevation, heading_pitch_roll, row_major};
 use super::ephemeris::Ephemerides;
-use super::geometry::{satellite_geometry_from, SatGeometry, Site};
+use super::geometry::SatGeometry;
 use super::navdata::NavData;
 use super::observations::{Observations, MAX_RECEIVERS};
 use super::options::{EngineOptions, Method};
@@ -451,29 +451,6 @@ impl Engine {
             clocks_s,
             rovers,
         })
-    }
-
-    /// Geometry of every selected-system satellite seen from `receiver_m` with the receiver's clocks
-    /// (the clock of the satellite's system, else the first estimated).
-    fn geometry(
-        &self,
-        t: i64,
-        clocks_s: &[f64; N_SYSTEMS],
-        receiver_m: &Vector3<f64>,
-    ) -> Vec<Option<SatGeometry>> {
-        let fallback = clocks_s.iter().copied().find(|c| c.is_finite());
-        let site = Site::new(receiver_m);
-        self.sats
-            .iter()
-            .map(|&sat| {
-                if !self.opts.systems.contains(&sat.system) {
-                    return None;
-                }
-                let own = clocks_s[sat.system.index()];
-                let clock = if own.is_finite() { Some(own) } else { fallback }?;
-                satellite_geometry_from(&self.eph, sat, t, clock, &site)
-            })
-            .collect()
     }
 
     /// Signal pairs of rover `r` at epoch `k` (step 3).

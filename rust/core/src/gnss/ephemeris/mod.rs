@@ -8,8 +8,6 @@
 pub mod glonass;
 pub mod kepler;
 
-use std::collections::HashMap;
-
 use nalgebra::Vector3;
 
 use super::navdata::{GlonassRecord, KeplerRecord, NavData};
@@ -38,9 +36,46 @@ pub struct SatState {
 /// out because the models cannot use them.
 #[derive(Debug, Clone, Default)]
 pub struct Ephemerides {
-    kepler: HashMap<SatId, Vec<KeplerRecord>>,
-    glonass: HashMap<SatId, Vec<GlonassRecord>>,
+    kepler: PerSatellite<KeplerRecord>,
+    glonass: PerSatellite<GlonassRecord>,
     skipped: Vec<SkippedRecord>,
+}
+
+/// Records per satellite in a table indexed by system and PRN: the engine looks a satellite's records
+/// up several times per satellite, iteration and receiver of every epoch, where a hash map's SipHash cost
+/// 4 % of a simulated all-signal session's instructions.
+#[derive(Debug, Clone)]
+struct PerSatellite<R>(Vec<Vec<R>>);
+
+impl<R> Default for PerSatellite<R> {
+    fn default() -> Self {
+        PerSatellite(Vec::new())
+    }
+}
+
+impl<R> PerSatellite<R> {
+    fn slot(sat: SatId) -> usize {
+        sat.system.index() * 256 + usize::from(sat.prn)
+    }
+
+    fn push(&mut self, sat: SatId, record: R) {
+        if self.0.is_empty() {
+            self.0.resize_with(System::ALL.len() * 256, Vec::new);
+        }
+        self.0[Self::slot(sat)].push(record);
+    }
+
+    /// The satellite's records; `None` where it has none.
+    fn get(&self, sat: SatId) -> Option<&[R]> {
+        self.0
+            .get(Self::slot(sat))
+            .filter(|v| !v.is_empty())
+            .map(Vec::as_slice)
+    }
+
+    fn lists_mut(&mut self) -> impl Iterator<Item = &mut Vec<R>> {
+        self.0.iter_mut()
+    }
 }
 
 /// Why a record is left out by [`Ephemerides::new`]: one warning per reason.
@@ -207,20 +242,20 @@ impl Ephemerides {
         let mut eph = Ephemerides::default();
         for (i, r) in nav.kepler.iter().enumerate() {
             match check_kepler(i, r)? {
-                None => eph.kepler.entry(r.sat).or_default().push(*r),
+                None => eph.kepler.push(r.sat, *r),
                 Some((reason, detail)) => eph.skip("Keplerian", i, r.sat, reason, detail),
             }
         }
         for (i, r) in nav.glonass.iter().enumerate() {
             match check_glonass(i, r)? {
-                None => eph.glonass.entry(r.sat).or_default().push(*r),
+                None => eph.glonass.push(r.sat, *r),
                 Some((reason, detail)) => eph.skip("GLONASS", i, r.sat, reason, detail),
             }
         }
-        for v in eph.kepler.values_mut() {
+        for v in eph.kepler.lists_mut() {
             v.sort_by_key(|r| r.toe_gpst_ns);
         }
-        for v in eph.glonass.values_mut() {
+        for v in eph.glonass.lists_mut() {
             v.sort_by_key(|r| r.tb_gpst_ns);
         }
         Ok(eph)
@@ -282,11 +317,11 @@ impl Ephemerides {
 
     /// Whether any record of `sat` exists (healthy or not).
     pub fn has(&self, sat: SatId) -> bool {
-        self.kepler.contains_key(&sat) || self.glonass.contains_key(&sat)
+        self.kepler.get(sat).is_some() || self.glonass.get(sat).is_some()
     }
 
     fn kepler_record(&self, sat: SatId, t_gpst_ns: i64) -> Option<&KeplerRecord> {
-        let records = self.kepler.get(&sat)?;
+        let records = self.kepler.get(sat)?;
         nearest(
             records,
             t_gpst_ns,
@@ -298,7 +333,7 @@ impl Ephemerides {
     }
 
     fn glonass_record(&self, sat: SatId, t_gpst_ns: i64) -> Option<&GlonassRecord> {
-        let records = self.glonass.get(&sat)?;
+        let records = self.glonass.get(sat)?;
         nearest(
             records,
             t_gpst_ns,

@@ -37,7 +37,7 @@ use crate::gnss::rtk::float::FloatSolution;
 use crate::gnss::rtk::known_length::{fix_known_length, known_length_float};
 use crate::gnss::rtk::{BaselineSolution, DdEpoch, FixOptions};
 use crate::gnss::solution::FixState;
-use crate::gnss::spp::{single_point, SppSolution};
+use crate::gnss::spp::{observed_geometry, single_point_position, SppSolution};
 use crate::interrupt;
 
 /// Epochs handed to the threads at a time: enough work per block for 16 threads, few epochs' solutions
@@ -64,14 +64,27 @@ impl Engine {
                         out.push(Err(e));
                         continue;
                     }
-                    let mut spp =
-                        single_point(obs, r, k, &this.eph, &this.nav, &this.opts, prior.as_ref());
+                    let (eph, nav, opts) = (&this.eph, &this.nav, &this.opts);
+                    let given = (r == 0).then_some(opts.base_position_m).flatten();
+                    let mut spp = single_point_position(obs, r, k, eph, nav, opts, prior.as_ref());
                     if let Ok(s) = &mut spp {
                         prior = Some(s.position_m);
-                        if let (0, Some(given)) = (r, this.opts.base_position_m) {
-                            let t = obs.time_gpst_ns[k];
-                            s.geometry = this.geometry(t, &s.clock_s, &Vector3::from(given));
-                        }
+                        // The base at its surveyed position: the code solution's own geometry is
+                        // not used, so not computed.
+                        let (at, systems) = match given {
+                            Some(g) => (Vector3::from(g), Some(opts.systems.as_slice())),
+                            None => (s.position_m, None),
+                        };
+                        s.geometry = observed_geometry(
+                            obs,
+                            r,
+                            k,
+                            eph,
+                            opts.frequencies,
+                            &s.clock_s,
+                            &at,
+                            systems,
+                        );
                     }
                     out.push(spp);
                 }
