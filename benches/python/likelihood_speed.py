@@ -2,11 +2,11 @@
 Python API (exhaustive pass), a plain numpy evaluation, optionally a reference native kernel (``--reference
 PATH``: a script run as ``bash PATH STEP M`` that prints ``cells N ... threads T ... seconds S``), thread
 scaling (RAYON_NUM_THREADS = 1, 2, and 16 when available), and branch-and-bound against the exhaustive
-pass at 1 and 2 threads, as ratios of medians: on the paper's scenario, on a 5 m triangle at 0.5 deg (a
-coarse grid: 0.46 of the coarsest step accepted) and on the 5 m triangle at eq. (15)'s default step (2.3e9
-cells: the exhaustive pass runs as two windows of half the pitch range each, which together hold every
-cell). Then the spread over random skies and attitudes (``--skies``) on the 5 m triangle, at the
-machine's thread count.
+pass at 1 and 2 threads, as ratios of medians: on the paper's scenario, on a 5 m triangle at 0.45 deg (a
+coarse grid: 0.41 of the coarsest step accepted; issue 30's case) and on the 5 m triangle at eq. (15)'s
+default step (2.3e9 cells: the exhaustive pass runs as two windows of half the pitch range each, which
+together hold every cell). Then the spread over random skies and attitudes (``--skies``) on the 5 m
+triangle, at the machine's thread count.
 
 Run from anywhere: ``python benches/python/likelihood_speed.py [--reps 5] [--skies 8] [--reference PATH]``.
 """
@@ -31,13 +31,15 @@ from gnssatt.rotation import rotation_from_euler
 
 L1 = 0.19029367279836487
 STEP = 1.5
+# The coarse grid of the 5 m triangle, degrees (issue 30).
+COARSE = 0.45
 UNIT_TRIANGLE = np.array([[1.0, 0.0, 0.0], [0.5, 0.0, np.sqrt(3) / 2]])
 TRIANGLE = 0.71 * UNIT_TRIANGLE
 # (name, side of the triangle in metres, grid step in degrees or None for eq. (15)'s default) for
 # branch-and-bound vs exhaustive.
 BNB_CASES = [
     ("paper 0.71 m, 1.5 deg", 0.71, 1.5),
-    ("5 m, 0.5 deg", 5.0, 0.5),
+    ("5 m, 0.45 deg", 5.0, COARSE),
     ("5 m, eq. (15) step", 5.0, None),
 ]
 
@@ -171,7 +173,7 @@ def in_child(n, reps, search, side=0.71, step=STEP):
 
 def sky_spread(n_skies, reps, eq15_checks):
     """Branch-and-bound against the exhaustive pass on random skies (8 satellites) and attitudes, 5 m
-    triangle, 0.1 rad noise, at 0.5 deg and at eq. (15)'s step, in this process (all threads)."""
+    triangle, 0.1 rad noise, at 0.45 deg and at eq. (15)'s step, in this process (all threads)."""
     tri = 5.0 * UNIT_TRIANGLE
     print(
         f"spread over {n_skies} random skies and attitudes, 5 m triangle, 0.1 rad noise, "
@@ -186,7 +188,7 @@ def sky_spread(n_skies, reps, eq15_checks):
         p, los = scenario(seed=1000 + k, side=5.0, euler_deg=euler)
         line = f"  sky {k:2d}:"
         row = []
-        for step in (0.5, None):
+        for step in (COARSE, None):
             kw = {"step_deg": step, "refine": False}
             bb = gnssatt.ml_attitude(p, los, tri, L1, search="branch_and_bound", **kw)
             run = functools.partial(gnssatt.ml_attitude, p, los, tri, L1, search="branch_and_bound", **kw)
@@ -210,7 +212,7 @@ def sky_spread(n_skies, reps, eq15_checks):
                 if z_ex is None
                 else str(z_ex == bb.z_max and a_ex == tuple(float(a) for a in bb.grid_euler_gost_deg))
             )
-            name = "0.5 deg" if step is not None else "eq. (15)"
+            name = f"{COARSE} deg" if step is not None else "eq. (15)"
             line += (
                 f"  {name} {t_bb * 1e3:7.1f} ms, {t_ex / t_bb:6.1f}x, {stats.rounds} round(s), "
                 f"same cell {same}"
@@ -219,7 +221,7 @@ def sky_spread(n_skies, reps, eq15_checks):
         rows.append(row)
         print(line, flush=True)
     r = np.array(rows)
-    for j, name in enumerate(["0.5 deg", "eq. (15) step"]):
+    for j, name in enumerate([f"{COARSE} deg", "eq. (15) step"]):
         print(
             f"  {name}: ratio median {np.median(r[:, j]):.1f}x, min {r[:, j].min():.1f}x, "
             f"max {r[:, j].max():.1f}x"

@@ -5,7 +5,8 @@
 //! whether the cell is the same; `eq15` uses eq. (15)'s default step instead (2.3e9 cells on the 5 m
 //! array: not with `check`, which the exhaustive pass refuses there).
 //!
-//! `cargo run --release -p gnssatt-core --example bnb_skies -- [N] [check] [eq15]`
+//! `cargo run --release -p gnssatt-core --example bnb_skies -- [N] [check] [eq15] [step=DEG]` (`step`:
+//! the 5 m array's coarse step, 0.5 deg by default)
 use std::f64::consts::TAU;
 use std::time::Instant;
 
@@ -87,6 +88,10 @@ fn main() {
     let n_random: u64 = args.iter().find_map(|s| s.parse().ok()).unwrap_or(10);
     let check = args.iter().any(|s| s == "check");
     let eq15 = args.iter().any(|s| s == "eq15");
+    let coarse: f64 = args
+        .iter()
+        .find_map(|s| s.strip_prefix("step=").and_then(|v| v.parse().ok()))
+        .unwrap_or(0.5);
     let threads: usize = std::env::var("RAYON_NUM_THREADS")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -97,10 +102,10 @@ fn main() {
         .unwrap();
     let mut cases: Vec<(String, Model, f64)> = vec![
         ("paper".into(), criterion_sky(0.71), 1.5),
-        ("crit5m".into(), criterion_sky(5.0), 0.5),
+        ("crit5m".into(), criterion_sky(5.0), coarse),
     ];
     for s in 0..n_random {
-        cases.push((format!("rand5m_{s}"), random_sky(5.0, 100 + s), 0.5));
+        cases.push((format!("rand5m_{s}"), random_sky(5.0, 100 + s), coarse));
     }
     let mut tot = 0.0;
     for (name, m, step) in &cases {

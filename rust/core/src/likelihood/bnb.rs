@@ -185,6 +185,31 @@ struct Scan<'a> {
     nodes: Vec<usize>,
 }
 
+/// Heading nodes (local indices) whose azimuth `a = psi + beta` may fall in azimuth bin `bin` of
+/// `width` radians: global indices `g` with `psi = origin + g step`, the bin's start minus `beta`, one
+/// node either side for rounding; the caller checks each by its own bin.
+fn bin_nodes(psi: &Axis, width: f64, bin: u32, beta: f64) -> impl Iterator<Item = usize> + '_ {
+    let v = (f64::from(bin) * width - beta - psi.origin) / psi.step;
+    let g_mid = floor(v) as i64;
+    // Nodes in the bin have g in [v, v + 1): g_mid + 1 (and g_mid when v is an integer); the outer
+    // two only when rounding of v may have moved it across an integer.
+    let frac = v - floor(v);
+    let edge = !(1e-6..=1.0 - 1e-6).contains(&frac);
+    let (lo, hi) = if edge {
+        (g_mid - 1, g_mid + 2)
+    } else {
+        (g_mid + 1, g_mid + 1)
+    };
+    (lo..=hi).filter_map(move |g| {
+        let j = g - psi.first;
+        let j = match psi.period {
+            Some(p) => j.rem_euclid(p as i64),
+            None => j,
+        };
+        (0..psi.len as i64).contains(&j).then_some(j as usize)
+    })
+}
+
 /// Step 2 of the module docs for row `(t, f)`: the best cell among the nodes whose summed bounds reach
 /// `need`. `(ct, st)` are `cos theta`, `sin theta` of the row and `v[i]` is `Rx(phi) r_i`, so `w = Rz(theta)
 /// v` is the baseline's direction before the heading turn; every elevation is looked up before any
@@ -218,29 +243,7 @@ fn scan_row<'a>(
     let map0 = &maps[sparsest];
     let (beta0, row0) = scan.dirs[sparsest];
     for &(bin, u0) in row0 {
-        // Heading nodes g (global index) with psi = origin + g step and a = psi + beta in this bin: the
-        // bin's start minus beta, one node either side for rounding; each is checked by its own bin.
-        let v = (f64::from(bin) * map0.width() - beta0 - psi.origin) / psi.step;
-        let g_mid = floor(v) as i64;
-        // Nodes in the bin have g in [v, v + 1): g_mid + 1 (and g_mid when v is an integer); the outer
-        // two only when rounding of v may have moved it across an integer.
-        let frac = v - floor(v);
-        let edge = !(1e-6..=1.0 - 1e-6).contains(&frac);
-        let (lo, hi) = if edge {
-            (g_mid - 1, g_mid + 2)
-        } else {
-            (g_mid + 1, g_mid + 1)
-        };
-        for g in lo..=hi {
-            let j = g - psi.first;
-            let j = match psi.period {
-                Some(p) => j.rem_euclid(p as i64),
-                None => j,
-            };
-            if !(0..psi.len as i64).contains(&j) {
-                continue;
-            }
-            let j = j as usize;
+        for j in bin_nodes(psi, map0.width(), bin, beta0) {
             let a = psi.angle(j as i64);
             if map0.bin(a + beta0) != bin {
                 continue;
@@ -284,6 +287,137 @@ pub fn branch_and_bound(model: &Model, grid: &Grid) -> Result<(GridMax, BnbStats
     branch_and_bound_limited(model, grid, box_limit(grid))
 }
 
+/// The exhaustive pass in place of the branch-and-bound (`why` it gave up), with the work done so far;
+/// where the grid is over [`MAX_CELLS`] cells (not `feasible`), the error naming `step_deg` instead.
+fn fall_back(
+    model: &Model,
+    grid: &Grid,
+    feasible: bool,
+    mut stats: BnbStats,
+    why: &str,
+) -> Result<(GridMax, BnbStats)> {
+    if !feasible {
+        return Err(Error::out_of_range(
+            "step_deg",
+            format!(
+                "a step of {:.3e} deg gives {:.3e} cells, over the 2^31 the exhaustive pass \
+                 evaluates, and the branch-and-bound cannot search them: {why}; coarsen the step \
+                 or narrow the window",
+                grid.step().to_degrees(),
+                grid.len() as f64
+            ),
+        ));
+    }
+    let gm = exhaustive_max(model, grid)?;
+    stats.leaf_cells += gm.cells_evaluated;
+    stats.fallback = true;
+    Ok((
+        GridMax {
+            cells_evaluated: stats.boxes_bounded + stats.leaf_cells,
+            ..gm
+        },
+        stats,
+    ))
+}
+
+/// What the row scan of every round reads: the heading tables of the full pass, `(cos, sin)` of each
+/// pitch node, and per roll node `Rx(phi) r_i` for every baseline (flat, `nb` per node).
+struct RowTables {
+    cps: Vec<f32>,
+    sps: Vec<f32>,
+    trig: Vec<(f64, f64)>,
+    rolled: Vec<Vector3<f64>>,
+}
+
+impl RowTables {
+    fn new(model: &Model, grid: &Grid) -> Self {
+        let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
+        let trig = (0..grid.theta.len)
+            .map(|t| {
+                let (s, c) = grid.theta.angle(t as i64).sin_cos();
+                (c, s)
+            })
+            .collect();
+        let rolled = (0..grid.phi.len)
+            .flat_map(|f| {
+                let rx = elementary(RotAxis::X, grid.phi.angle(f as i64));
+                model.baselines.iter().map(move |r| rx * r)
+            })
+            .collect();
+        RowTables {
+            cps,
+            sps,
+            trig,
+            rolled,
+        }
+    }
+}
+
+/// Step 2 of the module docs over every row, in parallel: the best `(z, flat index)` among the nodes
+/// whose summed bounds reach `need`, and the number of kernel cells evaluated.
+fn scan_rows(
+    model: &Model,
+    grid: &Grid,
+    tables: &RowTables,
+    maps: &[DirMap],
+    need: f64,
+) -> ((f32, usize), u64) {
+    let nb = model.n_baselines();
+    (0..grid.theta.len * grid.phi.len)
+        .into_par_iter()
+        .with_min_len(64)
+        .map_init(
+            || Scan {
+                rn: RowNodes::new(model, grid, &tables.cps, &tables.sps),
+                dirs: Vec::with_capacity(nb),
+                lens: model.baselines.iter().map(|r| r.norm()).collect(),
+                nodes: vec![],
+            },
+            |scan, r| {
+                let (t, f) = (r / grid.phi.len, r % grid.phi.len);
+                let v = &tables.rolled[f * nb..(f + 1) * nb];
+                let before = scan.rn.cells;
+                let b = scan_row(&grid.psi, maps, need, scan, (t, f, tables.trig[t], v));
+                (b, scan.rn.cells - before)
+            },
+        )
+        .reduce(
+            || ((f32::NEG_INFINITY, usize::MAX), 0),
+            |a, b| (better(a.0, b.0), a.1 + b.1),
+        )
+}
+
+/// The kernel's margin ([`kernel_margin`]) where the search can run, or why it cannot: a statistic that
+/// does not split by baseline, phases beyond the kernel's checked range, or (on a grid the exhaustive
+/// pass cannot take over, not `feasible`) more than `limit` units of work before any pruning.
+fn preflight(
+    model: &Model,
+    grid: &Grid,
+    feasible: bool,
+    limit: u64,
+) -> std::result::Result<f64, String> {
+    let margin = match (model.grouping, kernel_margin(model)) {
+        (Grouping::PerBaseline, Some(m)) => m,
+        (Grouping::PerBaseline, None) => {
+            return Err("phases beyond the kernel's checked range".into())
+        }
+        _ => return Err("the statistic does not split by baseline".into()),
+    };
+    let rows = (grid.theta.len * grid.phi.len) as f64;
+    let tops: f64 = (0..model.n_baselines())
+        .map(|i| 2.0 * top_rows(model, i).powi(2))
+        .sum();
+    // Where the exhaustive pass can take over, the budget decides (a window's search tests only the
+    // top boxes it reaches).
+    if !feasible && tops + rows > limit as f64 {
+        return Err(format!(
+            "it would test at least {tops:.3e} direction boxes and scan {rows:.3e} rows, over its \
+             limit of {limit:.3e}"
+        ));
+    }
+    Ok(margin)
+}
+
 /// [`branch_and_bound`] with at most `limit` direction boxes before the exhaustive fallback (where the
 /// grid holds at most [`MAX_CELLS`] cells; [`MAX_WORK`] otherwise).
 pub(crate) fn branch_and_bound_limited(
@@ -295,70 +429,17 @@ pub(crate) fn branch_and_bound_limited(
     let mut stats = BnbStats::default();
     let feasible = grid.len() <= MAX_CELLS;
     let limit = if feasible { limit } else { MAX_WORK };
-    // Where the exhaustive pass cannot take over, the search stops with this error instead.
-    let exhaustive = |mut stats: BnbStats, why: &str| -> Result<(GridMax, BnbStats)> {
-        if !feasible {
-            return Err(Error::out_of_range(
-                "step_deg",
-                format!(
-                    "a step of {:.3e} deg gives {:.3e} cells, over the 2^31 the exhaustive pass \
-                     evaluates, and the branch-and-bound cannot search them: {why}; coarsen the step \
-                     or narrow the window",
-                    grid.step().to_degrees(),
-                    grid.len() as f64
-                ),
-            ));
-        }
-        let gm = exhaustive_max(model, grid)?;
-        stats.leaf_cells += gm.cells_evaluated;
-        stats.fallback = true;
-        Ok((
-            GridMax {
-                cells_evaluated: stats.boxes_bounded + stats.leaf_cells,
-                ..gm
-            },
-            stats,
-        ))
-    };
-    let margin = match (model.grouping, kernel_margin(model)) {
-        (Grouping::PerBaseline, Some(m)) => m,
-        (Grouping::PerBaseline, None) => {
-            return exhaustive(stats, "phases beyond the kernel's checked range")
-        }
-        _ => return exhaustive(stats, "the statistic does not split by baseline"),
+    let exhaustive = |stats: BnbStats, why: &str| fall_back(model, grid, feasible, stats, why);
+    let margin = match preflight(model, grid, feasible, limit) {
+        Ok(m) => m,
+        Err(why) => return exhaustive(stats, &why),
     };
     let rows = grid.theta.len * grid.phi.len;
-    let tops: f64 = (0..model.n_baselines())
-        .map(|i| 2.0 * top_rows(model, i).powi(2))
-        .sum();
-    // Where the exhaustive pass can take over, the budget below decides (a window's search tests only
-    // the top boxes it reaches).
-    if !feasible && tops + rows as f64 > limit as f64 {
-        let why = format!(
-            "it would test at least {tops:.3e} direction boxes and scan {rows:.3e} rows, over its \
-             limit of {limit:.3e}"
-        );
-        return exhaustive(stats, &why);
-    }
-    let (cps, sps) = heading_tables((0..grid.psi.len as i64).map(|p| grid.psi.angle(p)));
     let (nb, n, top) = (model.n_baselines(), model.n_terms() as f64, model.z_upper());
     let reach = reaches(model, grid);
     let budget = Budget::new(limit);
     let per_turn = (std::f64::consts::TAU / grid.step()).round() as usize;
-    let trig: Vec<(f64, f64)> = (0..grid.theta.len)
-        .map(|t| {
-            let (s, c) = grid.theta.angle(t as i64).sin_cos();
-            (c, s)
-        })
-        .collect();
-    // Per roll node, `Rx(phi) r_i` for every baseline (flat, `nb` per node).
-    let rolled: Vec<Vector3<f64>> = (0..grid.phi.len)
-        .flat_map(|f| {
-            let rx = elementary(RotAxis::X, grid.phi.angle(f as i64));
-            model.baselines.iter().map(move |r| rx * r)
-        })
-        .collect();
-    let rows = grid.theta.len * grid.phi.len;
+    let tables = RowTables::new(model, grid);
     let mut deficit = FIRST_DEFICIT * top;
     let mut target = top - deficit;
     loop {
@@ -371,14 +452,8 @@ pub(crate) fn branch_and_bound_limited(
         let tau = need - (nb - 1) as f64 * n;
         let mut maps = Vec::with_capacity(nb);
         for (i, r) in reach.iter().enumerate() {
-            match direction_set(
-                model,
-                i,
-                tau,
-                leaf_half_width(model, i, grid.step()),
-                r,
-                &budget,
-            ) {
+            let h_min = leaf_half_width(model, i, grid.step());
+            match direction_set(model, i, tau, h_min, r, &budget) {
                 Some(s) => maps.push(DirMap::new(&s, grid.step(), per_turn)),
                 None => {
                     stats.boxes_bounded = budget.used();
@@ -392,28 +467,7 @@ pub(crate) fn branch_and_bound_limited(
             let why = format!("its rows and direction boxes passed its work limit of {limit:.3e}");
             return exhaustive(stats, &why);
         }
-        let (best, leaf) = (0..rows)
-            .into_par_iter()
-            .with_min_len(64)
-            .map_init(
-                || Scan {
-                    rn: RowNodes::new(model, grid, &cps, &sps),
-                    dirs: Vec::with_capacity(nb),
-                    lens: model.baselines.iter().map(|r| r.norm()).collect(),
-                    nodes: vec![],
-                },
-                |scan, r| {
-                    let (t, f) = (r / grid.phi.len, r % grid.phi.len);
-                    let v = &rolled[f * nb..(f + 1) * nb];
-                    let before = scan.rn.cells;
-                    let b = scan_row(&grid.psi, &maps, need, scan, (t, f, trig[t], v));
-                    (b, scan.rn.cells - before)
-                },
-            )
-            .reduce(
-                || ((f32::NEG_INFINITY, usize::MAX), 0),
-                |a, b| (better(a.0, b.0), a.1 + b.1),
-            );
+        let (best, leaf) = scan_rows(model, grid, &tables, &maps, need);
         stats.leaf_cells += leaf;
         stats.boxes_bounded = budget.used();
         if f64::from(best.0) >= target {

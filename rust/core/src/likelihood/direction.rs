@@ -247,12 +247,87 @@ impl Tester<'_> {
         (share_a, share_e)
     }
 
+    /// The kept leaves below `top` (module docs), empty once `budget` runs out; `off` the angle-addition
+    /// tables of [`Tester::children`].
+    fn search(&mut self, top: Node, h_min: f64, off: Offsets, budget: &Budget) -> Vec<DirBox> {
+        let mut out = vec![];
+        if budget.exceeded() {
+            return out;
+        }
+        let s = self.model.n_terms() as f64 - self.tau;
+        let mut stack = vec![top];
+        let mut tested = 0u64;
+        while let Some(node) = stack.pop() {
+            // Counted in batches: one shared atomic per box would serialise the threads.
+            tested += 1;
+            if tested.is_multiple_of(64) && !budget.spend(64) {
+                return out;
+            }
+            let Node { b, trig, level } = node;
+            let halvings = u32::from(level.0) + u32::from(level.1);
+            let (share_a, share_e) = self.phases(&b, trig, halvings);
+            if s < 2.0 && !self.may_reach() {
+                continue;
+            }
+            let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
+            let last = ha <= h_min && he <= h_min;
+            if last || s >= 2.0 {
+                let bound = modulus_bound(&self.xs, &self.ds, &mut self.scratch, &mut self.members);
+                if bound < self.tau {
+                    continue;
+                }
+                if last {
+                    out.push(DirBox { bound, ..b });
+                    continue;
+                }
+            }
+            let split_a = he <= h_min || (ha > h_min && share_a >= share_e);
+            stack.extend(children(node, split_a, off));
+        }
+        budget.spend(tested % 64);
+        out
+    }
+
     /// Whether `F_i` may reach `tau` in the box (module docs).
     fn may_reach(&mut self) -> bool {
         self.radii.clear();
         self.radii.extend(self.ds.iter().map(|d| d + self.arc));
         arcs_meet(&self.xs, &self.radii)
     }
+}
+
+/// Per level of halving, `sin_cos` of a child's offset from its parent's centre on the azimuth and the
+/// elevation axis.
+type Offsets<'a> = (&'a [(f64, f64)], &'a [(f64, f64)]);
+
+/// The two halves of `node` along azimuth (`split_a`) or elevation, their centre sines by the
+/// angle-addition formulas from the parent's (`off`; a `sin_cos` pair per box was a sixth of the search;
+/// the rounding this accumulates over the levels is added to each phase's deviation,
+/// [`Tester::phases`]).
+fn children(Node { b, trig, level }: Node, split_a: bool, (off_a, off_e): Offsets) -> [Node; 2] {
+    let [sa, ca, se, ce] = trig;
+    let (mut l, mut h) = (b, b);
+    let (trig_l, trig_h, level) = if split_a {
+        let mid = 0.5 * (b.a0 + b.a1);
+        (l.a1, h.a0) = (mid, mid);
+        let (so, co) = off_a[usize::from(level.0.saturating_add(1))];
+        (
+            [sa * co - ca * so, ca * co + sa * so, se, ce],
+            [sa * co + ca * so, ca * co - sa * so, se, ce],
+            (level.0.saturating_add(1), level.1),
+        )
+    } else {
+        let mid = 0.5 * (b.e0 + b.e1);
+        (l.e1, h.e0) = (mid, mid);
+        let (so, co) = off_e[usize::from(level.1.saturating_add(1))];
+        (
+            [sa, ca, se * co - ce * so, ce * co + se * so],
+            [sa, ca, se * co + ce * so, ce * co - se * so],
+            (level.0, level.1.saturating_add(1)),
+        )
+    };
+    let node = |b, trig| Node { b, trig, level };
+    [node(l, trig_l), node(h, trig_h)]
 }
 
 /// Boxes of direction parameters covering every direction where `F_i >= tau` (module docs), each of
@@ -277,10 +352,7 @@ pub(crate) fn direction_set(
     };
     let (na, ne) = (reach.na, reach.ne);
     let (half_a, half_e) = (PI / na as f64, FRAC_PI_2 / ne as f64);
-    // `sin_cos` of a child's offset from its parent's centre, per level of halving: children's centre
-    // sines follow from their parent's by the angle-addition formulas (a sin_cos pair per box was a
-    // sixth of the search). The rounding this accumulates over the levels is added to each phase's
-    // deviation (`Tester::phases`).
+    // The angle-addition tables of `children`.
     let offsets = |h: f64| -> Vec<(f64, f64)> {
         (0..=u8::MAX)
             .map(|k| (h * 0.5f64.powi(i32::from(k))).sin_cos())
@@ -322,72 +394,7 @@ pub(crate) fn direction_set(
                 scratch: vec![],
                 members: vec![],
             },
-            |t, top| {
-                let mut out = vec![];
-                if budget.exceeded() {
-                    return out;
-                }
-                let mut stack = vec![*top];
-                let mut tested = 0u64;
-                while let Some(Node { b, trig, level }) = stack.pop() {
-                    // Counted in batches: one shared atomic per box would serialise the threads.
-                    tested += 1;
-                    if tested.is_multiple_of(64) && !budget.spend(64) {
-                        return out;
-                    }
-                    let halvings = u32::from(level.0) + u32::from(level.1);
-                    let (share_a, share_e) = t.phases(&b, trig, halvings);
-                    if s < 2.0 && !t.may_reach() {
-                        continue;
-                    }
-                    let (ha, he) = (0.5 * (b.a1 - b.a0), 0.5 * (b.e1 - b.e0));
-                    let last = ha <= h_min && he <= h_min;
-                    if last || s >= 2.0 {
-                        let bound = modulus_bound(&t.xs, &t.ds, &mut t.scratch, &mut t.members);
-                        if bound < t.tau {
-                            continue;
-                        }
-                        if last {
-                            out.push(DirBox { bound, ..b });
-                            continue;
-                        }
-                    }
-                    let split_a = he <= h_min || (ha > h_min && share_a >= share_e);
-                    let [sa, ca, se, ce] = trig;
-                    let (mut l, mut h) = (b, b);
-                    let (trig_l, trig_h, level) = if split_a {
-                        let mid = 0.5 * (b.a0 + b.a1);
-                        (l.a1, h.a0) = (mid, mid);
-                        let (so, co) = off_a[usize::from(level.0.saturating_add(1))];
-                        (
-                            [sa * co - ca * so, ca * co + sa * so, se, ce],
-                            [sa * co + ca * so, ca * co - sa * so, se, ce],
-                            (level.0.saturating_add(1), level.1),
-                        )
-                    } else {
-                        let mid = 0.5 * (b.e0 + b.e1);
-                        (l.e1, h.e0) = (mid, mid);
-                        let (so, co) = off_e[usize::from(level.1.saturating_add(1))];
-                        (
-                            [sa, ca, se * co - ce * so, ce * co + se * so],
-                            [sa, ca, se * co + ce * so, ce * co - se * so],
-                            (level.0, level.1.saturating_add(1)),
-                        )
-                    };
-                    stack.push(Node {
-                        b: l,
-                        trig: trig_l,
-                        level,
-                    });
-                    stack.push(Node {
-                        b: h,
-                        trig: trig_h,
-                        level,
-                    });
-                }
-                budget.spend(tested % 64);
-                out
-            },
+            |t, top| t.search(*top, h_min, (&off_a, &off_e), budget),
         )
         .collect();
     if budget.exceeded() {
