@@ -258,6 +258,73 @@ def _empty_phases(m: int) -> tuple[Any, ...]:
     )
 
 
+def _check_gyro_intervals(t: NDArray[np.float64]) -> None:
+    """Refuses gyro samples closer than ``MIN_GYRO_INTERVAL_S``; non-increasing stamps are refused by the
+    core, which says "strictly increasing"."""
+    dt = np.diff(t)
+    short = np.flatnonzero((dt > 0.0) & (dt < MIN_GYRO_INTERVAL_S))
+    if short.size:
+        k = int(short[0])
+        raise InvalidInputError(
+            f"expected gyro_t intervals of at least MIN_GYRO_INTERVAL_S = {MIN_GYRO_INTERVAL_S:g} s, got "
+            f"gyro_t[{k + 1}] - gyro_t[{k}] = {t[k + 1] - t[k]:.6g} s"
+        )
+
+
+def _checked_sensitivity(sensitivity: tuple[float, float]) -> tuple[float, float]:
+    pair = shaped("sensitivity", sensitivity, "(2,) (misalignment_sigma_rad, baseline_sigma_m)", (2,))
+    if np.any(pair < 0.0):
+        raise InvalidInputError(f"expected sensitivity sigmas >= 0, got {pair.tolist()}")
+    return (float(pair[0]), float(pair[1]))
+
+
+def _checked_fixes(
+    attitude_fixes: AttitudeFixes | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The core's (times, scalar-last quaternions, covariances) of the attitude fixes; empty without."""
+    if attitude_fixes is None:
+        return (np.zeros(0), np.zeros((0, 4)), np.zeros((0, 3, 3)))
+    fixes = instance("attitude_fixes", attitude_fixes, AttitudeFixes, "AttitudeFixes")
+    ft = shaped("attitude_fixes.t", fixes.t, "(n_fix,)", (None,))
+    rot = instance("attitude_fixes.rotation", fixes.rotation, Rotation, "a scipy Rotation")
+    return (
+        ft,
+        rot.as_quat().reshape(-1, 4),
+        shaped(
+            "attitude_fixes.covariance",
+            fixes.covariance,
+            f"(n_fix, 3, 3) = ({len(ft)}, 3, 3)",
+            (len(ft), 3, 3),
+        ),
+    )
+
+
+def _checked_phases(phases: PhaseObservations, m: int) -> tuple[Any, ...]:
+    """The core's (epoch times, epoch, track, los, wavelength, phase) rows of the phase observations, for
+    ``m`` baselines."""
+    obs = instance("phases", phases, PhaseObservations, "PhaseObservations")
+    rows = len(np.atleast_1d(obs.epoch))
+    epoch_t = shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,))
+    epoch = integer_array("phases.epoch", obs.epoch, f"(n_rows,) = ({rows},)", (rows,))
+    outside = (epoch < 0) | (epoch >= len(epoch_t))
+    if np.any(outside):
+        k = int(np.flatnonzero(outside)[0])
+        raise InvalidInputError(f"expected phases.epoch in [0, {len(epoch_t)}), got {epoch[k]} at row {k}")
+    return (
+        epoch_t,
+        epoch,
+        integer_array("phases.track", obs.track, f"(n_rows,) = ({rows},)", (rows,)),
+        shaped("phases.los", obs.los, f"(n_rows, 3) = ({rows}, 3)", (rows, 3)),
+        shaped("phases.wavelength", obs.wavelength, f"(n_rows,) = ({rows},)", (rows,)),
+        shaped(
+            "phases.phase",
+            obs.phase,
+            f"(n_rows, m) = ({rows}, {m}) for the {m} rows of baselines_m",
+            (rows, m),
+        ),
+    )
+
+
 def gyro_gnss_filter(
     gyro_t: ArrayLike,
     gyro_rates: ArrayLike,
@@ -368,14 +435,7 @@ def gyro_gnss_filter(
     t, w = _times_and_rates("gyro_t", gyro_t, "gyro_rates", gyro_rates)
     p0 = _covariance("initial_covariance", initial_covariance, 6)
     b0 = shaped("initial_drift", initial_drift, "(3,)", (3,))
-    dt = np.diff(t)  # non-increasing stamps are refused by the core, which says "strictly increasing"
-    short = np.flatnonzero((dt > 0.0) & (dt < MIN_GYRO_INTERVAL_S))
-    if short.size:
-        k = int(short[0])
-        raise InvalidInputError(
-            f"expected gyro_t intervals of at least MIN_GYRO_INTERVAL_S = {MIN_GYRO_INTERVAL_S:g} s, got "
-            f"gyro_t[{k + 1}] - gyro_t[{k}] = {t[k + 1] - t[k]:.6g} s"
-        )
+    _check_gyro_intervals(t)
     arw = scalar("arw", arw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s/sqrt(Hz)")
     rrw = scalar("rrw", rrw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s^2/sqrt(Hz)")
     sigma = scalar(
@@ -401,59 +461,14 @@ def gyro_gnss_filter(
     else:
         alarm = scalar("slip_false_alarm", slip_false_alarm, minimum=0.0, maximum=1.0, strict=True)
         slip = float(chi2.isf(alarm, max(m, 1)))
-    sens = None
-    if sensitivity is not None:
-        pair = shaped("sensitivity", sensitivity, "(2,) (misalignment_sigma_rad, baseline_sigma_m)", (2,))
-        if np.any(pair < 0.0):
-            raise InvalidInputError(f"expected sensitivity sigmas >= 0, got {pair.tolist()}")
-        sens = (float(pair[0]), float(pair[1]))
+    sens = None if sensitivity is None else _checked_sensitivity(sensitivity)
     mis = (
         None
         if misalignment_sigma_rad is None
         else scalar("misalignment_sigma_rad", misalignment_sigma_rad, minimum=0.0, strict=True, unit="rad")
     )
-    if attitude_fixes is None:
-        fx = (np.zeros(0), np.zeros((0, 4)), np.zeros((0, 3, 3)))
-    else:
-        fixes = instance("attitude_fixes", attitude_fixes, AttitudeFixes, "AttitudeFixes")
-        ft = shaped("attitude_fixes.t", fixes.t, "(n_fix,)", (None,))
-        rot = instance("attitude_fixes.rotation", fixes.rotation, Rotation, "a scipy Rotation")
-        fx = (
-            ft,
-            rot.as_quat().reshape(-1, 4),
-            shaped(
-                "attitude_fixes.covariance",
-                fixes.covariance,
-                f"(n_fix, 3, 3) = ({len(ft)}, 3, 3)",
-                (len(ft), 3, 3),
-            ),
-        )
-    if phases is None:
-        ph = _empty_phases(m)
-    else:
-        obs = instance("phases", phases, PhaseObservations, "PhaseObservations")
-        rows = len(np.atleast_1d(obs.epoch))
-        epoch_t = shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,))
-        epoch = integer_array("phases.epoch", obs.epoch, f"(n_rows,) = ({rows},)", (rows,))
-        outside = (epoch < 0) | (epoch >= len(epoch_t))
-        if np.any(outside):
-            k = int(np.flatnonzero(outside)[0])
-            raise InvalidInputError(
-                f"expected phases.epoch in [0, {len(epoch_t)}), got {epoch[k]} at row {k}"
-            )
-        ph = (
-            epoch_t,
-            epoch,
-            integer_array("phases.track", obs.track, f"(n_rows,) = ({rows},)", (rows,)),
-            shaped("phases.los", obs.los, f"(n_rows, 3) = ({rows}, 3)", (rows, 3)),
-            shaped("phases.wavelength", obs.wavelength, f"(n_rows,) = ({rows},)", (rows,)),
-            shaped(
-                "phases.phase",
-                obs.phase,
-                f"(n_rows, m) = ({rows}, {m}) for the {m} rows of baselines_m",
-                (rows, m),
-            ),
-        )
+    fx = _checked_fixes(attitude_fixes)
+    ph = _empty_phases(m) if phases is None else _checked_phases(phases, m)
     options = _core.GyroGnssOptions(
         arw=arw,
         rrw=rrw,

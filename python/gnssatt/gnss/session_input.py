@@ -282,6 +282,129 @@ def _carried_lli(lli: NDArray[np.uint8], kept: NDArray[np.int64]) -> NDArray[np.
     return out
 
 
+def _checked_files(observations: Sequence[RinexObs]) -> list[RinexObs]:
+    """The observation files, 2 to ``MAX_RECEIVERS`` of them, each with epochs."""
+    if isinstance(observations, RinexObs) or not isinstance(observations, Sequence):
+        raise InvalidTypeError(
+            f"expected observations as a sequence of RinexObs, got {type(observations).__name__}"
+        )
+    files = [
+        instance(f"observations[{k}]", o, RinexObs, "a RinexObs (from read_obs)")
+        for k, o in enumerate(observations)
+    ]
+    if not 2 <= len(files) <= MAX_RECEIVERS:
+        raise InvalidInputError(
+            f"expected observations of 2 to {MAX_RECEIVERS} receivers (the engine's limit), got {len(files)}"
+        )
+    for o in files:
+        if len(o.time) == 0:
+            raise RinexError(
+                o.path, None, "the observation file holds no epochs (a header only): nothing to solve from it"
+            )
+    return files
+
+
+def _signal_choices(
+    files: list[RinexObs], asked: str, n_freq: int
+) -> list[dict[str, tuple[SignalChoice, ...]]]:
+    """Per file and system, the signals of slots 1..n_freq; every file has some carrier phase."""
+    # Per system and slot, the phase codes every file has: chosen first, so that a double difference
+    # pairs one tracking mode (receivers need not align the phases of different modes, which can differ
+    # by a quarter cycle: RINEX 3 SYS / PHASE SHIFT).
+    common = {
+        s: tuple(
+            frozenset.intersection(*slot) for slot in zip(*(phase_codes(o, s) for o in files), strict=True)
+        )
+        for s in asked
+    }
+    choices = [{s: choose_signals(o, s, common[s])[:n_freq] for s in asked} for o in files]
+    _warn_mixed_tracking(files, choices)
+    for o, ch in zip(files, choices, strict=True):
+        if not any(c.phase for cs in ch.values() for c in cs):
+            raise RinexError(
+                o.path,
+                None,
+                f"expected carrier-phase observations (L codes) of systems {asked!r} in slots 1..{n_freq}, "
+                f"the file has codes {list(o.codes)}",
+            )
+    return choices
+
+
+def _systems_used(
+    files: list[RinexObs], choices: list[dict[str, tuple[SignalChoice, ...]]], asked: str, systems: str
+) -> str:
+    """The systems of ``asked`` with carrier phase in every file; the others dropped with a warning (at the
+    caller of :func:`session_input`)."""
+    used = ""
+    for s in asked:
+        lacking = [o.path for o, ch in zip(files, choices, strict=True) if not any(c.phase for c in ch[s])]
+        if not lacking:
+            used += s
+        elif len(lacking) < len(files) or systems != SYSTEMS:
+            warnings.warn(
+                f"system {s} dropped: no carrier phase of it in {', '.join(lacking)}",
+                SystemDroppedWarning,
+                stacklevel=3,
+            )
+    if not used:
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"expected a system of {asked!r} with carrier phase in every file, found none common",
+        )
+    return used
+
+
+def _common_epochs(
+    files: list[RinexObs], times: list[NDArray[np.int64]]
+) -> tuple[list[NDArray[np.int64]], tuple[int, ...]]:
+    """Per file, the indices of the epochs common to all files (labels within the tolerance), and how
+    many epochs of each were left out (with a warning at the caller of :func:`session_input`)."""
+    tol = _tolerance(times)
+    index = _common(times, tol)
+    if len(index[0]) == 0:
+        spans = "; ".join(f"{o.path}: {o.time[0]} to {o.time[-1]} ({o.time_system})" for o in files)
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"no epoch common to all files (labels within {tol} ns): {spans}",
+        )
+    dropped = tuple(len(o.time) - len(k) for o, k in zip(files, index, strict=True))
+    if any(dropped):
+        warnings.warn(
+            "epochs not common to all files left out: "
+            + ", ".join(f"{o.path}: {d} of {len(o.time)}" for o, d in zip(files, dropped, strict=True) if d),
+            EpochsDroppedWarning,
+            stacklevel=3,
+        )
+    return index, dropped
+
+
+def _observation_arrays(
+    files: list[RinexObs],
+    choices: list[dict[str, tuple[SignalChoice, ...]]],
+    index: list[NDArray[np.int64]],
+    sats: tuple[str, ...],
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint8]
+]:
+    """Code, phase, Doppler, SNR (n_rx, n_ep, n_sat, SLOTS; NaN where absent) and LLI of the chosen
+    signals at the common epochs."""
+    n_rx, n_ep, n_sat = len(files), len(index[0]), len(sats)
+    shape = (n_rx, n_ep, n_sat, SLOTS)
+    code = np.full(shape, np.nan)
+    phase = np.full(shape, np.nan)
+    doppler = np.full(shape, np.nan)
+    snr = np.full(shape, np.nan)
+    lli = np.zeros(shape, dtype=np.uint8)
+    for r, (o, ch, kept) in enumerate(zip(files, choices, index, strict=True)):
+        cols = o.sat_index(sats)
+        for k, s in enumerate(sats):
+            for slot, c in enumerate(ch[s[0]]):
+                _fill(o, c, kept, cols[k], (r, slice(None), k, slot), code, phase, doppler, snr, lli)
+    return code, phase, doppler, snr, lli
+
+
 def session_input(
     observations: Sequence[RinexObs],
     *,
@@ -342,84 +465,18 @@ def session_input(
     >>> si.code_m.shape, si.sats[:3], si.epochs_dropped
     ((2, 120, 11, 3), ('G01', 'G03', 'G04'), (0, 0))
     """
-    if isinstance(observations, RinexObs) or not isinstance(observations, Sequence):
-        raise InvalidTypeError(
-            f"expected observations as a sequence of RinexObs, got {type(observations).__name__}"
-        )
-    files = [
-        instance(f"observations[{k}]", o, RinexObs, "a RinexObs (from read_obs)")
-        for k, o in enumerate(observations)
-    ]
-    if not 2 <= len(files) <= MAX_RECEIVERS:
-        raise InvalidInputError(
-            f"expected observations of 2 to {MAX_RECEIVERS} receivers (the engine's limit), got {len(files)}"
-        )
-    for o in files:
-        if len(o.time) == 0:
-            raise RinexError(
-                o.path, None, "the observation file holds no epochs (a header only): nothing to solve from it"
-            )
+    files = _checked_files(observations)
     asked = _systems(systems)
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:
         nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
-    # Per system and slot, the phase codes every file has: chosen first, so that a double difference
-    # pairs one tracking mode (receivers need not align the phases of different modes, which can differ
-    # by a quarter cycle: RINEX 3 SYS / PHASE SHIFT).
-    common = {
-        s: tuple(
-            frozenset.intersection(*slot) for slot in zip(*(phase_codes(o, s) for o in files), strict=True)
-        )
-        for s in asked
-    }
-    choices = [{s: choose_signals(o, s, common[s])[:n_freq] for s in asked} for o in files]
-    _warn_mixed_tracking(files, choices)
-    for o, ch in zip(files, choices, strict=True):
-        if not any(c.phase for cs in ch.values() for c in cs):
-            raise RinexError(
-                o.path,
-                None,
-                f"expected carrier-phase observations (L codes) of systems {asked!r} in slots 1..{n_freq}, "
-                f"the file has codes {list(o.codes)}",
-            )
-    used = ""
-    for s in asked:
-        lacking = [o.path for o, ch in zip(files, choices, strict=True) if not any(c.phase for c in ch[s])]
-        if not lacking:
-            used += s
-        elif len(lacking) < len(files) or systems != SYSTEMS:
-            warnings.warn(
-                f"system {s} dropped: no carrier phase of it in {', '.join(lacking)}",
-                SystemDroppedWarning,
-                stacklevel=2,
-            )
-    if not used:
-        raise RinexError(
-            ", ".join(o.path for o in files),
-            None,
-            f"expected a system of {asked!r} with carrier phase in every file, found none common",
-        )
+    choices = _signal_choices(files, asked, n_freq)
+    used = _systems_used(files, choices, asked, systems)
     leaps = next((o.leap_seconds for o in files if o.leap_seconds is not None), None)
     if leaps is None and nav is not None:
         leaps = nav.leap_seconds
     times = [epochs_gpst_ns(o, leaps) for o in files]
-    tol = _tolerance(times)
-    index = _common(times, tol)
-    if len(index[0]) == 0:
-        spans = "; ".join(f"{o.path}: {o.time[0]} to {o.time[-1]} ({o.time_system})" for o in files)
-        raise RinexError(
-            ", ".join(o.path for o in files),
-            None,
-            f"no epoch common to all files (labels within {tol} ns): {spans}",
-        )
-    dropped = tuple(len(o.time) - len(k) for o, k in zip(files, index, strict=True))
-    if any(dropped):
-        warnings.warn(
-            "epochs not common to all files left out: "
-            + ", ".join(f"{o.path}: {d} of {len(o.time)}" for o, d in zip(files, dropped, strict=True) if d),
-            EpochsDroppedWarning,
-            stacklevel=2,
-        )
+    index, dropped = _common_epochs(files, times)
     sats = _common_sats(files, choices, index, used)
     if not sats:
         raise RinexError(
@@ -427,18 +484,7 @@ def session_input(
             None,
             f"no satellite of systems {used!r} with carrier phase in every file at the common epochs",
         )
-    n_rx, n_ep, n_sat = len(files), len(index[0]), len(sats)
-    shape = (n_rx, n_ep, n_sat, SLOTS)
-    code = np.full(shape, np.nan)
-    phase = np.full(shape, np.nan)
-    doppler = np.full(shape, np.nan)
-    snr = np.full(shape, np.nan)
-    lli = np.zeros(shape, dtype=np.uint8)
-    for r, (o, ch, kept) in enumerate(zip(files, choices, index, strict=True)):
-        cols = o.sat_index(sats)
-        for k, s in enumerate(sats):
-            for slot, c in enumerate(ch[s[0]]):
-                _fill(o, c, kept, cols[k], (r, slice(None), k, slot), code, phase, doppler, snr, lli)
+    code, phase, doppler, snr, lli = _observation_arrays(files, choices, index, sats)
     channels = _channels(sats, files, nav)
     _to_common_labels([t[k] for t, k in zip(times, index, strict=True)], sats, channels, code, phase)
     pos = np.array([o.approx_position_m for o in files], dtype=np.float64)

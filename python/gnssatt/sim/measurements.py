@@ -251,6 +251,50 @@ def _vector(name: str, value: Any, n: int, what: str) -> NDArray[np.float64]:
     return full
 
 
+def _wavelengths(wavelengths_m: ArrayLike, n_sat: int) -> NDArray[np.float64]:
+    lam: NDArray[np.float64] = float_array("wavelengths_m", wavelengths_m, ndim=1, shape="(n_sat,)").copy()
+    if lam.shape != (n_sat,):
+        raise InvalidInputError(f"expected wavelengths_m of shape ({n_sat},) (n_sat), got {lam.shape}")
+    if np.any(lam <= 0):
+        raise InvalidInputError(f"expected wavelengths_m > 0, got minimum {lam.min()}")
+    return lam
+
+
+def _ambiguities(
+    rng: np.random.Generator, ambiguities: ArrayLike | None, ambiguity_max: int, n_ant: int, n_sat: int
+) -> NDArray[np.int64]:
+    """(n_ant, n_sat) integer ambiguities: as given, or drawn uniform in +-``ambiguity_max``."""
+    if ambiguities is None:
+        amax = integer("ambiguity_max", ambiguity_max, minimum=0, maximum=MAX_AMBIGUITY)
+        return rng.integers(-amax, amax + 1, size=(n_ant, n_sat), dtype=np.int64)
+    amb_in = np.asarray(ambiguities)
+    if amb_in.dtype.kind not in "iu":
+        raise InvalidTypeError(f"expected integer ambiguities, got dtype {amb_in.dtype}")
+    if amb_in.shape != (n_ant, n_sat):
+        raise InvalidInputError(f"expected ambiguities of shape ({n_ant}, {n_sat}), got {amb_in.shape}")
+    if amb_in.size and np.max(np.abs(amb_in.astype(np.float64))) > MAX_AMBIGUITY:
+        raise InvalidInputError(
+            f"expected ambiguities within +-{MAX_AMBIGUITY}, got {amb_in.min()}..{amb_in.max()}"
+        )
+    return amb_in.astype(np.int64)
+
+
+def _antenna_ranges(
+    geometry: Geometry, m: NDArray[np.float64], ant: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Far-field ranges per antenna ``rho_k - gamma_k . (R r_i)``: (..., n_ant, n_sat), m, for one
+    attitude matrix ``m`` (3, 3) or one per epoch (n_t, 3, 3)."""
+    los = geometry.los
+    if m.ndim == 3:
+        r_ref = np.einsum("tij,aj->tai", m, ant)
+        proj = np.einsum("tai,tki->tak", r_ref, los)
+    else:
+        r_ref = ant @ m.T
+        proj = np.einsum("ai,...ki->...ak", r_ref, los)
+    rho: NDArray[np.float64] = geometry.range_m[..., None, :] - proj
+    return rho
+
+
 def simulate_array(
     geometry: Geometry,
     attitude: Rotation,
@@ -365,11 +409,7 @@ def simulate_array(
         raise InvalidInputError(f"expected antennas_body_m of shape (n_ant, 3), got {ant.shape}")
     ant = ant.copy()  # the result holds read-only copies, never the caller's arrays
     n_ant = ant.shape[0]
-    lam = float_array("wavelengths_m", wavelengths_m, ndim=1, shape="(n_sat,)").copy()
-    if lam.shape != (n_sat,):
-        raise InvalidInputError(f"expected wavelengths_m of shape ({n_sat},) (n_sat), got {lam.shape}")
-    if np.any(lam <= 0):
-        raise InvalidInputError(f"expected wavelengths_m > 0, got minimum {lam.min()}")
+    lam = _wavelengths(wavelengths_m, n_sat)
     m = attitude_matrices(attitude, los.shape[0] if batched else None)
     sig_code = scalar("code_sigma_m", code_sigma_m, minimum=0.0)
     sig_rad = scalar("phase_sigma_rad", phase_sigma_rad, minimum=0.0)
@@ -379,20 +419,7 @@ def simulate_array(
     sig_dop = scalar("doppler_sigma_hz", doppler_sigma_hz, minimum=0.0)
     dt = _vector("clock_bias_s", clock_bias_s, n_ant, "n_ant")
 
-    if ambiguities is None:
-        amax = integer("ambiguity_max", ambiguity_max, minimum=0, maximum=MAX_AMBIGUITY)
-        amb = rng.integers(-amax, amax + 1, size=(n_ant, n_sat), dtype=np.int64)
-    else:
-        amb_in = np.asarray(ambiguities)
-        if amb_in.dtype.kind not in "iu":
-            raise InvalidTypeError(f"expected integer ambiguities, got dtype {amb_in.dtype}")
-        if amb_in.shape != (n_ant, n_sat):
-            raise InvalidInputError(f"expected ambiguities of shape ({n_ant}, {n_sat}), got {amb_in.shape}")
-        if amb_in.size and np.max(np.abs(amb_in.astype(np.float64))) > MAX_AMBIGUITY:
-            raise InvalidInputError(
-                f"expected ambiguities within +-{MAX_AMBIGUITY}, got {amb_in.min()}..{amb_in.max()}"
-            )
-        amb = amb_in.astype(np.int64)
+    amb = _ambiguities(rng, ambiguities, ambiguity_max, n_ant, n_sat)
     if oscillator_phases_rad is None:
         osc = rng.uniform(-np.pi, np.pi, size=n_ant)
     else:
@@ -402,14 +429,7 @@ def simulate_array(
     else:
         alpha = _vector("satellite_phases_rad", satellite_phases_rad, n_sat, "n_sat")
 
-    # Far-field ranges per antenna: rho_k - gamma_k . (R r_i).
-    if m.ndim == 3:
-        r_ref = np.einsum("tij,aj->tai", m, ant)
-        proj = np.einsum("tai,tki->tak", r_ref, los)
-    else:
-        r_ref = ant @ m.T
-        proj = np.einsum("ai,...ki->...ak", r_ref, los)
-    rho = geometry.range_m[..., None, :] - proj
+    rho = _antenna_ranges(geometry, m, ant)
     shape = rho.shape
 
     code_noise = rng.standard_normal(shape)
