@@ -157,6 +157,9 @@ pub struct FilterEpoch {
     /// Whether a fix (fresh or held) was refused at this epoch because its length disagreed with the
     /// rigid pair's ([`BaselineFilter::with_length`]).
     pub length_refused: bool,
+    /// The filter's float solution of this epoch's double-difference ambiguities (nothing imposed): what
+    /// attitude mode fixes under the body baselines ([`super::constrained`]).
+    pub float: FloatSolution,
 }
 
 impl FilterEpoch {
@@ -306,7 +309,7 @@ impl BaselineFilter {
         };
         let float_baseline_m = Vector3::new(self.x[0], self.x[1], self.x[2]);
         let float_covariance_m2 = self.p.fixed_view::<3, 3>(0, 0).into_owned();
-        let (solution, state, hold_rejected, length_refused) =
+        let (solution, state, hold_rejected, length_refused, float) =
             self.fix(epoch, &groups, fix, chi2, dof)?;
         if state != FixState::Float {
             self.learn(&solution);
@@ -320,6 +323,7 @@ impl BaselineFilter {
             restarted_arcs,
             hold_rejected,
             length_refused,
+            float,
         })
     }
 
@@ -715,7 +719,7 @@ impl BaselineFilter {
     }
 
     /// Steps 4-5: the epoch's fix, its state, whether a held set was rejected, whether a fix was refused
-    /// for its length; updates the held set.
+    /// for its length, the float solution it fixed; updates the held set.
     ///
     /// Beyond the gate: a fix of fewer than [`MIN_FIX_PHASES`] double-differenced phases is not
     /// reported (a fresh one is not held either; held integers stay held for when the satellites
@@ -728,7 +732,7 @@ impl BaselineFilter {
         fix: &FixOptions,
         chi2: f64,
         dof: usize,
-    ) -> Result<(BaselineSolution, FixState, bool, bool)> {
+    ) -> Result<(BaselineSolution, FixState, bool, bool, FloatSolution)> {
         let nk = self.nk();
         let n = self.x.len();
         // Double-difference ambiguities of this epoch's references: a = T x.
@@ -803,7 +807,7 @@ impl BaselineFilter {
         let held_idx: Vec<usize> = (0..na).filter(|&j| held_value[j].is_some()).collect();
         if held_idx.is_empty() {
             self.hold(&fresh);
-            return Ok((fresh, fresh_state, false, length_refused));
+            return Ok((fresh, fresh_state, false, length_refused, fresh_float));
         }
         // The held integers as values of the ambiguity unknowns (DD integer minus offset).
         let z_h = DVector::from_iterator(
@@ -828,7 +832,7 @@ impl BaselineFilter {
         if stat > chi2_quantile(held_idx.len(), HOLD_TEST_Z) {
             self.held.clear();
             self.hold(&fresh);
-            return Ok((fresh, fresh_state, true, length_refused));
+            return Ok((fresh, fresh_state, true, length_refused, fresh_float));
         }
         // Condition the baseline and the other ambiguities on the held integers, then fix the rest.
         let free: Vec<usize> = (0..na).filter(|&j| held_value[j].is_none()).collect();
@@ -857,7 +861,7 @@ impl BaselineFilter {
             // slipped unseen; the fresh fix (itself checked) takes over.
             self.held.clear();
             self.hold(&fresh);
-            return Ok((fresh, fresh_state, true, true));
+            return Ok((fresh, fresh_state, true, true, fresh_float));
         }
         if fresh.fixed {
             let agrees = held_list
@@ -891,7 +895,7 @@ impl BaselineFilter {
             if agrees || replace {
                 self.held.clear();
                 self.hold(&fresh);
-                return Ok((fresh, FixState::Fixed, replace, length_refused));
+                return Ok((fresh, FixState::Fixed, replace, length_refused, fresh_float));
             }
         }
         if held_sol.fixed {
@@ -902,14 +906,20 @@ impl BaselineFilter {
         }
         if !redundant {
             // Held, but nothing in this epoch's phases could show a wrong integer: reported float.
-            return Ok((float_all, FixState::Float, false, length_refused));
+            return Ok((
+                float_all,
+                FixState::Float,
+                false,
+                length_refused,
+                fresh_float,
+            ));
         }
         let state = if held_sol.fixed {
             FixState::Held
         } else {
             FixState::Float
         };
-        Ok((held_sol, state, false, length_refused))
+        Ok((held_sol, state, false, length_refused, fresh_float))
     }
 
     /// Holds the integers of a fully fixed solution (nothing changes otherwise).
