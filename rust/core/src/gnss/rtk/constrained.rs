@@ -77,6 +77,9 @@ pub const SIMULATED_COMBINATIONS: usize = 64;
 /// Seed of the simulation: the same epoch gives the same decision in every run.
 const SEED: u64 = 2828;
 
+/// A combination (candidate index per rover) and its objective.
+type Choice = (Vec<usize>, f64);
+
 /// One rover's float solution and its candidates.
 struct Rover {
     fl: FloatSolution,
@@ -588,12 +591,12 @@ fn decide(
     rovers: &[Rover],
     body: &[Vector3<f64>],
     to_enu: &Matrix3<f64>,
-    best: Option<(Vec<usize>, f64)>,
+    best: Option<Choice>,
     ratio: f64,
     dof: usize,
     fix: &FixOptions,
     floor: Option<f64>,
-) -> Result<(Option<(Vec<usize>, f64)>, f64)> {
+) -> Result<(Option<Choice>, f64)> {
     let Some((choice, cost)) = best else {
         return Ok((None, f64::NAN));
     };
@@ -729,7 +732,7 @@ fn success_rate(
 }
 
 /// The best combination (candidate index per rover) with its objective, and second-best over best.
-fn best_combination(rovers: &[Rover], body: &[Vector3<f64>]) -> (Option<(Vec<usize>, f64)>, f64) {
+fn best_combination(rovers: &[Rover], body: &[Vector3<f64>]) -> (Option<Choice>, f64) {
     let weights: Vec<f64> = rovers.iter().map(|r| r.weight).collect();
     let lists: Vec<&[(f64, Vector3<f64>)]> = rovers.iter().map(|r| r.scored.as_slice()).collect();
     best_of(&weights, &lists, body)
@@ -741,10 +744,10 @@ fn best_of(
     weights: &[f64],
     lists: &[&[(f64, Vector3<f64>)]],
     body: &[Vector3<f64>],
-) -> (Option<(Vec<usize>, f64)>, f64) {
+) -> (Option<Choice>, f64) {
     let sizes: Vec<usize> = lists.iter().map(|l| l.len()).collect();
     let total: usize = sizes.iter().product();
-    let mut best: Option<(Vec<usize>, f64)> = None;
+    let mut best: Option<Choice> = None;
     let mut second = f64::INFINITY;
     let mut choice = vec![0usize; lists.len()];
     for mut index in 0..total {
