@@ -87,3 +87,20 @@ def test_a_slip_on_one_antenna_restarts_only_its_arc(
     # held, not fixed afresh: the other arcs' integers (both rovers) were kept through the slip
     assert held.fix_state[SLIP_EPOCH] == "held"
     assert not any("held integers disagreed" in w for w in held.warnings)
+
+
+def test_the_filtered_array_fixes_at_least_the_single_epochs_and_nothing_wrong(
+    slipped: tuple[Any, str, AttitudeSeries, AttitudeSeries],
+) -> None:
+    # attitude mode with --filter: each rover's filter (its length the body baseline's), the filtered floats
+    # fixed together under the body baselines; an epoch the filters leave float is fixed on its own, so
+    # the filtered array fixes every epoch the single epochs fix, and nothing it fixes is off the truth
+    s, _, single, _ = slipped
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        filtered = attitude_from_rinex(
+            list(s.obs_paths), s.nav_path, ANT[1:] - ANT[0], method="lambda", filter="kinematic"
+        )
+    _check_against_truth(filtered, s)
+    assert np.all(filtered.fixed == (filtered.fix_state != "float"))
+    assert np.all(filtered.fixed[single.fixed.astype(bool)]), (filtered.fix_state, single.fix_state)

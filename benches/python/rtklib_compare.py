@@ -19,11 +19,12 @@ Simulated platforms (``car``, ``ship``, ``aircraft``, or ``platforms`` for all t
 static base at its true position, the pair's baseline the difference of the two solutions, fixed where both
 are) and ``movingbase-instantaneous`` / ``-continuous`` / ``-fix-and-hold`` (antenna 0 the base of antenna 1,
 ``pos2-armode`` in a conf copy); gnssatt runs the pair single-epoch, ``--filter kinematic`` and ``--filter
-velocity`` (antenna 0 the moving base, no base position) and the three antennas with ``--baselines``
-(baseline 1 of its CSV). Per run: fix rate over every epoch of the session (outages included), wrong fixes
-(fixed pair baselines more than ``--wrong-fix-m`` from the truth), time to first fix from the session's
-start, time to re-fix after each whole outage (the longest), heading error RMS over fixed and over all solved
-epochs, wall time (both RTKLIB runs of a kinematic pair summed). A table of its own (``platforms.md``).
+velocity`` (antenna 0 the moving base, no base position) and the three antennas with ``--baselines``,
+single-epoch and ``--filter velocity`` (baseline 1 of its CSV). Per run: fix rate over every epoch of the
+session (outages included), wrong fixes (fixed pair baselines more than ``--wrong-fix-m`` from the truth),
+time to first fix from the session's start, time to re-fix after each whole outage (the longest), heading
+error RMS over fixed and over all solved epochs, wall time (both RTKLIB runs of a kinematic pair summed). A
+table of its own (``platforms.md``).
 Modes: single epoch (RTKLIB ``kinematic-instantaneous.conf`` and
 ``movingbase-instantaneous.conf``; gnssatt ``--motion moving``), filtered (RTKLIB's Kalman filter,
 ``kinematic-continuous.conf``; gnssatt ``--filter kinematic``) and static (``static-continuous.conf``;
@@ -718,6 +719,7 @@ PLATFORM_GNSSATT = {
     "filter-kinematic": (["--filter", "kinematic", "--rigid"], 2),
     "filter-velocity": (["--filter", "velocity", "--rigid"], 2),
     "attitude-3-antennas": ([], 3),
+    "attitude-3-filter-velocity": (["--filter", "velocity"], 3),
 }
 
 

@@ -323,10 +323,11 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         "--filter",
         choices=("static", "kinematic", "velocity"),
         default=None,
-        help="two antennas: a multi-epoch Kalman filter of the baseline with this process model (static; "
+        help="a multi-epoch Kalman filter of each baseline with this process model (static; "
         "kinematic: random walk, each epoch from its own data and the carried ambiguities; velocity: "
-        "constant velocity), fixing on its covariance and holding the integers; the CSV's state column "
-        "says fixed, held or float (implies --motion moving)",
+        "constant velocity), fixing on its covariance and holding the integers (with --baselines: the "
+        "filtered baselines fixed together under the body baselines); the CSV's state column says "
+        "fixed, held or float (implies --motion moving)",
     )
     att.add_argument(
         "--rigid",

@@ -455,20 +455,24 @@ def attitude_from_rinex(
         (``fix_state`` says ``held``; ``docs/observation_engine.md``). Refused with ``motion="static"``
         (one set for the session already).
     filter
-        Two antennas: a multi-epoch Kalman filter of the baseline (implies ``motion="moving"``) with the
+        A multi-epoch Kalman filter of each baseline (implies ``motion="moving"``) with the
         process model ``"static"`` (the baseline does not change), ``"kinematic"`` (a random walk of
         30 m/sqrt(s): each epoch's baseline from its own data and the ambiguities carried along their arcs)
         or ``"velocity"`` (constant velocity, white acceleration 1 (m/s^2)^2/Hz); integers fixed on the
         filter's covariance every epoch and held while they agree with it (``fix_state``;
         ``docs/observation_engine.md``). With ``baseline_length_m`` the filter's fix is the
         length-constrained integer search on its covariance, and every fix's length is checked against the
-        known one. Refused with ``motion="static"``, ``continuity``, ``baselines`` and ``method="ml"``.
+        known one. With ``baselines`` (attitude mode) each rover's baseline has its filter, which knows
+        the body baseline's length and holds its own integers; the filtered floats are fixed together
+        under the body baselines (the constrained search and its simulated success rate on the
+        filters' covariances), and an epoch the filters leave float is fixed on its own as without a
+        filter. Refused with ``motion="static"``, ``continuity`` and ``method="ml"``.
     rigid
         With ``filter``: both antennas are on one rigid body (a moving base on the rover's vehicle), so the
         baseline's length is constant. The filter learns it from its first fixes and refuses a fix whose
         length disagrees beyond 4 sigma (``docs/observation_engine.md``). Wrong for a rover moving against a
-        static base (its length changes); refused without ``filter`` and with ``baseline_length_m`` (a
-        known length is checked already).
+        static base (its length changes); refused without ``filter`` and with ``baseline_length_m`` or
+        ``baselines`` (a known length or body baselines are checked already).
     systems
         Satellite systems, letters among ``"GRECJ"`` (default all).
     frequencies

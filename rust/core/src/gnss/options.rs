@@ -61,9 +61,11 @@ pub struct EngineOptions {
     /// Hold fixed integers along slip-free arcs in moving mode, baseline or attitude (refused when
     /// static).
     pub continuity: bool,
-    /// Moving baseline mode: a multi-epoch filter of each rover's baseline with this process model
+    /// Moving mode: a multi-epoch filter of each rover's baseline with this process model
     /// (`rtk::filter`): float ambiguities carried along their arcs, fixing on the filter's covariance,
-    /// fix-and-hold. `None`: every epoch on its own (or `continuity`).
+    /// fix-and-hold; in attitude mode each rover's filter knows its body baseline's length and the
+    /// filtered floats are fixed together under the body baselines (`rtk::constrained`). `None`: every
+    /// epoch on its own (or `continuity`).
     pub filter: Option<Dynamics>,
     /// With `filter`: the two antennas are on one rigid body (a moving base on the rover's vehicle), so
     /// the baseline's length is a constant; the filter learns it from its fixes and refuses a fix whose
@@ -198,9 +200,7 @@ impl EngineOptions {
         }
         if let Some(d) = self.filter {
             d.validate()?;
-            let refused = if !self.body_baselines_m.is_empty() {
-                Some("body baselines (attitude mode fixes every epoch on its own)")
-            } else if self.motion == Motion::Static {
+            let refused = if self.motion == Motion::Static {
                 Some("static motion (the static mode is the batch solution of every epoch; the filter's \
                       static model is --filter static with moving motion)")
             } else if self.continuity {
@@ -217,12 +217,16 @@ impl EngineOptions {
                 ));
             }
         }
-        if self.rigid && (self.filter.is_none() || !self.baseline_lengths_m.is_empty()) {
+        if self.rigid
+            && (self.filter.is_none()
+                || !self.baseline_lengths_m.is_empty()
+                || !self.body_baselines_m.is_empty())
+        {
             return Err(Error::out_of_range(
                 "--rigid",
-                "expected --filter without --baseline-length (the length of a rigid pair is learned \
-                 by the filter; a known length is rigid already), got --rigid without --filter or with \
-                 a known length",
+                "expected --filter without --baseline-length or body baselines (the length of a rigid \
+                 pair is learned by the filter; a known length or body baselines are rigid already), \
+                 got --rigid without --filter, with a known length or with body baselines",
             ));
         }
         if !self.body_baselines_m.is_empty() && self.motion == Motion::Static {

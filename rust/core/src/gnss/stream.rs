@@ -235,8 +235,13 @@ impl Engine {
             Some(d) => (0..n_rovers)
                 .map(|r| {
                     let f = BaselineFilter::new(d)?;
-                    Ok(match opts.baseline_lengths_m.get(r) {
-                        Some(&l) => f.with_length(RigidLength::known(l)),
+                    // Attitude mode: each rover's body baseline gives its length.
+                    let body = opts
+                        .body_baselines_m
+                        .get(r)
+                        .map(|b| Vector3::from(*b).norm());
+                    Ok(match opts.baseline_lengths_m.get(r).copied().or(body) {
+                        Some(l) => f.with_length(RigidLength::known(l)),
                         None if opts.rigid => f.with_length(RigidLength::learned()),
                         None => f,
                     })

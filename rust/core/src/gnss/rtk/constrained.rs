@@ -13,20 +13,43 @@
 //! first order, `u = b(z) / |b(z)|`), the best of each are combined (at most [`MAX_COMBINATIONS`]) and
 //! scored with the full objective, `R` from the weighted orthogonal Procrustes problem
 //! ([`crate::wahba::svd`]). The best combination is accepted by the constrained rule of
-//! [`crate::lambda::gate`]: the second best's objective is at least `ratio_threshold` times larger and
-//! its own objective is plausible (below the `1 - 1e-9` chi-square quantile of its degrees of freedom,
-//! which refuses a best that is only the least wrong of a list that missed the truth). Rovers are treated as independent (their shared base observations are ignored).
+//! [`crate::lambda::gate`]: the second best's objective is at least `ratio_threshold` times larger, its
+//! own objective is plausible (below the `1 - 1e-9` chi-square quantile of its degrees of freedom,
+//! which refuses a best that is only the least wrong of a list that missed the truth), and the
+//! constrained estimator's simulated success rate on the epoch's own covariance reaches
+//! `min_success_rate` or [`MIN_SUCCESS_RATE`], whichever is higher. Rovers are treated as independent
+//! (their shared base observations are ignored).
+//!
+//! **Success rate.** The rovers' unconstrained bootstrapped rates say nothing of the constrained fix (on
+//! the simulated car of `docs/rtklib_comparison.md`, GPS L1, wrong fixes passed the ratio and the
+//! plausibility). As [`super::known_length`] does for one known length, the rate is simulated
+//! ([`SUCCESS_DRAWS`] seeded draws): the accepted combination taken as the truth (its rotation `R`,
+//! baselines `R f_i`), each draw adds the float errors of every rover (ambiguities from `Q_a,i`, the
+//! baseline's part not explained by them from `Q_b|a,i`), ranks the rover's searched candidates by the
+//! same screening cost, keeps the best of each (at most [`SIMULATED_COMBINATIONS`] combinations) and
+//! scores them with the full objective; the rate is the share of draws whose best is the truth. The
+//! draws' competitors are the integer sets the epoch's own search found around its float (those near
+//! the truth when the fix is right), and a wrong fix taken as the truth overstates its own rate: the
+//! floor [`MIN_SUCCESS_RATE`] (that of one known length) covers both.
+//!
+//! [`fix_attitude_filtered`] fixes the float solutions of the rovers' multi-epoch filters
+//! ([`super::filter`]) the same way, with the rovers their filters fixed as single candidates.
 //!
 //! [`solve_attitude_held`] scores integers held from earlier epochs with the same objective on the
 //! epoch's float solutions and keeps them while it is plausible (fix-and-hold for arrays).
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn, Matrix3, Vector3};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 use super::enu_at;
 use super::fix::{ambiguity_problem, fix_problem, float_result, validate_input};
 use super::float::{self, FloatSolution};
+pub use super::known_length::MIN_SUCCESS_RATE;
 use super::{AttitudeSolution, BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{ensure_finite, Error, Result};
+use crate::lambda::validation::normal;
 use crate::lambda::DEFAULT_MAX_NODES;
 use crate::wahba;
 
@@ -45,17 +68,49 @@ pub const MAX_BODY_M: f64 = 1e4;
 /// Standard normal quantile of the plausibility check (upper tail 1e-9).
 const PLAUSIBLE_Z: f64 = 6.0;
 
+/// Draws of the simulated constrained success rate (its standard error at 0.95 is 0.015).
+pub const SUCCESS_DRAWS: usize = 200;
+
+/// Most combinations of candidates one draw of the simulation scores (per rover: the `n_rover`-th root).
+pub const SIMULATED_COMBINATIONS: usize = 64;
+
+/// Seed of the simulation: the same epoch gives the same decision in every run.
+const SEED: u64 = 2828;
+
+/// A combination (candidate index per rover) and its objective.
+type Choice = (Vec<usize>, f64);
+
 /// One rover's float solution and its candidates.
 struct Rover {
     fl: FloatSolution,
     unconstrained: BaselineSolution,
     /// `Q_b|a`, m^2 (ECEF).
     q_cond: Matrix3<f64>,
-    /// `(integers, ||a - z||^2, conditioned baseline ENU)`, best screening cost first.
-    candidates: Vec<(DVector<i64>, f64, Vector3<f64>)>,
+    /// Integers of the kept candidates, best screening cost first.
+    integers: Vec<DVector<i64>>,
+    /// `(||a - z||^2, conditioned baseline ENU)` of each kept candidate.
+    scored: Vec<(f64, Vector3<f64>)>,
     weight: f64,
     /// The held integers the float solution imposed.
     held_used: Vec<(u64, u64, i64)>,
+    /// What the simulated success rate needs (`None`: no free ambiguity).
+    search: Option<Search>,
+    /// The body baseline's length, m.
+    length_m: f64,
+    /// The smallest screening cost of a candidate not in the list (searched and dropped, or beyond the
+    /// search: the largest searched norm): every combination with one has an objective at least this
+    /// (infinite: none).
+    cutoff: f64,
+}
+
+/// A rover's integer search, kept for the simulated success rate.
+struct Search {
+    /// Every candidate the search found (the kept ones among them).
+    found: Vec<DVector<i64>>,
+    /// Cholesky factor of `Q_a`.
+    chol: Cholesky<f64, Dyn>,
+    /// `Q_a^-1 Q_ab` (n x 3): `b(z) = b - K^T (a - z)`, ECEF.
+    gain: DMatrix<f64>,
 }
 
 /// Attitude mode, one epoch: each rover's [`DdEpoch`] (same base), the body baselines (one per rover,
@@ -71,7 +126,7 @@ pub fn solve_attitude(
     body_m: &[[f64; 3]],
     fix: &FixOptions,
 ) -> Result<AttitudeSolution> {
-    Ok(fresh(epochs, body_m, fix)?.solution)
+    Ok(fresh(epochs, body_m, fix, Some(MIN_SUCCESS_RATE))?.solution)
 }
 
 /// Upper-tail standard normal quantile of the held integers' chi-square test (tail 1e-3): a false
@@ -114,7 +169,7 @@ pub fn solve_attitude_held(
     fix: &FixOptions,
     held: &[Vec<(u64, u64, i64)>],
 ) -> Result<HeldAttitude> {
-    let fresh_fix = fresh(epochs, body_m, fix)?;
+    let fresh_fix = fresh(epochs, body_m, fix, Some(MIN_SUCCESS_RATE))?;
     let fresh_out = |rejected: bool, f: Fresh| HeldAttitude {
         solution: f.solution.clone(),
         held: false,
@@ -126,7 +181,7 @@ pub fn solve_attitude_held(
     }
     let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
     let to_enu = enu_at(&epochs[0].base_m);
-    let keep = keep_per_rover(epochs.len());
+    let keep = keep_per_rover(epochs.len(), MAX_COMBINATIONS);
     let rovers = epochs
         .iter()
         .zip(&body)
@@ -199,6 +254,94 @@ pub fn solve_attitude_held(
     })
 }
 
+/// Attitude mode on the rovers' multi-epoch filters (`--filter`): `floats[i]` is rover `i`'s filtered
+/// float solution of the epoch ([`super::filter::FilterEpoch::float`]), `fixed[i]` its filter's fix or
+/// hold when it has one. `epochs` (the epoch's double differences) are checked as [`solve_attitude`]'s.
+///
+/// A rover its filter fixed is one candidate, its fixed baseline; the others' candidates come from
+/// their filtered floats, and the combination is accepted by [`solve_attitude`]'s gate (ratio,
+/// plausibility, simulated success rate) on the filters' covariances. When every filter has fixed its
+/// rover, the fixed baselines must still fit the body baselines: their objective within the
+/// plausibility quantile of `3 m - 3` degrees of freedom (a wrong integer set moves a baseline by a
+/// good part of a wavelength, tens of its millimetre sigmas), else the epoch is float.
+///
+/// # Errors
+/// Those of [`solve_attitude`]; [`Error::Shape`] when `floats` or `fixed` do not have one entry per
+/// rover.
+pub fn fix_attitude_filtered(
+    epochs: &[DdEpoch],
+    floats: &[FloatSolution],
+    fixed: &[Option<BaselineSolution>],
+    body_m: &[[f64; 3]],
+    fix: &FixOptions,
+) -> Result<AttitudeSolution> {
+    validate_attitude(epochs, body_m)?;
+    validate_input(epochs, fix)?;
+    if floats.len() != epochs.len() || fixed.len() != epochs.len() {
+        return Err(Error::Shape {
+            name: "filtered floats",
+            expected: "one float solution and one fix (or none) per rover".into(),
+            actual: format!(
+                "{} floats and {} fixes for {} rovers",
+                floats.len(),
+                fixed.len(),
+                epochs.len()
+            ),
+        });
+    }
+    let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
+    let to_enu = enu_at(&epochs[0].base_m);
+    let keep = keep_per_rover(epochs.len(), MAX_COMBINATIONS);
+    let rovers = floats
+        .iter()
+        .zip(fixed)
+        .zip(&body)
+        .map(|((fl, done), f)| match done {
+            Some(sol) => Ok(fixed_rover(fl, sol, f.norm(), &to_enu)),
+            None => rover_from_float(fl.clone(), f.norm(), &to_enu, fix, keep, &[]),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let (best, ratio) = best_combination(&rovers, &body);
+    let dof: usize =
+        rovers.iter().map(|r| r.fl.ambiguities.len()).sum::<usize>() + 3 * rovers.len() - 3;
+    let (accepted, success, ratio) = if fixed.iter().all(Option::is_some) {
+        let fits = best
+            .as_ref()
+            .is_some_and(|(_, cost)| *cost <= chi2_quantile(dof));
+        (best.filter(|_| fits), 1.0, f64::INFINITY)
+    } else {
+        let (a, s) = decide(
+            &rovers,
+            &body,
+            &to_enu,
+            best,
+            ratio,
+            dof,
+            fix,
+            Some(MIN_SUCCESS_RATE),
+        )?;
+        (a, s, ratio)
+    };
+    let baselines: Vec<BaselineSolution> = match &accepted {
+        Some((choice, _)) => rovers
+            .iter()
+            .zip(choice)
+            .map(|(r, &c)| constrained_solution(r, c, ratio, &to_enu))
+            .collect(),
+        None => floats.iter().map(|fl| float_result(fl, &[])).collect(),
+    };
+    let enu: Vec<Vector3<f64>> = baselines.iter().map(|b| to_enu * b.baseline_m).collect();
+    let weights: Vec<f64> = body.iter().map(|f| f.norm_squared()).collect();
+    let rotation = wahba::solve(&body, &enu, &weights, wahba::Method::Svd)?.dcm_ref_from_body;
+    Ok(AttitudeSolution {
+        rotation_enu_from_body: rotation,
+        baselines,
+        fixed: accepted.is_some(),
+        ratio,
+        success_rate: success,
+    })
+}
+
 /// The fresh constrained fix of one epoch, its rovers and the accepted combination's objective.
 struct Fresh {
     solution: AttitudeSolution,
@@ -206,34 +349,27 @@ struct Fresh {
     cost: Option<f64>,
 }
 
-fn fresh(epochs: &[DdEpoch], body_m: &[[f64; 3]], fix: &FixOptions) -> Result<Fresh> {
+/// The fresh fix; `floor`: the success-rate floor of the gate (`None`: the rate reported, not gated).
+fn fresh(
+    epochs: &[DdEpoch],
+    body_m: &[[f64; 3]],
+    fix: &FixOptions,
+    floor: Option<f64>,
+) -> Result<Fresh> {
     validate_attitude(epochs, body_m)?;
     validate_input(epochs, fix)?;
     let body: Vec<Vector3<f64>> = body_m.iter().map(|f| Vector3::from(*f)).collect();
     let to_enu = enu_at(&epochs[0].base_m);
-    let keep = keep_per_rover(epochs.len());
+    let keep = keep_per_rover(epochs.len(), MAX_COMBINATIONS);
     let rovers = epochs
         .iter()
         .zip(&body)
         .map(|(e, f)| rover(e, f.norm(), &to_enu, fix, keep, &[]))
         .collect::<Result<Vec<_>>>()?;
-    let success: f64 = rovers
-        .iter()
-        .map(|r| r.unconstrained.success_rate)
-        .product();
     let (best, ratio) = best_combination(&rovers, &body);
     let dof: usize =
         rovers.iter().map(|r| r.fl.ambiguities.len()).sum::<usize>() + 3 * rovers.len() - 3;
-    // The constrained rule of the gate, its success rate reported (the rovers' unconstrained product),
-    // not gated.
-    let accepted = match &best {
-        Some((choice, cost)) => fix
-            .gate()
-            .decide_constrained(ratio, *cost, chi2_quantile(dof), None, || Ok(success))?
-            .accepted
-            .then(|| (choice.clone(), *cost)),
-        None => None,
-    };
+    let (accepted, success) = decide(&rovers, &body, &to_enu, best, ratio, dof, fix, floor)?;
     let baselines: Vec<BaselineSolution> = match &accepted {
         Some((choice, _)) => rovers
             .iter()
@@ -300,12 +436,12 @@ fn validate_attitude(epochs: &[DdEpoch], body_m: &[[f64; 3]]) -> Result<()> {
     Ok(())
 }
 
-/// Candidates kept per rover so that all combinations stay within [`MAX_COMBINATIONS`].
-fn keep_per_rover(n: usize) -> usize {
+/// Candidates kept per rover of `n` so that all combinations stay within `max_combinations`.
+fn keep_per_rover(n: usize, max_combinations: usize) -> usize {
     let mut k = 2usize;
     while (k + 1)
         .checked_pow(n as u32)
-        .is_some_and(|c| c <= MAX_COMBINATIONS)
+        .is_some_and(|c| c <= max_combinations)
     {
         k += 1;
     }
@@ -321,6 +457,41 @@ fn rover(
     held: &[(u64, u64, i64)],
 ) -> Result<Rover> {
     let fl = float::solve(std::slice::from_ref(epoch), held)?;
+    rover_from_float(fl, length, to_enu, fix, keep, held)
+}
+
+/// A rover whose baseline is fixed already (by its filter): one candidate, that baseline.
+fn fixed_rover(
+    fl: &FloatSolution,
+    sol: &BaselineSolution,
+    length: f64,
+    to_enu: &Matrix3<f64>,
+) -> Rover {
+    let mut fl = fl.clone();
+    fl.ambiguities.clear();
+    fl.ambiguities_cycles = DVector::zeros(0);
+    Rover {
+        weight: 3.0 / sol.covariance_m2.trace(),
+        integers: vec![DVector::zeros(0)],
+        scored: vec![(0.0, to_enu * sol.baseline_m)],
+        fl,
+        unconstrained: sol.clone(),
+        q_cond: sol.covariance_m2,
+        held_used: sol.integers.clone(),
+        search: None,
+        length_m: length,
+        cutoff: f64::INFINITY,
+    }
+}
+
+fn rover_from_float(
+    fl: FloatSolution,
+    length: f64,
+    to_enu: &Matrix3<f64>,
+    fix: &FixOptions,
+    keep: usize,
+    held: &[(u64, u64, i64)],
+) -> Result<Rover> {
     let held_used: Vec<(u64, u64, i64)> = held
         .iter()
         .copied()
@@ -340,79 +511,261 @@ fn rover(
         let q_cond = unconstrained.covariance_m2;
         return Ok(Rover {
             weight: 3.0 / q_cond.trace(),
-            candidates: vec![(DVector::zeros(0), 0.0, to_enu * fl.baseline_m)],
+            integers: vec![DVector::zeros(0)],
+            scored: vec![(0.0, to_enu * fl.baseline_m)],
             fl,
             unconstrained,
             q_cond,
             held_used,
+            search: None,
+            length_m: length,
+            cutoff: f64::INFINITY,
         });
     };
     let unconstrained = fix_problem(&fl, held, fix, &problem, &q_aa)?;
     let na = fl.ambiguities.len();
     let a = &fl.ambiguities_cycles;
     let q_ab = fl.covariance.view((3, 0), (na, 3)).into_owned();
-    let k: DMatrix<f64> = nalgebra::Cholesky::new(q_aa.clone())
-        .ok_or_else(|| Error::numerical("attitude fix", "float ambiguity covariance not positive"))?
-        .solve(&q_ab);
+    let chol = Cholesky::new(q_aa.clone()).ok_or_else(|| {
+        Error::numerical("attitude fix", "float ambiguity covariance not positive")
+    })?;
+    let k: DMatrix<f64> = chol.solve(&q_ab);
     let q_bb = fl.covariance.fixed_view::<3, 3>(0, 0).into_owned();
     let red = q_ab.transpose() * &k;
     let q_cond = q_bb - Matrix3::from_fn(|i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
+    let weight = 3.0 / q_cond.trace();
     let found = problem.solve(CANDIDATES, DEFAULT_MAX_NODES)?;
-    let mut candidates: Vec<(DVector<i64>, f64, Vector3<f64>, f64)> = (0..found.fixed.ncols())
-        .map(|c| {
-            let z = found.fixed.column(c).into_owned();
+    let all: Vec<DVector<i64>> = (0..found.fixed.ncols())
+        .map(|c| found.fixed.column(c).into_owned())
+        .collect();
+    let mut candidates: Vec<(usize, f64, Vector3<f64>, f64)> = all
+        .iter()
+        .enumerate()
+        .map(|(c, z)| {
             let d = a - z.map(|v| v as f64);
             let db = k.tr_mul(&d);
             let b = fl.baseline_m - Vector3::new(db[0], db[1], db[2]);
-            let u = b / b.norm().max(f64::MIN_POSITIVE);
-            let dl = b.norm() - length;
-            let screen = found.squared_norms[c] + dl * dl / u.dot(&(q_cond * u));
-            (z, found.squared_norms[c], to_enu * b, screen)
+            let screen = screening_cost(found.squared_norms[c], &b, length, weight);
+            (c, found.squared_norms[c], to_enu * b, screen)
         })
         .collect();
     candidates.sort_by(|x, y| x.3.total_cmp(&y.3));
+    let searched = found.squared_norms.last().copied().unwrap_or(f64::INFINITY);
+    let cutoff = candidates
+        .iter()
+        .skip(keep)
+        .map(|c| c.3)
+        .fold(searched, f64::min);
     candidates.truncate(keep);
     Ok(Rover {
-        weight: 3.0 / q_cond.trace(),
+        weight,
+        integers: candidates.iter().map(|c| all[c.0].clone()).collect(),
+        scored: candidates.iter().map(|c| (c.1, c.2)).collect(),
         fl,
         unconstrained,
         q_cond,
         held_used,
-        candidates: candidates
-            .into_iter()
-            .map(|(z, f, b, _)| (z, f, b))
-            .collect(),
+        search: Some(Search {
+            found: all,
+            chol,
+            gain: k,
+        }),
+        length_m: length,
+        cutoff,
     })
 }
 
+/// The candidate ranking `||a - z||^2 + w (|b(z)| - |f|)^2`, with the objective's weight `w`: a lower
+/// bound of the candidate's term of the objective (`|b - R f| >= ||b| - |f||`), so that a candidate
+/// ranked out of the list bounds every combination that has it.
+fn screening_cost(norm: f64, b: &Vector3<f64>, length: f64, weight: f64) -> f64 {
+    let dl = b.norm() - length;
+    norm + weight * dl * dl
+}
+
+/// The constrained rule of the gate for the best combination `best` (objective, ratio `ratio`, `dof`
+/// degrees of freedom): the accepted choice and its objective, and the simulated success rate (NaN when
+/// the ratio or the plausibility refuse first). `floor`: as [`crate::lambda::gate`]'s.
+#[allow(clippy::too_many_arguments)]
+fn decide(
+    rovers: &[Rover],
+    body: &[Vector3<f64>],
+    to_enu: &Matrix3<f64>,
+    best: Option<Choice>,
+    ratio: f64,
+    dof: usize,
+    fix: &FixOptions,
+    floor: Option<f64>,
+) -> Result<(Option<Choice>, f64)> {
+    let Some((choice, cost)) = best else {
+        return Ok((None, f64::NAN));
+    };
+    // A combination outside the lists has an objective of at least the cutoff: the ratio against the
+    // problem's second best is at least the lists' second best or the cutoff over the best (the lists
+    // may have missed the truth when the cutoff is below the best).
+    let cutoff = rovers
+        .iter()
+        .map(|r| r.cutoff)
+        .fold(f64::INFINITY, f64::min);
+    let ratio = ratio.min(cutoff / cost);
+    let d = fix
+        .gate()
+        .decide_constrained(ratio, cost, chi2_quantile(dof), floor, || {
+            success_rate(rovers, &choice, body, to_enu)
+        })?;
+    Ok((d.accepted.then_some((choice, cost)), d.success_rate))
+}
+
+/// The weighted rotation of the candidates `choice` (`None`: their baselines fix no rotation).
+fn rotation_of(
+    weights: &[f64],
+    lists: &[&[(f64, Vector3<f64>)]],
+    choice: &[usize],
+    body: &[Vector3<f64>],
+) -> Option<Matrix3<f64>> {
+    let h: Matrix3<f64> = weights
+        .iter()
+        .zip(lists)
+        .zip(choice)
+        .zip(body)
+        .map(|(((w, l), &c), f)| *w * l[c].1 * f.transpose())
+        .sum();
+    wahba::svd::solve(&h).ok()
+}
+
+/// The simulated success rate of the constrained fix `choice` (module documentation): the share of
+/// [`SUCCESS_DRAWS`] draws around it whose constrained best is it (the estimator's success: no ratio
+/// test in the draws). `to_enu`: ENU <- ECEF at the base.
+fn success_rate(
+    rovers: &[Rover],
+    choice: &[usize],
+    body: &[Vector3<f64>],
+    to_enu: &Matrix3<f64>,
+) -> Result<f64> {
+    let weights: Vec<f64> = rovers.iter().map(|r| r.weight).collect();
+    let lists: Vec<&[(f64, Vector3<f64>)]> = rovers.iter().map(|r| r.scored.as_slice()).collect();
+    let rot = rotation_of(&weights, &lists, choice, body)
+        .ok_or_else(|| Error::numerical("attitude success rate", "the fix gives no rotation"))?;
+    let keep = keep_per_rover(rovers.len(), SIMULATED_COMBINATIONS);
+    // Per rover: the truth's baseline (ENU), the Cholesky factor of Q_b|a (ENU), and per searched
+    // candidate z: L^-1 (z* - z) (the ambiguity residual of a draw is g + that, g standard normal) and
+    // K^T (z - z*) (ENU: the conditioned baseline of a draw is the truth's plus the draw's Q_b|a error
+    // plus that), truth first.
+    struct Pre {
+        truth_b: Vector3<f64>,
+        l_cond: Matrix3<f64>,
+        n: usize,
+        shifts: Vec<(DVector<f64>, Vector3<f64>)>,
+    }
+    let pre: Vec<Pre> = rovers
+        .iter()
+        .zip(choice)
+        .zip(body)
+        .map(|((r, &c), f)| {
+            let q_cond = to_enu * r.q_cond * to_enu.transpose();
+            let q_cond = (q_cond + q_cond.transpose()) * 0.5;
+            let l_cond = Cholesky::new(q_cond + Matrix3::identity() * 1e-12)
+                .map(|c| c.l())
+                .ok_or_else(|| Error::numerical("attitude success rate", "Q_b|a not positive"))?;
+            let truth_b = rot * f;
+            let shifts = match &r.search {
+                None => vec![(DVector::zeros(0), Vector3::zeros())],
+                Some(s) => {
+                    let truth = &r.integers[c];
+                    let truth_first =
+                        std::iter::once(truth).chain(s.found.iter().filter(|z| *z != truth));
+                    truth_first
+                        .map(|z| {
+                            let dz = (truth - z).map(|v| v as f64);
+                            let d = s.chol.l().solve_lower_triangular(&dz).unwrap_or(dz);
+                            let db = s.gain.tr_mul(&(-(truth - z).map(|v| v as f64)));
+                            (d, to_enu * Vector3::new(db[0], db[1], db[2]))
+                        })
+                        .collect()
+                }
+            };
+            Ok(Pre {
+                truth_b,
+                l_cond,
+                n: r.fl.ambiguities.len(),
+                shifts,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let successes: usize = (0..SUCCESS_DRAWS)
+        .into_par_iter()
+        .map(|t| {
+            let mut rng = ChaCha8Rng::seed_from_u64(SEED);
+            rng.set_stream(t as u64);
+            // Per rover: the kept candidates' (index, norm, baseline ENU), index 0 the truth.
+            let drawn: Vec<Vec<(usize, f64, Vector3<f64>)>> = pre
+                .iter()
+                .zip(rovers)
+                .map(|(p, r)| {
+                    let g = DVector::from_fn(p.n, |_, _| normal(&mut rng));
+                    let e = p.l_cond * Vector3::from_fn(|_, _| normal(&mut rng));
+                    let mut c: Vec<(usize, f64, Vector3<f64>, f64)> = p
+                        .shifts
+                        .iter()
+                        .enumerate()
+                        .map(|(j, (d, db))| {
+                            let norm = (&g + d).norm_squared();
+                            let b = p.truth_b + e + db;
+                            (j, norm, b, screening_cost(norm, &b, r.length_m, r.weight))
+                        })
+                        .collect();
+                    c.sort_by(|x, y| x.3.total_cmp(&y.3));
+                    c.truncate(keep);
+                    c.into_iter().map(|(j, n, b, _)| (j, n, b)).collect()
+                })
+                .collect();
+            let lists: Vec<Vec<(f64, Vector3<f64>)>> = drawn
+                .iter()
+                .map(|d| d.iter().map(|&(_, n, b)| (n, b)).collect())
+                .collect();
+            let views: Vec<&[(f64, Vector3<f64>)]> = lists.iter().map(Vec::as_slice).collect();
+            let (best, _) = best_of(&weights, &views, body);
+            usize::from(best.is_some_and(|(c, _)| c.iter().zip(&drawn).all(|(&i, d)| d[i].0 == 0)))
+        })
+        .sum();
+    Ok(successes as f64 / SUCCESS_DRAWS as f64)
+}
+
 /// The best combination (candidate index per rover) with its objective, and second-best over best.
-fn best_combination(rovers: &[Rover], body: &[Vector3<f64>]) -> (Option<(Vec<usize>, f64)>, f64) {
-    let sizes: Vec<usize> = rovers.iter().map(|r| r.candidates.len()).collect();
+fn best_combination(rovers: &[Rover], body: &[Vector3<f64>]) -> (Option<Choice>, f64) {
+    let weights: Vec<f64> = rovers.iter().map(|r| r.weight).collect();
+    let lists: Vec<&[(f64, Vector3<f64>)]> = rovers.iter().map(|r| r.scored.as_slice()).collect();
+    best_of(&weights, &lists, body)
+}
+
+/// [`best_combination`] over candidate lists `(||a - z||^2, conditioned baseline ENU)` with the rovers'
+/// weights.
+fn best_of(
+    weights: &[f64],
+    lists: &[&[(f64, Vector3<f64>)]],
+    body: &[Vector3<f64>],
+) -> (Option<Choice>, f64) {
+    let sizes: Vec<usize> = lists.iter().map(|l| l.len()).collect();
     let total: usize = sizes.iter().product();
-    let mut best: Option<(Vec<usize>, f64)> = None;
+    let mut best: Option<Choice> = None;
     let mut second = f64::INFINITY;
-    let mut choice = vec![0usize; rovers.len()];
+    let mut choice = vec![0usize; lists.len()];
     for mut index in 0..total {
         for (i, &n) in sizes.iter().enumerate() {
             choice[i] = index % n;
             index /= n;
         }
-        let h: Matrix3<f64> = rovers
-            .iter()
-            .zip(&choice)
-            .zip(body)
-            .map(|((r, &c), f)| r.weight * r.candidates[c].2 * f.transpose())
-            .sum();
-        let Ok(rot) = wahba::svd::solve(&h) else {
+        let Some(rot) = rotation_of(weights, lists, &choice, body) else {
             continue; // a candidate set with parallel baselines fixes no rotation: not a solution
         };
-        let cost: f64 = rovers
+        let cost: f64 = weights
             .iter()
+            .zip(lists)
             .zip(&choice)
             .zip(body)
-            .map(|((r, &c), f)| {
-                let (_, fa, b) = &r.candidates[c];
-                fa + r.weight * (b - rot * f).norm_squared()
+            .map(|(((w, l), &c), f)| {
+                let (fa, b) = &l[c];
+                fa + w * (b - rot * f).norm_squared()
             })
             .sum();
         match &best {
@@ -440,7 +793,7 @@ fn constrained_solution(
     ratio: f64,
     to_enu: &Matrix3<f64>,
 ) -> BaselineSolution {
-    let (z, _, b_enu) = &r.candidates[c];
+    let (z, b_enu) = (&r.integers[c], r.scored[c].1);
     let mut s = r.unconstrained.clone();
     s.baseline_m = to_enu.transpose() * b_enu;
     s.covariance_m2 = r.q_cond;

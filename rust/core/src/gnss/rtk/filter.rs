@@ -49,6 +49,7 @@ use std::collections::BTreeMap;
 use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, Vector3};
 
 use super::dd::validate;
+use super::float::FloatSolution;
 use super::rigid::{RigidLength, MIN_FIX_PHASES};
 use super::{BaselineSolution, DdEpoch, FixOptions};
 use crate::error::{Error, Result};
@@ -157,6 +158,9 @@ pub struct FilterEpoch {
     /// Whether a fix (fresh or held) was refused at this epoch because its length disagreed with the
     /// rigid pair's ([`BaselineFilter::with_length`]).
     pub length_refused: bool,
+    /// The filter's float solution of this epoch's double-difference ambiguities (nothing imposed): what
+    /// attitude mode fixes under the body baselines ([`super::constrained`]).
+    pub float: FloatSolution,
 }
 
 impl FilterEpoch {
@@ -306,7 +310,7 @@ impl BaselineFilter {
         };
         let float_baseline_m = Vector3::new(self.x[0], self.x[1], self.x[2]);
         let float_covariance_m2 = self.p.fixed_view::<3, 3>(0, 0).into_owned();
-        let (solution, state, hold_rejected, length_refused) =
+        let (solution, state, hold_rejected, length_refused, float) =
             self.fix(epoch, &groups, fix, chi2, dof)?;
         if state != FixState::Float {
             self.learn(&solution);
@@ -320,6 +324,7 @@ impl BaselineFilter {
             restarted_arcs,
             hold_rejected,
             length_refused,
+            float,
         })
     }
 

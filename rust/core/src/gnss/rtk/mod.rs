@@ -71,7 +71,7 @@ use super::geometry::{enu_from_ecef, geodetic_from_ecef, SatGeometry};
 use super::signal::System;
 use super::solution::N_SYSTEMS;
 
-pub use constrained::{solve_attitude, solve_attitude_held, HeldAttitude};
+pub use constrained::{fix_attitude_filtered, solve_attitude, solve_attitude_held, HeldAttitude};
 pub use fix::solve_baseline;
 pub use known_length::solve_known_length;
 
@@ -183,8 +183,8 @@ pub struct AttitudeSolution {
     /// Second-best over best constrained objective (the acceptance statistic); NaN only when no
     /// candidate combination fixes a rotation (then `fixed` is false).
     pub ratio: f64,
-    /// Product of the rovers' unconstrained bootstrapped success rates (a lower bound of the constrained
-    /// fix's, the rovers treated as independent).
+    /// The constrained fix's simulated success rate ([`constrained`]; NaN when the ratio or the
+    /// plausibility refused the fix first, 1 when every rover's filter fixed it).
     pub success_rate: f64,
 }
 

@@ -1,5 +1,9 @@
 //! Attitude mode (`body_baselines_m` given): the integers of every rover fixed together under the body
-//! baselines ([`crate::gnss::rtk::solve_attitude_held`]), held across epochs with `continuity`.
+//! baselines ([`crate::gnss::rtk::solve_attitude_held`]), held across epochs with `continuity`; with
+//! `filter` each rover's baseline filtered across epochs (its filter knows the body baseline's length and
+//! holds its own integers), the filtered floats fixed together under the body baselines
+//! ([`crate::gnss::rtk::fix_attitude_filtered`]), and an epoch that stays float fixed on its own as
+//! without a filter (the filter never fixes fewer epochs than single epochs).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -11,7 +15,10 @@ use super::{Engine, Estimate, Prepared};
 use crate::error::Result;
 use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
 use crate::gnss::options::Method;
-use crate::gnss::rtk::{solve_attitude_held, AttitudeSolution, DdEpoch, FixOptions, HeldAttitude};
+use crate::gnss::rtk::{
+    fix_attitude_filtered, solve_attitude, solve_attitude_held, AttitudeSolution, BaselineSolution,
+    DdEpoch, FixOptions, HeldAttitude,
+};
 use crate::gnss::solution::FixState;
 use crate::interrupt;
 
@@ -23,17 +30,84 @@ impl Engine {
         prepared: &[Prepared],
         fix: &FixOptions,
     ) -> Result<Vec<Option<Estimate>>> {
-        if !self.opts.continuity {
+        if !self.opts.continuity && self.opts.filter.is_none() {
             return self.attitude_single_epochs(prepared, fix);
         }
         let mut out = Vec::with_capacity(prepared.len());
         for (k, p) in prepared.iter().enumerate() {
             interrupt::check("GNSS engine")?;
+            if self.opts.filter.is_some() {
+                out.push(self.attitude_filter_epoch(k, p, fix)?);
+                continue;
+            }
             let factors = self.attitude_factors();
             let result = self.attitude_solve(p, &factors, fix);
             out.push(self.attitude_apply(k, p, &factors, result)?);
         }
         Ok(out)
+    }
+
+    /// The attitude-mode estimate of epoch `k` through the rovers' filters (`None`: a rover without
+    /// code solution or filter solution, or unsolved).
+    fn attitude_filter_epoch(
+        &mut self,
+        k: usize,
+        p: &Prepared,
+        fix: &FixOptions,
+    ) -> Result<Option<Estimate>> {
+        let Some(dds) = p
+            .rovers
+            .iter()
+            .map(Option::as_ref)
+            .collect::<Option<Vec<&DdEpoch>>>()
+        else {
+            return Ok(None);
+        };
+        dds.iter().for_each(|d| self.count_double_differences(d));
+        let dds: Vec<DdEpoch> = dds
+            .into_iter()
+            .zip(&self.code_scale)
+            .map(|(d, c)| scale_code(d, c.factor()).into_owned())
+            .collect();
+        let t = p.time_gpst_ns;
+        let mut floats = Vec::with_capacity(dds.len());
+        let mut fixed: Vec<Option<BaselineSolution>> = Vec::with_capacity(dds.len());
+        let mut held = false;
+        for (r, dd) in dds.iter().enumerate() {
+            let result = self.filters[r].step(dd, t, fix);
+            let Some(f) = self.solved(k, t, result)? else {
+                return Ok(None);
+            };
+            if f.hold_rejected {
+                self.warn_once(
+                    format!("hold rejected {r}"),
+                    format!(
+                        "rover {}: held integers disagreed with the filter's float ambiguities at \
+                         epoch {k} ({t} ns GPST) and were dropped (an undetected slip or a wrong fix); \
+                         the filter fixes again",
+                        r + 1
+                    ),
+                );
+            }
+            held |= f.state == FixState::Held;
+            fixed.push((f.state != FixState::Float).then_some(f.solution));
+            floats.push(f.float);
+        }
+        let body = self.opts.body_baselines_m.clone();
+        let result = fix_attitude_filtered(&dds, &floats, &fixed, &body, fix);
+        let Some(mut a) = self.solved(k, t, result)? else {
+            return Ok(None);
+        };
+        let mut state = fix_state(a.fixed, held);
+        if !a.fixed {
+            // The epoch on its own (no filter): taken when its gate passes.
+            if let Ok(single) = solve_attitude(&dds, &body, fix) {
+                if single.fixed {
+                    (a, state) = (single, FixState::Fixed);
+                }
+            }
+        }
+        Ok(p.base_m.map(|b| self.attitude_estimate(&b, &a, state)))
     }
 
     /// The code variance factor of every rover's next epoch.

@@ -72,7 +72,7 @@ enum Held {
 
 impl BaselineFilter {
     /// Steps 4-5: the epoch's fix, its state, whether a held set was rejected, whether a fix was refused
-    /// for its length; updates the held set.
+    /// for its length, the float solution it fixed; updates the held set.
     ///
     /// Beyond the gate: a fix of fewer than [`MIN_FIX_PHASES`] double-differenced phases is not
     /// reported (a fresh one is not held either; held integers stay held for when the satellites
@@ -85,9 +85,10 @@ impl BaselineFilter {
         fix: &FixOptions,
         chi2: f64,
         dof: usize,
-    ) -> Result<(BaselineSolution, FixState, bool, bool)> {
+    ) -> Result<(BaselineSolution, FixState, bool, bool, FloatSolution)> {
         let dd = self.dd_ambiguities(epoch, groups, chi2, dof);
-        let float_all = float_result(&dd.float_all(), &[]);
+        let float = dd.float_all();
+        let float_all = float_result(&float, &[]);
         let redundant = dd.amb.len() >= MIN_FIX_PHASES;
         let (fresh, length_refused) = self.fresh_fix(&dd, &float_all, redundant, fix)?;
         let fresh_state = if fresh.fixed {
@@ -99,12 +100,12 @@ impl BaselineFilter {
             Held::Kept { list, solution } => (list, solution),
             Held::None => {
                 self.hold(&fresh);
-                return Ok((fresh, fresh_state, false, length_refused));
+                return Ok((fresh, fresh_state, false, length_refused, float));
             }
             Held::Rejected => {
                 self.held.clear();
                 self.hold(&fresh);
-                return Ok((fresh, fresh_state, true, length_refused));
+                return Ok((fresh, fresh_state, true, length_refused, float));
             }
         };
         held_sol.ratio = fresh.ratio;
@@ -114,7 +115,7 @@ impl BaselineFilter {
             // slipped unseen; the fresh fix (itself checked) takes over.
             self.held.clear();
             self.hold(&fresh);
-            return Ok((fresh, fresh_state, true, true));
+            return Ok((fresh, fresh_state, true, true, float));
         }
         if fresh.fixed {
             let agrees = held_list.iter().all(|h| fresh.integers.contains(h));
@@ -124,7 +125,7 @@ impl BaselineFilter {
             if agrees || replace {
                 self.held.clear();
                 self.hold(&fresh);
-                return Ok((fresh, FixState::Fixed, replace, length_refused));
+                return Ok((fresh, FixState::Fixed, replace, length_refused, float));
             }
         }
         if held_sol.fixed {
@@ -135,14 +136,14 @@ impl BaselineFilter {
         }
         if !redundant {
             // Held, but nothing in this epoch's phases could show a wrong integer: reported float.
-            return Ok((float_all, FixState::Float, false, length_refused));
+            return Ok((float_all, FixState::Float, false, length_refused, float));
         }
         let state = if held_sol.fixed {
             FixState::Held
         } else {
             FixState::Float
         };
-        Ok((held_sol, state, false, length_refused))
+        Ok((held_sol, state, false, length_refused, float))
     }
 
     /// The double-difference ambiguities of this epoch's references on the filter's state.
