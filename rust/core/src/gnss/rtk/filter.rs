@@ -223,16 +223,36 @@ impl BaselineFilter {
     }
 
     /// Whether a fix of this epoch made elsewhere (the single-epoch fallback) passes the filter's own
-    /// checks of a fix: [`MIN_FIX_PHASES`] double-differenced phases and the rigid pair's length.
-    pub fn accepts(&self, sol: &BaselineSolution) -> bool {
-        sol.ambiguities >= MIN_FIX_PHASES && self.length_ok(sol)
+    /// checks of a fix: [`MIN_FIX_PHASES`] double-differenced phases and the rigid pair's length. An
+    /// accepted fix is added to the learned length; one refused for its length alone counts towards
+    /// learning the length again ([`RigidLength::refused`]).
+    pub fn admit(&mut self, sol: &BaselineSolution) -> bool {
+        if sol.ambiguities < MIN_FIX_PHASES {
+            return false;
+        }
+        let ok = self.length_ok(sol) || self.relearn(sol);
+        if ok {
+            self.learn(sol);
+        }
+        ok
     }
 
-    /// Adds a reported fix made elsewhere to the learned length.
-    pub fn learn(&mut self, sol: &BaselineSolution) {
+    /// Adds a reported fix to the learned length.
+    fn learn(&mut self, sol: &BaselineSolution) {
         if let Some(l) = &mut self.length {
             l.add(sol);
         }
+    }
+
+    /// Counts a redundant fix refused for its length towards learning the length again; whether it
+    /// was (the fix now agrees with the length).
+    fn relearn(&mut self, sol: &BaselineSolution) -> bool {
+        self.length.as_mut().is_some_and(|l| l.refused(sol))
+    }
+
+    /// The rigid pair's length as the filter knows it (`None`: not a rigid pair).
+    pub fn length(&self) -> Option<&RigidLength> {
+        self.length.as_ref()
     }
 
     fn length_ok(&self, sol: &BaselineSolution) -> bool {

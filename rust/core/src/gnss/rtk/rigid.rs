@@ -38,18 +38,56 @@ pub const RIGID_MIN_FIXES: usize = 10;
 pub const MIN_FIX_PHASES: usize = 4;
 
 /// What is known of a rigid pair's length: given by the user or learned from the fixes so far.
+///
+/// A learned length is learned again when the fixes refused for it agree with each other: a run of
+/// refused fixes, none accepted in between, each within [`RIGID_LENGTH_SIGMAS`] of the run's mean, as
+/// long as the run that made the learned length ([`RIGID_MIN_FIXES`] at least) replaces it. A wrong
+/// first length (the session's first fixes were wrong, or the antennas were moved) is then not kept for
+/// the rest of the session; a right one that has been confirmed by every fix since is as hard to replace
+/// as its fixes were many.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RigidLength {
     known_m: Option<f64>,
-    /// Inverse-variance sums of the learned length: `sum l / sigma^2`, `sum 1 / sigma^2`, fixes added.
+    /// The fixes the learned length comes from.
+    learned: LengthMean,
+    /// The fixes refused since the last accepted one that agree with each other.
+    challenger: LengthMean,
+}
+
+/// Inverse-variance mean of lengths: `sum l / sigma^2`, `sum 1 / sigma^2` and the fixes added.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct LengthMean {
     weighted_sum: f64,
     weight: f64,
     fixes: usize,
 }
 
+impl LengthMean {
+    fn add(&mut self, length_m: f64, variance_m2: f64) {
+        // A fixed baseline's variance can round to 0: a floor of (0.1 mm)^2 keeps the weight finite.
+        let w = 1.0 / variance_m2.max(1e-8);
+        self.weighted_sum += w * length_m;
+        self.weight += w;
+        self.fixes += 1;
+    }
+
+    /// The mean and its standard deviation, m (`None` before any fix).
+    fn mean(&self) -> Option<(f64, f64)> {
+        (self.fixes > 0 && self.weight > 0.0)
+            .then(|| (self.weighted_sum / self.weight, self.weight.sqrt().recip()))
+    }
+}
+
+/// Whether a length of variance `variance_m2` agrees with the reference `(l_ref, sigma_ref)` within
+/// [`RIGID_LENGTH_SIGMAS`] (the floor [`RIGID_LENGTH_FLOOR_M`] added).
+fn agrees(length_m: f64, variance_m2: f64, (l_ref, sigma_ref): (f64, f64)) -> bool {
+    let s2 = variance_m2 + sigma_ref * sigma_ref + RIGID_LENGTH_FLOOR_M * RIGID_LENGTH_FLOOR_M;
+    (length_m - l_ref).powi(2) <= RIGID_LENGTH_SIGMAS * RIGID_LENGTH_SIGMAS * s2
+}
+
 impl RigidLength {
     /// A pair of known length `length_m` (a surveyed antenna separation, exact against the fixes'
-    /// sigmas).
+    /// sigmas; never learned again).
     pub fn known(length_m: f64) -> RigidLength {
         RigidLength {
             known_m: Some(length_m),
@@ -61,9 +99,8 @@ impl RigidLength {
     pub fn learned() -> RigidLength {
         RigidLength {
             known_m: None,
-            weighted_sum: 0.0,
-            weight: 0.0,
-            fixes: 0,
+            learned: LengthMean::default(),
+            challenger: LengthMean::default(),
         }
     }
 
@@ -77,8 +114,10 @@ impl RigidLength {
     pub fn reference(&self) -> Option<(f64, f64)> {
         match self.known_m {
             Some(l) => Some((l, 0.0)),
-            None => (self.fixes >= RIGID_MIN_FIXES && self.weight > 0.0)
-                .then(|| (self.weighted_sum / self.weight, self.weight.sqrt().recip())),
+            None => self
+                .learned
+                .mean()
+                .filter(|_| self.learned.fixes >= RIGID_MIN_FIXES),
         }
     }
 
@@ -86,28 +125,50 @@ impl RigidLength {
     /// while there is no reference yet, and for a baseline of no length or no finite variance: nothing to
     /// compare).
     pub fn consistent(&self, baseline_m: &Vector3<f64>, covariance_m2: &Matrix3<f64>) -> bool {
-        let (Some((l_ref, sigma_ref)), Some((l, variance))) = (
+        let (Some(reference), Some((l, variance))) = (
             self.reference(),
             length_and_variance(baseline_m, covariance_m2),
         ) else {
             return true;
         };
-        let s2 = variance + sigma_ref * sigma_ref + RIGID_LENGTH_FLOOR_M * RIGID_LENGTH_FLOOR_M;
-        (l - l_ref).powi(2) <= RIGID_LENGTH_SIGMAS * RIGID_LENGTH_SIGMAS * s2
+        agrees(l, variance, reference)
     }
 
-    /// Adds a fully fixed baseline to the learned length (float solutions and a known length: nothing).
+    /// Adds an accepted, fully fixed baseline to the learned length (float solutions and a known
+    /// length: nothing); the refused fixes counted so far are forgotten.
     pub fn add(&mut self, sol: &BaselineSolution) {
         if self.known_m.is_some() || !sol.fixed {
             return;
         }
         if let Some((l, variance)) = length_and_variance(&sol.baseline_m, &sol.covariance_m2) {
-            // A fixed baseline's variance can round to 0: a floor of (0.1 mm)^2 keeps the weight finite.
-            let w = 1.0 / variance.max(1e-8);
-            self.weighted_sum += w * l;
-            self.weight += w;
-            self.fixes += 1;
+            self.learned.add(l, variance);
+            self.challenger = LengthMean::default();
         }
+    }
+
+    /// Counts a fully fixed baseline refused for its length ([`Self::consistent`] false) towards
+    /// learning the length again (struct docs); `true` when the length was learned again from the
+    /// refused fixes before this one, which this one agrees with (the caller then accepts it and
+    /// [`Self::add`]s it). A known length: always `false`.
+    pub fn refused(&mut self, sol: &BaselineSolution) -> bool {
+        if self.known_m.is_some() || !sol.fixed {
+            return false;
+        }
+        let Some((l, variance)) = length_and_variance(&sol.baseline_m, &sol.covariance_m2) else {
+            return false;
+        };
+        match self.challenger.mean() {
+            Some(m) if agrees(l, variance, m) => {}
+            // The run of refused fixes does not agree with itself: it starts again at this one.
+            _ => self.challenger = LengthMean::default(),
+        }
+        if self.challenger.fixes + 1 >= self.learned.fixes.max(RIGID_MIN_FIXES) {
+            self.learned = self.challenger;
+            self.challenger = LengthMean::default();
+            return true;
+        }
+        self.challenger.add(l, variance);
+        false
     }
 }
 
@@ -189,6 +250,63 @@ mod tests {
         assert_eq!(r.reference(), None);
         let mut k = RigidLength::known(1.0);
         k.add(&fixed(Vector3::new(2.0, 0.0, 0.0), 0.001));
+        assert_eq!(k.reference(), Some((1.0, 0.0)));
+    }
+
+    #[test]
+    fn a_wrong_learned_length_is_learned_again_from_as_many_refused_fixes() {
+        let c = Matrix3::identity() * 1e-4;
+        let wrong = Vector3::new(1.2, 0.9, 0.3); // 1.53 m
+        let right = Vector3::new(1.2, 0.0, 0.0);
+        let n = RIGID_MIN_FIXES + 3;
+        let mut r = RigidLength::learned();
+        for _ in 0..n {
+            r.add(&fixed(wrong, 0.01));
+        }
+        // n - 1 refused fixes of the right length are counted; the n-th replaces the learned length.
+        for k in 0..n - 1 {
+            assert!(!r.consistent(&right, &c));
+            assert!(
+                !r.refused(&fixed(right, 0.01)),
+                "learned again after {k} refused"
+            );
+        }
+        assert!(r.refused(&fixed(right, 0.01)));
+        r.add(&fixed(right, 0.01));
+        let (l, _) = r.reference().unwrap();
+        assert!((l - 1.2).abs() < 1e-12, "{l}");
+        assert!(r.consistent(&right, &c) && !r.consistent(&wrong, &c));
+    }
+
+    #[test]
+    fn refused_fixes_that_disagree_or_are_interrupted_do_not_replace_the_length() {
+        let right = Vector3::new(1.2, 0.0, 0.0);
+        let long = Vector3::new(1.4, 0.0, 0.0);
+        let longer = Vector3::new(1.6, 0.0, 0.0);
+        let mut r = RigidLength::learned();
+        for _ in 0..RIGID_MIN_FIXES {
+            r.add(&fixed(right, 0.01));
+        }
+        // Wrong fixes of two lengths in turn: each restarts the run.
+        for k in 0..4 * RIGID_MIN_FIXES {
+            let b = if k % 2 == 0 { long } else { longer };
+            assert!(!r.refused(&fixed(b, 0.01)), "fix {k}");
+        }
+        // One length, but an accepted fix every RIGID_MIN_FIXES - 1 refused ones.
+        for k in 0..4 * RIGID_MIN_FIXES {
+            if k % (RIGID_MIN_FIXES - 1) == 0 {
+                r.add(&fixed(right, 0.01));
+            } else {
+                assert!(!r.refused(&fixed(long, 0.01)), "fix {k}");
+            }
+        }
+        let (l, _) = r.reference().unwrap();
+        assert!((l - 1.2).abs() < 1e-12, "{l}");
+        // A known length is never learned again.
+        let mut k = RigidLength::known(1.0);
+        for _ in 0..10 * RIGID_MIN_FIXES {
+            assert!(!k.refused(&fixed(long, 0.01)));
+        }
         assert_eq!(k.reference(), Some((1.0, 0.0)));
     }
 }

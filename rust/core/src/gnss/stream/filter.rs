@@ -49,17 +49,15 @@ impl Engine {
             );
         }
         // An epoch the filter leaves float is solved on its own too (through the filter's checks of a
-        // fix): the filter never fixes fewer epochs than single epochs.
+        // fix, which learn the length from it): the filter never fixes fewer epochs than single epochs.
         let single = match f.state {
             FixState::Float => self
                 .solve(r, std::slice::from_ref(scaled.as_ref()), &[], fix)
                 .ok()
-                .filter(|s| s.fixed && self.filters[r].accepts(s)),
+                .filter(|s| s.fixed),
             _ => None,
-        };
-        if let Some(s) = &single {
-            self.filters[r].learn(s);
         }
+        .filter(|s| self.filters[r].admit(s));
         if single.as_ref().is_some_and(|s| !f.agrees_with_float(s)) {
             self.warn_once(
                 format!("filter float biased {r}"),

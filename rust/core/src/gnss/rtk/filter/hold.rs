@@ -66,7 +66,7 @@ enum Held {
     /// conditionally on them.
     Kept {
         list: Vec<(u64, u64, i64)>,
-        solution: BaselineSolution,
+        solution: Box<BaselineSolution>,
     },
 }
 
@@ -97,7 +97,7 @@ impl BaselineFilter {
             FixState::Float
         };
         let (held_list, mut held_sol) = match self.held_fix(&dd, fix)? {
-            Held::Kept { list, solution } => (list, solution),
+            Held::Kept { list, solution } => (list, *solution),
             Held::None => {
                 self.hold(&fresh);
                 return Ok((fresh, fresh_state, false, length_refused, float));
@@ -198,9 +198,10 @@ impl BaselineFilter {
     }
 
     /// The epoch's own fix on the filter's covariance (the constrained search with a known length) and
-    /// whether it was refused for its length (then the float is returned).
+    /// whether it was refused for its length (then the float is returned). A refusal counts towards
+    /// learning the length again ([`super::RigidLength::refused`]).
     fn fresh_fix(
-        &self,
+        &mut self,
         dd: &DdAmbiguities,
         float_all: &BaselineSolution,
         redundant: bool,
@@ -211,7 +212,7 @@ impl BaselineFilter {
             Some(l) => fix_known_length(&fresh_float, &[], l, fix)?,
             None => fix_float(&fresh_float, &[], fix)?,
         };
-        if fresh.fixed && !(redundant && self.length_ok(&fresh)) {
+        if fresh.fixed && !(redundant && (self.length_ok(&fresh) || self.relearn(&fresh))) {
             return Ok((float_all.clone(), redundant));
         }
         Ok((fresh, false))
@@ -264,7 +265,7 @@ impl BaselineFilter {
         let c_c = pick(&dd.c, &keep, &keep) - &gain * c_kh.transpose();
         let c_c = (&c_c + c_c.transpose()) * 0.5;
         let used: Vec<(u64, u64)> = list.iter().map(|&(a, r, _)| (a, r)).collect();
-        let solution = fix_float(&dd.float(&free, f_c, c_c, used), &list, fix)?;
+        let solution = Box::new(fix_float(&dd.float(&free, f_c, c_c, used), &list, fix)?);
         Ok(Held::Kept { list, solution })
     }
 
