@@ -117,6 +117,11 @@ pub fn check_covariance(q: &DMatrix<f64>) -> Result<()> {
 /// definite, naming the failing pivot.
 pub fn ltdl(q: &DMatrix<f64>) -> Result<Ltdl> {
     check_covariance(q)?;
+    factorise(q)
+}
+
+/// [`ltdl`] of a covariance that passed [`check_covariance`].
+pub(crate) fn factorise(q: &DMatrix<f64>) -> Result<Ltdl> {
     let n = q.nrows();
     // Both factors are built transposed, so that every inner loop runs down a (contiguous) column of
     // nalgebra's column-major storage: `u[(k, j)]` (k <= j) holds the lower-triangle entry `Q[j, k]`

@@ -91,7 +91,7 @@ impl Problem {
         ensure_finite("float ambiguities", a.iter())?;
         ldl::check_covariance(q)?;
         check_floats(a, q.nrows())?;
-        let (reduction, transformed) = reduction::reduce_transformed(q)?;
+        let (reduction, transformed) = reduction::reduce_checked(q)?;
         let metric = Metric::new("LAMBDA", q)?;
         let Floats { offset, frac, zhat } = Floats::new(&reduction, a);
         Ok(Problem {
@@ -151,17 +151,13 @@ impl Problem {
         // Mapped back into one matrix, norms recomputed through one residual buffer: the candidates
         // cost no allocation each.
         let mut fixed = DMatrix::<i64>::zeros(n, m);
+        let mut z = found.z;
+        self.to_original_block(f.offset, &mut z, fixed.as_mut_slice())?;
         let mut r = DVector::<f64>::zeros(n);
-        let mut recomputed = Vec::with_capacity(m);
-        for c in 0..m {
-            let mut column = fixed.column_mut(c);
-            self.to_original_into(
-                f.offset,
-                found.z.column(c).as_slice(),
-                column.as_mut_slice(),
-            )?;
-            recomputed.push(self.norm_into(f, column.as_slice(), &mut r));
-        }
+        let recomputed: Vec<f64> = fixed
+            .column_iter()
+            .map(|column| self.norm_into(f, column.as_slice(), &mut r))
+            .collect();
         let order = agreeing_order("LAMBDA", &found.squared_norms, &recomputed)?;
         let (fixed, squared_norms) = if order.iter().enumerate().all(|(c, &k)| c == k) {
             (fixed, recomputed)
@@ -212,17 +208,26 @@ impl Problem {
 
     /// [`Problem::to_original_from`] into `out` (n).
     fn to_original_into(&self, offset: &DVector<i64>, z: &[f64], out: &mut [i64]) -> Result<()> {
+        let mut block = DMatrix::from_column_slice(z.len(), 1, z);
+        self.to_original_block(offset, &mut block, out)
+    }
+
+    /// `round(a) + Z^-T z` for every column of `z` (n x m, overwritten), into `out` (n m, column after
+    /// column), in exact integer arithmetic: Z^-T applied by replaying the reduction's steps.
+    fn to_original_block(
+        &self,
+        offset: &DVector<i64>,
+        z: &mut DMatrix<f64>,
+        out: &mut [i64],
+    ) -> Result<()> {
         for (k, &v) in z.iter().enumerate() {
-            exact_integer(k, v)?;
+            exact_integer(k % self.len(), v)?;
         }
+        let back = self.reduction.apply_z_inv_t(z)?;
         let n = self.len();
-        for (i, o) in out.iter_mut().enumerate() {
-            // |Z^-1| <= 2^52, |z| <= 2^53, n <= 256: every sum stays below 2^114, inside i128.
-            // (Exact integers of at most 2^53: exact as i64.)
-            let back: i128 = (0..n)
-                .map(|k| self.reduction.z_inv[(k, i)] as i128 * z[k] as i64 as i128)
-                .sum();
-            *o = bounded_integer(i, offset[i] as i128 + back)?;
+        for (e, (o, &b)) in out.iter_mut().zip(&back).enumerate() {
+            let i = e % n;
+            *o = bounded_integer(i, (offset[i] as i128).saturating_add(b))?;
         }
         Ok(())
     }

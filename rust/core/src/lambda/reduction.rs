@@ -5,23 +5,29 @@
 //! de Jonge & Tiberius (1996), LGR-12, section 3.4 (the column-wise reduction also used by RTKLIB's
 //! `reduction`).
 //!
-//! Right or refusing: `Z` and `Z^-1` are exact integers bounded by [`MAX_Z_ENTRY`] = 2^52 (held in `f64`
-//! while the reduction updates them, where every step is exact under that bound, and returned as `i64`);
-//! a step that would pass the bound stops the reduction with [`Error::Numerical`]. Afterwards `Z^T Q Z = L^T D L` is verified entry by entry (see
-//! [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer Gauss
-//! transformations (unit triangular) and permutations, and `Z Z^-1 = I`, true by construction, is
-//! confirmed on the all-ones vector in exact integer arithmetic (O(n^2), see [`inverse_defect`]).
+//! Right or refusing: `Z` is an exact integer matrix bounded by [`MAX_Z_ENTRY`] = 2^52 (held in `f64`
+//! while the reduction updates it, where every step is exact under that bound, and returned as `i64`);
+//! a step that would pass the bound stops the reduction with [`Error::Numerical`]. `Z^-1` is never formed
+//! during the reduction: its integer steps are recorded, and `Z^-1` or `Z^-T` is applied to a vector by
+//! replaying them in exact arithmetic (O(steps), against O(n) per step for updating an explicit `Z^-1`;
+//! [`Reduction::z_inv`] builds the matrix on demand). Afterwards `Z^T Q Z = L^T D L` is verified entry by
+//! entry (see [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer
+//! Gauss transformations (unit triangular) and permutations, and `Z^-1 Z = I` (`Z` against its recorded
+//! steps) is confirmed on the all-ones vector in exact integer arithmetic (O(n^2 + steps), see
+//! [`inverse_defect`]).
 
 use nalgebra::{DMatrix, DVector};
 
-use super::ldl::{ltdl, Ltdl};
+#[cfg(test)]
+use super::ldl::ltdl;
+use super::ldl::{check_covariance, factorise, Ltdl};
 use crate::error::{Error, Result};
 
 /// A swap is made only when it lowers `d_{k+1}` by more than this relative amount, so that rounding
 /// cannot make the reduction cycle.
 pub const SWAP_TOLERANCE: f64 = 1e-12;
 
-/// Largest `|Z_ij|` and `|(Z^-1)_ij|` allowed (2^52): integers up to here are exact in `f64`, so `Z^T Q Z`
+/// Largest `|Z_ij|` (and `|(Z^-1)_ij|` of [`Reduction::z_inv`]) allowed (2^52): integers up to here are exact in `f64`, so `Z^T Q Z`
 /// and `Z^T a` are computed from the exact `Z`. Valid covariances of dimension <= 64 and condition number
 /// <= 1e8 stay far below it (the tests see entries of a few hundred at most).
 pub const MAX_Z_ENTRY: i64 = 1 << 52;
@@ -45,10 +51,20 @@ pub struct Reduction {
     /// Unimodular integer `Z` (n x n): decorrelated ambiguities are `z = Z^T a` with covariance
     /// `Z^T Q Z`; `|Z_ij| <= MAX_Z_ENTRY`.
     pub z: DMatrix<i64>,
-    /// `Z^-1`, also integer: `a = Z^-T z`.
-    pub z_inv: DMatrix<i64>,
+    /// The integer steps whose product is `Z`, in the order applied: `Z^-1` and `Z^-T` are applied by
+    /// replaying them (O(1) per step on a vector), so the reduction never updates an explicit `Z^-1`.
+    pub(crate) steps: Vec<Step>,
     /// `Z^T Q Z = L^T D L`.
     pub factor: Ltdl,
+}
+
+/// One integer step of the reduction: `Z <- Z S`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Step {
+    /// `S = I - mu e_i e_j^T` (`i > j`): column `j` of `Z` minus `mu` times column `i`.
+    Gauss { i: usize, j: usize, mu: i64 },
+    /// `S` swaps columns `k` and `k + 1`.
+    Swap(usize),
 }
 
 impl Reduction {
@@ -56,6 +72,110 @@ impl Reduction {
     pub fn z_f64(&self) -> DMatrix<f64> {
         self.z.map(|v| v as f64)
     }
+
+    /// `Z^-1`, also integer (`a = Z^-T z`), built from the recorded steps (`Z^-1 <- S^-1 Z^-1` each).
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when an entry would exceed [`MAX_Z_ENTRY`].
+    pub fn z_inv(&self) -> Result<DMatrix<i64>> {
+        let n = self.z.nrows();
+        // Held transposed: a step's row update of Z^-1 runs down a contiguous column.
+        let mut t = DMatrix::<i64>::identity(n, n);
+        for step in &self.steps {
+            match *step {
+                Step::Gauss { i, j, mu } => {
+                    for r in 0..n {
+                        let v = t[(r, i)] as i128 + mu as i128 * t[(r, j)] as i128;
+                        if v.unsigned_abs() > MAX_Z_ENTRY as u128 {
+                            return Err(Error::numerical(
+                                "LAMBDA decorrelation",
+                                format!("Z^-1 entry {v} exceeds {MAX_Z_ENTRY:e} (dimension {n})"),
+                            ));
+                        }
+                        t[(r, i)] = v as i64;
+                    }
+                }
+                Step::Swap(k) => t.swap_columns(k, k + 1),
+            }
+        }
+        Ok(t.transpose())
+    }
+
+    /// `x <- Z^-T x` for the columns of `x` (n x m, exact integers held in `f64`): the steps' `S^-T`
+    /// applied last step first, exactly.
+    ///
+    /// # Errors
+    /// [`Error::Numerical`] when an intermediate value overflows `i128`.
+    pub(crate) fn apply_z_inv_t(&self, x: &mut DMatrix<f64>) -> Result<Vec<i128>> {
+        // S^-T = I + mu e_j e_i^T.
+        replay(x, self.steps.iter().rev(), |i, j| (j, i))
+    }
+
+    /// `x <- Z^-1 x` (see [`Reduction::apply_z_inv_t`]): the steps' `S^-1` applied first step first.
+    fn apply_z_inv(&self, x: &mut DMatrix<f64>) -> Result<Vec<i128>> {
+        // S^-1 = I + mu e_i e_j^T.
+        replay(x, self.steps.iter(), |i, j| (i, j))
+    }
+}
+
+/// Applies `steps` in the order given to the columns of `x` (exact integers held in `f64`):
+/// `x_dst += mu x_src` with `(dst, src) = pick(i, j)` for a Gauss step, an exchange for a swap; returns
+/// the result column after column as `i128`.
+///
+/// In `f64` while every product and sum stays below 2^53 (then each is an exact integer; a value that
+/// reaches 2^53 is seen, since rounding is monotone); otherwise again from the start in checked `i128`.
+fn replay<'a, I, P>(x: &mut DMatrix<f64>, steps: I, pick: P) -> Result<Vec<i128>>
+where
+    I: Iterator<Item = &'a Step> + Clone,
+    P: Fn(usize, usize) -> (usize, usize),
+{
+    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+    let n = x.nrows();
+    let start: Vec<i128> = x.iter().map(|&v| v as i64 as i128).collect();
+    let mut exact = true;
+    for col in x.as_mut_slice().chunks_exact_mut(n) {
+        for step in steps.clone() {
+            match *step {
+                Step::Gauss { i, j, mu } => {
+                    let (dst, src) = pick(i, j);
+                    let p = mu as f64 * col[src];
+                    let v = col[dst] + p;
+                    exact &= p.abs() < EXACT && v.abs() < EXACT;
+                    col[dst] = v;
+                }
+                Step::Swap(k) => col.swap(k, k + 1),
+            }
+        }
+    }
+    if exact {
+        return Ok(x.iter().map(|&v| v as i128).collect());
+    }
+    let mut w = start;
+    for col in w.chunks_exact_mut(n) {
+        for step in steps.clone() {
+            match *step {
+                Step::Gauss { i, j, mu } => {
+                    let (dst, src) = pick(i, j);
+                    col[dst] = mul_add(col[dst], mu, col[src])?;
+                }
+                Step::Swap(k) => col.swap(k, k + 1),
+            }
+        }
+    }
+    Ok(w)
+}
+
+/// `a + m b` in `i128`, refused on overflow.
+fn mul_add(a: i128, m: i64, b: i128) -> Result<i128> {
+    (m as i128)
+        .checked_mul(b)
+        .and_then(|p| p.checked_add(a))
+        .ok_or_else(|| {
+            Error::numerical(
+                "LAMBDA decorrelation",
+                format!("applying Z^-1 overflows: {a} + {m} x {b} exceeds the 128-bit range"),
+            )
+        })
 }
 
 /// `Q Z` and `Z^T Q Z` formed from the covariance and the exact integer `Z` by [`verify`]: the covariance of
@@ -75,7 +195,7 @@ pub struct Transformed {
 /// * `q` - n x n symmetric positive-definite covariance, cycles^2.
 ///
 /// # Errors
-/// Those of [`ltdl`]: bad shape, non-finite, asymmetric or not positive-definite covariance;
+/// Those of [`super::ldl::ltdl`]: bad shape, non-finite, asymmetric or not positive-definite covariance;
 /// [`Error::Numerical`] when `Z` would exceed [`MAX_Z_ENTRY`] or the identity check fails.
 pub fn reduce(q: &DMatrix<f64>) -> Result<Reduction> {
     reduce_transformed(q).map(|(r, _)| r)
@@ -86,7 +206,13 @@ pub fn reduce(q: &DMatrix<f64>) -> Result<Reduction> {
 /// # Errors
 /// Those of [`reduce`].
 pub fn reduce_transformed(q: &DMatrix<f64>) -> Result<(Reduction, Transformed)> {
-    let r = reduce_factor(ltdl(q)?)?;
+    check_covariance(q)?;
+    reduce_checked(q)
+}
+
+/// [`reduce_transformed`] of a covariance that passed [`check_covariance`].
+pub(crate) fn reduce_checked(q: &DMatrix<f64>) -> Result<(Reduction, Transformed)> {
+    let r = reduce_factor(factorise(q)?)?;
     // The factorisation reads the lower triangle (the symmetry check allows 1e-9 relative between the
     // triangles, far above the identity tolerance), so the identity is checked against that matrix.
     let n = q.nrows();
@@ -135,12 +261,13 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
     }
     Ok(Reduction {
         z: z.z.map(|v| v as i64),
-        z_inv: DMatrix::from_fn(n, n, |i, j| z.z_inv_t[(j, i)] as i64),
+        steps: z.steps,
         factor: Ltdl { l, d },
     })
 }
 
 /// Column `dst` (mutable) and column `src` (`dst != src`) of a column-major matrix, as slices.
+#[inline]
 fn column_pair<T: nalgebra::Scalar>(
     m: &mut DMatrix<T>,
     dst: usize,
@@ -157,47 +284,46 @@ fn column_pair<T: nalgebra::Scalar>(
     }
 }
 
-/// `Z` and `Z^-1` under construction, with the number of integer Gauss transformations applied.
-/// `Z^-1` is kept transposed, so that both of a step's updates run down contiguous columns. The entries
-/// are integers held in `f64` (exact: they never exceed [`MAX_Z_ENTRY`] = 2^52), where the updates
-/// vectorise.
+/// `Z` under construction, with the steps applied. The entries are integers held in `f64` (exact: they
+/// never exceed [`MAX_Z_ENTRY`] = 2^52), where the updates vectorise.
 struct Transform {
     z: DMatrix<f64>,
-    z_inv_t: DMatrix<f64>,
-    steps: usize,
-    /// Upper bounds of `max |entry|` of each column of `z` and of `z_inv_t`.
+    steps: Vec<Step>,
+    /// Upper bounds of `max |entry|` of each column of `z`.
     z_bound: Vec<u64>,
-    inv_bound: Vec<u64>,
 }
 
 impl Transform {
     fn identity(n: usize) -> Transform {
         Transform {
             z: DMatrix::identity(n, n),
-            z_inv_t: DMatrix::identity(n, n),
-            steps: 0,
+            // A decorrelation takes a few steps per entry of Z.
+            steps: Vec::with_capacity(n * n),
             z_bound: vec![1; n],
-            inv_bound: vec![1; n],
         }
     }
 
     /// Integer Gauss transformation `Z <- Z (I - mu e_i e_j^T)` with `mu = round(L_ij)`, `i > j`: makes
-    /// `|L_ij| <= 1/2`. `Z^-1 <- (I + mu e_i e_j^T) Z^-1`.
+    /// `|L_ij| <= 1/2` (`Z^-1 <- (I + mu e_i e_j^T) Z^-1`, recorded as a step).
+    #[inline]
     fn gauss(&mut self, l: &mut DMatrix<f64>, i: usize, j: usize) -> Result<()> {
-        let n = l.nrows();
         let lij = l[(i, j)];
         // round() is a library call; most entries are already reduced (and round to 0).
         if lij.abs() < 0.5 {
             return Ok(());
         }
+        self.gauss_step(l, i, j, lij)
+    }
+
+    fn gauss_step(&mut self, l: &mut DMatrix<f64>, i: usize, j: usize, lij: f64) -> Result<()> {
+        let n = l.nrows();
         let mu = lij.round();
-        self.steps += 1;
-        let steps = self.steps;
+        let steps = self.steps.len() + 1;
         let overflow = |what: &str, value: String| {
             Error::numerical(
                 "LAMBDA decorrelation",
                 format!(
-                    "the integer transformation overflows at dimension {n}, Gauss step {steps} (column \
+                    "the integer transformation overflows at dimension {n}, step {steps} (column \
                      {j}, row {i}, L[{i}, {j}] = {lij:e}): {what} {value} exceeds {MAX_Z_ENTRY:e}; the \
                      covariance is too ill-conditioned to decorrelate exactly"
                 ),
@@ -210,9 +336,7 @@ impl Transform {
         let (zj, zi) = column_pair(&mut self.z, j, i);
         self.z_bound[j] = add_multiple(zj, zi, -mu, self.z_bound[j], self.z_bound[i])
             .map_err(|(x, y, v)| overflow("Z entry", format!("{x} - {m} x {y} = {v}")))?;
-        let (ri, rj) = column_pair(&mut self.z_inv_t, i, j);
-        self.inv_bound[i] = add_multiple(ri, rj, mu, self.inv_bound[i], self.inv_bound[j])
-            .map_err(|(x, y, v)| overflow("Z^-1 entry", format!("{x} + {m} x {y} = {v}")))?;
+        self.steps.push(Step::Gauss { i, j, mu: m });
         let (lj, li) = column_pair(l, j, i);
         for (a, &b) in lj[i..].iter_mut().zip(&li[i..]) {
             *a -= mu * b;
@@ -280,16 +404,15 @@ fn swap(l: &mut DMatrix<f64>, d: &mut DVector<f64>, t: &mut Transform, k: usize,
         l[(k + 1, j)] = eta * a0 + lambda * a1;
     }
     l[(k + 1, k)] = lambda;
-    for i in (k + 2)..n {
-        l.swap((i, k), (i, k + 1));
-    }
+    // Rows below k + 1: columns k and k + 1 of L exchange their tails.
+    let (ck, ck1) = l.as_mut_slice()[k * n..(k + 2) * n].split_at_mut(n);
+    ck[k + 2..].swap_with_slice(&mut ck1[k + 2..]);
     t.z.swap_columns(k, k + 1);
-    t.z_inv_t.swap_columns(k, k + 1);
     t.z_bound.swap(k, k + 1);
-    t.inv_bound.swap(k, k + 1);
+    t.steps.push(Step::Swap(k));
 }
 
-/// Checks a reduction of `q`: `Z Z^-1 = I` exactly, `D` positive and finite, `L` finite, and
+/// Checks a reduction of `q`: `Z^-1 Z = I` exactly (on the all-ones vector), `D` positive and finite, `L` finite, and
 /// `Z^T Q Z = L^T D L` within [`IDENTITY_TOLERANCE`]; returns the products it formed.
 ///
 /// # Errors
@@ -297,16 +420,66 @@ fn swap(l: &mut DMatrix<f64>, d: &mut DVector<f64>, t: &mut Transform, k: usize,
 pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
     let n = q.nrows();
     let what = "LAMBDA decorrelation";
-    if let Some((name, i, s)) = inverse_defect(&r.z, &r.z_inv) {
+    let zf = r.z_f64();
+    if let Some((i, s)) = inverse_defect(r, &zf)? {
         return Err(Error::numerical(
             what,
             format!(
-                "{name} is not the identity: row {i} of {name} times the all-ones vector is {s}, not 1, \
+                "Z^-1 Z is not the identity: row {i} of Z^-1 Z times the all-ones vector is {s}, not 1, \
                  for dimension {n}"
             ),
         ));
     }
+    check_factor_finite(&r.factor)?;
     let Ltdl { l, d } = &r.factor;
+    let qz = q * &zf;
+    // (An explicit transpose sends the product to the blocked matrix multiplication; tr_mul does not.)
+    let mut zqz = zf.transpose() * &qz;
+    // Only the diagonal of the rounding scale B = |Z|^T |Q| |Z| + |L|^T D |L| is needed.
+    let za = zf.abs();
+    let qa_za = q.abs() * &za;
+    let bound: Vec<f64> = (0..n)
+        .map(|k| {
+            let bq = za.column(k).dot(&qa_za.column(k));
+            let lk = &l.as_slice()[k * n + k..(k + 1) * n];
+            let bl: f64 = lk
+                .iter()
+                .zip(&d.as_slice()[k..])
+                .map(|(v, di)| v * v * di)
+                .sum();
+            bq + bl
+        })
+        .collect();
+    let dl = DMatrix::from_fn(n, n, |i, j| d[i] * l[(i, j)]);
+    let ltdl = l.transpose() * dl;
+    let (ratio, i, j) = worst_gap(&zqz, &ltdl, &bound);
+    if ratio.is_nan() || ratio > IDENTITY_TOLERANCE {
+        return Err(Error::numerical(
+            what,
+            format!(
+                "Z^T Q Z differs from L^T D L at [{i}, {j}] by {:.3e} (= {ratio:.3e} n eps times the \
+                 rounding scale sqrt(B_ii B_jj), B = |Z|^T|Q||Z| + |L|^T D|L|, allowed \
+                 {IDENTITY_TOLERANCE}) for dimension {n}, max|Z| = {}",
+                (zqz[(i, j)] - ltdl[(i, j)]).abs(),
+                r.z.amax()
+            ),
+        ));
+    }
+    for j in 0..n {
+        for i in (j + 1)..n {
+            let mean = 0.5 * (zqz[(i, j)] + zqz[(j, i)]);
+            zqz[(i, j)] = mean;
+            zqz[(j, i)] = mean;
+        }
+    }
+    Ok(Transformed { qz, zqz })
+}
+
+/// Refuses a non-positive or non-finite `D` or a non-finite `L`.
+fn check_factor_finite(factor: &Ltdl) -> Result<()> {
+    let Ltdl { l, d } = factor;
+    let n = d.len();
+    let what = "LAMBDA decorrelation";
     if let Some(i) = d
         .iter()
         .position(|v| !(v.is_finite() && *v >= f64::MIN_POSITIVE))
@@ -326,112 +499,69 @@ pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
             format!("L[{}, {}] is not finite (dimension {n})", i % n, i / n),
         ));
     }
-    let zf = r.z_f64();
-    let za = zf.abs();
-    let qz = q * &zf;
-    // (An explicit transpose sends the product to the blocked matrix multiplication; tr_mul does not.)
-    let zqz = zf.transpose() * &qz;
-    // Only the diagonal of the rounding scale B = |Z|^T |Q| |Z| + |L|^T D |L| is needed.
-    let qa_za = q.abs() * &za;
-    let bound = DVector::from_fn(n, |k, _| {
-        let bq = za.column(k).dot(&qa_za.column(k));
-        let bl: f64 = (k..n).map(|i| l[(i, k)] * l[(i, k)] * d[i]).sum();
-        bq + bl
-    });
-    let dl = DMatrix::from_fn(n, n, |i, j| d[i] * l[(i, j)]);
-    let ltdl = l.transpose() * dl;
+    Ok(())
+}
+
+/// The largest `|A_ij - B_ij| / (n eps sqrt(s_i s_j))` and where it is; NaN (an overflowed product)
+/// is returned at once.
+fn worst_gap(a: &DMatrix<f64>, b: &DMatrix<f64>, s: &[f64]) -> (f64, usize, usize) {
+    let n = a.nrows();
     let scale = n as f64 * f64::EPSILON;
     let mut worst = (0.0, 0, 0);
-    'scan: for j in 0..n {
+    for j in 0..n {
+        let (aj, bj) = (a.column(j), b.column(j));
         for i in 0..n {
-            let gap = (zqz[(i, j)] - ltdl[(i, j)]).abs();
+            let gap = (aj[i] - bj[i]).abs();
             let ratio = if gap == 0.0 {
                 0.0
             } else {
-                gap / (scale * (bound[i] * bound[j]).sqrt())
+                gap / (scale * (s[i] * s[j]).sqrt())
             };
-            // NaN (an overflowed product) counts as a failure too.
-            if ratio.is_nan() || ratio > worst.0 {
+            if ratio.is_nan() {
+                return (ratio, i, j);
+            }
+            if ratio > worst.0 {
                 worst = (ratio, i, j);
-                if ratio.is_nan() {
-                    break 'scan;
-                }
             }
         }
     }
-    let (ratio, i, j) = worst;
-    if ratio.is_nan() || ratio > IDENTITY_TOLERANCE {
-        return Err(Error::numerical(
-            what,
-            format!(
-                "Z^T Q Z differs from L^T D L at [{i}, {j}] by {:.3e} (= {ratio:.3e} n eps times the \
-                 rounding scale sqrt(B_ii B_jj), B = |Z|^T|Q||Z| + |L|^T D|L|, allowed \
-                 {IDENTITY_TOLERANCE}) for dimension {n}, max|Z| = {}",
-                (zqz[(i, j)] - ltdl[(i, j)]).abs(),
-                r.z.amax()
-            ),
-        ));
-    }
-    let mut zqz = zqz;
-    for j in 0..n {
-        for i in (j + 1)..n {
-            let mean = 0.5 * (zqz[(i, j)] + zqz[(j, i)]);
-            zqz[(i, j)] = mean;
-            zqz[(j, i)] = mean;
-        }
-    }
-    Ok(Transformed { qz, zqz })
+    worst
 }
 
-/// The first entry `(i, value)` where `Z (Z^-1 1)` or `Z^-1 (Z 1)` differs from the all-ones vector `1`
-/// (`"Z Z^-1"` or `"Z^-1 Z"` named), computed exactly: in `f64` when every partial sum stays below 2^53
-/// (`n^2 max|Z| max|Z^-1| < 2^53`; then each product and sum is an exact integer), else in `i128`
-/// (`|Z|, |Z^-1| <= 2^52` and n <= MAX_DIMENSION = 2^8 keep every sum below 2^120).
+/// The first entry `(i, value)` where `Z^-1 (Z 1)` differs from the all-ones vector `1`, computed
+/// exactly: `Z 1` in `f64` where `n max|Z| < 2^53` (else in `i128`), `Z^-1` by replaying the recorded
+/// steps ([`Reduction::apply_z_inv`]).
 ///
-/// `Z Z^-1 = I` holds by construction (every Gauss step and swap updates both in exact arithmetic); this
-/// O(n^2) check confirms it without the O(n^3) product. It cannot be fooled by one wrong entry: with
-/// `Z^-1 + c e_r e_s^T`, `Z (Z^-1 + c e_r e_s^T) 1 = 1 + c Z e_r`, not `1` since `Z` is invertible, and
-/// a wrong entry of `Z` shows in `Z^-1 (Z 1)` in the same way.
-fn inverse_defect(z: &DMatrix<i64>, z_inv: &DMatrix<i64>) -> Option<(&'static str, usize, i128)> {
-    let n = z.nrows();
-    let pairs = [("Z Z^-1", z, z_inv), ("Z^-1 Z", z_inv, z)];
-    let bound = (n * n) as f64 * z.amax() as f64 * z_inv.amax() as f64;
-    if bound < 9_007_199_254_740_992.0 {
-        let times = |m: &DMatrix<i64>, x: &[f64]| -> Vec<f64> {
-            let mut s = vec![0.0; n];
-            for (col, &xj) in m.column_iter().zip(x) {
-                for (acc, &v) in s.iter_mut().zip(col.iter()) {
-                    *acc += v as f64 * xj;
-                }
-            }
-            s
-        };
-        let ones = vec![1.0; n];
-        for (name, a, b) in pairs {
-            let w = times(a, &times(b, &ones));
-            if let Some(i) = w.iter().position(|&v| v != 1.0) {
-                return Some((name, i, w[i] as i128));
-            }
-        }
-        return None;
-    }
-    let times = |m: &DMatrix<i64>, x: &[i128]| -> Vec<i128> {
+/// `Z` is updated in `f64` while the steps are recorded; this O(n^2 + steps) check confirms that the two
+/// agree. It cannot be fooled by one wrong entry of `Z`: with `Z + c e_r e_s^T`,
+/// `Z^-1 (Z + c e_r e_s^T) 1 = 1 + c Z^-1 e_r`, not `1` since `Z^-1` is invertible.
+///
+/// # Errors
+/// [`Error::Numerical`] when a value overflows `i128`.
+fn inverse_defect(r: &Reduction, zf: &DMatrix<f64>) -> Result<Option<(usize, i128)>> {
+    let n = r.z.nrows();
+    let sums = if (n as f64) * (r.z.amax() as f64) < 9_007_199_254_740_992.0 {
+        // Every partial row sum is an integer below 2^53: exact.
+        zf.column_sum()
+    } else {
         let mut s = vec![0i128; n];
-        for (col, &xj) in m.column_iter().zip(x) {
+        for col in r.z.column_iter() {
             for (acc, &v) in s.iter_mut().zip(col.iter()) {
-                *acc += v as i128 * xj;
+                *acc += v as i128;
             }
         }
-        s
-    };
-    let ones = vec![1i128; n];
-    for (name, a, b) in pairs {
-        let w = times(a, &times(b, &ones));
-        if let Some(i) = w.iter().position(|&v| v != 1) {
-            return Some((name, i, w[i]));
+        if s.iter().any(|v| v.unsigned_abs() >= 1 << 53) {
+            // Z 1 beyond 2^53: Z is far past any decorrelation that MAX_Z_ENTRY lets through.
+            return Ok(s
+                .iter()
+                .position(|v| v.unsigned_abs() >= 1 << 53)
+                .map(|i| (i, s[i])));
         }
-    }
-    None
+        DVector::from_iterator(n, s.iter().map(|&v| v as f64))
+    };
+    let mut u = DMatrix::from_column_slice(n, 1, sums.as_slice());
+    let w = r.apply_z_inv(&mut u)?;
+    Ok(w.iter().position(|&v| v != 1).map(|i| (i, w[i])))
 }
 
 #[cfg(test)]
@@ -586,16 +716,24 @@ mod tests {
         red.factor.d[0] *= 1.0 + 1e-9;
         let e = verify(&q, &red).unwrap_err().to_string();
         assert!(e.contains("differs from L^T D L"), "{e}");
-        // A Z that is not unimodular with its stored inverse.
+        // A Z that disagrees with its recorded steps: a step's multiplier off by one.
         let mut red = reduce(&q).unwrap();
-        red.z_inv[(0, 0)] += 1;
+        let Some(Step::Gauss { mu, .. }) = red
+            .steps
+            .iter_mut()
+            .find(|s| matches!(s, Step::Gauss { .. }))
+        else {
+            panic!("no Gauss step in {:?}", red.steps)
+        };
+        *mu += 1;
         let e = verify(&q, &red).unwrap_err().to_string();
         assert!(e.contains("not the identity"), "{e}");
         // A wrong entry of Z itself, in either of the exact paths (entries near 2^52 take the i128 one).
-        for big in [1, 1i64 << 40] {
+        for big in [1, 1i64 << 40, 1i64 << 51] {
             let mut red = reduce(&q).unwrap();
             red.z[(1, 0)] += big;
-            assert!(inverse_defect(&red.z, &red.z_inv).is_some());
+            let zf = red.z_f64();
+            assert!(inverse_defect(&red, &zf).unwrap().is_some());
         }
         let mut red = reduce(&q).unwrap();
         red.factor.d[1] = 0.0;

@@ -270,7 +270,7 @@ fn constrained_fix(
     let q_cond = q_bb - Matrix3::from_fn(|i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
     let c = Constrained {
         factor: &problem.reduction.factor,
-        k: problem.reduction.z_inv.map(|v| v as f64) * k_orig,
+        k: problem.reduction.z_inv()?.map(|v| v as f64) * k_orig,
         q_cond,
         length_m,
     };

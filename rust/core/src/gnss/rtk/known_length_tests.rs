@@ -85,7 +85,7 @@ fn constrained_search_matches_brute_force() {
         let q_bb = fl.covariance.fixed_view::<3, 3>(0, 0).into_owned();
         let c = Constrained {
             factor: &problem.reduction.factor,
-            k: problem.reduction.z_inv.map(|v| v as f64) * &k_orig,
+            k: problem.reduction.z_inv().unwrap().map(|v| v as f64) * &k_orig,
             q_cond: q_bb - (q_ab.transpose() * &k_orig).fixed_view::<3, 3>(0, 0),
             length_m: 2.0,
         };
@@ -134,7 +134,7 @@ fn simulated_success_rate_matches_the_empirical_rate() {
         let q_bb = fl.covariance.fixed_view::<3, 3>(0, 0).into_owned();
         let c = Constrained {
             factor: &problem.reduction.factor,
-            k: problem.reduction.z_inv.map(|v| v as f64) * &k_orig,
+            k: problem.reduction.z_inv().unwrap().map(|v| v as f64) * &k_orig,
             q_cond: q_bb - (q_ab.transpose() * &k_orig).fixed_view::<3, 3>(0, 0),
             length_m: length,
         };
