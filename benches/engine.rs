@@ -23,7 +23,9 @@ use gnssatt_core::gnss::signal::{
 use gnssatt_core::gnss::solution::EpochSolution;
 use gnssatt_core::gnss::stream::Engine;
 use gnssatt_core::gnss::synthetic;
-use gnssatt_core::rinex::{read_nav, read_obs_body, BodyOptions, ObsBody, SystemLayout};
+use gnssatt_core::rinex::{
+    read_nav, read_obs_body, BodyOptions, ObsBody, SystemLayout, KEPLER_VALUES,
+};
 use std::hint::black_box;
 use std::path::PathBuf;
 
@@ -205,7 +207,7 @@ fn geonet_nav(files: &[&str]) -> NavData {
         ]);
         nav.leap_seconds = r.leap_seconds.map(|l| l as i32);
         for (i, sat) in r.kepler_sats.iter().enumerate() {
-            let v = &r.kepler_values[i * 29..(i + 1) * 29];
+            let v = &r.kepler_values[i * KEPLER_VALUES..(i + 1) * KEPLER_VALUES];
             let field = |k: usize| v[3 + k];
             nav.kepler.push(KeplerRecord {
                 sat: gps(sat),

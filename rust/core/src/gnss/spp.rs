@@ -239,31 +239,7 @@ fn code_solution(
         });
     }
     let t = obs.time_gpst_ns[epoch];
-    let frequencies = opts.frequencies.clamp(1, MAX_FREQUENCIES);
-    let mut candidates = Vec::new();
-    for (k, &id) in obs.sats.iter().enumerate() {
-        if !opts.systems.contains(&id.system) {
-            continue;
-        }
-        let found = (0..frequencies).find_map(|slot| {
-            let p = rx.code_m[obs.index(epoch, k, slot)];
-            let in_range = p >= PSEUDORANGE_RANGE_M.0 && p <= PSEUDORANGE_RANGE_M.1;
-            // GLONASS without a channel: the nominal carrier is close enough for the ionosphere.
-            let f = obs
-                .frequency_hz(k, slot)
-                .or_else(|| carrier_frequency_hz(id.system, slot, Some(0)))?;
-            in_range.then_some((slot, p, f))
-        });
-        if let Some((slot, p, f)) = found {
-            candidates.push(Candidate {
-                sat: k,
-                system: id.system.index(),
-                code_m: p,
-                frequency_hz: f,
-                group_delay_m: SPEED_OF_LIGHT_M_S * eph.group_delay_s(id, slot, t),
-            });
-        }
-    }
+    let candidates = candidates(inputs, receiver, epoch);
     let start = prior
         .copied()
         .filter(|p| p.iter().all(|x| x.is_finite()))
@@ -301,6 +277,40 @@ fn code_solution(
     Ok(solution)
 }
 
+/// The code of every satellite of `opts.systems` that `receiver` observes at `epoch`: its lowest slot
+/// below `opts.frequencies` with a pseudorange in [`PSEUDORANGE_RANGE_M`].
+fn candidates(inputs: Inputs<'_>, receiver: usize, epoch: usize) -> Vec<Candidate> {
+    let Inputs { obs, eph, opts, .. } = inputs;
+    let rx = &obs.receivers[receiver];
+    let t = obs.time_gpst_ns[epoch];
+    let frequencies = opts.frequencies.clamp(1, MAX_FREQUENCIES);
+    let mut candidates = Vec::new();
+    for (k, &id) in obs.sats.iter().enumerate() {
+        if !opts.systems.contains(&id.system) {
+            continue;
+        }
+        let found = (0..frequencies).find_map(|slot| {
+            let p = rx.code_m[obs.index(epoch, k, slot)];
+            let in_range = p >= PSEUDORANGE_RANGE_M.0 && p <= PSEUDORANGE_RANGE_M.1;
+            // GLONASS without a channel: the nominal carrier is close enough for the ionosphere.
+            let f = obs
+                .frequency_hz(k, slot)
+                .or_else(|| carrier_frequency_hz(id.system, slot, Some(0)))?;
+            in_range.then_some((slot, p, f))
+        });
+        if let Some((slot, p, f)) = found {
+            candidates.push(Candidate {
+                sat: k,
+                system: id.system.index(),
+                code_m: p,
+                frequency_hz: f,
+                group_delay_m: SPEED_OF_LIGHT_M_S * eph.group_delay_s(id, slot, t),
+            });
+        }
+    }
+    candidates
+}
+
 /// Iterated solution without candidate `excluded`: the solution (geometry left empty) and the
 /// candidates it used.
 fn solve(
@@ -327,46 +337,7 @@ fn solve(
                 limit: n_unknowns as f64,
             });
         }
-        let m = lin.rows.len();
-        let mut a = DMatrix::<f64>::zeros(m, n_unknowns);
-        let mut b = DVector::<f64>::zeros(m);
-        for (i, &r) in lin.rows.iter().enumerate() {
-            let sw = 1.0 / lin.sigma_m[i];
-            for j in 0..3 {
-                a[(i, j)] = -lin.los[i][j] * sw;
-            }
-            if let Some(col) = systems.iter().position(|&s| s == candidates[r].system) {
-                a[(i, 3 + col)] = sw;
-            }
-            b[i] = lin.residual_m[i] * sw;
-        }
-        let normal = a.transpose() * &a;
-        let eig = normal.clone().symmetric_eigenvalues();
-        let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &e| {
-            (lo.min(e), hi.max(e))
-        });
-        let condition = hi / lo;
-        if !(lo > 0.0 && condition <= MAX_CONDITION) {
-            return Err(Error::DegenerateGeometry {
-                what: format!("single point at GPST {t} ns with {m} satellites"),
-                matrix: "normal matrix",
-                condition: if lo > 0.0 { condition } else { f64::INFINITY },
-            });
-        }
-        let Some(chol) = normal.cholesky() else {
-            return Err(Error::DegenerateGeometry {
-                what: format!("single point at GPST {t} ns with {m} satellites"),
-                matrix: "normal matrix",
-                condition,
-            });
-        };
-        let dx = chol.solve(&(a.transpose() * b));
-        if !dx.iter().all(|v| v.is_finite()) {
-            return Err(Error::numerical(
-                "single point",
-                format!("the update at GPST {t} ns is not finite"),
-            ));
-        }
+        let dx = step(&lin, candidates, &systems, t)?;
         x += Vector3::new(dx[0], dx[1], dx[2]);
         for (col, &s) in systems.iter().enumerate() {
             clock_m[s] += dx[3 + col];
@@ -403,6 +374,57 @@ fn solve(
         what: "single point",
         iterations: MAX_ITERATIONS,
     })
+}
+
+/// The weighted least-squares update (position, then one clock per system of `systems`) of the rows of
+/// `lin`, its normal matrix checked against [`MAX_CONDITION`].
+fn step(
+    lin: &Linearised,
+    candidates: &[Candidate],
+    systems: &[usize],
+    t: i64,
+) -> Result<DVector<f64>> {
+    let m = lin.rows.len();
+    let mut a = DMatrix::<f64>::zeros(m, 3 + systems.len());
+    let mut b = DVector::<f64>::zeros(m);
+    for (i, &r) in lin.rows.iter().enumerate() {
+        let sw = 1.0 / lin.sigma_m[i];
+        for j in 0..3 {
+            a[(i, j)] = -lin.los[i][j] * sw;
+        }
+        if let Some(col) = systems.iter().position(|&s| s == candidates[r].system) {
+            a[(i, 3 + col)] = sw;
+        }
+        b[i] = lin.residual_m[i] * sw;
+    }
+    let normal = a.transpose() * &a;
+    let eig = normal.clone().symmetric_eigenvalues();
+    let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &e| {
+        (lo.min(e), hi.max(e))
+    });
+    let condition = hi / lo;
+    if !(lo > 0.0 && condition <= MAX_CONDITION) {
+        return Err(Error::DegenerateGeometry {
+            what: format!("single point at GPST {t} ns with {m} satellites"),
+            matrix: "normal matrix",
+            condition: if lo > 0.0 { condition } else { f64::INFINITY },
+        });
+    }
+    let Some(chol) = normal.cholesky() else {
+        return Err(Error::DegenerateGeometry {
+            what: format!("single point at GPST {t} ns with {m} satellites"),
+            matrix: "normal matrix",
+            condition,
+        });
+    };
+    let dx = chol.solve(&(a.transpose() * b));
+    if !dx.iter().all(|v| v.is_finite()) {
+        return Err(Error::numerical(
+            "single point",
+            format!("the update at GPST {t} ns is not finite"),
+        ));
+    }
+    Ok(dx)
 }
 
 /// PDOP of the rows of `lin` (field [`SppSolution::pdop`]); NaN where the design is singular.
