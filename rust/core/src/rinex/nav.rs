@@ -174,13 +174,9 @@ struct Header {
     body: usize,
 }
 
-fn header(
-    lines: &[&[u8]],
-    header_labels: &[String],
-    nav: &mut NavRecords,
-) -> Result<Header, BodyError> {
-    let label = |l: &[u8]| strip(slice(l, 60, 80)).to_vec();
-    if lines.is_empty() || label(lines[0]) != b"RINEX VERSION / TYPE" {
+/// The version and (RINEX 2) the system of a navigation file from its first line.
+fn version_and_type(lines: &[&[u8]]) -> Result<(f64, u8), BodyError> {
+    if lines.is_empty() || strip(slice(lines[0], 60, 80)) != b"RINEX VERSION / TYPE" {
         return Err(err(
             1,
             "expected 'RINEX VERSION / TYPE' in columns 61-80".into(),
@@ -223,7 +219,16 @@ fn header(
             ),
         ));
     }
-    let v2_system = v2_type.unwrap_or(b'G');
+    Ok((version, v2_type.unwrap_or(b'G')))
+}
+
+fn header(
+    lines: &[&[u8]],
+    header_labels: &[String],
+    nav: &mut NavRecords,
+) -> Result<Header, BodyError> {
+    let label = |l: &[u8]| strip(slice(l, 60, 80)).to_vec();
+    let (version, v2_system) = version_and_type(lines)?;
     let mut last_known = 1;
     for (i, &line) in lines.iter().enumerate().skip(1) {
         let lab = label(line);
