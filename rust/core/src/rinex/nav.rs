@@ -534,63 +534,74 @@ fn store(nav: &mut NavRecords, rec: Record, lineno: usize, cursor: usize) -> Res
             nav.glonass_sats.push(sat);
             nav.glonass_tb_ns.push(toc_ns);
         }
-        _ => {
-            // G, E, C, J: refuse a shape that is not an ellipse, skip an ellipse inside the Earth
-            let orbit = &vals[3..];
-            let (sqrt_a, e) = (orbit[7], orbit[5]);
-            // (NaN, which `number` never gives, would be refused too)
-            if sqrt_a.is_nan() || sqrt_a <= 0.0 {
-                return Err(err(
-                    lineno + 2,
-                    format!(
-                        "expected sqrt(A) > 0 m^0.5 (broadcast field 4), got {}",
-                        py_float_repr(sqrt_a)
-                    ),
-                ));
-            }
-            if !(0.0..1.0).contains(&e) {
-                return Err(err(
-                    lineno + 2,
-                    format!(
-                        "expected an eccentricity in [0, 1) (broadcast field 2), got {}",
-                        py_float_repr(e)
-                    ),
-                ));
-            }
-            let a = sqrt_a * sqrt_a;
-            if a.is_infinite() {
-                return Err(crashed(
-                    cursor,
-                    "OverflowError: (34, 'Numerical result out of range')",
-                ));
-            }
-            // A perigee below the equatorial radius is inside the Earth.
-            if a * (1.0 - e) < WGS84_A_M {
-                nav.skips.push((
-                    NavSkip::NotAnOrbit,
-                    format!(
-                        "{sat} at line {lineno} (sqrt(A) {} m^0.5, e {})",
-                        py_format_g(sqrt_a),
-                        py_format_g(e)
-                    ),
-                ));
-                return Ok(());
-            }
-            whole(lineno + 5, orbit[18], 0.0, 9999.0, "the week")?;
-            if !(0.0..=604_800.0).contains(&orbit[8]) {
-                return Err(err(
-                    lineno + 3,
-                    format!(
-                        "expected a time of ephemeris in [0, 604800] s, got {}",
-                        py_float_repr(orbit[8])
-                    ),
-                ));
-            }
-            nav.kepler_values.extend_from_slice(&vals[..KEPLER_VALUES]);
-            nav.kepler_sats.push(sat);
-            nav.kepler_toc_ns.push(toc_ns);
-        }
+        _ => store_kepler(nav, sat, toc_ns, &vals, lineno, cursor)?,
     }
+    Ok(())
+}
+
+/// A Keplerian record (G, E, C, J) appended to `nav`: a shape that is not an ellipse refused, an ellipse
+/// inside the Earth skipped with a note.
+fn store_kepler(
+    nav: &mut NavRecords,
+    sat: String,
+    toc_ns: i64,
+    vals: &[f64],
+    lineno: usize,
+    cursor: usize,
+) -> Result<(), BodyError> {
+    let orbit = &vals[3..];
+    let (sqrt_a, e) = (orbit[7], orbit[5]);
+    // (NaN, which `number` never gives, would be refused too)
+    if sqrt_a.is_nan() || sqrt_a <= 0.0 {
+        return Err(err(
+            lineno + 2,
+            format!(
+                "expected sqrt(A) > 0 m^0.5 (broadcast field 4), got {}",
+                py_float_repr(sqrt_a)
+            ),
+        ));
+    }
+    if !(0.0..1.0).contains(&e) {
+        return Err(err(
+            lineno + 2,
+            format!(
+                "expected an eccentricity in [0, 1) (broadcast field 2), got {}",
+                py_float_repr(e)
+            ),
+        ));
+    }
+    let a = sqrt_a * sqrt_a;
+    if a.is_infinite() {
+        return Err(crashed(
+            cursor,
+            "OverflowError: (34, 'Numerical result out of range')",
+        ));
+    }
+    // A perigee below the equatorial radius is inside the Earth.
+    if a * (1.0 - e) < WGS84_A_M {
+        nav.skips.push((
+            NavSkip::NotAnOrbit,
+            format!(
+                "{sat} at line {lineno} (sqrt(A) {} m^0.5, e {})",
+                py_format_g(sqrt_a),
+                py_format_g(e)
+            ),
+        ));
+        return Ok(());
+    }
+    whole(lineno + 5, orbit[18], 0.0, 9999.0, "the week")?;
+    if !(0.0..=604_800.0).contains(&orbit[8]) {
+        return Err(err(
+            lineno + 3,
+            format!(
+                "expected a time of ephemeris in [0, 604800] s, got {}",
+                py_float_repr(orbit[8])
+            ),
+        ));
+    }
+    nav.kepler_values.extend_from_slice(&vals[..KEPLER_VALUES]);
+    nav.kepler_sats.push(sat);
+    nav.kepler_toc_ns.push(toc_ns);
     Ok(())
 }
 
