@@ -149,32 +149,42 @@ impl Observations {
                 format!("expected each satellite once, got {} twice", w[0]),
             ));
         }
-        let len = ne * ns * MAX_FREQUENCIES;
         for r in &self.receivers {
-            for (name, n) in [
-                ("code_m", r.code_m.len()),
-                ("phase_cycles", r.phase_cycles.len()),
-                ("doppler_hz", r.doppler_hz.len()),
-                ("snr_dbhz", r.snr_dbhz.len()),
-                ("lli", r.lli.len()),
-            ] {
-                if n != len {
-                    return Err(Error::Shape {
-                        name,
-                        expected: format!("({ne}, {ns}, {MAX_FREQUENCIES}) = {len} values"),
-                        actual: format!("{n} values"),
-                    });
-                }
+            r.validate(ne, ns)?;
+        }
+        Ok(())
+    }
+}
+
+impl ReceiverObservations {
+    /// Checks one receiver's arrays: `n_epochs` x `n_sats` x [`MAX_FREQUENCIES`] values each, none
+    /// infinite.
+    fn validate(&self, n_epochs: usize, n_sats: usize) -> Result<()> {
+        let (ne, ns, r) = (n_epochs, n_sats, self);
+        let len = ne * ns * MAX_FREQUENCIES;
+        for (name, n) in [
+            ("code_m", r.code_m.len()),
+            ("phase_cycles", r.phase_cycles.len()),
+            ("doppler_hz", r.doppler_hz.len()),
+            ("snr_dbhz", r.snr_dbhz.len()),
+            ("lli", r.lli.len()),
+        ] {
+            if n != len {
+                return Err(Error::Shape {
+                    name,
+                    expected: format!("({ne}, {ns}, {MAX_FREQUENCIES}) = {len} values"),
+                    actual: format!("{n} values"),
+                });
             }
-            for (name, v) in [
-                ("code_m", &r.code_m),
-                ("phase_cycles", &r.phase_cycles),
-                ("doppler_hz", &r.doppler_hz),
-                ("snr_dbhz", &r.snr_dbhz),
-            ] {
-                if let Some(i) = v.iter().position(|x| x.is_infinite()) {
-                    return Err(Error::NonFinite { name, index: i });
-                }
+        }
+        for (name, v) in [
+            ("code_m", &r.code_m),
+            ("phase_cycles", &r.phase_cycles),
+            ("doppler_hz", &r.doppler_hz),
+            ("snr_dbhz", &r.snr_dbhz),
+        ] {
+            if let Some(i) = v.iter().position(|x| x.is_infinite()) {
+                return Err(Error::NonFinite { name, index: i });
             }
         }
         Ok(())

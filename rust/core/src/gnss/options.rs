@@ -131,6 +131,13 @@ impl EngineOptions {
     /// # Errors
     /// [`Error::OutOfRange`] naming the option, the expectation and the value.
     pub fn validate(&self) -> Result<()> {
+        self.validate_settings()?;
+        self.validate_modes()?;
+        self.validate_lengths_and_grid()
+    }
+
+    /// Each setting of the signals, the base, the gate, the noise and the body on its own.
+    fn validate_settings(&self) -> Result<()> {
         if self.systems.is_empty() {
             return Err(Error::out_of_range(
                 "--systems",
@@ -191,6 +198,12 @@ impl EngineOptions {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// The settings that choose the mode (motion, continuity, filter, rigid, body baselines, lengths)
+    /// together: a combination one of them would ignore is refused.
+    fn validate_modes(&self) -> Result<()> {
         if self.continuity && self.motion == Motion::Static {
             return Err(Error::out_of_range(
                 "--continuity",
@@ -243,6 +256,11 @@ impl EngineOptions {
                  lengths (baseline mode), got both",
             ));
         }
+        Ok(())
+    }
+
+    /// The known baseline lengths and the grid's step and window.
+    fn validate_lengths_and_grid(&self) -> Result<()> {
         let (lo, hi) = LENGTH_RANGE_M;
         if let Some(l) = self
             .baseline_lengths_m

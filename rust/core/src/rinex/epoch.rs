@@ -247,6 +247,28 @@ pub(super) fn epoch_ns(
     Ok((day * 86_400 + hh * 3600 + mi * 60) * 1_000_000_000 + (sec * 1e9).round_ties_even() as i64)
 }
 
+/// The epoch (ns since 1970 of its label) written on the epoch line `line` (1-based `lineno`) in the
+/// columns of layout `l` (RINEX 2: a two-digit year, 1980-2079).
+fn epoch_time(lineno: usize, line: &[u8], l: &Layout, v3: bool) -> Result<i64, BodyError> {
+    let mut ymdhm = [0i64; 5];
+    for (value, &(a, b)) in ymdhm.iter_mut().zip(&l.dates[..5]) {
+        *value = integer(lineno, slice(line, a, b), "the epoch")?;
+    }
+    let sec = number(
+        lineno,
+        slice(line, l.dates[5].0, l.dates[5].1),
+        "the epoch seconds",
+    )?;
+    let [mut y, mo, d, hh, mi] = ymdhm;
+    if !v3 {
+        if !(0..=99).contains(&y) {
+            return Err(err(lineno, format!("expected a two-digit year, got {y}")));
+        }
+        y += if y >= 80 { 1900 } else { 2000 };
+    }
+    epoch_ns(lineno, y, mo, d, hh, mi, sec)
+}
+
 /// Flag, count, label and clock offset (NaN where blank) of the epoch line `line` (1-based `lineno`).
 pub fn epoch_line(lineno: usize, line: &[u8], v3: bool) -> Result<EpochLine, BodyError> {
     let l = if v3 { &V3 } else { &V2 };
@@ -313,23 +335,7 @@ pub fn epoch_line(lineno: usize, line: &[u8], v3: bool) -> Result<EpochLine, Bod
             ),
         ));
     }
-    let mut ymdhm = [0i64; 5];
-    for (value, &(a, b)) in ymdhm.iter_mut().zip(&l.dates[..5]) {
-        *value = integer(lineno, slice(line, a, b), "the epoch")?;
-    }
-    let sec = number(
-        lineno,
-        slice(line, l.dates[5].0, l.dates[5].1),
-        "the epoch seconds",
-    )?;
-    let [mut y, mo, d, hh, mi] = ymdhm;
-    if !v3 {
-        if !(0..=99).contains(&y) {
-            return Err(err(lineno, format!("expected a two-digit year, got {y}")));
-        }
-        y += if y >= 80 { 1900 } else { 2000 };
-    }
-    let time_ns = Some(epoch_ns(lineno, y, mo, d, hh, mi, sec)?);
+    let time_ns = Some(epoch_time(lineno, line, l, v3)?);
     Ok(EpochLine {
         flag,
         count,

@@ -174,13 +174,9 @@ struct Header {
     body: usize,
 }
 
-fn header(
-    lines: &[&[u8]],
-    header_labels: &[String],
-    nav: &mut NavRecords,
-) -> Result<Header, BodyError> {
-    let label = |l: &[u8]| strip(slice(l, 60, 80)).to_vec();
-    if lines.is_empty() || label(lines[0]) != b"RINEX VERSION / TYPE" {
+/// The version and (RINEX 2) the system of a navigation file from its first line.
+fn version_and_type(lines: &[&[u8]]) -> Result<(f64, u8), BodyError> {
+    if lines.is_empty() || strip(slice(lines[0], 60, 80)) != b"RINEX VERSION / TYPE" {
         return Err(err(
             1,
             "expected 'RINEX VERSION / TYPE' in columns 61-80".into(),
@@ -223,7 +219,16 @@ fn header(
             ),
         ));
     }
-    let v2_system = v2_type.unwrap_or(b'G');
+    Ok((version, v2_type.unwrap_or(b'G')))
+}
+
+fn header(
+    lines: &[&[u8]],
+    header_labels: &[String],
+    nav: &mut NavRecords,
+) -> Result<Header, BodyError> {
+    let label = |l: &[u8]| strip(slice(l, 60, 80)).to_vec();
+    let (version, v2_system) = version_and_type(lines)?;
     let mut last_known = 1;
     for (i, &line) in lines.iter().enumerate().skip(1) {
         let lab = label(line);
@@ -293,15 +298,26 @@ fn v4_klobuchar(lines: &[&[u8]], i: usize, end: usize) -> Result<([f64; 4], [f64
 /// One record parsed (the part of the walk whose faults in the last line of a file without a final
 /// line end mean that the file was cut there).
 enum Parsed {
-    Record {
-        system: u8,
-        sat: String,
-        n_lines: usize,
-        toc_ns: i64,
-        values: Vec<f64>,
-    },
+    Record(Record),
     /// The record runs past the end of the file: the description for the warning.
     Cut(String),
+}
+
+/// A record's start and values, before the checks of its system.
+struct Record {
+    system: u8,
+    sat: String,
+    n_lines: usize,
+    toc_ns: i64,
+    values: Vec<f64>,
+}
+
+/// What a RINEX 4 record marker is followed by.
+enum Marker {
+    /// A record the reader reads, on the next line.
+    Record,
+    /// Something else, skipped (or the Klobuchar values, read): the walk goes on at the next marker.
+    Next(usize),
 }
 
 /// A fault inside a record: one of the reader's own (a file cut inside its last line may explain it),
@@ -329,6 +345,45 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
+    /// The time of clock of the record starting with `line` (its 1-based `lineno`), ns of its label.
+    fn toc_ns(&self, lineno: usize, line: &[u8]) -> Result<i64, Fault> {
+        let h = self.head;
+        let bad_start = || {
+            err(
+                lineno,
+                format!(
+                    "expected a record start 'sat yy mm dd hh mm ss', got {}",
+                    quoted(slice(line, 0, 23))
+                ),
+            )
+        };
+        for &c in h.seps {
+            match line.get(c) {
+                None => return Err(Fault::Crash(crashed(self.cursor, INDEX_ERROR))),
+                Some(&b' ') => {}
+                Some(_) => return Err(bad_start().into()),
+            }
+        }
+        if line.len() < h.first_field {
+            return Err(bad_start().into());
+        }
+        let mut ymdhm = [0i64; 5];
+        for (v, &(a, b)) in ymdhm.iter_mut().zip(&h.dates[..5]) {
+            *v = integer(lineno, slice(line, a, b), "the epoch")?;
+        }
+        let (a, b) = h.dates[5];
+        let sec = number(lineno, slice(line, a, b), "the epoch seconds")?;
+        let [mut y, mo, d, hh, mi] = ymdhm;
+        if !self.v3 {
+            if !(0..=99).contains(&y) {
+                return Err(err(lineno, format!("expected a two-digit year, got {y}")).into());
+            }
+            y += if y >= 80 { 1900 } else { 2000 };
+        }
+        Ok(epoch_ns(lineno, y, mo, d, hh, mi, sec)?)
+    }
+
+    /// The record starting at 0-based line `i`: its satellite, lines, time of clock and values.
     fn record(&mut self, i: usize) -> Result<Parsed, Fault> {
         let (lines, n, lineno) = (self.lines, self.lines.len(), i + 1);
         let line = lines[i];
@@ -388,54 +443,166 @@ impl Walk<'_> {
                 .into());
             }
         }
-        let h = self.head;
-        let bad_start = || {
-            err(
-                lineno,
-                format!(
-                    "expected a record start 'sat yy mm dd hh mm ss', got {}",
-                    quoted(slice(line, 0, 23))
-                ),
-            )
-        };
-        for &c in h.seps {
-            match line.get(c) {
-                None => return Err(Fault::Crash(crashed(self.cursor, INDEX_ERROR))),
-                Some(&b' ') => {}
-                Some(_) => return Err(bad_start().into()),
-            }
-        }
-        if line.len() < h.first_field {
-            return Err(bad_start().into());
-        }
-        let mut ymdhm = [0i64; 5];
-        for (v, &(a, b)) in ymdhm.iter_mut().zip(&h.dates[..5]) {
-            *v = integer(lineno, slice(line, a, b), "the epoch")?;
-        }
-        let (a, b) = h.dates[5];
-        let sec = number(lineno, slice(line, a, b), "the epoch seconds")?;
-        let [mut y, mo, d, hh, mi] = ymdhm;
-        if !self.v3 {
-            if !(0..=99).contains(&y) {
-                return Err(err(lineno, format!("expected a two-digit year, got {y}")).into());
-            }
-            y += if y >= 80 { 1900 } else { 2000 };
-        }
-        let toc_ns = epoch_ns(lineno, y, mo, d, hh, mi, sec)?;
+        let toc_ns = self.toc_ns(lineno, line)?;
         let mut vals = Vec::with_capacity(3 + 4 * (n_lines - 1));
-        values(lineno, line, h.first_field, 3, &mut vals)?;
+        values(lineno, line, self.head.first_field, 3, &mut vals)?;
         for q in 1..n_lines {
             self.cursor = lineno + q;
             values(lineno + q, lines[i + q], start, 4, &mut vals)?;
         }
-        Ok(Parsed::Record {
+        Ok(Parsed::Record(Record {
             system,
             sat,
             n_lines,
             toc_ns,
             values: vals,
-        })
+        }))
     }
+}
+
+/// The RINEX 4 record marker at 0-based line `i` (`> EPH G01 LNAV`): a record the reader reads follows,
+/// or the walk goes on at the next marker (the Klobuchar values of the first GPS ION record are read; other
+/// records are counted as unused).
+fn v4_marker(lines: &[&[u8]], i: usize, nav: &mut NavRecords) -> Result<Marker, BodyError> {
+    let (n, line, marker_line) = (lines.len(), lines[i], i + 1);
+    if line[0] != b'>' {
+        return Err(err(
+            marker_line,
+            format!(
+                "expected a record marker such as '> EPH G01 LNAV', got {}",
+                quoted(slice(line, 0, 40))
+            ),
+        ));
+    }
+    let mut words = tail(line, 1)
+        .split(|&b| is_space(b))
+        .filter(|w| !w.is_empty());
+    let kind = words.next().unwrap_or(b"");
+    let sat4 = words.next().unwrap_or(b"");
+    let message = words.next().unwrap_or(b"");
+    let system = slice(sat4, 0, 1);
+    let mut end = i + 1;
+    while end < n && !lines[end].starts_with(b">") {
+        end += 1;
+    }
+    if kind == b"EPH" && v4_message_read(system, message) {
+        if end == i + 1 {
+            return Err(err(
+                marker_line,
+                format!(
+                    "the record marker {} has no record after it",
+                    quoted(strip(line))
+                ),
+            ));
+        }
+        Ok(Marker::Record)
+    } else {
+        if kind == b"ION" && system == b"G" && message == b"LNAV" && nav.iono_alpha[0].is_nan() {
+            (nav.iono_alpha, nav.iono_beta) = v4_klobuchar(lines, i, end)?;
+        } else {
+            let key = format!("{} {} {}", decoded(kind), decoded(system), decoded(message));
+            count_unused(&mut nav.unused, key);
+        }
+        Ok(Marker::Next(end))
+    }
+}
+
+/// Record `rec` (its first line 1-based `lineno`, the Python guard's line `cursor`) checked for its
+/// system and appended to `nav`, or skipped (with a note) or counted as unused.
+fn store(nav: &mut NavRecords, rec: Record, lineno: usize, cursor: usize) -> Result<(), BodyError> {
+    let Record {
+        system,
+        sat,
+        toc_ns,
+        values: vals,
+        ..
+    } = rec;
+    match system {
+        b'S' => count_unused(&mut nav.unused, "EPH S SBAS".into()),
+        b'I' => count_unused(&mut nav.unused, "EPH I LNAV".into()),
+        b'R' => {
+            let orbit = &vals[3..];
+            whole(
+                lineno + 2,
+                orbit[7],
+                -7.0,
+                13.0,
+                "the GLONASS frequency channel",
+            )?;
+            nav.glonass_values
+                .extend_from_slice(&vals[..GLONASS_VALUES]);
+            nav.glonass_sats.push(sat);
+            nav.glonass_tb_ns.push(toc_ns);
+        }
+        _ => store_kepler(nav, sat, toc_ns, &vals, lineno, cursor)?,
+    }
+    Ok(())
+}
+
+/// A Keplerian record (G, E, C, J) appended to `nav`: a shape that is not an ellipse refused, an ellipse
+/// inside the Earth skipped with a note.
+fn store_kepler(
+    nav: &mut NavRecords,
+    sat: String,
+    toc_ns: i64,
+    vals: &[f64],
+    lineno: usize,
+    cursor: usize,
+) -> Result<(), BodyError> {
+    let orbit = &vals[3..];
+    let (sqrt_a, e) = (orbit[7], orbit[5]);
+    // (NaN, which `number` never gives, would be refused too)
+    if sqrt_a.is_nan() || sqrt_a <= 0.0 {
+        return Err(err(
+            lineno + 2,
+            format!(
+                "expected sqrt(A) > 0 m^0.5 (broadcast field 4), got {}",
+                py_float_repr(sqrt_a)
+            ),
+        ));
+    }
+    if !(0.0..1.0).contains(&e) {
+        return Err(err(
+            lineno + 2,
+            format!(
+                "expected an eccentricity in [0, 1) (broadcast field 2), got {}",
+                py_float_repr(e)
+            ),
+        ));
+    }
+    let a = sqrt_a * sqrt_a;
+    if a.is_infinite() {
+        return Err(crashed(
+            cursor,
+            "OverflowError: (34, 'Numerical result out of range')",
+        ));
+    }
+    // A perigee below the equatorial radius is inside the Earth.
+    if a * (1.0 - e) < WGS84_A_M {
+        nav.skips.push((
+            NavSkip::NotAnOrbit,
+            format!(
+                "{sat} at line {lineno} (sqrt(A) {} m^0.5, e {})",
+                py_format_g(sqrt_a),
+                py_format_g(e)
+            ),
+        ));
+        return Ok(());
+    }
+    whole(lineno + 5, orbit[18], 0.0, 9999.0, "the week")?;
+    if !(0.0..=604_800.0).contains(&orbit[8]) {
+        return Err(err(
+            lineno + 3,
+            format!(
+                "expected a time of ephemeris in [0, 604800] s, got {}",
+                py_float_repr(orbit[8])
+            ),
+        ));
+    }
+    nav.kepler_values.extend_from_slice(&vals[..KEPLER_VALUES]);
+    nav.kepler_sats.push(sat);
+    nav.kepler_toc_ns.push(toc_ns);
+    Ok(())
 }
 
 /// Reads the navigation file `text` (decompressed). `header_labels` are the labels of RINEX 2.11, 3.05
@@ -475,51 +642,15 @@ pub fn read_nav(text: &[u8], header_labels: &[String]) -> Result<NavRecords, Bod
             continue;
         }
         if version >= 4.0 {
-            if line[0] != b'>' {
-                return Err(err(
-                    marker_line,
-                    format!(
-                        "expected a record marker such as '> EPH G01 LNAV', got {}",
-                        quoted(slice(line, 0, 40))
-                    ),
-                ));
-            }
-            let mut words = tail(line, 1)
-                .split(|&b| is_space(b))
-                .filter(|w| !w.is_empty());
-            let kind = words.next().unwrap_or(b"");
-            let sat4 = words.next().unwrap_or(b"");
-            let message = words.next().unwrap_or(b"");
-            let system = slice(sat4, 0, 1);
-            let mut end = i + 1;
-            while end < n && !lines[end].starts_with(b">") {
-                end += 1;
-            }
-            if kind == b"EPH" && v4_message_read(system, message) {
-                if end == i + 1 {
-                    return Err(err(
-                        marker_line,
-                        format!(
-                            "the record marker {} has no record after it",
-                            quoted(strip(line))
-                        ),
-                    ));
+            match v4_marker(&lines, i, &mut nav)? {
+                Marker::Record => {
+                    i += 1; // the record follows in the layout of RINEX 3
+                    line = lines[i];
                 }
-                i += 1; // the record follows in the layout of RINEX 3
-                line = lines[i];
-            } else {
-                if kind == b"ION"
-                    && system == b"G"
-                    && message == b"LNAV"
-                    && nav.iono_alpha[0].is_nan()
-                {
-                    (nav.iono_alpha, nav.iono_beta) = v4_klobuchar(&lines, i, end)?;
-                } else {
-                    let key = format!("{} {} {}", decoded(kind), decoded(system), decoded(message));
-                    count_unused(&mut nav.unused, key);
+                Marker::Next(end) => {
+                    i = end;
+                    continue;
                 }
-                i = end;
-                continue;
             }
         }
         let lineno = i + 1;
@@ -548,209 +679,21 @@ pub fn read_nav(text: &[u8], header_labels: &[String]) -> Result<NavRecords, Bod
                 break;
             }
         };
-        let (system, sat, n_lines, toc_ns, vals) = match parsed {
+        let rec = match parsed {
             Parsed::Cut(what) => {
                 // the last record, cut by the end of the file: the records before it are complete
                 nav.skips.push((NavSkip::CutRecord, what));
                 break;
             }
-            Parsed::Record {
-                system,
-                sat,
-                n_lines,
-                toc_ns,
-                values,
-            } => (system, sat, n_lines, toc_ns, values),
+            Parsed::Record(rec) => rec,
         };
-        match system {
-            b'S' => count_unused(&mut nav.unused, "EPH S SBAS".into()),
-            b'I' => count_unused(&mut nav.unused, "EPH I LNAV".into()),
-            b'R' => {
-                let orbit = &vals[3..];
-                whole(
-                    lineno + 2,
-                    orbit[7],
-                    -7.0,
-                    13.0,
-                    "the GLONASS frequency channel",
-                )?;
-                nav.glonass_values
-                    .extend_from_slice(&vals[..GLONASS_VALUES]);
-                nav.glonass_sats.push(sat);
-                nav.glonass_tb_ns.push(toc_ns);
-            }
-            _ => {
-                // G, E, C, J: refuse a shape that is not an ellipse, skip an ellipse inside the Earth
-                let orbit = &vals[3..];
-                let (sqrt_a, e) = (orbit[7], orbit[5]);
-                // (NaN, which `number` never gives, would be refused too)
-                if sqrt_a.is_nan() || sqrt_a <= 0.0 {
-                    return Err(err(
-                        lineno + 2,
-                        format!(
-                            "expected sqrt(A) > 0 m^0.5 (broadcast field 4), got {}",
-                            py_float_repr(sqrt_a)
-                        ),
-                    ));
-                }
-                if !(0.0..1.0).contains(&e) {
-                    return Err(err(
-                        lineno + 2,
-                        format!(
-                            "expected an eccentricity in [0, 1) (broadcast field 2), got {}",
-                            py_float_repr(e)
-                        ),
-                    ));
-                }
-                let a = sqrt_a * sqrt_a;
-                if a.is_infinite() {
-                    return Err(crashed(
-                        walk.cursor,
-                        "OverflowError: (34, 'Numerical result out of range')",
-                    ));
-                }
-                // A perigee below the equatorial radius is inside the Earth.
-                if a * (1.0 - e) < WGS84_A_M {
-                    nav.skips.push((
-                        NavSkip::NotAnOrbit,
-                        format!(
-                            "{sat} at line {lineno} (sqrt(A) {} m^0.5, e {})",
-                            py_format_g(sqrt_a),
-                            py_format_g(e)
-                        ),
-                    ));
-                    i += n_lines;
-                    continue;
-                }
-                whole(lineno + 5, orbit[18], 0.0, 9999.0, "the week")?;
-                if !(0.0..=604_800.0).contains(&orbit[8]) {
-                    return Err(err(
-                        lineno + 3,
-                        format!(
-                            "expected a time of ephemeris in [0, 604800] s, got {}",
-                            py_float_repr(orbit[8])
-                        ),
-                    ));
-                }
-                nav.kepler_values.extend_from_slice(&vals[..KEPLER_VALUES]);
-                nav.kepler_sats.push(sat);
-                nav.kepler_toc_ns.push(toc_ns);
-            }
-        }
+        let n_lines = rec.n_lines;
+        store(&mut nav, rec, lineno, walk.cursor)?;
         i += n_lines;
     }
     Ok(nav)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn labels() -> Vec<String> {
-        ["RINEX VERSION / TYPE", "END OF HEADER", "LEAP SECONDS"]
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
-    }
-
-    fn header_line(content: &str, label: &str) -> String {
-        format!("{content:<60}{label:<20}\n")
-    }
-
-    /// A RINEX 3.04 GPS record with sqrt(A) and e as given (other fields plausible).
-    fn gps_record(sqrt_a: &str, e: &str) -> String {
-        let f = |v: [&str; 4]| format!("    {:>19}{:>19}{:>19}{:>19}\n", v[0], v[1], v[2], v[3]);
-        let mut s = format!(
-            "G01 2021 09 22 00 00 00{:>19}{:>19}{:>19}\n",
-            "1.0D-04", "1.0D-12", "0.0D+00"
-        );
-        s += &f(["1.0D+01", "1.0D+01", "4.0D-09", "1.0D+00"]);
-        s += &f(["1.0D-06", e, "1.0D-06", sqrt_a]);
-        s += &f(["2.6D+05", "1.0D-08", "1.0D+00", "1.0D-08"]);
-        s += &f(["9.6D-01", "2.0D+02", "1.0D+00", "-8.0D-09"]);
-        s += &f(["1.0D-10", "1.0D+00", "2.1750D+03", "0.0D+00"]);
-        s += &f(["2.0D+00", "0.0D+00", "-1.0D-08", "1.0D+01"]);
-        s += &f(["2.5D+05", "4.0D+00", "", ""]);
-        s
-    }
-
-    fn file(body: &str) -> String {
-        header_line(
-            "     3.04           N: GNSS NAV DATA    G: GPS",
-            "RINEX VERSION / TYPE",
-        ) + &header_line("    18", "LEAP SECONDS")
-            + &header_line("", "END OF HEADER")
-            + body
-    }
-
-    #[test]
-    fn a_record_is_read_with_its_header_values() {
-        let nav = read_nav(
-            file(&gps_record("5.153D+03", "1.0D-02")).as_bytes(),
-            &labels(),
-        )
-        .unwrap();
-        assert_eq!(nav.kepler_sats, ["G01"]);
-        assert_eq!(nav.leap_seconds, Some(18));
-        assert_eq!(nav.kepler_values.len(), KEPLER_VALUES);
-        // af0, then iode (broadcast orbit 1, field 1), sqrt(A) (line 2, field 4), week (line 5, field 3)
-        assert_eq!(nav.kepler_values[0], 1.0e-4);
-        assert_eq!(nav.kepler_values[3], 10.0);
-        assert_eq!(nav.kepler_values[3 + 7], 5153.0);
-        assert_eq!(nav.kepler_values[3 + 18], 2175.0);
-        // 2021-09-22 is day 18892 since 1970-01-01
-        assert_eq!(nav.kepler_toc_ns, [18_892 * 86_400 * 1_000_000_000]);
-        assert!(nav.iono_alpha[0].is_nan() && nav.skips.is_empty());
-    }
-
-    #[test]
-    fn an_ellipse_inside_the_earth_is_skipped_and_a_parabola_refused() {
-        // a = 1000^2 m, far below the Earth's radius
-        let nav = read_nav(
-            file(&gps_record("1.0D+03", "1.0D-02")).as_bytes(),
-            &labels(),
-        )
-        .unwrap();
-        assert!(nav.kepler_sats.is_empty());
-        assert_eq!(nav.skips[0].0, NavSkip::NotAnOrbit);
-        let e = read_nav(
-            file(&gps_record("5.153D+03", "1.0D+00")).as_bytes(),
-            &labels(),
-        );
-        assert_eq!(
-            e,
-            Err(err(
-                6,
-                "expected an eccentricity in [0, 1) (broadcast field 2), got 1.0".into()
-            ))
-        );
-        let e = read_nav(
-            file(&gps_record("1.0D+200", "0.0D+00")).as_bytes(),
-            &labels(),
-        );
-        assert!(
-            matches!(e, Err(BodyError::Malformed { line: Some(11), message }) if message.contains("OverflowError"))
-        );
-    }
-
-    #[test]
-    fn a_file_cut_inside_its_last_record_gives_the_records_before_it() {
-        let rec = gps_record("5.153D+03", "1.0D-02");
-        let text = file(&(rec.clone() + &rec[..rec.len() / 2]));
-        let nav = read_nav(text.as_bytes(), &labels()).unwrap();
-        assert_eq!(nav.kepler_sats.len(), 1);
-        assert_eq!(nav.skips[0].0, NavSkip::CutRecord);
-    }
-
-    #[test]
-    fn a_missing_end_of_header_is_named_after_the_last_known_label() {
-        let text = header_line("     3.04           N", "RINEX VERSION / TYPE")
-            + &header_line("    18", "LEAP SECONDS")
-            + &header_line("x", "MY OWN LABEL")
-            + &header_line("x", "MY OWN LABEL");
-        assert_eq!(
-            read_nav(text.as_bytes(), &labels()),
-            Err(err(3, "missing header line 'END OF HEADER': expected it here, after the last line with a known header label".into()))
-        );
-    }
-}
+#[path = "nav_tests.rs"]
+mod tests;

@@ -186,8 +186,12 @@ fn walk(lines: &[&[u8]], ended: bool, opts: &BodyOptions) -> Result<Walk, BodyEr
     let v3 = opts.v3;
     let n_lines = lines.len();
     let n_types2 = opts.layouts.first().map_or(0, |l| l.n_fields);
-    let sat_lines2 = n_types2.div_ceil(5);
-    let layout_of = |sys: u8| opts.layouts.iter().position(|l| l.key == sys);
+    let body = Body {
+        lines,
+        opts,
+        n_types2,
+        sat_lines2: n_types2.div_ceil(5),
+    };
     let mut w = Walk::default();
     let mut previous: Option<(i64, usize)> = None;
     let mut block: Option<(usize, usize)> = None;
@@ -218,17 +222,7 @@ fn walk(lines: &[&[u8]], ended: bool, opts: &BodyOptions) -> Result<Walk, BodyEr
         }
         let saved = (w.time_ns.len(), w.records.len());
         let mut reach = 0usize;
-        let step = epoch_block(
-            lines,
-            i,
-            opts,
-            n_types2,
-            sat_lines2,
-            &layout_of,
-            &mut w,
-            &mut previous,
-            &mut reach,
-        );
+        let step = epoch_block(&body, i, &mut w, &mut previous, &mut reach);
         match step {
             Ok(Step::Cut(note)) => {
                 w.cut = Some(note);
@@ -266,20 +260,33 @@ enum Step {
     Cut(String),
 }
 
-/// One epoch block starting at line `i`: appended to `w`; `reach` is set to the end of its lines once
-/// known (to tell a fault at the end of a file without a line end from one inside it).
-#[allow(clippy::too_many_arguments)]
-fn epoch_block(
-    lines: &[&[u8]],
-    i: usize,
-    opts: &BodyOptions,
+/// The lines of a body and what the header says about them, for the walk over its epochs.
+struct Body<'a> {
+    lines: &'a [&'a [u8]],
+    opts: &'a BodyOptions,
+    /// RINEX 2: the observation fields of a record, and the lines they take (5 per line).
     n_types2: usize,
     sat_lines2: usize,
-    layout_of: &dyn Fn(u8) -> Option<usize>,
+}
+
+impl Body<'_> {
+    /// Index into `BodyOptions::layouts` of system `sys`'s layout (RINEX 3).
+    fn layout_of(&self, sys: u8) -> Option<usize> {
+        self.opts.layouts.iter().position(|l| l.key == sys)
+    }
+}
+
+/// One epoch block starting at line `i`: appended to `w`; `reach` is set to the end of its lines once
+/// known (to tell a fault at the end of a file without a line end from one inside it).
+fn epoch_block(
+    b: &Body,
+    i: usize,
     w: &mut Walk,
     previous: &mut Option<(i64, usize)>,
     reach: &mut usize,
 ) -> Result<Step, BodyError> {
+    let (lines, opts) = (b.lines, b.opts);
+    let sat_lines2 = b.sat_lines2;
     let v3 = opts.v3;
     let n_lines = lines.len();
     let lineno = i + 1;
@@ -315,38 +322,79 @@ fn epoch_block(
         ));
     }
     if event {
-        for (j, line) in lines.iter().enumerate().take(i + 1 + n).skip(i + 1) {
-            let label = strip(slice(line, 60, 80));
-            let known = opts.header_labels.iter().any(|h| h.as_bytes() == label);
-            if !known || line.first() == Some(&b'>') {
-                return Err(err(
-                    lineno,
-                    format!(
-                        "epoch flag {flag} announces {n} header records, but line {} is not one (no header \
-                         label in columns 61-80)",
-                        j + 1
-                    ),
-                ));
-            }
-            if LAYOUT_LABELS.contains(&label) {
-                // the records after it would be laid out otherwise: reading them with the old types (or
-                // factors) would put values under wrong codes
-                return Err(err(
-                    j + 1,
-                    format!(
-                        "'{}' inside the data (epoch flag {flag} at line {lineno}) changes how the records \
-                         after it are laid out, which this reader does not follow: split the file at that \
-                         epoch with a RINEX tool (gfzrnx -splice, teqc) and read the parts",
-                        String::from_utf8_lossy(label)
-                    ),
-                ));
-            }
-        }
+        check_header_records(b, i, n, flag)?;
         return Ok(Step::Next {
             next: i + 1 + n,
             block: None,
         });
     }
+    let ids = satellite_ids(b, i, n, n_head)?;
+    if flag == 6 {
+        // cycle-slip records repeat observations of an epoch already given
+        return Ok(Step::Next {
+            next: i + n_head + n_body,
+            block: None,
+        });
+    }
+    let Some(t_ns) = ep.time_ns else {
+        return Err(err(
+            lineno,
+            "an observation epoch needs its date and time".into(),
+        ));
+    };
+    check_increasing(previous, t_ns, lineno)?;
+    let e = w.time_ns.len();
+    w.time_ns.push(t_ns);
+    w.flag.push(flag);
+    w.clock_s.push(ep.clock_s);
+    let start = i + n_head;
+    push_records(b, w, &ids, e, start, lineno)?;
+    Ok(Step::Next {
+        next: start + n * per_sat,
+        block: Some((lineno, n)),
+    })
+}
+
+/// The `n` records of an event epoch (flag 2-5) at line `i`: header records, none of them one that
+/// changes how the observation records after it are laid out.
+fn check_header_records(b: &Body, i: usize, n: usize, flag: u8) -> Result<(), BodyError> {
+    let (lines, opts) = (b.lines, b.opts);
+    let lineno = i + 1;
+    for (j, line) in lines.iter().enumerate().take(i + 1 + n).skip(i + 1) {
+        let label = strip(slice(line, 60, 80));
+        let known = opts.header_labels.iter().any(|h| h.as_bytes() == label);
+        if !known || line.first() == Some(&b'>') {
+            return Err(err(
+                lineno,
+                format!(
+                    "epoch flag {flag} announces {n} header records, but line {} is not one (no header \
+                     label in columns 61-80)",
+                    j + 1
+                ),
+            ));
+        }
+        if LAYOUT_LABELS.contains(&label) {
+            // the records after it would be laid out otherwise: reading them with the old types (or
+            // factors) would put values under wrong codes
+            return Err(err(
+                j + 1,
+                format!(
+                    "'{}' inside the data (epoch flag {flag} at line {lineno}) changes how the records \
+                     after it are laid out, which this reader does not follow: split the file at that \
+                     epoch with a RINEX tool (gfzrnx -splice, teqc) and read the parts",
+                    String::from_utf8_lossy(label)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The ids of the `n` satellites of the observation epoch at line `i` (RINEX 3: one per record line;
+/// RINEX 2: listed on the epoch line and its `n_head - 1` continuation lines).
+fn satellite_ids(b: &Body, i: usize, n: usize, n_head: usize) -> Result<Vec<[u8; 3]>, BodyError> {
+    let (lines, opts) = (b.lines, b.opts);
+    let (v3, n_lines, lineno) = (opts.v3, lines.len(), i + 1);
     let mut ids: Vec<[u8; 3]> = Vec::with_capacity(n);
     if v3 {
         for (j, line) in lines.iter().enumerate().take(i + 1 + n).skip(i + 1) {
@@ -396,7 +444,8 @@ fn epoch_block(
             )?);
         }
     }
-    if !v3 && n % 12 == 0 && i + n_head < n_lines && continues_sat_list(lines[i + n_head]) {
+    if !v3 && n.is_multiple_of(12) && i + n_head < n_lines && continues_sat_list(lines[i + n_head])
+    {
         return Err(err(
             lineno,
             format!(
@@ -405,19 +454,15 @@ fn epoch_block(
             ),
         ));
     }
-    if flag == 6 {
-        // cycle-slip records repeat observations of an epoch already given
-        return Ok(Step::Next {
-            next: i + n_head + n_body,
-            block: None,
-        });
-    }
-    let Some(t_ns) = ep.time_ns else {
-        return Err(err(
-            lineno,
-            "an observation epoch needs its date and time".into(),
-        ));
-    };
+    Ok(ids)
+}
+
+/// Refuses an epoch time `t_ns` (line `lineno`) not after the previous epoch's; it becomes the previous.
+fn check_increasing(
+    previous: &mut Option<(i64, usize)>,
+    t_ns: i64,
+    lineno: usize,
+) -> Result<(), BodyError> {
     if let Some((t_prev, at)) = *previous {
         if t_ns <= t_prev {
             let what = if t_ns == t_prev {
@@ -436,11 +481,22 @@ fn epoch_block(
         }
     }
     *previous = Some((t_ns, lineno));
-    let e = w.time_ns.len();
-    w.time_ns.push(t_ns);
-    w.flag.push(flag);
-    w.clock_s.push(ep.clock_s);
-    let start = i + n_head;
+    Ok(())
+}
+
+/// The records of satellites `ids` of epoch `e` (epoch line `lineno`), from line `start`, appended to
+/// `w` once their fields are checked.
+fn push_records(
+    b: &Body,
+    w: &mut Walk,
+    ids: &[[u8; 3]],
+    e: usize,
+    start: usize,
+    lineno: usize,
+) -> Result<(), BodyError> {
+    let (lines, opts) = (b.lines, b.opts);
+    let (v3, n_types2, sat_lines2) = (opts.v3, b.n_types2, b.sat_lines2);
+    let per_sat = if v3 { 1 } else { sat_lines2 };
     let first_record = w.records.len();
     for (j, sat) in ids.iter().enumerate() {
         let base = start + j * per_sat;
@@ -454,7 +510,7 @@ fn epoch_block(
             ));
         }
         let layout = if v3 {
-            let Some(k) = layout_of(sat[0]) else {
+            let Some(k) = b.layout_of(sat[0]) else {
                 return Err(err(
                     base + 1,
                     format!(
@@ -484,10 +540,7 @@ fn epoch_block(
             layout,
         });
     }
-    Ok(Step::Next {
-        next: start + n * per_sat,
-        block: Some((lineno, n)),
-    })
+    Ok(())
 }
 
 /// The record text of `r`: RINEX 3 the columns after the satellite id; RINEX 2 its lines, each padded to

@@ -128,63 +128,7 @@ pub fn validate(epoch: &DdEpoch, k: usize) -> Result<()> {
         ));
     }
     for (i, s) in epoch.signals.iter().enumerate() {
-        let bad =
-            |what: &str| Error::out_of_range("signals", format!("epoch {k}, signal {i}: {what}"));
-        if s.slot >= MAX_FREQUENCIES {
-            return Err(bad(&format!(
-                "expected slot < {MAX_FREQUENCIES}, got {}",
-                s.slot
-            )));
-        }
-        if !(s.wavelength_m > 0.0 && s.wavelength_m < 100.0) {
-            return Err(bad(&format!(
-                "expected a wavelength in (0, 100) m, got {}",
-                s.wavelength_m
-            )));
-        }
-        for (name, v) in [
-            ("sigma_code_m", s.sigma_code_m),
-            ("sigma_phase_m", s.sigma_phase_m),
-        ] {
-            if !(v > 0.0 && v.is_finite()) {
-                return Err(bad(&format!("expected {name} > 0, got {v}")));
-            }
-        }
-        let values = [
-            s.base_code_m,
-            s.rover_code_m,
-            s.base_phase_cycles,
-            s.rover_phase_cycles,
-            s.base.clock_s,
-            s.rover.clock_s,
-            s.base.elevation_rad,
-        ];
-        if values.iter().any(|v| !v.is_finite())
-            || s.base.position_m.iter().any(|v| !v.is_finite())
-            || s.rover.position_m.iter().any(|v| !v.is_finite())
-        {
-            return Err(Error::NonFinite {
-                name: "signals (observations or satellite geometry)",
-                index: i,
-            }
-            .at_epoch(k));
-        }
-        if s.base_code_m.abs() > MAX_ABS_CODE_M
-            || s.rover_code_m.abs() > MAX_ABS_CODE_M
-            || s.base_phase_cycles.abs() > MAX_ABS_PHASE_CYCLES
-            || s.rover_phase_cycles.abs() > MAX_ABS_PHASE_CYCLES
-        {
-            return Err(bad(&format!(
-                "expected |code| <= {MAX_ABS_CODE_M:e} m and |phase| <= {MAX_ABS_PHASE_CYCLES:e} cycles, \
-                 got code {} / {} m, phase {} / {} cycles",
-                s.base_code_m, s.rover_code_m, s.base_phase_cycles, s.rover_phase_cycles
-            )));
-        }
-        if (s.base.position_m - epoch.base_m).norm() < 1.0
-            || (s.rover.position_m - epoch.rover_prior_m).norm() < 1.0
-        {
-            return Err(bad("satellite position at the antenna"));
-        }
+        validate_signal(epoch, s, i, k)?;
     }
     for (i, s) in epoch.signals.iter().enumerate() {
         if let Some(j) = epoch.signals[..i].iter().position(|t| {
@@ -198,6 +142,68 @@ pub fn validate(epoch: &DdEpoch, k: usize) -> Result<()> {
                 ),
             ));
         }
+    }
+    Ok(())
+}
+
+/// Checks signal `i` of epoch `k` on its own: slot, wavelength, sigmas, finite and bounded observations,
+/// a satellite away from the antennas.
+fn validate_signal(epoch: &DdEpoch, s: &SignalPair, i: usize, k: usize) -> Result<()> {
+    let bad = |what: &str| Error::out_of_range("signals", format!("epoch {k}, signal {i}: {what}"));
+    if s.slot >= MAX_FREQUENCIES {
+        return Err(bad(&format!(
+            "expected slot < {MAX_FREQUENCIES}, got {}",
+            s.slot
+        )));
+    }
+    if !(s.wavelength_m > 0.0 && s.wavelength_m < 100.0) {
+        return Err(bad(&format!(
+            "expected a wavelength in (0, 100) m, got {}",
+            s.wavelength_m
+        )));
+    }
+    for (name, v) in [
+        ("sigma_code_m", s.sigma_code_m),
+        ("sigma_phase_m", s.sigma_phase_m),
+    ] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(bad(&format!("expected {name} > 0, got {v}")));
+        }
+    }
+    let values = [
+        s.base_code_m,
+        s.rover_code_m,
+        s.base_phase_cycles,
+        s.rover_phase_cycles,
+        s.base.clock_s,
+        s.rover.clock_s,
+        s.base.elevation_rad,
+    ];
+    if values.iter().any(|v| !v.is_finite())
+        || s.base.position_m.iter().any(|v| !v.is_finite())
+        || s.rover.position_m.iter().any(|v| !v.is_finite())
+    {
+        return Err(Error::NonFinite {
+            name: "signals (observations or satellite geometry)",
+            index: i,
+        }
+        .at_epoch(k));
+    }
+    if s.base_code_m.abs() > MAX_ABS_CODE_M
+        || s.rover_code_m.abs() > MAX_ABS_CODE_M
+        || s.base_phase_cycles.abs() > MAX_ABS_PHASE_CYCLES
+        || s.rover_phase_cycles.abs() > MAX_ABS_PHASE_CYCLES
+    {
+        return Err(bad(&format!(
+            "expected |code| <= {MAX_ABS_CODE_M:e} m and |phase| <= {MAX_ABS_PHASE_CYCLES:e} cycles, \
+             got code {} / {} m, phase {} / {} cycles",
+            s.base_code_m, s.rover_code_m, s.base_phase_cycles, s.rover_phase_cycles
+        )));
+    }
+    if (s.base.position_m - epoch.base_m).norm() < 1.0
+        || (s.rover.position_m - epoch.rover_prior_m).norm() < 1.0
+    {
+        return Err(bad("satellite position at the antenna"));
     }
     Ok(())
 }

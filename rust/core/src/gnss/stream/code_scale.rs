@@ -5,11 +5,11 @@ use std::borrow::Cow;
 
 use crate::gnss::rtk::{BaselineSolution, DdEpoch};
 
-/// Degrees of freedom of code residuals before [`CodeNoiseScale`] departs from the model (its relative
-/// standard error is then `sqrt(2 / dof)` = 20 %).
+/// Degrees of freedom of code residuals before the code noise scale (`CodeNoiseScale`) departs from the
+/// model (its relative standard error is then `sqrt(2 / dof)` = 20 %).
 pub const CODE_SCALE_MIN_DOF: f64 = 50.0;
 
-/// Range of the code variance factor applied, both ways (see [`CodeNoiseScale`]): at least `1 / 4` (a
+/// Range of the code variance factor applied, both ways (see `CodeNoiseScale`): at least `1 / 4` (a
 /// sigma half the model's: 0.15 m + 0.15 m / sin el, about what a geodetic receiver's code shows with
 /// multipath), at most `10^2`. The floor: the estimate comes from the session's first 50 degrees of
 /// freedom (a few minutes, one satellite geometry), while code multipath changes over tens of minutes,
