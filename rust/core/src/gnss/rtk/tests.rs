@@ -317,8 +317,8 @@ fn bad_input_is_refused_with_a_named_error() {
 /// fixes (measured with the gate of `rtk/constrained.rs`: 1 and 0 of 200; the gate's ratio against the
 /// 200-candidate lists' cutoff refuses what the lists cannot check, and before it the rule fixed many
 /// more, unguarded), no wrong integer is accepted over 200 epochs (wrong-fix rate < 1.5 % at 95 %), and
-/// a fixed epoch's baselines agree with their covariances and its rotation with the truth within 4 times the largest
-/// baseline sigma over its length.
+/// a fixed epoch's baselines agree with their covariances and its rotation with the truth within 4 times
+/// the largest baseline sigma over its length.
 #[test]
 fn attitude_with_three_antennas_fixes_more_and_finds_the_rotation() {
     let body = [[1.2, 0.0, 0.0], [0.0, 0.05, 0.9]];
