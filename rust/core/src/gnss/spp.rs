@@ -118,7 +118,6 @@ pub fn single_point(
         opts.frequencies,
         &out.clock_s,
         &out.position_m,
-        None,
     );
     Ok(out)
 }
@@ -147,12 +146,11 @@ pub fn single_point_position(
 }
 
 /// Geometry (`obs.sats` order) seen from `position_m` at `epoch` of every satellite `receiver` observes
-/// there (a finite code or phase in a slot below `frequencies`) and, where `systems` is given, of one
-/// of them, with the receiver's clock of the satellite's system (else the first finite one); `None`
-/// for the others, where the satellite has no usable ephemeris, or where no clock is finite. Satellites
-/// not observed are left out because nothing selects their signals: computing them cost as much as
-/// the code solution itself.
-#[allow(clippy::too_many_arguments)]
+/// there (a finite code or phase in a slot below `frequencies`), with the receiver's clock of the
+/// satellite's system (else the first finite one); `None` for the others, where the satellite has no
+/// usable ephemeris, or where no clock is finite. Satellites not observed are left out because nothing
+/// selects their signals: computing them cost as much as the code solution itself. Which systems are
+/// used is the engine's signal selection's to decide, not the geometry's.
 pub fn observed_geometry(
     obs: &Observations,
     receiver: usize,
@@ -161,7 +159,6 @@ pub fn observed_geometry(
     frequencies: usize,
     clock_s: &[f64; N_SYSTEMS],
     position_m: &Vector3<f64>,
-    systems: Option<&[System]>,
 ) -> Vec<Option<SatGeometry>> {
     let t = obs.time_gpst_ns[epoch];
     let rx = &obs.receivers[receiver];
@@ -172,9 +169,6 @@ pub fn observed_geometry(
         .iter()
         .enumerate()
         .map(|(k, &id)| {
-            if systems.is_some_and(|s| !s.contains(&id.system)) {
-                return None;
-            }
             let observed = (0..slots).any(|slot| {
                 let i = obs.index(epoch, k, slot);
                 rx.code_m[i].is_finite() || rx.phase_cycles[i].is_finite()

@@ -470,6 +470,11 @@ impl Engine {
         let (b, v) = (&obs.receivers[0], &obs.receivers[r]);
         let mut signals = Vec::new();
         for (s, &sat) in self.sats.iter().enumerate() {
+            // The one place that decides which systems are used: every mode's double differences and
+            // the grid's single differences come from these pairs.
+            if !self.opts.systems.contains(&sat.system) {
+                continue;
+            }
             let (Some(bg), Some(rg)) = (&base_geometry[s], &rover_geometry[s]) else {
                 continue;
             };

@@ -71,20 +71,9 @@ impl Engine {
                         prior = Some(s.position_m);
                         // The base at its surveyed position: the code solution's own geometry is
                         // not used, so not computed.
-                        let (at, systems) = match given {
-                            Some(g) => (Vector3::from(g), Some(opts.systems.as_slice())),
-                            None => (s.position_m, None),
-                        };
-                        s.geometry = observed_geometry(
-                            obs,
-                            r,
-                            k,
-                            eph,
-                            opts.frequencies,
-                            &s.clock_s,
-                            &at,
-                            systems,
-                        );
+                        let at = given.map_or(s.position_m, Vector3::from);
+                        s.geometry =
+                            observed_geometry(obs, r, k, eph, opts.frequencies, &s.clock_s, &at);
                     }
                     out.push(spp);
                 }

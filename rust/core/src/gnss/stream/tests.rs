@@ -10,3 +10,4 @@ mod grid;
 mod refusals;
 mod slips;
 mod streaming;
+mod systems;
