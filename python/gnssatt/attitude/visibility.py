@@ -236,6 +236,22 @@ def visibility_sets(
         Non-finite or mismatched times and axes, a zero axis, ``half_angle_deg`` outside (0, 180]
         (:class:`~gnssatt.errors.InvalidTypeError` for a ``receiver`` or ``constellation`` of another type,
         values that are not real numbers).
+
+    Examples
+    --------
+    An antenna pointing at the zenith (the orbital frame's z) of a 500 km orbit receives the GPS satellites
+    above its horizon (z >= 0) and not those below; with a 180 deg half-angle nothing that the Earth leaves
+    in view is invisible:
+
+    >>> import numpy as np
+    >>> from gnssatt.sim import OrbitalReceiver, gps_nominal
+    >>> from gnssatt.attitude.visibility import visibility_sets
+    >>> receiver, gps = OrbitalReceiver(altitude_m=500e3, inclination_deg=51.6), gps_nominal()
+    >>> visible, invisible = visibility_sets(receiver, gps, [0.0], [[0.0, 0.0, 1.0]])[0]
+    >>> bool(np.all(visible[:, 2] >= 0.0)), bool(np.all(invisible[:, 2] < 0.0))
+    (True, True)
+    >>> visibility_sets(receiver, gps, [0.0], [[0.0, 0.0, 1.0]], half_angle_deg=180.0)[0][1].shape
+    (0, 3)
     """
     from gnssatt.orbit.constellation import Constellation
     from gnssatt.orbit.line_of_sight import line_of_sight

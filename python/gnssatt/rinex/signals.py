@@ -1,11 +1,13 @@
 """The signal of each system and frequency slot of an observation file: which RINEX observation codes
 (code, phase, Doppler, signal strength) fill slot 0, 1, 2 of the engine (``rust/core/src/gnss/signal.rs``).
 
-| slot | GPS | GLONASS | Galileo | BeiDou | QZSS |
-|---|---|---|---|---|---|
-| 0 | L1 (band 1) | G1 (band 1) | E1 (band 1) | B1I (band 2; band 1 before RINEX 3.03) | L1 (band 1) |
-| 1 | L2 (band 2) | G2 (band 2) | E5b (band 7) | B2I/B2b (band 7) | L2 (band 2) |
-| 2 | L5 (band 5) | G3 (band 3) | E5a (band 5) | B3I (band 6) | L5 (band 5) |
+====  ===========  ===========  ============  ======================================  ===========
+slot  GPS          GLONASS      Galileo       BeiDou                                  QZSS
+====  ===========  ===========  ============  ======================================  ===========
+0     L1 (band 1)  G1 (band 1)  E1 (band 1)   B1I (band 2; band 1 before RINEX 3.03)  L1 (band 1)
+1     L2 (band 2)  G2 (band 2)  E5b (band 7)  B2I/B2b (band 7)                        L2 (band 2)
+2     L5 (band 5)  G3 (band 3)  E5a (band 5)  B3I (band 6)                            L5 (band 5)
+====  ===========  ===========  ============  ======================================  ===========
 
 Why these exclusions: from RINEX 3.03 on, BeiDou band 1 is B1C (1575.42 MHz), another carrier than B1I;
 GLONASS bands 4 and 6 (G1a/G2a) are CDMA signals on fixed carriers, not the FDMA carriers of slots 0/1.

@@ -3,6 +3,7 @@ carrier-phase first differences between the master and slave antennas, and the r
 solutions.
 
 Conventions (``docs/conventions.md``, "Gyro + GNSS filter"):
+
 - Attitude is a scipy ``Rotation`` body -> ECI; the body rate ``omega`` is relative to ECI, body axes, rad/s.
 - Motion: orbital-frame hold plus small oscillations,
   ``R_eci_from_body(t) = R_eci_from_orbital(t) exp([a(t) x])`` with ``a_j(t) = A_j sin(2 pi t / T_j + p_j)``.
