@@ -29,7 +29,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
-from valid_calls import VALID_CALLS
+from valid_calls import CALLS
 
 from gnssatt import geometry, rotation, sim
 from gnssatt.attitude import (
@@ -185,37 +185,37 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "rotation.euler_to_dcm",
         rotation.euler_to_dcm,
-        VALID_CALLS["gnssatt.rotation.euler_to_dcm"],
+        CALLS["gnssatt.rotation.euler_to_dcm"].build,
         (Arg("seq", "choice"), Arg("angles", "array", shapes=ARRAY_SHAPE_3), Arg("degrees", "flag")),
     ),
     Function(
         "rotation.dcm_to_euler",
         rotation.dcm_to_euler,
-        VALID_CALLS["gnssatt.rotation.dcm_to_euler"],
+        CALLS["gnssatt.rotation.dcm_to_euler"].build,
         (Arg("seq", "choice"), Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),))),
     ),
     Function(
         "rotation.quat_to_dcm",
         rotation.quat_to_dcm,
-        VALID_CALLS["gnssatt.rotation.quat_to_dcm"],
+        CALLS["gnssatt.rotation.quat_to_dcm"].build,
         (Arg("quat", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),),
     ),
     Function(
         "rotation.dcm_to_quat",
         rotation.dcm_to_quat,
-        VALID_CALLS["gnssatt.rotation.dcm_to_quat"],
+        CALLS["gnssatt.rotation.dcm_to_quat"].build,
         (Arg("dcm", "array", shapes=MATRIX_33, out_of_range=(2 * np.eye(3),)),),
     ),
     Function(
         "rotation.nearest_rotation",
         rotation.nearest_rotation,
-        VALID_CALLS["gnssatt.rotation.nearest_rotation"],
+        CALLS["gnssatt.rotation.nearest_rotation"].build,
         (Arg("matrix", "array", shapes=MATRIX_33),),
     ),
     Function(
         "matrix_method.matrix_attitude",
         matrix_method.matrix_attitude,
-        VALID_CALLS["gnssatt.matrix_attitude"],
+        CALLS["gnssatt.matrix_attitude"].build,
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -231,7 +231,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "vector_attitude.triad",
         vector_attitude.triad,
-        VALID_CALLS["gnssatt.triad"],
+        CALLS["gnssatt.triad"].build,
         tuple(Arg(n, "array", shapes=VEC3_OR_N3) for n in ("b1", "b2", "r1", "r2")),
     ),
     Function(
@@ -254,7 +254,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "magnetometer.yaw_from_magnetometer",
         magnetometer.yaw_from_magnetometer,
-        VALID_CALLS["gnssatt.yaw_from_magnetometer"],
+        CALLS["gnssatt.yaw_from_magnetometer"].build,
         (
             Arg("b_body", "array", shapes=VEC3_OR_N3),
             Arg("b_orbital", "array", shapes=VEC3_OR_N3),
@@ -266,7 +266,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "geometry.range_difference_fisher",
         geometry.range_difference_fisher,
-        VALID_CALLS["gnssatt.geometry.range_difference_fisher"],
+        CALLS["gnssatt.geometry.range_difference_fisher"].build,
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -276,7 +276,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "geometry.attitude_dop",
         geometry.attitude_dop,
-        VALID_CALLS["gnssatt.geometry.attitude_dop"],
+        CALLS["gnssatt.geometry.attitude_dop"].build,
         (
             Arg("baselines", "array", shapes=(BASELINES[:, :2], BASELINES[0]), out_of_range=BAD_BASELINES),
             Arg("los", "array", shapes=(LOS[:, :2], LOS[0]), out_of_range=(LOS * 2,)),
@@ -286,13 +286,13 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "rotation.rotation_from_euler",
         rotation.rotation_from_euler,
-        VALID_CALLS["gnssatt.rotation.rotation_from_euler"],
+        CALLS["gnssatt.rotation.rotation_from_euler"].build,
         (Arg("euler_gost_deg", "array", shapes=(np.zeros(2), np.zeros((3, 2)), np.zeros((1, 1, 3)))),),
     ),
     Function(
         "rotation.euler_from_rotation",
         rotation.euler_from_rotation,
-        VALID_CALLS["gnssatt.rotation.euler_from_rotation"],
+        CALLS["gnssatt.rotation.euler_from_rotation"].build,
         (Arg("rotation", "object"),),
     ),
     Function(
@@ -312,7 +312,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.prior_from_velocity",
         likelihood.prior_from_velocity,
-        VALID_CALLS["gnssatt.prior_from_velocity"],
+        CALLS["gnssatt.prior_from_velocity"].build,
         (
             Arg("velocity_enu", "array", shapes=ARRAY_SHAPE_3, out_of_range=([0.0, 0.0, 5.0],)),
             Arg("acceleration_enu", "array", shapes=ARRAY_SHAPE_3, optional=True),
@@ -325,7 +325,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.ml_attitude",
         likelihood.ml_attitude,
-        VALID_CALLS["gnssatt.ml_attitude"],
+        CALLS["gnssatt.ml_attitude"].build,
         (
             Arg(
                 "phase_diffs",
@@ -357,7 +357,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.likelihood_grid",
         likelihood.likelihood_grid,
-        VALID_CALLS["gnssatt.likelihood_grid"],
+        CALLS["gnssatt.likelihood_grid"].build,
         (
             Arg(
                 "phase_diffs",
@@ -387,7 +387,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "likelihood.ml_baseline",
         likelihood.ml_baseline,
-        VALID_CALLS["gnssatt.ml_baseline"],
+        CALLS["gnssatt.ml_baseline"].build,
         (
             Arg(
                 "phase_diffs",
@@ -413,7 +413,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "gyro_gnss.gyro_propagate",
         gyro_gnss.gyro_propagate,
-        VALID_CALLS["gnssatt.gyro_propagate"],
+        CALLS["gnssatt.gyro_propagate"].build,
         (
             Arg("q0", "array", shapes=(np.zeros(3), np.zeros((1, 4))), out_of_range=(np.zeros(4),)),
             # equal times; an interval of 1e300 s at 0.01 rad/s (NaN quaternions before)
@@ -496,7 +496,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "visibility.visibility_axis",
         visibility.visibility_axis,
-        VALID_CALLS["gnssatt.visibility_axis"],
+        CALLS["gnssatt.visibility_axis"].build,
         (
             Arg("visible_los", "array", shapes=(LOS[:3, :2], LOS[0]), out_of_range=(LOS[:3] * 2,)),
             Arg("invisible_los", "array", shapes=(LOS[3:, :2], LOS[3]), out_of_range=(LOS[3:] * 2,)),
@@ -506,7 +506,7 @@ FUNCTIONS: tuple[Function, ...] = (
     Function(
         "visibility.visibility_sets",
         visibility.visibility_sets,
-        VALID_CALLS["gnssatt.attitude.visibility.visibility_sets"],
+        CALLS["gnssatt.attitude.visibility.visibility_sets"].build,
         (
             Arg("receiver", "object"),
             Arg("constellation", "object"),

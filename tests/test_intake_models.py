@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from valid_calls import VALID_CALLS, resolve
+from valid_calls import CALLS, resolve
 
 from gnssatt import constants, magnetic, orbit, sim
 from gnssatt.attitude import dynamics as tumble
@@ -58,8 +58,8 @@ FILTERED = determination.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0]
 
 
 def _shared(qualified: str) -> tuple[Callable[..., Any], dict[str, Any]]:
-    """The shared valid call of the public function ``qualified`` (``valid_calls.VALID_CALLS``)."""
-    return resolve(qualified), VALID_CALLS[qualified]()
+    """The shared valid call of the public function ``qualified`` (``valid_calls.CALLS``)."""
+    return resolve(qualified), CALLS[qualified].build()
 
 
 # name -> (callable taking keyword arguments, valid keyword arguments): the shared valid call where the
