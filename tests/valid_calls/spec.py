@@ -16,6 +16,20 @@ class Arg:
 
     Attributes
     ----------
+    kind
+        For the estimators' per-argument intake cases (``test_intake_estimators``): ``"array"``,
+        ``"scalar"``, ``"integer"``, ``"choice"``, ``"flag"`` or ``"object"``, from which the categories of
+        bad values follow; ``""``: not in those cases.
+    shapes
+        Wrong-shaped replacements that must be refused.
+    out_of_range
+        Finite values of the right kind that must be refused.
+    optional
+        None is valid (a default or "none given").
+    limited
+        An integer that sizes the work has a documented limit (an absurd one is a ``WorkLimitError``).
+    label
+        The name the message uses, where it differs (a field: ``"phases.los"``).
     count
         An integer that sizes work or memory: the hostile suite passes overflow-size counts.
     work
@@ -28,6 +42,12 @@ class Arg:
         Complex values are documented input (e.g. correlator outputs).
     """
 
+    kind: str = ""
+    shapes: tuple[Any, ...] = ()
+    out_of_range: tuple[Any, ...] = ()
+    optional: bool = False
+    limited: bool = True
+    label: str | None = None
     count: bool = False
     work: tuple[Any, ...] = ()
     nonfinite_ok: bool = False
@@ -52,12 +72,16 @@ class Call:
         Why the result may hold NaN (documented "not available" fields), or None: all outputs must be finite.
     nan_fields
         Result attributes documented as possibly non-finite (the rest is checked).
+    function
+        What is called, for the calls that are not a public function by that name (``OTHER_CALLS``:
+        classes, methods, a second form of a function); None: ``resolve(name)``.
     """
 
     build: Callable[[], dict[str, Any]]
     args: Mapping[str, Arg] = field(default_factory=dict)
     nan_output: str | None = None
     nan_fields: frozenset[str] = frozenset()
+    function: Callable[..., Any] | None = None
 
     def arg(self, name: str) -> Arg:
         return self.args.get(name, NO_ARG)
