@@ -29,9 +29,9 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
-from valid_calls import CALLS, Arg, Call
+from valid_calls import CALLS, OTHER_CALLS, Arg, Call
 from valid_calls.estimators import BASELINES, L1, LOS, TRUTH, WINDOW
-from valid_calls.others import OTHER_CALLS, gyro_filter_call, observations
+from valid_calls.other_estimators import gyro_filter_call, observations
 
 from gnssatt import geometry, rotation
 from gnssatt.attitude import (

@@ -11,9 +11,11 @@ does with them (which mutants, which error) stays beside that test kind.
 
 from __future__ import annotations
 
-from . import estimators, files, models
+from . import estimators, files, models, other_estimators, other_models
 from .spec import NO_ARG, WORK_TINY_STEP, Arg, Call, resolve
 
 CALLS: dict[str, Call] = {**estimators.CALLS, **models.CALLS, **files.CALLS}
+#: Classes, methods and second forms of public functions, keyed by the intake tests' names.
+OTHER_CALLS: dict[str, Call] = {**other_estimators.CALLS, **other_models.CALLS}
 
-__all__ = ["CALLS", "NO_ARG", "WORK_TINY_STEP", "Arg", "Call", "resolve"]
+__all__ = ["CALLS", "NO_ARG", "OTHER_CALLS", "WORK_TINY_STEP", "Arg", "Call", "resolve"]

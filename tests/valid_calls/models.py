@@ -132,9 +132,12 @@ CALLS: dict[str, Call] = {
         lambda: {"phases": np.array([[0.1, 0.2], [0.3, 0.5], [1.0, -1.0]])},
         args={"phases": Arg(complex_ok=True)},
     ),
-    "gnssatt.sim.random_attitude": Call(lambda: {"rng": 1, "n": 3}, args={"n": Arg(count=True)}),
+    "gnssatt.sim.random_attitude": Call(
+        lambda: {"rng": 1, "n": 3}, args={"n": Arg(count=True, optional=True), "rng": Arg(optional=True)}
+    ),
     "gnssatt.sim.random_los": Call(
-        lambda: {"rng": 1, "n_sat": 5, "min_elevation_deg": 10.0}, args={"n_sat": Arg(count=True)}
+        lambda: {"rng": 1, "n_sat": 5, "min_elevation_deg": 10.0},
+        args={"n_sat": Arg(count=True), "rng": Arg(optional=True)},
     ),
     "gnssatt.sim.simulate_array": Call(
         lambda: {
@@ -151,7 +154,7 @@ CALLS: dict[str, Call] = {
             "cn0_dbhz": np.full(len(s.geometry().ids), 45.0),
             "integration_time_s": 0.001,
         },
-        args={"ambiguity_max": Arg(count=True)},
+        args={"ambiguity_max": Arg(count=True), "cn0_dbhz": Arg(optional=True), "rng": Arg(optional=True)},
     ),
     "gnssatt.sim.simulate_platform": Call(
         lambda: {
@@ -167,7 +170,12 @@ CALLS: dict[str, Call] = {
             "start_s": 7200.0,
             "atmosphere": True,
             "rng": 1,
-        }
+        },
+        args={
+            "base_offset_enu_m": Arg(optional=True),
+            "blockage": Arg(optional=True),
+            "rng": Arg(optional=True),
+        },
     ),
     **{
         f"gnssatt.sim.{name}": Call(
@@ -182,7 +190,7 @@ CALLS: dict[str, Call] = {
                 "start_s": 7200.0,
                 "rng": 1,
             },
-            args={"n_antennas": Arg(count=True)},
+            args={"n_antennas": Arg(count=True), "rng": Arg(optional=True)},
         )
         for name in ("car", "ship", "aircraft")
     },
@@ -205,6 +213,7 @@ CALLS: dict[str, Call] = {
             "outages": [(10.0, 20.0, 2)],
         },
         nan_output="measurements of satellites out of view are NaN, flagged by visible",
+        args={"rng": Arg(optional=True)},
     ),
     "gnssatt.sim.solve_kepler": Call(
         lambda: {
@@ -237,7 +246,8 @@ CALLS: dict[str, Call] = {
             "rng": 1,
             "phase_sigma_cycles": 0.01,
             "min_satellites": 3,
-        }
+        },
+        args={"rng": Arg(optional=True)},
     ),
     "gnssatt.sim.attitude_scenario.gyro_output": Call(
         lambda: {
@@ -283,7 +293,11 @@ CALLS: dict[str, Call] = {
             "lunisolar_m_s2": np.array([1e-6, 2e-6, -1e-6]),
             "model": orbit.GlonassModel(),
         },
-        args={"step_s": Arg(work=WORK_TINY_STEP), "duration_s": Arg(work=(1e12, 1e300))},
+        args={
+            "step_s": Arg(work=WORK_TINY_STEP),
+            "duration_s": Arg(work=(1e12, 1e300)),
+            "model": Arg(optional=True),
+        },
     ),
     "gnssatt.orbit.gmst_rad": Call(lambda: {"jd_ut1": np.array([2451545.0, 2460000.5])}),
     "gnssatt.orbit.teme_to_ecef": Call(
@@ -310,7 +324,7 @@ CALLS: dict[str, Call] = {
             "accel_psd_m2_s3": 1e-8,
             "step_s": 10.0,
         },
-        args={"step_s": Arg(work=WORK_TINY_STEP)},
+        args={"step_s": Arg(work=WORK_TINY_STEP), "rng": Arg(optional=True)},
     ),
     "gnssatt.orbit.determination.orbit_filter": Call(
         lambda: {
@@ -339,7 +353,7 @@ CALLS: dict[str, Call] = {
             ),
             "step_s": 1.0,
         },
-        args={"step_s": Arg(work=WORK_TINY_STEP)},
+        args={"step_s": Arg(work=WORK_TINY_STEP), "model": Arg(optional=True)},
     ),
     "gnssatt.attitude.dynamics.fold_symmetric": Call(
         lambda: {
@@ -356,10 +370,12 @@ CALLS: dict[str, Call] = {
         args={"n_epochs": Arg(count=True)},
     ),
     "gnssatt.attitude.dynamics.propagate": Call(
-        lambda: {**_tumble_args(), "step_s": 1.0}, args={"step_s": Arg(work=WORK_TINY_STEP)}
+        lambda: {**_tumble_args(), "step_s": 1.0},
+        args={"step_s": Arg(work=WORK_TINY_STEP), "model": Arg(optional=True)},
     ),
     "gnssatt.attitude.dynamics.propagate_axes": Call(
-        lambda: {**_tumble_args(), "step_s": 1.0}, args={"step_s": Arg(work=WORK_TINY_STEP)}
+        lambda: {**_tumble_args(), "step_s": 1.0},
+        args={"step_s": Arg(work=WORK_TINY_STEP), "model": Arg(optional=True)},
     ),
     # --- gnssatt.montecarlo ---
     "gnssatt.montecarlo.run": Call(

@@ -42,7 +42,7 @@ def gyro_filter_call() -> dict[str, Any]:
     }
 
 
-OTHER_CALLS: dict[str, Call] = {
+CALLS: dict[str, Call] = {
     "vector_attitude.wahba": Call(
         lambda: {"body": TRUTH.inv().apply(LOS), "ref": LOS, "weights": np.ones(len(LOS))},
         args={
