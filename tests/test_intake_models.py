@@ -10,14 +10,15 @@ parameter. A second part checks the finite inputs that used to give NaN.
 from __future__ import annotations
 
 import math
-import tempfile
 from collections.abc import Callable
+from functools import cache
 from typing import Any
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from valid_calls import VALID_CALLS, resolve
+from valid_calls import CALLS, OTHER_CALLS, Arg, Call, resolve
+from valid_calls.other_models import ATT3, BASELINES, GPS, MEAS, PHASES, RNG, T3
 
 from gnssatt import constants, magnetic, orbit, sim
 from gnssatt.attitude import dynamics as tumble
@@ -32,48 +33,27 @@ from gnssatt.observations import SpaceborneMeasurements
 from gnssatt.orbit import determination
 from gnssatt.sim import attitude_scenario as scen
 
-RNG = np.random.default_rng(0)
-GPS = sim.gps_nominal()
-GROUND = sim.GroundReceiver(lat_deg=50.0, lon_deg=36.2, height_m=150.0)
-LEO = sim.OrbitalReceiver(altitude_m=500e3, inclination_deg=97.0)
-GEOM = sim.line_of_sight(GROUND, GPS, t=0.0)
-KEPLER = GPS.orbits
-T3 = np.array([0.0, 10.0, 20.0])
-ATT3 = Rotation.from_rotvec(np.zeros((3, 3)))
-BASELINES = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-P0 = np.diag([100.0, 100.0, 100.0, 1.0, 1.0, 1.0])
+
+def _shared(qualified: str) -> tuple[Callable[..., Any], Call]:
+    """The shared valid call of the public function ``qualified`` (``valid_calls.CALLS``)."""
+    return resolve(qualified), CALLS[qualified]
 
 
-def _spaceborne() -> SpaceborneMeasurements:
-    times = np.arange(0.0, 30.0, 10.0)
-    r, v = LEO.state_ecef(times)
-    return sim.simulate_spaceborne(r, v, times, GPS, np.random.default_rng(1))
-
-
-MEAS = _spaceborne()
-PHASES = scen.phase_observations(
-    LEO, GPS, T3, ATT3, BASELINES, np.random.default_rng(2), phase_sigma_cycles=0.01, half_angle_deg=180.0
-)
-FILTERED = determination.orbit_filter(MEAS, [*LEO.state_ecef(MEAS.times_s)[0][0], 0.0, 7.6e3, 0.0], P0)
-
-
-def _shared(qualified: str) -> tuple[Callable[..., Any], dict[str, Any]]:
-    """The shared valid call of the public function ``qualified`` (``valid_calls.VALID_CALLS``)."""
-    return resolve(qualified), VALID_CALLS[qualified]()
+def _other(name: str) -> tuple[Callable[..., Any], Call]:
+    """The valid call of a class, a method or a second form (``valid_calls.OTHER_CALLS``)."""
+    call = OTHER_CALLS[name]
+    assert call.function is not None
+    return call.function, call
 
 
 # name -> (callable taking keyword arguments, valid keyword arguments): the shared valid call where the
 # function is public (``_shared``), else (methods, classes, a second form of one function, calls whose
 # specific cases below are written against other values) its own here
-_PLATFORM_DIR = tempfile.mkdtemp(prefix="gnssatt-intake-platforms-")
-FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
+FUNCTIONS: dict[str, tuple[Callable[..., Any], Call]] = {
     # gnssatt.magnetic
     "dipole_orbital": _shared("gnssatt.magnetic.dipole_orbital"),
     "dipole_coefficients": _shared("gnssatt.magnetic.dipole_coefficients"),
-    "magnetic.geodetic_to_ecef": (  # the same function as sim.geodetic_to_ecef, here with arrays
-        magnetic.geodetic_to_ecef,
-        {"lat_deg": np.array([10.0, 20.0]), "lon_deg": 5.0, "height_m": 100.0},
-    ),
+    "magnetic.geodetic_to_ecef": _other("magnetic.geodetic_to_ecef"),
     "dcm_ned_from_ecef": _shared("gnssatt.magnetic.dcm_ned_from_ecef"),
     "dipole_field_ecef": _shared("gnssatt.magnetic.dipole_field_ecef"),
     "dipole_field_eci": _shared("gnssatt.magnetic.dipole_field_eci"),
@@ -89,47 +69,18 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "ecef_to_geodetic": _shared("gnssatt.sim.ecef_to_geodetic"),
     "dcm_ecef_from_enu": _shared("gnssatt.sim.dcm_ecef_from_enu"),
     # gnssatt.orbit.line_of_sight
-    "Geometry.from_los": (
-        sim.Geometry.from_los,
-        {"los": np.array([[0, 0, 1.0], [0, 1, 1.0]]), "range_m": 2e7, "range_rate_mps": 0.0, "frame": "enu"},
-    ),
-    "Geometry": (
-        sim.Geometry,
-        {
-            "los": np.array([[0, 0, 1.0]]),
-            "range_m": np.array([2e7]),
-            "range_rate_mps": np.array([0.0]),
-            "frame": "enu",
-            "ids": ("G01",),
-            "t": np.array(0.0),
-            "receiver_eci_m": np.full(3, np.nan),
-            "satellites_eci_m": np.full((1, 3), np.nan),
-        },
-    ),
-    "Geometry.select": (GEOM.select, {"mask": np.array([0, 1])}),
+    "Geometry.from_los": _other("Geometry.from_los"),
+    "Geometry": _other("Geometry"),
+    "Geometry.select": _other("Geometry.select"),
     "los_body": _shared("gnssatt.sim.los_body"),
     "elevation_azimuth": _shared("gnssatt.sim.elevation_azimuth"),
     "line_of_sight": _shared("gnssatt.sim.line_of_sight"),
     # gnssatt.orbit.kepler
     "solve_kepler": _shared("gnssatt.sim.solve_kepler"),
-    "KeplerOrbits": (
-        sim.KeplerOrbits,
-        {
-            "semi_major_axis_m": np.array([2.6e7]),
-            "eccentricity": np.array([0.01]),
-            "inclination_rad": np.array([1.0]),
-            "raan_rad": np.array([0.0]),
-            "arg_perigee_rad": np.array([0.0]),
-            "mean_anomaly_rad": np.array([0.0]),
-            "gm_m3_s2": 3.986e14,
-        },
-    ),
-    "KeplerOrbits.circular": (
-        sim.KeplerOrbits.circular,
-        {"semi_major_axis_m": 2.6e7, "inclination_rad": 1.0, "raan_rad": 0.0, "arg_latitude_rad": [0.0, 1.0]},
-    ),
-    "KeplerOrbits.state_eci": (KEPLER.state_eci, {"t": T3}),
-    "KeplerOrbits.subset": (KEPLER.subset, {"index": np.array([0, 1])}),
+    "KeplerOrbits": _other("KeplerOrbits"),
+    "KeplerOrbits.circular": _other("KeplerOrbits.circular"),
+    "KeplerOrbits.state_eci": _other("KeplerOrbits.state_eci"),
+    "KeplerOrbits.subset": _other("KeplerOrbits.subset"),
     # gnssatt.orbit.masks
     "elevation_mask": _shared("gnssatt.sim.elevation_mask"),
     "antenna_cone_mask": _shared("gnssatt.sim.antenna_cone_mask"),
@@ -139,19 +90,10 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "random_attitude": _shared("gnssatt.sim.random_attitude"),
     "random_los": _shared("gnssatt.sim.random_los"),
     # gnssatt.orbit.constellation
-    "Constellation": (
-        sim.Constellation,
-        {
-            "ids": ("G01",),
-            "orbits": KEPLER.subset(np.array([0])),
-            "frequencies_hz": {"L1": np.array([1.57542e9])},
-            "slots": ("",),
-            "glonass_channels": np.array([0]),
-        },
-    ),
-    "Constellation.select": (GPS.select, {"which": np.array([0, 1])}),
-    "Constellation.wavelengths_m": (GPS.wavelengths_m, {"band": "L1"}),
-    "Constellation.state_ecef": (GPS.state_ecef, {"t": T3, "theta0_rad": 0.0}),
+    "Constellation": _other("Constellation"),
+    "Constellation.select": _other("Constellation.select"),
+    "Constellation.wavelengths_m": _other("Constellation.wavelengths_m"),
+    "Constellation.state_ecef": _other("Constellation.state_ecef"),
     "gps_nominal": _shared("gnssatt.sim.gps_nominal"),
     "glonass_nominal": _shared("gnssatt.sim.glonass_nominal"),
     "walker": _shared("gnssatt.sim.walker"),
@@ -164,126 +106,35 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "wrap_rad": _shared("gnssatt.sim.wrap_rad"),
     "simulate_array": _shared("gnssatt.sim.simulate_array"),
     # gnssatt.orbit.receivers
-    "GroundReceiver": (
-        sim.GroundReceiver,
-        {"lat_deg": 10.0, "lon_deg": 20.0, "height_m": 0.0, "theta0_rad": 0.0},
-    ),
-    "OrbitalReceiver": (
-        sim.OrbitalReceiver,
-        {
-            "altitude_m": 5e5,
-            "inclination_deg": 97.0,
-            "raan_deg": 0.0,
-            "arg_latitude_deg": 0.0,
-            "theta0_rad": 0.0,
-            "gm_m3_s2": 3.986e14,
-        },
-    ),
-    "OrbitalReceiver.state_eci": (LEO.state_eci, {"t": T3}),
-    "GroundReceiver.dcm_eci_from_enu": (GROUND.dcm_eci_from_enu, {"t": T3}),
+    "GroundReceiver": _other("GroundReceiver"),
+    "OrbitalReceiver": _other("OrbitalReceiver"),
+    "OrbitalReceiver.state_eci": _other("OrbitalReceiver.state_eci"),
+    "GroundReceiver.dcm_eci_from_enu": _other("GroundReceiver.dcm_eci_from_enu"),
     # gnssatt.sim.platforms (one-second sessions written into a temporary folder)
     "simulate_platform": _shared("gnssatt.sim.simulate_platform"),
     **{name: _shared(f"gnssatt.sim.{name}") for name in ("car", "ship", "aircraft")},
-    "Leg": (sim.Leg, {"duration_s": 5.0, "speed_m_s": 10.0, "turn_rate_deg_s": 3.0, "climb_rate_m_s": 1.0}),
-    "Trajectory": (
-        sim.Trajectory,
-        {
-            "legs": (sim.Leg(5.0, 10.0),),
-            "heading0_deg": 30.0,
-            "start_enu_m": np.zeros(3),
-            "roll_amplitude_deg": 5.0,
-            "roll_period_s": 8.0,
-        },
-    ),
-    "Blockage": (
-        sim.Blockage,
-        {
-            "outages_s": np.array([[1.0, 2.0]]),
-            "tree_lined_s": np.array([[3.0, 5.0]]),
-            "along_deg": 15.0,
-            "across_deg": 45.0,
-        },
-    ),
-    "NoiseProfile": (
-        sim.NoiseProfile,
-        {
-            "systems": "G",
-            "frequencies": 1,
-            "code_sigma_m": np.array([0.25, 0.25]),
-            "phase_sigma_m": np.array([0.002, 0.002]),
-            "doppler_sigma_hz": 0.1,
-            "slip_rate_per_s": 0.001,
-        },
-    ),
+    "Leg": _other("Leg"),
+    "Trajectory": _other("Trajectory"),
+    "Blockage": _other("Blockage"),
+    "NoiseProfile": _other("NoiseProfile"),
     # gnssatt.sim.spaceborne
     "simulate_spaceborne": _shared("gnssatt.sim.simulate_spaceborne"),
-    "SpaceborneMeasurements": (SpaceborneMeasurements, dict(MEAS.__dict__)),
-    "SpaceborneMeasurements.select_systems": (MEAS.select_systems, {"prefixes": "G"}),
+    "SpaceborneMeasurements": _other("SpaceborneMeasurements"),
+    "SpaceborneMeasurements.select_systems": _other("SpaceborneMeasurements.select_systems"),
     # gnssatt.sim.attitude_scenario
     "right_jacobian": _shared("gnssatt.sim.attitude_scenario.right_jacobian"),
     "orbital_hold_motion": _shared("gnssatt.sim.attitude_scenario.orbital_hold_motion"),
-    "gyro_output": (
-        scen.gyro_output,
-        {
-            "t": T3,
-            "attitude": ATT3,
-            "rng": RNG,
-            "drift_rad_s": np.zeros(3),
-            "arw": 1e-5,
-            "rrw": 1e-7,
-            "misalignment_rad": np.zeros(3),
-        },
-    ),
-    "phase_observations": (
-        scen.phase_observations,
-        {
-            "receiver": LEO,
-            "gnss": GPS,
-            "t": T3,
-            "attitude": ATT3,
-            "baselines_m": BASELINES,
-            "rng": RNG,
-            "phase_sigma_cycles": 0.01,
-            "half_angle_deg": 80.0,
-            "atmosphere_m": 1e5,
-            "max_satellites": 8,
-            "new_arcs_after": np.array([5.0]),
-            "slips": np.array([[10.0, 3.0, 1.0]]),
-        },
-    ),
+    "gyro_output": _other("gyro_output"),
+    "phase_observations": _other("phase_observations"),
     "attitude_fixes": _shared("gnssatt.sim.attitude_scenario.attitude_fixes"),
-    "PhaseObservations": (scen.PhaseObservations, dict(PHASES.__dict__)),
-    "GyroOutput": (scen.GyroOutput, {"t": T3, "rates": np.zeros((3, 3)), "drift": np.zeros((3, 3))}),
-    "AttitudeFixes": (
-        scen.AttitudeFixes,
-        {"t": T3, "rotation": ATT3, "covariance": np.tile(np.eye(3), (3, 1, 1))},
-    ),
+    "PhaseObservations": _other("PhaseObservations"),
+    "GyroOutput": _other("GyroOutput"),
+    "AttitudeFixes": _other("AttitudeFixes"),
     # gnssatt.orbit
-    "GlonassModel": (
-        orbit.GlonassModel,
-        {
-            "gm_m3_s2": 3.986e14,
-            "j2": 1e-3,
-            "equatorial_radius_m": 6.378e6,
-            "omega_rad_s": 7.29e-5,
-            "lunisolar_m_s2": (0.0, 0.0, 1e-6),
-        },
-    ),
+    "GlonassModel": _other("GlonassModel"),
     "glonass_propagate": _shared("gnssatt.orbit.glonass_propagate"),
-    "CircularOrbit": (
-        orbit.CircularOrbit,
-        {
-            "radius_m": 7e6,
-            "inclination_rad": 1.7,
-            "raan_rad": 0.0,
-            "arg_latitude0_rad": 0.0,
-            "gm_m3_s2": 3.986e14,
-        },
-    ),
-    "CircularOrbit.state_ecef": (
-        orbit.CircularOrbit(7e6, 1.7, 0.0, 0.0).state_ecef,
-        {"times_s": T3, "theta0_rad": 0.0, "omega_rad_s": 7.29e-5},
-    ),
+    "CircularOrbit": _other("CircularOrbit"),
+    "CircularOrbit.state_ecef": _other("CircularOrbit.state_ecef"),
     "gmst_rad": _shared("gnssatt.orbit.gmst_rad"),
     "teme_to_ecef": _shared("gnssatt.orbit.teme_to_ecef"),
     "tle_states": _shared("gnssatt.orbit.tle_states"),
@@ -292,47 +143,16 @@ FUNCTIONS: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
     "noisy_orbit": _shared("gnssatt.orbit.determination.noisy_orbit"),
     "receiver_fix": _shared("gnssatt.orbit.determination.receiver_fix"),
     "orbit_filter": _shared("gnssatt.orbit.determination.orbit_filter"),
-    "OrbitFilterResult.nees": (FILTERED.nees, {"truth": FILTERED.states}),
+    "OrbitFilterResult.nees": _other("OrbitFilterResult.nees"),
     # gnssatt.attitude.dynamics
-    "TumbleModel": (
-        tumble.TumbleModel,
-        {
-            "orbital_rate_rad_s": 1.1e-3,
-            "speed_m_s": 7.6e3,
-            "inertia_kg_m2": (0.035, 0.008, 0.030),
-            "gravity_gradient": True,
-            "density_kg_m3": 5e-13,
-            "drag_coefficient": 2.2,
-            "area_m2": 0.03,
-            "cp_offset_m": (0.0, -0.02, 0.0),
-        },
-    ),
-    "TumbleModel.circular": (tumble.TumbleModel.circular, {"altitude_m": 5e5}),
+    "TumbleModel": _other("TumbleModel"),
+    "TumbleModel.circular": _other("TumbleModel.circular"),
     "propagate_axes": _shared("gnssatt.attitude.dynamics.propagate_axes"),
     "axis_cost": _shared("gnssatt.attitude.dynamics.axis_cost"),
     "propagate": _shared("gnssatt.attitude.dynamics.propagate"),
     "fold_symmetric": _shared("gnssatt.attitude.dynamics.fold_symmetric"),
     "noise_cost_threshold": _shared("gnssatt.attitude.dynamics.noise_cost_threshold"),
-    "fit_rotation": (
-        tumble.fit_rotation,
-        {
-            "t": T3,
-            "measured_axes": np.tile([0.0, 1.0, 0.0], (3, 1)),
-            "rng": 1,
-            "axis_sigma_deg": 5.0,
-            "max_restarts": 1,
-            "min_restarts": 0,
-            "false_restart": 1e-3,
-            "popsize": 2,
-            "mutation": (0.5, 1.0),
-            "recombination": 0.9,
-            "tol_abs": 1e-3,
-            "patience": 2,
-            "maxiter": 2,
-            "max_rate_rad_s": 0.05,
-            "step_s": 1.0,
-        },
-    ),
+    "fit_rotation": _other("fit_rotation"),
 }
 
 # Parameters that are objects of the library (receivers, rotations, generators, ...) rather than numbers.
@@ -408,29 +228,10 @@ SKIP = {
 }
 
 
-# Parameters for which None is valid (a default or "none given").
-NONE_OK = {
-    ("random_attitude", "n"),
-    ("phase_observations", "max_satellites"),
-    ("glonass_propagate", "model"),
-    ("fit_rotation", "rng"),
-    # rng=None draws fresh entropy in every stochastic entry of the simulator (docs/conventions.md)
-    *((name, "rng") for name in ("random_attitude", "random_los", "simulate_array", "simulate_spaceborne")),
-    *((name, "rng") for name in ("gyro_output", "phase_observations", "attitude_fixes", "noisy_orbit")),
-    ("fit_rotation", "axis_sigma_deg"),
-    ("simulate_array", "cn0_dbhz"),
-    *((name, "rng") for name in ("simulate_platform", "car", "ship", "aircraft")),
-    ("simulate_platform", "base_offset_enu_m"),  # None: no base
-    ("simulate_platform", "blockage"),  # None: open sky
-    *((name, "model") for name in ("propagate_axes", "axis_cost", "propagate")),  # None: the default model
-}
-# Arrays that hold NaN where a value is unknown or not measured (checked by the specific cases).
-NAN_OK = {("SpaceborneMeasurements", "pseudorange_m"), ("SpaceborneMeasurements", "doppler_hz")}
-
-
-def _bad_values(fname: str, name: str, value: Any) -> list[tuple[str, Any]]:
-    """The generic bad values of each category for one parameter (its kind from its valid value)."""
-    kinds: list[tuple[str, Any]] = [] if (fname, name) in NONE_OK else [("none", None)]
+def _bad_values(arg: Arg, name: str, value: Any) -> list[tuple[str, Any]]:
+    """The generic bad values of each category for one parameter (its kind from its name and valid value;
+    ``arg``: None valid (``optional``), NaN valid (``nonfinite_ok``), complex valid (``complex_ok``))."""
+    kinds: list[tuple[str, Any]] = [] if arg.optional else [("none", None)]
     if name in OBJECTS and not isinstance(value, np.ndarray):
         return [*kinds, ("text", "abc"), ("number", 3.0)]
     if name in TEXT:
@@ -447,31 +248,36 @@ def _bad_values(fname: str, name: str, value: Any) -> list[tuple[str, Any]]:
     inf = -nan.copy()
     if inf.size:
         inf[0] = np.inf
-    if (fname, name) != ("phase_diffs", "phases"):  # complex correlator outputs are valid phases there
+    if not arg.complex_ok:
         kinds.append(("complex", arr.astype(np.complex128) + 1j))
     kinds += [
         ("bool", np.ones(arr.shape, dtype=bool)),
         ("ragged", [[1.0, 2.0], [3.0]]),
     ]
-    if (fname, name) not in NAN_OK:
+    if not arg.nonfinite_ok:
         kinds += [("nan", nan.reshape(arr.shape)), ("inf", inf.reshape(arr.shape))]
     return kinds
 
 
 def _generic_cases() -> list[Any]:
     cases = []
-    for fname, (_, kwargs) in FUNCTIONS.items():
-        for param, value in kwargs.items():
+    for fname, (_, spec) in FUNCTIONS.items():
+        for param, value in _valid(fname).items():
             if param in SKIP or value is None:
                 continue
-            for category, bad in _bad_values(fname, param, value):
+            for category, bad in _bad_values(spec.arg(param), param, value):
                 cases.append(pytest.param(fname, param, category, bad, id=f"{fname}-{param}-{category}"))
     return cases
 
 
+@cache
+def _valid(fname: str) -> dict[str, Any]:
+    """The valid keyword arguments of ``fname``, built once (the overrides go into a copy)."""
+    return FUNCTIONS[fname][1].build()
+
+
 def _call(fname: str, **overrides: Any) -> Any:
-    fn, kwargs = FUNCTIONS[fname]
-    return fn(**{**kwargs, **overrides})
+    return FUNCTIONS[fname][0](**{**_valid(fname), **overrides})
 
 
 @pytest.mark.slow

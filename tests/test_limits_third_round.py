@@ -38,9 +38,9 @@ def _view(row: object, n: int) -> np.ndarray:
 @functools.cache
 def _valid(entry: str) -> dict[str, Any]:
     """The shared valid arguments of ``entry``, built once (outside the traced block)."""
-    from valid_calls import VALID_CALLS
+    from valid_calls import CALLS
 
-    return VALID_CALLS[entry]()
+    return CALLS[entry].build()
 
 
 def _with_rows(entry: str, parameter: str, row: object, n: int = 10_000_000) -> object:

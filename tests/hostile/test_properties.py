@@ -31,12 +31,12 @@ def drawn_job(name: str, data: st.DataObject) -> tuple[Job, str, Any]:
     value = data.draw(mu.hostile_value(valid[param]), label="value")
     none_ok = mu.none_ok(param, inspect.signature(resolve(name)).parameters[param].default)
     refuse = mu.must_refuse_drawn(
-        value, mu.kind(valid[param]), nonfinite_ok=param in entry.nonfinite_ok, none_ok=none_ok
+        value, mu.kind(valid[param]), nonfinite_ok=entry.arg(param).nonfinite_ok, none_ok=none_ok
     )
-    if param in entry.complex_ok and isinstance(value, np.ndarray) and value.dtype.kind == "c":
+    if entry.arg(param).complex_ok and isinstance(value, np.ndarray) and value.dtype.kind == "c":
         # documented complex input: refusal only for what a real array would be refused for
         refuse = mu.must_refuse_drawn(
-            value.real, mu.kind(valid[param]), nonfinite_ok=param in entry.nonfinite_ok, none_ok=none_ok
+            value.real, mu.kind(valid[param]), nonfinite_ok=entry.arg(param).nonfinite_ok, none_ok=none_ok
         ) or not np.all(np.isfinite(value))
     job = Job(name, name, param, value=value, must_refuse=refuse)
     return job, param, value

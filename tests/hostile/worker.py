@@ -75,16 +75,17 @@ def fixed_mutants(entry_name: str, param: str) -> list[Any]:
     fn = resolve(entry_name)
     valid = entry.build()[param]
     default = inspect.signature(fn).parameters[param].default
+    arg = entry.arg(param)
     out = mu.mutants(
         valid,
         param=param,
-        counts=param in entry.counts,
-        work=tuple(entry.work.get(param, ())),
-        nonfinite_ok=param in entry.nonfinite_ok,
+        counts=arg.count,
+        work=arg.work,
+        nonfinite_ok=arg.nonfinite_ok,
         none_ok=mu.none_ok(param, default),
-        free_text=param in entry.free_text,
+        free_text=arg.free_text,
     )
-    if param in entry.complex_ok:  # documented complex input: the finite complex mutants are valid
+    if arg.complex_ok:  # documented complex input: the finite complex mutants are valid
         out = [dataclasses.replace(m, must_refuse=False) if m.category == "complex" else m for m in out]
     return out
 
