@@ -18,23 +18,38 @@ differences), ``"auto"`` (``"lambda"`` for baselines beyond 100 m, else ``"ml"``
 
 from __future__ import annotations
 
-import csv
 import warnings
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Sequence
 from os import PathLike
-from typing import TYPE_CHECKING, Any, Literal, get_args
+from typing import Any, Literal, get_args
 
-import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from gnssatt._arrays import choice, flag, path_text, scalar, shaped
-from gnssatt.errors import ConvergenceError, GnssattWarning, InvalidInputError, InvalidTypeError, RinexError
+from gnssatt._arrays import choice, flag
+from gnssatt.gnss._attitude_checks import (
+    KNOWN_LENGTH_PROBE_EPOCHS,
+    KNOWN_LENGTH_TOLERANCE_M,
+    KNOWN_LENGTH_TOLERANCE_RELATIVE,
+    MIN_DIRECTION_BASELINE_M,
+    EngineWarning,
+    ZeroBaselineWarning,
+    check_grid_options,
+    check_known_lengths,
+    check_method,
+    probe_known_lengths,
+    undirected,
+)
+from gnssatt.gnss._attitude_inputs import (
+    antenna_options,
+    check_nav_covers,
+    frequency_slots,
+    numeric_options,
+    obs_list,
+    system_letters,
+)
+from gnssatt.gnss._attitude_series import SYSTEMS, AttitudeSeries, CombinedBaseline, series_from_session
 from gnssatt.rinex.nav import RinexNav, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
-
-if TYPE_CHECKING:
-    from scipy.spatial.transform import Rotation
 
 __all__ = [
     "KNOWN_LENGTH_TOLERANCE_M",
@@ -51,363 +66,6 @@ __all__ = [
 MethodName = Literal["auto", "ml", "lambda"]
 MotionName = Literal["static", "moving"]
 FilterName = Literal["static", "kinematic", "velocity"]
-
-#: System letters in the engine's order (columns ``sats_G`` ... and rows of ``double_differences``).
-SYSTEMS = "GRECJ"
-#: Signal of each frequency slot per system (``rust/core/src/gnss/signal.rs``).
-SLOT_NAMES = {
-    "G": ("L1", "L2", "L5"),
-    "R": ("G1", "G2", "G3"),
-    "E": ("E1", "E5b", "E5a"),
-    "C": ("B1I", "B2I", "B3I"),
-    "J": ("L1", "L2", "L5"),
-}
-#: Largest search window and grid step, degrees.
-MAX_WINDOW_DEG = 3600.0
-MAX_STEP_DEG = 180.0
-_GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
-#: Baseline mode: a baseline shorter than this, m, has no direction (its azimuth and elevation are NaN, with
-#: a :class:`ZeroBaselineWarning`). Two antennas' phase centres stand at least their diameter (several cm)
-#: apart, and the known-length option takes no length below it either; a solution this short means one
-#: antenna seen twice (the same file, or two receivers on one antenna splitter: a zero-baseline test), where
-#: the fixed baseline is the receivers' noise, mm, and its direction is arbitrary (atan2 of zeros).
-MIN_DIRECTION_BASELINE_M = 0.01
-
-
-class EngineWarning(GnssattWarning):
-    """Something the observation engine says a user should know (a base position far from the code
-    solution, a system without ephemerides, ...); also kept in :attr:`AttitudeSeries.warnings`."""
-
-
-class ZeroBaselineWarning(EngineWarning):
-    """Baseline mode: the baseline solved is shorter than :data:`MIN_DIRECTION_BASELINE_M` at some epochs,
-    whose azimuth and elevation are therefore NaN (the baseline itself is kept)."""
-
-
-@dataclass(frozen=True)
-class CombinedBaseline:
-    """The baselines of a static session from every fixed epoch (:meth:`AttitudeSeries.combined_baseline`).
-
-    Attributes
-    ----------
-    baselines_enu_m
-        (m, 3) rover minus reference antenna, East-North-Up at the reference antenna, m.
-    covariances_enu_m2
-        (m, 3, 3) their covariances, m^2 (white noise across epochs).
-    epochs
-        Fixed epochs combined.
-    """
-
-    baselines_enu_m: NDArray[np.float64]
-    covariances_enu_m2: NDArray[np.float64]
-    epochs: int
-
-    def summary(self) -> str:
-        """One line per rover: ENU components with their one-sigma, mm, and the epochs combined."""
-        lines = []
-        for r, (b, q) in enumerate(zip(self.baselines_enu_m, self.covariances_enu_m2, strict=True), start=1):
-            sd = 1e3 * np.sqrt(np.diag(q))
-            lines.append(
-                f"combined baseline, rover {r} ({self.epochs} fixed epochs): "
-                f"east {b[0]:.4f} +- {sd[0]:.1f} mm, north {b[1]:.4f} +- {sd[1]:.1f} mm, "
-                f"up {b[2]:.4f} +- {sd[2]:.1f} mm"
-            )
-        return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class AttitudeSeries:
-    """Per-epoch results of :func:`attitude_from_rinex`; :meth:`columns` gives the CSV columns in order.
-
-    ``n`` epochs, ``m`` rovers (antennas after the reference), ``k`` angles (2 or 3).
-
-    Attributes
-    ----------
-    time
-        (n,) GPST epoch labels, ``datetime64[ns]``.
-    mode
-        ``"baseline"`` or ``"attitude"``.
-    angles_deg, angle_sigmas_deg
-        (n, k) azimuth, elevation (baseline mode) or heading, pitch, roll (attitude mode) and their
-        one-sigma (first-order propagation of the baseline covariance), degrees; NaN where unsolved.
-    method
-        (n,) ``"ml"`` or ``"lambda"``.
-    fixed
-        (n,) 1 where every ambiguity was fixed and validated (or held along an arc), else 0.
-    fix_state
-        (n,) ``"fixed"`` (every ambiguity fixed and validated at the epoch), ``"held"`` (every ambiguity
-        fixed through integers held from earlier epochs: ``continuity`` or ``filter``) or ``"float"``
-        (not every ambiguity fixed, or unsolved).
-    satellites
-        (n,) satellites used.
-    baselines_enu_m
-        (n, m, 3) rover minus reference antenna, East-North-Up at the reference antenna, m.
-    ratio, success_rate
-        (n,) ratio-test statistic of the set fixed and bootstrapped success rate of the full float set
-        (NaN for ``ml`` or where nothing was fixed).
-    satellites_per_system
-        (n, 5) satellites used per system, order :data:`SYSTEMS`.
-    frequency_slots_used
-        (n,) bit ``s`` set when frequency slot ``s`` (0: L1/G1/E1/B1I, 1: L2/G2/E5b/B2I, 2: L5/G3/E5a/B3I)
-        contributed double differences.
-    double_differences
-        (5, 3) double differences formed over the session per system and slot.
-    rotation_matrices
-        (n, 3, 3) body -> ENU rotation in attitude mode (NaN where unsolved), None in baseline mode.
-    signal_codes
-        RINEX codes chosen per system and slot, as the reader reports them.
-    warnings
-        What the engine said a user should know, one sentence each (each also issued as an
-        :class:`EngineWarning`).
-    code_sigma_scale
-        Per rover, the code sigma the receivers showed against the model's, estimated from the float
-        solutions' residuals in moving mode, and applied to the code variances within 0.5-10 of the
-        model's sigma (NaN where not estimated: static mode, or fewer than 50 residual degrees of
-        freedom); ``docs/observation_engine.md``.
-    baseline_covariances_enu_m2
-        (n, m, 3, 3) covariance of each baseline, ENU, m^2 (NaN where unsolved or from the ML grid);
-        :meth:`combined_baseline` combines the fixed epochs.
-    """
-
-    time: NDArray[np.datetime64]
-    mode: str
-    angles_deg: NDArray[np.float64]
-    method: NDArray[np.str_]
-    fixed: NDArray[np.int64]
-    fix_state: NDArray[np.str_]
-    satellites: NDArray[np.int64]
-    angle_sigmas_deg: NDArray[np.float64]
-    baselines_enu_m: NDArray[np.float64]
-    ratio: NDArray[np.float64]
-    success_rate: NDArray[np.float64]
-    satellites_per_system: NDArray[np.int64]
-    frequency_slots_used: NDArray[np.uint8]
-    double_differences: NDArray[np.uint64]
-    rotation_matrices: NDArray[np.float64] | None
-    signal_codes: Mapping[str, Any]
-    warnings: tuple[str, ...]
-    code_sigma_scale: tuple[float, ...] = ()
-    baseline_covariances_enu_m2: NDArray[np.float64] | None = None
-
-    def combined_baseline(self) -> CombinedBaseline:
-        """One baseline per rover from every fixed epoch: the batch least-squares solution of a static
-        session with its covariance.
-
-        With the integers fixed, an epoch's double differences depend on the baseline alone, and with white
-        noise across epochs the batch least-squares baseline of all of them is the information-weighted
-        mean of the per-epoch fixed baselines: ``Q = (sum_k Q_k^-1)^-1``, ``b = Q sum_k Q_k^-1 b_k``. The
-        epochs used are the solved ones with every ambiguity fixed (``fixed == 1``, state ``fixed`` or
-        ``held``) and a finite covariance. It is the static solution only where the antennas did not move
-        (``motion="static"``, or a moving run of a static pair); time-correlated errors (multipath) make
-        ``Q`` optimistic by up to the number of epochs per correlation time.
-
-        Returns
-        -------
-        CombinedBaseline
-            Baselines (m, 3), covariances (m, 3, 3) and the number of epochs used.
-
-        Raises
-        ------
-        InvalidInputError
-            No fixed epoch with a finite covariance (``epochs`` 0), or a series without covariances.
-        """
-        cov = self.baseline_covariances_enu_m2
-        if cov is None:
-            raise InvalidInputError(
-                "combined_baseline: expected a series with baseline covariances, got none"
-            )
-        finite = np.all(np.isfinite(cov), axis=(1, 2, 3)) & np.all(
-            np.isfinite(self.baselines_enu_m), axis=(1, 2)
-        )
-        rows = self.solved & (self.fixed == 1) & finite
-        if not rows.any():
-            raise InvalidInputError(
-                f"combined_baseline: expected at least one fixed epoch with a finite covariance, got none of "
-                f"{len(rows)} epochs"
-            )
-        info = np.linalg.inv(cov[rows])  # (k, m, 3, 3)
-        total = info.sum(axis=0)
-        q = np.linalg.inv(total)
-        b = np.einsum("rij,rj->ri", q, np.einsum("krij,krj->ri", info, self.baselines_enu_m[rows]))
-        return CombinedBaseline(
-            baselines_enu_m=b, covariances_enu_m2=0.5 * (q + q.transpose(0, 2, 1)), epochs=int(rows.sum())
-        )
-
-    @property
-    def angle_names(self) -> tuple[str, ...]:
-        if self.mode == "baseline":
-            return ("azimuth_deg", "elevation_deg")
-        return ("heading_deg", "pitch_deg", "roll_deg")
-
-    @property
-    def solved(self) -> NDArray[np.bool_]:
-        """(n,) epochs with every angle finite."""
-        solved: NDArray[np.bool_] = np.all(np.isfinite(self.angles_deg), axis=1)  # np.all is typed Any
-        return solved
-
-    @property
-    def baseline_length_m(self) -> float:
-        """Median length of the first baseline over the solved epochs, m (NaN if none)."""
-        lengths = np.linalg.norm(self.baselines_enu_m[self.solved, 0], axis=1)
-        lengths = lengths[np.isfinite(lengths)]
-        return float(np.median(lengths)) if lengths.size else float("nan")
-
-    @property
-    def rotation(self) -> Rotation:
-        """(n,) body -> ENU rotations at the reference antenna, one per epoch (attitude mode), the identity
-        where ``solved`` is False (the batched-result rule of ``docs/conventions.md``, as
-        :class:`gnssatt.AttitudeSeries`).
-
-        Raises
-        ------
-        InvalidInputError
-            In baseline mode (two antennas: no attitude).
-        """
-        if self.rotation_matrices is None:
-            raise InvalidInputError(
-                "rotation: expected attitude mode (body baselines given), got baseline mode"
-            )
-        # Imported here: scipy.spatial costs 0.3-0.7 s that `gnssatt attitude` need not pay in baseline mode.
-        from scipy.spatial.transform import Rotation
-
-        ok = self.solved[:, None, None]
-        return Rotation.from_matrix(np.where(ok, np.nan_to_num(self.rotation_matrices), np.eye(3)))
-
-    def frequencies(self) -> NDArray[np.str_]:
-        """(n,) frequency slots used per epoch, 1-based and joined by ``+`` (``"1+2"``); empty if none."""
-        return np.array(
-            [
-                "+".join(str(s + 1) for s in range(3) if int(bits) >> s & 1)
-                for bits in self.frequency_slots_used
-            ]
-        )
-
-    def columns(self) -> dict[str, NDArray[np.generic]]:
-        """Column name -> array, in the CSV order (``docs/conventions.md``)."""
-        out: dict[str, NDArray[np.generic]] = {"time_gpst": np.datetime_as_string(self.time, unit="ms")}
-        for j, name in enumerate(self.angle_names):
-            out[name] = self.angles_deg[:, j]
-        out["method"] = self.method
-        out["fixed"] = self.fixed
-        out["state"] = self.fix_state
-        out["satellites"] = self.satellites
-        for r in range(self.baselines_enu_m.shape[1]):
-            suffix = "" if r == 0 else f"_{r + 1}"
-            b = self.baselines_enu_m[:, r]
-            for j, axis in enumerate(("east", "north", "up")):
-                out[f"{axis}_m{suffix}"] = b[:, j]
-            out[f"length_m{suffix}"] = np.linalg.norm(b, axis=1)
-        for j, name in enumerate(self.angle_names):
-            out[name.replace("_deg", "_sigma_deg")] = self.angle_sigmas_deg[:, j]
-        out["ratio"] = self.ratio
-        out["success_rate"] = self.success_rate
-        for s, letter in enumerate(SYSTEMS):
-            out[f"sats_{letter}"] = self.satellites_per_system[:, s]
-        out["frequencies"] = self.frequencies()
-        return out
-
-    def to_csv(self, path: str | PathLike[str]) -> None:
-        """Write the CSV: a header line, one row per epoch (angles to 1e-6 deg, lengths to 0.1 mm)."""
-        cols = self.columns()
-        formats = {name: _format(name) for name in cols}
-        with open(path, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(list(cols))
-            for i in range(len(self.time)):
-                w.writerow([formats[name](v[i]) for name, v in cols.items()])
-
-    def summary(self) -> str:
-        """Epochs solved, fix rate, mean and spread of each angle, a line per system and frequency used, the
-        estimated code noise."""
-        ok = self.solved
-        n = len(ok)
-        fix_rate = float(self.fixed.mean()) if n else float("nan")
-        lines = [f"epochs solved: {int(ok.sum())} of {n}", f"fix rate: {fix_rate:.3f}"]
-        for j, name in enumerate(self.angle_names):
-            v = self.angles_deg[ok, j]
-            if name in ("azimuth_deg", "heading_deg") and v.size:
-                c = np.degrees(np.angle(np.mean(np.exp(1j * np.radians(v)))))
-                spread = np.degrees(np.std(np.angle(np.exp(1j * np.radians(v - c)))))
-                mean = c % 360.0
-            else:
-                mean, spread = (float(np.mean(v)), float(np.std(v))) if v.size else (np.nan, np.nan)
-            sigma = self.angle_sigmas_deg[ok, j]
-            median_sigma = float(np.nanmedian(sigma)) if np.isfinite(sigma).any() else float("nan")
-            lines.append(f"{name}: mean {mean:.4f}, std {spread:.4f}, median sigma {median_sigma:.4f}")
-        for s, letter in enumerate(SYSTEMS):
-            for slot in range(3):
-                count = int(self.double_differences[s, slot])
-                if count:
-                    codes = _codes(self.signal_codes, letter, slot)
-                    lines.append(
-                        f"{letter} {SLOT_NAMES[letter][slot]}: {count} double differences"
-                        + (f" ({codes})" if codes else "")
-                    )
-        for r, scale in enumerate(self.code_sigma_scale, start=1):
-            if np.isfinite(scale):
-                applied = "applied within 0.5-10, 0.1-10 with a known length"
-                lines.append(f"code noise, rover {r}: {scale:.2f} x the model's sigma (estimated; {applied})")
-        return "\n".join(lines)
-
-
-def _format(name: str) -> Any:
-    if name.endswith("_deg") or name == "success_rate":
-        return lambda x: f"{x:.6f}"
-    if name.endswith("_m") or "_m_" in name:
-        return lambda x: f"{x:.4f}"
-    if name == "ratio":
-        return lambda x: f"{x:.3f}"
-    return str
-
-
-def _codes(signal_codes: Mapping[str, Any], letter: str, slot: int) -> str:
-    """The RINEX codes of one system and slot, joined over receivers where they differ."""
-    found: list[str] = []
-
-    def add(per_system: Mapping[str, Any]) -> None:
-        codes = per_system.get(letter)
-        if codes is not None and slot < len(codes) and codes[slot] and codes[slot] not in found:
-            found.append(str(codes[slot]))
-
-    if any(isinstance(v, Mapping) for v in signal_codes.values()):
-        for v in signal_codes.values():
-            if isinstance(v, Mapping):
-                add(v)
-    else:
-        add(signal_codes)
-    return ", ".join(found)
-
-
-def _obs_list(name: str, value: object) -> list[RinexObs | str | PathLike[str]]:
-    if isinstance(value, str | PathLike | RinexObs) or not isinstance(value, list | tuple):
-        raise InvalidTypeError(
-            f"expected {name} as a list of observation files or RinexObs, got {type(value).__name__}"
-        )
-    for i, o in enumerate(value):
-        if not isinstance(o, RinexObs):
-            path_text(o, f"{name}[{i}]")
-    if len(value) < 2:
-        raise InvalidInputError(f"expected two or more {name} (antennas), got {len(value)}")
-    return list(value)
-
-
-def _systems(value: object) -> str:
-    if not isinstance(value, str):
-        raise InvalidTypeError(f"expected systems as system letters such as 'GE', got {type(value).__name__}")
-    if not value or any(ch not in SYSTEMS for ch in value):
-        raise InvalidInputError(f"expected systems as letters among {SYSTEMS!r}, got {value!r}")
-    return "".join(ch for ch in SYSTEMS if ch in value)
-
-
-def _frequencies(value: object) -> int:
-    from gnssatt import _core
-
-    top = int(_core.GNSS_MAX_FREQUENCIES)
-    if value == "all":
-        return top
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or not 1 <= int(value) <= top:
-        raise InvalidInputError(f"expected frequencies 1..{top} or 'all', got {value!r}")
-    return int(value)
 
 
 def attitude_from_rinex(
@@ -567,56 +225,27 @@ def attitude_from_rinex(
     rigid = flag("rigid", rigid)
     if filter is not None:
         filter = choice("filter", filter, get_args(FilterName))
-    systems = _systems(systems)
-    n_freq = _frequencies(frequencies)
-    opts: dict[str, Any] = {}
-    if elevation_mask_deg is not None:
-        opts["elevation_mask_deg"] = scalar(
-            "elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0
-        )
-    if min_success_rate is not None:
-        opts["min_success_rate"] = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
-    if ratio_threshold is not None:
-        opts["ratio_threshold"] = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
-    if max_failure_rate is not None:
-        opts["max_failure_rate"] = scalar("max_failure_rate", max_failure_rate, minimum=0.0, maximum=0.1)
-    if base_position_m is not None:
-        opts["base_position_m"] = shaped("base_position_m", base_position_m, "(3,)", (3,))
-    if step_deg is not None:
-        opts["step_deg"] = scalar("step_deg", step_deg, minimum=0.0, maximum=MAX_STEP_DEG, strict=True)
-    if window_deg is not None:
-        opts["window_deg"] = scalar(
-            "window_deg", window_deg, minimum=0.0, maximum=MAX_WINDOW_DEG, strict=True
-        )
-    grid_options: list[str] = [n for n in ("step_deg", "window_deg") if n in opts]
-    if grid_options and (method == "lambda" or filter is not None):
-        # the engine runs the likelihood grid with method ml or auto and without a filter only: these
-        # options would change nothing
-        without = "method 'lambda'" if method == "lambda" else f"filter {filter!r}"
-        raise InvalidInputError(
-            f"{' and '.join(grid_options)} set the likelihood grid, which {without} never runs: leave "
-            "them out, or use method 'ml' or 'auto'"
-        )
-    observations = _obs_list("observations", observations)
-    n_rover = len(observations) - 1
-    if baseline_length_m is not None:
-        lengths = shaped("baseline_length_m", np.atleast_1d(baseline_length_m), "(n_ant - 1,)", (n_rover,))
-        opts["baseline_lengths_m"] = [float(v) for v in lengths]
-    if baselines is not None:
-        b = shaped("baselines", baselines, "(n_ant - 1, 3)", (n_rover, 3))
-        if n_rover < 2:
-            raise InvalidInputError(
-                "attitude mode needs three or more antennas; for two, omit the baselines (baseline mode)"
-            )
-        opts["body_baselines_m"] = b
-    elif n_rover != 1:
-        raise InvalidInputError(f"expected baselines ({n_rover}, 3) for {n_rover + 1} antennas, got none")
+    systems = system_letters(systems)
+    n_freq = frequency_slots(frequencies)
+    opts, grid_options = numeric_options(
+        method,
+        filter,
+        elevation_mask_deg=elevation_mask_deg,
+        min_success_rate=min_success_rate,
+        ratio_threshold=ratio_threshold,
+        max_failure_rate=max_failure_rate,
+        base_position_m=base_position_m,
+        step_deg=step_deg,
+        window_deg=window_deg,
+    )
+    observations = obs_list("observations", observations)
+    opts.update(antenna_options(len(observations) - 1, baselines, baseline_length_m))
     if motion is None:
         motion = "moving" if baselines is not None or continuity or filter is not None else "static"
     obs = [o if isinstance(o, RinexObs) else read_obs(o) for o in observations]
     nv = navigation(nav, "nav")
     si = session_input(obs, systems=systems, frequencies=n_freq, nav=nv)
-    _check_nav_covers(si.time_gpst_ns, si.sats, nv)
+    check_nav_covers(si.time_gpst_ns, si.sats, nv)
     ni = nav_input(nv)
     modes: dict[str, Any] = {
         "systems": systems,
@@ -628,186 +257,13 @@ def attitude_from_rinex(
         **modes, method=method, filter=filter, rigid=rigid, **opts
     )
     if baseline_length_m is not None and len(si.time_gpst_ns) > KNOWN_LENGTH_PROBE_EPOCHS:
-        _probe_known_lengths(opts["baseline_lengths_m"], si, ni.navigation(), modes, opts)
+        probe_known_lengths(opts["baseline_lengths_m"], si, ni.navigation(), modes, opts)
     s = _core.gnss_run(si.observations(), ni.navigation(), options)
-    series = _series(s, si.signal_codes)
-    _check_method(method, series)
-    _check_grid_options(grid_options, series)
+    series = series_from_session(s, si.signal_codes)
+    check_method(method, series)
+    check_grid_options(grid_options, series)
     if baseline_length_m is not None:
-        _check_known_lengths(opts["baseline_lengths_m"], series, "the session")
+        check_known_lengths(opts["baseline_lengths_m"], series, "the session")
     for message in s.warnings:
         warnings.warn(message, EngineWarning, stacklevel=2)
-    return _undirected(series, [str(o.path) for o in obs])
-
-
-#: A known baseline length is refused when the fixed solutions measure a length further from it than
-#: ``KNOWN_LENGTH_TOLERANCE_M + KNOWN_LENGTH_TOLERANCE_RELATIVE x length``: fixed double differences give
-#: the length to millimetres, and the engine's grid needs it to 1 % (``docs/observation_engine.md``).
-KNOWN_LENGTH_TOLERANCE_M = 0.01
-KNOWN_LENGTH_TOLERANCE_RELATIVE = 1e-3
-
-
-#: Epochs of the probe that checks ``baseline_length_m`` before a longer session runs: the first ones,
-#: solved without the length (LAMBDA alone). The GEONET pair of ``tests/test_option_effects.py`` (3.3 km,
-#: 30 s epochs) fixes from its first epoch, so a contradicted length is refused after these instead of the
-#: whole session; a probe that fixes none of them leaves the check to the session.
-KNOWN_LENGTH_PROBE_EPOCHS = 30
-
-
-def _probe_known_lengths(
-    lengths_m: list[float],
-    si: Any,
-    navigation: Any,
-    modes: dict[str, Any],
-    opts: dict[str, Any],
-) -> None:
-    """:func:`_check_known_lengths` on the first :data:`KNOWN_LENGTH_PROBE_EPOCHS` epochs solved without
-    the known length, before the session runs. A probe that fixes nothing, or fails, decides nothing: the
-    session's own check (and its own errors) follow."""
-    from gnssatt import _core
-
-    free = {k: v for k, v in opts.items() if k not in ("baseline_lengths_m", "step_deg", "window_deg")}
-    try:
-        probe = _core.gnss_run(
-            si.observations(slice(0, KNOWN_LENGTH_PROBE_EPOCHS)),
-            navigation,
-            _core.GnssOptions(**modes, method="lambda", filter=None, **free),
-        )
-    except (InvalidInputError, ConvergenceError):
-        return
-    first = f"the first {KNOWN_LENGTH_PROBE_EPOCHS} epochs (solved without the length, before the session)"
-    _check_known_lengths(lengths_m, _series(probe, si.signal_codes), first)
-
-
-def _check_known_lengths(lengths_m: list[float], series: AttitudeSeries, epochs: str) -> None:
-    """Refuses ``baseline_length_m`` where the epochs fixed by LAMBDA measure another length (the engine
-    uses the known length only where it helps, so a wrong one left the result unchanged); ``epochs`` says
-    which epochs were looked at in the message."""
-    rows = series.solved & (series.fixed == 1) & (series.method == "lambda")
-    if not np.any(rows):
-        return  # nothing measured the length independently
-    measured = np.median(np.linalg.norm(series.baselines_enu_m[rows], axis=2), axis=0)
-    for r, (given, got) in enumerate(zip(lengths_m, measured, strict=True)):
-        if abs(got - given) > KNOWN_LENGTH_TOLERANCE_M + KNOWN_LENGTH_TOLERANCE_RELATIVE * given:
-            raise InvalidInputError(
-                f"baseline_length_m: rover {r + 1} is given as {given:.4g} m, but {int(np.sum(rows))} "
-                f"fixed epochs of {epochs} measure {got:.4f} m (median): give the measured length or none"
-            )
-
-
-def _check_grid_options(names: list[str], series: AttitudeSeries) -> None:
-    """Refuses ``step_deg`` and ``window_deg`` where the likelihood grid solved no epoch: with method
-    ``"auto"`` it runs only on epochs LAMBDA left unfixed (and within 100 m in baseline mode), so the
-    options changed nothing."""
-    if names and not np.any(series.method == "ml"):
-        raise InvalidInputError(
-            f"{' and '.join(names)} set the likelihood grid, which solved none of the {len(series.method)} "
-            "epochs (method 'auto' runs it only where LAMBDA fixed nothing, and in baseline mode within "
-            "100 m): they changed nothing; leave them out, or use method 'ml'"
-        )
-
-
-def _check_method(method: str, series: AttitudeSeries) -> None:
-    """Refuses ``method="ml"`` where the likelihood grid solved no epoch or failed (the engine then keeps
-    the double-difference solution, which ``method="ml"`` did not ask for)."""
-    if method != "ml":
-        return
-    failed = [w for w in series.warnings if "likelihood grid failed" in w]
-    if failed or not np.any(series.method == "ml"):
-        reason = "; ".join(failed) or "; ".join(w for w in series.warnings if "grid" in w) or "no epoch"
-        raise InvalidInputError(
-            f"method 'ml': the likelihood grid solved {int(np.sum(series.method == 'ml'))} of "
-            f"{len(series.method)} epochs ({reason}): use method 'auto' or 'lambda', or a coarser step_deg "
-            "or a window_deg"
-        )
-
-
-#: Longest validity of a broadcast record on either side of its reference time, s (BeiDou's 6 h in
-#: ``max_age_s`` of ``rust/core/src/gnss/ephemeris/mod.rs``): beyond it from every epoch, no record can serve.
-_LONGEST_EPHEMERIS_AGE_NS = 6 * 3600 * 1_000_000_000
-
-
-def _check_nav_covers(time_gpst_ns: NDArray[np.int64], sats: tuple[str, ...], nav: RinexNav) -> None:
-    """Refuse, naming the navigation file and both time spans, when no broadcast record of a satellite of
-    the session lies within the longest validity of any epoch (a navigation file of another day): the
-    engine would otherwise report only that no satellite had an ephemeris."""
-    k, g = nav.kepler, nav.glonass
-    wanted = np.array(sats, dtype=str)
-    times = np.concatenate([k.toe_ns[np.isin(k.sats, wanted)], g.tb_ns[np.isin(g.sats, wanted)]]).astype(
-        np.int64
-    )
-    epochs = np.sort(np.asarray(time_gpst_ns, dtype=np.int64))
-    if len(times) and len(epochs):
-        after = np.clip(np.searchsorted(epochs, times), 0, len(epochs) - 1)
-        before = np.clip(after - 1, 0, len(epochs) - 1)
-        nearest = np.minimum(np.abs(times - epochs[after]), np.abs(times - epochs[before]))
-        if nearest.min() <= _LONGEST_EPHEMERIS_AGE_NS:
-            return
-    first, last = (_GPS_EPOCH + np.array([epochs[0], epochs[-1]]).astype("timedelta64[ns]")).astype(
-        "datetime64[s]"
-    )
-    if len(times):
-        lo, hi = (_GPS_EPOCH + np.array([times.min(), times.max()]).astype("timedelta64[ns]")).astype(
-            "datetime64[s]"
-        )
-        span = f"its records of these satellites refer to {lo} to {hi} (GPST)"
-    else:
-        span = "it has no record of any of them"
-    raise RinexError(
-        nav.path,
-        None,
-        f"no broadcast ephemeris for the {len(sats)} satellites observed (systems "
-        f"{''.join(dict.fromkeys(x[0] for x in sats))}) within 6 h of the "
-        f"observation epochs {first} to {last} (GPST); {span}: expected the navigation file of the "
-        "observation day",
-    )
-
-
-def _undirected(series: AttitudeSeries, paths: list[str]) -> AttitudeSeries:
-    """Baseline mode: azimuth and elevation NaN (with a :class:`ZeroBaselineWarning`) where the baseline is
-    shorter than :data:`MIN_DIRECTION_BASELINE_M`, instead of the angles of a vector of noise."""
-    if series.mode != "baseline":
-        return series
-    length = np.linalg.norm(series.baselines_enu_m[:, 0, :], axis=1)
-    short = length < MIN_DIRECTION_BASELINE_M
-    if not short.any():
-        return series
-    message = (
-        f"baseline shorter than {MIN_DIRECTION_BASELINE_M} m at {int(short.sum())} of {len(short)} epochs "
-        f"(longest {float(length[short].max()):.4f} m) between {paths[0]} and {paths[1]}: one antenna seen "
-        "twice (the same file, or a zero-baseline receiver test); azimuth and elevation are undefined there "
-        "and set to NaN, the baselines are kept"
-    )
-    warnings.warn(message, ZeroBaselineWarning, stacklevel=3)
-    angles = series.angles_deg.copy()
-    sigmas = series.angle_sigmas_deg.copy()
-    angles[short] = np.nan
-    sigmas[short] = np.nan
-    return replace(series, angles_deg=angles, angle_sigmas_deg=sigmas, warnings=(*series.warnings, message))
-
-
-def _series(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeries:
-    """An :class:`AttitudeSeries` of a ``gnssatt._core.GnssSession``."""
-    per_system = np.asarray(s.satellites_per_system, dtype=np.int64)
-    dd = s.double_differences
-    return AttitudeSeries(
-        time=_GPS_EPOCH + np.asarray(s.time_gpst_ns, dtype=np.int64).astype("timedelta64[ns]"),
-        mode=s.mode,
-        angles_deg=s.angles_deg,
-        method=np.array(s.method, dtype=str),
-        fixed=np.asarray(s.fixed, dtype=np.int64),
-        fix_state=np.array(s.fix_state, dtype=str),
-        satellites=per_system.sum(axis=1),
-        angle_sigmas_deg=s.angle_sigmas_deg,
-        baselines_enu_m=s.baselines_enu_m,
-        ratio=s.ratio,
-        success_rate=s.success_rate,
-        satellites_per_system=per_system,
-        frequency_slots_used=s.frequency_slots_used,
-        double_differences=np.zeros((5, 3), np.uint64) if dd is None else dd,
-        rotation_matrices=s.rotation_enu_from_body,
-        signal_codes=dict(signal_codes),
-        warnings=tuple(s.warnings),
-        code_sigma_scale=tuple(float(x) for x in s.code_sigma_scale),
-        baseline_covariances_enu_m2=np.asarray(s.baseline_covariance_enu_m2, dtype=np.float64),
-    )
+    return undirected(series, [str(o.path) for o in obs])
