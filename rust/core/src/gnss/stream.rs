@@ -17,11 +17,11 @@
 //! 3. Signal selection, per rover: systems in `systems`, slots below `frequencies`, code and phase at
 //!    both receivers, a usable ephemeris (geometry exists), base elevation at least the mask, carrier
 //!    frequency known (GLONASS channel). Sigmas are elevation-weighted (`phase_sigma`, `code_sigma` at
-//!    the base's elevation). Arc identities come from the slip detection of [`arcs`].
+//!    the base's elevation). Arc identities come from the slip detection of the private `arcs` module.
 //! 4. Estimation: `Lambda`: [`crate::gnss::rtk::solve_baseline`] per rover (baseline mode, no body
 //!    baselines; [`crate::gnss::rtk::solve_known_length`] for a rover whose distance is in
 //!    `baseline_lengths_m`) or [`crate::gnss::rtk::solve_attitude`] (attitude mode). `Ml`: the likelihood grid on
-//!    single differences at the base's reception instant (see [`ml`]); in baseline mode the baseline
+//!    single differences at the base's reception instant (the private `ml` module); in baseline mode the baseline
 //!    length is the known one (`baseline_lengths_m`), else the inverse-variance mean of the LAMBDA solutions' lengths so far (fixed, partially fixed
 //!    or float; epochs taken as independent), used once its sigma is below
 //!    [`GRID_LENGTH_RELATIVE_SIGMA`] of it. Until then the grid is not run: the epochs keep their LAMBDA
@@ -282,7 +282,7 @@ impl Engine {
     }
 
     /// Per rover, the estimated code sigma scale against the model (square root of the variance factor,
-    /// [`CodeNoiseScale`]: applied when above 1); NaN until [`CODE_SCALE_MIN_DOF`] residual degrees of
+    /// `CodeNoiseScale`: applied when above 1); NaN until [`CODE_SCALE_MIN_DOF`] residual degrees of
     /// freedom are in, and in static mode.
     pub fn code_sigma_scale(&self) -> Vec<f64> {
         self.code_scale

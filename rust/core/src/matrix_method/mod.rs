@@ -61,111 +61,157 @@ pub fn solve(
     range_diffs_m: &DMatrix<f64>,
     method: Method,
 ) -> Result<Solution> {
-    let (m, n) = (baselines_m.len(), los.len());
     validate(baselines_m, los, range_diffs_m)?;
-    let b = Matrix3xX::from_columns(baselines_m);
-    let s = Matrix3xX::from_columns(los);
+    let geo = Geometry::new(baselines_m, los);
     let r = range_diffs_m;
-    let g = &b * b.transpose();
-    let nn = &s * s.transpose();
-    let (g_cond, g_cond2) = conditions(&g);
-    let (n_cond, n_cond2) = conditions(&nn);
-    let need = |cond: f64, matrix: &'static str, what: &str| -> Result<()> {
-        if cond.is_nan() || cond > MAX_CONDITION {
-            return Err(Error::DegenerateGeometry {
-                what: what.into(),
-                matrix,
-                condition: cond,
-            });
-        }
-        Ok(())
-    };
-
     let raw = match method {
-        Method::ClosedForm | Method::Paper => {
-            let why = format!("{method:?} needs {{}} (got {m} baselines, {n} lines of sight)");
-            need(
-                g_cond,
-                G_NAME,
-                &why.replace("{}", "3 non-coplanar baselines"),
-            )?;
-            need(
-                n_cond,
-                N_NAME,
-                &why.replace("{}", "3 non-coplanar lines of sight"),
-            )?;
-            let k = invert(&g, G_NAME, (m, n))? * &b * r;
-            if method == Method::ClosedForm {
-                k * s.transpose() * invert(&nn, N_NAME, (m, n))?
-            } else {
-                let q = &s * k.transpose();
-                let qqt = q * q.transpose();
-                let eig = SymmetricEigen::new(qqt);
-                // Q Q^T is positive semi-definite; rounding can make its smallest eigenvalue slightly
-                // negative, and the ratio is then NaN or negative: both mean singular.
-                let cond = eig.eigenvalues.max() / eig.eigenvalues.min();
-                let cond = if cond >= 1.0 { cond } else { f64::INFINITY };
-                need(
-                    cond.sqrt(),
-                    "matrix Q = S K^T",
-                    "eq. (16) needs an invertible Q",
-                )?;
-                let inv_sqrt = eig.eigenvectors
-                    * Matrix3::from_diagonal(&eig.eigenvalues.map(|l| 1.0 / l.sqrt()))
-                    * eig.eigenvectors.transpose();
-                let a = q.transpose() * inv_sqrt;
-                if a.determinant() < 0.0 {
-                    return Err(Error::DegenerateGeometry {
-                        what: "eq. (16) returned a reflection (det = -1); use the SVD method"
-                            .into(),
-                        matrix: "matrix Q = S K^T",
-                        condition: cond.sqrt(),
-                    });
-                }
-                a
-            }
-        }
-        Method::Svd | Method::MaxLikelihood => {
-            // Both profile matrices equal (PSD) x A or A x (PSD) without noise, so the proper polar
-            // factor is A itself; which side is inverted depends on which side has full rank.
-            let h = if g_cond <= MAX_CONDITION && n_cond2 <= MAX_CONDITION {
-                invert(&g, G_NAME, (m, n))? * &b * r * s.transpose()
-            } else if g_cond2 <= MAX_CONDITION && n_cond <= MAX_CONDITION {
-                &b * r * s.transpose() * invert(&nn, N_NAME, (m, n))?
-            } else {
-                let (matrix, condition) = if g_cond2 > MAX_CONDITION {
-                    (G_NAME, g_cond2)
-                } else {
-                    (N_NAME, n_cond)
-                };
-                return Err(Error::DegenerateGeometry {
-                    what: format!(
-                        "the attitude is not fixed: need 3 non-coplanar baselines and 2 non-parallel \
-                         lines of sight, or 2 non-parallel baselines and 3 non-coplanar lines of sight \
-                         (got {m} baselines, {n} lines of sight)"
-                    ),
-                    matrix,
-                    condition,
-                });
-            };
-            let a = wahba::svd::solve(&h)?;
-            if method == Method::MaxLikelihood {
-                minimise_loss(&b, &s, r, a)?
-            } else {
-                a
-            }
-        }
+        Method::ClosedForm => geo.closed_form(r)?,
+        Method::Paper => geo.paper(r)?,
+        Method::Svd => geo.svd(r)?,
+        Method::MaxLikelihood => minimise_loss(&geo.b, &geo.s, r, geo.svd(r)?)?,
     };
     let rotation = match method {
         Method::ClosedForm => wahba::svd::solve(&raw)?,
         _ => raw,
     };
-    let resid = r - b.transpose() * rotation * &s;
+    let resid = r - geo.b.transpose() * rotation * &geo.s;
+    let (m, n) = geo.sizes;
     Ok(Solution {
         dcm_ref_from_body: rotation.transpose(),
         raw_body_from_ref: raw,
         residual_rms_m: resid.norm() / ((m * n) as f64).sqrt(),
     })
+}
+
+/// `Err(DegenerateGeometry)` naming `matrix` and `what` when `cond` is NaN or above [`MAX_CONDITION`].
+fn need(cond: f64, matrix: &'static str, what: &str) -> Result<()> {
+    if cond.is_nan() || cond > MAX_CONDITION {
+        return Err(Error::DegenerateGeometry {
+            what: what.into(),
+            matrix,
+            condition: cond,
+        });
+    }
+    Ok(())
+}
+
+/// The baselines `B` and lines of sight `S` as matrices, `G = B B^T` and `N = S S^T` with their
+/// condition numbers (see [`conditions`]).
+struct Geometry {
+    b: Matrix3xX<f64>,
+    s: Matrix3xX<f64>,
+    g: Matrix3<f64>,
+    nn: Matrix3<f64>,
+    g_cond: f64,
+    g_cond2: f64,
+    n_cond: f64,
+    n_cond2: f64,
+    /// Baselines and lines of sight, `(m, n)`.
+    sizes: (usize, usize),
+}
+
+impl Geometry {
+    fn new(baselines_m: &[Vector3<f64>], los: &[Vector3<f64>]) -> Geometry {
+        let b = Matrix3xX::from_columns(baselines_m);
+        let s = Matrix3xX::from_columns(los);
+        let g = &b * b.transpose();
+        let nn = &s * s.transpose();
+        let (g_cond, g_cond2) = conditions(&g);
+        let (n_cond, n_cond2) = conditions(&nn);
+        Geometry {
+            b,
+            s,
+            g,
+            nn,
+            g_cond,
+            g_cond2,
+            n_cond,
+            n_cond2,
+            sizes: (baselines_m.len(), los.len()),
+        }
+    }
+
+    /// `K = G^-1 B R`, after checking that eq. (3) and (16)'s `G` and `N` are invertible.
+    fn k(&self, r: &DMatrix<f64>, method: Method) -> Result<Matrix3xX<f64>> {
+        let (m, n) = self.sizes;
+        let why = format!("{method:?} needs {{}} (got {m} baselines, {n} lines of sight)");
+        need(
+            self.g_cond,
+            G_NAME,
+            &why.replace("{}", "3 non-coplanar baselines"),
+        )?;
+        need(
+            self.n_cond,
+            N_NAME,
+            &why.replace("{}", "3 non-coplanar lines of sight"),
+        )?;
+        Ok(invert(&self.g, G_NAME, self.sizes)? * &self.b * r)
+    }
+
+    /// Eq. (3), `A = K S^T N^-1`.
+    fn closed_form(&self, r: &DMatrix<f64>) -> Result<Matrix3<f64>> {
+        let k = self.k(r, Method::ClosedForm)?;
+        Ok(k * self.s.transpose() * invert(&self.nn, N_NAME, self.sizes)?)
+    }
+
+    /// Eq. (16), `A = Q^T (sqrt(Q Q^T))^-1`, `Q = S K^T`; a reflection is an error.
+    fn paper(&self, r: &DMatrix<f64>) -> Result<Matrix3<f64>> {
+        let k = self.k(r, Method::Paper)?;
+        let q = &self.s * k.transpose();
+        let qqt = q * q.transpose();
+        let eig = SymmetricEigen::new(qqt);
+        // Q Q^T is positive semi-definite; rounding can make its smallest eigenvalue slightly
+        // negative, and the ratio is then NaN or negative: both mean singular.
+        let cond = eig.eigenvalues.max() / eig.eigenvalues.min();
+        let cond = if cond >= 1.0 { cond } else { f64::INFINITY };
+        need(
+            cond.sqrt(),
+            "matrix Q = S K^T",
+            "eq. (16) needs an invertible Q",
+        )?;
+        let inv_sqrt = eig.eigenvectors
+            * Matrix3::from_diagonal(&eig.eigenvalues.map(|l| 1.0 / l.sqrt()))
+            * eig.eigenvectors.transpose();
+        let a = q.transpose() * inv_sqrt;
+        if a.determinant() < 0.0 {
+            return Err(Error::DegenerateGeometry {
+                what: "eq. (16) returned a reflection (det = -1); use the SVD method".into(),
+                matrix: "matrix Q = S K^T",
+                condition: cond.sqrt(),
+            });
+        }
+        Ok(a)
+    }
+
+    /// The proper rotation of the Wahba problem whose profile matrix is `G^-1 B R S^T` (non-coplanar
+    /// baselines) or `B R S^T N^-1` (non-coplanar lines of sight).
+    fn svd(&self, r: &DMatrix<f64>) -> Result<Matrix3<f64>> {
+        let (b, s) = (&self.b, &self.s);
+        // Both profile matrices equal (PSD) x A or A x (PSD) without noise, so the proper polar
+        // factor is A itself; which side is inverted depends on which side has full rank.
+        let h = if self.g_cond <= MAX_CONDITION && self.n_cond2 <= MAX_CONDITION {
+            invert(&self.g, G_NAME, self.sizes)? * b * r * s.transpose()
+        } else if self.g_cond2 <= MAX_CONDITION && self.n_cond <= MAX_CONDITION {
+            b * r * s.transpose() * invert(&self.nn, N_NAME, self.sizes)?
+        } else {
+            let (matrix, condition) = if self.g_cond2 > MAX_CONDITION {
+                (G_NAME, self.g_cond2)
+            } else {
+                (N_NAME, self.n_cond)
+            };
+            let (m, n) = self.sizes;
+            return Err(Error::DegenerateGeometry {
+                what: format!(
+                    "the attitude is not fixed: need 3 non-coplanar baselines and 2 non-parallel \
+                     lines of sight, or 2 non-parallel baselines and 3 non-coplanar lines of sight \
+                     (got {m} baselines, {n} lines of sight)"
+                ),
+                matrix,
+                condition,
+            });
+        };
+        wahba::svd::solve(&h)
+    }
 }
 
 /// Most Gauss-Newton iterations of [`Method::MaxLikelihood`].

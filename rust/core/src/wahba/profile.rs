@@ -96,27 +96,13 @@ pub fn shuster_attitude(q: &[f64; 4]) -> Matrix3<f64> {
     Matrix3::identity() * (q4 * q4 - e.norm_squared()) + 2.0 * e * e.transpose() - 2.0 * q4 * ex
 }
 
-/// Solves Wahba's problem for one epoch.
-///
-/// # Arguments
-/// * `body` - vectors in the body frame (any length; normalised here), at least 2 not parallel.
-/// * `reference` - the same directions in the reference frame, in the same order.
-/// * `weights` - non-negative weights, `1 / sigma_i^2` (rad^-2) for a meaningful covariance.
-/// * `method` - the solver; all three give the same optimum to rounding.
-///
-/// # Errors
-/// [`Error::Shape`] for mismatched lengths, [`Error::NonFinite`], [`Error::OutOfRange`] for a negative
-/// weight, [`Error::Degenerate`] for a zero vector, [`Error::DegenerateGeometry`] when the reference
-/// vectors with positive weight are all parallel, [`Error::Convergence`] if QUEST's Newton iteration fails,
-/// [`Error::Numerical`] for a result that is not finite (weights near the f64 limit).
-///
-/// Wahba (1965); covariance from Shuster (1989).
-pub fn solve(
+/// `body` and `reference` checked against `weights` (lengths, finite, weights non-negative) and
+/// normalised.
+fn unit_pairs(
     body: &[Vector3<f64>],
     reference: &[Vector3<f64>],
     weights: &[f64],
-    method: Method,
-) -> Result<Solution> {
+) -> Result<(Vec<Vector3<f64>>, Vec<Vector3<f64>>)> {
     let n = body.len();
     if reference.len() != n || weights.len() != n {
         return Err(Error::Shape {
@@ -145,6 +131,17 @@ pub fn solve(
             format!("reference vector {k} is zero")
         })?);
     }
+    Ok((b, r))
+}
+
+/// Shuster's covariance of the attitude error in the reference frame, the inverse of the information
+/// matrix `sum_i w_i (I - r_i r_i^T)` of the unit reference vectors `r`, and the ratio of that matrix's
+/// smallest to largest eigenvalue.
+///
+/// # Errors
+/// [`Error::DegenerateGeometry`] when the ratio is at most [`INFORMATION_RATIO_LIMIT`] (the reference
+/// vectors with positive weight all parallel).
+fn covariance(r: &[Vector3<f64>], weights: &[f64]) -> Result<(Matrix3<f64>, f64)> {
     let info: Matrix3<f64> = r
         .iter()
         .zip(weights)
@@ -165,6 +162,32 @@ pub fn solve(
     let covariance_ref = eig.eigenvectors
         * Matrix3::from_diagonal(&eig.eigenvalues.map(|l| 1.0 / l))
         * eig.eigenvectors.transpose();
+    Ok((covariance_ref, ratio))
+}
+
+/// Solves Wahba's problem for one epoch.
+///
+/// # Arguments
+/// * `body` - vectors in the body frame (any length; normalised here), at least 2 not parallel.
+/// * `reference` - the same directions in the reference frame, in the same order.
+/// * `weights` - non-negative weights, `1 / sigma_i^2` (rad^-2) for a meaningful covariance.
+/// * `method` - the solver; all three give the same optimum to rounding.
+///
+/// # Errors
+/// [`Error::Shape`] for mismatched lengths, [`Error::NonFinite`], [`Error::OutOfRange`] for a negative
+/// weight, [`Error::Degenerate`] for a zero vector, [`Error::DegenerateGeometry`] when the reference
+/// vectors with positive weight are all parallel, [`Error::Convergence`] if QUEST's Newton iteration fails,
+/// [`Error::Numerical`] for a result that is not finite (weights near the f64 limit).
+///
+/// Wahba (1965); covariance from Shuster (1989).
+pub fn solve(
+    body: &[Vector3<f64>],
+    reference: &[Vector3<f64>],
+    weights: &[f64],
+    method: Method,
+) -> Result<Solution> {
+    let (b, r) = unit_pairs(body, reference, weights)?;
+    let (covariance_ref, ratio) = covariance(&r, weights)?;
     let dcm = match method {
         Method::Svd => svd::solve(
             &b.iter()

@@ -10,6 +10,7 @@ pub mod kepler;
 
 use nalgebra::Vector3;
 
+use super::geometry::WGS84_A_M;
 use super::navdata::{GlonassRecord, KeplerRecord, NavData};
 use super::signal::{carrier_frequency_hz, SatId, System};
 use super::time::seconds_between;
@@ -283,7 +284,7 @@ impl Ephemerides {
         &self.skipped
     }
 
-    /// One sentence per [`SkipReason`] met: the count, the first [`NAMED_SKIPPED`] records named with
+    /// One sentence per [`SkipReason`] met: the count, the first `NAMED_SKIPPED` records named with
     /// their values, and that the others of the file are used.
     pub fn skip_warnings(&self) -> Vec<String> {
         let mut reasons: Vec<SkipReason> = self.skipped.iter().map(|s| s.reason).collect();
@@ -451,8 +452,6 @@ fn check_health_word(health: f64) -> Verdict {
     (!integer).then(|| (SkipReason::HealthWord, format!("health {health}")))
 }
 
-/// WGS-84 equatorial radius, m: a perigee below it is inside the Earth.
-const EARTH_RADIUS_M: f64 = 6_378_137.0;
 /// Largest apogee of a navigation satellite's orbit, m (GEO and IGSO: 4.2e7 m).
 const MAX_APOGEE_M: f64 = 1e8;
 
@@ -498,7 +497,8 @@ fn check_kepler(i: usize, r: &KeplerRecord) -> Result<Verdict> {
     }
     let a = r.sqrt_a * r.sqrt_a;
     let (perigee, apogee) = (a * (1.0 - r.e), a * (1.0 + r.e));
-    if perigee < EARTH_RADIUS_M || apogee > MAX_APOGEE_M {
+    // A perigee below the WGS-84 equatorial radius is inside the Earth.
+    if perigee < WGS84_A_M || apogee > MAX_APOGEE_M {
         return Ok(Some((
             SkipReason::NotASatellite,
             format!(

@@ -24,7 +24,7 @@
 //!    slip the detectors missed: its arc is started again and the update repeated (at most
 //!    [`MAX_RESTARTS_PER_EPOCH`] times).
 //! 4. Fixing on the filter's covariance: the double-difference ambiguities of the epoch's references and
-//!    their covariance go through the same gate as a single epoch ([`super::fix::fix_float`]: ratio test,
+//!    their covariance go through the same gate as a single epoch (`fix::fix_float`: ratio test,
 //!    bootstrapped success rate, fixed-failure-rate test, partial fixing).
 //! 5. Hold: the integers of a fully fixed epoch are held for the next epochs on the arcs that continue.
 //!    A held set is kept only while the filter's float ambiguities agree with it (the chi-square of their
@@ -215,7 +215,7 @@ impl BaselineFilter {
     }
 
     /// The filter of a rigid pair: every fix's length is checked against `length` (known, or learned
-    /// from the fixes this filter reports and those given to [`Self::learn`]) and refused beyond
+    /// from the fixes this filter reports and those given to `learn`) and refused beyond
     /// [`super::rigid::RIGID_LENGTH_SIGMAS`]; a refused fix is neither reported nor held.
     pub fn with_length(mut self, length: RigidLength) -> BaselineFilter {
         self.length = Some(length);

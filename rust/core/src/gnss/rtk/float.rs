@@ -98,6 +98,78 @@ fn rounded_ambiguities(epoch: &DdEpoch) -> Vec<i64> {
         .collect()
 }
 
+/// The unknowns met so far, in order of first appearance: the double-difference ambiguities per
+/// `(arc, reference arc)` and the FDMA reference ambiguities per reference arc, each with the offset
+/// (rounded phase minus code, cycles) of its first epoch; and the held integers that occurred.
+#[derive(Default)]
+struct Unknowns {
+    held: HashMap<(u64, u64), i64>,
+    amb_index: HashMap<(u64, u64), usize>,
+    ambiguities: Vec<Ambiguity>,
+    ref_index: HashMap<u64, usize>,
+    ref_offsets: Vec<i64>,
+    used_held: Vec<(u64, u64)>,
+}
+
+impl Unknowns {
+    /// The term of a member's double difference `key`, whose rounded offset at this epoch is `offset`.
+    fn term(&mut self, key: (u64, u64), offset: i64) -> Term {
+        if let Some(&n) = self.held.get(&key) {
+            if !self.used_held.contains(&key) {
+                self.used_held.push(key);
+            }
+            return Term::Held(n);
+        }
+        let next = self.ambiguities.len();
+        let i = *self.amb_index.entry(key).or_insert(next);
+        if i == next {
+            self.ambiguities.push(Ambiguity {
+                arc: key.0,
+                reference_arc: key.1,
+                offset,
+            });
+        }
+        Term::Free(i, self.ambiguities[i].offset)
+    }
+
+    /// The FDMA reference unknown of `arc`, rounded at `rounded` cycles this epoch: index and offset.
+    fn reference(&mut self, arc: u64, rounded: i64) -> (usize, i64) {
+        let next = self.ref_offsets.len();
+        let i = *self.ref_index.entry(arc).or_insert(next);
+        if i == next {
+            self.ref_offsets.push(rounded);
+        }
+        (i, self.ref_offsets[i])
+    }
+}
+
+/// The groups of one epoch (`prepared`, all of epoch `epoch`) added to `summary`: the slots used, the
+/// most satellites seen per system in one epoch, and the reference satellite of each system's lowest
+/// slot (the last epoch's where several epochs have one).
+fn summarise(summary: &mut Summary, epoch: &DdEpoch, prepared: &[Prepared]) {
+    let mut sats: [Vec<usize>; N_SYSTEMS] = Default::default();
+    let mut refs: [Option<(usize, usize)>; N_SYSTEMS] = [None; N_SYSTEMS];
+    for group in prepared.iter().map(|pr| &pr.group) {
+        let s = group.system.index();
+        summary.slots_used |= 1 << group.slot;
+        for &i in std::iter::once(&group.reference).chain(&group.members) {
+            if !sats[s].contains(&epoch.signals[i].sat) {
+                sats[s].push(epoch.signals[i].sat);
+            }
+        }
+        if refs[s].is_none_or(|(slot, _)| group.slot < slot) {
+            refs[s] = Some((group.slot, epoch.signals[group.reference].sat));
+        }
+    }
+    for s in 0..N_SYSTEMS {
+        let n = u16::try_from(sats[s].len()).unwrap_or(u16::MAX);
+        summary.satellites_per_system[s] = summary.satellites_per_system[s].max(n);
+        if let Some((_, sat)) = refs[s] {
+            summary.reference_sats[s] = Some(sat);
+        }
+    }
+}
+
 /// Float solution of `epochs` (one baseline shared) with `held` integers imposed.
 ///
 /// # Errors
@@ -105,12 +177,10 @@ fn rounded_ambiguities(epoch: &DdEpoch) -> Vec<i64> {
 /// geometry that does not determine the baseline), [`Error::TooLarge`] beyond
 /// [`MAX_DIMENSION`] ambiguities, [`Error::Convergence`] when the baseline does not settle.
 pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSolution> {
-    let held_map: HashMap<(u64, u64), i64> = held.iter().map(|&(a, r, n)| ((a, r), n)).collect();
-    let mut amb_index: HashMap<(u64, u64), usize> = HashMap::new();
-    let mut ambiguities: Vec<Ambiguity> = Vec::new();
-    let mut ref_index: HashMap<u64, usize> = HashMap::new();
-    let mut ref_offsets: Vec<i64> = Vec::new();
-    let mut used_held: Vec<(u64, u64)> = Vec::new();
+    let mut unknowns = Unknowns {
+        held: held.iter().map(|&(a, r, n)| ((a, r), n)).collect(),
+        ..Unknowns::default()
+    };
     let mut prepared = Vec::new();
     let mut rows = 0usize;
     let mut summary = Summary {
@@ -120,53 +190,19 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
     };
     for (e, epoch) in epochs.iter().enumerate() {
         let n0 = rounded_ambiguities(epoch);
-        let mut sats: [Vec<usize>; N_SYSTEMS] = Default::default();
-        let mut refs: [Option<(usize, usize)>; N_SYSTEMS] = [None; N_SYSTEMS];
+        let first = prepared.len();
         for group in groups(epoch) {
             let r = &epoch.signals[group.reference];
+            let reference_rounded = n0[group.reference];
             let terms = group
                 .members
                 .iter()
-                .map(|&k| {
-                    let key = (epoch.signals[k].arc, r.arc);
-                    if let Some(&n) = held_map.get(&key) {
-                        if !used_held.contains(&key) {
-                            used_held.push(key);
-                        }
-                        return Term::Held(n);
-                    }
-                    let next = ambiguities.len();
-                    let i = *amb_index.entry(key).or_insert(next);
-                    if i == next {
-                        ambiguities.push(Ambiguity {
-                            arc: key.0,
-                            reference_arc: key.1,
-                            offset: n0[k] - n0[group.reference],
-                        });
-                    }
-                    Term::Free(i, ambiguities[i].offset)
-                })
+                .map(|&k| unknowns.term((epoch.signals[k].arc, r.arc), n0[k] - reference_rounded))
                 .collect();
-            let reference = group.fdma.then(|| {
-                let next = ref_offsets.len();
-                let i = *ref_index.entry(r.arc).or_insert(next);
-                if i == next {
-                    ref_offsets.push(n0[group.reference]);
-                }
-                (i, ref_offsets[i])
-            });
+            let reference = group
+                .fdma
+                .then(|| unknowns.reference(r.arc, reference_rounded));
             rows += 2 * group.members.len() + usize::from(group.fdma);
-            let s = group.system.index();
-            summary.slots_used |= 1 << group.slot;
-            for &i in std::iter::once(&group.reference).chain(&group.members) {
-                if !sats[s].contains(&epoch.signals[i].sat) {
-                    sats[s].push(epoch.signals[i].sat);
-                }
-            }
-            if refs[s].is_none_or(|(slot, _)| group.slot < slot) {
-                refs[s] = Some((group.slot, r.sat));
-            }
-            let reference_rounded = n0[group.reference];
             prepared.push(Prepared {
                 epoch: e,
                 group,
@@ -175,15 +211,9 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
                 reference_rounded,
             });
         }
-        for s in 0..N_SYSTEMS {
-            let n = u16::try_from(sats[s].len()).unwrap_or(u16::MAX);
-            summary.satellites_per_system[s] = summary.satellites_per_system[s].max(n);
-            if let Some((_, sat)) = refs[s] {
-                summary.reference_sats[s] = Some(sat);
-            }
-        }
+        summarise(&mut summary, epoch, &prepared[first..]);
     }
-    let na = ambiguities.len();
+    let na = unknowns.ambiguities.len();
     if na > MAX_DIMENSION {
         return Err(Error::too_large(
             "ambiguities",
@@ -192,7 +222,7 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
             "double-difference ambiguities in one solution",
         ));
     }
-    let p = 3 + na + ref_offsets.len();
+    let p = 3 + na + unknowns.ref_offsets.len();
     if prepared.is_empty() {
         return Err(Error::DegenerateGeometry {
             what: "double differences: no system and slot has two satellites".into(),
@@ -200,15 +230,37 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
             condition: f64::INFINITY,
         });
     }
+    let (baseline_m, x, covariance, chi2) = iterate(epochs, &prepared, p, na)?;
+    Ok(FloatSolution {
+        baseline_m,
+        ambiguities_cycles: x.rows(3, na).into_owned(),
+        ambiguities: unknowns.ambiguities,
+        covariance,
+        chi2,
+        dof: rows.saturating_sub(p),
+        used_held: unknowns.used_held,
+        summary,
+    })
+}
+
+/// Gauss-Newton from the epochs' mean code prior until the baseline moves by less than
+/// [`CONVERGED_M`]: the baseline, all unknowns' last update (ambiguities as solved, not increments:
+/// they enter linearly), their covariance and the weighted sum of squared residuals.
+fn iterate(
+    epochs: &[DdEpoch],
+    prepared: &[Prepared],
+    p: usize,
+    na: usize,
+) -> Result<(Vector3<f64>, DVector<f64>, DMatrix<f64>, f64)> {
     let mean_prior: Vector3<f64> = epochs
         .iter()
         .map(|e| e.rover_prior_m - e.base_m)
         .sum::<Vector3<f64>>()
         / epochs.len() as f64;
-    let blocks = blocks(&prepared, na, p);
+    let blocks = blocks(prepared, na, p);
     let mut b = mean_prior;
     for _ in 0..MAX_ITERATIONS {
-        let (normal, rhs, yty) = accumulate(epochs, &prepared, &b, p, na)?;
+        let (normal, rhs, yty) = accumulate(epochs, prepared, &b, p, na)?;
         let sol = Schur::solve(&normal, &rhs, &blocks).ok_or_else(|| degenerate(&normal))?;
         let x = &sol.x;
         let db = Vector3::new(x[0], x[1], x[2]);
@@ -218,16 +270,8 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
             if covariance.iter().any(|v| !v.is_finite()) || !b.iter().all(|v| v.is_finite()) {
                 return Err(degenerate(&normal));
             }
-            return Ok(FloatSolution {
-                baseline_m: b,
-                ambiguities_cycles: x.rows(3, na).into_owned(),
-                ambiguities,
-                covariance,
-                chi2: (yty - x.dot(&rhs)).max(0.0),
-                dof: rows.saturating_sub(p),
-                used_held,
-                summary,
-            });
+            let chi2 = (yty - x.dot(&rhs)).max(0.0);
+            return Ok((b, sol.x, covariance, chi2));
         }
     }
     Err(Error::Convergence {
@@ -363,92 +407,8 @@ fn accumulate(
     let mut yty = 0.0;
     for pr in prepared {
         let epoch = &epochs[pr.epoch];
-        let g = &pr.group;
-        let m = g.members.len();
-        let sd_model = SdRangeModel::new(&epoch.base_m, &(epoch.base_m + b));
-        // SD range model and rover line of sight of each signal (reference first).
-        let order: Vec<usize> = std::iter::once(g.reference)
-            .chain(g.members.iter().copied())
-            .collect();
-        let model: Vec<(f64, Vector3<f64>, f64, f64, f64)> = order
-            .iter()
-            .map(|&i| {
-                let s = &epoch.signals[i];
-                let (sd_range, los) = sd_model.range_and_los(s);
-                let sd_code = s.rover_code_m - s.base_code_m;
-                let sd_cycles = s.rover_phase_cycles - s.base_phase_cycles;
-                (sd_range, los, sd_code, sd_cycles, s.wavelength_m)
-            })
-            .collect();
-        // Local unknowns: baseline (3), then each free member ambiguity, then the FDMA reference.
-        let mut cols: Vec<usize> = vec![0, 1, 2];
-        let mut member_col: Vec<Option<usize>> = Vec::with_capacity(m);
-        for t in &pr.terms {
-            match *t {
-                Term::Free(i, _) => {
-                    member_col.push(Some(cols.len()));
-                    cols.push(3 + i);
-                }
-                Term::Held(_) => member_col.push(None),
-            }
-        }
-        let ref_col = pr.reference.map(|(i, _)| {
-            cols.push(3 + na + i);
-            cols.len() - 1
-        });
-        let rows = 2 * m + usize::from(g.fdma);
-        let mut a = DMatrix::<f64>::zeros(rows, cols.len());
-        let mut y = DVector::<f64>::zeros(rows);
-        let (rho0, u0, code0, cyc0, lam0) = model[0];
-        for j in 0..m {
-            let (rho, u, code, cyc, lam_k) = model[j + 1];
-            // One wavelength per CDMA group (they agree to 1e-9): the reference's, so that the large
-            // common parts of the two phases cancel exactly.
-            let lam = if g.fdma { lam_k } else { lam0 };
-            let h = -(u - u0);
-            for c in 0..3 {
-                a[(j, c)] = h[c];
-                a[(m + j, c)] = h[c];
-            }
-            y[j] = (code - code0) - (rho - rho0);
-            let integer = match pr.terms[j] {
-                Term::Free(_, o) | Term::Held(o) => o,
-            };
-            // lam (cyc - a0 - r0) - lam0 (cyc0 - r0) = phase - lam a0 - (lam - lam0) r0: the integer parts
-            // taken out in cycles (exact) before scaling; r0 is the FDMA reference's offset, or any
-            // integer (this epoch's rounding) where the wavelengths agree.
-            let r0 = pr.reference.map_or(pr.reference_rounded, |(_, o)| o) as f64;
-            let phase = lam * (cyc - integer as f64 - r0) - lam0 * (cyc0 - r0);
-            y[m + j] = phase - (rho - rho0);
-            if let Some(c) = member_col[j] {
-                a[(m + j, c)] = lam;
-            }
-            if let Some(c) = ref_col {
-                a[(m + j, c)] = reference_coefficient(lam, lam0);
-            }
-        }
-        if let Some(c) = ref_col {
-            a[(2 * m, c)] = code_row_coefficient(lam0);
-            let r0 = pr.reference.map_or(0, |(_, o)| o) as f64;
-            y[2 * m] = lam0 * (cyc0 - r0) - code0;
-        }
-        let cov = covariance(epoch, g);
-        let chol = Cholesky::new(cov).ok_or_else(|| {
-            Error::numerical(
-                "double-difference covariance",
-                format!(
-                    "epoch {}: the covariance of system {:?} slot {} is not positive definite",
-                    pr.epoch, g.system, g.slot
-                ),
-            )
-        })?;
-        let l = chol.l();
-        let wa = l
-            .solve_lower_triangular(&a)
-            .ok_or_else(|| Error::numerical("double-difference whitening", "singular factor"))?;
-        let wy = l
-            .solve_lower_triangular(&y)
-            .ok_or_else(|| Error::numerical("double-difference whitening", "singular factor"))?;
+        let (cols, a, y) = design(epoch, pr, b, na);
+        let (wa, wy) = whiten(epoch, pr, &a, &y)?;
         let local_n = wa.tr_mul(&wa);
         let local_r = wa.tr_mul(&wy);
         for (i, &gi) in cols.iter().enumerate() {
@@ -460,6 +420,115 @@ fn accumulate(
         yty += wy.norm_squared();
     }
     Ok((normal, rhs, yty))
+}
+
+/// One group's rows at baseline `b`: the unknowns they involve (indices among all `3 + na + ...`), the
+/// design matrix over those (code rows, phase rows, then the FDMA reference's code row) and the
+/// observed minus computed values, m.
+fn design(
+    epoch: &DdEpoch,
+    pr: &Prepared,
+    b: &Vector3<f64>,
+    na: usize,
+) -> (Vec<usize>, DMatrix<f64>, DVector<f64>) {
+    let g = &pr.group;
+    let m = g.members.len();
+    let sd_model = SdRangeModel::new(&epoch.base_m, &(epoch.base_m + b));
+    // SD range model and rover line of sight of each signal (reference first).
+    let order: Vec<usize> = std::iter::once(g.reference)
+        .chain(g.members.iter().copied())
+        .collect();
+    let model: Vec<(f64, Vector3<f64>, f64, f64, f64)> = order
+        .iter()
+        .map(|&i| {
+            let s = &epoch.signals[i];
+            let (sd_range, los) = sd_model.range_and_los(s);
+            let sd_code = s.rover_code_m - s.base_code_m;
+            let sd_cycles = s.rover_phase_cycles - s.base_phase_cycles;
+            (sd_range, los, sd_code, sd_cycles, s.wavelength_m)
+        })
+        .collect();
+    // Local unknowns: baseline (3), then each free member ambiguity, then the FDMA reference.
+    let mut cols: Vec<usize> = vec![0, 1, 2];
+    let mut member_col: Vec<Option<usize>> = Vec::with_capacity(m);
+    for t in &pr.terms {
+        match *t {
+            Term::Free(i, _) => {
+                member_col.push(Some(cols.len()));
+                cols.push(3 + i);
+            }
+            Term::Held(_) => member_col.push(None),
+        }
+    }
+    let ref_col = pr.reference.map(|(i, _)| {
+        cols.push(3 + na + i);
+        cols.len() - 1
+    });
+    let rows = 2 * m + usize::from(g.fdma);
+    let mut a = DMatrix::<f64>::zeros(rows, cols.len());
+    let mut y = DVector::<f64>::zeros(rows);
+    let (rho0, u0, code0, cyc0, lam0) = model[0];
+    for j in 0..m {
+        let (rho, u, code, cyc, lam_k) = model[j + 1];
+        // One wavelength per CDMA group (they agree to 1e-9): the reference's, so that the large
+        // common parts of the two phases cancel exactly.
+        let lam = if g.fdma { lam_k } else { lam0 };
+        let h = -(u - u0);
+        for c in 0..3 {
+            a[(j, c)] = h[c];
+            a[(m + j, c)] = h[c];
+        }
+        y[j] = (code - code0) - (rho - rho0);
+        let integer = match pr.terms[j] {
+            Term::Free(_, o) | Term::Held(o) => o,
+        };
+        // lam (cyc - a0 - r0) - lam0 (cyc0 - r0) = phase - lam a0 - (lam - lam0) r0: the integer parts
+        // taken out in cycles (exact) before scaling; r0 is the FDMA reference's offset, or any
+        // integer (this epoch's rounding) where the wavelengths agree.
+        let r0 = pr.reference.map_or(pr.reference_rounded, |(_, o)| o) as f64;
+        let phase = lam * (cyc - integer as f64 - r0) - lam0 * (cyc0 - r0);
+        y[m + j] = phase - (rho - rho0);
+        if let Some(c) = member_col[j] {
+            a[(m + j, c)] = lam;
+        }
+        if let Some(c) = ref_col {
+            a[(m + j, c)] = reference_coefficient(lam, lam0);
+        }
+    }
+    if let Some(c) = ref_col {
+        a[(2 * m, c)] = code_row_coefficient(lam0);
+        let r0 = pr.reference.map_or(0, |(_, o)| o) as f64;
+        y[2 * m] = lam0 * (cyc0 - r0) - code0;
+    }
+    (cols, a, y)
+}
+
+/// The rows `a`, `y` of group `pr` whitened by the Cholesky factor of their covariance.
+fn whiten(
+    epoch: &DdEpoch,
+    pr: &Prepared,
+    a: &DMatrix<f64>,
+    y: &DVector<f64>,
+) -> Result<(DMatrix<f64>, DVector<f64>)> {
+    let g = &pr.group;
+    let cov = covariance(epoch, g);
+    let chol = Cholesky::new(cov).ok_or_else(|| {
+        Error::numerical(
+            "double-difference covariance",
+            format!(
+                "epoch {}: the covariance of system {:?} slot {} is not positive definite",
+                pr.epoch, g.system, g.slot
+            ),
+        )
+    })?;
+    let l = chol.l();
+    let wa = l
+        .solve_lower_triangular(a)
+        .ok_or_else(|| Error::numerical("double-difference whitening", "singular factor"))?;
+    let wy = l
+        .solve_lower_triangular(y)
+        .ok_or_else(|| Error::numerical("double-difference whitening", "singular factor"))?;
+    Ok((wa, wy))
 }
 
 /// The error for a normal matrix that is not (numerically) positive definite, with its condition number.
