@@ -14,7 +14,7 @@
 //! entry (see [`IDENTITY_TOLERANCE`]); `|det Z| = 1` holds exactly because `Z` is a product of integer
 //! Gauss transformations (unit triangular) and permutations, and `Z^-1 Z = I` (`Z` against its recorded
 //! steps) is confirmed on the all-ones vector in exact integer arithmetic (O(n^2 + steps), see
-//! [`inverse_defect`]).
+//! `inverse_defect`).
 
 use nalgebra::{DMatrix, DVector};
 

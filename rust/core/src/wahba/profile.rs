@@ -96,13 +96,16 @@ pub fn shuster_attitude(q: &[f64; 4]) -> Matrix3<f64> {
     Matrix3::identity() * (q4 * q4 - e.norm_squared()) + 2.0 * e * e.transpose() - 2.0 * q4 * ex
 }
 
+/// Body and reference vectors, each normalised to unit length.
+type UnitPairs = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
+
 /// `body` and `reference` checked against `weights` (lengths, finite, weights non-negative) and
 /// normalised.
 fn unit_pairs(
     body: &[Vector3<f64>],
     reference: &[Vector3<f64>],
     weights: &[f64],
-) -> Result<(Vec<Vector3<f64>>, Vec<Vector3<f64>>)> {
+) -> Result<UnitPairs> {
     let n = body.len();
     if reference.len() != n || weights.len() != n {
         return Err(Error::Shape {

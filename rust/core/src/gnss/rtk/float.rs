@@ -243,6 +243,10 @@ pub fn solve(epochs: &[DdEpoch], held: &[(u64, u64, i64)]) -> Result<FloatSoluti
     })
 }
 
+/// What [`iterate`] converges to: the baseline (m), all unknowns' last update, their covariance and the
+/// weighted sum of squared residuals.
+type Converged = (Vector3<f64>, DVector<f64>, DMatrix<f64>, f64);
+
 /// Gauss-Newton from the epochs' mean code prior until the baseline moves by less than
 /// [`CONVERGED_M`]: the baseline, all unknowns' last update (ambiguities as solved, not increments:
 /// they enter linearly), their covariance and the weighted sum of squared residuals.
@@ -251,7 +255,7 @@ fn iterate(
     prepared: &[Prepared],
     p: usize,
     na: usize,
-) -> Result<(Vector3<f64>, DVector<f64>, DMatrix<f64>, f64)> {
+) -> Result<Converged> {
     let mean_prior: Vector3<f64> = epochs
         .iter()
         .map(|e| e.rover_prior_m - e.base_m)
