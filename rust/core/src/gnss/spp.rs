@@ -20,7 +20,7 @@ use super::geometry::{satellite_geometry_from, SatGeometry, Site, MIN_HORIZON_RA
 use super::navdata::NavData;
 use super::observations::Observations;
 use super::options::EngineOptions;
-use super::signal::{carrier_frequency_hz, System, MAX_FREQUENCIES, SPEED_OF_LIGHT_M_S};
+use super::signal::{carrier_frequency_hz, MAX_FREQUENCIES, SPEED_OF_LIGHT_M_S};
 use super::solution::N_SYSTEMS;
 use super::weights::code_variance_m2;
 use crate::error::{Error, Result};

@@ -250,12 +250,7 @@ type Converged = (Vector3<f64>, DVector<f64>, DMatrix<f64>, f64);
 /// Gauss-Newton from the epochs' mean code prior until the baseline moves by less than
 /// [`CONVERGED_M`]: the baseline, all unknowns' last update (ambiguities as solved, not increments:
 /// they enter linearly), their covariance and the weighted sum of squared residuals.
-fn iterate(
-    epochs: &[DdEpoch],
-    prepared: &[Prepared],
-    p: usize,
-    na: usize,
-) -> Result<Converged> {
+fn iterate(epochs: &[DdEpoch], prepared: &[Prepared], p: usize, na: usize) -> Result<Converged> {
     let mean_prior: Vector3<f64> = epochs
         .iter()
         .map(|e| e.rover_prior_m - e.base_m)
