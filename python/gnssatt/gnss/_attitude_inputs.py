@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from gnssatt._arrays import path_text, scalar, shaped
 from gnssatt.errors import InvalidInputError, InvalidTypeError, RinexError
-from gnssatt.gnss._attitude_series import _GPS_EPOCH, SYSTEMS
+from gnssatt.gnss._attitude_series import GPS_EPOCH, SYSTEMS
 from gnssatt.rinex.nav import RinexNav
 from gnssatt.rinex.obs import RinexObs
 
@@ -75,11 +75,11 @@ def check_nav_covers(time_gpst_ns: NDArray[np.int64], sats: tuple[str, ...], nav
         nearest = np.minimum(np.abs(times - epochs[after]), np.abs(times - epochs[before]))
         if nearest.min() <= _LONGEST_EPHEMERIS_AGE_NS:
             return
-    first, last = (_GPS_EPOCH + np.array([epochs[0], epochs[-1]]).astype("timedelta64[ns]")).astype(
+    first, last = (GPS_EPOCH + np.array([epochs[0], epochs[-1]]).astype("timedelta64[ns]")).astype(
         "datetime64[s]"
     )
     if len(times):
-        lo, hi = (_GPS_EPOCH + np.array([times.min(), times.max()]).astype("timedelta64[ns]")).astype(
+        lo, hi = (GPS_EPOCH + np.array([times.min(), times.max()]).astype("timedelta64[ns]")).astype(
             "datetime64[s]"
         )
         span = f"its records of these satellites refer to {lo} to {hi} (GPST)"

@@ -29,7 +29,8 @@ SLOT_NAMES = {
     "C": ("B1I", "B2I", "B3I"),
     "J": ("L1", "L2", "L5"),
 }
-_GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
+#: GPS time zero (1980-01-06 00:00:00): the engine reports epochs as nanoseconds since it.
+GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
 
 
 @dataclass(frozen=True)
@@ -332,7 +333,7 @@ def series_from_session(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeri
     per_system = np.asarray(s.satellites_per_system, dtype=np.int64)
     dd = s.double_differences
     return AttitudeSeries(
-        time=_GPS_EPOCH + np.asarray(s.time_gpst_ns, dtype=np.int64).astype("timedelta64[ns]"),
+        time=GPS_EPOCH + np.asarray(s.time_gpst_ns, dtype=np.int64).astype("timedelta64[ns]"),
         mode=s.mode,
         angles_deg=s.angles_deg,
         method=np.array(s.method, dtype=str),
