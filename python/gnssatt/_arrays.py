@@ -13,6 +13,7 @@ import math
 import operator
 import os
 import re
+import sys
 from os import PathLike
 from pathlib import Path
 from types import UnionType
@@ -68,7 +69,9 @@ def _unmasked(name: str, value: Any, *, nan_for_masked: bool = False) -> Any:
     """The data of a ``numpy.ma`` masked array with nothing masked (plain numpy would silently use the
     values under the mask); masked entries become NaN where NaN is documented input (``nan_for_masked``)
     and are refused otherwise. Any other value is returned unchanged."""
-    if not isinstance(value, np.ma.MaskedArray):
+    # numpy >= 2 loads numpy.ma on first use of ``np.ma``, 30-50 ms of a command-line start; a masked array
+    # can only exist once numpy.ma is loaded, so without it there is nothing to look for.
+    if "numpy.ma" not in sys.modules or not isinstance(value, np.ma.MaskedArray):
         return value
     mask = np.ma.getmaskarray(value)
     if not mask.any():

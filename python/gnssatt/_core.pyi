@@ -19,7 +19,10 @@ __all__ = [
     "GNSS_DEFAULT_MAX_FAILURE_RATE",
     "GNSS_DEFAULT_MIN_SUCCESS_RATE",
     "GNSS_DEFAULT_RATIO_THRESHOLD",
+    "GNSS_FILTERS",
     "GNSS_MAX_FREQUENCIES",
+    "GNSS_METHODS",
+    "GNSS_MOTIONS",
     "LAMBDA_BATCH_MAX_SEARCH_WORK",
     "LAMBDA_BATCH_MAX_WORK",
     "LAMBDA_MAX_ABS_AMBIGUITY",
@@ -800,6 +803,10 @@ GNSS_DEFAULT_RATIO_THRESHOLD: float
 GNSS_DEFAULT_MAX_FAILURE_RATE: float
 GNSS_DEFAULT_ELEVATION_MASK_DEG: float
 GNSS_MAX_FREQUENCIES: int
+# The names GnssOptions accepts for motion, method, filter (rust/py/src/gnss_options.rs): the CLI's choices.
+GNSS_MOTIONS: tuple[str, ...]
+GNSS_METHODS: tuple[str, ...]
+GNSS_FILTERS: tuple[str, ...]
 
 # RINEX observation bodies (rust/py/src/rinex.rs)
 @final

@@ -287,20 +287,27 @@ def _attitude(args: argparse.Namespace) -> int:
     )
 
 
+def _frequency_choices() -> tuple[str, ...]:
+    """``--frequencies``: 1 to the engine's most frequency slots, or all."""
+    from gnssatt import _core
+
+    return (*(str(n) for n in range(1, _core.GNSS_MAX_FREQUENCIES + 1)), "all")
+
+
 def _attitude_options(att: argparse.ArgumentParser) -> None:
     """The engine's options; defaults left None are the engine's (``docs/observation_engine.md``)."""
     from gnssatt import _core
 
     att.add_argument(
         "--method",
-        choices=("auto", "ml", "lambda"),
+        choices=_core.GNSS_METHODS,
         default="auto",
         help="ml: ambiguity-function grid per epoch; lambda: LAMBDA-fixed double differences (attitude "
         "mode: constrained by the baselines); auto: lambda beyond 100 m, else ml (default auto)",
     )
     att.add_argument(
         "--motion",
-        choices=("static", "moving"),
+        choices=_core.GNSS_MOTIONS,
         default=None,
         help="static fixes the session's ambiguities once, moving fixes each epoch (default: static for two "
         "antennas, moving with --baselines or --continuity)",
@@ -321,7 +328,7 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
     )
     att.add_argument(
         "--filter",
-        choices=("static", "kinematic", "velocity"),
+        choices=_core.GNSS_FILTERS,
         default=None,
         help="a multi-epoch Kalman filter of each baseline with this process model (static; "
         "kinematic: random walk, each epoch from its own data and the carried ambiguities; velocity: "
@@ -344,7 +351,7 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
     )
     att.add_argument(
         "--frequencies",
-        choices=("1", "2", "3", "all"),
+        choices=_frequency_choices(),
         default="all",
         help="frequency slots per system: 1 L1/G1/E1/B1I, 2 adds L2/G2/E5b/B2I, 3 adds L5/G3/E5a/B3I "
         "(default all)",
@@ -419,8 +426,7 @@ def _position(args: argparse.Namespace) -> int:
     return _write(args, series, png, caught, lambda plots: plots.position_series(series, png))
 
 
-def _position_parser(sub: Any) -> None:
-    pos = sub.add_parser("position", help="code position of one receiver at every epoch of a RINEX file")
+def _position_arguments(pos: argparse.ArgumentParser) -> None:
     pos.add_argument("--obs", required=True, type=Path, help="observation file")
     pos.add_argument("--nav", action="append", required=True, type=Path, help="navigation file(s)")
     _output_arguments(pos, "position.csv")
@@ -432,7 +438,7 @@ def _position_parser(sub: Any) -> None:
     )
     pos.add_argument(
         "--frequencies",
-        choices=("1", "2", "3", "all"),
+        choices=_frequency_choices(),
         default="1",
         help="frequency slots a satellite's code may come from, its lowest used: 1 L1/G1/E1/B1I, 2 adds "
         "L2/G2/E5b/B2I, 3 adds L5/G3/E5a/B3I (default 1)",
@@ -493,20 +499,7 @@ _ATTITUDE_EPILOG = """examples:
       --baselines baselines.txt --out attitude.csv"""
 
 
-def _main(argv: Sequence[str] | None) -> int:
-    from gnssatt._core import __version__
-
-    raw = argparse.RawDescriptionHelpFormatter
-    parser = _Parser(prog="gnssatt", description=_DESCRIPTION, epilog=_EPILOG, formatter_class=raw)
-    parser.add_argument("--version", action="version", version=f"gnssatt {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    rep = sub.add_parser(
-        "reproduce",
-        help="run the source papers' experiments",
-        description=_REPRODUCE,
-        epilog=_REPRODUCE_EPILOG,
-        formatter_class=raw,
-    )
+def _reproduce_arguments(rep: argparse.ArgumentParser) -> None:
     rep.add_argument("names", nargs="*", help="experiment names (see --list)")
     rep.add_argument("--list", action="store_true", help="list the experiments")
     rep.add_argument("--all", action="store_true", help="run every experiment with quick defaults")
@@ -518,13 +511,9 @@ def _main(argv: Sequence[str] | None) -> int:
     )
     rep.add_argument("--out", type=Path, default=None, help="output folder (default ./out)")
     rep.add_argument("--no-progress", action="store_true", help="hide progress bars")
-    att = sub.add_parser(
-        "attitude",
-        help="attitude or baseline direction from RINEX files",
-        description=_ATTITUDE,
-        epilog=_ATTITUDE_EPILOG,
-        formatter_class=raw,
-    )
+
+
+def _attitude_arguments(att: argparse.ArgumentParser) -> None:
     att.add_argument(
         "--obs",
         action="append",
@@ -550,13 +539,64 @@ def _main(argv: Sequence[str] | None) -> int:
     )
     _output_arguments(att, "results.csv")
     _attitude_options(att)
-    _position_parser(sub)
-    args = parser.parse_args(argv)
-    if args.command == "attitude":
-        return _attitude(args)
-    if args.command == "position":
-        return _position(args)
-    return _reproduce(args)
+
+
+_RAW = argparse.RawDescriptionHelpFormatter
+
+#: Each command: its ``add_parser`` keywords, the function adding its arguments, the one running it.
+_COMMANDS: dict[
+    str, tuple[dict[str, Any], Callable[[argparse.ArgumentParser], None], Callable[[argparse.Namespace], int]]
+] = {
+    "reproduce": (
+        {
+            "help": "run the source papers' experiments",
+            "description": _REPRODUCE,
+            "epilog": _REPRODUCE_EPILOG,
+            "formatter_class": _RAW,
+        },
+        _reproduce_arguments,
+        _reproduce,
+    ),
+    "attitude": (
+        {
+            "help": "attitude or baseline direction from RINEX files",
+            "description": _ATTITUDE,
+            "epilog": _ATTITUDE_EPILOG,
+            "formatter_class": _RAW,
+        },
+        _attitude_arguments,
+        _attitude,
+    ),
+    "position": (
+        {"help": "code position of one receiver at every epoch of a RINEX file"},
+        _position_arguments,
+        _position,
+    ),
+}
+
+
+def _parser(command: str | None) -> _Parser:
+    """The command line's parser; with ``command``, that command's only. argparse builds a help formatter for
+    every argument it adds, start-up time for nothing when the others cannot be used: once a command's
+    parser has the rest of the line, nothing shows the other commands (only the top-level help and its
+    unknown-command error list them, and neither comes after a valid command)."""
+    from gnssatt._core import __version__
+
+    parser = _Parser(prog="gnssatt", description=_DESCRIPTION, epilog=_EPILOG, formatter_class=_RAW)
+    parser.add_argument("--version", action="version", version=f"gnssatt {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for name, (keywords, arguments, _) in _COMMANDS.items():
+        if command in (None, name):
+            arguments(sub.add_parser(name, **keywords))
+    return parser
+
+
+def _main(argv: Sequence[str] | None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # Only a command given first is known before parsing (the top-level options come before it).
+    command = argv[0] if argv and argv[0] in _COMMANDS else None
+    args = _parser(command).parse_args(argv)
+    return _COMMANDS[args.command][2](args)
 
 
 if __name__ == "__main__":

@@ -59,15 +59,23 @@ def frequency_slots(value: object) -> int:
 _LONGEST_EPHEMERIS_AGE_NS = 6 * 3600 * 1_000_000_000
 
 
+def _among(values: NDArray[np.str_], wanted: tuple[str, ...]) -> NDArray[np.bool_]:
+    """Which ``values`` are among ``wanted``: ``np.isin`` without its ``np.unique``, which loads numpy.ma
+    (30-50 ms of a command-line start)."""
+    ordered = np.sort(np.array(wanted, dtype=str))
+    if not len(ordered) or not len(values):
+        return np.zeros(len(values), dtype=bool)
+    at = np.minimum(np.searchsorted(ordered, values), len(ordered) - 1)
+    found: NDArray[np.bool_] = ordered[at] == values
+    return found
+
+
 def check_nav_covers(time_gpst_ns: NDArray[np.int64], sats: tuple[str, ...], nav: RinexNav) -> None:
     """Refuse, naming the navigation file and both time spans, when no broadcast record of a satellite of
     the session lies within the longest validity of any epoch (a navigation file of another day): the
     engine would otherwise report only that no satellite had an ephemeris."""
     k, g = nav.kepler, nav.glonass
-    wanted = np.array(sats, dtype=str)
-    times = np.concatenate([k.toe_ns[np.isin(k.sats, wanted)], g.tb_ns[np.isin(g.sats, wanted)]]).astype(
-        np.int64
-    )
+    times = np.concatenate([k.toe_ns[_among(k.sats, sats)], g.tb_ns[_among(g.sats, sats)]]).astype(np.int64)
     epochs = np.sort(np.asarray(time_gpst_ns, dtype=np.int64))
     if len(times) and len(epochs):
         after = np.clip(np.searchsorted(epochs, times), 0, len(epochs) - 1)

@@ -1,17 +1,55 @@
 //! The observation engine's options as one typed, frozen object (`gnssatt._core.GnssOptions`), checked when
 //! it is made: `gnss_run` and `GnssEngine` take it instead of repeating a dozen keyword arguments. Every
 //! option left `None` takes the engine's default (`EngineOptions::default`, the one place the defaults
-//! live); errors name the CLI option (`--min-success-rate`, ...).
+//! live); errors name the CLI option (`--min-success-rate`, ...). The names `motion`, `method` and `filter`
+//! accept are the tables below, exported as `GNSS_MOTIONS`, `GNSS_METHODS` and `GNSS_FILTERS` so that the
+//! CLI's choices are these, not a copy.
 
 use gnssatt_core::gnss::options::{EngineOptions, Method, Motion};
 use gnssatt_core::gnss::rtk::filter::Dynamics;
 use gnssatt_core::gnss::signal::System;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 
 use crate::convert::{fixed, rows};
 use crate::errors::{invalid_input, IntoPyResult};
 use crate::guard::guard;
+
+/// `motion`: each name and what it selects.
+const MOTIONS: [(&str, Motion); 2] = [("static", Motion::Static), ("moving", Motion::Moving)];
+/// `method`: each name and what it selects.
+const METHODS: [(&str, Method); 3] = [
+    ("auto", Method::Auto),
+    ("ml", Method::Ml),
+    ("lambda", Method::Lambda),
+];
+/// `filter`: each name and the process model it selects.
+const FILTERS: [(&str, Dynamics); 3] = [
+    ("static", Dynamics::Static),
+    ("kinematic", Dynamics::KINEMATIC),
+    ("velocity", Dynamics::VELOCITY),
+];
+
+/// The value `table` names `got`, or an error "`expected` 'a', 'b' or 'c', got ...".
+fn named<T: Copy>(py: Python<'_>, table: &[(&str, T)], expected: &str, got: &str) -> PyResult<T> {
+    if let Some((_, value)) = table.iter().find(|(name, _)| *name == got) {
+        return Ok(*value);
+    }
+    let quoted: Vec<String> = table.iter().map(|(name, _)| format!("'{name}'")).collect();
+    let (last, rest) = quoted
+        .split_last()
+        .expect("a table names at least one value");
+    let names = if rest.is_empty() {
+        last.clone()
+    } else {
+        format!("{} or {last}", rest.join(", "))
+    };
+    Err(invalid_input(
+        py,
+        format!("{expected} {names}, got {got:?}"),
+    ))
+}
 
 /// Options of the observation engine (see `gnssatt.gnss.attitude.attitude_from_rinex` for the meaning of each).
 #[pyclass(frozen, module = "gnssatt._core")]
@@ -76,47 +114,16 @@ impl GnssOptions {
             o.base_position_m = Some(fixed::<3>(py, "base_position_m", &p)?);
         }
         if let Some(m) = motion {
-            o.motion = match m.as_str() {
-                "static" => Motion::Static,
-                "moving" => Motion::Moving,
-                _ => {
-                    return Err(invalid_input(
-                        py,
-                        format!("expected motion 'static' or 'moving', got {m:?}"),
-                    ))
-                }
-            };
+            o.motion = named(py, &MOTIONS, "expected motion", &m)?;
         }
         if let Some(m) = method {
-            o.method = match m.as_str() {
-                "auto" => Method::Auto,
-                "ml" => Method::Ml,
-                "lambda" => Method::Lambda,
-                _ => {
-                    return Err(invalid_input(
-                        py,
-                        format!("expected method 'auto', 'ml' or 'lambda', got {m:?}"),
-                    ))
-                }
-            };
+            o.method = named(py, &METHODS, "expected method", &m)?;
         }
         if let Some(c) = continuity {
             o.continuity = c;
         }
         if let Some(f) = filter {
-            o.filter = Some(match f.as_str() {
-                "static" => Dynamics::Static,
-                "kinematic" => Dynamics::KINEMATIC,
-                "velocity" => Dynamics::VELOCITY,
-                _ => {
-                    return Err(invalid_input(
-                        py,
-                        format!(
-                            "--filter: expected 'static', 'kinematic' or 'velocity', got {f:?}"
-                        ),
-                    ))
-                }
-            });
+            o.filter = Some(named(py, &FILTERS, "--filter: expected", &f)?);
         }
         if let Some(p) = min_success_rate {
             o.min_success_rate = p;
@@ -150,4 +157,19 @@ impl GnssOptions {
 /// The engine options of `options` (the defaults for `None`).
 pub fn engine_options(options: Option<&GnssOptions>) -> EngineOptions {
     options.map_or_else(EngineOptions::default, |o| o.inner.clone())
+}
+
+/// The names of `table`, as a tuple.
+fn names<'py, T>(py: Python<'py>, table: &[(&str, T)]) -> PyResult<Bound<'py, PyTuple>> {
+    PyTuple::new(py, table.iter().map(|(name, _)| *name))
+}
+
+/// `GNSS_MOTIONS`, `GNSS_METHODS`, `GNSS_FILTERS`: the names `GnssOptions` accepts, in the order of its
+/// messages, for the CLI's choices and the Python API's checks.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("GNSS_MOTIONS", names(py, &MOTIONS)?)?;
+    m.add("GNSS_METHODS", names(py, &METHODS)?)?;
+    m.add("GNSS_FILTERS", names(py, &FILTERS)?)?;
+    Ok(())
 }

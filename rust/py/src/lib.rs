@@ -40,6 +40,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gyro_gnss::register(m)?;
     gnss_nav::register(m)?;
     gnss::register(m)?;
+    gnss_options::register(m)?;
     rinex::register(m)?;
     rinex_nav::register(m)?;
     guard::register(m)?;
