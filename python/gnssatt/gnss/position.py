@@ -15,7 +15,7 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from os import PathLike
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +26,9 @@ from gnssatt.gnss.session_input import epochs_gpst_ns
 from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, nav_input, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
 from gnssatt.rinex.signals import choose_signals
+
+if TYPE_CHECKING:  # a type only: the core itself is imported where it is called, as before
+    from gnssatt._core import SinglePoints
 
 __all__ = ["SYSTEMS", "PositionSeries", "position_from_rinex"]
 
@@ -259,7 +262,7 @@ def position_from_rinex(
 
 
 def _position_series(
-    t: NDArray[np.int64], sp: Any, letters: str, obs: RinexObs, header: NDArray[np.float64],
+    t: NDArray[np.int64], sp: SinglePoints, letters: str, obs: RinexObs, header: NDArray[np.float64],
     messages: tuple[str, ...],
 ) -> PositionSeries:  # fmt: skip
     """The :class:`PositionSeries` of the core's solutions ``sp`` at the epochs ``t`` (GPST ns), with their
@@ -321,7 +324,7 @@ def _glonass_channels(nv: RinexNav, obs: RinexObs, sats: list[str]) -> NDArray[n
 def _single_point(
     nv: RinexNav, t: NDArray[np.int64], sats: list[str], channel: NDArray[np.int64],
     code: NDArray[np.float64], header: NDArray[np.float64], letters: str, n_freq: int, mask: float,
-) -> tuple[Any, tuple[str, ...]]:  # fmt: skip
+) -> tuple[SinglePoints, tuple[str, ...]]:  # fmt: skip
     """The core's code solutions of every epoch, and the warnings it issued (issued again, from the line
     that called :func:`position_from_rinex`)."""
     from gnssatt import _core
