@@ -472,7 +472,7 @@ def session_input(
     leaps = _leap_seconds(files, nav)
     times = [epochs_gpst_ns(o, leaps) for o in files]
     index, dropped = _common_epochs(files, times)
-    sats = _sats_in_every_file(files, choices, index, used)
+    sats = _common_sats(files, choices, index, used)
     return _assembled(files, choices, used, n_freq, times, index, dropped, sats, nav)
 
 
@@ -495,23 +495,6 @@ def _leap_seconds(files: list[RinexObs], nav: RinexNav | None) -> int | None:
     if leaps is None and nav is not None:
         leaps = nav.leap_seconds
     return leaps
-
-
-def _sats_in_every_file(
-    files: list[RinexObs],
-    choices: list[dict[str, tuple[SignalChoice, ...]]],
-    index: list[NDArray[np.int64]],
-    used: str,
-) -> tuple[str, ...]:
-    """:func:`_common_sats`, refused when there is none."""
-    sats = _common_sats(files, choices, index, used)
-    if not sats:
-        raise RinexError(
-            ", ".join(o.path for o in files),
-            None,
-            f"no satellite of systems {used!r} with carrier phase in every file at the common epochs",
-        )
-    return sats
 
 
 def _assembled(
@@ -611,7 +594,8 @@ def _common_sats(
     index: list[NDArray[np.int64]],
     used: str,
 ) -> tuple[str, ...]:
-    """Satellites of the systems ``used`` with a phase of some slot in every file at a common epoch."""
+    """Satellites of the systems ``used`` with a phase of some slot in every file at a common epoch
+    (refused when there is none)."""
     common: set[str] | None = None
     for o, ch, kept in zip(files, choices, index, strict=True):
         seen = set()
@@ -622,7 +606,13 @@ def _common_sats(
             if cols and np.isfinite(o.data[np.ix_(kept, np.array([k]), np.array(cols))]).any():
                 seen.add(s)
         common = seen if common is None else common & seen
-    return tuple(sorted(common or (), key=lambda s: (SYSTEMS.index(s[0]), int(s[1:]))))
+    if not common:
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"no satellite of systems {used!r} with carrier phase in every file at the common epochs",
+        )
+    return tuple(sorted(common, key=lambda s: (SYSTEMS.index(s[0]), int(s[1:]))))
 
 
 def _channels(sats: tuple[str, ...], files: list[RinexObs], nav: RinexNav | None) -> NDArray[np.int64]:
