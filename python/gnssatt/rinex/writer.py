@@ -329,6 +329,35 @@ def _d19(x: float) -> str:
     return s.replace("E", "D")
 
 
+def _check_nav_systems(ids: Sequence[str]) -> None:
+    """Refuse satellites the navigation records cannot carry: systems other than G, R, E, C and J, and
+    BeiDou's GEO (C01-C05, C59 on)."""
+    bad = [s for s in ids if s[0] not in _MU or (s[0] == "C" and (int(s[1:]) <= 5 or int(s[1:]) >= 59))]
+    if bad:
+        raise InvalidInputError(
+            f"expected satellites of G, R, E, C (MEO/IGSO numbers 6-58), J, got {bad[:5]}"
+        )
+
+
+def _nav_header(systems: list[str], iono: list[float]) -> list[str]:
+    """The header lines of a RINEX 3.04 navigation file of ``systems`` (Klobuchar coefficients ``iono``,
+    eight or none)."""
+    return [
+        _hdr(
+            f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
+            "RINEX VERSION / TYPE",
+        ),
+        _hdr("gnssatt", "PGM / RUN BY / DATE"),
+        *(
+            _hdr(f"{name} " + "".join(f"{x:12.4E}" for x in iono[k : k + 4]), "IONOSPHERIC CORR")
+            for name, k in (("GPSA", 0), ("GPSB", 4))
+            if iono
+        ),
+        _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
+        _hdr("", "END OF HEADER"),
+    ]
+
+
 def write_nav_from_constellation(
     path: str | PathLike[str],
     constellation: Constellation,
@@ -415,11 +444,7 @@ def write_nav_from_constellation(
     span_s = scalar("span_s", span_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     ids = constellation.ids
     n = len(ids)
-    bad = [s for s in ids if s[0] not in _MU or (s[0] == "C" and (int(s[1:]) <= 5 or int(s[1:]) >= 59))]
-    if bad:
-        raise InvalidInputError(
-            f"expected satellites of G, R, E, C (MEO/IGSO numbers 6-58), J, got {bad[:5]}"
-        )
+    _check_nav_systems(ids)
     clk = np.zeros(n) if clock_bias_s is None else shaped("clock_bias_s", clock_bias_s, f"({n},)", (n,))
     if np.any(np.abs(clk) > 1e-3):
         raise InvalidInputError(f"expected |clock_bias_s| <= 1e-3 s, got {np.max(np.abs(clk))}")
@@ -427,21 +452,7 @@ def write_nav_from_constellation(
     if any(abs(x) >= 1e9 for x in iono):
         raise InvalidInputError(f"expected |klobuchar| < 1e9 (the 12.4E field), got {iono}")
     t0_ns = int(gps_ns(np.array([epoch_gpst]))[0])
-    systems = sorted({s[0] for s in ids})
-    out = [
-        _hdr(
-            f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
-            "RINEX VERSION / TYPE",
-        ),
-        _hdr("gnssatt", "PGM / RUN BY / DATE"),
-        *(
-            _hdr(f"{name} " + "".join(f"{x:12.4E}" for x in iono[k : k + 4]), "IONOSPHERIC CORR")
-            for name, k in (("GPSA", 0), ("GPSB", 4))
-            if iono
-        ),
-        _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
-        _hdr("", "END OF HEADER"),
-    ]
+    out = _nav_header(sorted({s[0] for s in ids}), iono)
     first = np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
     glonass_tb = _glonass_grid(t0_ns + start * 1_000_000_000, span_s)
     for j, sat in enumerate(ids):
