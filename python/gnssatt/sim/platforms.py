@@ -39,6 +39,7 @@ from gnssatt.sim.rinex_scenario import (
     KLOBUCHAR,
     MIN_INTERVAL_S,
     T0,
+    checked_antennas,
     gnss_constellation,
     klobuchar_m,
     observables,
@@ -525,16 +526,6 @@ def _truth_baselines(
     return baselines, rover
 
 
-def _checked_lever_arms(antennas_body_m: ArrayLike) -> NDArray[np.float64]:
-    """The (2..8, 3) body-frame antenna positions of :func:`simulate_platform`, m."""
-    lever = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
-    if not 2 <= lever.shape[0] <= 8 or np.any(np.abs(lever) > MAX_LEVER_ARM_M):
-        raise InvalidInputError(
-            f"expected antennas_body_m of shape (2..8, 3) within {MAX_LEVER_ARM_M} m, got {lever.shape}"
-        )
-    return lever
-
-
 def _checked_base_offset(base_offset_enu_m: ArrayLike | None) -> NDArray[np.float64] | None:
     """The static base's (3,) East-North-Up offset, m, or None for no base."""
     if base_offset_enu_m is None:
@@ -675,7 +666,7 @@ def simulate_platform(
 
     folder = folder_path("folder", folder)
     traj = instance("trajectory", trajectory, Trajectory, "a Trajectory")
-    lever = _checked_lever_arms(antennas_body_m)
+    lever = checked_antennas(antennas_body_m, 8, MAX_LEVER_ARM_M)
     duration_s = scalar("duration_s", duration_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     interval_s = scalar("interval_s", interval_s, minimum=MIN_INTERVAL_S, maximum=MAX_SPAN_S, unit="s")
     prof = _checked_noise(noise)

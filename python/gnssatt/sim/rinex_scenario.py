@@ -571,12 +571,13 @@ def _applied_slips(
     return jumps, lli, applied
 
 
-def _checked_antennas(antennas_body_m: ArrayLike) -> NDArray[np.float64]:
-    """The (2..16, 3) body-frame antenna positions of :func:`simulate_gnss_rinex`, m."""
+def checked_antennas(antennas_body_m: ArrayLike, n_max: int, max_m: float) -> NDArray[np.float64]:
+    """The (2..n_max, 3) body-frame antenna positions, m, each coordinate within ``max_m``; shared by
+    :func:`simulate_gnss_rinex` and :func:`~gnssatt.sim.platforms.simulate_platform`."""
     ant = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
-    if not 2 <= ant.shape[0] <= 16 or np.any(np.abs(ant) > MAX_ANTENNA_M):
+    if not 2 <= ant.shape[0] <= n_max or np.any(np.abs(ant) > max_m):
         raise InvalidInputError(
-            f"expected antennas_body_m of shape (2..16, 3) within {MAX_ANTENNA_M} m, got {ant.shape}"
+            f"expected antennas_body_m of shape (2..{n_max}, 3) within {max_m} m, got {ant.shape}"
         )
     return ant
 
@@ -712,7 +713,7 @@ def simulate_gnss_rinex(
     from gnssatt.rinex.nav import gps_ns, read_nav
 
     folder = folder_path("folder", folder)
-    ant = _checked_antennas(antennas_body_m)
+    ant = checked_antennas(antennas_body_m, 16, MAX_ANTENNA_M)
     n_ant = ant.shape[0]
     eul = _checked_attitudes(euler_gost_deg, n_epochs)
     n_epochs = eul.shape[0]
