@@ -232,7 +232,7 @@ def sky_spread(n_skies, reps, eq15_checks):
     )
 
 
-def main():
+def _parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument(
@@ -252,7 +252,52 @@ def main():
     ap.add_argument("--search", default="exhaustive", help=argparse.SUPPRESS)
     ap.add_argument("--side", type=float, default=0.71, help=argparse.SUPPRESS)
     ap.add_argument("--step", default=str(STEP), help=argparse.SUPPRESS)
-    args = ap.parse_args()
+    return ap
+
+
+def threads_table(reference: Path | None, reps: int, threads: int) -> None:
+    """The API's exhaustive search (and the reference kernel's) on 1, 2 and 16 threads."""
+    for n in [1, 2, 16]:
+        if n > threads:
+            print(f"threads {n:2d}: not available on this machine")
+            continue
+        t, _, _ = in_child(n, reps, "exhaustive")
+        line = f"threads {n:2d}: API exhaustive {t * 1e3:7.1f} ms"
+        if reference is not None:
+            env = {**os.environ, "RAYON_NUM_THREADS": str(n), "OMP_NUM_THREADS": str(n)}
+            t_r, _, _ = reference_kernel(reference, 1, env)
+            line += f"   reference kernel {t_r * 1e3:7.1f} ms   ratio {t / t_r:.2f}"
+        print(line)
+
+
+def branch_and_bound_table(repeats: int, threads: int) -> None:
+    """Branch-and-bound against the exhaustive search in each case of :data:`BNB_CASES`."""
+    print("branch-and-bound vs exhaustive (grid maximum only, refine=False; medians, fresh process each):")
+    for name, side, step in BNB_CASES:
+        ps, ls = scenario(side=side)
+        stats = search_work(ps, ls, side * UNIT_TRIANGLE, step)
+        boxes, leaves, grid_cells = stats.boxes_bounded, stats.leaf_cells, stats.grid_cells
+        reps = repeats if grid_cells < 5e7 else max(1, min(repeats, 3))
+        # Over 2^31 cells the exhaustive pass runs in two halves, once (about 15 s on 2 cores).
+        ex_search, ex_reps = ("halves", 1) if grid_cells > 2**31 else ("exhaustive", reps)
+        for n in [1, 2, 16]:
+            if n > threads:
+                continue
+            t_ex, z_ex, a_ex = in_child(n, ex_reps, ex_search, side, step)
+            t_bb, z_bb, a_bb = in_child(n, reps, "branch_and_bound", side, step)
+            same = z_ex == z_bb and a_ex == a_bb
+            print(
+                f"  {name}, threads {n:2d}: exhaustive {t_ex * 1e3:9.1f} ms   branch-and-bound "
+                f"{t_bb * 1e3:7.1f} ms   ratio {t_ex / t_bb:6.1f}x   same cell: {same}"
+            )
+        print(
+            f"  {name}: {grid_cells:.3e} cells, {stats.rounds} round(s); {boxes} units of work "
+            f"(direction boxes, plus rows scanned over 2^31 cells) + {leaves} kernel cells"
+        )
+
+
+def main():
+    args = _parser().parse_args()
     if args.child:
         child(args.reps, args.search, args.side, None if args.step == "eq15" else float(args.step))
         return
@@ -278,39 +323,8 @@ def main():
             f"reference kernel ({ref_cells} cells, {ref_threads} threads): {t_ref * 1e3:8.1f} ms  "
             f"{ref_cells * 8 / t_ref:.3e} cell-satellite/s   ratio API / reference: {t_api / t_ref:.2f}"
         )
-    for n in [1, 2, 16]:
-        if n > threads:
-            print(f"threads {n:2d}: not available on this machine")
-            continue
-        t, _, _ = in_child(n, args.reps, "exhaustive")
-        line = f"threads {n:2d}: API exhaustive {t * 1e3:7.1f} ms"
-        if args.reference is not None:
-            env = {**os.environ, "RAYON_NUM_THREADS": str(n), "OMP_NUM_THREADS": str(n)}
-            t_r, _, _ = reference_kernel(args.reference, 1, env)
-            line += f"   reference kernel {t_r * 1e3:7.1f} ms   ratio {t / t_r:.2f}"
-        print(line)
-    print("branch-and-bound vs exhaustive (grid maximum only, refine=False; medians, fresh process each):")
-    for name, side, step in BNB_CASES:
-        ps, ls = scenario(side=side)
-        stats = search_work(ps, ls, side * UNIT_TRIANGLE, step)
-        boxes, leaves, grid_cells = stats.boxes_bounded, stats.leaf_cells, stats.grid_cells
-        reps = args.reps if grid_cells < 5e7 else max(1, min(args.reps, 3))
-        # Over 2^31 cells the exhaustive pass runs in two halves, once (about 15 s on 2 cores).
-        ex_search, ex_reps = ("halves", 1) if grid_cells > 2**31 else ("exhaustive", reps)
-        for n in [1, 2, 16]:
-            if n > threads:
-                continue
-            t_ex, z_ex, a_ex = in_child(n, ex_reps, ex_search, side, step)
-            t_bb, z_bb, a_bb = in_child(n, reps, "branch_and_bound", side, step)
-            same = z_ex == z_bb and a_ex == a_bb
-            print(
-                f"  {name}, threads {n:2d}: exhaustive {t_ex * 1e3:9.1f} ms   branch-and-bound "
-                f"{t_bb * 1e3:7.1f} ms   ratio {t_ex / t_bb:6.1f}x   same cell: {same}"
-            )
-        print(
-            f"  {name}: {grid_cells:.3e} cells, {stats.rounds} round(s); {boxes} units of work "
-            f"(direction boxes, plus rows scanned over 2^31 cells) + {leaves} kernel cells"
-        )
+    threads_table(args.reference, args.reps, threads)
+    branch_and_bound_table(args.reps, threads)
     if args.skies > 0:
         sky_spread(args.skies, max(1, min(args.reps, 3)), args.eq15_checks)
 

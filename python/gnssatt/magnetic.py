@@ -499,22 +499,14 @@ def igrf_field_ecef(
     >>> np.round(igrf_field_ecef(position, 2025.0, max_degree=1) / dipole_field_ecef(position, 2025.0), 6)
     array([1., 1., 1.])
     """
-    shape = np.shape(plain_array("position_ecef_m", position_ecef_m))
-    n_points = int(np.prod(shape[:-1])) if shape else 1
-    if n_points * IGRF_COEFFICIENTS > MAX_IGRF_TERMS:
-        raise WorkLimitError(
-            f"position_ecef_m asks for {n_points} points x {IGRF_COEFFICIENTS} coefficients = "
-            f"{n_points * IGRF_COEFFICIENTS} terms (ppigrf evaluates every degree to 13 whatever "
-            "max_degree), "
-            f"more than the limit of {MAX_IGRF_TERMS} (MAX_IGRF_TERMS): split the positions into batches"
-        )
+    _igrf_work_limit(position_ecef_m)
     r = _positions("position_ecef_m", position_ecef_m)
     year = scalar("decimal_year", decimal_year, minimum=1900.0, maximum=_LAST_YEAR)
     max_degree = integer("max_degree", max_degree, minimum=1)
     if max_degree > 13:
         raise InvalidInputError(f"expected max_degree in 1..13 (IGRF-14), got {max_degree}")
-    try:
-        import ppigrf
+    try:  # here, so that a missing ppigrf is said before any work; _igrf_spherical uses it
+        import ppigrf  # noqa: F401
     except ImportError as exc:
         raise ImportError(
             "igrf_field_ecef needs the optional package ppigrf: pip install gnssatt[igrf]"
@@ -525,27 +517,66 @@ def igrf_field_ecef(
     colat = np.degrees(np.arctan2(rho, r[..., 2]))
     lon = np.degrees(np.arctan2(r[..., 1], r[..., 0]))
     date = _datetime(year)
+    field = _ecef_from_spherical(_igrf_spherical(rn, colat, lon, date, max_degree), colat, lon)
+    axis = rho <= _AXIS_SIN_COLAT * rn
+    if np.any(axis):
+        field[axis] = _axis_field(rn[axis], r[..., 2][axis] > 0.0, date, max_degree)
+    return field
+
+
+def _igrf_work_limit(position_ecef_m: ArrayLike) -> None:
+    """Refuse more points than :data:`MAX_IGRF_TERMS` allows, before any of them is checked or evaluated."""
+    shape = np.shape(plain_array("position_ecef_m", position_ecef_m))
+    n_points = int(np.prod(shape[:-1])) if shape else 1
+    if n_points * IGRF_COEFFICIENTS > MAX_IGRF_TERMS:
+        raise WorkLimitError(
+            f"position_ecef_m asks for {n_points} points x {IGRF_COEFFICIENTS} coefficients = "
+            f"{n_points * IGRF_COEFFICIENTS} terms (ppigrf evaluates every degree to 13 whatever "
+            "max_degree), "
+            f"more than the limit of {MAX_IGRF_TERMS} (MAX_IGRF_TERMS): split the positions into batches"
+        )
+
+
+def _igrf_spherical(
+    rn: NDArray[np.float64],
+    colat: NDArray[np.float64],
+    lon: NDArray[np.float64],
+    date: object,
+    max_degree: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """ppigrf's radial, southward and eastward components (nT) at radii ``rn`` (m), colatitudes and
+    longitudes (deg); NaN or infinite on the z axis, where :func:`_axis_field` replaces them."""
+    import ppigrf
+
     br, bth, bph = np.empty_like(rn), np.empty_like(rn), np.empty_like(rn)
     flat = [a.reshape(-1) for a in (rn, colat, lon, br, bth, bph)]
     # In chunks: ppigrf holds about 10 kB of matrices per point, and Python's signal handlers (Ctrl-C)
     # run between chunks.
     for k in range(0, flat[0].size, _IGRF_CHUNK):
         part = slice(k, k + _IGRF_CHUNK)
-        with np.errstate(invalid="ignore", divide="ignore"):  # on the axis: replaced below
+        with np.errstate(invalid="ignore", divide="ignore"):  # on the axis: replaced by the caller
             out = ppigrf.igrf_gc(
                 flat[0][part] / 1e3, flat[1][part], flat[2][part], date, max_degree=max_degree
             )
         for target, c in zip(flat[3:], out, strict=True):
             target[part] = np.asarray(c)[0]
+    return br, bth, bph
+
+
+def _ecef_from_spherical(
+    b_nt: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    colat: NDArray[np.float64],
+    lon: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Radial, southward and eastward components (nT) at colatitudes and longitudes (deg) as ECEF
+    vectors, tesla."""
+    br, bth, bph = b_nt
     th, ph = np.radians(colat), np.radians(lon)
     e_r = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)
     e_th = np.stack([np.cos(th) * np.cos(ph), np.cos(th) * np.sin(ph), -np.sin(th)], axis=-1)
     e_ph = np.stack([-np.sin(ph), np.cos(ph), np.zeros_like(ph)], axis=-1)
     # typed here: ppigrf is untyped, so its components are Any
     field: NDArray[np.float64] = 1e-9 * (br[..., None] * e_r + bth[..., None] * e_th + bph[..., None] * e_ph)
-    axis = rho <= _AXIS_SIN_COLAT * rn
-    if np.any(axis):
-        field[axis] = _axis_field(rn[axis], r[..., 2][axis] > 0.0, date, max_degree)
     return field
 
 

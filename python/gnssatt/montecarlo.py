@@ -170,6 +170,34 @@ def run(
     >>> len(first)
     4
     """
+    n_trials, seed, progress, chunks = _checked_run(trial, n_trials, seed, progress, executor, chunksize)
+    owned = executor is None
+    executor = _own_pool() if executor is None else executor
+    futures: dict[Future[list[T]], int] = {}
+    try:
+        _submit(executor, trial, seed, chunks, futures)
+        results = _collect(futures, chunks, n_trials, progress)
+    except BaseException as exc:
+        _stop(exc, executor, owned, futures)
+        raise
+    finally:
+        if owned:
+            executor.shutdown(cancel_futures=True)
+    return [r for chunk in results for r in chunk]
+
+
+def _own_pool() -> ProcessPoolExecutor:
+    """The pool :func:`run` starts when given none: a process per CPU, started with ``spawn`` (workers that
+    import only what the trial needs, on every platform alike)."""
+    return ProcessPoolExecutor(os.cpu_count(), mp_context=multiprocessing.get_context("spawn"))
+
+
+def _checked_run(
+    trial: Callable[[np.random.Generator], T], n_trials: int, seed: int, progress: bool,
+    executor: Executor | None, chunksize: int | None,
+) -> tuple[int, int, bool, list[range]]:  # fmt: skip
+    """The checked arguments of :func:`run` and its chunks of trials (64 by default), before any pool
+    starts."""
     n_trials = integer("n_trials", n_trials, minimum=1, maximum=MAX_TRIALS)
     seed = integer("seed", seed, minimum=0)
     progress = flag("progress", progress)
@@ -196,39 +224,48 @@ def run(
     else:
         chunksize = integer("chunksize", chunksize, minimum=1)
     chunks = [range(i, min(i + chunksize, n_trials)) for i in range(0, n_trials, chunksize)]
-    owned = executor is None
-    if executor is None:
-        executor = ProcessPoolExecutor(os.cpu_count(), mp_context=multiprocessing.get_context("spawn"))
-    futures: dict[Future[list[T]], int] = {}
-    try:
-        for k, chunk in enumerate(chunks):
-            future = executor.submit(_run_chunk, trial, seed, chunk)
-            # as_completed needs concurrent.futures.Future; a duck-typed executor that returns something
-            # else failed inside it with an AttributeError on a private field
-            if not isinstance(future, Future):
-                raise InvalidTypeError(
-                    "expected executor.submit to return a concurrent.futures.Future, got "
-                    f"{type(future).__name__}"
-                )
-            futures[future] = k
-        results: list[list[T] | None] = [None] * len(chunks)
-        with tqdm(total=n_trials, disable=not progress, unit="trial") as bar:
-            for future in as_completed(futures):
-                k = futures[future]
-                results[k] = future.result()
-                bar.update(len(chunks[k]))
-    except BaseException as exc:
-        if not owned:
-            _cancel(futures)  # nothing more starts; the caller's executor stays the caller's
-        elif isinstance(exc, KeyboardInterrupt):
-            # Ctrl-C: this function's own pool stops at once. Its workers may not have seen the signal (a
-            # terminal sends it to the whole group, `kill -INT` to this process alone), and a shutdown that
-            # waits for their running chunks took minutes. The pool's own thread then fails the pending
-            # chunks (a cancel from here races with it), and the shutdown below returns at once.
-            assert isinstance(executor, ProcessPoolExecutor)
-            _stop_workers(executor)
-        raise
-    finally:
-        if owned:
-            executor.shutdown(cancel_futures=True)
-    return [r for chunk in results for r in chunk]  # type: ignore[union-attr]
+    return n_trials, seed, progress, chunks
+
+
+def _submit(
+    executor: Executor, trial: Callable[[np.random.Generator], T], seed: int, chunks: list[range],
+    futures: dict[Future[list[T]], int],
+) -> None:  # fmt: skip
+    """Submit every chunk, each future into ``futures`` as it is made (so that a failure part way cancels
+    the ones submitted)."""
+    for k, chunk in enumerate(chunks):
+        future = executor.submit(_run_chunk, trial, seed, chunk)
+        # as_completed needs concurrent.futures.Future; a duck-typed executor that returns something
+        # else failed inside it with an AttributeError on a private field
+        if not isinstance(future, Future):
+            raise InvalidTypeError(
+                f"expected executor.submit to return a concurrent.futures.Future, got {type(future).__name__}"
+            )
+        futures[future] = k
+
+
+def _collect(
+    futures: dict[Future[list[T]], int], chunks: list[range], n_trials: int, progress: bool
+) -> list[list[T]]:
+    """The chunks' results in chunk order, as they complete (the progress bar counts trials)."""
+    results: list[list[T] | None] = [None] * len(chunks)
+    with tqdm(total=n_trials, disable=not progress, unit="trial") as bar:
+        for future in as_completed(futures):
+            k = futures[future]
+            results[k] = future.result()
+            bar.update(len(chunks[k]))
+    return results  # type: ignore[return-value]
+
+
+def _stop(exc: BaseException, executor: Executor, owned: bool, futures: dict[Future[Any], int]) -> None:
+    """After ``exc`` in :func:`run`: nothing more of the caller's executor starts; this function's own pool
+    stops its workers at once on Ctrl-C."""
+    if not owned:
+        _cancel(futures)  # nothing more starts; the caller's executor stays the caller's
+    elif isinstance(exc, KeyboardInterrupt):
+        # Ctrl-C: this function's own pool stops at once. Its workers may not have seen the signal (a
+        # terminal sends it to the whole group, `kill -INT` to this process alone), and a shutdown that
+        # waits for their running chunks took minutes. The pool's own thread then fails the pending
+        # chunks (a cancel from here races with it), and the shutdown in run's finally returns at once.
+        assert isinstance(executor, ProcessPoolExecutor)
+        _stop_workers(executor)

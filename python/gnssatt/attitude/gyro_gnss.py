@@ -436,55 +436,13 @@ def gyro_gnss_filter(
     p0 = _covariance("initial_covariance", initial_covariance, 6)
     b0 = shaped("initial_drift", initial_drift, "(3,)", (3,))
     _check_gyro_intervals(t)
-    arw = scalar("arw", arw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s/sqrt(Hz)")
-    rrw = scalar("rrw", rrw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s^2/sqrt(Hz)")
-    sigma = scalar(
-        "phase_sigma_cycles",
-        phase_sigma_cycles,
-        minimum=0.0,
-        maximum=MAX_PHASE_SIGMA_CYCLES,
-        strict=True,
-        unit="cycles",
-    )
-    fix = flag("fix_ambiguities", fix_ambiguities)
-    ratio = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
-    success = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
-    failure = scalar("max_failure_rate", max_failure_rate, minimum=0.0, maximum=0.1)
-    known = flag("known_ambiguities", known_ambiguities)
-    every = min(integer("output_every", output_every, minimum=1), max(len(t), 1))  # beyond n: first and last
-    if phases is not None and baselines_m is None:
-        raise InvalidInputError("expected baselines_m with phase observations")
-    b = np.zeros((0, 3)) if baselines_m is None else checked_baselines("baselines_m", baselines_m)
-    m = len(b)
-    if slip_false_alarm is None:
-        slip = float("inf")
-    else:
-        alarm = scalar("slip_false_alarm", slip_false_alarm, minimum=0.0, maximum=1.0, strict=True)
-        slip = float(chi2.isf(alarm, max(m, 1)))
-    sens = None if sensitivity is None else _checked_sensitivity(sensitivity)
-    mis = (
-        None
-        if misalignment_sigma_rad is None
-        else scalar("misalignment_sigma_rad", misalignment_sigma_rad, minimum=0.0, strict=True, unit="rad")
-    )
-    fx = _checked_fixes(attitude_fixes)
+    options, m, with_sensitivity = _filter_options(
+        len(t), arw, rrw, phase_sigma_cycles, fix_ambiguities, ratio_threshold, min_success_rate,
+        max_failure_rate, known_ambiguities, output_every, phases is not None, baselines_m, slip_false_alarm,
+        sensitivity, misalignment_sigma_rad,
+    )  # fmt: skip
+    fix_t, fix_q, fix_cov = _checked_fixes(attitude_fixes)
     ph = _empty_phases(m) if phases is None else _checked_phases(phases, m)
-    options = _core.GyroGnssOptions(
-        arw=arw,
-        rrw=rrw,
-        baselines=b,
-        phase_sigma=sigma,
-        fix_enabled=fix,
-        ratio_threshold=ratio,
-        min_success_rate=success,
-        slip_threshold=slip,
-        known_ambiguities=known,
-        output_every=every,
-        sensitivity=sens,
-        misalignment_sigma=mis,
-        max_failure_rate=failure,
-    )
-    fix_t, fix_q, fix_cov = fx
     epoch_t, phase_epoch, phase_track, phase_los, phase_wavelength, phase = ph
     d = _core.gyro_gnss_filter(
         t,
@@ -503,6 +461,68 @@ def gyro_gnss_filter(
         phase_wavelength=phase_wavelength,
         phase=phase,
     )
+    return _result(d, with_true_covariance=with_sensitivity)
+
+
+def _filter_options(
+    n_t: int, arw: float, rrw: float, phase_sigma_cycles: float, fix_ambiguities: bool,
+    ratio_threshold: float, min_success_rate: float, max_failure_rate: float, known_ambiguities: bool,
+    output_every: int, has_phases: bool, baselines_m: ArrayLike | None, slip_false_alarm: float | None,
+    sensitivity: tuple[float, float] | None, misalignment_sigma_rad: float | None,
+) -> tuple[_core.GyroGnssOptions, int, bool]:  # fmt: skip
+    """The core's options of :func:`gyro_gnss_filter` from its arguments, checked in their order
+    (``n_t`` gyro samples; ``has_phases``: phase observations given, which need baselines); the number of
+    baselines, and whether ``sensitivity`` is given."""
+    arw = scalar("arw", arw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s/sqrt(Hz)")
+    rrw = scalar("rrw", rrw, minimum=0.0, maximum=MAX_GYRO_NOISE, unit="rad/s^2/sqrt(Hz)")
+    sigma = scalar(
+        "phase_sigma_cycles",
+        phase_sigma_cycles,
+        minimum=0.0,
+        maximum=MAX_PHASE_SIGMA_CYCLES,
+        strict=True,
+        unit="cycles",
+    )
+    fix = flag("fix_ambiguities", fix_ambiguities)
+    ratio = scalar("ratio_threshold", ratio_threshold, minimum=1.0)
+    success = scalar("min_success_rate", min_success_rate, minimum=0.0, maximum=1.0)
+    failure = scalar("max_failure_rate", max_failure_rate, minimum=0.0, maximum=0.1)
+    known = flag("known_ambiguities", known_ambiguities)
+    every = min(integer("output_every", output_every, minimum=1), max(n_t, 1))  # beyond n: first and last
+    if has_phases and baselines_m is None:
+        raise InvalidInputError("expected baselines_m with phase observations")
+    b = np.zeros((0, 3)) if baselines_m is None else checked_baselines("baselines_m", baselines_m)
+    if slip_false_alarm is None:
+        slip = float("inf")
+    else:
+        alarm = scalar("slip_false_alarm", slip_false_alarm, minimum=0.0, maximum=1.0, strict=True)
+        slip = float(chi2.isf(alarm, max(len(b), 1)))
+    sens = None if sensitivity is None else _checked_sensitivity(sensitivity)
+    mis = (
+        None
+        if misalignment_sigma_rad is None
+        else scalar("misalignment_sigma_rad", misalignment_sigma_rad, minimum=0.0, strict=True, unit="rad")
+    )
+    options = _core.GyroGnssOptions(
+        arw=arw,
+        rrw=rrw,
+        baselines=b,
+        phase_sigma=sigma,
+        fix_enabled=fix,
+        ratio_threshold=ratio,
+        min_success_rate=success,
+        slip_threshold=slip,
+        known_ambiguities=known,
+        output_every=every,
+        sensitivity=sens,
+        misalignment_sigma=mis,
+        max_failure_rate=failure,
+    )
+    return options, len(b), sens is not None
+
+
+def _result(d: _core.GyroGnssRun, *, with_true_covariance: bool) -> GyroGnssResult:
+    """The :class:`GyroGnssResult` of the core's run (its outputs checked finite)."""
     finite_outputs(
         "gyro_gnss_filter",
         quaternions=d.quaternion,
@@ -515,7 +535,7 @@ def gyro_gnss_filter(
         rotation=Rotation.from_quat(d.quaternion),
         drift=d.drift,
         covariance=d.covariance,
-        true_covariance=d.true_covariance if sens is not None else None,
+        true_covariance=d.true_covariance if with_true_covariance else None,
         misalignment=d.misalignment,
         misalignment_covariance=d.misalignment_covariance,
         n_float=d.n_float.astype(np.int64),

@@ -121,6 +121,27 @@ def yaw_from_magnetometer(
     >>> round(result.horizontal_fraction, 6), round(float(np.sqrt(425 / 2025)), 6)
     (0.458123, 0.458123)
     """
+    bb, bo, p, r, single = _checked_readings(b_body, b_orbital, pitch, roll, degrees)
+    n = _n_epochs(bb, bo, p, r)
+    vec = _common_scale(bb, bo, n)
+    ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
+    out = _core.yaw_batch(*vec, *ang)
+    yaw, cos_pitch, horizontal = out.yaw_rad, out.cos_pitch, out.horizontal_fraction
+    finite_outputs("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
+    # here, not in a helper: the warnings name the caller's line (stacklevel)
+    warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
+    warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
+    rotation = Rotation.from_euler("ZYX", np.column_stack([yaw, ang[0], ang[1]]))
+    if single:
+        return YawResult(float(yaw[0]), rotation[0], float(cos_pitch[0]), float(horizontal[0]))
+    return YawResult(yaw, rotation, cos_pitch, horizontal)
+
+
+def _checked_readings(
+    b_body: ArrayLike, b_orbital: ArrayLike, pitch: ArrayLike, roll: ArrayLike, degrees: bool
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], bool]:
+    """The fields and angles (rad) of :func:`yaw_from_magnetometer`, checked, and whether all four are
+    of a single epoch (the result then scalar)."""
     batch_limit(
         MAX_YAW_EPOCHS,
         "MAX_YAW_EPOCHS",
@@ -138,6 +159,13 @@ def yaw_from_magnetometer(
     single = bb.ndim == 1 and bo.ndim == 1 and np.ndim(pitch) == 0 and np.ndim(roll) == 0
     if flag("degrees", degrees):
         p, r = np.radians(p), np.radians(r)
+    return bb, bo, p, r, single
+
+
+def _n_epochs(
+    bb: NDArray[np.float64], bo: NDArray[np.float64], p: NDArray[np.float64], r: NDArray[np.float64]
+) -> int:
+    """The number of epochs the fields and angles broadcast to (at least one)."""
     try:
         epochs = np.broadcast_shapes(bb.shape[:-1], bo.shape[:-1], p.shape, r.shape)
     except ValueError:
@@ -152,6 +180,11 @@ def yaw_from_magnetometer(
             f"expected b_body, b_orbital, pitch and roll with at least one epoch, got shapes {bb.shape}, "
             f"{bo.shape}, {p.shape}, {r.shape}"
         )
+    return n
+
+
+def _common_scale(bb: NDArray[np.float64], bo: NDArray[np.float64], n: int) -> list[NDArray[np.float64]]:
+    """Both fields (n, 3) divided by one scale per epoch, refused where one vanishes next to the other."""
     vec = [np.broadcast_to(v, (n, 3)) for v in (bb, bo)]
     raw = vec
     # One scale per epoch for both fields (eq. (3) adds a_x to a_z0 sin theta): the norms the core forms
@@ -169,13 +202,4 @@ def yaw_from_magnetometer(
             f"expected b_body and b_orbital in the same unit, got largest components {peak[0][k]:.3g} and "
             f"{peak[1][k]:.3g} at epoch {k}, differing by more than 1e12"
         )
-    ang = [np.ascontiguousarray(np.broadcast_to(a, (n,))) for a in (p, r)]
-    out = _core.yaw_batch(*vec, *ang)
-    yaw, cos_pitch, horizontal = out.yaw_rad, out.cos_pitch, out.horizontal_fraction
-    finite_outputs("yaw_from_magnetometer", yaw=yaw, cos_pitch=cos_pitch, horizontal_fraction=horizontal)
-    warn_small(cos_pitch, COS_PITCH_WARN, "|cos(pitch)|")
-    warn_small(horizontal, HORIZONTAL_WARN, "the horizontal fraction sqrt(a_x0^2 + a_y0^2)/|a_orb|")
-    rotation = Rotation.from_euler("ZYX", np.column_stack([yaw, ang[0], ang[1]]))
-    if single:
-        return YawResult(float(yaw[0]), rotation[0], float(cos_pitch[0]), float(horizontal[0]))
-    return YawResult(yaw, rotation, cos_pitch, horizontal)
+    return vec

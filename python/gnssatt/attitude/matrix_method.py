@@ -119,6 +119,17 @@ def matrix_attitude(
     >>> round(result.residual_rms_m, 9) + 0.0
     0.0
     """
+    b, s = _checked_geometry(baselines, los)
+    r = _checked_range_diffs(range_diffs, b, s)
+    dcm, raw, rms = _solved(b, s, r, method)
+    finite_outputs(f"matrix_attitude ({method!r})", rotation=dcm, raw_matrix=raw, residual_rms_m=rms)
+    return MatrixAttitudeResult(Rotation.from_matrix(dcm), rms, raw, method)
+
+
+def _checked_geometry(
+    baselines: ArrayLike, los: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The (m, 3) baselines and (n, 3) lines of sight of :func:`matrix_attitude`, two of each at least."""
     # from the shapes, before anything is copied: range_diffs is (m, n) with m baselines and n lines of sight
     batch_limit(MAX_SIGNALS, "MAX_SIGNALS", "lines of sight", los=(los, 1))
     b = checked_baselines("baselines", baselines)
@@ -127,6 +138,13 @@ def matrix_attitude(
     s = shaped("los", los, "(n, 3)", (None, 3))
     if len(s) < 2:
         raise InvalidInputError(f"expected los of shape (n, 3) with n >= 2, got {s.shape}")
+    return b, s
+
+
+def _checked_range_diffs(
+    range_diffs: ArrayLike, b: NDArray[np.float64], s: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The (m, n) range differences of :func:`matrix_attitude`, m, bounded by :data:`MAX_BASELINE_M`."""
     raw = plain_array("range_diffs", range_diffs)
     shape = raw.shape
     if raw.dtype.kind in "iuf" and shape != (len(b), len(s)):
@@ -141,9 +159,17 @@ def matrix_attitude(
         raise InvalidInputError(
             f"expected range_diffs at most {MAX_BASELINE_M:g} m in magnitude, got {r[k]:.6g} m at index {k}"
         )
+    return r
+
+
+def _solved(
+    b: NDArray[np.float64], s: NDArray[np.float64], r: NDArray[np.float64], method: Method
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
+    """The core's rotation matrix, raw matrix and residual RMS; a degenerate geometry named by the
+    arguments it comes from."""
     try:
         out = _core.matrix_attitude(b, s, r, method)
-        dcm, raw, rms = out.dcm_ref_from_body, out.raw_body_from_ref, out.residual_rms_m
+        return out.dcm_ref_from_body, out.raw_body_from_ref, out.residual_rms_m
     except DegenerateGeometryError as exc:
         longest = float(np.max(np.linalg.norm(b, axis=1)))
         if float(np.max(np.abs(r))) > 1e-12 * longest:
@@ -156,5 +182,3 @@ def matrix_attitude(
             f"range_diffs do not fix the attitude: they are all zero to 1e-12 of the longest baseline "
             f"({longest:.6g} m), max |range_diffs| = {float(np.max(np.abs(r))):.3g} m"
         ) from exc
-    finite_outputs(f"matrix_attitude ({method!r})", rotation=dcm, raw_matrix=raw, residual_rms_m=rms)
-    return MatrixAttitudeResult(Rotation.from_matrix(dcm), rms, raw, method)

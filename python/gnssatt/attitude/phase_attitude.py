@@ -9,7 +9,7 @@ minimiser of the range-difference residuals, by Gauss-Newton on SO(3)). Frames a
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from gnssatt._arrays import instance, integer_array, scalar, shaped, unit_rows
@@ -115,6 +115,42 @@ def phase_attitude_fixes(
     m = len(b)
     if m == 0:
         raise InvalidInputError(f"expected baselines_m of shape (m, 3) with m >= 1, got {b.shape}")
+    epoch_t, epoch, los_all, wavelength, phase = _checked_rows(obs, m)
+    n_rows = len(epoch)
+    amb = integer_array("ambiguities", ambiguities, f"(n_rows, m) = ({n_rows}, {m})", (n_rows, m))
+    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True, unit="cycles")
+    if sigma > MAX_SIGMA_CYCLES:
+        raise InvalidInputError(
+            f"expected phase_sigma_cycles <= {MAX_SIGMA_CYCLES:g} cycles, got {sigma} cycles"
+        )
+    range_diffs = _range_diffs(phase, amb, wavelength)
+    order = np.argsort(epoch, kind="stable")
+    starts = np.searchsorted(epoch[order], np.arange(len(epoch_t) + 1))
+    t, quats, covs = [], [], []
+    for e in range(len(epoch_t)):
+        rows = order[starts[e] : starts[e + 1]]
+        if len(rows) < 2:
+            continue
+        fix = _epoch_fix(b, los_all[rows], range_diffs[rows], sigma * wavelength[rows], e, float(epoch_t[e]))
+        if fix is None:
+            continue
+        t.append(epoch_t[e])
+        quats.append(fix[0])
+        covs.append(fix[1])
+    return AttitudeFixes(
+        np.array(t, dtype=np.float64),
+        Rotation.from_quat(np.array(quats).reshape(-1, 4)),
+        np.array(covs, dtype=np.float64).reshape(-1, 3, 3),
+    )
+
+
+def _checked_rows(
+    obs: PhaseObservations, m: int
+) -> tuple[
+    NDArray[np.float64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]
+]:
+    """The epoch times (n_e,) and, per row, the epoch index, line of sight, wavelength (m) and the phases
+    of the ``m`` baselines (cycles) of ``obs``."""
     epoch_t = shaped("phases.epoch_t", obs.epoch_t, "(n_e,)", (None,))
     n_rows = len(np.atleast_1d(obs.epoch))
     rows_shape = f"(n_rows,) = ({n_rows},)"
@@ -133,13 +169,13 @@ def phase_attitude_fixes(
         f"(n_rows, m) = ({n_rows}, {m}) for the {m} rows of baselines_m",
         (n_rows, m),
     )
-    amb = integer_array("ambiguities", ambiguities, f"(n_rows, m) = ({n_rows}, {m})", (n_rows, m))
-    sigma = scalar("phase_sigma_cycles", phase_sigma_cycles, minimum=0.0, strict=True, unit="cycles")
-    if sigma > MAX_SIGMA_CYCLES:
-        raise InvalidInputError(
-            f"expected phase_sigma_cycles <= {MAX_SIGMA_CYCLES:g} cycles, got {sigma} cycles"
-        )
+    return epoch_t, epoch, los_all, wavelength, phase
 
+
+def _range_diffs(
+    phase: NDArray[np.float64], amb: NDArray[np.int64], wavelength: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """(n_rows, m) range differences, m, of the phases less the integers; none longer than a baseline."""
     with np.errstate(over="ignore"):
         range_diffs = -(phase - amb) * wavelength[:, None]  # (n_rows, m), m
     too_far = ~(np.abs(range_diffs) <= MAX_BASELINE_M)
@@ -149,33 +185,29 @@ def phase_attitude_fixes(
             f"expected (phases.phase - ambiguities) * phases.wavelength at most {MAX_BASELINE_M:g} m in "
             f"magnitude (a range difference never exceeds the baseline), got {range_diffs[at]:.6g} m at {at}"
         )
-    order = np.argsort(epoch, kind="stable")
-    starts = np.searchsorted(epoch[order], np.arange(len(epoch_t) + 1))
-    t, quats, covs = [], [], []
-    for e in range(len(epoch_t)):
-        rows = order[starts[e] : starts[e + 1]]
-        if len(rows) < 2:
-            continue
-        los = los_all[rows]
-        try:
-            fix = matrix_attitude(b, los, range_diffs[rows].T, method="ml")
-        except DegenerateGeometryError:
-            continue
-        s_body = fix.rotation.inv().apply(los)
-        h = np.cross(b[:, None, :], s_body[None, :, :]).reshape(-1, 3)  # rows (i, k), i-major
-        w = np.tile((sigma * wavelength[rows]) ** 2, m)
-        info_inv = np.linalg.inv(h.T @ h)
-        t.append(epoch_t[e])
-        quats.append(fix.rotation.as_quat())
-        cov = info_inv @ (h.T * w) @ h @ info_inv
-        if not np.all(np.isfinite(cov)):
-            raise ConvergenceError(
-                f"phase_attitude_fixes: the covariance at epoch {e} (t = {epoch_t[e]} s) is not finite; the "
-                f"information H^T H has eigenvalues {np.linalg.eigvalsh(h.T @ h).tolist()} m^2/rad^2"
-            )
-        covs.append(0.5 * (cov + cov.T))
-    return AttitudeFixes(
-        np.array(t, dtype=np.float64),
-        Rotation.from_quat(np.array(quats).reshape(-1, 4)),
-        np.array(covs, dtype=np.float64).reshape(-1, 3, 3),
-    )
+    result: NDArray[np.float64] = range_diffs
+    return result
+
+
+def _epoch_fix(
+    b: NDArray[np.float64], los: NDArray[np.float64], range_diffs: NDArray[np.float64],
+    sigma_m: NDArray[np.float64], e: int, t_e: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:  # fmt: skip
+    """One epoch's fix: the quaternion of :func:`matrix_attitude` (``"ml"``) on its rows (lines of sight,
+    range differences (rows, m), phase sigmas in metres) and its 3 x 3 covariance; None when the rows'
+    geometry is degenerate."""
+    try:
+        fix = matrix_attitude(b, los, range_diffs.T, method="ml")
+    except DegenerateGeometryError:
+        return None
+    s_body = fix.rotation.inv().apply(los)
+    h = np.cross(b[:, None, :], s_body[None, :, :]).reshape(-1, 3)  # rows (i, k), i-major
+    w = np.tile(sigma_m**2, len(b))
+    info_inv = np.linalg.inv(h.T @ h)
+    cov = info_inv @ (h.T * w) @ h @ info_inv
+    if not np.all(np.isfinite(cov)):
+        raise ConvergenceError(
+            f"phase_attitude_fixes: the covariance at epoch {e} (t = {t_e} s) is not finite; the "
+            f"information H^T H has eigenvalues {np.linalg.eigvalsh(h.T @ h).tolist()} m^2/rad^2"
+        )
+    return fix.rotation.as_quat(), 0.5 * (cov + cov.T)

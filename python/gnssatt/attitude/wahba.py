@@ -256,6 +256,22 @@ def wahba(
            [0. , 1. , 0. ],
            [0. , 0. , 0.5]])
     """
+    b3, r, single = _checked_pairs(body, ref, weights)
+    w = _checked_weights(weights, *b3.shape[:2])
+    _check_weight_span(w, method)
+    quat, cov, ratio, loss = _solved_batch(b3, r, w, method)
+    finite_outputs("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)
+    warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")  # here: its stacklevel
+    if single:
+        return WahbaResult(Rotation.from_quat(quat[0]), cov[0], float(ratio[0]), float(loss[0]), method)
+    return WahbaResult(Rotation.from_quat(quat), cov, ratio, loss, method)
+
+
+def _checked_pairs(
+    body: ArrayLike, ref: ArrayLike, weights: ArrayLike | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
+    """The vector pairs of :func:`wahba` (sizes and ``weights``' against the limit first): body vectors
+    (epochs, n, 3), reference vectors of their shape as given, and whether a single epoch was given."""
     batch_limit(
         MAX_VECTOR_PAIRS,
         "MAX_VECTOR_PAIRS",
@@ -272,37 +288,52 @@ def wahba(
         )
     single = b.ndim == 2
     b3 = b[None] if single else b
-    epochs, n = b3.shape[:2]
-    if n < 2:
-        raise InvalidInputError(f"expected at least 2 vector pairs per epoch, got {n}")
+    if b3.shape[1] < 2:
+        raise InvalidInputError(f"expected at least 2 vector pairs per epoch, got {b3.shape[1]}")
+    return b3, r, single
+
+
+def _checked_weights(weights: ArrayLike | None, epochs: int, n: int) -> NDArray[np.float64]:
+    """The (epochs, n) weights of :func:`wahba` (ones by default): non-negative, not all zero in an epoch."""
     if weights is None:
-        w = np.ones((epochs, n))
-    else:
-        w = float_array("weights", weights, ndim=(1, 2), shape="(n,) or (epochs, n)")
-        try:
-            w = np.ascontiguousarray(np.broadcast_to(w, (epochs, n)))
-        except ValueError:
-            raise InvalidInputError(
-                f"expected weights of shape ({n},) or ({epochs}, {n}), got {w.shape}"
-            ) from None
-        if np.any(w < 0.0):
-            k = tuple(int(i) for i in np.argwhere(w < 0.0)[0])
-            raise InvalidInputError(f"expected non-negative weights, got {w[k]} at (epoch, pair) {k}")
-        zero = np.all(w == 0.0, axis=1)
-        if np.any(zero):
-            raise InvalidInputError(
-                f"expected weights not all zero, got all zero at epoch {int(np.argmax(zero))}"
-            )
-    if method == "quest":
-        with np.errstate(divide="ignore"):
-            span = np.max(w, axis=1) / np.min(np.where(w > 0.0, w, np.inf), axis=1)
-        if np.any(span > QUEST_MAX_WEIGHT_SPAN):
-            e = int(np.argmax(span))
-            raise InvalidInputError(
-                f"expected weights spanning at most {QUEST_MAX_WEIGHT_SPAN:g} (largest / smallest positive) "
-                f"for method 'quest', got {span[e]:.3g} at epoch {e}: QUEST's characteristic quartic loses "
-                "the optimum there; use method 'svd' or 'davenport'"
-            )
+        return np.ones((epochs, n))
+    w = float_array("weights", weights, ndim=(1, 2), shape="(n,) or (epochs, n)")
+    try:
+        w = np.ascontiguousarray(np.broadcast_to(w, (epochs, n)))
+    except ValueError:
+        raise InvalidInputError(
+            f"expected weights of shape ({n},) or ({epochs}, {n}), got {w.shape}"
+        ) from None
+    if np.any(w < 0.0):
+        k = tuple(int(i) for i in np.argwhere(w < 0.0)[0])
+        raise InvalidInputError(f"expected non-negative weights, got {w[k]} at (epoch, pair) {k}")
+    zero = np.all(w == 0.0, axis=1)
+    if np.any(zero):
+        raise InvalidInputError(
+            f"expected weights not all zero, got all zero at epoch {int(np.argmax(zero))}"
+        )
+    return w
+
+
+def _check_weight_span(w: NDArray[np.float64], method: Method) -> None:
+    """QUEST's limit on the weights' span (largest / smallest positive) in each epoch."""
+    if method != "quest":
+        return
+    with np.errstate(divide="ignore"):
+        span = np.max(w, axis=1) / np.min(np.where(w > 0.0, w, np.inf), axis=1)
+    if np.any(span > QUEST_MAX_WEIGHT_SPAN):
+        e = int(np.argmax(span))
+        raise InvalidInputError(
+            f"expected weights spanning at most {QUEST_MAX_WEIGHT_SPAN:g} (largest / smallest positive) "
+            f"for method 'quest', got {span[e]:.3g} at epoch {e}: QUEST's characteristic quartic loses "
+            "the optimum there; use method 'svd' or 'davenport'"
+        )
+
+
+def _solved_batch(
+    b3: NDArray[np.float64], r: NDArray[np.float64], w: NDArray[np.float64], method: Method
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The core's quaternions, covariances, information ratios and losses of every epoch."""
     # the core sees weights relative to the largest of each epoch; covariance and loss scale back
     scale = np.max(w, axis=1)
     try:
@@ -310,7 +341,7 @@ def wahba(
             b3.reshape(-1, 3),
             np.ascontiguousarray(r.reshape(-1, 3)),
             (w / scale[:, None]).reshape(-1),
-            n,
+            b3.shape[1],
             method,
         )
         quat, cov, ratio, loss = out.quat_ref_from_body, out.covariance_ref, out.information_ratio, out.loss
@@ -321,8 +352,4 @@ def wahba(
         ) from exc
     with np.errstate(over="ignore"):
         cov, loss = cov / scale[:, None, None], loss * scale
-    finite_outputs("wahba", quaternion=quat, covariance=cov, information_ratio=ratio, loss=loss)
-    warn_small(ratio, WAHBA_WARN_RATIO, "the information ratio of the vector pairs")
-    if single:
-        return WahbaResult(Rotation.from_quat(quat[0]), cov[0], float(ratio[0]), float(loss[0]), method)
-    return WahbaResult(Rotation.from_quat(quat), cov, ratio, loss, method)
+    return quat, cov, ratio, loss

@@ -261,29 +261,12 @@ def _rms(x: np.ndarray, axis: Any = None) -> np.ndarray:
     return rms
 
 
-def run(
-    *,
-    runs: int,
-    seed: int,
-    out: Path,
-    executor: Executor | None = None,
-    progress: bool = True,
-    duration_s: float | None = None,
-    loose_fixes: LooseFixes = "simulated",
-) -> dict[str, Any]:
-    if loose_fixes not in ("simulated", "matrix"):
-        raise InvalidInputError(f"expected loose_fixes 'simulated' or 'matrix', got {loose_fixes!r}")
-    out.mkdir(parents=True, exist_ok=True)
-    duration = float(math.floor(RX.period_s if duration_s is None else duration_s))  # whole GNSS epochs
-    mc = functools.partial(montecarlo.run, seed=seed, executor=executor, progress=progress)
-    rows = mc(functools.partial(orbit_trial, duration_s=duration, loose_fixes=loose_fixes), runs)
-    t = rows[0]["t"]
-    measured: dict[str, Any] = {
-        "duration_s": float(duration),
-        "runs": runs,
-        "loose_fixes": loose_fixes,
-        "visible_satellites_mean": float(np.mean([r["n_visible_mean"] for r in rows])),
-    }
+def _orbit_measures(
+    t: np.ndarray, rows: list[dict[str, Any]], measured: dict[str, Any]
+) -> dict[str, dict[str, np.ndarray]]:
+    """Add the orbit trials' numbers to ``measured`` (each filter's attitude and drift errors and sigmas in
+    the steady state, at the end and at the outage's end; the tight filter's fixes); each filter's error and
+    sigma series, for the plot."""
     steady = (t >= 600.0) & (t < OUTAGE_S[0])
     end_out = int(np.searchsorted(t, OUTAGE_S[1]) - 1)
     series: dict[str, dict[str, np.ndarray]] = {}
@@ -307,6 +290,49 @@ def run(
     measured["tight_first_fix_s_mean"] = float(np.nanmean([r["first_fix_s"] for r in rows]))
     measured["tight_refix_after_outage_s_mean"] = float(np.nanmean([r["refix_after_outage_s"] for r in rows]))
     measured["tight_slips_detected"] = int(sum(r["slips"] for r in rows))
+    return series
+
+
+def _misalignment_measures(mis_rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """RMS errors and sigmas (deg) of the misalignment trials, the reduced and the full filter."""
+    tag = f"misalignment_{MISALIGNMENT_ESTIMATE_DEG:g}deg"
+    return {
+        f"{tag}_{name}_deg": math.degrees(float(_rms(np.array([r[key] for r in mis_rows]))))
+        for key, name in (
+            ("reduced_err", "reduced_attitude_rms"),
+            ("full_err", "full_attitude_rms"),
+            ("mu_err", "full_misalignment_rms"),
+            ("reduced_sig", "reduced_attitude_sigma"),
+            ("full_sig", "full_attitude_sigma"),
+            ("mu_sig", "full_misalignment_sigma"),
+        )
+    }
+
+
+def run(
+    *,
+    runs: int,
+    seed: int,
+    out: Path,
+    executor: Executor | None = None,
+    progress: bool = True,
+    duration_s: float | None = None,
+    loose_fixes: LooseFixes = "simulated",
+) -> dict[str, Any]:
+    if loose_fixes not in ("simulated", "matrix"):
+        raise InvalidInputError(f"expected loose_fixes 'simulated' or 'matrix', got {loose_fixes!r}")
+    out.mkdir(parents=True, exist_ok=True)
+    duration = float(math.floor(RX.period_s if duration_s is None else duration_s))  # whole GNSS epochs
+    mc = functools.partial(montecarlo.run, seed=seed, executor=executor, progress=progress)
+    rows = mc(functools.partial(orbit_trial, duration_s=duration, loose_fixes=loose_fixes), runs)
+    t = rows[0]["t"]
+    measured: dict[str, Any] = {
+        "duration_s": float(duration),
+        "runs": runs,
+        "loose_fixes": loose_fixes,
+        "visible_satellites_mean": float(np.mean([r["n_visible_mean"] for r in rows])),
+    }
+    series = _orbit_measures(t, rows, measured)
 
     two = mc(functools.partial(two_satellite_trial, duration_s=600.0, loose_fixes=loose_fixes), runs)
     for key in ("tight_3sigma_deg", "loose_3sigma_deg", "tight_error_deg", "tight_nees"):
@@ -316,16 +342,7 @@ def run(
     sens = _sensitivity(mc, runs)
     measured |= sens["measured"]
     mis_rows = mc(functools.partial(misalignment_trial, sigma_deg=MISALIGNMENT_ESTIMATE_DEG), runs)
-    tag = f"misalignment_{MISALIGNMENT_ESTIMATE_DEG:g}deg"
-    for key, name in (
-        ("reduced_err", "reduced_attitude_rms"),
-        ("full_err", "full_attitude_rms"),
-        ("mu_err", "full_misalignment_rms"),
-        ("reduced_sig", "reduced_attitude_sigma"),
-        ("full_sig", "full_attitude_sigma"),
-        ("mu_sig", "full_misalignment_sigma"),
-    ):
-        measured[f"{tag}_{name}_deg"] = math.degrees(float(_rms(np.array([r[key] for r in mis_rows]))))
+    measured |= _misalignment_measures(mis_rows)
     lin = {s: mc(functools.partial(linearity_trial, sigma_att_deg=s), runs) for s in LINEARITY_SIGMAS_DEG}
     for s, v in lin.items():
         measured[f"float_only_nees_{LINEARITY_S:g}s_init_{s:g}deg"] = float(np.mean(v))

@@ -15,7 +15,7 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from os import PathLike
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +26,9 @@ from gnssatt.gnss.session_input import epochs_gpst_ns
 from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, nav_input, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
 from gnssatt.rinex.signals import choose_signals
+
+if TYPE_CHECKING:  # a type only: the core itself is imported where it is called, as before
+    from gnssatt._core import SinglePoints
 
 __all__ = ["SYSTEMS", "PositionSeries", "position_from_rinex"]
 
@@ -242,9 +245,6 @@ def position_from_rinex(
     >>> int(p.solved.sum()), bool(np.linalg.norm(p.median_position_m - p.header_position_m) < 1.0)
     (120, True)
     """
-    from gnssatt import _core
-    from gnssatt.frames import ecef_to_geodetic
-
     letters = _systems(systems)
     n_freq = _frequencies(frequencies)
     mask = scalar("elevation_mask_deg", elevation_mask_deg, minimum=-90.0, maximum=90.0)
@@ -252,42 +252,23 @@ def position_from_rinex(
         obs = read_obs(path_text(obs, "obs"))
     obs = instance("obs", obs, RinexObs, "an observation file or a RinexObs (from read_obs)")
     nv = navigation(nav, "nav")
-    leaps = obs.leap_seconds if obs.leap_seconds is not None else nv.leap_seconds
-    t = epochs_gpst_ns(obs, leaps)
-    keep = [k for k, s in enumerate(obs.sats) if s[0] in letters]
-    sats = [obs.sats[k] for k in keep]
-    code = np.full((len(t), len(sats), _SLOTS), np.nan)
-    for letter in letters:
-        choices = choose_signals(obs, letter)
-        cols = [j for j, s in enumerate(sats) if s[0] == letter]
-        for slot, choice in enumerate(choices[:n_freq]):
-            if choice.code is not None and cols:
-                c = obs.codes.index(choice.code)
-                code[:, cols, slot] = obs.data[:, [keep[j] for j in cols], c]
-    known = {s: int(k) for s, k in zip(nv.glonass.sats.tolist(), nv.glonass.channel.tolist(), strict=True)}
-    known.update(obs.glonass_channels)
-    channel = np.array(
-        [known[s] if s[0] == "R" and s in known and -7 <= known[s] <= 6 else _NO_CHANNEL for s in sats],
-        dtype=np.int64,
-    )
+    t = epochs_gpst_ns(obs, obs.leap_seconds if obs.leap_seconds is not None else nv.leap_seconds)
+    sats, code = _code_ranges(obs, letters, n_freq, len(t))
     header = np.asarray(obs.approx_position_m, dtype=np.float64)
     header = header if np.any(header != 0.0) and np.isfinite(header).all() else np.full(3, np.nan)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        sp = _core.gnss_single_point(
-            nav_input(nv).navigation(),
-            np.ascontiguousarray(t),
-            sats,
-            channel,
-            code,
-            approx_position_m=header if np.isfinite(header).all() else None,
-            systems=letters,
-            frequencies=n_freq,
-            elevation_mask_deg=mask,
-        )
-    messages = tuple(str(w.message) for w in caught)
-    for w in caught:  # issued again, from the caller's line, and kept in the result
-        warnings.warn(str(w.message), w.category, stacklevel=2)
+    channel = _glonass_channels(nv, obs, sats)
+    sp, messages = _single_point(nv, t, sats, channel, code, header, letters, n_freq, mask)
+    return _position_series(t, sp, letters, obs, header, messages)
+
+
+def _position_series(
+    t: NDArray[np.int64], sp: SinglePoints, letters: str, obs: RinexObs, header: NDArray[np.float64],
+    messages: tuple[str, ...],
+) -> PositionSeries:  # fmt: skip
+    """The :class:`PositionSeries` of the core's solutions ``sp`` at the epochs ``t`` (GPST ns), with their
+    geodetic coordinates (NaN where unsolved)."""
+    from gnssatt.frames import ecef_to_geodetic
+
     pos = np.asarray(sp.position_m, dtype=np.float64)
     # unsolved rows are converted at a point of the equator, then set to NaN
     lat, lon, h = ecef_to_geodetic(np.where(np.isfinite(pos), pos, [6378137.0, 0.0, 0.0]).reshape(-1, 3))
@@ -309,3 +290,59 @@ def position_from_rinex(
         header_position_m=header,
         warnings=messages,
     )
+
+
+def _code_ranges(
+    obs: RinexObs, letters: str, n_freq: int, n_epochs: int
+) -> tuple[list[str], NDArray[np.float64]]:
+    """The satellites of ``letters`` and their code ranges (epochs, satellites, slots), m: each system's
+    chosen signals (:func:`~gnssatt.rinex.signals.choose_signals`) in its first ``n_freq`` slots."""
+    keep = [k for k, s in enumerate(obs.sats) if s[0] in letters]
+    sats = [obs.sats[k] for k in keep]
+    code = np.full((n_epochs, len(sats), _SLOTS), np.nan)
+    for letter in letters:
+        choices = choose_signals(obs, letter)
+        cols = [j for j, s in enumerate(sats) if s[0] == letter]
+        for slot, choice in enumerate(choices[:n_freq]):
+            if choice.code is not None and cols:
+                c = obs.codes.index(choice.code)
+                code[:, cols, slot] = obs.data[:, [keep[j] for j in cols], c]
+    return sats, code
+
+
+def _glonass_channels(nv: RinexNav, obs: RinexObs, sats: list[str]) -> NDArray[np.int64]:
+    """The GLONASS channel of each satellite (``_NO_CHANNEL`` for the others and where none is known): the
+    observation header's, else the navigation records'."""
+    known = {s: int(k) for s, k in zip(nv.glonass.sats.tolist(), nv.glonass.channel.tolist(), strict=True)}
+    known.update(obs.glonass_channels)
+    return np.array(
+        [known[s] if s[0] == "R" and s in known and -7 <= known[s] <= 6 else _NO_CHANNEL for s in sats],
+        dtype=np.int64,
+    )
+
+
+def _single_point(
+    nv: RinexNav, t: NDArray[np.int64], sats: list[str], channel: NDArray[np.int64],
+    code: NDArray[np.float64], header: NDArray[np.float64], letters: str, n_freq: int, mask: float,
+) -> tuple[SinglePoints, tuple[str, ...]]:  # fmt: skip
+    """The core's code solutions of every epoch, and the warnings it issued (issued again, from the line
+    that called :func:`position_from_rinex`)."""
+    from gnssatt import _core
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sp = _core.gnss_single_point(
+            nav_input(nv).navigation(),
+            np.ascontiguousarray(t),
+            sats,
+            channel,
+            code,
+            approx_position_m=header if np.isfinite(header).all() else None,
+            systems=letters,
+            frequencies=n_freq,
+            elevation_mask_deg=mask,
+        )
+    messages = tuple(str(w.message) for w in caught)
+    for w in caught:  # issued again, from the caller's line, and kept in the result
+        warnings.warn(str(w.message), w.category, stacklevel=3)
+    return sp, messages

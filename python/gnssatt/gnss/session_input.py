@@ -468,25 +468,45 @@ def session_input(
     >>> si.code_m.shape, si.sats[:3], si.epochs_dropped
     ((2, 120, 11, 3), ('G01', 'G03', 'G04'), (0, 0))
     """
+    files, asked, n_freq, nav = _checked_arguments(observations, systems, frequencies, nav)
+    # called from here: their warnings name the caller of session_input (stacklevel=3)
+    choices = _signal_choices(files, asked, n_freq)
+    used = _systems_used(files, choices, asked, systems)
+    leaps = _leap_seconds(files, nav)
+    times = [epochs_gpst_ns(o, leaps) for o in files]
+    index, dropped = _common_epochs(files, times)
+    sats = _common_sats(files, choices, index, used)
+    return _assembled(files, choices, used, n_freq, times, index, dropped, sats, nav)
+
+
+def _checked_arguments(
+    observations: Sequence[RinexObs], systems: str, frequencies: int, nav: RinexNav | None
+) -> tuple[list[RinexObs], str, int, RinexNav | None]:
+    """The files, the systems asked for, the number of frequency slots and the navigation data of
+    :func:`session_input`, checked."""
     files = _checked_files(observations)
     asked = _systems(systems)
     n_freq = integer("frequencies", frequencies, minimum=1, maximum=SLOTS)
     if nav is not None:
         nav = instance("nav", nav, RinexNav, "a RinexNav (from read_nav)")
-    choices = _signal_choices(files, asked, n_freq)
-    used = _systems_used(files, choices, asked, systems)
+    return files, asked, n_freq, nav
+
+
+def _leap_seconds(files: list[RinexObs], nav: RinexNav | None) -> int | None:
+    """GPS - UTC, s: the first observation header that gives it, else the navigation file's."""
     leaps = next((o.leap_seconds for o in files if o.leap_seconds is not None), None)
     if leaps is None and nav is not None:
         leaps = nav.leap_seconds
-    times = [epochs_gpst_ns(o, leaps) for o in files]
-    index, dropped = _common_epochs(files, times)
-    sats = _common_sats(files, choices, index, used)
-    if not sats:
-        raise RinexError(
-            ", ".join(o.path for o in files),
-            None,
-            f"no satellite of systems {used!r} with carrier phase in every file at the common epochs",
-        )
+    return leaps
+
+
+def _assembled(
+    files: list[RinexObs], choices: list[dict[str, tuple[SignalChoice, ...]]], used: str, n_freq: int,
+    times: list[NDArray[np.int64]], index: list[NDArray[np.int64]], dropped: tuple[int, ...],
+    sats: tuple[str, ...], nav: RinexNav | None,
+) -> SessionInput:  # fmt: skip
+    """The :class:`SessionInput` of the chosen signals of ``sats`` at the common epochs ``index`` (labels
+    of the first file, phases moved to them)."""
     code, phase, doppler, snr, lli = _observation_arrays(files, choices, index, sats)
     channels = _channels(sats, files, nav)
     _to_common_labels([t[k] for t, k in zip(times, index, strict=True)], sats, channels, code, phase)
@@ -577,7 +597,8 @@ def _common_sats(
     index: list[NDArray[np.int64]],
     used: str,
 ) -> tuple[str, ...]:
-    """Satellites of the systems ``used`` with a phase of some slot in every file at a common epoch."""
+    """Satellites of the systems ``used`` with a phase of some slot in every file at a common epoch
+    (refused when there is none)."""
     common: set[str] | None = None
     for o, ch, kept in zip(files, choices, index, strict=True):
         seen = set()
@@ -588,7 +609,13 @@ def _common_sats(
             if cols and np.isfinite(o.data[np.ix_(kept, np.array([k]), np.array(cols))]).any():
                 seen.add(s)
         common = seen if common is None else common & seen
-    return tuple(sorted(common or (), key=lambda s: (SYSTEMS.index(s[0]), int(s[1:]))))
+    if not common:
+        raise RinexError(
+            ", ".join(o.path for o in files),
+            None,
+            f"no satellite of systems {used!r} with carrier phase in every file at the common epochs",
+        )
+    return tuple(sorted(common, key=lambda s: (SYSTEMS.index(s[0]), int(s[1:]))))
 
 
 def _channels(sats: tuple[str, ...], files: list[RinexObs], nav: RinexNav | None) -> NDArray[np.int64]:

@@ -127,6 +127,35 @@ def rk4_steps(what: str, durations_s: NDArray[np.float64], step_s: float) -> int
     return int(n)
 
 
+def _orbit_position(position_m: ArrayLike, equatorial_radius_m: float) -> NDArray[np.float64]:
+    """The (3,) position of :func:`glonass_propagate`, m, refused inside the Earth (the model's
+    :data:`MIN_ORBIT_RADIUS_FRACTION` of its equatorial radius)."""
+    r = _vec3("position_m", position_m)
+    r_min = MIN_ORBIT_RADIUS_FRACTION * equatorial_radius_m
+    if not np.linalg.norm(r) >= r_min:
+        raise InvalidInputError(
+            f"expected position_m at least {r_min:.6g} m away from the Earth's centre ("
+            f"{MIN_ORBIT_RADIUS_FRACTION} of the model's equatorial radius), got |r| = "
+            f"{np.linalg.norm(r):.6g} m"
+        )
+    return r
+
+
+def _duration_and_step(duration_s: float, step_s: float) -> tuple[float, float]:
+    """The duration and step of :func:`glonass_propagate`, s: a step no longer than a positive duration, and
+    no more steps than the work limit (the core reports the other cases)."""
+    d = scalar("duration_s", duration_s)
+    h = scalar("step_s", step_s)
+    if 0 < d < h:
+        raise InvalidInputError(
+            f"expected step_s in (0, duration_s], no longer than the duration, got step_s = {h:g} s "
+            f"and duration_s = {d:g} s"
+        )
+    if d > 0 and 0 < h <= d:  # the core reports the other cases
+        rk4_steps("glonass_propagate over duration_s", np.array([d]), h)
+    return d, h
+
+
 def glonass_propagate(
     position_m: ArrayLike,
     velocity_m_s: ArrayLike,
@@ -194,24 +223,9 @@ def glonass_propagate(
     if lunisolar_m_s2 is not None:
         acc = _vec3("lunisolar_m_s2", lunisolar_m_s2)
         m = GlonassModel(m.gm_m3_s2, m.j2, m.equatorial_radius_m, m.omega_rad_s, tuple(acc))
-    r = _vec3("position_m", position_m)
-    r_min = MIN_ORBIT_RADIUS_FRACTION * m.equatorial_radius_m
-    if not np.linalg.norm(r) >= r_min:
-        raise InvalidInputError(
-            f"expected position_m at least {r_min:.6g} m away from the Earth's centre ("
-            f"{MIN_ORBIT_RADIUS_FRACTION} of the model's equatorial radius), got |r| = "
-            f"{np.linalg.norm(r):.6g} m"
-        )
+    r = _orbit_position(position_m, m.equatorial_radius_m)
     state = np.concatenate([r, _vec3("velocity_m_s", velocity_m_s)])
-    d = scalar("duration_s", duration_s)
-    h = scalar("step_s", step_s)
-    if 0 < d < h:
-        raise InvalidInputError(
-            f"expected step_s in (0, duration_s], no longer than the duration, got step_s = {h:g} s "
-            f"and duration_s = {d:g} s"
-        )
-    if d > 0 and 0 < h <= d:  # the core reports the other cases
-        rk4_steps("glonass_propagate over duration_s", np.array([d]), h)
+    d, h = _duration_and_step(duration_s, step_s)
     out = _core.glonass_propagate(state, d, m._kwargs(), step_s=h)
     x, phi = out.state, out.stm
     cause = f"position {r.tolist()} m, velocity {state[3:].tolist()} m/s over {d} s"

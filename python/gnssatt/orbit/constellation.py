@@ -340,6 +340,37 @@ def glonass_nominal(*, raan0_deg: float = 0.0, arg_latitude0_deg: float = 0.0) -
     return Constellation(tuple(f"R{s:02d}" for s in slot), orbits, freqs, tuple(str(s) for s in slot), ch)
 
 
+def _walker_pattern(n_sat: int, n_planes: int, phasing: int, prefix: str) -> tuple[int, int, int]:
+    """The checked integers ``T/P/F`` of :func:`walker`, and its ``prefix`` checked (in the order the
+    checks had inside :func:`walker`: the first bad argument is the one named)."""
+    n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_SATELLITES)
+    n_planes = integer("n_planes", n_planes, minimum=1)
+    phasing = integer("phasing", phasing)
+    if abs(phasing) > 2**53:  # 360.0 * phasing must be exact, and finite (10**400 overflows float)
+        raise InvalidInputError(f"expected phasing within +-2^53, got {phasing}")
+    text("prefix", prefix)
+    if len(prefix) != 1:
+        raise InvalidInputError(f"expected prefix as one letter (the RINEX system), got {prefix!r}")
+    if n_planes < 1 or n_sat < 1 or n_sat % n_planes:
+        raise InvalidInputError(
+            f"expected n_sat a positive multiple of n_planes >= 1, got {n_sat}/{n_planes}"
+        )
+    return n_sat, n_planes, phasing
+
+
+def _walker_angles(
+    n_sat: int, n_planes: int, phasing: int, raan0_deg: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """RAAN and argument of latitude at ``t = 0`` (rad) of each satellite of the pattern ``T/P/F``,
+    satellites numbered plane by plane."""
+    per = n_sat // n_planes
+    k = np.arange(n_sat)
+    p, j = k // per, k % per
+    raan = np.radians(scalar("raan0_deg", raan0_deg) + 360.0 * p / n_planes)
+    u = np.radians(360.0 * j / per + 360.0 * phasing * p / n_sat)
+    return raan, u
+
+
 def walker(
     n_sat: int,
     n_planes: int,
@@ -404,29 +435,14 @@ def walker(
     >>> np.round(r[2] / 7e6, 6) + 0.0
     array([-0.25    ,  0.433013,  0.866025])
     """
-    n_sat = integer("n_sat", n_sat, minimum=1, maximum=MAX_SATELLITES)
-    n_planes = integer("n_planes", n_planes, minimum=1)
-    phasing = integer("phasing", phasing)
-    if abs(phasing) > 2**53:  # 360.0 * phasing must be exact, and finite (10**400 overflows float)
-        raise InvalidInputError(f"expected phasing within +-2^53, got {phasing}")
-    text("prefix", prefix)
-    if len(prefix) != 1:
-        raise InvalidInputError(f"expected prefix as one letter (the RINEX system), got {prefix!r}")
-    if n_planes < 1 or n_sat < 1 or n_sat % n_planes:
-        raise InvalidInputError(
-            f"expected n_sat a positive multiple of n_planes >= 1, got {n_sat}/{n_planes}"
-        )
-    per = n_sat // n_planes
-    k = np.arange(n_sat)
-    p, j = k // per, k % per
-    raan = np.radians(scalar("raan0_deg", raan0_deg) + 360.0 * p / n_planes)
-    u = np.radians(360.0 * j / per + 360.0 * phasing * p / n_sat)
+    n_sat, n_planes, phasing = _walker_pattern(n_sat, n_planes, phasing, prefix)
+    raan, u = _walker_angles(n_sat, n_planes, phasing, raan0_deg)
     inc = np.radians(scalar("inclination_deg", inclination_deg, minimum=0.0, maximum=180.0, unit="deg"))
     a = scalar("semi_major_axis_m", semi_major_axis_m, minimum=0.0, strict=True)
     f = scalar("frequency_hz", frequency_hz, minimum=0.0, strict=True, unit="Hz")
     orbits = KeplerOrbits.circular(np.full(n_sat, a), np.full(n_sat, inc), raan, u)
     return Constellation(
-        tuple(f"{prefix}{i + 1:02d}" for i in k),
+        tuple(f"{prefix}{i + 1:02d}" for i in range(n_sat)),
         orbits,
         {"L1": np.full(n_sat, f)},
         ("",) * n_sat,

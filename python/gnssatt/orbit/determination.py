@@ -446,6 +446,24 @@ def orbit_filter(
     """
     m = instance("model", model if model is not None else GlonassModel(), GlonassModel, "a GlonassModel")
     x = _initial_state(x0, m)
+    p = _initial_covariance(p0)
+    psd = _accel_psd(accel_psd_m2_s3)
+    h = scalar("step_s", step_s, minimum=0.0, strict=True)
+    _check_coupling(coupling, use_doppler)
+    fixes = _loose_fixes(data, coupling, h)
+    if fixes is not None:
+        return _filter_result(fixes.times_s, _loose_filter(fixes, x, p, m, psd, h), coupling)
+    assert isinstance(data, SpaceborneMeasurements)
+    return _filter_result(data.times_s, _tight_filter(data, x, p, m, psd, h, use_doppler), coupling)
+
+
+def _filter_result(t: ArrayLike, out: _core.OrbitFilterRun, coupling: str) -> OrbitFilterResult:
+    states, covs, nis, dof = out.states, out.covariances, out.nis, out.dof
+    return OrbitFilterResult(np.asarray(t), states, covs, nis, dof.astype(np.int64), coupling)
+
+
+def _initial_covariance(p0: ArrayLike) -> NDArray[np.float64]:
+    """The (6, 6) initial covariance of :func:`orbit_filter`: bounded, symmetric, positive semi-definite."""
     p = float_array("p0", p0, ndim=2, shape="(6, 6)")
     if p.shape != (6, 6):
         raise InvalidInputError(f"expected p0 of shape (6, 6), got {p.shape}")
@@ -458,57 +476,75 @@ def orbit_filter(
     smallest = float(np.linalg.eigvalsh(p)[0])
     if smallest < -1e-9 * np.max(np.abs(p)):
         raise InvalidInputError(f"expected p0 positive semi-definite, got an eigenvalue of {smallest:.3e}")
-    psd = _accel_psd(accel_psd_m2_s3)
-    h = scalar("step_s", step_s, minimum=0.0, strict=True)
+    return p
+
+
+def _check_coupling(coupling: str, use_doppler: bool) -> None:
     text("coupling", coupling)
     if coupling not in ("loose", "tight"):
         raise InvalidInputError(f"expected coupling 'loose' or 'tight', got {coupling!r}")
     if not isinstance(use_doppler, bool | np.bool_):
         raise InvalidTypeError(f"expected use_doppler as a bool, got {type(use_doppler).__name__}")
+
+
+def _loose_fixes(
+    data: SpaceborneMeasurements | ReceiverFixes, coupling: str, step_s: float
+) -> ReceiverFixes | None:
+    """The receiver fixes the loosely coupled filter takes (given, or made from the measurements), None for
+    the tightly coupled one; the data's epochs checked against the work limit of RK4 steps."""
     instance("data", data, SpaceborneMeasurements | ReceiverFixes, "SpaceborneMeasurements or ReceiverFixes")
     t_all = float_array("data.times_s", data.times_s, ndim=1, shape="(n_t,)")
-    rk4_steps("orbit_filter over data.times_s", np.diff(t_all), h)
-    fixes: ReceiverFixes | None
+    rk4_steps("orbit_filter over data.times_s", np.diff(t_all), step_s)
     if isinstance(data, ReceiverFixes):
         if coupling != "loose":
             raise InvalidInputError("receiver fixes can only drive the loosely coupled filter")
-        fixes = data
-    else:
-        fixes = receiver_fix(data) if coupling == "loose" else None
-    if fixes is not None:
-        t = fixes.times_s
-        out = _core.orbit_filter_loose(
-            t,
-            x,
-            p,
-            np.ascontiguousarray(fixes.position_m),
-            np.ascontiguousarray(fixes.velocity_m_s),
-            np.ascontiguousarray(fixes.covariance),
-            np.ascontiguousarray(fixes.valid, dtype=bool),
-            model=m._kwargs(),
-            accel_psd_m2_s3=psd,
-            step_s=h,
-        )
-    else:
-        d = data
-        assert isinstance(d, SpaceborneMeasurements)
-        t = d.times_s
-        out = _core.orbit_filter_tight(
-            t,
-            x,
-            p,
-            np.ascontiguousarray(d.sat_position_m),
-            np.ascontiguousarray(d.sat_velocity_m_s),
-            np.ascontiguousarray(d.pseudorange_m),
-            np.ascontiguousarray(d.doppler_hz),
-            np.ascontiguousarray(d.visible, dtype=bool),
-            np.ascontiguousarray(d.wavelength_m),
-            np.ascontiguousarray(d.system, dtype=np.uint32),
-            code_sigma_m=float(d.code_sigma_m),
-            doppler_sigma_hz=float(d.doppler_sigma_hz) if use_doppler else 0.0,
-            model=m._kwargs(),
-            accel_psd_m2_s3=psd,
-            step_s=h,
-        )
-    states, covs, nis, dof = out.states, out.covariances, out.nis, out.dof
-    return OrbitFilterResult(np.asarray(t), states, covs, nis, dof.astype(np.int64), coupling)
+        return data
+    return receiver_fix(data) if coupling == "loose" else None
+
+
+def _loose_filter(
+    fixes: ReceiverFixes,
+    x: NDArray[np.float64],
+    p: NDArray[np.float64],
+    m: GlonassModel,
+    psd: float,
+    h: float,
+) -> _core.OrbitFilterRun:
+    """The core's loosely coupled filter over ``fixes``."""
+    return _core.orbit_filter_loose(
+        fixes.times_s,
+        x,
+        p,
+        np.ascontiguousarray(fixes.position_m),
+        np.ascontiguousarray(fixes.velocity_m_s),
+        np.ascontiguousarray(fixes.covariance),
+        np.ascontiguousarray(fixes.valid, dtype=bool),
+        model=m._kwargs(),
+        accel_psd_m2_s3=psd,
+        step_s=h,
+    )
+
+
+def _tight_filter(
+    d: SpaceborneMeasurements, x: NDArray[np.float64], p: NDArray[np.float64], m: GlonassModel, psd: float,
+    h: float, use_doppler: bool,
+) -> _core.OrbitFilterRun:  # fmt: skip
+    """The core's tightly coupled filter over the measurements ``d`` (Dopplers unweighted without
+    ``use_doppler``)."""
+    return _core.orbit_filter_tight(
+        d.times_s,
+        x,
+        p,
+        np.ascontiguousarray(d.sat_position_m),
+        np.ascontiguousarray(d.sat_velocity_m_s),
+        np.ascontiguousarray(d.pseudorange_m),
+        np.ascontiguousarray(d.doppler_hz),
+        np.ascontiguousarray(d.visible, dtype=bool),
+        np.ascontiguousarray(d.wavelength_m),
+        np.ascontiguousarray(d.system, dtype=np.uint32),
+        code_sigma_m=float(d.code_sigma_m),
+        doppler_sigma_hz=float(d.doppler_sigma_hz) if use_doppler else 0.0,
+        model=m._kwargs(),
+        accel_psd_m2_s3=psd,
+        step_s=h,
+    )

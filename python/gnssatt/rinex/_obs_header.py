@@ -83,6 +83,54 @@ def parse_header(path: str, lines: list[str]) -> tuple[ObsHeader, int]:
     RinexError
         A header line that breaks the RINEX rules, or no ``END OF HEADER``.
     """
+    hdr = _first_line(path, lines)
+    sysletter, version = hdr.system, hdr.version
+    types = _TypeLines()
+    last_known = 1
+    for i in range(1, len(lines)):
+        line = lines[i]
+        label = line[60:80].strip()
+        lineno = i + 1
+        if label in HEADER_LABELS:
+            last_known = lineno
+        if label == "END OF HEADER":
+            types.finish(path, lineno, hdr)
+            return hdr, i + 1
+        if label == "MARKER NAME":
+            hdr.marker = line[0:60].strip()
+        elif label == "APPROX POSITION XYZ":
+            hdr.pos = _triple(path, lineno, line, "APPROX POSITION XYZ")
+        elif label == "ANTENNA: DELTA H/E/N":
+            hdr.delta = _triple(path, lineno, line, "ANTENNA: DELTA H/E/N")
+        elif label == "INTERVAL":
+            hdr.interval = _interval(path, lineno, line)
+        elif label in ("TIME OF FIRST OBS", "TIME OF LAST OBS"):
+            _check_time(path, lineno, line, label)
+        if label == "TIME OF FIRST OBS":
+            hdr.time_system = _time_system(line, sysletter, hdr.time_system)
+        elif label == "# / TYPES OF OBSERV":
+            types.add_v2(path, lineno, line, sysletter)
+        elif label == "SYS / # / OBS TYPES":
+            types.add_v3(path, lineno, line)
+        elif label == "SYS / PHASE SHIFT" and version >= 3:
+            types.phase_last = _phase_shift(path, lineno, line, hdr.phase_shift, types.phase_last)
+        elif label == "SYS / SCALE FACTOR" and version >= 3:
+            types.scale_last = _scale_factor(path, lineno, line, hdr.scale, types.scale_last, types.types3)
+        elif label == "LEAP SECONDS":
+            hdr.leap = integer(path, lineno, line[0:6], "LEAP SECONDS")
+        elif label == "GLONASS SLOT / FRQ #":
+            _glonass_slots(path, lineno, line, hdr.glo)
+    raise RinexError(
+        path,
+        min(last_known + 1, len(lines)),
+        "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
+        "label (file truncated in the header?)",
+    )
+
+
+def _first_line(path: str, lines: list[str]) -> ObsHeader:
+    """The header begun from its ``RINEX VERSION / TYPE`` line: the version, an observation file, the
+    file's system letter (blank: GPS)."""
     if not lines:
         raise RinexError(path, 1, "empty file: expected a RINEX VERSION / TYPE line")
     first = lines[0]
@@ -97,124 +145,122 @@ def parse_header(path: str, lines: list[str]) -> tuple[ObsHeader, int]:
     sysletter = first[40:41].strip() or "G"
     if sysletter not in _SYSTEMS + "M":
         raise RinexError(path, 1, f"expected a satellite system letter in column 41, got {sysletter!r}")
-    hdr = ObsHeader(version=version, system=sysletter)
-    scale = hdr.scale
+    return ObsHeader(version=version, system=sysletter)
+
+
+@dataclass
+class _TypeLines:
+    """The observation types lines read so far (RINEX 2's ``# / TYPES OF OBSERV``, RINEX 3's ``SYS / # /
+    OBS TYPES``, continuation lines included), and the last phase-shift and scale-factor lines (their
+    continuation lines name no system)."""
+
+    types2: list[str] = field(default_factory=list)
+    n_types2: int = 0
+    sys3: str = ""
+    n3: int = 0
+    types3: dict[str, list[str]] = field(default_factory=dict)
+    announced: dict[str, tuple[int, int]] = field(default_factory=dict)  # system -> (count, its last line)
     scale_last: tuple[str, int, int] | None = None
     phase_last: tuple[str, str, int] | None = None
-    types2: list[str] = []
-    n_types2 = 0
-    sys3 = ""
-    types3: dict[str, list[str]] = {}
-    announced: dict[str, tuple[int, int]] = {}  # system -> (count, line of its last types line)
-    last_known = 1
-    for i in range(1, len(lines)):
-        line = lines[i]
-        label = line[60:80].strip()
-        lineno = i + 1
-        if label in HEADER_LABELS:
-            last_known = lineno
-        if label == "END OF HEADER":
-            if version < 3:
-                if not types2:
-                    raise RinexError(path, lineno, "missing header line '# / TYPES OF OBSERV'")
-                systems = "GRESJCI" if sysletter == "M" else sysletter
-                hdr.layout = {s: tuple(types2) for s in systems}
-            else:
-                if not types3:
-                    raise RinexError(path, lineno, "missing header line 'SYS / # / OBS TYPES'")
-                hdr.layout = {s: tuple(v) for s, v in types3.items()}
-            v3 = version >= 3
-            hdr.types = {s: tuple(c for c in v if used_code(c, v3)) for s, v in hdr.layout.items()}
-            hdr.unused = tuple(
-                sorted({f"{s} {c}" for s, v in hdr.layout.items() for c in v if not used_code(c, v3)})
+
+    def add_v2(self, path: str, lineno: int, line: str, sysletter: str) -> None:
+        if line[0:6].strip():
+            self.n_types2 = integer(path, lineno, line[0:6], "the number of observation types")
+        self.types2 += _codes(path, lineno, line[6:60], self.types2, False)
+        self.announced[sysletter] = (self.n_types2, lineno)
+        if len(self.types2) > self.n_types2:
+            raise RinexError(
+                path, lineno, f"announced {self.n_types2} observation types, got {len(self.types2)}"
             )
-            for s, (count, at) in announced.items():
-                got = types2 if version < 3 else types3[s]
-                if len(got) != count:
-                    raise RinexError(
-                        path, at, f"system {s}: announced {count} observation types, got {len(got)}"
-                    )
-            return hdr, i + 1
-        if label == "MARKER NAME":
-            hdr.marker = line[0:60].strip()
-        elif label == "APPROX POSITION XYZ":
-            hdr.pos = _triple(path, lineno, line, "APPROX POSITION XYZ")
-        elif label == "ANTENNA: DELTA H/E/N":
-            hdr.delta = _triple(path, lineno, line, "ANTENNA: DELTA H/E/N")
-        elif label == "INTERVAL":
-            interval = number(path, lineno, line[0:10], "INTERVAL")
-            if interval <= 0.0:
-                raise RinexError(
-                    path,
-                    lineno,
-                    f"expected INTERVAL as a positive number of seconds, got {line[0:10].strip()}",
-                )
-            hdr.interval = interval
-        elif label in ("TIME OF FIRST OBS", "TIME OF LAST OBS"):
-            # 5I6,F13.7: a date and time that must exist; taken as words, as writers widen the seconds
-            words = (line[0:60].split() + [""] * 6)[:6]
-            y, mo, d, hh, mi = (integer(path, lineno, w, f"the date of {label}") for w in words[:5])
-            epoch_ns(
-                path, lineno, y, mo, d, hh, mi, number(path, lineno, words[5], f"the seconds of {label}")
-            )
-        if label == "TIME OF FIRST OBS":
-            # A3 in columns 49-51; some writers (gLAB) put it one column early, so take the word after the
-            # seconds field
-            ts = next((w for w in line[43:60].split() if w.isalpha()), "")
-            if ts:
-                hdr.time_system = ts
-            elif sysletter in "RECJ":
-                hdr.time_system = {"R": "GLO", "E": "GAL", "C": "BDT", "J": "QZS"}[sysletter]
-        elif label == "# / TYPES OF OBSERV":
-            if line[0:6].strip():
-                n_types2 = integer(path, lineno, line[0:6], "the number of observation types")
-            types2 += _codes(path, lineno, line[6:60], types2, False)
-            announced[sysletter] = (n_types2, lineno)
-            if len(types2) > n_types2:
-                raise RinexError(path, lineno, f"announced {n_types2} observation types, got {len(types2)}")
-        elif label == "SYS / # / OBS TYPES":
-            if line[0:1].strip():
-                sys3 = line[0]
-                if sys3 not in _SYSTEMS or sys3 in types3:
-                    raise RinexError(path, lineno, f"expected a new satellite system letter, got {sys3!r}")
-                n3 = integer(path, lineno, line[3:6], "the number of observation types")
-                types3[sys3] = []
-            elif not sys3:
-                raise RinexError(path, lineno, "continuation of 'SYS / # / OBS TYPES' without a system")
-            types3[sys3] += _codes(path, lineno, line[7:58], types3[sys3], True)
-            announced[sys3] = (n3, lineno)
-            if len(types3[sys3]) > n3:
-                raise RinexError(
-                    path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}"
-                )
-        elif label == "SYS / PHASE SHIFT" and version >= 3:
-            phase_last = _phase_shift(path, lineno, line, hdr.phase_shift, phase_last)
-        elif label == "SYS / SCALE FACTOR" and version >= 3:
-            scale_last = _scale_factor(path, lineno, line, scale, scale_last, types3)
-        elif label == "LEAP SECONDS":
-            hdr.leap = integer(path, lineno, line[0:6], "LEAP SECONDS")
-        elif label == "GLONASS SLOT / FRQ #":
-            body = line[4:60]
-            glo = hdr.glo
-            # 8(A1,I2.2,1X,I2,1X) by the format; writers also omit the blank after a channel ("R11 -5R19
-            # +3"), so the pairs are taken as tokens rather than by column
-            rest = body
-            for m in _GLO_PAIR.finditer(body):
-                sat = _sat_id(path, lineno, m.group(1), "R")
-                glo[sat] = integer(path, lineno, m.group(2).replace(" ", ""), "a GLONASS channel")
-                rest = rest.replace(m.group(0), " " * len(m.group(0)), 1)
-            if rest.strip():
-                raise RinexError(
-                    path,
-                    lineno,
-                    f"expected GLONASS slot / channel pairs such as 'R01  1', got {body.strip()!r}",
-                )
-    raise RinexError(
-        path,
-        min(last_known + 1, len(lines)),
-        "missing header line 'END OF HEADER': expected it here, after the last line with a known header "
-        "label (file truncated in the header?)",
-    )
+
+    def add_v3(self, path: str, lineno: int, line: str) -> None:
+        types3 = self.types3
+        if line[0:1].strip():
+            self.sys3 = line[0]
+            if self.sys3 not in _SYSTEMS or self.sys3 in types3:
+                raise RinexError(path, lineno, f"expected a new satellite system letter, got {self.sys3!r}")
+            self.n3 = integer(path, lineno, line[3:6], "the number of observation types")
+            types3[self.sys3] = []
+        elif not self.sys3:
+            raise RinexError(path, lineno, "continuation of 'SYS / # / OBS TYPES' without a system")
+        sys3, n3 = self.sys3, self.n3
+        types3[sys3] += _codes(path, lineno, line[7:58], types3[sys3], True)
+        self.announced[sys3] = (n3, lineno)
+        if len(types3[sys3]) > n3:
+            raise RinexError(path, lineno, f"system {sys3}: announced {n3} types, got {len(types3[sys3])}")
+
+    def finish(self, path: str, lineno: int, hdr: ObsHeader) -> None:
+        """At ``END OF HEADER`` (line ``lineno``): ``hdr``'s layout, the codes read and read past; every
+        system's announced count of types checked."""
+        version = hdr.version
+        if version < 3:
+            if not self.types2:
+                raise RinexError(path, lineno, "missing header line '# / TYPES OF OBSERV'")
+            systems = "GRESJCI" if hdr.system == "M" else hdr.system
+            hdr.layout = {s: tuple(self.types2) for s in systems}
+        else:
+            if not self.types3:
+                raise RinexError(path, lineno, "missing header line 'SYS / # / OBS TYPES'")
+            hdr.layout = {s: tuple(v) for s, v in self.types3.items()}
+        v3 = version >= 3
+        hdr.types = {s: tuple(c for c in v if used_code(c, v3)) for s, v in hdr.layout.items()}
+        hdr.unused = tuple(
+            sorted({f"{s} {c}" for s, v in hdr.layout.items() for c in v if not used_code(c, v3)})
+        )
+        for s, (count, at) in self.announced.items():
+            got = self.types2 if version < 3 else self.types3[s]
+            if len(got) != count:
+                raise RinexError(path, at, f"system {s}: announced {count} observation types, got {len(got)}")
+
+
+def _interval(path: str, lineno: int, line: str) -> float:
+    """``INTERVAL``: a positive number of seconds."""
+    interval = number(path, lineno, line[0:10], "INTERVAL")
+    if interval <= 0.0:
+        raise RinexError(
+            path,
+            lineno,
+            f"expected INTERVAL as a positive number of seconds, got {line[0:10].strip()}",
+        )
+    return interval
+
+
+def _check_time(path: str, lineno: int, line: str, label: str) -> None:
+    """``TIME OF FIRST OBS`` / ``TIME OF LAST OBS``: 5I6,F13.7, a date and time that must exist; taken as
+    words, as writers widen the seconds."""
+    words = (line[0:60].split() + [""] * 6)[:6]
+    y, mo, d, hh, mi = (integer(path, lineno, w, f"the date of {label}") for w in words[:5])
+    epoch_ns(path, lineno, y, mo, d, hh, mi, number(path, lineno, words[5], f"the seconds of {label}"))
+
+
+def _time_system(line: str, sysletter: str, default: str) -> str:
+    """The time system of ``TIME OF FIRST OBS``, else that of the file's system, else ``default``."""
+    # A3 in columns 49-51; some writers (gLAB) put it one column early, so take the word after the seconds
+    # field
+    ts = next((w for w in line[43:60].split() if w.isalpha()), "")
+    if ts:
+        return ts
+    if sysletter in "RECJ":
+        return {"R": "GLO", "E": "GAL", "C": "BDT", "J": "QZS"}[sysletter]
+    return default
+
+
+def _glonass_slots(path: str, lineno: int, line: str, glo: dict[str, int]) -> None:
+    """A ``GLONASS SLOT / FRQ #`` line's satellites and channels into ``glo``."""
+    body = line[4:60]
+    # 8(A1,I2.2,1X,I2,1X) by the format; writers also omit the blank after a channel ("R11 -5R19
+    # +3"), so the pairs are taken as tokens rather than by column
+    rest = body
+    for m in _GLO_PAIR.finditer(body):
+        sat = _sat_id(path, lineno, m.group(1), "R")
+        glo[sat] = integer(path, lineno, m.group(2).replace(" ", ""), "a GLONASS channel")
+        rest = rest.replace(m.group(0), " " * len(m.group(0)), 1)
+    if rest.strip():
+        raise RinexError(
+            path,
+            lineno,
+            f"expected GLONASS slot / channel pairs such as 'R01  1', got {body.strip()!r}",
+        )
 
 
 def _phase_shift(

@@ -138,24 +138,56 @@ def write_obs(
     True
     """
     path = output_path("path", path)
+    t = _epoch_labels(time)
+    sats = sat_list("sats", sats)
+    codes, data = _observation_data(observations, len(t), len(sats))
+    flags = _lli_flags(lli, codes, data)
+    pos, marker_name = _station(approx_position_m, marker_name)
+    channels = _glonass_channels(glonass_channels)
+    systems, sys_codes = _codes_per_system(sats, codes, data)
+    out = _obs_header(systems, sys_codes, codes, marker_name, pos, channels, t[0])
+    out += _obs_records(t, sats, data, flags, sys_codes)
+    with open(path, "w", encoding="ascii") as fh:
+        fh.writelines(out)
+
+
+def _epoch_labels(time: ArrayLike) -> NDArray[np.datetime64]:
+    """The (n_ep >= 1,) epoch labels of :func:`write_obs`."""
     t = time_labels("time", time)
     if t.ndim != 1 or t.size == 0:
         raise InvalidInputError(f"expected time of shape (n_ep >= 1,), got {t.shape}")
-    sats = sat_list("sats", sats)
-    n_ep, n_sat = len(t), len(sats)
-    observations = _code_arrays("observations", observations, n_ep, n_sat, nonfinite=True)
-    codes = list(observations)
-    data = np.stack([observations[c] for c in codes], axis=-1)
+    return t
+
+
+def _observation_data(
+    observations: Mapping[str, ArrayLike], n_ep: int, n_sat: int
+) -> tuple[list[str], NDArray[np.float64]]:
+    """The codes of :func:`write_obs` and their values stacked (n_ep, n_sat, n_codes), within the field."""
+    arrays = _code_arrays("observations", observations, n_ep, n_sat, nonfinite=True)
+    codes = list(arrays)
+    data = np.stack([arrays[c] for c in codes], axis=-1)
     if np.any(np.abs(np.where(np.isfinite(data), data, 0.0)) > MAX_OBSERVATION):
         raise InvalidInputError(f"expected |observations| <= {MAX_OBSERVATION} (the 14.3f field)")
+    return codes, data
+
+
+def _lli_flags(
+    lli: Mapping[str, ArrayLike] | None, codes: list[str], data: NDArray[np.float64]
+) -> NDArray[np.int64]:
+    """The loss-of-lock digits of each value of ``data`` (0 where ``lli`` gives none)."""
     flags = np.zeros(data.shape, dtype=np.int64)
     if lli is not None:
-        for c, v in _code_arrays("lli", lli, n_ep, n_sat, nonfinite=False).items():
+        for c, v in _code_arrays("lli", lli, data.shape[0], data.shape[1], nonfinite=False).items():
             if c not in codes:
                 raise InvalidInputError(f"expected lli codes among those of observations, got {c!r}")
             if np.any((v != np.round(v)) | (v < 0) | (v > 9)):
                 raise InvalidInputError(f"expected lli[{c!r}] as digits 0 to 9")
             flags[..., codes.index(c)] = v.astype(np.int64)
+    return flags
+
+
+def _station(approx_position_m: ArrayLike, marker_name: str) -> tuple[NDArray[np.float64], str]:
+    """The header's approximate position (m) and marker name, each within its field."""
     pos = shaped("approx_position_m", approx_position_m, "(3,)", (3,))
     if np.any(np.abs(pos) > MAX_POSITION_M):
         raise InvalidInputError(f"expected |approx_position_m| <= {MAX_POSITION_M} m, got {pos.tolist()}")
@@ -164,7 +196,14 @@ def write_obs(
         raise InvalidInputError(
             f"expected marker_name as at most 60 printable ASCII characters, got {marker_name!r}"
         )
-    channels = _glonass_channels(glonass_channels)
+    return pos, marker_name
+
+
+def _codes_per_system(
+    sats: Sequence[str], codes: list[str], data: NDArray[np.float64]
+) -> tuple[list[str], dict[str, list[int]]]:
+    """The systems of ``sats`` and, per system, the columns of the codes it has a value of (all codes
+    where it has none)."""
     systems = sorted({s[0] for s in sats})
     sys_of = np.array([s[0] for s in sats])
     # np.any rather than the method: numpy types the method over an axis as a scalar or an array
@@ -173,6 +212,14 @@ def write_obs(
     for sy in systems:
         cols = [j for j in range(len(codes)) if has[sys_of == sy, j].any()]
         sys_codes[sy] = cols or list(range(len(codes)))
+    return systems, sys_codes
+
+
+def _obs_header(
+    systems: list[str], sys_codes: dict[str, list[int]], codes: list[str], marker_name: str,
+    pos: NDArray[np.float64], channels: Mapping[str, int], t0: np.datetime64,
+) -> list[str]:  # fmt: skip
+    """The header lines of a RINEX 3.04 observation file whose first epoch is ``t0``."""
     out = [
         _hdr(
             f"{'3.04':>9}{'':11}{'OBSERVATION DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
@@ -194,9 +241,19 @@ def write_obs(
             head = f"{len(items):3d} " if k == 0 else " " * 4
             body = "".join(f"{sat} {ch:2d} " for sat, ch in items[k : k + 8])
             out.append(_hdr(head + body, "GLONASS SLOT / FRQ #"))
-    y, mo, d, hh, mi, sec = _parts(t[0])
+    y, mo, d, hh, mi, sec = _parts(t0)
     out.append(_hdr(f"{y:6d}{mo:6d}{d:6d}{hh:6d}{mi:6d}{sec:13.7f}     GPS", "TIME OF FIRST OBS"))
     out.append(_hdr("", "END OF HEADER"))
+    return out
+
+
+def _obs_records(
+    t: NDArray[np.datetime64], sats: Sequence[str], data: NDArray[np.float64], flags: NDArray[np.int64],
+    sys_codes: dict[str, list[int]],
+) -> list[str]:  # fmt: skip
+    """The epoch records: each epoch's line, then a line per satellite with a value (the codes of its
+    system)."""
+    out = []
     for e in range(len(t)):
         present = [k for k in range(len(sats)) if np.any(np.isfinite(data[e, k]))]
         if not present:  # a receiver that tracks nothing (a tunnel) writes no epoch
@@ -213,8 +270,7 @@ def write_obs(
                 else:
                     fields.append(" " * 16)
             out.append(sats[k] + "".join(fields).rstrip() + "\n")
-    with open(path, "w", encoding="ascii") as fh:
-        fh.writelines(out)
+    return out
 
 
 def _glonass_channels(value: object) -> dict[str, int]:
@@ -271,6 +327,35 @@ def _code_arrays(
 def _d19(x: float) -> str:
     s = f"{x:19.12E}"
     return s.replace("E", "D")
+
+
+def _check_nav_systems(ids: Sequence[str]) -> None:
+    """Refuse satellites the navigation records cannot carry: systems other than G, R, E, C and J, and
+    BeiDou's GEO (C01-C05, C59 on)."""
+    bad = [s for s in ids if s[0] not in _MU or (s[0] == "C" and (int(s[1:]) <= 5 or int(s[1:]) >= 59))]
+    if bad:
+        raise InvalidInputError(
+            f"expected satellites of G, R, E, C (MEO/IGSO numbers 6-58), J, got {bad[:5]}"
+        )
+
+
+def _nav_header(systems: list[str], iono: list[float]) -> list[str]:
+    """The header lines of a RINEX 3.04 navigation file of ``systems`` (Klobuchar coefficients ``iono``,
+    eight or none)."""
+    return [
+        _hdr(
+            f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
+            "RINEX VERSION / TYPE",
+        ),
+        _hdr("gnssatt", "PGM / RUN BY / DATE"),
+        *(
+            _hdr(f"{name} " + "".join(f"{x:12.4E}" for x in iono[k : k + 4]), "IONOSPHERIC CORR")
+            for name, k in (("GPSA", 0), ("GPSB", 4))
+            if iono
+        ),
+        _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
+        _hdr("", "END OF HEADER"),
+    ]
 
 
 def write_nav_from_constellation(
@@ -359,11 +444,7 @@ def write_nav_from_constellation(
     span_s = scalar("span_s", span_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     ids = constellation.ids
     n = len(ids)
-    bad = [s for s in ids if s[0] not in _MU or (s[0] == "C" and (int(s[1:]) <= 5 or int(s[1:]) >= 59))]
-    if bad:
-        raise InvalidInputError(
-            f"expected satellites of G, R, E, C (MEO/IGSO numbers 6-58), J, got {bad[:5]}"
-        )
+    _check_nav_systems(ids)
     clk = np.zeros(n) if clock_bias_s is None else shaped("clock_bias_s", clock_bias_s, f"({n},)", (n,))
     if np.any(np.abs(clk) > 1e-3):
         raise InvalidInputError(f"expected |clock_bias_s| <= 1e-3 s, got {np.max(np.abs(clk))}")
@@ -371,21 +452,7 @@ def write_nav_from_constellation(
     if any(abs(x) >= 1e9 for x in iono):
         raise InvalidInputError(f"expected |klobuchar| < 1e9 (the 12.4E field), got {iono}")
     t0_ns = int(gps_ns(np.array([epoch_gpst]))[0])
-    systems = sorted({s[0] for s in ids})
-    out = [
-        _hdr(
-            f"{'3.04':>9}{'':11}{'N: GNSS NAV DATA':<20}{'M' if len(systems) > 1 else systems[0]}",
-            "RINEX VERSION / TYPE",
-        ),
-        _hdr("gnssatt", "PGM / RUN BY / DATE"),
-        *(
-            _hdr(f"{name} " + "".join(f"{x:12.4E}" for x in iono[k : k + 4]), "IONOSPHERIC CORR")
-            for name, k in (("GPSA", 0), ("GPSB", 4))
-            if iono
-        ),
-        _hdr(f"{_LEAP_SECONDS:6d}", "LEAP SECONDS"),
-        _hdr("", "END OF HEADER"),
-    ]
+    out = _nav_header(sorted({s[0] for s in ids}), iono)
     first = np.full(n, t0_ns + start * 1_000_000_000, dtype=np.int64)
     glonass_tb = _glonass_grid(t0_ns + start * 1_000_000_000, span_s)
     for j, sat in enumerate(ids):

@@ -295,6 +295,58 @@ def _antenna_ranges(
     return rho
 
 
+def _checked_antennas(antennas_body_m: ArrayLike, n_epochs: int, n_sat: int) -> NDArray[np.float64]:
+    """A copy of the (n_ant, 3) body-frame antenna positions, m; the work refused first, from the shape."""
+    n_ant = np.shape(plain_array("antennas_body_m", antennas_body_m))[:1] or (1,)
+    if n_epochs * n_ant[0] * n_sat > MAX_SIMULATED_VALUES:
+        raise WorkLimitError(
+            f"antennas_body_m asks for {n_epochs} epochs x {n_ant[0]} antennas x {n_sat} satellites = "
+            f"{n_epochs * n_ant[0] * n_sat} measurements, more than the limit of {MAX_SIMULATED_VALUES} "
+            "(MAX_SIMULATED_VALUES): simulate fewer epochs or antennas per call"
+        )
+    ant = float_array("antennas_body_m", antennas_body_m, ndim=2, shape="(n_ant, 3)")
+    if ant.shape[1] != 3 or ant.shape[0] < 1:
+        raise InvalidInputError(f"expected antennas_body_m of shape (n_ant, 3), got {ant.shape}")
+    copy: NDArray[np.float64] = ant.copy()  # the result holds read-only copies, never the caller's arrays
+    return copy
+
+
+def _checked_sigmas(
+    code_sigma_m: float, phase_sigma_rad: float, phase_sigma_m: float, doppler_sigma_hz: float
+) -> tuple[float, float, float, float]:
+    """The noise sigmas of :func:`simulate_array`: code (m), phase (rad or m, one of the two) and
+    Doppler (Hz)."""
+    sig_code = scalar("code_sigma_m", code_sigma_m, minimum=0.0)
+    sig_rad = scalar("phase_sigma_rad", phase_sigma_rad, minimum=0.0)
+    sig_m = scalar("phase_sigma_m", phase_sigma_m, minimum=0.0)
+    if sig_rad > 0 and sig_m > 0:
+        raise InvalidInputError(f"expected one of phase_sigma_rad, phase_sigma_m, got {sig_rad} and {sig_m}")
+    sig_dop = scalar("doppler_sigma_hz", doppler_sigma_hz, minimum=0.0)
+    return sig_code, sig_rad, sig_m, sig_dop
+
+
+def _phases(
+    rng: np.random.Generator, name: str, value: ArrayLike | None, n: int, n_name: str
+) -> NDArray[np.float64]:
+    """Initial phases (rad): ``value`` checked as (n,), or drawn uniform in [-pi, pi) when None."""
+    if value is None:
+        return rng.uniform(-np.pi, np.pi, size=n)
+    return _vector(name, value, n, n_name)
+
+
+def _correlator(
+    rng: np.random.Generator, cn0_dbhz: ArrayLike, integration_time_s: float, frac: NDArray[np.float64],
+    n_sat: int,
+) -> NDArray[np.complex128]:  # fmt: skip
+    """Prompt correlator outputs at the fractional phases ``frac`` (cycles), unit complex noise added."""
+    amp = correlator_amplitude(cn0_dbhz, integration_time_s)
+    if amp.ndim == 1 and amp.shape != (n_sat,):
+        raise InvalidInputError(f"expected cn0_dbhz of shape () or ({n_sat},), got {amp.shape}")
+    noise = rng.standard_normal((*frac.shape, 2))
+    corr: NDArray[np.complex128] = amp * np.exp(2j * np.pi * frac) + (noise[..., 0] + 1j * noise[..., 1])
+    return corr
+
+
 def simulate_array(
     geometry: Geometry,
     attitude: Rotation,
@@ -397,37 +449,18 @@ def simulate_array(
     batched = los.ndim == 3
     n_sat = geometry.n_sat
     n_epochs = los.shape[0] if batched else 1
-    n_ant = np.shape(plain_array("antennas_body_m", antennas_body_m))[:1] or (1,)
-    if n_epochs * n_ant[0] * n_sat > MAX_SIMULATED_VALUES:
-        raise WorkLimitError(
-            f"antennas_body_m asks for {n_epochs} epochs x {n_ant[0]} antennas x {n_sat} satellites = "
-            f"{n_epochs * n_ant[0] * n_sat} measurements, more than the limit of {MAX_SIMULATED_VALUES} "
-            "(MAX_SIMULATED_VALUES): simulate fewer epochs or antennas per call"
-        )
-    ant = float_array("antennas_body_m", antennas_body_m, ndim=2, shape="(n_ant, 3)")
-    if ant.shape[1] != 3 or ant.shape[0] < 1:
-        raise InvalidInputError(f"expected antennas_body_m of shape (n_ant, 3), got {ant.shape}")
-    ant = ant.copy()  # the result holds read-only copies, never the caller's arrays
+    ant = _checked_antennas(antennas_body_m, n_epochs, n_sat)
     n_ant = ant.shape[0]
     lam = _wavelengths(wavelengths_m, n_sat)
     m = attitude_matrices(attitude, los.shape[0] if batched else None)
-    sig_code = scalar("code_sigma_m", code_sigma_m, minimum=0.0)
-    sig_rad = scalar("phase_sigma_rad", phase_sigma_rad, minimum=0.0)
-    sig_m = scalar("phase_sigma_m", phase_sigma_m, minimum=0.0)
-    if sig_rad > 0 and sig_m > 0:
-        raise InvalidInputError(f"expected one of phase_sigma_rad, phase_sigma_m, got {sig_rad} and {sig_m}")
-    sig_dop = scalar("doppler_sigma_hz", doppler_sigma_hz, minimum=0.0)
+    sig_code, sig_rad, sig_m, sig_dop = _checked_sigmas(
+        code_sigma_m, phase_sigma_rad, phase_sigma_m, doppler_sigma_hz
+    )
     dt = _vector("clock_bias_s", clock_bias_s, n_ant, "n_ant")
 
     amb = _ambiguities(rng, ambiguities, ambiguity_max, n_ant, n_sat)
-    if oscillator_phases_rad is None:
-        osc = rng.uniform(-np.pi, np.pi, size=n_ant)
-    else:
-        osc = _vector("oscillator_phases_rad", oscillator_phases_rad, n_ant, "n_ant")
-    if satellite_phases_rad is None:
-        alpha = rng.uniform(-np.pi, np.pi, size=n_sat)
-    else:
-        alpha = _vector("satellite_phases_rad", satellite_phases_rad, n_sat, "n_sat")
+    osc = _phases(rng, "oscillator_phases_rad", oscillator_phases_rad, n_ant, "n_ant")
+    alpha = _phases(rng, "satellite_phases_rad", satellite_phases_rad, n_sat, "n_sat")
 
     rho = _antenna_ranges(geometry, m, ant)
     shape = rho.shape
@@ -445,14 +478,7 @@ def simulate_array(
         rate = np.broadcast_to(geometry.range_rate_mps[..., None, :], shape)
         doppler = -rate / lam + sig_dop * dop_noise
 
-    corr = None
-    if cn0_dbhz is not None:
-        amp = correlator_amplitude(cn0_dbhz, integration_time_s)
-        if amp.ndim == 1 and amp.shape != (n_sat,):
-            raise InvalidInputError(f"expected cn0_dbhz of shape () or ({n_sat},), got {amp.shape}")
-        noise = rng.standard_normal((*shape, 2))
-        corr = amp * np.exp(2j * np.pi * frac) + (noise[..., 0] + 1j * noise[..., 1])
-
+    corr = None if cn0_dbhz is None else _correlator(rng, cn0_dbhz, integration_time_s, frac, n_sat)
     cause = "the inputs (noise levels, clock biases, ranges, wavelengths) are too large for float64"
     for what, value in (
         ("pseudorange_m", pseudorange),

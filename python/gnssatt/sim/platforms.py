@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,6 +39,7 @@ from gnssatt.sim.rinex_scenario import (
     KLOBUCHAR,
     MIN_INTERVAL_S,
     T0,
+    checked_antennas,
     gnss_constellation,
     klobuchar_m,
     observables,
@@ -46,6 +48,10 @@ from gnssatt.sim.rinex_scenario import (
     wavelengths_m,
     write_receiver_obs,
 )
+
+if TYPE_CHECKING:
+    from gnssatt import _core
+    from gnssatt.orbit.constellation import Constellation
 
 __all__ = [
     "MAX_PLATFORM_OBSERVATIONS",
@@ -520,6 +526,54 @@ def _truth_baselines(
     return baselines, rover
 
 
+def _checked_base_offset(base_offset_enu_m: ArrayLike | None) -> NDArray[np.float64] | None:
+    """The static base's (3,) East-North-Up offset, m, or None for no base."""
+    if base_offset_enu_m is None:
+        return None
+    base_off = shaped("base_offset_enu_m", base_offset_enu_m, "(3,)", (3,))
+    if np.any(np.abs(base_off) > 1e6):
+        raise InvalidInputError(f"expected |base_offset_enu_m| <= 1e6 m, got {base_off}")
+    return base_off
+
+
+def _check_observation_count(n_ep: int, n_sats: int, n_rx: int) -> None:
+    """Refuse a session of more than :data:`MAX_PLATFORM_OBSERVATIONS` before anything is simulated."""
+    if n_ep * n_sats * n_rx > MAX_PLATFORM_OBSERVATIONS:
+        raise WorkLimitError(
+            f"expected epochs x satellites x receivers <= {MAX_PLATFORM_OBSERVATIONS} "
+            f"(MAX_PLATFORM_OBSERVATIONS), got {n_ep} x {n_sats} x {n_rx}: shorten duration_s or "
+            f"lengthen interval_s"
+        )
+
+
+def _satellites_in_view(
+    nav: _core.Navigation, allsats: Constellation, t_ns: NDArray[np.int64], ref_ecef_m: NDArray[np.float64],
+    ref_clock_s: float, elevation_min_deg: float,
+) -> tuple[list[str], dict[str, int]]:  # fmt: skip
+    """The satellites above the mask at the reference receiver (ECEF positions per epoch, clock offset)
+    at some epoch, in the constellation's order, and the GLONASS ones' channels."""
+    ids = list(allsats.ids)
+    ok, at_ref = transmit_geometry(nav, ids, t_ns, ref_ecef_m, np.full(len(t_ns), ref_clock_s))
+    el_ref = np.where(ok, np.degrees(at_ref.elevation_rad), -90.0)
+    keep = np.any(el_ref > elevation_min_deg, axis=0)
+    if not keep.any():
+        raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg}")
+    sats = [s for s, k in zip(ids, keep, strict=True) if k]
+    channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
+    return sats, channels
+
+
+def _unblocked(
+    visible: NDArray[np.bool_], block: Blockage, t_rel: NDArray[np.float64], heading: NDArray[np.float64],
+    el_deg: NDArray[np.float64], az_deg: NDArray[np.float64], n_ant: int,
+) -> NDArray[np.bool_]:  # fmt: skip
+    """``visible`` (epochs, receivers, satellites) less what the blockage hides from each antenna (the
+    base, after them, sees past it)."""
+    for i in range(n_ant):
+        visible[:, i] &= ~block.hidden(t_rel, heading, el_deg[:, i], az_deg[:, i])
+    return visible
+
+
 def simulate_platform(
     folder: str | PathLike[str],
     trajectory: Trajectory,
@@ -612,21 +666,13 @@ def simulate_platform(
 
     folder = folder_path("folder", folder)
     traj = instance("trajectory", trajectory, Trajectory, "a Trajectory")
-    lever = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
-    if not 2 <= lever.shape[0] <= 8 or np.any(np.abs(lever) > MAX_LEVER_ARM_M):
-        raise InvalidInputError(
-            f"expected antennas_body_m of shape (2..8, 3) within {MAX_LEVER_ARM_M} m, got {lever.shape}"
-        )
+    lever = checked_antennas(antennas_body_m, 8, MAX_LEVER_ARM_M)
     duration_s = scalar("duration_s", duration_s, minimum=0.0, maximum=MAX_SPAN_S, unit="s")
     interval_s = scalar("interval_s", interval_s, minimum=MIN_INTERVAL_S, maximum=MAX_SPAN_S, unit="s")
     prof = _checked_noise(noise)
     n_freq = integer("noise.frequencies", prof.frequencies, minimum=1, maximum=3)
     block = Blockage() if blockage is None else instance("blockage", blockage, Blockage, "a Blockage")
-    base_off = (
-        None if base_offset_enu_m is None else shaped("base_offset_enu_m", base_offset_enu_m, "(3,)", (3,))
-    )
-    if base_off is not None and np.any(np.abs(base_off) > 1e6):
-        raise InvalidInputError(f"expected |base_offset_enu_m| <= 1e6 m, got {base_off}")
+    base_off = _checked_base_offset(base_offset_enu_m)
     elevation_min_deg = scalar("elevation_min_deg", elevation_min_deg, minimum=-90.0, maximum=90.0)
     start_s = scalar("start_s", start_s, minimum=-3.2e8, maximum=3.2e8, unit="s")
     atmosphere = flag("atmosphere", atmosphere)
@@ -636,12 +682,7 @@ def simulate_platform(
     allsats = gnss_constellation(prof.systems, lon_deg=traj.lon_deg)
     n_ant = lever.shape[0]
     n_rx = n_ant + (base_off is not None)
-    if n_ep * len(allsats) * n_rx > MAX_PLATFORM_OBSERVATIONS:
-        raise WorkLimitError(
-            f"expected epochs x satellites x receivers <= {MAX_PLATFORM_OBSERVATIONS} "
-            f"(MAX_PLATFORM_OBSERVATIONS), got {n_ep} x {len(allsats)} x {n_rx}: shorten duration_s or "
-            f"lengthen interval_s"
-        )
+    _check_observation_count(n_ep, len(allsats), n_rx)
     t_rel: NDArray[np.float64] = np.arange(n_ep, dtype=np.float64) * interval_s
     t_s = start_s + t_rel
     dt_rx = gen.uniform(-1e-7, 1e-7, size=(n_rx,))
@@ -659,22 +700,15 @@ def simulate_platform(
     heading = -eul[:, 0]
 
     # which satellites to write: above the mask at the base (or antenna 0) at some epoch
-    ids = list(allsats.ids)
     ref = n_ant if base_off is not None else 0
-    ok, at_ref = transmit_geometry(nav, ids, t_ns, pos[:, ref, 0], np.full(n_ep, dt_rx[ref]))
-    el_ref = np.where(ok, np.degrees(at_ref.elevation_rad), -90.0)
-    keep = np.any(el_ref > elevation_min_deg, axis=0)
-    if not keep.any():
-        raise InvalidInputError(f"no satellite above elevation_min_deg = {elevation_min_deg}")
-    sats = [s for s, k in zip(ids, keep, strict=True) if k]
-    channels = {s: int(allsats.glonass_channels[ids.index(s)]) for s in sats if s[0] == "R"}
+    sats, channels = _satellites_in_view(
+        nav, allsats, t_ns, pos[:, ref, 0], float(dt_rx[ref]), elevation_min_deg
+    )
     lam = wavelengths_m(sats, channels, n_freq)
     valid, seen, rho, clk, rate = ranges_and_rates(nav, sats, t_ns, pos, dt_rx)
     el_deg = np.where(valid[:, :, 0], np.degrees(seen.elevation_rad[:, :, 0]), -90.0)
     az_deg = np.degrees(seen.azimuth_rad[:, :, 0])
-    visible = el_deg > elevation_min_deg
-    for i in range(n_ant):
-        visible[:, i] &= ~block.hidden(t_rel, heading, el_deg[:, i], az_deg[:, i])
+    visible = _unblocked(el_deg > elevation_min_deg, block, t_rel, heading, el_deg, az_deg, n_ant)
 
     iono, tropo = _atmosphere_delays(atmosphere, pos, el_deg, az_deg, t_ns, lam)
     n_cycles, lli, applied = _carrier_cycles(gen, visible, prof, interval_s, lam, sats, n_freq)
@@ -690,8 +724,8 @@ def simulate_platform(
     ok4 = (visible & valid[:, :, 0])[..., None] & np.isfinite(lam)[None, None]
     code, phase, doppler, snr = (np.where(ok4, x, np.nan) for x in (code, phase, doppler, snr))
 
-    lli_written = np.where(ok4, lli, 0)
     paths = [folder / ("base.rnx" if r == n_ant else f"ant{r}.rnx") for r in range(n_rx)]
+    lli_written = np.where(ok4, lli, 0)
     for r, p in enumerate(paths):
         write_receiver_obs(
             p, times, sats, n_freq, tuple(x[:, r] for x in (code, phase, doppler, snr)), lli_written[:, r],

@@ -571,6 +571,56 @@ def _applied_slips(
     return jumps, lli, applied
 
 
+def checked_antennas(antennas_body_m: ArrayLike, n_max: int, max_m: float) -> NDArray[np.float64]:
+    """The (2..n_max, 3) body-frame antenna positions, m, each coordinate within ``max_m``; shared by
+    :func:`simulate_gnss_rinex` and :func:`~gnssatt.sim.platforms.simulate_platform`."""
+    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
+    if not 2 <= ant.shape[0] <= n_max or np.any(np.abs(ant) > max_m):
+        raise InvalidInputError(
+            f"expected antennas_body_m of shape (2..{n_max}, 3) within {max_m} m, got {ant.shape}"
+        )
+    return ant
+
+
+def _check_span(n_epochs: int, interval_s: float) -> None:
+    """Refuse a session longer than :data:`MAX_SPAN_S` (the navigation file's records cover it)."""
+    if (n_epochs - 1) * interval_s > MAX_SPAN_S:
+        raise WorkLimitError(
+            f"expected n_epochs x interval_s <= {MAX_SPAN_S} s (MAX_SPAN_S), got {n_epochs} epochs every "
+            f"{interval_s} s"
+        )
+
+
+def _checked_sigmas(code_sigma_m: float, phase_sigma_m: float, doppler_sigma_hz: float) -> dict[str, float]:
+    """The noise sigmas of :func:`simulate_gnss_rinex` by parameter name, each within ``MAX_SIGMA_M``."""
+    return {
+        name: scalar(name, v, minimum=0.0, maximum=MAX_SIGMA_M, unit=unit)
+        for name, v, unit in (
+            ("code_sigma_m", code_sigma_m, "m"),
+            ("phase_sigma_m", phase_sigma_m, "m"),
+            ("doppler_sigma_hz", doppler_sigma_hz, "Hz"),
+        )
+    }
+
+
+def _ground_atmosphere(
+    atmosphere: bool, lat_deg: float, lon_deg: float, height_m: float, seen: TransmitGeometry,
+    t_ns: NDArray[np.int64], lam: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
+    """Tropospheric delay (epochs, antennas, satellites) and ionospheric group delay of each carrier
+    (..., 3), m, at the site (the labels' receptions of ``seen``); zeros without ``atmosphere``."""
+    from gnssatt.sim.atmosphere import troposphere_delay_m
+
+    el_i, az_i = seen.elevation_rad[:, :, 0], seen.azimuth_rad[:, :, 0]
+    iono: NDArray[np.float64] = np.zeros((*el_i.shape, 3))
+    tropo: NDArray[np.float64] = np.zeros(el_i.shape)
+    if atmosphere:
+        lat, lon = np.radians(lat_deg), np.radians(lon_deg)
+        tropo = troposphere_delay_m(lat, height_m, el_i)
+        iono = klobuchar_m(t_ns, lat, lon, el_i, az_i, lam)
+    return tropo, iono
+
+
 def simulate_gnss_rinex(
     folder: str | PathLike[str],
     antennas_body_m: ArrayLike,
@@ -661,14 +711,9 @@ def simulate_gnss_rinex(
         More than ``MAX_EPOCHS`` epochs, or a session longer than ``MAX_SPAN_S``.
     """
     from gnssatt.rinex.nav import gps_ns, read_nav
-    from gnssatt.sim.atmosphere import troposphere_delay_m
 
     folder = folder_path("folder", folder)
-    ant = shaped("antennas_body_m", antennas_body_m, "(n_ant, 3)", (None, 3))
-    if not 2 <= ant.shape[0] <= 16 or np.any(np.abs(ant) > MAX_ANTENNA_M):
-        raise InvalidInputError(
-            f"expected antennas_body_m of shape (2..16, 3) within {MAX_ANTENNA_M} m, got {ant.shape}"
-        )
+    ant = checked_antennas(antennas_body_m, 16, MAX_ANTENNA_M)
     n_ant = ant.shape[0]
     eul = _checked_attitudes(euler_gost_deg, n_epochs)
     n_epochs = eul.shape[0]
@@ -678,25 +723,14 @@ def simulate_gnss_rinex(
     lat_deg = scalar("lat_deg", lat_deg, minimum=-90.0, maximum=90.0)
     lon_deg = scalar("lon_deg", lon_deg, minimum=-360.0, maximum=360.0)
     height_m = scalar("height_m", height_m, minimum=-MAX_HEIGHT_M, maximum=MAX_HEIGHT_M, unit="m")
-    if (n_epochs - 1) * interval_s > MAX_SPAN_S:
-        raise WorkLimitError(
-            f"expected n_epochs x interval_s <= {MAX_SPAN_S} s (MAX_SPAN_S), got {n_epochs} epochs every "
-            f"{interval_s} s"
-        )
+    _check_span(n_epochs, interval_s)
     if n_sats is not None:
         n_sats = integer("n_sats", n_sats, minimum=1)
     slip_list = _slips(slips)
     _check_file_names(file_names)
     gen = generator("rng", rng)
     dt_rx = _receiver_clocks(gen, receiver_clock_s, n_ant)
-    sig = {
-        name: scalar(name, v, minimum=0.0, maximum=MAX_SIGMA_M, unit=unit)
-        for name, v, unit in (
-            ("code_sigma_m", code_sigma_m, "m"),
-            ("phase_sigma_m", phase_sigma_m, "m"),
-            ("doppler_sigma_hz", doppler_sigma_hz, "Hz"),
-        )
-    }
+    sig = _checked_sigmas(code_sigma_m, phase_sigma_m, doppler_sigma_hz)
     elevation_min_deg = scalar("elevation_min_deg", elevation_min_deg, minimum=-90.0, maximum=90.0)
     rx = sim.GroundReceiver(lat_deg=lat_deg, lon_deg=lon_deg, height_m=height_m)
     allsats = gnss_constellation(systems, lon_deg=lon_deg)
@@ -726,14 +760,7 @@ def simulate_gnss_rinex(
     # every antenna at the label and half a Doppler step either side
     rx_pos = np.broadcast_to(pos[:, :, None, :], (n_epochs, n_ant, 3, 3))
     _, seen, rho, clk, rate = ranges_and_rates(nav, sats, t_ns, rx_pos, dt_rx)
-    # ionospheric group delay of each carrier, m
-    iono: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat, 3))
-    tropo: NDArray[np.float64] = np.zeros((n_epochs, n_ant, n_sat))
-    if atmosphere:
-        lat, lon = np.radians(lat_deg), np.radians(lon_deg)
-        el_i, az_i = seen.elevation_rad[:, :, 0], seen.azimuth_rad[:, :, 0]
-        tropo = troposphere_delay_m(lat, height_m, el_i)
-        iono = klobuchar_m(t_ns, lat, lon, el_i, az_i, lam)
+    tropo, iono = _ground_atmosphere(atmosphere, lat_deg, lon_deg, height_m, seen, t_ns, lam)
     amb = gen.integers(-1000, 1000, size=(n_ant, n_sat, 3))
     jumps, lli, applied = _applied_slips(gen, slip_list, (n_epochs, n_ant, n_sat, 3), sats, lam, n_freq)
     geo = rho + _C * (dt_rx[None, :, None] - clk)  # (n_ep, n_ant, n_sat)

@@ -74,6 +74,68 @@ def _zenith_attitudes(r: NDArray[np.float64], v: NDArray[np.float64]) -> Rotatio
     return Rotation.from_matrix(np.stack([x, np.cross(z, x), z], axis=-1))
 
 
+def _checked_receiver(
+    receiver_position_m: ArrayLike, receiver_velocity_m_s: ArrayLike, times_s: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The receiver's (n_t, 3) ECEF positions (m) and velocities (m/s) and its (n_t,) increasing times (s)."""
+    r = vector_array("receiver_position_m", receiver_position_m, ndim=2, shape="(n_t, 3)", nonzero=True)
+    v = vector_array("receiver_velocity_m_s", receiver_velocity_m_s, ndim=2, shape="(n_t, 3)")
+    with np.errstate(over="ignore"):  # a norm beyond float64 is refused as out of range
+        radius, speed = np.linalg.norm(r, axis=1), np.linalg.norm(v, axis=1)
+    if r.size and (radius.min() < 1e5 or radius.max() > 1e12):
+        raise InvalidInputError(
+            f"expected receiver_position_m 1e5 to 1e12 m from the Earth's centre, got [{radius.min()}, "
+            f"{radius.max()}] m"
+        )
+    if v.size and speed.max() > SPEED_OF_LIGHT_M_S:
+        raise InvalidInputError(
+            f"expected receiver_velocity_m_s below the speed of light, got {speed.max()} m/s"
+        )
+    t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
+    if r.shape != (t.size, 3) or v.shape != r.shape:
+        raise InvalidInputError(
+            f"expected receiver_position_m and receiver_velocity_m_s of shape ({t.size}, 3) (one per epoch "
+            f"of times_s), got {r.shape} and {v.shape}"
+        )
+    if t.size == 0 or np.any(np.diff(t) <= 0):
+        raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
+    return r, v, t
+
+
+def _visibility(
+    los: NDArray[np.float64], r: NDArray[np.float64], v: NDArray[np.float64], sat_r: NDArray[np.float64],
+    t: NDArray[np.float64], windows: list[tuple[float, float, int]], half_angle_deg: float,
+    atmosphere_m: float,
+) -> NDArray[np.bool_]:  # fmt: skip
+    """(n_t, n_sat) satellites inside the zenith antenna's cone and not behind the Earth; in each outage
+    window only the ``n_max`` nearest the boresight."""
+    visible: NDArray[np.bool_] = antenna_cone_mask(
+        los, _zenith_attitudes(r, v), (0.0, 0.0, 1.0), half_angle_deg
+    )
+    visible &= earth_occlusion_mask(r, sat_r, atmosphere_m=atmosphere_m)
+    cos_boresight = np.sum(los * (r / np.linalg.norm(r, axis=-1, keepdims=True))[:, None, :], axis=-1)
+    for t0, t1, n_max in windows:
+        for i in np.flatnonzero((t >= t0) & (t <= t1)):
+            order = np.argsort(-np.where(visible[i], cos_boresight[i], -np.inf), kind="stable")
+            visible[i, order[n_max:]] = False
+    return visible
+
+
+def _receiver_clock(
+    rng: np.random.Generator, t: NDArray[np.float64], clock_bias0_s: float, clock_drift0: float, q_b: float,
+    q_d: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
+    """The receiver clock's bias (s) and drift at each epoch: random walks from the initial values."""
+    dt = np.diff(t, prepend=t[0])
+    bias0, drift0 = scalar("clock_bias0_s", clock_bias0_s), scalar("clock_drift0", clock_drift0)
+    noise = rng.standard_normal((t.size, 2))
+    # The random walks b[k] = b[k-1] + d[k-1] dt[k] + w_b[k], d[k] = d[k-1] + w_d[k] as cumulative sums
+    # (dt[0] = 0: the first epoch carries the initial values).
+    drift = drift0 + np.cumsum(np.sqrt(q_d * dt) * noise[:, 1])
+    bias = bias0 + np.cumsum(np.r_[0.0, drift[:-1]] * dt + np.sqrt(q_b * dt) * noise[:, 0])
+    return bias, drift
+
+
 def simulate_spaceborne(
     receiver_position_m: ArrayLike,
     receiver_velocity_m_s: ArrayLike,
@@ -159,27 +221,7 @@ def simulate_spaceborne(
     >>> [sorted(set(np.round(row[s.visible[k]], 3).tolist())) for k, row in enumerate(excess)]
     [[29979.246], [30009.225]]
     """
-    r = vector_array("receiver_position_m", receiver_position_m, ndim=2, shape="(n_t, 3)", nonzero=True)
-    v = vector_array("receiver_velocity_m_s", receiver_velocity_m_s, ndim=2, shape="(n_t, 3)")
-    with np.errstate(over="ignore"):  # a norm beyond float64 is refused as out of range
-        radius, speed = np.linalg.norm(r, axis=1), np.linalg.norm(v, axis=1)
-    if r.size and (radius.min() < 1e5 or radius.max() > 1e12):
-        raise InvalidInputError(
-            f"expected receiver_position_m 1e5 to 1e12 m from the Earth's centre, got [{radius.min()}, "
-            f"{radius.max()}] m"
-        )
-    if v.size and speed.max() > SPEED_OF_LIGHT_M_S:
-        raise InvalidInputError(
-            f"expected receiver_velocity_m_s below the speed of light, got {speed.max()} m/s"
-        )
-    t = float_array("times_s", times_s, ndim=1, shape="(n_t,)")
-    if r.shape != (t.size, 3) or v.shape != r.shape:
-        raise InvalidInputError(
-            f"expected receiver_position_m and receiver_velocity_m_s of shape ({t.size}, 3) (one per epoch "
-            f"of times_s), got {r.shape} and {v.shape}"
-        )
-    if t.size == 0 or np.any(np.diff(t) <= 0):
-        raise InvalidInputError("expected at least one epoch and strictly increasing times_s")
+    r, v, t = _checked_receiver(receiver_position_m, receiver_velocity_m_s, times_s)
     instance("constellation", constellation, Constellation, "a gnssatt.sim Constellation")
     rng = generator("rng", rng)
     unknown = sorted({i[0] for i in constellation.ids} - set(SYSTEM_INDEX))
@@ -201,21 +243,8 @@ def simulate_spaceborne(
         )
     los = d / rho[..., None]
     rate = np.sum(los * (sat_v - v[:, None, :]), axis=-1)
-    visible = antenna_cone_mask(los, _zenith_attitudes(r, v), (0.0, 0.0, 1.0), half_angle_deg)
-    visible &= earth_occlusion_mask(r, sat_r, atmosphere_m=atmosphere_m)
-    cos_boresight = np.sum(los * (r / np.linalg.norm(r, axis=-1, keepdims=True))[:, None, :], axis=-1)
-    for t0, t1, n_max in windows:
-        for i in np.flatnonzero((t >= t0) & (t <= t1)):
-            order = np.argsort(-np.where(visible[i], cos_boresight[i], -np.inf), kind="stable")
-            visible[i, order[n_max:]] = False
-
-    dt = np.diff(t, prepend=t[0])
-    bias0, drift0 = scalar("clock_bias0_s", clock_bias0_s), scalar("clock_drift0", clock_drift0)
-    noise = rng.standard_normal((t.size, 2))
-    # The random walks b[k] = b[k-1] + d[k-1] dt[k] + w_b[k], d[k] = d[k-1] + w_d[k] as cumulative sums
-    # (dt[0] = 0: the first epoch carries the initial values).
-    drift = drift0 + np.cumsum(np.sqrt(q_d * dt) * noise[:, 1])
-    bias = bias0 + np.cumsum(np.r_[0.0, drift[:-1]] * dt + np.sqrt(q_b * dt) * noise[:, 0])
+    visible = _visibility(los, r, v, sat_r, t, windows, half_angle_deg, atmosphere_m)
+    bias, drift = _receiver_clock(rng, t, clock_bias0_s, clock_drift0, q_b, q_d)
 
     system = np.array([SYSTEM_INDEX[i[0]] for i in constellation.ids], dtype=np.uint32)
     lam = constellation.wavelengths_m("L1")

@@ -421,6 +421,51 @@ def _run_generators(
     return first, [np.random.default_rng(c) for c in root.spawn(n_spawn)]
 
 
+def _de_options(
+    popsize: int, mutation: float | tuple[float, float], recombination: float, strategy: str, tol_abs: float,
+    patience: int, settle: float, maxiter: int, polish: bool,
+) -> _DeOptions:  # fmt: skip
+    """The differential evolution's settings of :func:`fit_rotation`, checked (``strategy`` and ``polish``
+    are checked by the caller)."""
+    return {
+        "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
+        "mutation": _checked_mutation(mutation),
+        "recombination": scalar("recombination", recombination, minimum=0.0, maximum=1.0),
+        "strategy": strategy,
+        "tol_abs": scalar("tol_abs", tol_abs, minimum=0.0),
+        "patience": integer("patience", patience, minimum=1, maximum=MAX_GENERATIONS),
+        "settle": scalar("settle", settle, minimum=0.0),
+        "maxiter": integer("maxiter", maxiter, minimum=1, maximum=MAX_GENERATIONS),
+        "polish": polish,
+    }
+
+
+def _runs(
+    obj: _Objective, search: _Objective, w: float,
+    rng: int | np.random.Generator | np.random.SeedSequence | None, n_restarts: int, min_restarts: int,
+    threshold: float, restart: str, opts: _DeOptions,
+) -> list[tuple[NDArray[np.float64], float, int, str]]:  # fmt: skip
+    """The first search and its restarts (at most ``n_restarts``; past ``min_restarts`` they stop once a
+    run's cost is at most ``threshold``): each run's polished state, cost, generations and why it stopped.
+
+    The search runs at the search objective's step; each run's result is polished and compared with
+    ``obj`` (rates bounded by ``w`` rad/s on each axis).
+    """
+    bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
+    first, restarts = _run_generators(rng, n_restarts)
+    runs: list[tuple[NDArray[np.float64], float, int, str]] = []
+    for k, run_rng in enumerate([first, *restarts]):
+        if k > min_restarts and min(r[1] for r in runs) <= threshold:
+            break
+        if k == 0 or restart == "fresh":
+            x, _, nit, stopped = _de_run(search, bounds, run_rng, opts)
+        else:
+            fraction = HORIZON_FRACTIONS[(k - 1) % len(HORIZON_FRACTIONS)]
+            x, nit, stopped = _horizon_run(search, bounds, run_rng, opts, fraction)
+        runs.append((*_polished(obj, x, opts["polish"], w), nit, stopped))
+    return runs
+
+
 def fit_rotation(
     t: ArrayLike,
     measured_axes: ArrayLike,
@@ -577,17 +622,7 @@ def fit_rotation(
     if not isinstance(polish, bool | np.bool_):
         raise InvalidTypeError(f"expected polish as a bool, got {type(polish).__name__}")
     rng = _checked_rng(rng)
-    opts: _DeOptions = {
-        "popsize": integer("popsize", popsize, minimum=1, maximum=MAX_POPSIZE),
-        "mutation": _checked_mutation(mutation),
-        "recombination": scalar("recombination", recombination, minimum=0.0, maximum=1.0),
-        "strategy": strategy,
-        "tol_abs": scalar("tol_abs", tol_abs, minimum=0.0),
-        "patience": integer("patience", patience, minimum=1, maximum=MAX_GENERATIONS),
-        "settle": scalar("settle", settle, minimum=0.0),
-        "maxiter": integer("maxiter", maxiter, minimum=1, maximum=MAX_GENERATIONS),
-        "polish": polish,
-    }
+    opts = _de_options(popsize, mutation, recombination, strategy, tol_abs, patience, settle, maxiter, polish)
     w = scalar("max_rate_rad_s", max_rate_rad_s, minimum=0.0, strict=True)
     mdl = default_model(model)
     # Every population member lies in the search box: its rates are at most sqrt(3) w.
@@ -600,19 +635,8 @@ def fit_rotation(
     obj = _Objective(tt, m, mdl, step_s)
     search = _Objective(tt, m, mdl, search_step_s)
 
-    bounds = [(0.0, 2 * math.pi), (0.0, math.pi), (0.0, 2 * math.pi), (-w, w), (-w, w), (-w, w)]
-    first, restarts = _run_generators(rng, max_restarts if threshold < math.inf else min_restarts)
-    runs: list[tuple[NDArray[np.float64], float, int, str]] = []
-    for k, run_rng in enumerate([first, *restarts]):
-        if k > min_restarts and min(r[1] for r in runs) <= threshold:
-            break
-        # The search runs at search_step_s; each run's result is polished and compared at step_s.
-        if k == 0 or restart == "fresh":
-            x, _, nit, stopped = _de_run(search, bounds, run_rng, opts)
-        else:
-            fraction = HORIZON_FRACTIONS[(k - 1) % len(HORIZON_FRACTIONS)]
-            x, nit, stopped = _horizon_run(search, bounds, run_rng, opts, fraction)
-        runs.append((*_polished(obj, x, polish, w), nit, stopped))
+    n_restarts = max_restarts if threshold < math.inf else min_restarts
+    runs = _runs(obj, search, w, rng, n_restarts, min_restarts, threshold, restart, opts)
     best, cost, _, stopped_by = min(runs, key=lambda r: r[1])
     finite_result("the fitted objective", cost, f"every run diverged; step_s = {step_s} s")
     fitted = propagate_axes(best, tt, mdl, step_s=step_s)

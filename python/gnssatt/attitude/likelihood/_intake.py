@@ -95,6 +95,16 @@ def checked_window(window_deg: ArrayLike | AttitudePrior | None) -> list[list[fl
     return [[float(v) for v in row] for row in np.radians(w)]
 
 
+def checked_baseline_window(window_deg: ArrayLike | None) -> list[list[float]] | None:
+    """The (2, 2) window of :func:`ml_baseline` (``[lo, hi]`` of psi and elevation, degrees) as the core's
+    three rows in radians: the third, the roll about a single baseline, is not observable, so any."""
+    if window_deg is None:
+        return None
+    w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
+    window_rows("window_deg", w2, ("psi", "elevation"))
+    return [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
+
+
 @contextmanager
 def named_lobe(b: NDArray[np.float64], length_name: str = "baselines") -> Iterator[None]:
     """Name ``baselines`` (``length_name``) and ``wavelength`` next to ``step_deg`` when the core finds the

@@ -5,18 +5,18 @@ from the velocity (:func:`prior_from_velocity`)."""
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from gnssatt import _core
 from gnssatt._arrays import batch_limit, float_array, scalar, shaped
 from gnssatt.attitude.likelihood._intake import (
+    checked_baseline_window,
     checked_inputs,
     checked_length,
     checked_step,
     checked_window,
     direction_enu,
     named_lobe,
-    window_rows,
 )
 from gnssatt.attitude.likelihood.model import (
     AttitudePrior,
@@ -217,21 +217,43 @@ def likelihood_grid(
             two_dimensional=b.shape[0] == 1,
         )
     z, psi, theta, phi = g.z, g.psi_rad, g.theta_rad, g.phi_rad
-    spaced = [a for a in (psi, theta, phi) if len(a) > 1]
-    if spaced:
-        actual = float(spaced[0][1] - spaced[0][0])
-    else:  # a window holding a single node: the lattice step of the core, eq. (15) by default
-        requested = (
-            step if step is not None else float(np.min(w)) / (10.0 * float(np.max(np.linalg.norm(b, axis=1))))
-        )
-        actual = np.pi / np.ceil(np.pi / requested)
     return LikelihoodGrid(
         z=np.transpose(z, (2, 0, 1)),
         psi_deg=np.degrees(psi),
         theta_deg=np.degrees(theta),
         phi_deg=np.degrees(phi),
-        step_deg=float(np.degrees(actual)),
+        step_deg=float(np.degrees(_grid_step((psi, theta, phi), step, w, b))),
     )
+
+
+def _grid_step(
+    axes: tuple[NDArray[np.float64], ...], step: float | None, w: NDArray[np.float64], b: NDArray[np.float64]
+) -> float:
+    """The step of the grid the core evaluated, rad: the spacing of its first axis with two nodes or more.
+
+    Parameters
+    ----------
+    axes
+        The grid's psi, theta and phi nodes, rad.
+    step
+        The step asked for, rad, or None for the core's default.
+    w, b
+        The checked wavelengths (m) and baselines ((m, 3), metres): the default step's inputs.
+
+    Returns
+    -------
+    float
+        The step, rad.
+    """
+    spaced = [a for a in axes if len(a) > 1]
+    if spaced:
+        return float(spaced[0][1] - spaced[0][0])
+    # a window holding a single node: the lattice step of the core, eq. (15) by default
+    if step is not None:
+        requested = step
+    else:
+        requested = float(np.min(w)) / (10.0 * float(np.max(np.linalg.norm(b, axis=1))))
+    return float(np.pi / np.ceil(np.pi / requested))
 
 
 def ml_baseline(
@@ -293,11 +315,7 @@ def ml_baseline(
     p = p[:, None, :] if p.ndim == 2 else p[None, None, :]
     length = checked_length(baseline_length_m)
     p, s, w, b = checked_inputs(p, los, [[length, 0.0, 0.0]], wavelength, n_baselines=1)
-    win = None
-    if window_deg is not None:
-        w2 = shaped("window_deg", window_deg, "(2, 2) ([lo, hi] of psi, elevation)", (2, 2))
-        window_rows("window_deg", w2, ("psi", "elevation"))
-        win = [[float(v) for v in row] for row in np.radians(np.vstack([w2, [[-1.0, 1.0]]]))]
+    win = checked_baseline_window(window_deg)
     with named_lobe(b, "baseline_length_m"):
         est = _core.ml_search(
             p,
@@ -311,7 +329,12 @@ def ml_baseline(
             refine=refine,
             two_dimensional=True,
         )
-    angles, z, cells, step = est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad
+    return _baseline_direction(est.angles_rad, est.z_max, est.cells_evaluated, est.step_rad)
+
+
+def _baseline_direction(angles: NDArray[np.float64], z: float, cells: int, step: float) -> BaselineDirection:
+    """The :class:`BaselineDirection` of the core's search: its psi (the heading's negative) and theta
+    (the elevation), rad, statistic, cells evaluated and step, rad."""
     psi, theta = angles[0], angles[1]
     return BaselineDirection(
         heading_deg=float(np.degrees(-psi) % 360.0),
