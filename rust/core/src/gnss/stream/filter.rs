@@ -50,16 +50,11 @@ impl Engine {
         }
         // An epoch the filter leaves float is solved on its own too (through the filter's checks of a
         // fix, which learn the length from it): the filter never fixes fewer epochs than single epochs.
-        // The epoch on its own is scaled as single epochs are (code and phase together: the ratio test
-        // of the model, `code_scale` module documentation).
+        // It is scaled as the filter's epoch and single epochs are (code and phase together: the model's
+        // ratio test, `code_scale` module documentation).
         let single = match f.state {
             FixState::Float => self
-                .solve(
-                    r,
-                    std::slice::from_ref(self.scaled(r, dd, factor).as_ref()),
-                    &[],
-                    fix,
-                )
+                .solve(r, std::slice::from_ref(scaled.as_ref()), &[], fix)
                 .ok()
                 .filter(|s| s.fixed),
             _ => None,
