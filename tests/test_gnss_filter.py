@@ -54,10 +54,12 @@ def test_gps_l1_fixes_most_epochs_and_every_fix_is_right(model: str) -> None:
     single, s = _filtered(None, 1), _filtered(model, 1)
     err = np.linalg.norm(s.baselines_enu_m[:, 0] - RTKLIB_STATIC_ENU_M, axis=1)
     fixed = s.fixed.astype(bool)
-    # Single epochs of GPS L1 fix none here (the success-rate gate: docs/observation_engine.md); the filter's
-    # float ambiguities converge over a few epochs.
-    assert single.fixed.sum() == 0
-    assert fixed.sum() >= 100, fixed.sum()
+    # Single epochs of GPS L1 fix few here (20 of 120 with the common noise factor of issue 28, every one
+    # right: docs/observation_engine.md); the filter's float ambiguities converge over a few epochs.
+    single_fixed = single.fixed.astype(bool)
+    err_single = np.linalg.norm(single.baselines_enu_m[:, 0] - RTKLIB_STATIC_ENU_M, axis=1)
+    assert np.all(err_single[single_fixed] < WRONG_M), err_single[single_fixed].max()
+    assert fixed.sum() >= max(100, 3 * single_fixed.sum()), (fixed.sum(), single_fixed.sum())
     assert np.all(err[fixed] < WRONG_M), err[fixed].max()
 
 
@@ -186,10 +188,11 @@ def car_gps_l1(tmp_path_factory: pytest.TempPathFactory) -> sim.SimulatedPlatfor
 def test_a_rigid_pair_on_the_simulated_car_has_no_wrong_fix(
     car_gps_l1: sim.SimulatedPlatform, model: str
 ) -> None:
-    # Without --rigid the kinematic filter holds a post-outage fix 1 m off for 2 s (a 1.57 m baseline of
-    # the 1.20 m pair); with it that fix is refused, and no fix of 4 satellites (no phase redundancy) is
-    # reported. Every fix within 5 cm of the truth, as the benchmark counts; the fix rate at least RTKLIB
-    # 2.4.3 moving-base continuous's 63.9 % less 5 points (kinematic: 60.1 % measured, velocity 65.7 %).
+    # Without --rigid the kinematic filter held a post-outage fix 1 m off for 2 s (a 1.57 m baseline of
+    # the 1.20 m pair) until the code noise scale went onto code and phase together (issue 28); with it
+    # such a fix is refused, and no fix of 4 satellites (no phase redundancy) is reported. Every fix
+    # within 5 cm of the truth, as the benchmark counts; the fix rate at least RTKLIB 2.4.3 moving-base
+    # continuous's 63.9 % less 5 points (measured: kinematic 60.4 %, velocity 63.4 %).
     run = car_gps_l1
     obs = list(run.obs_paths[:2])
     truth = run.baselines_enu_m[:, 0]
@@ -210,8 +213,6 @@ def test_a_rigid_pair_on_the_simulated_car_has_no_wrong_fix(
         if rigid:
             assert fixed.sum() / len(run.time) >= 0.589, fixed.sum()
     assert fixes_off[True] < WRONG_M, fixes_off
-    if model == "kinematic":
-        assert fixes_off[False] > 0.5, fixes_off
 
 
 def test_cli_rigid_without_filter_is_refused_naming_it(

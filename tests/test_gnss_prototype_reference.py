@@ -149,9 +149,9 @@ def test_single_point_positions_reproduce_the_prototype(station: str) -> None:
 
 
 def test_geonet_single_epoch_baselines_against_the_prototype() -> None:
-    """The prototype's single-epoch GPS L1 solutions (its ``epoch_lambda``) epoch by epoch. Neither fixes an
-    epoch: 3.3 km of single-frequency, single-epoch ambiguities do not pass either success-rate gate, so
-    no wrong fix on either side. The floats are not reproduced, they are corrected: against the static
+    """The prototype's single-epoch GPS L1 solutions (its ``epoch_lambda``) epoch by epoch. The prototype
+    fixes no epoch, the engine a few (3.3 km of single-frequency, single-epoch ambiguities rarely pass its
+    gate), none wrong. The floats are not reproduced, they are corrected: against the static
     fixed baseline (the prototype's own, to a centimetre of RTKLIB's), the prototype's floats were biased
     by 2.0 m east (the geometry of each receiver taken at its own epoch label, up to 9 ms apart, before
     session_input moved both onto one label) with 1.3 m of scatter, the engine's are within 0.15 m on
@@ -164,9 +164,12 @@ def test_geonet_single_epoch_baselines_against_the_prototype() -> None:
         method="lambda", motion="moving", systems="G", frequencies=1,
     )  # fmt: skip
     assert [str(t) for t in series.time] == proto["time_gpst"]
-    assert proto["fixed_epochs"] == 0 and series.fixed.sum() == 0 and series.solved.all()
+    assert proto["fixed_epochs"] == 0 and series.solved.all()
     truth = np.array(GEONET["static"]["baseline_enu_m"])
     engine = series.baselines_enu_m[:, 0] - truth
+    # The engine fixes a few epochs since issue 28's common noise factor (20, measured), none wrong.
+    fixed = series.fixed.astype(bool)
+    assert np.all(np.linalg.norm(engine[fixed], axis=1) < 0.05), np.abs(engine[fixed]).max()
     prototype = np.array(proto["baselines_enu_m"], dtype=float) - truth
     assert abs(prototype.mean(axis=0)[0]) > 1.5  # the recorded bias (a stale fixture would not show it)
     assert np.all(np.abs(engine.mean(axis=0)) < 0.3), engine.mean(axis=0)

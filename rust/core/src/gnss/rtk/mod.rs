@@ -61,7 +61,7 @@ pub mod model;
 pub mod rigid;
 
 #[cfg(test)]
-mod sim;
+pub(crate) mod sim;
 #[cfg(test)]
 mod tests;
 

@@ -1,5 +1,24 @@
 //! The receivers' code noise against the model, estimated from the float solutions' residuals, and
-//! the code variances scaled by it.
+//! the observation variances scaled by it.
+//!
+//! # One factor for the whole stochastic model
+//! In a single epoch every carrier phase has its own float ambiguity, so the phases have no redundancy:
+//! the float baseline is the code solution's, the float ambiguities `a = (phi - rho(b)) / lambda` do not
+//! depend on how the code and phase variances are scaled, and the residuals, hence the estimate, are the
+//! code's alone. The estimate is the a-posteriori variance factor of unit weight of the model
+//! `code_sigma` + `phase_sigma`; a separate phase component is not estimable without phase redundancy
+//! (Teunissen & Amiri-Simkooei 2008, J Geod 82:65-82, least-squares variance component estimation).
+//! In baseline mode without a known length it is therefore applied to the code and the phase variances
+//! together ([`scale_noise`]): a common factor `f` multiplies the float covariance by `f` and every ILS
+//! objective `(a - z)^T Q^-1 (a - z)` by `1 / f`, so the ratio test (second best over best) gives the
+//! model's ratio whatever `f`, which is what its threshold (3, RTKLIB's, with RTKLIB's code-to-phase
+//! sigma ratio of 100) was set for, while the success rate, computed from the scaled covariance, follows
+//! the receiver's measured noise. Scaling the code alone ([`scale_code`]) changes the covariance's shape
+//! instead: a quiet receiver's code variances down by 4 leave the phase's unmodelled errors (the
+//! ionosphere over kilometres, multipath) a larger share of the best candidate's objective, the ratio
+//! falls, and epochs RTKLIB fixes with the unscaled model are refused (docs/observation_engine.md, "Code
+//! noise scale", has the measurements). A rover with a known length and attitude mode keep the code-only
+//! scale: their constrained objective and its gate were calibrated with it.
 
 use std::borrow::Cow;
 
@@ -85,3 +104,22 @@ pub(super) fn scale_code(dd: &DdEpoch, factor: f64) -> Cow<'_, DdEpoch> {
     out.signals.iter_mut().for_each(|p| p.sigma_code_m *= s);
     Cow::Owned(out)
 }
+
+/// `dd` with every code and phase sigma scaled by `sqrt(factor)`: the whole stochastic model scaled by the
+/// variance factor (module documentation), borrowed unchanged when the factor is 1.
+pub(super) fn scale_noise(dd: &DdEpoch, factor: f64) -> Cow<'_, DdEpoch> {
+    if factor == 1.0 {
+        return Cow::Borrowed(dd);
+    }
+    let mut out = dd.clone();
+    let s = factor.sqrt();
+    out.signals.iter_mut().for_each(|p| {
+        p.sigma_code_m *= s;
+        p.sigma_phase_m *= s;
+    });
+    Cow::Owned(out)
+}
+
+#[cfg(test)]
+#[path = "code_scale_tests.rs"]
+mod tests;

@@ -1,7 +1,6 @@
 //! Filter mode (`EngineOptions::filter`): one rover's epoch through its multi-epoch filter, checked
 //! against the epoch's own fix.
 
-use super::code_scale::scale_code;
 use super::lambda::RoverEpoch;
 use super::Engine;
 use crate::error::Result;
@@ -19,7 +18,8 @@ impl Engine {
         dd: &DdEpoch,
         fix: &FixOptions,
     ) -> Result<RoverEpoch> {
-        let scaled = scale_code(dd, self.code_scale[r].factor());
+        let factor = self.code_scale[r].factor();
+        let scaled = self.scaled(r, dd, factor);
         let result = self.filters[r].step(scaled.as_ref(), t, fix);
         let Some(f) = self.solved(k, t, result)? else {
             return Ok(None);
@@ -50,6 +50,8 @@ impl Engine {
         }
         // An epoch the filter leaves float is solved on its own too (through the filter's checks of a
         // fix, which learn the length from it): the filter never fixes fewer epochs than single epochs.
+        // It is scaled as the filter's epoch and single epochs are (code and phase together: the model's
+        // ratio test, `code_scale` module documentation).
         let single = match f.state {
             FixState::Float => self
                 .solve(r, std::slice::from_ref(scaled.as_ref()), &[], fix)

@@ -4,7 +4,6 @@
 
 use std::collections::BTreeSet;
 
-use super::code_scale::scale_code;
 use super::lambda::{fix_state, RoverEpoch};
 use super::{leaves_epoch_unsolved, Engine, Prepared, HELD_RESIDUAL_CYCLES};
 use crate::error::Result;
@@ -66,7 +65,7 @@ impl Engine {
         } else {
             self.code_scale[r].known_length_factor()
         };
-        let scaled = scale_code(dd, factor);
+        let scaled = self.scaled(r, dd, factor);
         let mut result = self.solve(r, std::slice::from_ref(scaled.as_ref()), &held, fix);
         let mut unheld = held.is_empty();
         let holding = !held.is_empty() && static_session.is_none();

@@ -25,7 +25,7 @@ use std::ops::Range;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::code_scale::scale_code;
+use super::code_scale::{scale_code, scale_noise};
 use super::{
     leaves_epoch_unsolved, Engine, Estimate, Prepared, CODE_SCALE_FACTOR_RANGE,
     KNOWN_LENGTH_FACTOR_RANGE,
@@ -39,6 +39,7 @@ use crate::gnss::rtk::{BaselineSolution, DdEpoch, FixOptions};
 use crate::gnss::solution::FixState;
 use crate::gnss::spp::{observed_geometry, single_point_position, SppSolution};
 use crate::interrupt;
+use std::borrow::Cow;
 
 /// Epochs handed to the threads at a time: enough work per block for 16 threads, few epochs' solutions
 /// held at once.
@@ -99,6 +100,17 @@ impl Engine {
         }
     }
 
+    /// Rover `r`'s epoch `dd` with its variances scaled by `factor` (`Engine::code_factor`): the code and
+    /// the phase together in baseline mode, the code alone for a rover with a known length
+    /// (`code_scale` module documentation).
+    pub(super) fn scaled<'a>(&self, r: usize, dd: &'a DdEpoch, factor: f64) -> Cow<'a, DdEpoch> {
+        if self.opts.baseline_lengths_m.get(r).is_some() {
+            scale_code(dd, factor)
+        } else {
+            scale_noise(dd, factor)
+        }
+    }
+
     /// Whether rover `r`'s factor stays what it is whatever residuals are added next: 1 before the
     /// estimate stands (the residuals of one block are few against [`super::CODE_SCALE_MIN_DOF`] only
     /// sometimes, which the ordered pass checks), or clamped at an end of its range.
@@ -113,7 +125,7 @@ impl Engine {
             .is_none_or(|f| f <= lo || f >= hi)
     }
 
-    /// The float solution of rover `r`'s epoch `dd` (code already scaled): `Engine::solve`'s first part.
+    /// The float solution of rover `r`'s epoch `dd` (already scaled, `Engine::scaled`): `Engine::solve`'s first part.
     fn single_float(&self, r: usize, dd: &DdEpoch, fix: &FixOptions) -> Result<FloatSolution> {
         let one = std::slice::from_ref(dd);
         match self.opts.baseline_lengths_m.get(r) {
@@ -155,7 +167,7 @@ impl Engine {
                     .par_iter()
                     .map(|p| {
                         let dd = p.rovers[r].as_ref()?;
-                        Some(this.single_float(r, scale_code(dd, f).as_ref(), fix))
+                        Some(this.single_float(r, this.scaled(r, dd, f).as_ref(), fix))
                     })
                     .collect(),
                 None => block.iter().map(|_| None).collect(),
@@ -171,7 +183,7 @@ impl Engine {
                 let factor = self.code_factor(r);
                 let float = match (early, guess) {
                     (Some(fl), Some(g)) if g == factor => fl,
-                    _ => self.single_float(r, scale_code(dd, factor).as_ref(), fix),
+                    _ => self.single_float(r, self.scaled(r, dd, factor).as_ref(), fix),
                 };
                 let before = self.code_scale[r];
                 if let Ok(fl) = &float {
