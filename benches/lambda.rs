@@ -3,7 +3,9 @@
 //! 64 seeded float vectors, so search times average over typical draws. The mean number of search nodes
 //! visited is printed per n and written to `target/criterion/lambda_nodes.csv`.
 //!
-//! `lambda/vs_rtklib` times `ils` (two candidates) at every n from 4 to 40 on 32 draws each; with
+//! `lambda/vs_rtklib` times `ils` (two candidates) and the same problems through one reused
+//! `Workspace` (`gnssatt_workspace`, the per-problem path of a batch) at every n from 4 to 40 on 32 draws
+//! each; with
 //! `RTKLIB_SRC` set to an RTKLIB 2.4.3 folder (e.g. `../shared/peers/rtklib-2.4.3`) it also times RTKLIB's C
 //! `lambda()` on the same problems: `src/lambda.c` and `src/rtkcmn.c` are compiled with `cc -O3` into the
 //! timing program `RTKLIB_HARNESS` (written here; RTKLIB's code is only compiled), which criterion runs
@@ -17,7 +19,8 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use gnssatt_core::lambda::validation::{partial_fix, ratio_test, RatioThreshold};
 use gnssatt_core::lambda::{
-    bootstrap_success_rate, ils, ldl::ltdl, reduce, search, Problem, DEFAULT_MAX_NODES,
+    bootstrap_success_rate, ils, ldl::ltdl, node_budget, reduce, search, Problem, Workspace,
+    DEFAULT_MAX_NODES,
 };
 use nalgebra::{DMatrix, DVector};
 
@@ -145,6 +148,16 @@ fn bench_vs_rtklib(c: &mut Criterion) {
         let mut i = 0;
         group.bench_function(BenchmarkId::new("gnssatt", n), |b| {
             b.iter(|| ils(cycle(&draws, &mut i), &q, 2).unwrap())
+        });
+        // The same problems through one reused workspace (what a batch does per problem): no allocation.
+        let mut ws = Workspace::new();
+        let (mut fixed, mut norms) = (vec![0i64; 2 * n], [0.0; 2]);
+        group.bench_function(BenchmarkId::new("gnssatt_workspace", n), |b| {
+            b.iter(|| {
+                let a = cycle(&draws, &mut i).as_slice();
+                ws.solve(a, &q, 2, node_budget(n), &mut fixed, &mut norms)
+                    .unwrap()
+            })
         });
         let Some(exe) = &exe else { continue };
         let problems = dir.join(format!("problems_{n}.bin"));

@@ -16,7 +16,8 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
 use super::search::{check_candidates, node_budget};
-use super::Problem;
+use super::workspace::with_workspace;
+use super::{Problem, Workspace};
 use crate::error::{Error, Result};
 use crate::interrupt;
 
@@ -153,63 +154,96 @@ pub fn ils_batch(a: &[f64], q: &[f64], n: usize, m: usize) -> Result<BatchSoluti
     } else {
         None
     };
-    let run = |p: usize| {
+    // Every answer is written in place: the only allocations of a batch are its outputs, the per-problem
+    // outcomes and (once per thread) the workspace.
+    let mut out = BatchSolution {
+        fixed: vec![0; k * m * n],
+        squared_norms: vec![0.0; k * m],
+        nodes_visited: vec![0; k],
+    };
+    let run = |(p, ((fixed, norms), visited)): Slot<'_>| {
         if p > first_failure.load(Ordering::Relaxed) {
             return None;
         }
-        let out = solve_one(p, a, q, n, m, base.as_ref(), &nodes);
-        if out.is_err() {
-            first_failure.fetch_min(p, Ordering::Relaxed);
+        let job = Job {
+            p,
+            a,
+            q,
+            n,
+            m,
+            base: base.as_ref(),
+        };
+        let outcome = with_workspace(|ws| job.solve(ws, fixed, norms, &nodes));
+        match outcome {
+            Ok(v) => *visited = v,
+            Err(_) => {
+                first_failure.fetch_min(p, Ordering::Relaxed);
+            }
         }
-        Some(out)
+        Some(outcome.map(|_| ()))
     };
-    let solved: Vec<Option<Result<super::IlsSolution>>> = if is_short(k, n) {
-        (0..k).map(run).collect()
+    let chunk = (m * n).max(1);
+    let solved: Vec<Option<Result<()>>> = if is_short(k, n) {
+        out.fixed
+            .chunks_mut(chunk)
+            .zip(out.squared_norms.chunks_mut(m))
+            .zip(out.nodes_visited.iter_mut())
+            .enumerate()
+            .map(run)
+            .collect()
     } else {
-        (0..k).into_par_iter().map(run).collect()
-    };
-    let mut out = BatchSolution {
-        fixed: Vec::with_capacity(k * m * n),
-        squared_norms: Vec::with_capacity(k * m),
-        nodes_visited: Vec::with_capacity(k),
+        out.fixed
+            .par_chunks_mut(chunk)
+            .zip(out.squared_norms.par_chunks_mut(m))
+            .zip(out.nodes_visited.par_iter_mut())
+            .enumerate()
+            .map(run)
+            .collect()
     };
     for (p, s) in solved.into_iter().enumerate() {
-        let s = s
-            .ok_or_else(|| Error::numerical("LAMBDA batch", format!("problem {p} was not solved")))?
+        s.ok_or_else(|| Error::numerical("LAMBDA batch", format!("problem {p} was not solved")))?
             .map_err(|e| at_problem(e, p))?;
-        for c in 0..m {
-            out.fixed.extend(s.fixed.column(c).iter());
-        }
-        out.squared_norms.extend(&s.squared_norms);
-        out.nodes_visited.push(s.nodes_visited);
     }
     Ok(out)
 }
 
-fn solve_one(
+/// Problem p's place in the batch's output: its integers, norms and nodes.
+type Slot<'a> = (usize, ((&'a mut [i64], &'a mut [f64]), &'a mut u64));
+
+/// One problem of a batch.
+struct Job<'a> {
     p: usize,
-    a: &[f64],
-    q: &[f64],
+    a: &'a [f64],
+    q: &'a [f64],
     n: usize,
     m: usize,
-    base: Option<&Problem>,
-    nodes: &AtomicU64,
-) -> Result<super::IlsSolution> {
-    interrupt::check("LAMBDA batch")?;
-    let nn = n * n;
-    let av = DVector::from_column_slice(&a[p * n..(p + 1) * n]);
-    let s = match base {
-        Some(b) => b.solve_floats(&av, m, node_budget(n))?,
-        None => {
-            let qm = DMatrix::from_row_slice(n, n, &q[p * nn..(p + 1) * nn]);
-            Problem::new(&av, &qm)?.solve(m, node_budget(n))?
-        }
-    };
-    check_search_work(
-        nodes.fetch_add(s.nodes_visited, Ordering::Relaxed) + s.nodes_visited,
-        n,
-    )?;
-    Ok(s)
+    base: Option<&'a Problem>,
+}
+
+impl Job<'_> {
+    /// Solves problem `p` into its slices of the batch's output; returns its nodes.
+    fn solve(
+        &self,
+        ws: &mut Workspace,
+        fixed: &mut [i64],
+        norms: &mut [f64],
+        nodes: &AtomicU64,
+    ) -> Result<u64> {
+        interrupt::check("LAMBDA batch")?;
+        let Job { p, n, m, .. } = *self;
+        let nn = n * n;
+        let av = &self.a[p * n..(p + 1) * n];
+        let budget = node_budget(n);
+        let visited = match self.base {
+            Some(b) => ws.solve_floats(b, av, m, budget, fixed, norms)?,
+            None => {
+                let qp = &self.q[p * nn..(p + 1) * nn];
+                ws.solve_row_major(av, qp, m, budget, fixed, norms)?
+            }
+        };
+        check_search_work(nodes.fetch_add(visited, Ordering::Relaxed) + visited, n)?;
+        Ok(visited)
+    }
 }
 
 /// `e` with the number of the problem it belongs to in its message (its class unchanged).

@@ -123,13 +123,44 @@ pub fn ltdl(q: &DMatrix<f64>) -> Result<Ltdl> {
 /// [`ltdl`] of a covariance that passed [`check_covariance`].
 pub(crate) fn factorise(q: &DMatrix<f64>) -> Result<Ltdl> {
     let n = q.nrows();
+    let mut f = Ltdl {
+        l: DMatrix::zeros(n, n),
+        d: DVector::zeros(n),
+    };
+    let (mut u, mut lt) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+    factorise_into(q, &mut u, &mut lt, &mut f)?;
+    Ok(f)
+}
+
+/// Gives `m` the shape `r x c` (reallocating only when it differs: a reused buffer keeps its storage).
+pub(crate) fn shape_to<T: nalgebra::Scalar + Default>(m: &mut DMatrix<T>, r: usize, c: usize) {
+    if m.shape() != (r, c) {
+        *m = DMatrix::from_element(r, c, T::default());
+    }
+}
+
+/// [`factorise`] into `out` (resized to n when needed), through the scratch matrices `u` and `lt`: no
+/// allocation once the buffers have the size of `q`.
+pub(crate) fn factorise_into(
+    q: &DMatrix<f64>,
+    u: &mut DMatrix<f64>,
+    lt: &mut DMatrix<f64>,
+    out: &mut Ltdl,
+) -> Result<()> {
+    let n = q.nrows();
+    shape_to(u, n, n);
+    shape_to(lt, n, n);
+    shape_to(&mut out.l, n, n);
+    if out.d.len() != n {
+        out.d = DVector::zeros(n);
+    }
     // Both factors are built transposed, so that every inner loop runs down a (contiguous) column of
     // nalgebra's column-major storage: `u[(k, j)]` (k <= j) holds the lower-triangle entry `Q[j, k]`
     // being reduced, `lt[(k, i)]` holds `L[i, k]`. The arithmetic, and its order, is that of the
     // row-wise algorithm.
-    let mut u = q.transpose();
-    let mut lt = DMatrix::<f64>::identity(n, n);
-    let mut d = DVector::<f64>::zeros(n);
+    q.transpose_to(u);
+    lt.fill_with_identity();
+    let d = &mut out.d;
     for i in (0..n).rev() {
         let pivot = u[(i, i)];
         let floor = PIVOT_EPSILONS * n as f64 * f64::EPSILON * q[(i, i)].abs();
@@ -160,10 +191,8 @@ pub(crate) fn factorise(q: &DMatrix<f64>) -> Result<Ltdl> {
             }
         }
     }
-    Ok(Ltdl {
-        l: lt.transpose(),
-        d,
-    })
+    lt.transpose_to(&mut out.l);
+    Ok(())
 }
 
 #[cfg(test)]

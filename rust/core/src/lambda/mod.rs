@@ -19,11 +19,13 @@
 pub mod batch;
 pub mod bootstrap;
 pub mod gate;
+pub mod identity;
 pub mod ldl;
 pub mod reduction;
 pub mod search;
 pub mod validation;
 pub mod verify;
+pub mod workspace;
 
 #[cfg(test)]
 pub(crate) mod test_support;
@@ -39,7 +41,9 @@ pub use reduction::{reduce, Reduction, Transformed};
 pub use search::{
     node_budget, search, Candidates, DEFAULT_MAX_NODES, MAX_CANDIDATES, NODES_PER_AMBIGUITY,
 };
-use verify::{agreeing_order, Metric};
+use verify::Metric;
+pub use workspace::Workspace;
+use workspace::{with_workspace, Decorrelated};
 
 /// Largest `|a_i|` of a float ambiguity, and of any integer returned, in cycles: below 2^53, so that the
 /// integers are exact as `f64` as well as `i64` and `a - round(a)` is exact.
@@ -74,6 +78,8 @@ pub struct Problem {
     pub(crate) q: DMatrix<f64>,
     /// The original covariance, for recomputing norms.
     metric: Metric,
+    /// `Z` as `f64` (exact), for `Z^T a`.
+    zf: DMatrix<f64>,
 }
 
 impl Problem {
@@ -90,10 +96,11 @@ impl Problem {
     pub fn new(a: &DVector<f64>, q: &DMatrix<f64>) -> Result<Problem> {
         ensure_finite("float ambiguities", a.iter())?;
         ldl::check_covariance(q)?;
-        check_floats(a, q.nrows())?;
+        check_floats(a.as_slice(), q.nrows())?;
         let (reduction, transformed) = reduction::reduce_checked(q)?;
         let metric = Metric::new("LAMBDA", q)?;
-        let Floats { offset, frac, zhat } = Floats::new(&reduction, a);
+        let zf = reduction.z_f64();
+        let Floats { offset, frac, zhat } = Floats::new(&zf, a);
         Ok(Problem {
             reduction,
             offset,
@@ -103,6 +110,7 @@ impl Problem {
             a: a.clone(),
             q: q.clone(),
             metric,
+            zf,
         })
     }
 
@@ -113,8 +121,8 @@ impl Problem {
     /// Those of [`Problem::new`] about `a`, and those of [`Problem::solve`].
     pub fn solve_floats(&self, a: &DVector<f64>, m: usize, max_nodes: u64) -> Result<IlsSolution> {
         ensure_finite("float ambiguities", a.iter())?;
-        check_floats(a, self.len())?;
-        self.solve_ref(Floats::new(&self.reduction, a).borrow(), m, max_nodes)
+        check_floats(a.as_slice(), self.len())?;
+        self.solve_vector(a.as_slice(), m, max_nodes)
     }
 
     /// Number of ambiguities.
@@ -134,41 +142,39 @@ impl Problem {
     /// [`Error::Convergence`] past `max_nodes` nodes; [`Error::Numerical`] when a recomputed norm
     /// disagrees with the search's or an integer is beyond [`MAX_ABS_AMBIGUITY`].
     pub fn solve(&self, m: usize, max_nodes: u64) -> Result<IlsSolution> {
-        self.solve_ref(self.own_floats(), m, max_nodes)
+        self.solve_vector(self.a.as_slice(), m, max_nodes)
+    }
+
+    /// The parts of the decorrelation that a search of this problem reads.
+    pub(crate) fn decorrelated(&self) -> Decorrelated<'_> {
+        Decorrelated {
+            factor: &self.reduction.factor,
+            zf: &self.zf,
+            steps: &self.reduction.steps,
+            metric: &self.metric,
+        }
     }
 
     fn own_floats(&self) -> FloatsRef<'_> {
         FloatsRef {
             offset: &self.offset,
             frac: &self.frac,
-            zhat: &self.zhat,
         }
     }
 
-    fn solve_ref(&self, f: FloatsRef<'_>, m: usize, max_nodes: u64) -> Result<IlsSolution> {
-        let found = search(&self.reduction.factor, f.zhat, m, max_nodes)?;
+    /// The search of the checked float vector `a` (this problem's own, or another of its covariance)
+    /// through this thread's workspace.
+    fn solve_vector(&self, a: &[f64], m: usize, max_nodes: u64) -> Result<IlsSolution> {
+        search::check_candidates(m)?;
         let n = self.len();
-        // Mapped back into one matrix, norms recomputed through one residual buffer: the candidates
-        // cost no allocation each.
-        let mut fixed = DMatrix::<i64>::zeros(n, m);
-        let mut z = found.z;
-        self.to_original_block(f.offset, &mut z, fixed.as_mut_slice())?;
-        let mut r = DVector::<f64>::zeros(n);
-        let recomputed: Vec<f64> = fixed
-            .column_iter()
-            .map(|column| self.norm_into(f, column.as_slice(), &mut r))
-            .collect();
-        let order = agreeing_order("LAMBDA", &found.squared_norms, &recomputed)?;
-        let (fixed, squared_norms) = if order.iter().enumerate().all(|(c, &k)| c == k) {
-            (fixed, recomputed)
-        } else {
-            let out = DMatrix::from_fn(n, m, |i, c| fixed[(i, order[c])]);
-            (out, order.iter().map(|&k| recomputed[k]).collect())
-        };
+        let (mut fixed, mut norms) = (DMatrix::<i64>::zeros(n, m), vec![0.0; m]);
+        let nodes_visited = with_workspace(|ws| {
+            ws.solve_floats_checked(self, a, m, max_nodes, fixed.as_mut_slice(), &mut norms)
+        })?;
         Ok(IlsSolution {
             fixed,
-            squared_norms,
-            nodes_visited: found.nodes_visited,
+            squared_norms: norms,
+            nodes_visited,
         })
     }
 
@@ -206,24 +212,14 @@ impl Problem {
         Ok(out)
     }
 
-    /// [`Problem::to_original_from`] into `out` (n).
+    /// [`Problem::to_original_from`] into `out` (n), in exact integer arithmetic: Z^-T applied by
+    /// replaying the reduction's steps.
     fn to_original_into(&self, offset: &DVector<i64>, z: &[f64], out: &mut [i64]) -> Result<()> {
-        let mut block = DMatrix::from_column_slice(z.len(), 1, z);
-        self.to_original_block(offset, &mut block, out)
-    }
-
-    /// `round(a) + Z^-T z` for every column of `z` (n x m, overwritten), into `out` (n m, column after
-    /// column), in exact integer arithmetic: Z^-T applied by replaying the reduction's steps.
-    fn to_original_block(
-        &self,
-        offset: &DVector<i64>,
-        z: &mut DMatrix<f64>,
-        out: &mut [i64],
-    ) -> Result<()> {
+        let mut z = DMatrix::from_column_slice(z.len(), 1, z);
         for (k, &v) in z.iter().enumerate() {
             exact_integer(k % self.len(), v)?;
         }
-        let back = self.reduction.apply_z_inv_t(z)?;
+        let back = self.reduction.apply_z_inv_t(&mut z)?;
         let n = self.len();
         for (e, (o, &b)) in out.iter_mut().zip(&back).enumerate() {
             let i = e % n;
@@ -241,37 +237,29 @@ struct Floats {
 }
 
 impl Floats {
-    fn new(reduction: &Reduction, a: &DVector<f64>) -> Floats {
+    /// The floats of `a` for `Z` held as `f64` (`zf`).
+    fn new(zf: &DMatrix<f64>, a: &DVector<f64>) -> Floats {
         let rounded = a.map(f64::round);
         let frac = a - &rounded;
-        let zhat = reduction.z_f64().tr_mul(&frac);
+        let zhat = zf.tr_mul(&frac);
         Floats {
             offset: rounded.map(|v| v as i64),
             frac,
             zhat,
         }
     }
-
-    fn borrow(&self) -> FloatsRef<'_> {
-        FloatsRef {
-            offset: &self.offset,
-            frac: &self.frac,
-            zhat: &self.zhat,
-        }
-    }
 }
 
-/// A borrowed [`Floats`] (a problem's own or another float vector's).
+/// A problem's own `round(a)` and `a - round(a)`, borrowed.
 #[derive(Clone, Copy)]
 struct FloatsRef<'a> {
     offset: &'a DVector<i64>,
     frac: &'a DVector<f64>,
-    zhat: &'a DVector<f64>,
 }
 
 /// Checks finite float ambiguities `a` against a covariance of dimension `n`: the length and
 /// `|a_i| < MAX_ABS_AMBIGUITY`.
-fn check_floats(a: &DVector<f64>, n: usize) -> Result<()> {
+fn check_floats(a: &[f64], n: usize) -> Result<()> {
     if a.len() != n {
         return Err(Error::Shape {
             name: "float ambiguities",
@@ -332,5 +320,22 @@ pub(crate) fn bounded_integer(i: usize, v: i128) -> Result<i64> {
 /// Those of [`Problem::new`] and [`Problem::solve`] (with [`node_budget`]`(n)` nodes).
 pub fn ils(a: &DVector<f64>, q: &DMatrix<f64>, m: usize) -> Result<IlsSolution> {
     search::check_candidates(m)?;
-    Problem::new(a, q)?.solve(m, node_budget(a.len()))
+    let n = a.len();
+    let (mut fixed, mut norms) = (DMatrix::<i64>::zeros(n, m), vec![0.0; m]);
+    // Problem::new(a, q)?.solve(m, node_budget(n)), in this thread's reusable buffers.
+    let nodes_visited = with_workspace(|ws| {
+        ws.solve(
+            a.as_slice(),
+            q,
+            m,
+            node_budget(n),
+            fixed.as_mut_slice(),
+            &mut norms,
+        )
+    })?;
+    Ok(IlsSolution {
+        fixed,
+        squared_norms: norms,
+        nodes_visited,
+    })
 }

@@ -18,6 +18,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+pub use super::identity::verify;
 #[cfg(test)]
 use super::ldl::ltdl;
 use super::ldl::{check_covariance, factorise, Ltdl};
@@ -110,12 +111,6 @@ impl Reduction {
         // S^-T = I + mu e_j e_i^T.
         replay(x, self.steps.iter().rev(), |i, j| (j, i))
     }
-
-    /// `x <- Z^-1 x` (see [`Reduction::apply_z_inv_t`]): the steps' `S^-1` applied first step first.
-    fn apply_z_inv(&self, x: &mut DMatrix<f64>) -> Result<Vec<i128>> {
-        // S^-1 = I + mu e_i e_j^T.
-        replay(x, self.steps.iter(), |i, j| (i, j))
-    }
 }
 
 /// Applies `steps` in the order given to the columns of `x` (exact integers held in `f64`):
@@ -129,11 +124,29 @@ where
     I: Iterator<Item = &'a Step> + Clone,
     P: Fn(usize, usize) -> (usize, usize),
 {
-    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+    let mut w = Vec::new();
     let n = x.nrows();
-    let start: Vec<i128> = x.iter().map(|&v| v as i64 as i128).collect();
+    replay_into(x.as_mut_slice(), n, steps, pick, &mut w)?;
+    Ok(w)
+}
+
+/// [`replay`] on `x` (n rows, column after column) into `w` (cleared first; its storage is reused).
+pub(crate) fn replay_into<'a, I, P>(
+    x: &mut [f64],
+    n: usize,
+    steps: I,
+    pick: P,
+    w: &mut Vec<i128>,
+) -> Result<()>
+where
+    I: Iterator<Item = &'a Step> + Clone,
+    P: Fn(usize, usize) -> (usize, usize),
+{
+    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+    w.clear();
+    w.extend(x.iter().map(|&v| v as i64 as i128));
     let mut exact = true;
-    for col in x.as_mut_slice().chunks_exact_mut(n) {
+    for col in x.chunks_exact_mut(n) {
         for step in steps.clone() {
             match *step {
                 Step::Gauss { i, j, mu } => {
@@ -148,9 +161,10 @@ where
         }
     }
     if exact {
-        return Ok(x.iter().map(|&v| v as i128).collect());
+        w.clear();
+        w.extend(x.iter().map(|&v| v as i128));
+        return Ok(());
     }
-    let mut w = start;
     for col in w.chunks_exact_mut(n) {
         for step in steps.clone() {
             match *step {
@@ -162,7 +176,7 @@ where
             }
         }
     }
-    Ok(w)
+    Ok(())
 }
 
 /// `a + m b` in `i128`, refused on overflow.
@@ -228,8 +242,27 @@ pub(crate) fn reduce_checked(q: &DMatrix<f64>) -> Result<(Reduction, Transformed
 /// [`Error::Numerical`] when `Z` would exceed [`MAX_Z_ENTRY`] or `L` becomes non-finite.
 pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
     let Ltdl { mut l, mut d } = factor;
+    let mut z = Transform::identity(d.len());
+    reduce_in_place(&mut l, &mut d, &mut z)?;
+    Ok(Reduction {
+        z: z.z.map(|v| v as i64),
+        steps: z.steps,
+        factor: Ltdl { l, d },
+    })
+}
+
+/// [`reduce_factor`] in place: `l` and `d` are decorrelated, `z` (reset to the identity of size n
+/// first) receives `Z` and its steps. No allocation once `z` has held a reduction of size n.
+///
+/// # Errors
+/// Those of [`reduce_factor`].
+pub(crate) fn reduce_in_place(
+    l: &mut DMatrix<f64>,
+    d: &mut DVector<f64>,
+    z: &mut Transform,
+) -> Result<()> {
     let n = d.len();
-    let mut z = Transform::identity(n);
+    z.reset(n);
     if n >= 2 {
         // de Jonge & Tiberius (1996), fig. 3.5: j walks from the second-to-last column towards the first;
         // column j is size-reduced whole while it may have changed since the last swap (j <= k). Reducing
@@ -240,13 +273,13 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
         loop {
             if j <= k {
                 for i in (j + 1)..n {
-                    z.gauss(&mut l, i, j)?;
+                    z.gauss(l, i, j)?;
                 }
             }
             let lj = l[(j + 1, j)];
             let delta = d[j] + lj * lj * d[j + 1];
             if delta < d[j + 1] * (1.0 - SWAP_TOLERANCE) {
-                swap(&mut l, &mut d, &mut z, j, delta);
+                swap(l, d, z, j, delta);
                 k = j;
                 // The published loop restarts at n - 2, but for j >= k + 2 nothing it reads (column j of
                 // L, d_j, d_{j+1}) has changed since it was last found not to swap, and no Gauss step
@@ -259,11 +292,7 @@ pub fn reduce_factor(factor: Ltdl) -> Result<Reduction> {
             }
         }
     }
-    Ok(Reduction {
-        z: z.z.map(|v| v as i64),
-        steps: z.steps,
-        factor: Ltdl { l, d },
-    })
+    Ok(())
 }
 
 /// Column `dst` (mutable) and column `src` (`dst != src`) of a column-major matrix, as slices.
@@ -286,21 +315,33 @@ fn column_pair<T: nalgebra::Scalar>(
 
 /// `Z` under construction, with the steps applied. The entries are integers held in `f64` (exact: they
 /// never exceed [`MAX_Z_ENTRY`] = 2^52), where the updates vectorise.
-struct Transform {
-    z: DMatrix<f64>,
-    steps: Vec<Step>,
+pub(crate) struct Transform {
+    pub(crate) z: DMatrix<f64>,
+    pub(crate) steps: Vec<Step>,
     /// Upper bounds of `max |entry|` of each column of `z`.
     z_bound: Vec<u64>,
 }
 
 impl Transform {
-    fn identity(n: usize) -> Transform {
+    pub(crate) fn identity(n: usize) -> Transform {
         Transform {
             z: DMatrix::identity(n, n),
             // A decorrelation takes a few steps per entry of Z.
             steps: Vec::with_capacity(n * n),
             z_bound: vec![1; n],
         }
+    }
+
+    /// Back to the identity of size n, keeping the storage when the size is unchanged.
+    fn reset(&mut self, n: usize) {
+        if self.z.shape() != (n, n) {
+            *self = Transform::identity(n);
+            return;
+        }
+        self.z.fill_with_identity();
+        self.steps.clear();
+        self.z_bound.clear();
+        self.z_bound.resize(n, 1);
     }
 
     /// Integer Gauss transformation `Z <- Z (I - mu e_i e_j^T)` with `mu = round(L_ij)`, `i > j`: makes
@@ -412,161 +453,10 @@ fn swap(l: &mut DMatrix<f64>, d: &mut DVector<f64>, t: &mut Transform, k: usize,
     t.steps.push(Step::Swap(k));
 }
 
-/// Checks a reduction of `q`: `Z^-1 Z = I` exactly (on the all-ones vector), `D` positive and finite, `L` finite, and
-/// `Z^T Q Z = L^T D L` within [`IDENTITY_TOLERANCE`]; returns the products it formed.
-///
-/// # Errors
-/// [`Error::Numerical`] naming the failed check and its numbers.
-pub fn verify(q: &DMatrix<f64>, r: &Reduction) -> Result<Transformed> {
-    let n = q.nrows();
-    let what = "LAMBDA decorrelation";
-    let zf = r.z_f64();
-    if let Some((i, s)) = inverse_defect(r, &zf)? {
-        return Err(Error::numerical(
-            what,
-            format!(
-                "Z^-1 Z is not the identity: row {i} of Z^-1 Z times the all-ones vector is {s}, not 1, \
-                 for dimension {n}"
-            ),
-        ));
-    }
-    check_factor_finite(&r.factor)?;
-    let Ltdl { l, d } = &r.factor;
-    let qz = q * &zf;
-    // (An explicit transpose sends the product to the blocked matrix multiplication; tr_mul does not.)
-    let mut zqz = zf.transpose() * &qz;
-    // Only the diagonal of the rounding scale B = |Z|^T |Q| |Z| + |L|^T D |L| is needed.
-    let za = zf.abs();
-    let qa_za = q.abs() * &za;
-    let bound: Vec<f64> = (0..n)
-        .map(|k| {
-            let bq = za.column(k).dot(&qa_za.column(k));
-            let lk = &l.as_slice()[k * n + k..(k + 1) * n];
-            let bl: f64 = lk
-                .iter()
-                .zip(&d.as_slice()[k..])
-                .map(|(v, di)| v * v * di)
-                .sum();
-            bq + bl
-        })
-        .collect();
-    let dl = DMatrix::from_fn(n, n, |i, j| d[i] * l[(i, j)]);
-    let ltdl = l.transpose() * dl;
-    let (ratio, i, j) = worst_gap(&zqz, &ltdl, &bound);
-    if ratio.is_nan() || ratio > IDENTITY_TOLERANCE {
-        return Err(Error::numerical(
-            what,
-            format!(
-                "Z^T Q Z differs from L^T D L at [{i}, {j}] by {:.3e} (= {ratio:.3e} n eps times the \
-                 rounding scale sqrt(B_ii B_jj), B = |Z|^T|Q||Z| + |L|^T D|L|, allowed \
-                 {IDENTITY_TOLERANCE}) for dimension {n}, max|Z| = {}",
-                (zqz[(i, j)] - ltdl[(i, j)]).abs(),
-                r.z.amax()
-            ),
-        ));
-    }
-    for j in 0..n {
-        for i in (j + 1)..n {
-            let mean = 0.5 * (zqz[(i, j)] + zqz[(j, i)]);
-            zqz[(i, j)] = mean;
-            zqz[(j, i)] = mean;
-        }
-    }
-    Ok(Transformed { qz, zqz })
-}
-
-/// Refuses a non-positive or non-finite `D` or a non-finite `L`.
-fn check_factor_finite(factor: &Ltdl) -> Result<()> {
-    let Ltdl { l, d } = factor;
-    let n = d.len();
-    let what = "LAMBDA decorrelation";
-    if let Some(i) = d
-        .iter()
-        .position(|v| !(v.is_finite() && *v >= f64::MIN_POSITIVE))
-    {
-        return Err(Error::numerical(
-            what,
-            format!(
-                "conditional variance D[{i}] = {:e} of the decorrelated covariance is not positive and \
-                 finite (dimension {n})",
-                d[i]
-            ),
-        ));
-    }
-    if let Some(i) = l.iter().position(|v| !v.is_finite()) {
-        return Err(Error::numerical(
-            what,
-            format!("L[{}, {}] is not finite (dimension {n})", i % n, i / n),
-        ));
-    }
-    Ok(())
-}
-
-/// The largest `|A_ij - B_ij| / (n eps sqrt(s_i s_j))` and where it is; NaN (an overflowed product)
-/// is returned at once.
-fn worst_gap(a: &DMatrix<f64>, b: &DMatrix<f64>, s: &[f64]) -> (f64, usize, usize) {
-    let n = a.nrows();
-    let scale = n as f64 * f64::EPSILON;
-    let mut worst = (0.0, 0, 0);
-    for j in 0..n {
-        let (aj, bj) = (a.column(j), b.column(j));
-        for i in 0..n {
-            let gap = (aj[i] - bj[i]).abs();
-            let ratio = if gap == 0.0 {
-                0.0
-            } else {
-                gap / (scale * (s[i] * s[j]).sqrt())
-            };
-            if ratio.is_nan() {
-                return (ratio, i, j);
-            }
-            if ratio > worst.0 {
-                worst = (ratio, i, j);
-            }
-        }
-    }
-    worst
-}
-
-/// The first entry `(i, value)` where `Z^-1 (Z 1)` differs from the all-ones vector `1`, computed
-/// exactly: `Z 1` in `f64` where `n max|Z| < 2^53` (else in `i128`), `Z^-1` by replaying the recorded
-/// steps ([`Reduction::apply_z_inv`]).
-///
-/// `Z` is updated in `f64` while the steps are recorded; this O(n^2 + steps) check confirms that the two
-/// agree. It cannot be fooled by one wrong entry of `Z`: with `Z + c e_r e_s^T`,
-/// `Z^-1 (Z + c e_r e_s^T) 1 = 1 + c Z^-1 e_r`, not `1` since `Z^-1` is invertible.
-///
-/// # Errors
-/// [`Error::Numerical`] when a value overflows `i128`.
-fn inverse_defect(r: &Reduction, zf: &DMatrix<f64>) -> Result<Option<(usize, i128)>> {
-    let n = r.z.nrows();
-    let sums = if (n as f64) * (r.z.amax() as f64) < 9_007_199_254_740_992.0 {
-        // Every partial row sum is an integer below 2^53: exact.
-        zf.column_sum()
-    } else {
-        let mut s = vec![0i128; n];
-        for col in r.z.column_iter() {
-            for (acc, &v) in s.iter_mut().zip(col.iter()) {
-                *acc += v as i128;
-            }
-        }
-        if s.iter().any(|v| v.unsigned_abs() >= 1 << 53) {
-            // Z 1 beyond 2^53: Z is far past any decorrelation that MAX_Z_ENTRY lets through.
-            return Ok(s
-                .iter()
-                .position(|v| v.unsigned_abs() >= 1 << 53)
-                .map(|i| (i, s[i])));
-        }
-        DVector::from_iterator(n, s.iter().map(|&v| v as f64))
-    };
-    let mut u = DMatrix::from_column_slice(n, 1, sums.as_slice());
-    let w = r.apply_z_inv(&mut u)?;
-    Ok(w.iter().position(|&v| v != 1).map(|i| (i, w[i])))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lambda::identity::inverse_defect;
     use crate::lambda::test_support::{random_covariance, spectrum_covariance, Lcg};
 
     fn check(q: &DMatrix<f64>) -> Reduction {

@@ -113,6 +113,53 @@ pub struct Candidates {
 /// a covariance tiny compared with the distances to the integers); [`Error::Interrupted`] on
 /// [`crate::interrupt::request`] (polled every 2^20 nodes).
 pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> Result<Candidates> {
+    let n = factor.d.len();
+    let mut b = SearchBuffers::default();
+    let mut z = DMatrix::zeros(n, m.min(MAX_CANDIDATES));
+    let mut squared_norms = Vec::new();
+    let nodes_visited = search_into(
+        factor,
+        zhat.as_slice(),
+        m,
+        max_nodes,
+        &mut b,
+        z.as_mut_slice(),
+        &mut squared_norms,
+    )?;
+    Ok(Candidates {
+        z,
+        squared_norms,
+        nodes_visited,
+    })
+}
+
+/// The scratch of [`search_into`], kept between searches: none of it is allocated again once it has held
+/// a search of the same n and m.
+#[derive(Default)]
+pub(crate) struct SearchBuffers {
+    acc: Vec<f64>,
+    dist: Vec<f64>,
+    zb: Vec<f64>,
+    z: Vec<f64>,
+    step: Vec<f64>,
+    store: Vec<f64>,
+    best: BinaryHeap<Kept>,
+}
+
+/// [`search`] through the buffers `b`: the candidates go into `out` (n m values, column after column,
+/// best first), their norms into `norms` (cleared first); returns the nodes visited.
+///
+/// # Errors
+/// Those of [`search`].
+pub(crate) fn search_into(
+    factor: &Ltdl,
+    zhat: &[f64],
+    m: usize,
+    max_nodes: u64,
+    b: &mut SearchBuffers,
+    out: &mut [f64],
+    norms: &mut Vec<f64>,
+) -> Result<u64> {
     let Ltdl { l, d } = factor;
     let n = d.len();
     if zhat.len() != n || l.shape() != (n, n) {
@@ -124,15 +171,30 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
     }
     check_candidates(m)?;
     // acc[(k, j)], j <= k: sum over i > k of (z_i - zb_i) L_ij, so that zb_k = zhat_k + acc[(k, k)].
-    let mut acc = DMatrix::<f64>::zeros(n, n);
-    let mut dist = vec![0.0; n];
-    let mut zb = vec![0.0; n];
-    let mut z = vec![0.0; n];
-    let mut step = vec![0.0; n];
+    // (Column-major n x n: acc[(k, j)] at j n + k.) Everything is borrowed as plain slices, which the
+    // optimiser knows do not alias one another, unlike the vectors behind `b`.
+    for v in [&mut b.acc, &mut b.dist, &mut b.zb, &mut b.z, &mut b.step] {
+        v.clear();
+    }
+    b.acc.resize(n * n, 0.0);
+    for v in [&mut b.dist, &mut b.zb, &mut b.z, &mut b.step] {
+        v.resize(n, 0.0);
+    }
+    let acc = &mut b.acc[..];
+    let (dist, zb, z, step) = (
+        &mut b.dist[..],
+        &mut b.zb[..],
+        &mut b.z[..],
+        &mut b.step[..],
+    );
     // The m candidates live in one n x m store (a leaf overwrites the slot of the worst it replaces):
     // no allocation inside the search.
-    let mut store = vec![0.0; n * m];
-    let mut best = BinaryHeap::<Kept>::with_capacity(m);
+    b.store.clear();
+    b.store.resize(n * m, 0.0);
+    let store = &mut b.store[..];
+    let best = &mut b.best;
+    best.clear();
+    best.reserve(m);
     let mut radius = f64::INFINITY;
     let mut nodes = 0u64;
 
@@ -150,7 +212,7 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
     };
 
     let mut k = n - 1;
-    let mut y = start(k, &mut zb, &mut z, &mut step, zhat[k]);
+    let mut y = start(k, zb, z, step, zhat[k]);
     loop {
         nodes += 1;
         if nodes > max_nodes {
@@ -167,31 +229,31 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
             if k > 0 {
                 let e = z[k] - zb[k];
                 for j in 0..k {
-                    acc[(k - 1, j)] = acc[(k, j)] + e * l[(k, j)];
+                    acc[j * n + k - 1] = acc[j * n + k] + e * l[(k, j)];
                 }
                 k -= 1;
                 dist[k] = newdist;
-                let value = zhat[k] + acc[(k, k)];
-                y = start(k, &mut zb, &mut z, &mut step, value);
+                let value = zhat[k] + acc[k * n + k];
+                y = start(k, zb, z, step, value);
             } else {
                 let slot = if best.len() == m {
                     best.pop().map_or(0, |w| w.1)
                 } else {
                     best.len()
                 };
-                store[slot * n..(slot + 1) * n].copy_from_slice(&z);
+                store[slot * n..(slot + 1) * n].copy_from_slice(z);
                 best.push(Kept(newdist, slot));
                 if best.len() == m {
                     radius = best.peek().map_or(f64::INFINITY, |w| w.0);
                 }
-                y = next(0, &zb, &mut z, &mut step);
+                y = next(0, zb, z, step);
             }
         } else {
             if k == n - 1 {
                 break;
             }
             k += 1;
-            y = next(k, &zb, &mut z, &mut step);
+            y = next(k, zb, z, step);
         }
     }
     // Only an overflow of the partial norms (inf is never < inf) leaves fewer than m candidates.
@@ -206,17 +268,17 @@ pub fn search(factor: &Ltdl, zhat: &DVector<f64>, m: usize, max_nodes: u64) -> R
             ),
         ));
     }
-    let best = best.into_sorted_vec();
-    let mut out = DMatrix::zeros(n, m);
-    for (c, &Kept(_, slot)) in best.iter().enumerate() {
-        out.column_mut(c)
-            .copy_from_slice(&store[slot * n..(slot + 1) * n]);
+    // The heap's own storage, sorted ascending, and handed back empty: no allocation.
+    let sorted = std::mem::take(best).into_sorted_vec();
+    norms.clear();
+    for (c, &Kept(v, slot)) in sorted.iter().enumerate() {
+        out[c * n..(c + 1) * n].copy_from_slice(&store[slot * n..(slot + 1) * n]);
+        norms.push(v);
     }
-    Ok(Candidates {
-        z: out,
-        squared_norms: best.iter().map(|b| b.0).collect(),
-        nodes_visited: nodes,
-    })
+    let mut sorted = sorted;
+    sorted.clear();
+    *best = BinaryHeap::from(sorted);
+    Ok(nodes)
 }
 
 #[cfg(test)]

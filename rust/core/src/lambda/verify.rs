@@ -35,17 +35,28 @@ impl Metric {
     /// [`Error::Numerical`] when the factorisation fails in floating point (`q` positive definite by the
     /// LDL check, but not to the working precision of a Cholesky factorisation).
     pub fn new(what: &'static str, q: &DMatrix<f64>) -> Result<Metric> {
-        let chol = Cholesky::new(q.clone()).ok_or_else(|| {
-            Error::numerical(
-                what,
-                format!(
-                    "the Cholesky factorisation of the {n} x {n} covariance fails in floating point \
-                     (not positive definite to working precision)",
-                    n = q.nrows()
-                ),
-            )
-        })?;
+        let chol = Cholesky::new(q.clone()).ok_or_else(|| not_factorised(what, q))?;
         Ok(Metric { chol })
+    }
+
+    /// [`Metric::new`] in the storage of `previous` when it has the size of `q` (no allocation), else
+    /// in a copy of `q`; the same factor either way.
+    ///
+    /// # Errors
+    /// Those of [`Metric::new`].
+    pub(crate) fn renew(
+        previous: Option<Metric>,
+        what: &'static str,
+        q: &DMatrix<f64>,
+    ) -> Result<Metric> {
+        let mut buffer = match previous {
+            Some(m) if m.chol.l_dirty().shape() == q.shape() => m.chol.unpack_dirty(),
+            _ => return Metric::new(what, q),
+        };
+        buffer.copy_from(q);
+        Cholesky::new(buffer)
+            .map(|chol| Metric { chol })
+            .ok_or_else(|| not_factorised(what, q))
     }
 
     /// `r^T Q^-1 r = |L^-1 r|^2`.
@@ -68,6 +79,18 @@ impl Metric {
     }
 }
 
+/// The error of a covariance whose Cholesky factorisation fails.
+fn not_factorised(what: &'static str, q: &DMatrix<f64>) -> Error {
+    Error::numerical(
+        what,
+        format!(
+            "the Cholesky factorisation of the {n} x {n} covariance fails in floating point (not \
+             positive definite to working precision)",
+            n = q.nrows()
+        ),
+    )
+}
+
 /// The order of the candidates by their recomputed norms, after checking that every recomputed norm is
 /// finite and agrees with the search's (see [`NORM_TOLERANCE`]).
 ///
@@ -78,6 +101,21 @@ pub fn agreeing_order(
     searched: &[f64],
     recomputed: &[f64],
 ) -> Result<Vec<usize>> {
+    let mut order = Vec::new();
+    agreeing_order_into(what, searched, recomputed, &mut order)?;
+    Ok(order)
+}
+
+/// [`agreeing_order`] into `order` (cleared first; its storage reused).
+///
+/// # Errors
+/// Those of [`agreeing_order`].
+pub(crate) fn agreeing_order_into(
+    what: &'static str,
+    searched: &[f64],
+    recomputed: &[f64],
+    order: &mut Vec<usize>,
+) -> Result<()> {
     for (c, (&s, &r)) in searched.iter().zip(recomputed).enumerate() {
         let agree =
             s.is_finite() && r.is_finite() && (s - r).abs() <= NORM_TOLERANCE * (1.0 + s.max(r));
@@ -92,9 +130,10 @@ pub fn agreeing_order(
             ));
         }
     }
-    let mut order: Vec<usize> = (0..recomputed.len()).collect();
+    order.clear();
+    order.extend(0..recomputed.len());
     order.sort_by(|&a, &b| recomputed[a].total_cmp(&recomputed[b]));
-    Ok(order)
+    Ok(())
 }
 
 #[cfg(test)]
