@@ -42,14 +42,18 @@ def _geonet_l1(length_m: float | None) -> AttitudeSeries:
 @pytest.mark.slow
 def test_geonet_l1_single_epoch_with_the_length_fixes_only_right() -> None:
     """GPS L1 single epochs (7 satellites) with the length of RTKLIB's static L1+L2 solution: without it the
-    gate fixes none (bootstrapped success rate about 0.05); with it 28 of 120 were measured (RTKLIB's
-    instantaneous mode 24 %), each within 5 cm of RTKLIB's static solution (a wrong L1 integer moves a
-    3.3 km baseline by centimetres to decimetres) and within 1 cm of the length given."""
+    gate fixes few (20 of 120 measured, with the noise scale on code and phase together), with it more (28
+    measured; RTKLIB's instantaneous mode 24 %); every fix either way within 5 cm of RTKLIB's static solution
+    (a wrong L1 integer moves a 3.3 km baseline by centimetres to decimetres), the constrained ones also
+    within 1 cm of the length given."""
     length = float(np.linalg.norm(GEONET_REFERENCE_ENU_M))
     plain, known = _geonet_l1(None), _geonet_l1(length)
     assert known.solved.all() and len(known.time) == 120
-    assert plain.fixed.sum() == 0
+    plain_fixed = plain.fixed.astype(bool)
+    plain_err = np.linalg.norm(plain.baselines_enu_m[plain_fixed, 0] - GEONET_REFERENCE_ENU_M, axis=1)
+    assert np.all(plain_err < 0.05), plain_err
     fixed = known.fixed.astype(bool)
+    assert fixed.sum() > plain_fixed.sum(), (fixed.sum(), plain_fixed.sum())
     assert fixed.sum() >= 20, fixed.sum()
     err = np.linalg.norm(known.baselines_enu_m[fixed, 0] - GEONET_REFERENCE_ENU_M, axis=1)
     assert np.all(err < 0.05), err
