@@ -9,11 +9,9 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{Error, Result};
 use crate::lambda::ldl::Ltdl;
 
-/// An integer vector and its squared norm.
-pub(super) type Found = (DVector<f64>, f64);
-
-/// Every integer vector `z` with `(zhat - z)^T Q^-1 (zhat - z) <= radius` and its squared norm, in the
-/// order found; `None` when there are more than `cap` (the caller's list stops growing).
+/// Calls `leaf` with every integer vector `z` with `(zhat - z)^T Q^-1 (zhat - z) <= radius` and its
+/// squared norm, in the order found, and returns their count; `None` when there are more than `cap`
+/// (the caller's list stops growing).
 ///
 /// # Errors
 /// [`Error::Convergence`] past `max_nodes` nodes.
@@ -23,7 +21,8 @@ pub(super) fn within(
     radius: f64,
     cap: usize,
     max_nodes: u64,
-) -> Result<Option<Vec<Found>>> {
+    leaf: &mut dyn FnMut(&[f64], f64),
+) -> Result<Option<usize>> {
     let Ltdl { l, d } = factor;
     let n = d.len();
     let mut acc = DMatrix::<f64>::zeros(n, n);
@@ -31,7 +30,7 @@ pub(super) fn within(
     let mut zb = vec![0.0; n];
     let mut z = vec![0.0; n];
     let mut step = vec![0.0; n];
-    let mut out = Vec::new();
+    let mut count = 0usize;
     let mut nodes = 0u64;
     let start = |k: usize, zb: &mut [f64], z: &mut [f64], step: &mut [f64], value: f64| -> f64 {
         zb[k] = value;
@@ -67,10 +66,11 @@ pub(super) fn within(
                 let value = zhat[k] + acc[(k, k)];
                 y = start(k, &mut zb, &mut z, &mut step, value);
             } else {
-                if out.len() == cap {
+                if count == cap {
                     return Ok(None);
                 }
-                out.push((DVector::from_column_slice(&z), newdist));
+                count += 1;
+                leaf(&z, newdist);
                 y = next(0, &zb, &mut z, &mut step);
             }
         } else {
@@ -81,5 +81,5 @@ pub(super) fn within(
             y = next(k, &zb, &mut z, &mut step);
         }
     }
-    Ok(Some(out))
+    Ok(Some(count))
 }

@@ -180,6 +180,17 @@ impl<'a> List<'a> {
 
     /// The candidate of decorrelated integers `z` with norm `norm`.
     fn candidate(&self, src: &Ambiguities, z: DVector<f64>, norm: f64) -> Candidate {
+        let (b_enu, screen) = self.screen(src, z.as_slice(), norm);
+        Candidate {
+            z,
+            norm,
+            b_enu,
+            screen,
+        }
+    }
+
+    /// The conditioned baseline (ENU) and screening cost of decorrelated integers `z` of norm `norm`.
+    fn screen(&self, src: &Ambiguities, z: &[f64], norm: f64) -> (Vector3<f64>, f64) {
         // gain^T (zhat - z) without a temporary: this runs for every enumerated candidate.
         let g = &src.gain_enu;
         let db = Vector3::from_fn(|j, _| {
@@ -189,12 +200,7 @@ impl<'a> List<'a> {
         });
         let b_enu = self.b_enu - db;
         let dl = b_enu.norm() - self.length_m;
-        Candidate {
-            z,
-            norm,
-            b_enu,
-            screen: norm + self.weight * dl * dl,
-        }
+        (b_enu, norm + self.weight * dl * dl)
     }
 
     /// Searches [`EXPANSION`] times more candidates (the first: [`FIRST_CANDIDATES`]); false when the
@@ -229,14 +235,36 @@ impl<'a> List<'a> {
     }
 
     /// Every candidate of norm up to `radius` ([`List::grow`] when there are more than
-    /// [`MAX_CANDIDATES`]); false when the list cannot grow.
+    /// [`MAX_CANDIDATES`]); false when the list cannot grow. Only those whose screening cost is at most
+    /// `radius` are kept: the radius is the target less the others' least screening costs, so a
+    /// combination with a candidate above it costs more than the target and can be neither the best nor
+    /// the second best (the list's least screening cost, with the radius, still bounds the rover's).
     fn grow_to(&mut self, radius: f64) -> Result<bool> {
         let Some(src) = self.source.filter(|_| !self.exhausted) else {
             return Ok(false);
         };
         let factor = &src.problem.reduction.factor;
-        let found = match within(factor, &self.zhat, radius, MAX_CANDIDATES, MAX_NODES) {
-            Ok(Some(f)) => f,
+        let mut kept = Vec::new();
+        let mut leaf = |z: &[f64], norm: f64| {
+            let (b_enu, screen) = self.screen(src, z, norm);
+            if screen <= radius {
+                kept.push(Candidate {
+                    z: DVector::from_column_slice(z),
+                    norm,
+                    b_enu,
+                    screen,
+                });
+            }
+        };
+        let count = match within(
+            factor,
+            &self.zhat,
+            radius,
+            MAX_CANDIDATES,
+            MAX_NODES,
+            &mut leaf,
+        ) {
+            Ok(Some(c)) => c,
             // Too many below the radius (a loose second best): the next list by count, whose second
             // best bounds the radius more tightly.
             Ok(None) => return self.grow(),
@@ -246,12 +274,7 @@ impl<'a> List<'a> {
             }
             Err(e) => return Err(e),
         };
-        let count = found.len();
-        let candidates = found
-            .into_iter()
-            .map(|(z, norm)| self.candidate(src, z, norm))
-            .collect();
-        self.set(candidates, radius, count);
+        self.set(kept, radius, count);
         Ok(true)
     }
 
