@@ -125,34 +125,32 @@ fn fixed_right(sc: &Scenario, sol: &crate::gnss::rtk::AttitudeSolution) -> bool 
 
 /// The gate of the constrained fix. Six GPS L1 satellites, 3 mm phase, 30 cm code, one epoch of the
 /// three-antenna array, 300 seeds: the rule without a success rate (ratio at 3 and plausibility alone,
-/// the per-rover unconstrained rates only reported) accepts wrong integer sets (7 of its 59 fixes when
-/// this test was written; at least one is asserted), the gate (the lists' completeness and the
-/// simulated constrained success rate) accepts none. With ten satellites and 10 cm code the floats are
-/// strong: the gate fixes (every one right). A wrong fix of the gate would be a failure of an
-/// estimator whose simulated rate passed 0.95; over 300 epochs the count of those is at most a
-/// handful at the floor, and none is asserted because the completeness condition already bounds them
-/// (the searched lists contain every combination that could beat the second best).
+/// the per-rover unconstrained rates only reported) accepts wrong integer sets (7 of its 59 fixes on the
+/// old lists of 200 candidates per rover, 1 with the exact search when it was written; at least one is
+/// asserted), the gate (the exact search's ratio and the simulated constrained success rate) accepts
+/// none (it fixed none of these weak epochs when written). With ten satellites and 10 cm code the floats
+/// are strong: the gate fixes (17 of 20 when written, at least 10 asserted, every one right). A wrong
+/// fix of the gate would be a failure of an estimator whose simulated rate passed 0.95; over 300 epochs
+/// the count of those is at most a handful at the floor, and none is asserted because the ratio of the
+/// exact search already refuses what it cannot separate.
 #[test]
 fn the_gate_refuses_the_wrong_constrained_fixes_ratio_and_plausibility_pass() {
-    let (mut wrong_old, mut wrong_new, mut fixed_new) = (0, 0, 0);
+    let (mut wrong_old, mut wrong_new, mut fixed_new, mut incomplete) = (0, 0, 0, 0);
     for seed in 0..300u64 {
         let mut sc = Scenario::new(9000 + seed, &[(System::Gps, 6, &[0])], 15.0);
         let (epochs, _) = array_epoch(&mut sc);
         let f = super::fresh(&epochs, &BODY, &GATE, Some(super::MIN_SUCCESS_RATE)).unwrap();
+        let dof = super::degrees_of_freedom(&f.rovers);
         let body: Vec<Vector3<f64>> = BODY.iter().map(|b| Vector3::from(*b)).collect();
-        let (best, ratio) = super::best_combination(&f.rovers, &body);
-        let dof = f
-            .rovers
-            .iter()
-            .map(|r| r.fl.ambiguities.len())
-            .sum::<usize>()
-            + 3;
-        if let Some((choice, cost)) = best {
-            let old_accepts = ratio >= GATE.ratio_threshold && cost <= super::chi2_quantile(dof);
-            let right = f.rovers.iter().zip(&choice).all(|(r, &c)| {
+        let outcome = super::search_rovers(&f.rovers, &body).unwrap();
+        let ratio = outcome.ratio();
+        if let Some((chosen, cost)) = &outcome.best {
+            let old_accepts = ratio >= GATE.ratio_threshold && *cost <= super::chi2_quantile(dof);
+            let right = f.rovers.iter().zip(chosen).all(|(r, c)| {
+                let z = r.ambiguities.as_ref().unwrap().problem.to_original(&c.z);
                 r.fl.ambiguities
                     .iter()
-                    .zip(r.integers[c].iter())
+                    .zip(z.unwrap().iter())
                     .all(|(a, &v)| {
                         let (k, _) = Scenario::of_arc(a.arc);
                         let (j, _) = Scenario::of_arc(a.reference_arc);
@@ -160,6 +158,7 @@ fn the_gate_refuses_the_wrong_constrained_fixes_ratio_and_plausibility_pass() {
                     })
             });
             wrong_old += usize::from(old_accepts && !right);
+            incomplete += usize::from(!outcome.complete);
         }
         fixed_new += usize::from(f.solution.fixed);
         wrong_new += usize::from(!fixed_right(&sc, &f.solution));
@@ -175,7 +174,10 @@ fn the_gate_refuses_the_wrong_constrained_fixes_ratio_and_plausibility_pass() {
         assert!(fixed_right(&sc, &sol), "seed {seed}");
         fixed_strong += usize::from(sol.fixed);
     }
-    println!("old wrong {wrong_old}, new fixed {fixed_new}, strong fixed {fixed_strong} of 20");
+    println!(
+        "ratio and plausibility alone wrong {wrong_old}, gate fixed {fixed_new} of 300 \
+         ({incomplete} searches incomplete), strong fixed {fixed_strong} of 20"
+    );
     assert!(
         fixed_strong >= 10,
         "{fixed_strong} of 20 strong epochs fixed"

@@ -42,8 +42,8 @@
 //!
 //! Limits: [`MAX_SIGNALS`] signals per epoch, [`MAX_EPOCHS`] epochs per call, at most
 //! [`crate::lambda::ldl::MAX_DIMENSION`] ambiguities in one solution; attitude mode: at most
-//! [`constrained::MAX_ROVERS`] rovers, [`constrained::CANDIDATES`] integer candidates per rover and
-//! [`constrained::MAX_COMBINATIONS`] combinations scored.
+//! [`constrained::MAX_ROVERS`] rovers, [`constrained::MAX_CANDIDATES`] integer candidates per rover and
+//! [`constrained::MAX_COMBINATIONS`] combinations scored per search.
 //!
 //! Cost (`benches/gnss.rs`, group `rtk_87dd`, one epoch of 87 double differences, shared 2-core bench
 //! machine): float solution about 0.36 ms, [`crate::lambda::Problem::new`] (decorrelation and its exact
