@@ -29,6 +29,11 @@ BODY = ANT[1:] - ANT[0]
 WRONG_M = 0.04
 #: Largest angle error of a fixed epoch in units of the engine's one-sigma.
 WRONG_SIGMAS = 5.0
+#: Fewest of the 20 single epochs fixed: six GPS L1 satellites leave most epochs below the constrained
+#: gate (exact ratio >= 3 against the true second best, simulated success rate >= 0.95): 6 measured with
+#: the exact search, 3 with the 200-candidate lists before it (whose truncated second best refused more).
+#: The bound is what would catch a gate that refuses everything; rightness is checked on every fix.
+MIN_FIXED = 5
 
 
 def _euler() -> np.ndarray:
@@ -66,7 +71,7 @@ def _fixed_errors(series: AttitudeSeries, s: SimulatedRinex) -> np.ndarray:
 def test_single_epoch_constrained_fix_matches_truth(rotating: SimulatedRinex) -> None:
     s = rotating
     sol = _solve(s.obs_paths, s.nav_path)
-    assert sol.fixed.sum() >= 10
+    assert sol.fixed.sum() >= MIN_FIXED
     err = _fixed_errors(sol, s)
     assert err.max() < WRONG_M, err.max()
     # the fitted rotation carries the body baselines onto the true ones (mm-level baselines -> sub-degree)
@@ -108,7 +113,7 @@ def test_attitude_lambda_and_windowed_ml_agree_with_truth(rotating: SimulatedRin
         [(-s.euler_gost_deg[:, 0]) % 360.0, s.euler_gost_deg[:, 1], s.euler_gost_deg[:, 2]], axis=1
     )
     lam = attitude_from_rinex(s.obs_paths, s.nav_path, BODY, method="lambda", elevation_mask_deg=5.0)
-    assert set(lam.method) == {"lambda"} and lam.fixed.sum() >= 10
+    assert set(lam.method) == {"lambda"} and lam.fixed.sum() >= MIN_FIXED
     d = (lam.angles_deg[lam.fixed == 1] - truth[lam.fixed == 1] + 180.0) % 360.0 - 180.0
     assert np.max(np.abs(d)) < 1.5  # 5-sigma of ~ 3 mm baseline errors over 1 m
     full = attitude_from_rinex(s.obs_paths, s.nav_path, BODY, method="ml", elevation_mask_deg=5.0)
