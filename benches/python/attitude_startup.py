@@ -16,8 +16,8 @@ run with bytecode caching on (``PYTHONDONTWRITEBYTECODE`` removed; the warm-up s
 Besides the command of the comparison (``--no-plot``), the rows are the floor every start pays (the
 interpreter, numpy: the engine's results are numpy arrays), the command as a user types it, which also
 writes the plot (matplotlib), and with ``--before DIR`` the same command run from another checkout's
-``python/`` folder (``PYTHONPATH=DIR``; its ``gnssatt/_core*.so`` built or copied there), so that a change is
-measured against its base in the same alternation.
+``python/`` folder (``PYTHONPATH=DIR``; its ``gnssatt/_core*.so`` built or copied there), without and with
+the plot, so that a change is measured against its base in the same alternation.
 """
 
 from __future__ import annotations
@@ -72,8 +72,10 @@ def main() -> None:
         "gnssatt attitude, with the plot (the default)": gnssatt,
     }
     before = f"gnssatt attitude, PYTHONPATH={args.before}"
+    before_plot = f"gnssatt attitude, with the plot, PYTHONPATH={args.before}"
     if args.before:
         commands[before] = [*gnssatt, "--no-plot"]
+        commands[before_plot] = gnssatt
     if args.rnx2rtkp:
         conf = args.conf.resolve() / "kinematic-instantaneous.conf"
         files = [str(d / f) for f in ("30400920.05o", "07590920.05o", "07590920.05n", "30400920.05n")]
@@ -83,7 +85,7 @@ def main() -> None:
         ]  # fmt: skip
     envs = dict.fromkeys(commands, _ENV)
     if args.before:
-        envs[before] = _ENV | {"PYTHONPATH": str(args.before.resolve())}
+        envs[before] = envs[before_plot] = _ENV | {"PYTHONPATH": str(args.before.resolve())}
     times: dict[str, list[tuple[float, float]]] = {k: [] for k in commands}
     with tempfile.TemporaryDirectory() as folder:
         for name, cmd in commands.items():  # warm the file cache, write the bytecode
