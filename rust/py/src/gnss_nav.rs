@@ -8,7 +8,7 @@ use gnssatt_core::gnss::geometry::satellite_geometry;
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations};
 use gnssatt_core::gnss::options::EngineOptions;
 use gnssatt_core::gnss::signal::{System, MAX_FREQUENCIES};
-use gnssatt_core::gnss::spp::single_points;
+use gnssatt_core::gnss::spp::{single_points, SppSolution};
 use nalgebra::Vector3;
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
@@ -202,6 +202,16 @@ fn gnss_single_point<'py>(
         ))
     })?;
     warn_all(py, &skipped)?;
+    Ok(single_points_rows(py, &solutions, ne))
+}
+
+/// The `ne` rows of [`SinglePoints`], one per epoch of `solutions`: NaN (and 0 satellites) where an
+/// epoch has no solution.
+fn single_points_rows(
+    py: Python<'_>,
+    solutions: &[Option<SppSolution>],
+    ne: usize,
+) -> SinglePoints {
     let pos = Array2::from_shape_fn((ne, 3), |(i, j)| {
         solutions[i].as_ref().map_or(f64::NAN, |s| s.position_m[j])
     });
@@ -220,14 +230,14 @@ fn gnss_single_point<'py>(
             .as_ref()
             .map_or(0, |s| s.satellites_per_system[j] as i64)
     });
-    Ok(SinglePoints {
+    SinglePoints {
         position_m: pos.into_pyarray(py).unbind(),
         clock_s: clk.into_pyarray(py).unbind(),
         satellites: n.into_pyarray(py).unbind(),
         residual_rms_m: rms.into_pyarray(py).unbind(),
         pdop: pdop.into_pyarray(py).unbind(),
         satellites_per_system: per_system.into_pyarray(py).unbind(),
-    })
+    }
 }
 
 result_type! {

@@ -130,6 +130,31 @@ fn length(py: Python<'_>, dict: &Bound<'_, PyDict>, table: &'static str) -> PyRe
     sat.len()
 }
 
+/// The one-value float columns of the `kepler` table, in the order `kepler_records` reads them (`c(k)`
+/// there is column `k` of this list).
+const KEPLER_FLOAT_COLUMNS: [&str; 20] = [
+    "crs",
+    "delta_n",
+    "m0",
+    "cuc",
+    "e",
+    "cus",
+    "sqrt_a",
+    "cic",
+    "omega0",
+    "cis",
+    "i0",
+    "crc",
+    "omega",
+    "omega_dot",
+    "idot",
+    "health",
+    "iode",
+    "accuracy_m",
+    "fit_interval_h",
+    "data_source",
+];
+
 fn kepler_records(py: Python<'_>, dict: &Bound<'_, PyDict>) -> PyResult<Vec<KeplerRecord>> {
     let n = length(py, dict, "kepler")?;
     if n == 0 {
@@ -145,29 +170,7 @@ fn kepler_records(py: Python<'_>, dict: &Bound<'_, PyDict>) -> PyResult<Vec<Kepl
     let toe = t.ints("toe_gpst_ns")?;
     let af = t.floats("af", 3)?;
     let tgd = t.floats("tgd_s", 2)?;
-    let names = [
-        "crs",
-        "delta_n",
-        "m0",
-        "cuc",
-        "e",
-        "cus",
-        "sqrt_a",
-        "cic",
-        "omega0",
-        "cis",
-        "i0",
-        "crc",
-        "omega",
-        "omega_dot",
-        "idot",
-        "health",
-        "iode",
-        "accuracy_m",
-        "fit_interval_h",
-        "data_source",
-    ];
-    let cols = names
+    let cols = KEPLER_FLOAT_COLUMNS
         .iter()
         .map(|k| t.floats(k, 1))
         .collect::<PyResult<Vec<_>>>()?;

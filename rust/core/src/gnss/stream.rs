@@ -162,6 +162,84 @@ fn leaves_epoch_unsolved(e: &Error) -> bool {
     !matches!(e, Error::Interrupted { .. } | Error::TooLarge { .. })
 }
 
+/// The receiver count against [`MAX_RECEIVERS`] and the per-rover option lists (body baselines, baseline
+/// lengths): each empty or one entry per rover.
+fn check_receivers(opts: &EngineOptions, n_receivers: usize) -> Result<()> {
+    if !(2..=MAX_RECEIVERS).contains(&n_receivers) {
+        return Err(Error::out_of_range(
+            "observations",
+            format!("expected 2..={MAX_RECEIVERS} receivers, got {n_receivers}"),
+        ));
+    }
+    if !opts.body_baselines_m.is_empty() && opts.body_baselines_m.len() + 1 != n_receivers {
+        return Err(Error::out_of_range(
+            "baselines",
+            format!(
+                "expected one body baseline per rover ({}), got {}",
+                n_receivers - 1,
+                opts.body_baselines_m.len()
+            ),
+        ));
+    }
+    if !opts.baseline_lengths_m.is_empty() && opts.baseline_lengths_m.len() + 1 != n_receivers {
+        return Err(Error::out_of_range(
+            "--baseline-length",
+            format!(
+                "expected one length per rover ({}), got {}",
+                n_receivers - 1,
+                opts.baseline_lengths_m.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// One warning per requested system that is observed but has no ephemeris for any of its satellites:
+/// otherwise the user would see its satellites silently unused.
+fn warn_systems_without_ephemeris(
+    opts: &EngineOptions,
+    sats: &[SatId],
+    eph: &Ephemerides,
+    warnings: &mut Vec<String>,
+) {
+    for &system in &opts.systems {
+        let seen: Vec<&SatId> = sats.iter().filter(|s| s.system == system).collect();
+        if !seen.is_empty() && !seen.iter().any(|&&s| eph.has(s)) {
+            warnings.push(format!(
+                "--systems includes {} ({}), but the navigation data has no ephemeris of any of its \
+                 {} satellites observed: none of them is used",
+                system.letter(),
+                system.slot_names()[0],
+                seen.len()
+            ));
+        }
+    }
+}
+
+/// One baseline filter per rover when `opts.filter` asks for one (none otherwise), each with its rigid
+/// length: a given length (metres) first, else the body baseline's norm (attitude mode), else learned
+/// when `opts.rigid`.
+fn rover_filters(opts: &EngineOptions, n_rovers: usize) -> Result<Vec<BaselineFilter>> {
+    Ok(match opts.filter {
+        Some(d) => (0..n_rovers)
+            .map(|r| {
+                let f = BaselineFilter::new(d)?;
+                // Attitude mode: each rover's body baseline gives its length.
+                let body = opts
+                    .body_baselines_m
+                    .get(r)
+                    .map(|b| Vector3::from(*b).norm());
+                Ok(match opts.baseline_lengths_m.get(r).copied().or(body) {
+                    Some(l) => f.with_length(RigidLength::known(l)),
+                    None if opts.rigid => f.with_length(RigidLength::learned()),
+                    None => f,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?,
+        None => Vec::new(),
+    })
+}
+
 impl Engine {
     /// Checks the options and builds the ephemerides.
     ///
@@ -183,32 +261,7 @@ impl Engine {
         n_receivers: usize,
     ) -> Result<Engine> {
         opts.validate()?;
-        if !(2..=MAX_RECEIVERS).contains(&n_receivers) {
-            return Err(Error::out_of_range(
-                "observations",
-                format!("expected 2..={MAX_RECEIVERS} receivers, got {n_receivers}"),
-            ));
-        }
-        if !opts.body_baselines_m.is_empty() && opts.body_baselines_m.len() + 1 != n_receivers {
-            return Err(Error::out_of_range(
-                "baselines",
-                format!(
-                    "expected one body baseline per rover ({}), got {}",
-                    n_receivers - 1,
-                    opts.body_baselines_m.len()
-                ),
-            ));
-        }
-        if !opts.baseline_lengths_m.is_empty() && opts.baseline_lengths_m.len() + 1 != n_receivers {
-            return Err(Error::out_of_range(
-                "--baseline-length",
-                format!(
-                    "expected one length per rover ({}), got {}",
-                    n_receivers - 1,
-                    opts.baseline_lengths_m.len()
-                ),
-            ));
-        }
+        check_receivers(&opts, n_receivers)?;
         if glonass_channel.len() != sats.len() {
             return Err(Error::Shape {
                 name: "glonass_channel",
@@ -218,37 +271,9 @@ impl Engine {
         }
         let eph = Ephemerides::new(nav)?;
         let mut warnings = eph.skip_warnings();
-        for &system in &opts.systems {
-            let seen: Vec<&SatId> = sats.iter().filter(|s| s.system == system).collect();
-            if !seen.is_empty() && !seen.iter().any(|&&s| eph.has(s)) {
-                warnings.push(format!(
-                    "--systems includes {} ({}), but the navigation data has no ephemeris of any of its \
-                     {} satellites observed: none of them is used",
-                    system.letter(),
-                    system.slot_names()[0],
-                    seen.len()
-                ));
-            }
-        }
+        warn_systems_without_ephemeris(&opts, &sats, &eph, &mut warnings);
         let n_rovers = n_receivers - 1;
-        let filters = match opts.filter {
-            Some(d) => (0..n_rovers)
-                .map(|r| {
-                    let f = BaselineFilter::new(d)?;
-                    // Attitude mode: each rover's body baseline gives its length.
-                    let body = opts
-                        .body_baselines_m
-                        .get(r)
-                        .map(|b| Vector3::from(*b).norm());
-                    Ok(match opts.baseline_lengths_m.get(r).copied().or(body) {
-                        Some(l) => f.with_length(RigidLength::known(l)),
-                        None if opts.rigid => f.with_length(RigidLength::learned()),
-                        None => f,
-                    })
-                })
-                .collect::<Result<Vec<_>>>()?,
-            None => Vec::new(),
-        };
+        let filters = rover_filters(&opts, n_rovers)?;
         Ok(Engine {
             eph,
             nav: nav.clone(),

@@ -71,6 +71,43 @@ fn circular(sat: SatId, radius_m: f64, plane: usize, slot: usize) -> KeplerRecor
 /// `n_epochs` epochs 1 s apart of the base and one antenna per `offsets_enu_m` entry (module
 /// documentation), noise from `seed`.
 pub fn session(n_epochs: usize, offsets_enu_m: &[[f64; 3]], seed: u64) -> Session {
+    let (nav, sats) = constellation();
+    let eph = Ephemerides::new(&nav).expect("circular records are valid");
+    let (lat, lon, h) = (35.7f64.to_radians(), 139.7f64.to_radians(), 50.0);
+    let base = ecef_from_geodetic_m(lat, lon, h);
+    let (glat, _, gh) = geodetic_from_ecef(&base);
+    let ecef_from_enu = enu_from_ecef(lat, lon).transpose();
+    let mut positions = vec![base];
+    positions.extend(
+        offsets_enu_m
+            .iter()
+            .map(|o| base + ecef_from_enu * Vector3::from(*o)),
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut obs = Observations {
+        time_gpst_ns: (0..n_epochs as i64)
+            .map(|k| T0_GPST_NS + k * 1_000_000_000)
+            .collect(),
+        glonass_channel: vec![None; sats.len()],
+        sats,
+        receivers: Vec::new(),
+    };
+    // The receivers in turn draw from one generator: each its ambiguities, then its noise.
+    for (r, pos) in positions.iter().enumerate() {
+        let clock_s = CLOCKS_S[r % CLOCKS_S.len()];
+        let rx = receiver(&obs, &eph, pos, clock_s, (glat, gh), &mut rng);
+        obs.receivers.push(rx);
+    }
+    Session {
+        obs,
+        nav,
+        base_m: base.into(),
+    }
+}
+
+/// The broadcast records of the 24 satellites each of GPS, Galileo and BeiDou, and the satellites in
+/// the order of the observations.
+fn constellation() -> (NavData, Vec<SatId>) {
     let mut nav = NavData::default();
     let mut sats = Vec::new();
     for i in 0..24 {
@@ -84,79 +121,72 @@ pub fn session(n_epochs: usize, offsets_enu_m: &[[f64; 3]], seed: u64) -> Sessio
             sats.push(sat);
         }
     }
-    let eph = Ephemerides::new(&nav).expect("circular records are valid");
-    let (lat, lon, h) = (35.7f64.to_radians(), 139.7f64.to_radians(), 50.0);
+    (nav, sats)
+}
+
+/// ECEF position (m) of WGS 84 geodetic latitude and longitude `lat`, `lon` (rad) and height `h` (m).
+fn ecef_from_geodetic_m(lat: f64, lon: f64, h: f64) -> Vector3<f64> {
     let (a, e2) = (6_378_137.0, 6.694_379_990_14e-3);
     let nu = a / (1.0 - e2 * lat.sin().powi(2)).sqrt();
-    let base = Vector3::new(
+    Vector3::new(
         (nu + h) * lat.cos() * lon.cos(),
         (nu + h) * lat.cos() * lon.sin(),
         (nu * (1.0 - e2) + h) * lat.sin(),
-    );
-    let (glat, _, gh) = geodetic_from_ecef(&base);
-    let ecef_from_enu = enu_from_ecef(lat, lon).transpose();
-    let mut positions = vec![base];
-    positions.extend(
-        offsets_enu_m
-            .iter()
-            .map(|o| base + ecef_from_enu * Vector3::from(*o)),
-    );
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut gauss = move |sigma: f64| {
-        // Box-Muller.
-        let (u1, u2): (f64, f64) = (rng.random::<f64>().max(1e-300), rng.random());
-        sigma * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    };
-    let mut obs = Observations {
-        time_gpst_ns: (0..n_epochs as i64)
-            .map(|k| T0_GPST_NS + k * 1_000_000_000)
-            .collect(),
-        glonass_channel: vec![None; sats.len()],
-        sats,
-        receivers: Vec::new(),
-    };
+    )
+}
+
+/// A Gaussian draw of standard deviation `sigma` (Box-Muller, one uniform pair per draw).
+fn gauss(rng: &mut ChaCha8Rng, sigma: f64) -> f64 {
+    let (u1, u2): (f64, f64) = (rng.random::<f64>().max(1e-300), rng.random());
+    sigma * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// The observations of the antenna at `pos` (ECEF m, clock `clock_s` s) for every epoch and signal of
+/// `obs` the satellite is above the tracking mask; `site` is the base's geodetic latitude (rad) and
+/// height (m) for the troposphere.
+fn receiver(
+    obs: &Observations,
+    eph: &Ephemerides,
+    pos: &Vector3<f64>,
+    clock_s: f64,
+    (glat, gh): (f64, f64),
+    rng: &mut ChaCha8Rng,
+) -> ReceiverObservations {
+    let n_epochs = obs.time_gpst_ns.len();
     let cells = n_epochs * obs.n_sats() * MAX_FREQUENCIES;
-    for (r, pos) in positions.iter().enumerate() {
-        let clock_s = CLOCKS_S[r % CLOCKS_S.len()];
-        let mut rx = ReceiverObservations {
-            code_m: vec![f64::NAN; cells],
-            phase_cycles: vec![f64::NAN; cells],
-            doppler_hz: vec![f64::NAN; cells],
-            snr_dbhz: vec![f64::NAN; cells],
-            lli: vec![0; cells],
-            approx_position_m: Some((*pos).into()),
-        };
-        let ambiguities: Vec<f64> = (0..obs.n_sats() * MAX_FREQUENCIES)
-            .map(|_| (gauss(1.0) * 1e5).round())
-            .collect();
-        for k in 0..n_epochs {
-            let t = obs.time_gpst_ns[k];
-            for (s, &id) in obs.sats.iter().enumerate() {
-                let Some(g) = satellite_geometry(&eph, id, t, clock_s, pos) else {
+    let mut rx = ReceiverObservations {
+        code_m: vec![f64::NAN; cells],
+        phase_cycles: vec![f64::NAN; cells],
+        doppler_hz: vec![f64::NAN; cells],
+        snr_dbhz: vec![f64::NAN; cells],
+        lli: vec![0; cells],
+        approx_position_m: Some((*pos).into()),
+    };
+    let ambiguities: Vec<f64> = (0..obs.n_sats() * MAX_FREQUENCIES)
+        .map(|_| (gauss(rng, 1.0) * 1e5).round())
+        .collect();
+    for k in 0..n_epochs {
+        let t = obs.time_gpst_ns[k];
+        for (s, &id) in obs.sats.iter().enumerate() {
+            let Some(g) = satellite_geometry(eph, id, t, clock_s, pos) else {
+                continue;
+            };
+            if g.elevation_rad < TRACKING_MASK_RAD {
+                continue;
+            }
+            let rho_m = g.range_m
+                + SPEED_OF_LIGHT_M_S * (clock_s - g.clock_s)
+                + troposphere_delay_at_m(glat, gh, g.elevation_rad, t);
+            for slot in 0..MAX_FREQUENCIES {
+                let Some(f) = obs.frequency_hz(s, slot) else {
                     continue;
                 };
-                if g.elevation_rad < TRACKING_MASK_RAD {
-                    continue;
-                }
-                let rho_m = g.range_m
-                    + SPEED_OF_LIGHT_M_S * (clock_s - g.clock_s)
-                    + troposphere_delay_at_m(glat, gh, g.elevation_rad, t);
-                for slot in 0..MAX_FREQUENCIES {
-                    let Some(f) = obs.frequency_hz(s, slot) else {
-                        continue;
-                    };
-                    let i = obs.index(k, s, slot);
-                    rx.code_m[i] = rho_m + gauss(0.3);
-                    rx.phase_cycles[i] = (rho_m + gauss(0.003)) * f / SPEED_OF_LIGHT_M_S
-                        + ambiguities[s * MAX_FREQUENCIES + slot];
-                }
+                let i = obs.index(k, s, slot);
+                rx.code_m[i] = rho_m + gauss(rng, 0.3);
+                rx.phase_cycles[i] = (rho_m + gauss(rng, 0.003)) * f / SPEED_OF_LIGHT_M_S
+                    + ambiguities[s * MAX_FREQUENCIES + slot];
             }
         }
-        obs.receivers.push(rx);
     }
-    Session {
-        obs,
-        nav,
-        base_m: base.into(),
-    }
+    rx
 }

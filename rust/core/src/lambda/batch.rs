@@ -125,23 +125,7 @@ pub fn check_search_work(total_nodes: u64, n: usize) -> Result<()> {
 /// [`Error::Interrupted`] on [`crate::interrupt::request`].
 pub fn ils_batch(a: &[f64], q: &[f64], n: usize, m: usize) -> Result<BatchSolution> {
     check_candidates(m)?;
-    if n == 0 || !a.len().is_multiple_of(n) {
-        return Err(Error::Shape {
-            name: "float_ambiguities",
-            expected: "(k, n) with n >= 1".into(),
-            actual: format!("{} values for n = {n}", a.len()),
-        });
-    }
-    let k = a.len() / n;
-    let nn = n * n;
-    let shared = q.len() == nn;
-    if !shared && q.len() != k * nn {
-        return Err(Error::Shape {
-            name: "covariance",
-            expected: format!("({n}, {n}) or ({k}, {n}, {n})"),
-            actual: format!("{} values", q.len()),
-        });
-    }
+    let (k, shared) = batch_shape(a, q, n)?;
     check_batch_work(k, n)?;
     let nodes = AtomicU64::new(0);
     // The lowest problem known to fail: problems after it need not run (their answer is not returned).
@@ -200,11 +184,41 @@ pub fn ils_batch(a: &[f64], q: &[f64], n: usize, m: usize) -> Result<BatchSoluti
             .map(run)
             .collect()
     };
+    first_error(solved)?;
+    Ok(out)
+}
+
+/// The number of problems `k` of a batch of `a.len()` float ambiguities, `n` per problem, and whether
+/// the covariances `q` are one shared by all (`n n` values) rather than one per problem (`k n n`).
+fn batch_shape(a: &[f64], q: &[f64], n: usize) -> Result<(usize, bool)> {
+    if n == 0 || !a.len().is_multiple_of(n) {
+        return Err(Error::Shape {
+            name: "float_ambiguities",
+            expected: "(k, n) with n >= 1".into(),
+            actual: format!("{} values for n = {n}", a.len()),
+        });
+    }
+    let k = a.len() / n;
+    let nn = n * n;
+    let shared = q.len() == nn;
+    if !shared && q.len() != k * nn {
+        return Err(Error::Shape {
+            name: "covariance",
+            expected: format!("({n}, {n}) or ({k}, {n}, {n})"),
+            actual: format!("{} values", q.len()),
+        });
+    }
+    Ok((k, shared))
+}
+
+/// The error of the lowest-numbered problem that failed or was not run, named `problem p`; problems
+/// after a failure are skipped, so an unsolved one comes only after the failure that stopped it.
+fn first_error(solved: Vec<Option<Result<()>>>) -> Result<()> {
     for (p, s) in solved.into_iter().enumerate() {
         s.ok_or_else(|| Error::numerical("LAMBDA batch", format!("problem {p} was not solved")))?
             .map_err(|e| at_problem(e, p))?;
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Problem p's place in the batch's output: its integers, norms and nodes.

@@ -63,46 +63,13 @@ pub(crate) fn verify_parts(
         ));
     }
     check_factor_finite(factor)?;
-    let Ltdl { l, d } = factor;
-    for m in [
-        &mut b.qz,
-        &mut b.zqz,
-        &mut b.zt,
-        &mut b.za,
-        &mut b.qa,
-        &mut b.qa_za,
-        &mut b.dl,
-        &mut b.lt,
-        &mut b.ltdl,
-    ] {
-        shape_to(m, n, n);
-    }
+    b.shape_all(n);
     product(q, zf, &mut b.qz);
     // (An explicit transpose sends a large product to the blocked matrix multiplication.)
     zf.transpose_to(&mut b.zt);
     product(&b.zt, &b.qz, &mut b.zqz);
-    // Only the diagonal of the rounding scale B = |Z|^T |Q| |Z| + |L|^T D |L| is needed.
-    abs_into(zf, &mut b.za);
-    abs_into(q, &mut b.qa);
-    product(&b.qa, &b.za, &mut b.qa_za);
-    b.bound.clear();
-    b.bound.extend((0..n).map(|k| {
-        let bq = b.za.column(k).dot(&b.qa_za.column(k));
-        let lk = &l.as_slice()[k * n + k..(k + 1) * n];
-        let bl: f64 = lk
-            .iter()
-            .zip(&d.as_slice()[k..])
-            .map(|(v, di)| v * v * di)
-            .sum();
-        bq + bl
-    }));
-    for j in 0..n {
-        for i in 0..n {
-            b.dl[(i, j)] = d[i] * l[(i, j)];
-        }
-    }
-    l.transpose_to(&mut b.lt);
-    product(&b.lt, &b.dl, &mut b.ltdl);
+    b.rounding_scale_diagonal(q, zf, factor, n);
+    b.ltdl_product(factor, n);
     let (zqz, ltdl) = (&mut b.zqz, &b.ltdl);
     let (ratio, i, j) = worst_gap(zqz, ltdl, &b.bound);
     if ratio.is_nan() || ratio > IDENTITY_TOLERANCE {
@@ -117,6 +84,71 @@ pub(crate) fn verify_parts(
             ),
         ));
     }
+    symmetrise(zqz, n);
+    Ok(())
+}
+
+impl VerifyBuffers {
+    /// Every product buffer `n x n`, reusing what is allocated.
+    fn shape_all(&mut self, n: usize) {
+        for m in [
+            &mut self.qz,
+            &mut self.zqz,
+            &mut self.zt,
+            &mut self.za,
+            &mut self.qa,
+            &mut self.qa_za,
+            &mut self.dl,
+            &mut self.lt,
+            &mut self.ltdl,
+        ] {
+            shape_to(m, n, n);
+        }
+    }
+
+    /// `self.bound`: the diagonal of the rounding scale `B = |Z|^T |Q| |Z| + |L|^T D |L|` (only the
+    /// diagonal is needed), through `self.za`, `self.qa` and `self.qa_za`.
+    fn rounding_scale_diagonal(
+        &mut self,
+        q: &DMatrix<f64>,
+        zf: &DMatrix<f64>,
+        factor: &Ltdl,
+        n: usize,
+    ) {
+        let Ltdl { l, d } = factor;
+        abs_into(zf, &mut self.za);
+        abs_into(q, &mut self.qa);
+        product(&self.qa, &self.za, &mut self.qa_za);
+        let (za, qa_za) = (&self.za, &self.qa_za);
+        self.bound.clear();
+        self.bound.extend((0..n).map(|k| {
+            let bq = za.column(k).dot(&qa_za.column(k));
+            let lk = &l.as_slice()[k * n + k..(k + 1) * n];
+            let bl: f64 = lk
+                .iter()
+                .zip(&d.as_slice()[k..])
+                .map(|(v, di)| v * v * di)
+                .sum();
+            bq + bl
+        }));
+    }
+
+    /// `self.ltdl = L^T D L` of the factor, through `self.dl` and `self.lt`.
+    fn ltdl_product(&mut self, factor: &Ltdl, n: usize) {
+        let Ltdl { l, d } = factor;
+        for j in 0..n {
+            for i in 0..n {
+                self.dl[(i, j)] = d[i] * l[(i, j)];
+            }
+        }
+        l.transpose_to(&mut self.lt);
+        product(&self.lt, &self.dl, &mut self.ltdl);
+    }
+}
+
+/// Replaces `zqz` (`n x n`) by the mean of it and its transpose, so that the product handed on is
+/// exactly symmetric (rounding leaves the two triangles apart in the last bits).
+fn symmetrise(zqz: &mut DMatrix<f64>, n: usize) {
     for j in 0..n {
         for i in (j + 1)..n {
             let mean = 0.5 * (zqz[(i, j)] + zqz[(j, i)]);
@@ -124,7 +156,6 @@ pub(crate) fn verify_parts(
             zqz[(j, i)] = mean;
         }
     }
-    Ok(())
 }
 
 /// Largest n whose products `product` forms itself (`mul_into`); above it nalgebra's blocked product

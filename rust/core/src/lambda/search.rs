@@ -160,26 +160,13 @@ pub(crate) fn search_into(
     out: &mut [f64],
     norms: &mut Vec<f64>,
 ) -> Result<u64> {
+    check_search_input(factor, zhat, m)?;
     let Ltdl { l, d } = factor;
     let n = d.len();
-    if zhat.len() != n || l.shape() != (n, n) {
-        return Err(Error::Shape {
-            name: "float ambiguities",
-            expected: format!("({n},)"),
-            actual: format!("({},)", zhat.len()),
-        });
-    }
-    check_candidates(m)?;
+    b.reset(n, m);
     // acc[(k, j)], j <= k: sum over i > k of (z_i - zb_i) L_ij, so that zb_k = zhat_k + acc[(k, k)].
     // (Column-major n x n: acc[(k, j)] at j n + k.) Everything is borrowed as plain slices, which the
     // optimiser knows do not alias one another, unlike the vectors behind `b`.
-    for v in [&mut b.acc, &mut b.dist, &mut b.zb, &mut b.z, &mut b.step] {
-        v.clear();
-    }
-    b.acc.resize(n * n, 0.0);
-    for v in [&mut b.dist, &mut b.zb, &mut b.z, &mut b.step] {
-        v.resize(n, 0.0);
-    }
     let acc = &mut b.acc[..];
     let (dist, zb, z, step) = (
         &mut b.dist[..],
@@ -187,29 +174,10 @@ pub(crate) fn search_into(
         &mut b.z[..],
         &mut b.step[..],
     );
-    // The m candidates live in one n x m store (a leaf overwrites the slot of the worst it replaces):
-    // no allocation inside the search.
-    b.store.clear();
-    b.store.resize(n * m, 0.0);
     let store = &mut b.store[..];
     let best = &mut b.best;
-    best.clear();
-    best.reserve(m);
     let mut radius = f64::INFINITY;
     let mut nodes = 0u64;
-
-    let start = |k: usize, zb: &mut [f64], z: &mut [f64], step: &mut [f64], value: f64| -> f64 {
-        zb[k] = value;
-        z[k] = value.round();
-        let y = value - z[k];
-        step[k] = if y <= 0.0 { -1.0 } else { 1.0 };
-        y
-    };
-    let next = |k: usize, zb: &[f64], z: &mut [f64], step: &mut [f64]| -> f64 {
-        z[k] += step[k];
-        step[k] = -step[k] - step[k].signum();
-        zb[k] - z[k]
-    };
 
     let mut k = n - 1;
     let mut y = start(k, zb, z, step, zhat[k]);
@@ -258,16 +226,93 @@ pub(crate) fn search_into(
     }
     // Only an overflow of the partial norms (inf is never < inf) leaves fewer than m candidates.
     if best.len() < m {
-        return Err(Error::numerical(
-            "integer least-squares search",
-            format!(
-                "only {} of {m} candidates have a finite squared norm (dimension {n}, smallest \
-                 conditional variance {:.3e}): the norms exceed the f64 range",
-                best.len(),
-                d.min()
-            ),
-        ));
+        return Err(too_few_finite(best.len(), m, d));
     }
+    hand_out_sorted(best, store, n, out, norms);
+    Ok(nodes)
+}
+
+/// Level `k`'s first value: the conditional estimate `value` (cycles) rounded, with the direction of the
+/// next nearest integer in `step[k]`; returns the residual `value - z[k]`.
+#[inline(always)]
+fn start(k: usize, zb: &mut [f64], z: &mut [f64], step: &mut [f64], value: f64) -> f64 {
+    zb[k] = value;
+    z[k] = value.round();
+    let y = value - z[k];
+    step[k] = if y <= 0.0 { -1.0 } else { 1.0 };
+    y
+}
+
+/// Level `k`'s next value in Schnorr-Euchner order (alternating sides, ever farther from `zb[k]`);
+/// returns the new residual `zb[k] - z[k]`, cycles.
+#[inline(always)]
+fn next(k: usize, zb: &[f64], z: &mut [f64], step: &mut [f64]) -> f64 {
+    z[k] += step[k];
+    step[k] = -step[k] - step[k].signum();
+    zb[k] - z[k]
+}
+
+/// The error of a search that kept only `found` of `m` candidates, `d` the conditional variances.
+fn too_few_finite(found: usize, m: usize, d: &DVector<f64>) -> Error {
+    Error::numerical(
+        "integer least-squares search",
+        format!(
+            "only {found} of {m} candidates have a finite squared norm (dimension {}, smallest \
+             conditional variance {:.3e}): the norms exceed the f64 range",
+            d.len(),
+            d.min()
+        ),
+    )
+}
+
+/// The input checks of [`search_into`]: `zhat` and `L` of the factor's dimension, and
+/// [`check_candidates`].
+fn check_search_input(factor: &Ltdl, zhat: &[f64], m: usize) -> Result<()> {
+    let n = factor.d.len();
+    if zhat.len() != n || factor.l.shape() != (n, n) {
+        return Err(Error::Shape {
+            name: "float ambiguities",
+            expected: format!("({n},)"),
+            actual: format!("({},)", zhat.len()),
+        });
+    }
+    check_candidates(m)
+}
+
+impl SearchBuffers {
+    /// Zeroes the scratch for a search of `n` ambiguities and `m` candidates, reusing what is allocated.
+    fn reset(&mut self, n: usize, m: usize) {
+        for v in [
+            &mut self.acc,
+            &mut self.dist,
+            &mut self.zb,
+            &mut self.z,
+            &mut self.step,
+        ] {
+            v.clear();
+        }
+        self.acc.resize(n * n, 0.0);
+        for v in [&mut self.dist, &mut self.zb, &mut self.z, &mut self.step] {
+            v.resize(n, 0.0);
+        }
+        // The m candidates live in one n x m store (a leaf overwrites the slot of the worst it
+        // replaces): no allocation inside the search.
+        self.store.clear();
+        self.store.resize(n * m, 0.0);
+        self.best.clear();
+        self.best.reserve(m);
+    }
+}
+
+/// Copies the kept candidates from `store` into `out` best first (n values each, column after column)
+/// and their squared norms into `norms`, leaving `best` empty.
+fn hand_out_sorted(
+    best: &mut BinaryHeap<Kept>,
+    store: &[f64],
+    n: usize,
+    out: &mut [f64],
+    norms: &mut Vec<f64>,
+) {
     // The heap's own storage, sorted ascending, and handed back empty: no allocation.
     let sorted = std::mem::take(best).into_sorted_vec();
     norms.clear();
@@ -278,7 +323,6 @@ pub(crate) fn search_into(
     let mut sorted = sorted;
     sorted.clear();
     *best = BinaryHeap::from(sorted);
-    Ok(nodes)
 }
 
 #[cfg(test)]

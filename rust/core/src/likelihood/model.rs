@@ -91,6 +91,147 @@ fn wrap(x: f64) -> f64 {
     (x + PI).rem_euclid(TAU) - PI
 }
 
+/// Checks the body-frame baselines (at least one, finite, none of zero length, not all collinear) and
+/// returns the longest one's length, metres.
+fn check_baselines(baselines: &[Vector3<f64>]) -> Result<f64> {
+    let nb = baselines.len();
+    if nb == 0 {
+        return Err(Error::Shape {
+            name: "baselines",
+            expected: "(m, 3) with m >= 1".into(),
+            actual: "(0, 3)".into(),
+        });
+    }
+    ensure_finite("baselines", baselines.iter().flat_map(|b| b.iter()))?;
+    if let Some(i) = baselines.iter().position(|b| b.norm() < 1e-9) {
+        return Err(Error::out_of_range(
+            "baselines",
+            format!("baseline {i} has zero length"),
+        ));
+    }
+    let l_max_m = baselines.iter().map(|b| b.norm()).fold(0.0, f64::max);
+    if nb >= 2 {
+        let best = baselines
+            .iter()
+            .flat_map(|a| baselines.iter().map(move |b| a.cross(b).norm()))
+            .fold(0.0, f64::max);
+        let ratio = best / (l_max_m * l_max_m);
+        if ratio < 1e-6 {
+            return Err(Error::DegenerateGeometry {
+                what: "baselines are collinear: roll about them is not observable".into(),
+                matrix: "baseline Gram matrix",
+                condition: 1.0 / ratio.max(f64::MIN_POSITIVE),
+            });
+        }
+    }
+    Ok(l_max_m)
+}
+
+/// Checks one epoch against `nb` baselines: shapes, finiteness, at least 3 satellites, positive
+/// wavelengths and unit lines of sight.
+fn check_epoch(e: &Epoch, nb: usize) -> Result<()> {
+    let m = e.los_enu.len();
+    if e.phase_diffs.len() != nb || e.phase_diffs.iter().any(|r| r.len() != m) {
+        return Err(Error::Shape {
+            name: "phase_diffs",
+            expected: format!("({nb}, {m}) per epoch (baselines, satellites)"),
+            actual: format!(
+                "({}, {})",
+                e.phase_diffs.len(),
+                e.phase_diffs.first().map_or(0, Vec::len)
+            ),
+        });
+    }
+    if e.wavelengths.len() != m {
+        return Err(Error::Shape {
+            name: "wavelength",
+            expected: format!("({m},)"),
+            actual: format!("({},)", e.wavelengths.len()),
+        });
+    }
+    if m < 3 {
+        return Err(Error::out_of_range(
+            "los",
+            format!("expected at least 3 satellites, got {m}"),
+        ));
+    }
+    ensure_finite("phase_diffs", e.phase_diffs.iter().flatten())?;
+    ensure_finite("los", e.los_enu.iter().flat_map(|v| v.iter()))?;
+    ensure_finite("wavelength", e.wavelengths.iter())?;
+    if let Some(k) = e.wavelengths.iter().position(|&w| w <= 0.0) {
+        return Err(Error::out_of_range(
+            "wavelength",
+            format!(
+                "expected positive wavelengths, got {} at {k}",
+                e.wavelengths[k]
+            ),
+        ));
+    }
+    if let Some(k) = e.los_enu.iter().position(|v| (v.norm() - 1.0).abs() > 1e-3) {
+        return Err(Error::out_of_range(
+            "los",
+            format!(
+                "expected unit lines of sight, got norm {:.6} at {k}",
+                e.los_enu[k].norm()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Appends one checked epoch's terms: per satellite the `nb` reduced phases (radians, wrapped) and the
+/// wave vector (rad/m, normal frame), both less the statistic's reference.
+fn push_epoch_terms(
+    e: &Epoch,
+    nb: usize,
+    statistic: Statistic,
+    terms: &mut Vec<(Vec<f64>, Vector3<f64>)>,
+) {
+    let m = e.los_enu.len();
+    let g: Vec<Vector3<f64>> = e
+        .los_enu
+        .iter()
+        .zip(&e.wavelengths)
+        .map(|(v, w)| enu_to_normal(&v.normalize()) * (TAU / w))
+        .collect();
+    // Reference offsets: per baseline a phase, and one wave vector, removed from every satellite.
+    let (phase_ref, g_ref): (Vec<f64>, Vector3<f64>) = match statistic {
+        Statistic::AmbiguityFunction => (vec![0.0; nb], Vector3::zeros()),
+        Statistic::Mean => (
+            e.phase_diffs
+                .iter()
+                .map(|r| r.iter().sum::<f64>() / m as f64)
+                .collect(),
+            g.iter().sum::<Vector3<f64>>() / m as f64,
+        ),
+        Statistic::DoubleDifference => {
+            let top = (0..m)
+                .max_by(|&a, &b| e.los_enu[a].z.total_cmp(&e.los_enu[b].z))
+                .unwrap_or(0);
+            (e.phase_diffs.iter().map(|r| r[top]).collect(), g[top])
+        }
+    };
+    for (k, gk) in g.iter().enumerate() {
+        let d = (0..nb)
+            .map(|i| wrap(e.phase_diffs[i][k] - phase_ref[i]))
+            .collect();
+        terms.push((d, gk - g_ref));
+    }
+}
+
+/// The terms' reduced phases laid out baseline-major, `d[i * n_terms + k]`, as [`Model::d`] holds them
+/// (the likelihood's inner loop walks the terms of one baseline).
+fn baseline_major_phases(terms: &[(Vec<f64>, Vector3<f64>)], nb: usize) -> Vec<f64> {
+    let n = terms.len();
+    let mut d = vec![0.0; nb * n];
+    for (k, (dk, _)) in terms.iter().enumerate() {
+        for i in 0..nb {
+            d[i * n + k] = dk[i];
+        }
+    }
+    d
+}
+
 impl Model {
     /// Checks and preprocesses the measurements.
     ///
@@ -106,36 +247,7 @@ impl Model {
     /// 3 satellites, non-unit lines of sight, non-positive wavelengths or zero baselines,
     /// [`Error::DegenerateGeometry`] for collinear baselines.
     pub fn new(baselines: &[Vector3<f64>], epochs: &[Epoch], statistic: Statistic) -> Result<Self> {
-        let nb = baselines.len();
-        if nb == 0 {
-            return Err(Error::Shape {
-                name: "baselines",
-                expected: "(m, 3) with m >= 1".into(),
-                actual: "(0, 3)".into(),
-            });
-        }
-        ensure_finite("baselines", baselines.iter().flat_map(|b| b.iter()))?;
-        if let Some(i) = baselines.iter().position(|b| b.norm() < 1e-9) {
-            return Err(Error::out_of_range(
-                "baselines",
-                format!("baseline {i} has zero length"),
-            ));
-        }
-        let l_max = baselines.iter().map(|b| b.norm()).fold(0.0, f64::max);
-        if nb >= 2 {
-            let best = baselines
-                .iter()
-                .flat_map(|a| baselines.iter().map(move |b| a.cross(b).norm()))
-                .fold(0.0, f64::max);
-            let ratio = best / (l_max * l_max);
-            if ratio < 1e-6 {
-                return Err(Error::DegenerateGeometry {
-                    what: "baselines are collinear: roll about them is not observable".into(),
-                    matrix: "baseline Gram matrix",
-                    condition: 1.0 / ratio.max(f64::MIN_POSITIVE),
-                });
-            }
-        }
+        let l_max = check_baselines(baselines)?;
         if epochs.is_empty() {
             return Err(Error::Shape {
                 name: "phase_diffs",
@@ -143,6 +255,7 @@ impl Model {
                 actual: "0 epochs".into(),
             });
         }
+        let nb = baselines.len();
         let grouping = match statistic {
             Statistic::AmbiguityFunction => Grouping::PerBaseline,
             _ => Grouping::PerSatellite,
@@ -150,94 +263,14 @@ impl Model {
         let mut terms: Vec<(Vec<f64>, Vector3<f64>)> = Vec::new();
         let mut lambda_min = f64::INFINITY;
         for e in epochs {
-            let m = e.los_enu.len();
-            if e.phase_diffs.len() != nb || e.phase_diffs.iter().any(|r| r.len() != m) {
-                return Err(Error::Shape {
-                    name: "phase_diffs",
-                    expected: format!("({nb}, {m}) per epoch (baselines, satellites)"),
-                    actual: format!(
-                        "({}, {})",
-                        e.phase_diffs.len(),
-                        e.phase_diffs.first().map_or(0, Vec::len)
-                    ),
-                });
-            }
-            if e.wavelengths.len() != m {
-                return Err(Error::Shape {
-                    name: "wavelength",
-                    expected: format!("({m},)"),
-                    actual: format!("({},)", e.wavelengths.len()),
-                });
-            }
-            if m < 3 {
-                return Err(Error::out_of_range(
-                    "los",
-                    format!("expected at least 3 satellites, got {m}"),
-                ));
-            }
-            ensure_finite("phase_diffs", e.phase_diffs.iter().flatten())?;
-            ensure_finite("los", e.los_enu.iter().flat_map(|v| v.iter()))?;
-            ensure_finite("wavelength", e.wavelengths.iter())?;
-            if let Some(k) = e.wavelengths.iter().position(|&w| w <= 0.0) {
-                return Err(Error::out_of_range(
-                    "wavelength",
-                    format!(
-                        "expected positive wavelengths, got {} at {k}",
-                        e.wavelengths[k]
-                    ),
-                ));
-            }
-            if let Some(k) = e.los_enu.iter().position(|v| (v.norm() - 1.0).abs() > 1e-3) {
-                return Err(Error::out_of_range(
-                    "los",
-                    format!(
-                        "expected unit lines of sight, got norm {:.6} at {k}",
-                        e.los_enu[k].norm()
-                    ),
-                ));
-            }
+            check_epoch(e, nb)?;
             lambda_min = e.wavelengths.iter().copied().fold(lambda_min, f64::min);
-            let g: Vec<Vector3<f64>> = e
-                .los_enu
-                .iter()
-                .zip(&e.wavelengths)
-                .map(|(v, w)| enu_to_normal(&v.normalize()) * (TAU / w))
-                .collect();
-            // Reference offsets: per baseline a phase, and one wave vector, removed from every satellite.
-            let (phase_ref, g_ref): (Vec<f64>, Vector3<f64>) = match statistic {
-                Statistic::AmbiguityFunction => (vec![0.0; nb], Vector3::zeros()),
-                Statistic::Mean => (
-                    e.phase_diffs
-                        .iter()
-                        .map(|r| r.iter().sum::<f64>() / m as f64)
-                        .collect(),
-                    g.iter().sum::<Vector3<f64>>() / m as f64,
-                ),
-                Statistic::DoubleDifference => {
-                    let top = (0..m)
-                        .max_by(|&a, &b| e.los_enu[a].z.total_cmp(&e.los_enu[b].z))
-                        .unwrap_or(0);
-                    (e.phase_diffs.iter().map(|r| r[top]).collect(), g[top])
-                }
-            };
-            for (k, gk) in g.iter().enumerate() {
-                let d = (0..nb)
-                    .map(|i| wrap(e.phase_diffs[i][k] - phase_ref[i]))
-                    .collect();
-                terms.push((d, gk - g_ref));
-            }
-        }
-        let n = terms.len();
-        let mut d = vec![0.0; nb * n];
-        for (k, (dk, _)) in terms.iter().enumerate() {
-            for i in 0..nb {
-                d[i * n + k] = dk[i];
-            }
+            push_epoch_terms(e, nb, statistic, &mut terms);
         }
         Ok(Model {
             grouping,
             baselines: baselines.to_vec(),
-            d,
+            d: baseline_major_phases(&terms, nb),
             g: terms.into_iter().map(|t| t.1).collect(),
             lambda_min,
             l_max,

@@ -605,6 +605,52 @@ fn store_kepler(
     Ok(())
 }
 
+impl<'a> Walk<'a> {
+    /// The walk over the body of a file of `lines` with header `hdr`, at its first body line.
+    fn new(lines: &'a [&'a [u8]], hdr: &Header) -> Self {
+        let version = hdr.version;
+        let v3 = version >= 3.0;
+        Walk {
+            lines,
+            v3,
+            glonass_lines: if version >= 3.05 { 5 } else { 4 },
+            v2_system: hdr.v2_system,
+            head: if v3 { &HEAD_V3 } else { &HEAD_V2 },
+            start: if v3 { 4 } else { 3 },
+            cursor: hdr.body,
+        }
+    }
+}
+
+/// A fault `e` in the record starting with `line` (1-based `lineno`) of a file of `n` lines, `ended`
+/// when its last line has a line end: the skip of a record cut by the end of the file when the file has
+/// no line end and the fault is in its last line (the file was cut inside it), else `e` itself.
+fn cut_in_last_line(
+    e: BodyError,
+    ended: bool,
+    n: usize,
+    lineno: usize,
+    line: &[u8],
+) -> Result<(NavSkip, String), BodyError> {
+    let BodyError::Malformed {
+        line: Some(at),
+        message,
+    } = &e
+    else {
+        return Err(e);
+    };
+    if ended || *at != n {
+        return Err(e);
+    }
+    Ok((
+        NavSkip::CutRecord,
+        format!(
+            "{} at line {lineno} (line {n} is cut: {message})",
+            decoded(strip(slice(line, 0, 3)))
+        ),
+    ))
+}
+
 /// Reads the navigation file `text` (decompressed). `header_labels` are the labels of RINEX 2.11, 3.05
 /// and 4.00 (`gnssatt.rinex._fields.HEADER_LABELS`): where `END OF HEADER` is missing, the fault is
 /// reported after the last of them.
@@ -622,16 +668,7 @@ pub fn read_nav(text: &[u8], header_labels: &[String]) -> Result<NavRecords, Bod
     };
     let hdr = header(&lines, header_labels, &mut nav)?;
     let version = hdr.version;
-    let v3 = version >= 3.0;
-    let mut walk = Walk {
-        lines: &lines,
-        v3,
-        glonass_lines: if version >= 3.05 { 5 } else { 4 },
-        v2_system: hdr.v2_system,
-        head: if v3 { &HEAD_V3 } else { &HEAD_V2 },
-        start: if v3 { 4 } else { 3 },
-        cursor: hdr.body,
-    };
+    let mut walk = Walk::new(&lines, &hdr);
     let mut i = hdr.body;
     while i < n {
         let mut line = lines[i];
@@ -658,24 +695,7 @@ pub fn read_nav(text: &[u8], header_labels: &[String]) -> Result<NavRecords, Bod
             Ok(p) => p,
             Err(Fault::Crash(e)) => return Err(e),
             Err(Fault::Rinex(e)) => {
-                let BodyError::Malformed {
-                    line: Some(at),
-                    message,
-                } = &e
-                else {
-                    return Err(e);
-                };
-                if ended || *at != n {
-                    return Err(e);
-                }
-                // the file has no line end and the fault is in its last line: the file was cut inside it
-                nav.skips.push((
-                    NavSkip::CutRecord,
-                    format!(
-                        "{} at line {lineno} (line {n} is cut: {message})",
-                        decoded(strip(slice(line, 0, 3)))
-                    ),
-                ));
+                nav.skips.push(cut_in_last_line(e, ended, n, lineno, line)?);
                 break;
             }
         };

@@ -46,27 +46,12 @@ fn wrong_integers(sc: &Scenario, s: &BaselineSolution, jump: &HashMap<u64, i64>)
 /// code and phase with its exact covariance, Gauss-Newton to convergence. Returns the baseline and its
 /// covariance.
 fn batch(epochs: &[DdEpoch]) -> (Vector3<f64>, DMatrix<f64>) {
-    let mut arcs: Vec<u64> = Vec::new();
-    let mut x0: Vec<f64> = Vec::new();
-    let mut prior_var: Vec<f64> = vec![INITIAL_BASELINE_SIGMA_M.powi(2); 3];
-    let mut offsets: HashMap<u64, f64> = HashMap::new();
-    let b0 = epochs[0].rover_prior_m - epochs[0].base_m;
-    x0.extend(b0.iter());
-    for e in epochs {
-        for s in &e.signals {
-            if offsets.contains_key(&s.arc) {
-                continue;
-            }
-            let start = (s.rover_phase_cycles - s.base_phase_cycles)
-                - (s.rover_code_m - s.base_code_m) / s.wavelength_m;
-            // Any integer offset gives the same solution; this one keeps the unknowns small.
-            let o = start.round() - 3.0;
-            offsets.insert(s.arc, o);
-            arcs.push(s.arc);
-            x0.push(start - o);
-            prior_var.push((INITIAL_AMBIGUITY_SIGMA_M / s.wavelength_m).powi(2));
-        }
-    }
+    let BatchPrior {
+        arcs,
+        x0,
+        prior_var,
+        offsets,
+    } = batch_prior(epochs);
     let n = x0.len();
     let x0 = DVector::from_vec(x0);
     let col = |arc: u64| 3 + arcs.iter().position(|&a| a == arc).unwrap();
@@ -129,6 +114,50 @@ fn batch(epochs: &[DdEpoch]) -> (Vector3<f64>, DMatrix<f64>) {
         }
     }
     panic!("batch least squares did not converge");
+}
+
+/// The prior of [`batch`]: the unknowns' order and prior values and variances, and the integer offset
+/// (cycles) taken from each arc's phase.
+struct BatchPrior {
+    /// The arcs in the order of their ambiguities (unknowns 3, 4, ...).
+    arcs: Vec<u64>,
+    /// Baseline (m) then single-difference ambiguities (cycles, less the offsets).
+    x0: Vec<f64>,
+    /// Prior variances of `x0`, m^2 then cycles^2.
+    prior_var: Vec<f64>,
+    offsets: HashMap<u64, f64>,
+}
+
+/// [`batch`]'s prior: the first epoch's code baseline, and each arc's phase minus code at its first
+/// epoch.
+fn batch_prior(epochs: &[DdEpoch]) -> BatchPrior {
+    let mut arcs: Vec<u64> = Vec::new();
+    let mut x0: Vec<f64> = Vec::new();
+    let mut prior_var: Vec<f64> = vec![INITIAL_BASELINE_SIGMA_M.powi(2); 3];
+    let mut offsets: HashMap<u64, f64> = HashMap::new();
+    let b0 = epochs[0].rover_prior_m - epochs[0].base_m;
+    x0.extend(b0.iter());
+    for e in epochs {
+        for s in &e.signals {
+            if offsets.contains_key(&s.arc) {
+                continue;
+            }
+            let start = (s.rover_phase_cycles - s.base_phase_cycles)
+                - (s.rover_code_m - s.base_code_m) / s.wavelength_m;
+            // Any integer offset gives the same solution; this one keeps the unknowns small.
+            let o = start.round() - 3.0;
+            offsets.insert(s.arc, o);
+            arcs.push(s.arc);
+            x0.push(start - o);
+            prior_var.push((INITIAL_AMBIGUITY_SIGMA_M / s.wavelength_m).powi(2));
+        }
+    }
+    BatchPrior {
+        arcs,
+        x0,
+        prior_var,
+        offsets,
+    }
 }
 
 fn epochs(sc: &mut Scenario, truth: &Vector3<f64>, n: usize, step_s: f64) -> Vec<DdEpoch> {

@@ -18,27 +18,16 @@ use nalgebra::Vector3;
 use super::Prepared;
 use crate::gnss::ephemeris::Ephemerides;
 use crate::gnss::geometry::{enu_from_ecef, geodetic_from_ecef};
+use crate::gnss::rtk::DdEpoch;
 use crate::gnss::signal::{SatId, System, SPEED_OF_LIGHT_M_S};
 use crate::likelihood::MlEpoch;
 
 /// Smallest number of satellites the grid is given (three lines of sight fix a direction).
 pub(crate) const MIN_SIGNALS: usize = 3;
 
-/// The grid input of one prepared epoch with `n_rovers` rovers, or `None` when fewer than
-/// [`MIN_SIGNALS`] slot-0 signals of one system are common to every rover.
-pub(crate) fn epoch(
-    eph: &Ephemerides,
-    sats: &[SatId],
-    p: &Prepared,
-    n_rovers: usize,
-) -> Option<MlEpoch> {
-    let base = p.base_m?;
-    let dds: Vec<_> = p
-        .rovers
-        .iter()
-        .take(n_rovers)
-        .map(Option::as_ref)
-        .collect::<Option<Vec<_>>>()?;
+/// The system with the most slot-0 signals common to every rover's double differences `dds` (ties: the
+/// earlier in [`System::ALL`]) and those signals' satellite indices, in the first rover's order.
+fn choose_signals(sats: &[SatId], dds: &[&DdEpoch]) -> Option<(System, Vec<usize>)> {
     let first = dds.first()?;
     let common = |sat: usize| {
         dds.iter()
@@ -62,18 +51,42 @@ pub(crate) fn epoch(
         .into_iter()
         .filter(|&s| sats[s].system == system)
         .collect();
+    Some((system, chosen))
+}
+
+/// Receiver `r`'s clock (0: the base) from its code solution, s: its clock of `system`, else its first
+/// finite clock of another system.
+fn receiver_clock_s(p: &Prepared, r: usize, system: System) -> Option<f64> {
+    let c = p.clocks_s[r];
+    let own = c[system.index()];
+    if own.is_finite() {
+        Some(own)
+    } else {
+        c.iter().copied().find(|x| x.is_finite())
+    }
+}
+
+/// The grid input of one prepared epoch with `n_rovers` rovers, or `None` when fewer than
+/// [`MIN_SIGNALS`] slot-0 signals of one system are common to every rover.
+pub(crate) fn epoch(
+    eph: &Ephemerides,
+    sats: &[SatId],
+    p: &Prepared,
+    n_rovers: usize,
+) -> Option<MlEpoch> {
+    let base = p.base_m?;
+    let dds: Vec<_> = p
+        .rovers
+        .iter()
+        .take(n_rovers)
+        .map(Option::as_ref)
+        .collect::<Option<Vec<_>>>()?;
+    let first = dds.first()?;
+    let (system, chosen) = choose_signals(sats, &dds)?;
     if chosen.len() < MIN_SIGNALS {
         return None;
     }
-    let clock = |r: usize| {
-        let c = p.clocks_s[r];
-        let own = c[system.index()];
-        if own.is_finite() {
-            Some(own)
-        } else {
-            c.iter().copied().find(|x| x.is_finite())
-        }
-    };
+    let clock = |r: usize| receiver_clock_s(p, r, system);
     let dt_b = clock(0)?;
     let (lat, lon, _) = geodetic_from_ecef(&base);
     let enu = enu_from_ecef(lat, lon);
@@ -82,7 +95,7 @@ pub(crate) fn epoch(
     let mut los_enu = Vec::with_capacity(n_sig);
     let mut wavelength_m = Vec::with_capacity(n_sig);
     for (j, &sat) in chosen.iter().enumerate() {
-        let pick = |d: &crate::gnss::rtk::DdEpoch| {
+        let pick = |d: &DdEpoch| {
             d.signals
                 .iter()
                 .find(|s| s.sat == sat && s.slot == 0)

@@ -25,7 +25,7 @@ use std::ops::Range;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::code_scale::{scale_code, scale_noise};
+use super::code_scale::{scale_code, scale_noise, CodeNoiseScale};
 use super::{
     leaves_epoch_unsolved, Engine, Estimate, Prepared, CODE_SCALE_FACTOR_RANGE,
     KNOWN_LENGTH_FACTOR_RANGE,
@@ -44,6 +44,14 @@ use std::borrow::Cow;
 /// Epochs handed to the threads at a time: enough work per block for 16 threads, few epochs' solutions
 /// held at once.
 pub const BLOCK: usize = 64;
+
+/// One epoch of a block after the ordered float pass: the rover's code noise scale before the epoch and
+/// its float solution; `None` where the rover has no double differences.
+type BlockFloat = Option<(CodeNoiseScale, Result<FloatSolution>)>;
+
+/// [`BlockFloat`] after the fix: the scale before the epoch, whether its float solution succeeded (so
+/// counted in the scale), and the fix.
+type BlockFix = Option<(CodeNoiseScale, bool, Result<BaselineSolution>)>;
 
 impl Engine {
     /// Code solutions of epochs `epochs` of every receiver, `[epoch][receiver]`; the receivers' priors
@@ -160,39 +168,9 @@ impl Engine {
         let mut start = 0;
         while start < prepared.len() {
             let block = &prepared[start..(start + BLOCK).min(prepared.len())];
-            let guess = self.code_factor_settled(r).then(|| self.code_factor(r));
+            let chain = self.block_floats(r, block, fix)?;
             let this = &*self;
-            let speculative: Vec<Option<Result<FloatSolution>>> = match guess {
-                Some(f) => block
-                    .par_iter()
-                    .map(|p| {
-                        let dd = p.rovers[r].as_ref()?;
-                        Some(this.single_float(r, this.scaled(r, dd, f).as_ref(), fix))
-                    })
-                    .collect(),
-                None => block.iter().map(|_| None).collect(),
-            };
-            // In order: each epoch's float solution with the factor the epochs before it give.
-            let mut chain = Vec::with_capacity(block.len());
-            for (p, early) in block.iter().zip(speculative) {
-                interrupt::check("GNSS engine")?;
-                let Some(dd) = &p.rovers[r] else {
-                    chain.push(None);
-                    continue;
-                };
-                let factor = self.code_factor(r);
-                let float = match (early, guess) {
-                    (Some(fl), Some(g)) if g == factor => fl,
-                    _ => self.single_float(r, self.scaled(r, dd, factor).as_ref(), fix),
-                };
-                let before = self.code_scale[r];
-                if let Ok(fl) = &float {
-                    self.code_scale[r].add_float(fl.chi2, fl.dof, factor);
-                }
-                chain.push(Some((before, float)));
-            }
-            let this = &*self;
-            let fixed: Vec<_> = chain
+            let fixed: Vec<BlockFix> = chain
                 .into_par_iter()
                 .map(|c| {
                     c.map(|(before, float)| {
@@ -205,42 +183,102 @@ impl Engine {
                     })
                 })
                 .collect();
-            let mut next = start + block.len();
-            for (i, c) in fixed.into_iter().enumerate() {
-                let (k, p) = (start + i, &block[i]);
-                let (Some(dd), Some((before, float_ok, result))) = (&p.rovers[r], c) else {
-                    out.push(None);
-                    continue;
-                };
-                self.count_double_differences(dd);
-                match result {
-                    Ok(sol) => {
-                        self.length[r].add(&sol.baseline_m, &sol.covariance_m2);
-                        let state = if sol.fixed {
-                            FixState::Fixed
-                        } else {
-                            FixState::Float
-                        };
-                        out.push(Some((sol, state)));
-                    }
-                    Err(e) if leaves_epoch_unsolved(&e) => {
-                        self.note_unsolved(k, p.time_gpst_ns, &e);
-                        self.held[r].clear();
-                        out.push(None);
-                        if float_ok {
-                            // The ordered pass counted this epoch's residuals; the epochs after it
-                            // were solved with a scale that should not have them.
-                            self.code_scale[r] = before;
-                            next = k + 1;
-                            break;
-                        }
-                    }
-                    Err(e) => return Err(e),
-                }
-            }
-            start = next;
+            start = self.commit_block(r, start, block, fixed, &mut out)?;
         }
         Ok(out)
+    }
+
+    /// Rover `r`'s float solutions of one block, each with the code noise scale before it: computed in
+    /// parallel with a guessed factor when the factor is settled, and kept only where the ordered pass
+    /// (each epoch with the factor the epochs before it give) finds the same factor; the scale is
+    /// updated with every float solution's residuals.
+    fn block_floats(
+        &mut self,
+        r: usize,
+        block: &[Prepared],
+        fix: &FixOptions,
+    ) -> Result<Vec<BlockFloat>> {
+        let guess = self.code_factor_settled(r).then(|| self.code_factor(r));
+        let this = &*self;
+        let speculative: Vec<Option<Result<FloatSolution>>> = match guess {
+            Some(f) => block
+                .par_iter()
+                .map(|p| {
+                    let dd = p.rovers[r].as_ref()?;
+                    Some(this.single_float(r, this.scaled(r, dd, f).as_ref(), fix))
+                })
+                .collect(),
+            None => block.iter().map(|_| None).collect(),
+        };
+        // In order: each epoch's float solution with the factor the epochs before it give.
+        let mut chain = Vec::with_capacity(block.len());
+        for (p, early) in block.iter().zip(speculative) {
+            interrupt::check("GNSS engine")?;
+            let Some(dd) = &p.rovers[r] else {
+                chain.push(None);
+                continue;
+            };
+            let factor = self.code_factor(r);
+            let float = match (early, guess) {
+                (Some(fl), Some(g)) if g == factor => fl,
+                _ => self.single_float(r, self.scaled(r, dd, factor).as_ref(), fix),
+            };
+            let before = self.code_scale[r];
+            if let Ok(fl) = &float {
+                self.code_scale[r].add_float(fl.chi2, fl.dof, factor);
+            }
+            chain.push(Some((before, float)));
+        }
+        Ok(chain)
+    }
+
+    /// Takes rover `r`'s fixes of the block that begins at epoch `start`, in order, into `out`: counts,
+    /// length estimate and unsolved notes. Returns where the next block begins: after the block, or
+    /// right after the first epoch whose fix failed though its float solution counted in the code
+    /// noise scale (the scale is restored to what it was before that epoch, and the later epochs of the
+    /// block, solved with it, are solved again).
+    fn commit_block(
+        &mut self,
+        r: usize,
+        start: usize,
+        block: &[Prepared],
+        fixed: Vec<BlockFix>,
+        out: &mut Vec<Option<(BaselineSolution, FixState)>>,
+    ) -> Result<usize> {
+        let mut next = start + block.len();
+        for (i, c) in fixed.into_iter().enumerate() {
+            let (k, p) = (start + i, &block[i]);
+            let (Some(dd), Some((before, float_ok, result))) = (&p.rovers[r], c) else {
+                out.push(None);
+                continue;
+            };
+            self.count_double_differences(dd);
+            match result {
+                Ok(sol) => {
+                    self.length[r].add(&sol.baseline_m, &sol.covariance_m2);
+                    let state = if sol.fixed {
+                        FixState::Fixed
+                    } else {
+                        FixState::Float
+                    };
+                    out.push(Some((sol, state)));
+                }
+                Err(e) if leaves_epoch_unsolved(&e) => {
+                    self.note_unsolved(k, p.time_gpst_ns, &e);
+                    self.held[r].clear();
+                    out.push(None);
+                    if float_ok {
+                        // The ordered pass counted this epoch's residuals; the epochs after it
+                        // were solved with a scale that should not have them.
+                        self.code_scale[r] = before;
+                        next = k + 1;
+                        break;
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        Ok(next)
     }
 
     /// Attitude-mode estimates of every epoch of `prepared` without `continuity`: what the

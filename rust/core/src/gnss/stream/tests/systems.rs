@@ -8,6 +8,7 @@ use crate::gnss::options::{EngineOptions, Method, Motion};
 use crate::gnss::rtk::filter::Dynamics;
 use crate::gnss::session::run;
 use crate::gnss::signal::System;
+use crate::gnss::solution::SessionSolution;
 use crate::likelihood::dcm_enu_from_body;
 
 #[test]
@@ -28,7 +29,15 @@ fn gps_alone_uses_no_signal_of_another_system_in_any_mode() {
         systems: vec![System::Gps],
         ..options()
     };
-    let modes = [
+    for (name, opts) in modes(gps, &body) {
+        let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
+        assert_gps_alone(name, &opts, &sol);
+    }
+}
+
+/// Every mode of the engine, each from the options `gps` (`body`: the rovers' body-frame offsets, m).
+fn modes(gps: EngineOptions, body: &[[f64; 3]]) -> [(&'static str, EngineOptions); 9] {
+    [
         ("single epoch", gps.clone()),
         (
             "surveyed base",
@@ -89,34 +98,36 @@ fn gps_alone_uses_no_signal_of_another_system_in_any_mode() {
                 ..gps
             },
         ),
-    ];
+    ]
+}
+
+/// `sol`, solved with `opts` (mode `name`), has double differences and satellites of GPS alone, and
+/// solves some epoch.
+fn assert_gps_alone(name: &str, opts: &EngineOptions, sol: &SessionSolution) {
     let gps_index = System::Gps.index();
-    for (name, opts) in modes {
-        let sol = run(&truth.obs, &truth.nav, &opts).unwrap();
-        for (system, per_slot) in sol.double_differences.iter().enumerate() {
-            let n: u64 = per_slot.iter().sum();
-            if system == gps_index {
-                // Eight GPS satellites above the mask on two slots, four epochs, two rovers (the grid
-                // of attitude mode forms no double difference).
-                assert!(
-                    n > 0 || opts.method == Method::Ml,
-                    "{name}: no GPS double difference"
-                );
-            } else {
-                assert_eq!(n, 0, "{name}: {n} double differences of system {system}");
-            }
+    for (system, per_slot) in sol.double_differences.iter().enumerate() {
+        let n: u64 = per_slot.iter().sum();
+        if system == gps_index {
+            // Eight GPS satellites above the mask on two slots, four epochs, two rovers (the grid
+            // of attitude mode forms no double difference).
+            assert!(
+                n > 0 || opts.method == Method::Ml,
+                "{name}: no GPS double difference"
+            );
+        } else {
+            assert_eq!(n, 0, "{name}: {n} double differences of system {system}");
         }
-        assert!(
-            sol.epochs.iter().any(|e| e.solved),
-            "{name}: nothing solved"
-        );
-        for e in sol.epochs.iter().filter(|e| e.solved) {
-            for (system, &n) in e.satellites_per_system.iter().enumerate() {
-                if system == gps_index {
-                    assert!(n >= 4, "{name}: {n} GPS satellites");
-                } else {
-                    assert_eq!(n, 0, "{name}: {n} satellites of system {system}");
-                }
+    }
+    assert!(
+        sol.epochs.iter().any(|e| e.solved),
+        "{name}: nothing solved"
+    );
+    for e in sol.epochs.iter().filter(|e| e.solved) {
+        for (system, &n) in e.satellites_per_system.iter().enumerate() {
+            if system == gps_index {
+                assert!(n >= 4, "{name}: {n} GPS satellites");
+            } else {
+                assert_eq!(n, 0, "{name}: {n} satellites of system {system}");
             }
         }
     }
