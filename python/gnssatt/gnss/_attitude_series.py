@@ -295,7 +295,13 @@ class AttitudeSeries:
                     )
         for r, scale in enumerate(self.code_sigma_scale, start=1):
             if np.isfinite(scale):
-                applied = "applied within 0.5-10, 0.1-10 with a known length"
+                # The engine's rule (rust/core/src/gnss/stream/code_scale.rs): baseline mode scales code
+                # and phase together (the ratio test keeps the model's shape), a known length and attitude
+                # mode the code alone; sigma factors 0.5-10, 0.1-10 with a known length.
+                applied = (
+                    "applied within 0.5-10 to code and phase, to code alone within 0.1-10 with a known"
+                    " length and within 0.5-10 in attitude mode"
+                )
                 lines.append(f"code noise, rover {r}: {scale:.2f} x the model's sigma (estimated; {applied})")
         return "\n".join(lines)
 
