@@ -133,20 +133,13 @@ fn geonet_session() -> Session {
     names.sort();
     names.dedup();
     let sats: Vec<SatId> = names.iter().map(|s| gps(s)).collect();
-    let cells = times.len() * sats.len() * MAX_FREQUENCIES;
     let receivers = bodies
         .iter()
         .zip(&texts)
         .enumerate()
         .map(|(r, (b, text))| {
-            let mut rx = ReceiverObservations {
-                code_m: vec![f64::NAN; cells],
-                phase_cycles: vec![f64::NAN; cells],
-                doppler_hz: vec![f64::NAN; cells],
-                snr_dbhz: vec![f64::NAN; cells],
-                lli: vec![0; cells],
-                approx_position_m: Some(header(text).1),
-            };
+            let mut rx =
+                ReceiverObservations::absent(times.len(), sats.len(), Some(header(text).1));
             for (k, m) in matched.iter().enumerate() {
                 let e = m[r];
                 // Onto the first file's label: code and phase less what the label offset adds.

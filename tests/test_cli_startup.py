@@ -1,6 +1,7 @@
-"""What a start of the command line loads (issue 30): ``import gnssatt`` and ``gnssatt attitude --help`` load
-no numpy, a whole ``gnssatt attitude`` run loads neither numpy.ma, scipy, matplotlib (without a plot) nor
-the experiments, and with the plot matplotlib but not pyplot. Each case runs in a fresh interpreter: this
+"""What a start of the command line loads (issues 29, 30): ``import gnssatt``, ``gnssatt attitude --help`` and
+``gnssatt position --help`` load no numpy, a whole ``gnssatt attitude`` or ``gnssatt position`` run loads
+neither numpy.ma, scipy, matplotlib (without a plot) nor the experiments, and with the plot matplotlib but not
+pyplot. Each case runs in a fresh interpreter: this
 test process has long since imported everything. Only what is loaded is checked; how long it takes is
 measured by ``benches/python/attitude_startup.py``, never here."""
 
@@ -40,8 +41,9 @@ def test_import_gnssatt_loads_no_numpy() -> None:
     assert _loaded("import gnssatt", ("numpy", "argparse", *LAZY)) == []
 
 
-def test_attitude_help_loads_no_numpy_nor_the_engine() -> None:
-    code = "from gnssatt.cli import main\nassert main(['attitude', '--help']) == 0"
+@pytest.mark.parametrize("command", ["attitude", "position"])
+def test_help_loads_no_numpy_nor_the_engine(command: str) -> None:
+    code = f"from gnssatt.cli import main\nassert main([{command!r}, '--help']) == 0"
     assert _loaded(code, ("numpy", "gnssatt.gnss", "gnssatt.rinex", *LAZY)) == []
 
 
@@ -58,6 +60,13 @@ def _attitude_run(*options: str) -> str:
 )
 def test_attitude_run_without_plot_loads_nothing_lazy(options: tuple[str, ...], tmp_path: Path) -> None:
     code = _attitude_run(*options, "--no-plot", "--out", str(tmp_path / "out.csv"))
+    assert _loaded(code, LAZY, cwd=tmp_path) == []
+
+
+def test_position_run_without_plot_loads_nothing_lazy(tmp_path: Path) -> None:
+    d = geonet_dir()
+    argv = ["position", "--obs", str(d / "07590920.05o"), "--nav", str(d / "07590920.05n"), "--no-plot"]
+    code = f"from gnssatt.cli import main\nassert main({[*argv, '--out', str(tmp_path / 'p.csv')]!r}) == 0"
     assert _loaded(code, LAZY, cwd=tmp_path) == []
 
 

@@ -6,7 +6,7 @@ Angles in radians, lengths in metres. Result types are frozen: their attributes 
 """
 
 from collections.abc import Mapping, Sequence
-from typing import TypedDict, final
+from typing import Literal, TypedDict, final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -803,10 +803,11 @@ GNSS_DEFAULT_RATIO_THRESHOLD: float
 GNSS_DEFAULT_MAX_FAILURE_RATE: float
 GNSS_DEFAULT_ELEVATION_MASK_DEG: float
 GNSS_MAX_FREQUENCIES: int
-# The names GnssOptions accepts for motion, method, filter (rust/py/src/gnss_options.rs): the CLI's choices.
-GNSS_MOTIONS: tuple[str, ...]
-GNSS_METHODS: tuple[str, ...]
-GNSS_FILTERS: tuple[str, ...]
+# The names GnssOptions accepts for motion, method, filter (rust/py/src/gnss_options.rs): the CLI's choices
+# and gnssatt.gnss.attitude's checks (tests/test_gnss_option_names.py holds these Literals to the tables).
+GNSS_MOTIONS: tuple[Literal["static", "moving"], ...]
+GNSS_METHODS: tuple[Literal["auto", "ml", "lambda"], ...]
+GNSS_FILTERS: tuple[Literal["static", "kinematic", "velocity"], ...]
 
 # RINEX observation bodies (rust/py/src/rinex.rs)
 @final

@@ -294,39 +294,62 @@ def _frequency_choices() -> tuple[str, ...]:
     return (*(str(n) for n in range(1, _core.GNSS_MAX_FREQUENCIES + 1)), "all")
 
 
-def _attitude_options(att: argparse.ArgumentParser) -> None:
-    """The engine's options; defaults left None are the engine's (``docs/observation_engine.md``)."""
+def _fixing_options(parser: argparse.ArgumentParser) -> None:
+    """How the integers are fixed: the method, static or moving, held along arcs, the acceptance tests."""
     from gnssatt import _core
 
-    att.add_argument(
+    fixing = parser.add_argument_group("ambiguity fixing")
+    fixing.add_argument(
         "--method",
         choices=_core.GNSS_METHODS,
         default="auto",
         help="ml: ambiguity-function grid per epoch; lambda: LAMBDA-fixed double differences (attitude "
         "mode: constrained by the baselines); auto: lambda beyond 100 m, else ml (default auto)",
     )
-    att.add_argument(
+    fixing.add_argument(
         "--motion",
         choices=_core.GNSS_MOTIONS,
         default=None,
         help="static fixes the session's ambiguities once, moving fixes each epoch (default: static for two "
         "antennas, moving with --baselines or --continuity)",
     )
-    att.add_argument(
+    fixing.add_argument(
         "--continuity",
         action="store_true",
         help="moving mode: hold fixed ambiguities along arcs without cycle slips while they agree with "
         "each epoch's data, with --baselines too (implies --motion moving; refused with --motion static)",
     )
-    att.add_argument(
-        "--nmea",
-        type=Path,
+    fixing.add_argument(
+        "--min-success-rate",
+        type=_real(0.0, 1.0),
         default=None,
-        metavar="FILE",
-        help="also write NMEA 0183 $GNHDT (true heading) and $PSAT,HPR (heading, pitch, roll, UTC) "
-        "sentences per solved epoch to FILE (docs/observation_engine.md)",
+        metavar="P",
+        help="smallest bootstrapped success rate of the ambiguities fixed; fewer are fixed (partial fixing) "
+        f"when the full set falls short (default {_core.GNSS_DEFAULT_MIN_SUCCESS_RATE})",
     )
-    att.add_argument(
+    fixing.add_argument(
+        "--ratio-threshold",
+        type=_real(1.0, 1e6),
+        default=None,
+        metavar="R",
+        help=f"ratio-test threshold (default {_core.GNSS_DEFAULT_RATIO_THRESHOLD})",
+    )
+    fixing.add_argument(
+        "--max-failure-rate",
+        type=_real(0.0, 0.1),
+        default=None,
+        metavar="P",
+        help="below the success-rate gate, still fix a set whose ratio passes the fixed-failure-rate test "
+        f"for this probability of a wrong fix; 0: off (default {_core.GNSS_DEFAULT_MAX_FAILURE_RATE})",
+    )
+
+
+def _filter_options(parser: argparse.ArgumentParser) -> None:
+    """The multi-epoch Kalman filter of each baseline and its rigid-body length."""
+    from gnssatt import _core
+
+    kalman = parser.add_argument_group("multi-epoch filter")
+    kalman.add_argument(
         "--filter",
         choices=_core.GNSS_FILTERS,
         default=None,
@@ -336,72 +359,53 @@ def _attitude_options(att: argparse.ArgumentParser) -> None:
         "filtered baselines fixed together under the body baselines); the CSV's state column says "
         "fixed, held or float (implies --motion moving)",
     )
-    att.add_argument(
+    kalman.add_argument(
         "--rigid",
         action="store_true",
         help="with --filter: both antennas are on one rigid body (a moving base on the vehicle), so the "
         "baseline length is constant; the filter learns it from its fixes and refuses a fix whose length "
         "disagrees (not for a rover moving against a static base)",
     )
-    att.add_argument(
+
+
+def _signal_options(parser: argparse.ArgumentParser) -> None:
+    """Which signals the engine uses: systems, frequency slots, the elevation mask."""
+    from gnssatt import _core
+
+    signals = parser.add_argument_group("signals")
+    signals.add_argument(
         "--systems",
         type=_systems,
         default="GRECJ",
         help="satellite systems, letters among GRECJ (default GRECJ: all in both files)",
     )
-    att.add_argument(
+    signals.add_argument(
         "--frequencies",
         choices=_frequency_choices(),
         default="all",
         help="frequency slots per system: 1 L1/G1/E1/B1I, 2 adds L2/G2/E5b/B2I, 3 adds L5/G3/E5a/B3I "
         "(default all)",
     )
-    att.add_argument(
-        "--min-success-rate",
-        type=_real(0.0, 1.0),
-        default=None,
-        metavar="P",
-        help="smallest bootstrapped success rate of the ambiguities fixed; fewer are fixed (partial fixing) "
-        f"when the full set falls short (default {_core.GNSS_DEFAULT_MIN_SUCCESS_RATE})",
-    )
-    att.add_argument(
-        "--ratio-threshold",
-        type=_real(1.0, 1e6),
-        default=None,
-        metavar="R",
-        help=f"ratio-test threshold (default {_core.GNSS_DEFAULT_RATIO_THRESHOLD})",
-    )
-    att.add_argument(
-        "--max-failure-rate",
-        type=_real(0.0, 0.1),
-        default=None,
-        metavar="P",
-        help="below the success-rate gate, still fix a set whose ratio passes the fixed-failure-rate test "
-        f"for this probability of a wrong fix; 0: off (default {_core.GNSS_DEFAULT_MAX_FAILURE_RATE})",
-    )
-    att.add_argument(
+    signals.add_argument(
         "--elevation-mask",
         type=_real(-90.0, 90.0),
         default=None,
         metavar="DEG",
         help=f"at the reference antenna, degrees (default {_core.GNSS_DEFAULT_ELEVATION_MASK_DEG:g})",
     )
-    att.add_argument(
-        "--base-position",
-        type=float,
-        nargs=3,
-        default=None,
-        metavar=("X", "Y", "Z"),
-        help="surveyed ECEF position of the reference antenna, m (default: its code solution)",
-    )
-    att.add_argument(
+
+
+def _grid_options(parser: argparse.ArgumentParser) -> None:
+    """The ambiguity-function grid of ``--method ml``."""
+    grid = parser.add_argument_group("ml grid")
+    grid.add_argument(
         "--window",
         type=float,
         default=None,
         metavar="DEG",
         help="ml: search +/- DEG around the previous epoch's solution (default: the whole domain)",
     )
-    att.add_argument(
+    grid.add_argument(
         "--step",
         type=float,
         default=None,
@@ -537,8 +541,27 @@ def _attitude_arguments(att: argparse.ArgumentParser) -> None:
         help="known distance of each rover antenna from the first, m (two antennas: one value; baseline "
         "mode): the integers are fixed with this length constraint",
     )
+    att.add_argument(
+        "--base-position",
+        type=float,
+        nargs=3,
+        default=None,
+        metavar=("X", "Y", "Z"),
+        help="surveyed ECEF position of the reference antenna, m (default: its code solution)",
+    )
     _output_arguments(att, "results.csv")
-    _attitude_options(att)
+    att.add_argument(
+        "--nmea",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="also write NMEA 0183 $GNHDT (true heading) and $PSAT,HPR (heading, pitch, roll, UTC) "
+        "sentences per solved epoch to FILE (docs/observation_engine.md)",
+    )
+    _fixing_options(att)
+    _filter_options(att)
+    _signal_options(att)
+    _grid_options(att)
 
 
 _RAW = argparse.RawDescriptionHelpFormatter

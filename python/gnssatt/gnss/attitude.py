@@ -21,7 +21,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 from os import PathLike
-from typing import Any, Literal, get_args
+from typing import Any, Literal
 
 from numpy.typing import ArrayLike
 
@@ -218,13 +218,13 @@ def attitude_from_rinex(
     from gnssatt.gnss.session_input import session_input
     from gnssatt.rinex.nav import nav_input
 
-    method = choice("method", method, ("auto", "ml", "lambda"))
+    method = choice("method", method, _core.GNSS_METHODS)
     if motion is not None:
-        motion = choice("motion", motion, get_args(MotionName))
+        motion = choice("motion", motion, _core.GNSS_MOTIONS)
     continuity = flag("continuity", continuity)
     rigid = flag("rigid", rigid)
     if filter is not None:
-        filter = choice("filter", filter, get_args(FilterName))
+        filter = choice("filter", filter, _core.GNSS_FILTERS)
     systems = system_letters(systems)
     n_freq = frequency_slots(frequencies)
     opts, grid_options = numeric_options(

@@ -5,21 +5,13 @@ use gnssatt_core::gnss::navdata::NavData;
 use gnssatt_core::gnss::observations::{Observations, ReceiverObservations};
 use gnssatt_core::gnss::options::EngineOptions;
 use gnssatt_core::gnss::session::run;
-use gnssatt_core::gnss::signal::{SatId, System, MAX_FREQUENCIES};
+use gnssatt_core::gnss::signal::{SatId, System};
 use gnssatt_core::interrupt::{clear, request};
 use gnssatt_core::Error;
 
 #[test]
 fn a_requested_interrupt_stops_the_session_until_cleared() {
-    let n = 3 * MAX_FREQUENCIES;
-    let rx = ReceiverObservations {
-        code_m: vec![f64::NAN; n],
-        phase_cycles: vec![f64::NAN; n],
-        doppler_hz: vec![f64::NAN; n],
-        snr_dbhz: vec![f64::NAN; n],
-        lli: vec![0; n],
-        approx_position_m: None,
-    };
+    let rx = ReceiverObservations::absent(3, 1, None);
     let obs = Observations {
         time_gpst_ns: vec![0, 1_000_000_000, 2_000_000_000],
         sats: vec![SatId {

@@ -157,6 +157,21 @@ impl Observations {
 }
 
 impl ReceiverObservations {
+    /// A receiver that observed nothing yet: `n_epochs` x `n_sats` x [`MAX_FREQUENCIES`] values of each
+    /// array, every observation absent (NaN, loss-of-lock indicator 0), to be filled in by a simulation
+    /// or a reader.
+    pub fn absent(n_epochs: usize, n_sats: usize, approx_position_m: Option<[f64; 3]>) -> Self {
+        let cells = n_epochs * n_sats * MAX_FREQUENCIES;
+        ReceiverObservations {
+            code_m: vec![f64::NAN; cells],
+            phase_cycles: vec![f64::NAN; cells],
+            doppler_hz: vec![f64::NAN; cells],
+            snr_dbhz: vec![f64::NAN; cells],
+            lli: vec![0; cells],
+            approx_position_m,
+        }
+    }
+
     /// Checks one receiver's arrays: `n_epochs` x `n_sats` x [`MAX_FREQUENCIES`] values each, none
     /// infinite.
     fn validate(&self, n_epochs: usize, n_sats: usize) -> Result<()> {

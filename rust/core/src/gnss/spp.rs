@@ -621,19 +621,15 @@ mod tests {
                 + SPEED_OF_LIGHT_M_S * (clock_s - g.clock_s)
                 + troposphere_delay_at_m(lat, h, g.elevation_rad.max(0.0), T0);
         }
-        let n = code.len();
+        let receiver = ReceiverObservations {
+            code_m: code,
+            ..ReceiverObservations::absent(1, sats.len(), None)
+        };
         Observations {
             time_gpst_ns: vec![T0],
             glonass_channel: vec![None; sats.len()],
             sats,
-            receivers: vec![ReceiverObservations {
-                code_m: code,
-                phase_cycles: vec![f64::NAN; n],
-                doppler_hz: vec![f64::NAN; n],
-                snr_dbhz: vec![f64::NAN; n],
-                lli: vec![0; n],
-                approx_position_m: None,
-            }],
+            receivers: vec![receiver],
         }
     }
 

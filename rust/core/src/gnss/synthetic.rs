@@ -153,15 +153,7 @@ fn receiver(
     rng: &mut ChaCha8Rng,
 ) -> ReceiverObservations {
     let n_epochs = obs.time_gpst_ns.len();
-    let cells = n_epochs * obs.n_sats() * MAX_FREQUENCIES;
-    let mut rx = ReceiverObservations {
-        code_m: vec![f64::NAN; cells],
-        phase_cycles: vec![f64::NAN; cells],
-        doppler_hz: vec![f64::NAN; cells],
-        snr_dbhz: vec![f64::NAN; cells],
-        lli: vec![0; cells],
-        approx_position_m: Some((*pos).into()),
-    };
+    let mut rx = ReceiverObservations::absent(n_epochs, obs.n_sats(), Some((*pos).into()));
     let ambiguities: Vec<f64> = (0..obs.n_sats() * MAX_FREQUENCIES)
         .map(|_| (gauss(rng, 1.0) * 1e5).round())
         .collect();
