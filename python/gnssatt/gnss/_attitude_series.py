@@ -200,7 +200,7 @@ class AttitudeSeries:
         """Median length of the first baseline over the solved epochs, m (NaN if none)."""
         lengths = np.linalg.norm(self.baselines_enu_m[self.solved, 0], axis=1)
         lengths = lengths[np.isfinite(lengths)]
-        return _median(lengths)
+        return nan_median(lengths)
 
     @property
     def rotation(self) -> Rotation:
@@ -282,7 +282,7 @@ class AttitudeSeries:
             else:
                 mean, spread = (float(np.mean(v)), float(np.std(v))) if v.size else (np.nan, np.nan)
             sigma = self.angle_sigmas_deg[ok, j]
-            median_sigma = _median(sigma) if np.isfinite(sigma).any() else float("nan")
+            median_sigma = nan_median(sigma) if np.isfinite(sigma).any() else float("nan")
             lines.append(f"{name}: mean {mean:.4f}, std {spread:.4f}, median sigma {median_sigma:.4f}")
         for s, letter in enumerate(SYSTEMS):
             for slot in range(3):
@@ -361,7 +361,7 @@ def series_from_session(s: Any, signal_codes: Mapping[str, Any]) -> AttitudeSeri
     )
 
 
-def _median(values: NDArray[np.float64]) -> float:
+def nan_median(values: NDArray[np.float64]) -> float:
     """``np.nanmedian(values)`` (NaN when every value is NaN) by a sort: numpy's median looks for a masked
     array, which loads numpy.ma, 30-50 ms of a command-line start for input that is never masked here."""
     ordered = np.sort(values[~np.isnan(values)])

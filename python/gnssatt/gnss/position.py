@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from gnssatt._arrays import instance, integer, path_text, scalar
 from gnssatt.errors import InvalidInputError, InvalidTypeError
-from gnssatt.gnss._attitude_series import _median
+from gnssatt.gnss._attitude_series import nan_median
 from gnssatt.gnss.session_input import epochs_gpst_ns
 from gnssatt.rinex.nav import GPS_EPOCH, RinexNav, nav_input, navigation
 from gnssatt.rinex.obs import RinexObs, read_obs
@@ -99,8 +99,8 @@ class PositionSeries:
         ok = self.solved
         if not ok.any():
             return np.full(3, np.nan)
-        solved = self.position_ecef_m[ok]  # np.median would load numpy.ma (_median says why)
-        return np.array([_median(solved[:, axis]) for axis in range(3)], dtype=np.float64)
+        solved = self.position_ecef_m[ok]  # np.median would load numpy.ma (nan_median says why)
+        return np.array([nan_median(solved[:, axis]) for axis in range(3)], dtype=np.float64)
 
     def enu_about_median_m(self) -> NDArray[np.float64]:
         """(n, 3) East, North, Up of each position about :attr:`median_position_m`, m (NaN rows unsolved)."""
